@@ -1,0 +1,70 @@
+# Project-wide CMake helpers. Every component uses these so that tests, domain
+# ids and output folders stay uniform.
+
+set(SB_SOURCE_ROOT ${CMAKE_SOURCE_DIR})
+# Real data shipped beside the project (read-only, never copied in).
+get_filename_component(SB_SHARED_DATA_DIR ${CMAKE_SOURCE_DIR}/../shared/data ABSOLUTE)
+
+# Adds every immediate sub-folder of DIR that has a CMakeLists.txt, so a new
+# component or tool needs no edit of a shared file.
+function(sb_add_subdirectories dir)
+  file(GLOB children LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR}/${dir}
+       ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/*)
+  list(SORT children)
+  foreach(child IN LISTS children)
+    if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/${child}/CMakeLists.txt)
+      add_subdirectory(${dir}/${child})
+    endif()
+  endforeach()
+endfunction()
+
+# sb_add_library(NAME SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# A static library whose headers are included as "<component>/<...>.hpp"
+# relative to INCLUDE_ROOT (default: the folder two levels up, i.e. components/).
+function(sb_add_library name)
+  cmake_parse_arguments(A "" "INCLUDE_ROOT" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(${name} STATIC ${A_SOURCES})
+  if(NOT A_INCLUDE_ROOT)
+    set(A_INCLUDE_ROOT ${SB_SOURCE_ROOT}/components)
+  endif()
+  target_include_directories(${name} PUBLIC ${A_INCLUDE_ROOT})
+  target_link_libraries(${name} PUBLIC ${A_PUBLIC_DEPS} PRIVATE ${A_PRIVATE_DEPS})
+endfunction()
+
+# Each test binary that uses DDS gets its own domain id, allocated here at
+# configure time, so tests running in parallel never see each other.
+set_property(GLOBAL PROPERTY SB_NEXT_DOMAIN_ID 100)
+
+# sb_add_gtest(NAME SOURCES ... [DEPS ...] [DDS] [TIMEOUT s] [LABELS ...])
+# Builds a GoogleTest binary and registers it with ctest. With DDS the test
+# gets STEREOBALL_DOMAIN (unique) and the loopback Cyclone DDS configuration.
+function(sb_add_gtest name)
+  if(NOT SB_BUILD_TESTS)
+    return()
+  endif()
+  cmake_parse_arguments(A "DDS" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  add_executable(${name} ${A_SOURCES})
+  target_link_libraries(${name} PRIVATE ${A_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  target_compile_definitions(${name} PRIVATE
+    SB_SHARED_DATA_DIR="${SB_SHARED_DATA_DIR}"
+    SB_SOURCE_DIR="${SB_SOURCE_ROOT}"
+    SB_BIN_DIR="${CMAKE_BINARY_DIR}/bin")
+  if(NOT A_TIMEOUT)
+    set(A_TIMEOUT 120)
+  endif()
+  add_test(NAME ${name} COMMAND ${name} --gtest_color=no)
+  set(env "SB_BIN_DIR=${CMAKE_BINARY_DIR}/bin" "SB_SOURCE_DIR=${SB_SOURCE_ROOT}")
+  if(A_DDS)
+    get_property(domain GLOBAL PROPERTY SB_NEXT_DOMAIN_ID)
+    math(EXPR next "${domain} + 1")
+    set_property(GLOBAL PROPERTY SB_NEXT_DOMAIN_ID ${next})
+    if(domain GREATER 230)
+      message(FATAL_ERROR "Out of DDS domain ids for tests")
+    endif()
+    list(APPEND env "STEREOBALL_DOMAIN=${domain}"
+         "CYCLONEDDS_URI=file://${SB_SOURCE_ROOT}/config/cyclonedds/loopback.xml")
+    list(APPEND A_LABELS dds)
+  endif()
+  set_tests_properties(${name} PROPERTIES TIMEOUT ${A_TIMEOUT} ENVIRONMENT "${env}" LABELS "${A_LABELS}")
+endfunction()
