@@ -12,6 +12,11 @@ function(sb_add_subdirectories dir)
        ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/*)
   list(SORT children)
   foreach(child IN LISTS children)
+    # SB_ONLY (a list of folder names) restricts the build to those folders, for quick
+    # partial builds while other parts are being changed.
+    if(SB_ONLY AND NOT child IN_LIST SB_ONLY)
+      continue()
+    endif()
     if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/${child}/CMakeLists.txt)
       add_subdirectory(${dir}/${child})
     endif()

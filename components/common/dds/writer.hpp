@@ -1,0 +1,45 @@
+#pragma once
+// DataWriter<T>: typed writer for a topic of the table.
+
+#include <dds/dds.h>
+
+#include <cstdint>
+
+#include "common/dds/entity.hpp"
+#include "common/dds/topic.hpp"
+
+namespace stereoball::dds {
+
+/// Creates an untyped writer for topic_handle with spec's QoS in participant's publisher.
+Entity create_writer(const DomainParticipant& participant, EntityHandle topic_handle,
+                     const topics::TopicSpec& spec);
+/// Number of readers currently matched with writer.
+uint32_t matched_readers(EntityHandle writer);
+/// Blocks until at least n readers are matched or timeout_ns passes; true if matched.
+bool wait_for_readers(EntityHandle writer, uint32_t n, int64_t timeout_ns);
+
+template <typename T>
+class DataWriter {
+ public:
+  DataWriter(const DomainParticipant& participant, const topics::Topic<T>& def)
+      : topic_(participant, def), writer_(create_writer(participant, topic_.handle(), def.spec)) {}
+
+  /// Publishes sample, stamped now. Throws dds::Error on failure.
+  void write(const T& sample) { check(dds_write(writer_.handle(), &sample), "dds_write"); }
+  /// Publishes sample with an explicit source timestamp (ns since epoch).
+  void write(const T& sample, int64_t source_stamp_ns) {
+    check(dds_write_ts(writer_.handle(), &sample, source_stamp_ns), "dds_write_ts");
+  }
+  uint32_t matched_readers() const { return dds::matched_readers(writer_.handle()); }
+  bool wait_for_readers(uint32_t n, int64_t timeout_ns) const {
+    return dds::wait_for_readers(writer_.handle(), n, timeout_ns);
+  }
+  EntityHandle handle() const { return writer_.handle(); }
+  const topics::TopicSpec& spec() const { return topic_.spec(); }
+
+ private:
+  Topic<T> topic_;
+  Entity writer_;
+};
+
+}  // namespace stereoball::dds
