@@ -1,0 +1,114 @@
+#include "camera_server/core/pixel_convert.hpp"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <random>
+#include <vector>
+
+namespace stereoball::camera_server {
+namespace {
+
+std::vector<uint8_t> random_yuyv(int h, int step, uint32_t seed) {
+  std::vector<uint8_t> v(static_cast<size_t>(step) * h);
+  std::mt19937 rng(seed);
+  for (auto& b : v) b = static_cast<uint8_t>(rng());
+  return v;
+}
+
+cv::Mat opencv_reference(const std::vector<uint8_t>& yuyv, int w, int h, int step) {
+  const cv::Mat src(h, w, CV_8UC2, const_cast<uint8_t*>(yuyv.data()), step);
+  cv::Mat bgr;
+  cv::cvtColor(src, bgr, cv::COLOR_YUV2BGR_YUYV);
+  return bgr;
+}
+
+TEST(YuyvToBgr, GivenRandomFrameWhenConvertedThenIdenticalToOpenCv) {
+  const int w = 640, h = 480;
+  const auto yuyv = random_yuyv(h, 2 * w, 1);
+  cv::Mat mine;
+  ASSERT_TRUE(yuyv_to_bgr(yuyv, w, h, 2 * w, mine).ok());
+  const cv::Mat ref = opencv_reference(yuyv, w, h, 2 * w);
+  ASSERT_EQ(mine.size(), ref.size());
+  ASSERT_EQ(mine.type(), ref.type());
+  EXPECT_EQ(cv::norm(mine, ref, cv::NORM_INF), 0.0);
+}
+
+TEST(YuyvToBgr, GivenEveryYuvCombinationWhenConvertedThenIdenticalToOpenCv) {
+  // 256 x 256 (u, v) combinations, each with the 256 luma values spread over the row.
+  const int w = 512, h = 256 * 8;
+  std::vector<uint8_t> yuyv(static_cast<size_t>(w) * 2 * h);
+  for (int row = 0; row < h; ++row) {
+    for (int p = 0; p < w / 2; ++p) {
+      uint8_t* q = &yuyv[(static_cast<size_t>(row) * w + 2 * p) * 2];
+      const int uv = row * 32 + p / 8;  // 65536 combinations across the frame
+      q[0] = static_cast<uint8_t>(p);
+      q[1] = static_cast<uint8_t>(uv & 0xFF);
+      q[2] = static_cast<uint8_t>(255 - p);
+      q[3] = static_cast<uint8_t>(uv >> 8);
+    }
+  }
+  cv::Mat mine;
+  ASSERT_TRUE(yuyv_to_bgr(yuyv, w, h, 2 * w, mine).ok());
+  EXPECT_EQ(cv::norm(mine, opencv_reference(yuyv, w, h, 2 * w), cv::NORM_INF), 0.0);
+}
+
+TEST(YuyvToBgr, GivenPaddedRowsWhenConvertedThenPaddingIsIgnored) {
+  const int w = 64, h = 8, step = 2 * w + 32;
+  const auto yuyv = random_yuyv(h, step, 2);
+  cv::Mat mine;
+  ASSERT_TRUE(yuyv_to_bgr(yuyv, w, h, step, mine).ok());
+  EXPECT_EQ(cv::norm(mine, opencv_reference(yuyv, w, h, step), cv::NORM_INF), 0.0);
+}
+
+TEST(YuyvToBgr, GivenTruncatedFrameWhenConvertedThenErrorNamesSizes) {
+  std::vector<uint8_t> yuyv(100);
+  cv::Mat out;
+  const Status s = yuyv_to_bgr(yuyv, 640, 480, 1280, out);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().find("truncated"), std::string::npos);
+  EXPECT_NE(s.error().find("640x480"), std::string::npos);
+}
+
+TEST(YuyvToBgr, GivenOddWidthWhenConvertedThenError) {
+  std::vector<uint8_t> yuyv(1000);
+  cv::Mat out;
+  EXPECT_FALSE(yuyv_to_bgr(yuyv, 7, 2, 14, out).ok());
+}
+
+TEST(MjpegToBgr, GivenJpegEncodedByOpenCvWhenDecodedThenMatchesImdecode) {
+  cv::Mat img(48, 64, CV_8UC3);
+  cv::randu(img, 0, 255);
+  std::vector<uint8_t> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", img, jpeg));
+  cv::Mat mine;
+  ASSERT_TRUE(mjpeg_to_bgr(jpeg, 64, 48, mine).ok());
+  const cv::Mat ref = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+  EXPECT_EQ(cv::norm(mine, ref, cv::NORM_INF), 0.0);
+}
+
+TEST(MjpegToBgr, GivenWrongSizeWhenDecodedThenErrorNamesBothSizes) {
+  cv::Mat img(48, 64, CV_8UC3, cv::Scalar(1, 2, 3));
+  std::vector<uint8_t> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", img, jpeg));
+  cv::Mat out;
+  const Status s = mjpeg_to_bgr(jpeg, 640, 480, out);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().find("64x48"), std::string::npos);
+  EXPECT_NE(s.error().find("640x480"), std::string::npos);
+}
+
+TEST(MjpegToBgr, GivenGarbageOrTruncatedDataWhenDecodedThenErrorNotCrash) {
+  cv::Mat out;
+  std::vector<uint8_t> garbage{1, 2, 3, 4, 5, 6};
+  EXPECT_FALSE(mjpeg_to_bgr(garbage, 0, 0, out).ok());
+  std::vector<uint8_t> header_only{0xFF, 0xD8, 0xFF, 0xE0, 0, 0};
+  const Status s = mjpeg_to_bgr(header_only, 0, 0, out);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().find("could not be decoded"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace stereoball::camera_server
