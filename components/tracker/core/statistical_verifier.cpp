@@ -1,0 +1,75 @@
+#include "tracker/core/statistical_verifier.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace stereoball::tracker {
+namespace {
+
+bool steps_plausible(const PositionRegister& reg, const TrackerParams& params) {
+  const auto& e = reg.entries();
+  for (std::size_t i = 1; i < e.size(); ++i) {
+    const double step = (e[i].position_m - e[i - 1].position_m).norm();
+    if (step > max_jump_m(params, e[i].stamp_ns - e[i - 1].stamp_ns)) return false;
+  }
+  return true;
+}
+
+std::string describe(const StatsCheck& c, int size, int capacity) {
+  char buf[256];
+  if (!c.register_full) {
+    std::snprintf(buf, sizeof buf, "statistics: register %d/%d", size, capacity);
+  } else if (!c.steps_plausible || !(c.static_cluster || c.clean_line)) {
+    std::snprintf(buf, sizeof buf,
+                  "statistics: register inconsistent (spread %.3f m, line rms %.3f m%s)", c.sigma_m,
+                  c.line_rms_m, c.steps_plausible ? "" : ", implausible steps");
+  } else if (!c.jump_plausible) {
+    std::snprintf(buf, sizeof buf, "statistics: jump too large");
+  } else {
+    std::snprintf(buf, sizeof buf,
+                  "statistics: |p-mean| %.3f m %s %.3f m, line distance %.3f m %s tolerance",
+                  c.distance_to_mean_m, c.by_mean ? "<=" : ">", c.mean_radius_m,
+                  c.distance_to_line_m, c.by_line ? "<=" : ">");
+  }
+  return buf;
+}
+
+}  // namespace
+
+double max_jump_m(const TrackerParams& params, std::int64_t dt_ns) {
+  const double dt_s = static_cast<double>(std::max<std::int64_t>(dt_ns, 0)) * 1e-9;
+  return params.jump_margin_m + params.max_ball_speed_mps * dt_s;
+}
+
+StatsCheck check_position(const PositionRegister& reg, const Eigen::Vector3d& p,
+                          std::int64_t stamp_ns, const TrackerParams& params) {
+  StatsCheck c;
+  c.register_full = reg.full();
+  const auto stats = reg.stats();
+  if (c.register_full && stats) {
+    c.sigma_m = stats->sigma_m;
+    c.line_rms_m = stats->line_rms_m;
+    c.steps_plausible = steps_plausible(reg, params);
+    c.static_cluster = c.sigma_m <= params.max_static_spread_m;
+    // A line needs a direction: the points must spread more along it than across it.
+    c.clean_line = c.line_rms_m <= params.line_tolerance_m && stats->line_extent_m > c.line_rms_m;
+    const auto& newest = reg.entries().back();
+    c.jump_plausible =
+        (p - newest.position_m).norm() <= max_jump_m(params, stamp_ns - newest.stamp_ns);
+    // Five noisy samples of a still ball give an unreliable, often tiny sigma;
+    // the floor stands for the detector's own noise so noise alone never rejects.
+    const double floor_m =
+        std::max(params.sigma_floor_m, params.sigma_floor_fraction * stats->mean_m.norm());
+    c.mean_radius_m = std::max(c.sigma_m, floor_m);
+    c.distance_to_mean_m = (p - stats->mean_m).norm();
+    c.distance_to_line_m = distance_to_line(p, stats->mean_m, stats->line_direction);
+    const bool usable = c.steps_plausible && c.jump_plausible;
+    c.by_mean = usable && c.static_cluster && c.distance_to_mean_m <= c.mean_radius_m;
+    c.by_line = usable && c.clean_line && c.distance_to_line_m <= params.line_tolerance_m;
+    c.accepted = c.by_mean || c.by_line;
+  }
+  c.reason = describe(c, reg.size(), params.register_size);
+  return c;
+}
+
+}  // namespace stereoball::tracker

@@ -1,0 +1,45 @@
+#include "tracker/core/tracker_params.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace stereoball::tracker {
+namespace {
+
+TEST(TrackerParams, GivenDefaults_ThenValidAndPaperValues) {
+  const TrackerParams p;
+  EXPECT_FALSE(p.validate().has_value());
+  EXPECT_EQ(p.ssd_threshold, 200'000.0);
+  EXPECT_EQ(p.register_size, 5);
+}
+
+TEST(TrackerParams, GivenBadField_ThenMessageNamesFieldAndRange) {
+  TrackerParams p;
+  p.register_size = 2;
+  auto err = p.validate();
+  ASSERT_TRUE(err.has_value());
+  EXPECT_NE(err->find("register_size"), std::string::npos);
+  EXPECT_NE(err->find("[3, 50]"), std::string::npos);
+
+  p = TrackerParams{};
+  p.line_tolerance_m = std::nan("");
+  err = p.validate();
+  ASSERT_TRUE(err.has_value());
+  EXPECT_NE(err->find("line_tolerance_m"), std::string::npos);
+
+  p = TrackerParams{};
+  p.lost_after_ns = 0;
+  err = p.validate();
+  ASSERT_TRUE(err.has_value());
+  EXPECT_NE(err->find("lost_after_ns"), std::string::npos);
+
+  p = TrackerParams{};
+  p.ssd_threshold = -1.0;
+  err = p.validate();
+  ASSERT_TRUE(err.has_value());
+  EXPECT_NE(err->find("ssd_threshold"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace stereoball::tracker
