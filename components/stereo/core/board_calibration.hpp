@@ -1,0 +1,65 @@
+#pragma once
+// Stereo calibration from chessboard views: sub-pixel corner detection,
+// per-camera then joint stereo calibration, rectification, quality figures.
+// Pure computation on images already in memory; the tool does the file I/O.
+
+#include "stereo/core/calibration.hpp"
+#include "stereo/core/result.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace stereoball::stereo {
+
+/// Chessboard geometry and calibration options.
+struct BoardCalibrationParams {
+  cv::Size inner_corners{9, 6};  ///< inner corners per row and column
+  double square_m = 0.025;       ///< chessboard square side, metres (sets the unit of T)
+  int min_pairs = 6;             ///< fewest usable pairs; fewer is an error
+  int subpix_window_px = 11;     ///< half-size of the cornerSubPix search window is this / 2
+  RectifyOptions rectify;        ///< how the rectified views are chosen
+  /// Validates ranges; names the bad field and its allowed range, nullopt if OK.
+  std::optional<std::string> validate() const;
+};
+
+/// Chessboard corners of one stereo pair, pixels, in board order.
+struct PairCorners {
+  std::string name;                   ///< label for reports (e.g. file names)
+  std::vector<cv::Point2f> left_px;   ///< left corners
+  std::vector<cv::Point2f> right_px;  ///< right corners
+};
+
+/// Everything a calibration run produces.
+struct BoardCalibrationResult {
+  StereoCalibration calibration;           ///< rms_px and per_pair_rms_px filled in
+  std::vector<std::string> pair_names;     ///< pairs used, same order as per_pair_rms_px
+  double left_rms_px = 0;                  ///< left-only calibration RMS, pixels
+  double right_rms_px = 0;                 ///< right-only calibration RMS, pixels
+  double mean_rectified_row_error_px = 0;  ///< mean |y_l - y_r| of matched corners, pixels
+  double max_rectified_row_error_px = 0;   ///< largest |y_l - y_r| of matched corners, pixels
+};
+
+/// Finds the inner chessboard corners with sub-pixel refinement in a grey or BGR image;
+/// nullopt if the whole board is not found.
+std::optional<std::vector<cv::Point2f>> find_board_corners(const cv::Mat& image,
+                                                           const BoardCalibrationParams& params);
+
+/// Puts the right corners in the same board order as the left ones (the 180-degree
+/// ambiguity of a board); returns true if it had to reverse them.
+bool align_corner_order(const std::vector<cv::Point2f>& left_px,
+                        std::vector<cv::Point2f>& right_px);
+
+/// Calibrates the rig from the corners of several pairs of image_size images.
+Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& pairs,
+                                                cv::Size image_size,
+                                                const BoardCalibrationParams& params);
+
+/// Mean and max |y_left - y_right| of corresponding raw points after point rectification,
+/// pixels; {0, 0} for no points.
+std::pair<double, double> rectified_row_error_px(const StereoCalibration& calib,
+                                                 const std::vector<PairCorners>& pairs);
+
+}  // namespace stereoball::stereo

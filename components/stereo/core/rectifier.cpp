@@ -1,0 +1,97 @@
+#include "stereo/core/rectifier.hpp"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace stereoball::stereo {
+namespace {
+
+cv::Mat distortion_mat(const std::vector<double>& d) {
+  if (d.empty()) return cv::Mat();
+  return cv::Mat(d, true).reshape(1, 1);
+}
+
+std::string size_text(cv::Size s) {
+  return std::to_string(s.width) + "x" + std::to_string(s.height);
+}
+
+const char* eye_name(Eye eye) {
+  return eye == Eye::kLeft ? "left" : "right";
+}
+
+}  // namespace
+
+Result<Rectifier> Rectifier::create(const StereoCalibration& calib) {
+  if (auto error = validate_calibration(calib)) return Result<Rectifier>::fail(*error);
+  return Result<Rectifier>::ok(Rectifier(calib));
+}
+
+Rectifier::Rectifier(const StereoCalibration& calib) : calib_(calib) {
+  cv::initUndistortRectifyMap(cv::Mat(calib.k1), distortion_mat(calib.d1), cv::Mat(calib.r1),
+                              cv::Mat(calib.p1), calib.image_size, CV_16SC2, left_.xy, left_.frac);
+  cv::initUndistortRectifyMap(cv::Mat(calib.k2), distortion_mat(calib.d2), cv::Mat(calib.r2),
+                              cv::Mat(calib.p2), calib.image_size, CV_16SC2, right_.xy,
+                              right_.frac);
+}
+
+std::optional<std::string> Rectifier::check_size(Eye eye, const cv::Mat& raw) const {
+  if (raw.empty()) return std::string(eye_name(eye)) + " image is empty";
+  if (raw.size() != calib_.image_size) {
+    return std::string(eye_name(eye)) + " image is " + size_text(raw.size()) +
+           " but the calibration is for " + size_text(calib_.image_size);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> Rectifier::rectify_eye(Eye eye, const cv::Mat& raw, cv::Mat& out) const {
+  if (auto error = check_size(eye, raw)) return error;
+  const EyeMaps& m = maps(eye);
+  cv::remap(raw, out, m.xy, m.frac, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  return std::nullopt;
+}
+
+std::optional<std::string> Rectifier::rectify(const cv::Mat& left, const cv::Mat& right,
+                                              cv::Mat& left_out, cv::Mat& right_out) const {
+  // Check both before writing either, so a bad pair leaves the outputs untouched.
+  if (auto error = check_size(Eye::kLeft, left)) return error;
+  if (auto error = check_size(Eye::kRight, right)) return error;
+  rectify_eye(Eye::kLeft, left, left_out);
+  rectify_eye(Eye::kRight, right, right_out);
+  return std::nullopt;
+}
+
+std::vector<cv::Point2d> Rectifier::rectify_points(Eye eye,
+                                                   const std::vector<cv::Point2d>& raw_px) const {
+  if (raw_px.empty()) return {};
+  const bool left = eye == Eye::kLeft;
+  std::vector<cv::Point2d> out;
+  // More iterations than OpenCV's default 5 so strong distortion still inverts to ~1e-3 px.
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 50, 1e-10);
+  cv::undistortPoints(raw_px, out, cv::Mat(left ? calib_.k1 : calib_.k2),
+                      distortion_mat(left ? calib_.d1 : calib_.d2),
+                      cv::Mat(left ? calib_.r1 : calib_.r2), cv::Mat(left ? calib_.p1 : calib_.p2),
+                      criteria);
+  return out;
+}
+
+cv::Point2d Rectifier::rectify_point(Eye eye, cv::Point2d raw_px) const {
+  return rectify_points(eye, {raw_px}).front();
+}
+
+cv::Point2d Rectifier::unrectify_point(Eye eye, cv::Point2d rectified_px) const {
+  const bool left = eye == Eye::kLeft;
+  const cv::Matx34d& p = left ? calib_.p1 : calib_.p2;
+  const cv::Matx33d& rect = left ? calib_.r1 : calib_.r2;
+  // Normalised ray in the rectified camera, rotated back into the raw camera.
+  const cv::Vec3d ray_rect((rectified_px.x - p(0, 2)) / p(0, 0),
+                           (rectified_px.y - p(1, 2)) / p(1, 1), 1.0);
+  const cv::Vec3d ray_raw = rect.t() * ray_rect;
+  std::vector<cv::Point3d> object{{ray_raw[0], ray_raw[1], ray_raw[2]}};
+  std::vector<cv::Point2d> image;
+  cv::projectPoints(object, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0),
+                    cv::Mat(left ? calib_.k1 : calib_.k2),
+                    distortion_mat(left ? calib_.d1 : calib_.d2), image);
+  return image.front();
+}
+
+}  // namespace stereoball::stereo

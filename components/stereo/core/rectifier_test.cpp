@@ -1,0 +1,116 @@
+#include "stereo/core/rectifier.hpp"
+
+#include "stereo/core/synthetic_rig.hpp"
+#include "stereo/core/triangulation.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+namespace stereoball::stereo {
+namespace {
+
+class RectifierTest : public ::testing::Test {
+ protected:
+  SyntheticRig rig_ = default_synthetic_rig();
+  StereoCalibration calib_ = rig_.calibration();
+  Rectifier rect_ = Rectifier::create(calib_).value();
+};
+
+TEST_F(RectifierTest, GivenPointsWhenProjectedRectifiedTriangulatedThenRecovered) {
+  // Given 3D points spread over the field of view at 0.5 .. 3 m
+  const Triangulator tri = Triangulator::create(calib_).value();
+  for (double z : {0.5, 1.0, 2.0, 3.0}) {
+    for (double u : {-0.3, 0.0, 0.25}) {
+      const cv::Point3d p(u * z, -0.6 * u * z, z);
+      // When projected into the distorted images, point-rectified and triangulated
+      const cv::Point2d l = rect_.rectify_point(Eye::kLeft, rig_.project_left(p));
+      const cv::Point2d r = rect_.rectify_point(Eye::kRight, rig_.project_right(p));
+      const auto x = tri.point_m(l.x, r.x, 0.5 * (l.y + r.y));
+      // Then the point comes back in the left rectified frame (R1 * p) to micrometres
+      ASSERT_TRUE(x.has_value());
+      const cv::Vec3d expected = calib_.r1 * cv::Vec3d(p.x, p.y, p.z);
+      EXPECT_LT(cv::norm(*x - expected), 1e-5 * z) << "z=" << z << " u=" << u;
+      EXPECT_NEAR(l.y, r.y, 1e-4);
+    }
+  }
+}
+
+TEST_F(RectifierTest, GivenRectifiedPointWhenUnrectifiedThenBackToRawPixel) {
+  // Given a raw pixel near the image corner (strong distortion)
+  for (Eye eye : {Eye::kLeft, Eye::kRight}) {
+    const cv::Point2d raw(40.0, 455.0);
+    // When rectified and mapped back
+    const cv::Point2d back = rect_.unrectify_point(eye, rect_.rectify_point(eye, raw));
+    // Then it lands on the same raw pixel
+    EXPECT_NEAR(back.x, raw.x, 1e-3);
+    EXPECT_NEAR(back.y, raw.y, 1e-3);
+  }
+}
+
+// Centroid of a bright blob, pixels.
+cv::Point2d centroid(const cv::Mat& img) {
+  const cv::Moments m = cv::moments(img);
+  return {m.m10 / m.m00, m.m01 / m.m00};
+}
+
+TEST_F(RectifierTest, GivenBlobImageWhenLutRectifiedThenBlobWherePointRectifierSaysIt) {
+  // Given a raw left image with a small blob at a distorted off-centre position
+  const cv::Point2d raw(150.3, 120.7);
+  cv::Mat img(rig_.size, CV_32F, cv::Scalar(0));
+  cv::circle(img, cv::Point(cvRound(raw.x * 16), cvRound(raw.y * 16)), 3 * 16, cv::Scalar(1.0),
+             cv::FILLED, cv::LINE_AA, 4);
+  cv::GaussianBlur(img, img, cv::Size(0, 0), 1.5);
+  const cv::Point2d raw_c = centroid(img);
+  // When the whole image goes through the fixed-point LUT
+  cv::Mat out;
+  ASSERT_EQ(rect_.rectify_eye(Eye::kLeft, img, out), std::nullopt);
+  // Then the blob's centroid is where the cheap point path puts it (sub-pixel)
+  const cv::Point2d expected = rect_.rectify_point(Eye::kLeft, raw_c);
+  const cv::Point2d got = centroid(out);
+  EXPECT_NEAR(got.x, expected.x, 0.1);
+  EXPECT_NEAR(got.y, expected.y, 0.1);
+  EXPECT_EQ(out.size(), rig_.size);
+}
+
+TEST_F(RectifierTest, GivenWrongSizeFrameWhenRectifiedThenClearErrorAndOutputsUntouched) {
+  // Given a correctly sized left frame and a half-size right frame
+  const cv::Mat left(rig_.size, CV_8UC3, cv::Scalar(10, 20, 30));
+  const cv::Mat right(cv::Size(320, 240), CV_8UC3, cv::Scalar(1, 2, 3));
+  cv::Mat left_out, right_out;
+  // When rectified
+  const auto error = rect_.rectify(left, right, left_out, right_out);
+  // Then the error names the eye and both sizes, and nothing was written
+  ASSERT_TRUE(error.has_value());
+  EXPECT_NE(error->find("right image is 320x240"), std::string::npos) << *error;
+  EXPECT_NE(error->find("640x480"), std::string::npos) << *error;
+  EXPECT_TRUE(left_out.empty());
+  EXPECT_TRUE(right_out.empty());
+}
+
+TEST_F(RectifierTest, GivenEmptyFrameWhenRectifiedThenErrorSaysEmpty) {
+  cv::Mat out;
+  const auto error = rect_.rectify_eye(Eye::kLeft, cv::Mat(), out);
+  ASSERT_TRUE(error.has_value());
+  EXPECT_NE(error->find("left image is empty"), std::string::npos);
+}
+
+TEST_F(RectifierTest, GivenGoodFramesWhenRectifiedThenSameSizeAndType) {
+  const cv::Mat frame(rig_.size, CV_8UC3, cv::Scalar(100, 150, 200));
+  cv::Mat l, r;
+  ASSERT_EQ(rect_.rectify(frame, frame, l, r), std::nullopt);
+  EXPECT_EQ(l.size(), rig_.size);
+  EXPECT_EQ(r.type(), CV_8UC3);
+  // Centre pixels map from inside the image, so they keep the colour.
+  EXPECT_EQ(l.at<cv::Vec3b>(240, 320), cv::Vec3b(100, 150, 200));
+}
+
+TEST(RectifierCreate, GivenInvalidCalibrationWhenCreatedThenErrorNamesField) {
+  StereoCalibration c = default_synthetic_rig().calibration();
+  c.k2(1, 1) = -5;
+  const auto r = Rectifier::create(c);
+  ASSERT_FALSE(r.has_value());
+  EXPECT_EQ(r.error().rfind("K2:", 0), 0u) << r.error();
+}
+
+}  // namespace
+}  // namespace stereoball::stereo

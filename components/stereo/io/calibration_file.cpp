@@ -1,0 +1,223 @@
+#include "stereo/io/calibration_file.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+namespace stereoball::stereo {
+namespace {
+
+using CalibResult = Result<StereoCalibration>;
+
+std::string shape_text(const cv::Mat& m) {
+  return std::to_string(m.rows) + "x" + std::to_string(m.cols);
+}
+
+// Reads a matrix node of exactly rows x cols into out; error names the field.
+template <int M, int N>
+std::optional<std::string> read_matx(const cv::FileStorage& fs, const char* name,
+                                     cv::Matx<double, M, N>& out) {
+  const cv::FileNode node = fs[name];
+  if (node.empty() || node.isNone()) return std::string(name) + ": missing";
+  cv::Mat m;
+  try {
+    node >> m;
+  } catch (const cv::Exception&) {
+    return std::string(name) + ": not a matrix";
+  }
+  if (m.empty()) return std::string(name) + ": not a matrix";
+  if (m.total() != static_cast<std::size_t>(M * N) || m.channels() != 1 ||
+      (m.rows != M && !(N == 1 && m.cols == M && m.rows == 1))) {
+    return std::string(name) + ": expected " + std::to_string(M) + "x" + std::to_string(N) +
+           ", got " + shape_text(m);
+  }
+  m.convertTo(m, CV_64F);
+  out = cv::Matx<double, M, N>(reinterpret_cast<const double*>(m.reshape(1, 1).data));
+  return std::nullopt;
+}
+
+std::optional<std::string> read_distortion(const cv::FileStorage& fs, const char* name,
+                                           std::vector<double>& out) {
+  const cv::FileNode node = fs[name];
+  if (node.empty() || node.isNone()) return std::string(name) + ": missing";
+  cv::Mat m;
+  try {
+    node >> m;
+  } catch (const cv::Exception&) {
+    return std::string(name) + ": not a matrix";
+  }
+  if (m.channels() != 1 || (m.rows != 1 && m.cols != 1) || !is_valid_distortion_size(m.total())) {
+    return std::string(name) + ": expected 1xN with N in {4, 5, 8, 12, 14}, got " + shape_text(m);
+  }
+  m.convertTo(m, CV_64F);
+  m = m.reshape(1, 1).clone();
+  out.assign(m.begin<double>(), m.end<double>());
+  return std::nullopt;
+}
+
+std::optional<std::string> read_size(const cv::FileStorage& fs, cv::Size& out) {
+  const cv::FileNode w = fs["image_width"], h = fs["image_height"];
+  if (w.empty() || w.isNone()) return std::string("image_width: missing");
+  if (h.empty() || h.isNone()) return std::string("image_height: missing");
+  if (!w.isInt()) return std::string("image_width: not an integer");
+  if (!h.isInt()) return std::string("image_height: not an integer");
+  out = cv::Size(static_cast<int>(w), static_cast<int>(h));
+  return std::nullopt;
+}
+
+std::optional<std::string> read_all(const cv::FileStorage& fs, StereoCalibration& c) {
+  if (auto e = read_size(fs, c.image_size)) return e;
+  if (auto e = read_matx(fs, "K1", c.k1)) return e;
+  if (auto e = read_distortion(fs, "D1", c.d1)) return e;
+  if (auto e = read_matx(fs, "K2", c.k2)) return e;
+  if (auto e = read_distortion(fs, "D2", c.d2)) return e;
+  if (auto e = read_matx(fs, "R", c.r)) return e;
+  if (auto e = read_matx(fs, "T", c.t)) return e;
+  if (auto e = read_matx(fs, "R1", c.r1)) return e;
+  if (auto e = read_matx(fs, "R2", c.r2)) return e;
+  if (auto e = read_matx(fs, "P1", c.p1)) return e;
+  if (auto e = read_matx(fs, "P2", c.p2)) return e;
+  if (auto e = read_matx(fs, "Q", c.q)) return e;
+  // Quality figures are optional: a hand-made or simulated calibration has none.
+  const cv::FileNode rms = fs["rms_px"];
+  if (!rms.empty() && !rms.isNone()) {
+    if (!rms.isReal() && !rms.isInt()) return std::string("rms_px: not a number");
+    c.rms_px = static_cast<double>(rms);
+  }
+  const cv::FileNode per_pair = fs["per_pair_rms_px"];
+  if (!per_pair.empty() && !per_pair.isNone()) {
+    if (!per_pair.isSeq()) return std::string("per_pair_rms_px: not a sequence");
+    for (const auto& v : per_pair) c.per_pair_rms_px.push_back(static_cast<double>(v));
+  }
+  return validate_calibration(c);
+}
+
+CalibResult parse_storage(cv::FileStorage& fs, const std::string& origin) {
+  StereoCalibration c;
+  try {
+    if (auto e = read_all(fs, c)) return CalibResult::fail(origin + ": " + *e);
+  } catch (const cv::Exception& ex) {
+    return CalibResult::fail(origin + ": malformed calibration (" + ex.err + ")");
+  }
+  return CalibResult::ok(std::move(c));
+}
+
+// No distortion is written as five zeros so every file has the same shape.
+cv::Mat distortion_row(const std::vector<double>& d) {
+  if (d.empty()) return cv::Mat::zeros(1, 5, CV_64F);
+  return cv::Mat(d, true).reshape(1, 1);
+}
+
+void write_all(cv::FileStorage& fs, const StereoCalibration& c, const CalibrationFileInfo& info) {
+  fs << "image_width" << c.image_size.width << "image_height" << c.image_size.height;
+  fs << "K1" << cv::Mat(c.k1) << "D1" << distortion_row(c.d1);
+  fs << "K2" << cv::Mat(c.k2) << "D2" << distortion_row(c.d2);
+  fs << "R" << cv::Mat(c.r) << "T" << cv::Mat(c.t);
+  fs << "R1" << cv::Mat(c.r1) << "R2" << cv::Mat(c.r2);
+  fs << "P1" << cv::Mat(c.p1) << "P2" << cv::Mat(c.p2) << "Q" << cv::Mat(c.q);
+  fs << "rms_px" << c.rms_px;
+  fs << "per_pair_rms_px"
+     << "[";
+  for (double e : c.per_pair_rms_px) fs << e;
+  fs << "]";
+  if (info.mean_rectified_row_error_px >= 0) {
+    fs << "mean_rectified_row_error_px" << info.mean_rectified_row_error_px;
+  }
+  if (info.square_size_m > 0) fs << "square_size_m" << info.square_size_m;
+  if (!info.board_inner_corners.empty()) {
+    fs << "board_inner_corners"
+       << "[" << info.board_inner_corners.width << info.board_inner_corners.height << "]";
+  }
+  if (!info.pair_names.empty()) {
+    fs << "pairs"
+       << "[";
+    for (const auto& n : info.pair_names) fs << n;
+    fs << "]";
+  }
+  if (!info.note.empty()) fs << "note" << info.note;
+}
+
+}  // namespace
+
+CalibResult load_calibration(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    return CalibResult::fail(path + ": no such calibration file");
+  }
+  cv::FileStorage fs;
+  try {
+    if (!fs.open(path, cv::FileStorage::READ)) {
+      return CalibResult::fail(path + ": cannot be read as OpenCV FileStorage (YAML/XML/JSON)");
+    }
+  } catch (const cv::Exception& ex) {
+    return CalibResult::fail(path + ": not a valid calibration file (" + ex.err + ")");
+  }
+  return parse_storage(fs, path);
+}
+
+CalibResult parse_calibration(const std::string& text) {
+  cv::FileStorage fs;
+  try {
+    if (!fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY)) {
+      return CalibResult::fail("calibration text: cannot be parsed as OpenCV FileStorage");
+    }
+  } catch (const cv::Exception& ex) {
+    return CalibResult::fail("calibration text: not valid FileStorage (" + ex.err + ")");
+  }
+  return parse_storage(fs, "calibration text");
+}
+
+std::string calibration_to_yaml(const StereoCalibration& calib, const CalibrationFileInfo& info) {
+  cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  write_all(fs, calib, info);
+  return fs.releaseAndGetString();
+}
+
+std::optional<std::string> save_calibration(const std::string& path, const StereoCalibration& calib,
+                                            const CalibrationFileInfo& info) {
+  if (auto e = validate_calibration(calib)) return "refusing to write invalid calibration: " + *e;
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::WRITE);
+    if (!fs.isOpened()) return path + ": cannot open for writing";
+    write_all(fs, calib, info);
+    fs.release();
+  } catch (const cv::Exception& ex) {
+    return path + ": write failed (" + ex.err + ")";
+  }
+  return std::nullopt;
+}
+
+Result<std::vector<std::pair<std::string, std::string>>> load_pair_list(const std::string& path) {
+  using R = Result<std::vector<std::pair<std::string, std::string>>>;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return R::fail(path + ": no such pair list");
+  std::vector<std::string> names;
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::READ);
+    if (!fs.isOpened()) return R::fail(path + ": cannot be read as OpenCV FileStorage");
+    const cv::FileNode list = fs.getFirstTopLevelNode();
+    if (!list.isSeq()) return R::fail(path + ": first entry is not a list of image names");
+    for (const auto& n : list) {
+      if (!n.isString()) return R::fail(path + ": list entry is not a string");
+      names.push_back(static_cast<std::string>(n));
+    }
+  } catch (const cv::Exception& ex) {
+    return R::fail(path + ": malformed pair list (" + ex.err + ")");
+  }
+  if (names.empty()) return R::fail(path + ": image list is empty");
+  if (names.size() % 2 != 0) {
+    return R::fail(path + ": odd number of images (" + std::to_string(names.size()) +
+                   "), expected alternating left, right");
+  }
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (std::size_t i = 0; i < names.size(); i += 2) {
+    auto resolve = [&](const std::string& n) {
+      const std::filesystem::path p(n);
+      return (p.is_absolute() ? p : dir / p).string();
+    };
+    pairs.emplace_back(resolve(names[i]), resolve(names[i + 1]));
+  }
+  return R::ok(std::move(pairs));
+}
+
+}  // namespace stereoball::stereo

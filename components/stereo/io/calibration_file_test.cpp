@@ -1,0 +1,169 @@
+#include "stereo/io/calibration_file.hpp"
+
+#include "stereo/core/synthetic_rig.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+namespace stereoball::stereo {
+namespace {
+
+namespace fs = std::filesystem;
+
+class CalibrationFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("sb_stereo_io_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    calib_.rms_px = 0.31;
+    calib_.per_pair_rms_px = {0.2, 0.3, 0.4};
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  // The good calibration's YAML with one top-level entry replaced by `replacement`.
+  std::string edited_yaml(const std::string& key, const std::string& replacement) {
+    std::string yaml = calibration_to_yaml(calib_);
+    // Entries are "KEY: !!opencv-matrix" followed by indented lines, or "KEY: value".
+    const std::regex entry("\\n" + key + ":[^\\n]*(\\n   [^\\n]*)*");
+    return std::regex_replace(yaml, entry, "\n" + replacement);
+  }
+  fs::path dir_;
+  StereoCalibration calib_ = default_synthetic_rig().calibration();
+};
+
+TEST_F(CalibrationFileTest, GivenCalibrationWhenSavedAndLoadedThenIdentical) {
+  // Given a calibration, When written to YAML and read back
+  const std::string path = (dir_ / "calib.yaml").string();
+  CalibrationFileInfo info;
+  info.mean_rectified_row_error_px = 0.1;
+  ASSERT_EQ(save_calibration(path, calib_, info), std::nullopt);
+  const auto loaded = load_calibration(path);
+  // Then every field is the same
+  ASSERT_TRUE(loaded.has_value()) << loaded.error();
+  const StereoCalibration& c = loaded.value();
+  EXPECT_EQ(c.image_size, calib_.image_size);
+  EXPECT_EQ(c.k1, calib_.k1);
+  EXPECT_EQ(c.d1, calib_.d1);
+  EXPECT_EQ(c.k2, calib_.k2);
+  EXPECT_EQ(c.d2, calib_.d2);
+  EXPECT_EQ(c.r, calib_.r);
+  EXPECT_EQ(c.t, calib_.t);
+  EXPECT_EQ(c.r1, calib_.r1);
+  EXPECT_EQ(c.r2, calib_.r2);
+  EXPECT_EQ(c.p1, calib_.p1);
+  EXPECT_EQ(c.p2, calib_.p2);
+  EXPECT_EQ(c.q, calib_.q);
+  EXPECT_EQ(c.rms_px, calib_.rms_px);
+  EXPECT_EQ(c.per_pair_rms_px, calib_.per_pair_rms_px);
+}
+
+TEST_F(CalibrationFileTest, GivenNoDistortionWhenSavedThenLoadsAsZeros) {
+  calib_.d1.clear();
+  const std::string path = (dir_ / "nodist.yml").string();
+  ASSERT_EQ(save_calibration(path, calib_), std::nullopt);
+  const auto loaded = load_calibration(path);
+  ASSERT_TRUE(loaded.has_value()) << loaded.error();
+  EXPECT_EQ(loaded->d1, std::vector<double>(5, 0.0));
+}
+
+TEST_F(CalibrationFileTest, GivenMissingMatrixWhenLoadedThenErrorNamesFileAndField) {
+  // Given a file without K2
+  const std::string path = write("no_k2.yaml", edited_yaml("K2", ""));
+  // When loaded
+  const auto loaded = load_calibration(path);
+  // Then the error names the file and K2
+  ASSERT_FALSE(loaded.has_value());
+  EXPECT_NE(loaded.error().find(path), std::string::npos) << loaded.error();
+  EXPECT_NE(loaded.error().find("K2: missing"), std::string::npos) << loaded.error();
+}
+
+TEST_F(CalibrationFileTest, GivenWronglySizedMatrixWhenLoadedThenErrorNamesFieldAndShape) {
+  // Given P1 written as 3x3 instead of 3x4
+  const std::string p1 =
+      "P1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1., 0., 0., 0., 1., 0., "
+      "0., 0., 1. ]";
+  const auto loaded = load_calibration(write("p1.yaml", edited_yaml("P1", p1)));
+  ASSERT_FALSE(loaded.has_value());
+  EXPECT_NE(loaded.error().find("P1: expected 3x4, got 3x3"), std::string::npos) << loaded.error();
+}
+
+TEST_F(CalibrationFileTest, GivenWrongDistortionLengthWhenLoadedThenErrorNamesD1) {
+  const std::string d1 =
+      "D1: !!opencv-matrix\n   rows: 1\n   cols: 3\n   dt: d\n   data: [ 0.1, 0.2, 0.3 ]";
+  const auto loaded = parse_calibration(edited_yaml("D1", d1));
+  ASSERT_FALSE(loaded.has_value());
+  EXPECT_NE(loaded.error().find("D1: expected 1xN"), std::string::npos) << loaded.error();
+}
+
+TEST_F(CalibrationFileTest, GivenMissingImageSizeOrNonMatrixWhenParsedThenFieldNamed) {
+  auto missing_width = parse_calibration(edited_yaml("image_width", ""));
+  ASSERT_FALSE(missing_width.has_value());
+  EXPECT_NE(missing_width.error().find("image_width: missing"), std::string::npos);
+  auto scalar_r = parse_calibration(edited_yaml("R", "R: 3"));
+  ASSERT_FALSE(scalar_r.has_value());
+  EXPECT_NE(scalar_r.error().find("R:"), std::string::npos) << scalar_r.error();
+}
+
+TEST_F(CalibrationFileTest, GivenInconsistentValuesWhenLoadedThenValidationNamesField) {
+  // Given a well-formed file whose T is all zeros
+  const std::string t =
+      "T: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ 0., 0., 0. ]";
+  const auto loaded = parse_calibration(edited_yaml("T", t));
+  ASSERT_FALSE(loaded.has_value());
+  EXPECT_NE(loaded.error().find("T: must be finite and non-zero"), std::string::npos)
+      << loaded.error();
+}
+
+TEST_F(CalibrationFileTest, GivenMissingOrGarbageFileWhenLoadedThenClearErrorNoCrash) {
+  const auto missing = load_calibration((dir_ / "nope.yaml").string());
+  ASSERT_FALSE(missing.has_value());
+  EXPECT_NE(missing.error().find("no such calibration file"), std::string::npos);
+  const auto garbage = load_calibration(write("garbage.yaml", "%YAML:1.0\n: : [ {\n\x01\x02"));
+  EXPECT_FALSE(garbage.has_value());
+  EXPECT_FALSE(garbage.error().empty());
+  const auto empty = load_calibration(write("empty.yaml", ""));
+  EXPECT_FALSE(empty.has_value());
+}
+
+TEST_F(CalibrationFileTest, GivenInvalidCalibrationWhenSavedThenRefused) {
+  calib_.k1(0, 0) = 0.0;
+  const auto error = save_calibration((dir_ / "bad.yaml").string(), calib_);
+  ASSERT_TRUE(error.has_value());
+  EXPECT_NE(error->find("K1"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "bad.yaml"));
+}
+
+TEST(PairList, GivenOpenCvSampleListWhenLoadedThenThirteenExistingPairs) {
+  const auto pairs =
+      load_pair_list(std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/stereo_calib.xml");
+  ASSERT_TRUE(pairs.has_value()) << pairs.error();
+  ASSERT_EQ(pairs->size(), 13u);
+  EXPECT_NE(pairs->front().first.find("left01.jpg"), std::string::npos);
+  EXPECT_NE(pairs->front().second.find("right01.jpg"), std::string::npos);
+  for (const auto& [l, r] : pairs.value()) {
+    EXPECT_TRUE(fs::exists(l)) << l;
+    EXPECT_TRUE(fs::exists(r)) << r;
+  }
+}
+
+TEST_F(CalibrationFileTest, GivenOddOrMissingListWhenLoadedThenError) {
+  const auto odd =
+      load_pair_list(write("odd.xml",
+                           "<?xml version=\"1.0\"?>\n<opencv_storage>\n<imagelist>\n\"a.jpg\"\n"
+                           "\"b.jpg\"\n\"c.jpg\"\n</imagelist>\n</opencv_storage>\n"));
+  ASSERT_FALSE(odd.has_value());
+  EXPECT_NE(odd.error().find("odd number of images"), std::string::npos) << odd.error();
+  EXPECT_FALSE(load_pair_list((dir_ / "none.xml").string()).has_value());
+}
+
+}  // namespace
+}  // namespace stereoball::stereo
