@@ -1,0 +1,54 @@
+#include "simulator/core/ground_truth.hpp"
+
+namespace stereoball::simulator {
+namespace {
+
+bool inside(const Point2& p, int w, int h) {
+  return p.x >= -0.5 && p.y >= -0.5 && p.x <= w - 0.5 && p.y <= h - 0.5;
+}
+
+Point2 project_rectified(const cv::Matx34d& p, const Vec3d& x) {
+  const cv::Vec3d h = p * cv::Vec4d(x.x, x.y, x.z, 1.0);
+  return {h[0] / h[2], h[1] / h[2]};
+}
+
+bool visible(const StereoRig& rig, Eye eye, const Vec3d& cam, const Point2& rect_px) {
+  if (cam.z <= 1e-3) return false;
+  const int w = rig.width_px(), h = rig.height_px();
+  return inside(project_raw(rig.intrinsics(eye), cam), w, h) && inside(rect_px, w, h);
+}
+
+}  // namespace
+
+Vec3d world_to_camera(const StereoRig& rig, Eye eye, const RobotState& robot,
+                      const Vec3d& p_world) {
+  const Mat3 rz = Mat3::rot_z(robot.yaw_rad);
+  const Vec3d p_robot = rz.transposed() * (p_world - Vec3d{robot.x_m, robot.y_m, 0.0});
+  const CameraPose& pose = rig.pose(eye);
+  return pose.r_robot_from_cam.transposed() * (p_robot - pose.position_m);
+}
+
+GroundTruth make_ground_truth(const StereoRig& rig, const RobotState& robot, const BallState& ball,
+                              uint64_t frame_seq, int64_t sim_time_ns) {
+  GroundTruth g;
+  g.frame_seq = frame_seq;
+  g.sim_time_s = sim_time_ns * 1e-9;
+  g.robot = robot;
+  g.ball_present = ball.present;
+  if (!ball.present) return g;
+  g.ball_radius_m = ball.radius_m;
+  g.ball_world_m = ball.position_m;
+  const stereo::StereoCalibration& c = rig.calibration();
+  const Vec3d left = world_to_camera(rig, Eye::kLeft, robot, ball.position_m);
+  const Vec3d right = world_to_camera(rig, Eye::kRight, robot, ball.position_m);
+  const cv::Vec3d rect = c.r1 * cv::Vec3d(left.x, left.y, left.z);
+  g.ball_camera_m = {rect[0], rect[1], rect[2]};
+  g.ball_left_px = project_rectified(c.p1, g.ball_camera_m);
+  // P2 maps points given in the rectified LEFT frame into the rectified right image.
+  g.ball_right_px = project_rectified(c.p2, g.ball_camera_m);
+  g.ball_visible_left = rect[2] > 1e-3 && visible(rig, Eye::kLeft, left, g.ball_left_px);
+  g.ball_visible_right = rect[2] > 1e-3 && visible(rig, Eye::kRight, right, g.ball_right_px);
+  return g;
+}
+
+}  // namespace stereoball::simulator

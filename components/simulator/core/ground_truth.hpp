@@ -1,0 +1,35 @@
+#pragma once
+// Ground truth of one simulated frame: where the ball really is, and the robot.
+
+#include <cstdint>
+#include <string>
+
+#include "simulator/core/rig.hpp"
+#include "simulator/core/world.hpp"
+
+namespace stereoball::simulator {
+
+/// True state at a rendered frame (mirrors the sim/ground_truth message).
+struct GroundTruth {
+  uint64_t frame_seq = 0;
+  double sim_time_s = 0.0;    ///< simulated time since scenario start, seconds
+  bool ball_present = false;  ///< the scenario has a ball at all
+  double ball_radius_m = 0.0;
+  Vec3d ball_world_m;   ///< ball centre, world frame, metres
+  Vec3d ball_camera_m;  ///< ball centre, left rectified camera frame (x right, y down, z fwd)
+  bool ball_visible_left = false;  ///< centre in front of the camera and inside the image
+  bool ball_visible_right = false;
+  Point2 ball_left_px;   ///< projected centre, rectified left image, pixels
+  Point2 ball_right_px;  ///< projected centre, rectified right image, pixels
+  RobotState robot;      ///< pose and actual velocity
+};
+
+/// Ball centre in a camera's own (unrectified) frame, metres.
+Vec3d world_to_camera(const StereoRig& rig, Eye eye, const RobotState& robot, const Vec3d& p_world);
+
+/// Ground truth for the given state; visibility requires the centre inside both the raw and
+/// rectified image of the eye and in front of it.
+GroundTruth make_ground_truth(const StereoRig& rig, const RobotState& robot, const BallState& ball,
+                              uint64_t frame_seq, int64_t sim_time_ns);
+
+}  // namespace stereoball::simulator

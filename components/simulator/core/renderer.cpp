@@ -1,0 +1,355 @@
+#include "simulator/core/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace stereoball::simulator {
+namespace {
+
+constexpr int kTilePx = 16;
+constexpr float kBaseboardM = 0.10f;
+// Football-like texture: patches around the 12 icosahedron vertices.
+constexpr float kPatchCos = 0.935f;  // cos(~20.8 deg) angular patch radius
+constexpr float kPhi = 1.618034f;
+
+Vec3f rgb_to_vec(const Rgb& c) {
+  return {static_cast<float>(c.b), static_cast<float>(c.g), static_cast<float>(c.r)};  // BGR
+}
+
+struct PatchDirs {
+  Vec3f d[12];
+  PatchDirs() {
+    int i = 0;
+    for (float a : {-1.0f, 1.0f}) {
+      for (float b : {-kPhi, kPhi}) {
+        d[i++] = Vec3f{0, a, b}.normalized();
+        d[i++] = Vec3f{a, b, 0}.normalized();
+        d[i++] = Vec3f{b, 0, a}.normalized();
+      }
+    }
+  }
+};
+const PatchDirs kPatches;
+
+inline void put(uint8_t* px, const Vec3f& albedo, float light) {
+  const float b = albedo.x * light + 0.5f, g = albedo.y * light + 0.5f, r = albedo.z * light + 0.5f;
+  px[0] = static_cast<uint8_t>(std::min(b, 255.0f));
+  px[1] = static_cast<uint8_t>(std::min(g, 255.0f));
+  px[2] = static_cast<uint8_t>(std::min(r, 255.0f));
+}
+
+}  // namespace
+
+Renderer::Renderer(const StereoRig& rig, const Scenario& scenario, double left_gain,
+                   double right_gain)
+    : width_(rig.width_px()), height_(rig.height_px()), room_(scenario.room) {
+  build_eye(Eye::kLeft, rig, left_gain);
+  build_eye(Eye::kRight, rig, right_gain);
+  build_scene(scenario);
+  const double ce = std::cos(scenario.sun_elevation_rad);
+  sun_dir_ = {ce * std::cos(scenario.sun_azimuth_rad), ce * std::sin(scenario.sun_azimuth_rad),
+              std::sin(scenario.sun_elevation_rad)};
+  const BallSpec ball = scenario.ball.value_or(BallSpec{});
+  ball_a_ = rgb_to_vec(ball.color_a);
+  ball_b_ = rgb_to_vec(ball.color_b);
+  cand_boxes_.reserve(boxes_.size());
+  cand_discs_.reserve(discs_.size());
+  frame_.cones.resize(bounds_.size());
+}
+
+void Renderer::build_eye(Eye eye, const StereoRig& rig, double gain) {
+  EyeTables& t = eyes_[static_cast<int>(eye)];
+  const Intrinsics& k = rig.intrinsics(eye);
+  const CameraPose& pose = rig.pose(eye);
+  t.origin_robot_m = pose.position_m;
+  t.gain = static_cast<float>(gain);
+  t.rays.resize(static_cast<size_t>(width_) * height_);
+  for (int v = 0; v < height_; ++v) {
+    for (int u = 0; u < width_; ++u) {
+      const Point2 pd{(u - k.cx) / k.fx, (v - k.cy) / k.fy};
+      // Newton always converges for validated distortion; fall back to the distorted point.
+      const Point2 p = undistort_normalized(k.dist, pd).value_or(pd);
+      const Vec3d d = (pose.r_robot_from_cam * Vec3d{p.x, p.y, 1.0}).normalized();
+      t.rays[static_cast<size_t>(v) * width_ + u] = {
+          static_cast<float>(d.x), static_cast<float>(d.y), static_cast<float>(d.z)};
+    }
+  }
+  t.tiles.clear();
+  for (int y0 = 0; y0 < height_; y0 += kTilePx) {
+    for (int x0 = 0; x0 < width_; x0 += kTilePx) {
+      Tile tile{x0, y0, std::min(x0 + kTilePx, width_), std::min(y0 + kTilePx, height_), {}, 1, 0};
+      Vec3d sum;
+      for (int v = tile.y0; v < tile.y1; ++v) {
+        for (int u = tile.x0; u < tile.x1; ++u) {
+          const Ray& r = t.rays[static_cast<size_t>(v) * width_ + u];
+          sum = sum + Vec3d{r.x, r.y, r.z};
+        }
+      }
+      const Vec3d axis = sum.normalized();
+      double min_cos = 1.0;
+      for (int v = tile.y0; v < tile.y1; ++v) {
+        for (int u = tile.x0; u < tile.x1; ++u) {
+          const Ray& r = t.rays[static_cast<size_t>(v) * width_ + u];
+          min_cos = std::min(min_cos, axis.dot(Vec3d{r.x, r.y, r.z}));
+        }
+      }
+      // Widen slightly so float rounding can never cull a ray that hits.
+      const double half = std::acos(std::clamp(min_cos, -1.0, 1.0)) + 1e-3;
+      tile.axis = axis.cast<float>();
+      tile.cos_half = static_cast<float>(std::cos(half));
+      tile.sin_half = static_cast<float>(std::sin(half));
+      t.tiles.push_back(tile);
+    }
+  }
+}
+
+void Renderer::build_scene(const Scenario& s) {
+  auto add_box = [this](Vec3d lo, Vec3d hi, const Rgb& c) {
+    boxes_.push_back({lo.cast<float>(), hi.cast<float>(), rgb_to_vec(c)});
+    bounds_.push_back({(lo + hi) * 0.5, (hi - lo).norm() * 0.5});
+  };
+  for (const BoxSpec& b : s.boxes) {
+    add_box({b.x_m - 0.5 * b.size_x_m, b.y_m - 0.5 * b.size_y_m, b.z_m},
+            {b.x_m + 0.5 * b.size_x_m, b.y_m + 0.5 * b.size_y_m, b.z_m + b.size_z_m}, b.color);
+  }
+  for (const DoorFrameSpec& d : s.door_frames) {
+    // Local frame: a = along the opening, b = across (depth); mapped to x/y below.
+    auto box = [&](double a0, double a1, double b0, double b1, double z0, double z1, const Rgb& c) {
+      if (d.along_x) {
+        add_box({d.x_m + a0, d.y_m + b0, z0}, {d.x_m + a1, d.y_m + b1, z1}, c);
+      } else {
+        add_box({d.x_m + b0, d.y_m + a0, z0}, {d.x_m + b1, d.y_m + a1, z1}, c);
+      }
+    };
+    const double w = 0.5 * d.width_m, j = d.jamb_m, dp = 0.5 * d.depth_m;
+    box(-w - j, -w, -dp, dp, 0.0, d.height_m + j, d.color);
+    box(w, w + j, -dp, dp, 0.0, d.height_m + j, d.color);
+    box(-w, w, -dp, dp, d.height_m, d.height_m + j, d.color);
+    box(-w, w, -0.3 * dp, 0.3 * dp, 0.0, d.height_m, d.door_color);
+  }
+  for (const PlateSpec& p : s.plates) {
+    const double inner = p.radius_m - p.rim_m;
+    discs_.push_back({p.center_m.cast<float>(), p.normal.normalized().cast<float>(),
+                      rgb_to_vec(p.color), rgb_to_vec(p.rim_color),
+                      static_cast<float>(p.radius_m * p.radius_m),
+                      static_cast<float>(inner * inner)});
+    bounds_.push_back({p.center_m, p.radius_m * 1.01});
+  }
+}
+
+Renderer::ObjCone Renderer::make_cone(const Vec3d& centre_m, double radius_m, const Vec3d& o_world,
+                                      double c, double s) {
+  const Vec3d dw = centre_m - o_world;
+  const Vec3d dr{c * dw.x + s * dw.y, -s * dw.x + c * dw.y, dw.z};  // world -> robot axes
+  const double dist = dr.norm();
+  ObjCone k;
+  if (dist <= radius_m * 1.001) {
+    k.always = true;
+    return k;
+  }
+  const double a = std::asin(radius_m / dist);
+  k.u = (dr * (1.0 / dist)).cast<float>();
+  k.cos_a = static_cast<float>(std::cos(a));
+  k.sin_a = static_cast<float>(std::sin(a));
+  return k;
+}
+
+bool Renderer::hits(const Tile& t, const ObjCone& k) {
+  if (k.always) return true;
+  // Angle(u, axis) <= half + a  <=>  cos(angle) >= cos(half + a), valid while half + a < pi.
+  const float cos_sum = t.cos_half * k.cos_a - t.sin_half * k.sin_a;
+  const float sin_sum = t.sin_half * k.cos_a + t.cos_half * k.sin_a;
+  if (cos_sum < 0.0f && sin_sum < 0.0f) return true;  // half + a beyond pi
+  return k.u.dot(t.axis) >= cos_sum - 1e-4f;
+}
+
+void Renderer::setup_frame(const EyeTables& eye, const RobotState& robot, const BallState& ball,
+                           const LightKey& light) {
+  FrameSetup& f = frame_;
+  const double c = std::cos(robot.yaw_rad), s = std::sin(robot.yaw_rad);
+  f.c = static_cast<float>(c);
+  f.s = static_cast<float>(s);
+  const Vec3d o =
+      Vec3d{robot.x_m, robot.y_m, 0.0} + Mat3::rot_z(robot.yaw_rad) * eye.origin_robot_m;
+  f.o = o.cast<float>();
+  f.light = sun_dir_.cast<float>();
+  f.ambient = static_cast<float>(light.ambient);
+  f.sun = static_cast<float>(light.sun);
+  f.scale = static_cast<float>(light.exposure) * eye.gain;
+  auto diffuse = [&](Vec3d n) {
+    return static_cast<float>(light.ambient + light.sun * std::max(0.0, n.dot(sun_dir_)));
+  };
+  f.diff_floor = diffuse({0, 0, 1});
+  f.diff_wall[0] = diffuse({1, 0, 0});   // wall at x_min faces +x
+  f.diff_wall[1] = diffuse({-1, 0, 0});  // x_max
+  f.diff_wall[2] = diffuse({0, 1, 0});   // y_min
+  f.diff_wall[3] = diffuse({0, -1, 0});  // y_max
+  for (int a = 0; a < 3; ++a) {
+    Vec3d n;
+    (a == 0 ? n.x : a == 1 ? n.y : n.z) = 1.0;
+    f.diff_box[a][0] = diffuse(n);   // face pointing +axis
+    f.diff_box[a][1] = diffuse(-n);  // face pointing -axis
+  }
+  for (size_t i = 0; i < bounds_.size(); ++i) {
+    f.cones[i] = make_cone(bounds_[i].centre_m, bounds_[i].radius_m, o, c, s);
+  }
+  f.ball = ball.present;
+  if (ball.present) {
+    f.ball_c = ball.position_m.cast<float>();
+    f.ball_r = static_cast<float>(ball.radius_m);
+    f.ball_r2 = f.ball_r * f.ball_r;
+    const Mat3 rt = ball.orientation.transposed();
+    for (int i = 0; i < 9; ++i) f.ball_rt[i] = static_cast<float>(rt.m[i]);
+    f.ball_cone = make_cone(ball.position_m, ball.radius_m * 1.01, o, c, s);
+    // The shadow is an ellipse around the centre's projection along the light onto the floor.
+    const Vec3d sc = ball.position_m - sun_dir_ * (ball.position_m.z / sun_dir_.z);
+    f.shadow_cone = make_cone(sc, ball.radius_m / sun_dir_.z * 1.05 + 0.01, o, c, s);
+  }
+}
+
+void Renderer::cull(const Tile& tile) {
+  const FrameSetup& f = frame_;
+  cand_boxes_.clear();
+  cand_discs_.clear();
+  for (size_t i = 0; i < boxes_.size(); ++i) {
+    if (hits(tile, f.cones[i])) cand_boxes_.push_back(static_cast<uint16_t>(i));
+  }
+  for (size_t i = 0; i < discs_.size(); ++i) {
+    if (hits(tile, f.cones[boxes_.size() + i])) cand_discs_.push_back(static_cast<uint16_t>(i));
+  }
+  cand_ball_ = f.ball && hits(tile, f.ball_cone);
+  cand_shadow_ = f.ball && hits(tile, f.shadow_cone);
+}
+
+void Renderer::render(Eye eye, const RobotState& robot, const BallState& ball,
+                      const LightKey& light, cv::Mat& out) {
+  out.create(height_, width_, CV_8UC3);
+  const EyeTables& t = eyes_[static_cast<int>(eye)];
+  setup_frame(t, robot, ball, light);
+  for (const Tile& tile : t.tiles) {
+    cull(tile);
+    render_tile(t, tile, out);
+  }
+}
+
+void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out) {
+  const FrameSetup& f = frame_;
+  enum Hit { kFloor, kCeiling, kWall, kBox, kDisc, kBall };
+  const float xmin = static_cast<float>(room_.x_min_m), xmax = static_cast<float>(room_.x_max_m);
+  const float ymin = static_cast<float>(room_.y_min_m), ymax = static_cast<float>(room_.y_max_m);
+  const float zmax = static_cast<float>(room_.height_m);
+  const float inv_tile = static_cast<float>(1.0 / room_.tile_m);
+  const float grout = static_cast<float>(room_.grout_m / room_.tile_m);
+  const Vec3f floor_a = rgb_to_vec(room_.floor_a), floor_b = rgb_to_vec(room_.floor_b);
+  const Vec3f grout_c = rgb_to_vec(room_.grout), wall_c = rgb_to_vec(room_.wall);
+  const Vec3f base_c = rgb_to_vec(room_.baseboard), ceil_c = rgb_to_vec(room_.ceiling);
+  const Vec3f o = f.o;
+  const Vec3f oc = o - f.ball_c;
+  const float oc2 = oc.dot(oc) - f.ball_r2;
+
+  for (int v = tile.y0; v < tile.y1; ++v) {
+    const Ray* ray = eye.rays.data() + static_cast<size_t>(v) * width_ + tile.x0;
+    uint8_t* px = out.ptr<uint8_t>(v) + 3 * tile.x0;
+    for (int u = tile.x0; u < tile.x1; ++u, ++ray, px += 3) {
+      const Vec3f d{f.c * ray->x - f.s * ray->y, f.s * ray->x + f.c * ray->y, ray->z};
+      const float ix = 1.0f / d.x, iy = 1.0f / d.y, iz = 1.0f / d.z;
+      // Room: nearest of the x wall, y wall and floor/ceiling planes the ray leaves through.
+      float t = ((d.x > 0 ? xmax : xmin) - o.x) * ix;
+      Hit hit = kWall;
+      int which = d.x > 0 ? 1 : 0;
+      const float ty = ((d.y > 0 ? ymax : ymin) - o.y) * iy;
+      if (ty < t) t = ty, which = d.y > 0 ? 3 : 2;
+      const float tz = ((d.z > 0 ? zmax : 0.0f) - o.z) * iz;
+      if (tz < t) t = tz, hit = d.z > 0 ? kCeiling : kFloor;
+      int axis = 0;
+      for (uint16_t bi : cand_boxes_) {
+        const Box& b = boxes_[bi];
+        const float x0 = (b.lo.x - o.x) * ix, x1 = (b.hi.x - o.x) * ix;
+        const float y0 = (b.lo.y - o.y) * iy, y1 = (b.hi.y - o.y) * iy;
+        const float z0 = (b.lo.z - o.z) * iz, z1 = (b.hi.z - o.z) * iz;
+        const float nx = std::min(x0, x1), ny = std::min(y0, y1), nz = std::min(z0, z1);
+        const float tn = std::max(nx, std::max(ny, nz));
+        const float tf = std::min(std::max(x0, x1), std::min(std::max(y0, y1), std::max(z0, z1)));
+        if (tn <= tf && tn > 0.0f && tn < t) {
+          t = tn;
+          hit = kBox;
+          which = bi;
+          axis = tn == nx ? 0 : tn == ny ? 1 : 2;
+        }
+      }
+      for (uint16_t di : cand_discs_) {
+        const Disc& c = discs_[di];
+        const float den = d.dot(c.n);
+        if (std::abs(den) < 1e-6f) continue;
+        const float td = (c.c - o).dot(c.n) / den;
+        if (td <= 0.0f || td >= t) continue;
+        const Vec3f q = o + d * td - c.c;
+        if (q.dot(q) < c.r2) t = td, hit = kDisc, which = di;
+      }
+      if (cand_ball_) {
+        const float b = oc.dot(d);
+        const float disc = b * b - oc2;
+        if (disc >= 0.0f) {
+          const float tb = -b - std::sqrt(disc);
+          if (tb > 0.0f && tb < t) t = tb, hit = kBall;
+        }
+      }
+      const Vec3f p = o + d * t;
+      switch (hit) {
+        case kFloor: {
+          Vec3f alb = floor_a;
+          if (!room_.plain) {
+            const float fu = p.x * inv_tile, fv = p.y * inv_tile;
+            const float iu = std::floor(fu), iv = std::floor(fv);
+            if (fu - iu < grout || fv - iv < grout) {
+              alb = grout_c;
+            } else if ((static_cast<int>(iu) + static_cast<int>(iv)) & 1) {
+              alb = floor_b;
+            }
+          }
+          float light = f.diff_floor;
+          if (cand_shadow_) {
+            const Vec3f q = f.ball_c - p;
+            const float proj = q.dot(f.light);
+            if (proj > 0.0f && q.dot(q) - proj * proj < f.ball_r2) light = f.ambient;
+          }
+          put(px, alb, light * f.scale);
+          break;
+        }
+        case kCeiling:
+          put(px, ceil_c, f.ambient * f.scale);
+          break;
+        case kWall:
+          put(px, (!room_.plain && p.z < kBaseboardM) ? base_c : wall_c,
+              f.diff_wall[which] * f.scale);
+          break;
+        case kBox: {
+          const float comp = axis == 0 ? d.x : axis == 1 ? d.y : d.z;
+          put(px, boxes_[which].albedo, f.diff_box[axis][comp > 0 ? 1 : 0] * f.scale);
+          break;
+        }
+        case kDisc: {
+          const Disc& c = discs_[which];
+          const Vec3f q = p - c.c;
+          const float facing = d.dot(c.n) < 0 ? 1.0f : -1.0f;
+          const float light = f.ambient + f.sun * std::max(0.0f, facing * c.n.dot(f.light));
+          put(px, q.dot(q) > c.inner_r2 ? c.rim : c.albedo, light * f.scale);
+          break;
+        }
+        case kBall: {
+          const Vec3f n = (p - f.ball_c) * (1.0f / f.ball_r);
+          const float* m = f.ball_rt;
+          const Vec3f nb{m[0] * n.x + m[1] * n.y + m[2] * n.z, m[3] * n.x + m[4] * n.y + m[5] * n.z,
+                         m[6] * n.x + m[7] * n.y + m[8] * n.z};
+          bool patch = false;
+          for (const Vec3f& pd : kPatches.d) patch = patch || nb.dot(pd) > kPatchCos;
+          const float light = f.ambient + f.sun * std::max(0.0f, n.dot(f.light));
+          put(px, patch ? ball_b_ : ball_a_, light * f.scale);
+          break;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace stereoball::simulator

@@ -1,0 +1,119 @@
+#pragma once
+// A scenario: the room, clutter, ball, scripted events and lighting of one simulated run.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "simulator/core/vec3.hpp"
+
+namespace stereoball::simulator {
+
+/// An sRGB-ish colour, components 0..255.
+struct Rgb {
+  double r = 0.0, g = 0.0, b = 0.0;
+};
+
+/// Axis-aligned room: floor z = 0, ceiling z = height_m, four walls.
+struct RoomSpec {
+  double x_min_m = -2.0, x_max_m = 6.0;  ///< wall positions along x, metres
+  double y_min_m = -3.0, y_max_m = 3.0;  ///< wall positions along y, metres
+  double height_m = 2.5;                 ///< ceiling height, metres
+  double tile_m = 0.5;                   ///< floor tile size, metres
+  double grout_m = 0.015;                ///< floor grout line width, metres
+  Rgb floor_a{150, 120, 90}, floor_b{135, 105, 80}, grout{70, 60, 55};  ///< floor colours
+  Rgb wall{190, 195, 200};                                              ///< wall colour
+  Rgb baseboard{90, 80, 75};   ///< 10 cm strip at the bottom of every wall
+  Rgb ceiling{215, 215, 215};  ///< ceiling colour
+  bool plain = false;          ///< untextured floor (floor_a only) and no baseboard
+};
+
+/// A box standing on the floor, axis-aligned.
+struct BoxSpec {
+  double x_m = 0.0, y_m = 0.0;                            ///< centre of the footprint, metres
+  double size_x_m = 0.4, size_y_m = 0.4, size_z_m = 0.4;  ///< extent, metres
+  double z_m = 0.0;                                       ///< bottom height, metres
+  Rgb color{120, 90, 60};
+};
+
+/// A door frame (two jambs and a lintel) with a closed door leaf, against a wall.
+struct DoorFrameSpec {
+  double x_m = 0.0, y_m = 0.0;  ///< centre of the opening at floor level, metres
+  bool along_x = false;         ///< opening spans along x (wall at constant y) or along y
+  double width_m = 0.9;         ///< opening width, metres
+  double height_m = 2.0;        ///< opening height, metres
+  double jamb_m = 0.08;         ///< jamb/lintel thickness in the wall plane, metres
+  double depth_m = 0.12;        ///< how far the frame sticks out of the wall, metres
+  Rgb color{240, 240, 235};     ///< frame colour
+  Rgb door_color{130, 85, 50};  ///< door leaf colour
+};
+
+/// A round flat object (plate, clock, sign): a disc with a rim.
+struct PlateSpec {
+  Vec3d center_m{0.0, 0.0, 1.0};  ///< disc centre, world metres
+  Vec3d normal{-1.0, 0.0, 0.0};   ///< facing direction (normalised on use)
+  double radius_m = 0.12;
+  double rim_m = 0.015;  ///< width of the rim ring, metres
+  Rgb color{230, 120, 40};
+  Rgb rim_color{250, 250, 250};
+};
+
+/// The ball at scenario start.
+struct BallSpec {
+  double x_m = 1.5, y_m = 0.0;        ///< on the floor, metres
+  double vx_mps = 0.0, vy_mps = 0.0;  ///< initial velocity, m/s
+  double radius_m = 0.11;
+  Rgb color_a{230, 110, 20};   ///< main colour
+  Rgb color_b{245, 245, 245};  ///< patch colour
+};
+
+/// Sets the ball velocity at a time (a kick).
+struct KickSpec {
+  double t_s = 0.0;
+  double vx_mps = 0.0, vy_mps = 0.0;
+};
+
+/// Lighting keyframe; values are linearly interpolated between keys.
+struct LightKey {
+  double t_s = 0.0;
+  double ambient = 0.45;  ///< ambient light level, 0..2
+  double sun = 0.65;      ///< directional light level, 0..2
+  double exposure = 1.0;  ///< camera exposure multiplier, 0.05..5
+};
+
+/// A velocity command held from t_s on (the standalone tool's built-in driver).
+struct ScriptedCommand {
+  double t_s = 0.0;
+  double linear_mps = 0.0;
+  double angular_radps = 0.0;
+};
+
+/// Everything a run needs besides the hardware parameters.
+struct Scenario {
+  std::string name = "unnamed";
+  uint64_t seed = 1;
+  double duration_s = 10.0;
+  RoomSpec room;
+  double robot_x_m = 0.0, robot_y_m = 0.0, robot_yaw_rad = 0.0;  ///< start pose
+  std::optional<BallSpec> ball;
+  std::vector<BoxSpec> boxes;
+  std::vector<DoorFrameSpec> door_frames;
+  std::vector<PlateSpec> plates;
+  std::vector<KickSpec> kicks;
+  double sun_azimuth_rad = 0.8;           ///< direction the light comes from, CCW from +x
+  double sun_elevation_rad = 1.0;         ///< above the horizon, radians
+  std::vector<LightKey> lighting;         ///< sorted by t_s; empty = LightKey defaults
+  std::vector<ScriptedCommand> commands;  ///< sorted by t_s
+
+  /// First invalid field with its allowed range, or nullopt.
+  std::optional<std::string> validate() const;
+};
+
+/// Lighting at time t_s (interpolated keyframes).
+LightKey lighting_at(const Scenario& s, double t_s);
+
+/// Scripted command in force at t_s, or nullopt before the first one.
+std::optional<ScriptedCommand> scripted_command_at(const Scenario& s, double t_s);
+
+}  // namespace stereoball::simulator

@@ -1,0 +1,36 @@
+#include "simulator/core/sensor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace stereoball::simulator {
+
+Sensor::Sensor(double sigma_dn, uint64_t seed) : rng_(seed), enabled_(sigma_dn > 0.0) {
+  table_.resize(size_t{1} << kTableBits);
+  SplitMix64 table_rng(seed ^ 0x5eed5eed5eedULL);
+  for (size_t i = 0; i < table_.size(); i += 2) {
+    // Box-Muller gives two independent normals per pair of uniforms.
+    const double u1 = std::max(table_rng.uniform(), 1e-12), u2 = table_rng.uniform();
+    const double r = std::sqrt(-2.0 * std::log(u1)) * sigma_dn * 16.0;
+    table_[i] =
+        static_cast<int16_t>(std::clamp(std::lround(r * std::cos(2 * M_PI * u2)), -32000L, 32000L));
+    table_[i + 1] =
+        static_cast<int16_t>(std::clamp(std::lround(r * std::sin(2 * M_PI * u2)), -32000L, 32000L));
+  }
+}
+
+void Sensor::apply(cv::Mat& image) {
+  if (!enabled_) return;
+  const size_t mask = table_.size() - 1;
+  const int n = image.cols * image.channels();
+  for (int y = 0; y < image.rows; ++y) {
+    uint8_t* p = image.ptr<uint8_t>(y);
+    size_t k = rng_.next() & mask;
+    for (int i = 0; i < n; ++i, k = (k + 1) & mask) {
+      const int v = p[i] * 16 + table_[k] + 8;
+      p[i] = static_cast<uint8_t>(std::clamp(v >> 4, 0, 255));
+    }
+  }
+}
+
+}  // namespace stereoball::simulator

@@ -1,0 +1,69 @@
+#pragma once
+// The simulator core: world dynamics + rendering + sensor + ground truth, stepped by time.
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "simulator/core/ground_truth.hpp"
+#include "simulator/core/renderer.hpp"
+#include "simulator/core/rig.hpp"
+#include "simulator/core/scenario.hpp"
+#include "simulator/core/sensor.hpp"
+#include "simulator/core/sim_params.hpp"
+#include "simulator/core/world.hpp"
+
+namespace stereoball::simulator {
+
+/// One simulated stereo frame: raw (distorted) BGR8 images of both eyes and the truth.
+struct SimFrame {
+  uint64_t seq = 0;
+  int64_t sim_time_ns = 0;  ///< simulated time of the frame (end of exposure), ns
+  cv::Mat left;             ///< CV_8UC3 BGR, raw left camera image
+  cv::Mat right;            ///< CV_8UC3 BGR, raw right camera image
+  GroundTruth truth;
+};
+
+/// Steps a scenario: step(command, t) advances the world to t and renders a frame there.
+class Simulator {
+ public:
+  /// Params and scenario must be valid (validate() both first); see create().
+  Simulator(const SimParams& params, const Scenario& scenario);
+
+  /// Validates both and builds a simulator, or returns the first error.
+  static std::optional<std::string> check(const SimParams& params, const Scenario& scenario);
+
+  /// Applies a new command (if any), advances to sim_time_ns (ns since scenario start,
+  /// non-decreasing) and renders both eyes.
+  SimFrame step(const std::optional<VelocityCommand>& command, int64_t sim_time_ns);
+
+  /// Advances the world without rendering (e.g. to skip ahead).
+  void advance(const std::optional<VelocityCommand>& command, int64_t sim_time_ns);
+
+  /// The true calibration of the simulated rig.
+  const stereo::StereoCalibration& calibration() const { return rig_.calibration(); }
+  /// The rig (intrinsics, poses).
+  const StereoRig& rig() const { return rig_; }
+  /// Current world state.
+  const World& world() const { return world_; }
+  /// The scenario being run.
+  const Scenario& scenario() const { return scenario_; }
+  /// Simulated time between frames at the configured rate, ns.
+  int64_t frame_period_ns() const;
+
+ private:
+  void render_eye(Eye eye, int64_t t_ns, cv::Mat& out);
+
+  SimParams params_;
+  Scenario scenario_;
+  StereoRig rig_;
+  World world_;
+  Renderer renderer_;
+  Sensor sensor_;
+  uint64_t seq_ = 0;
+  cv::Mat sub_, acc_;
+};
+
+}  // namespace stereoball::simulator

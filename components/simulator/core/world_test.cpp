@@ -1,0 +1,131 @@
+#include "simulator/core/world.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace stereoball::simulator {
+namespace {
+
+constexpr int64_t kS = 1'000'000'000;
+
+SimParams fast_base() {
+  SimParams p;
+  p.robot.max_linear_accel_mps2 = 1000.0;
+  p.robot.max_angular_accel_radps2 = 1000.0;
+  p.robot.command_timeout_ns = 10 * kS;
+  return p;
+}
+
+Scenario empty_room() {
+  Scenario s;
+  s.room = RoomSpec{};
+  s.room.x_min_m = -10, s.room.x_max_m = 10, s.room.y_min_m = -10, s.room.y_max_m = 10;
+  return s;
+}
+
+TEST(World, ConstantCommandFollowsTheExpectedArc) {
+  // Given a base with negligible acceleration limits at the origin facing +x
+  const SimParams p = fast_base();
+  const Scenario s = empty_room();
+  World w(p, s);
+  // When commanded 0.5 m/s and +0.5 rad/s (turn left) for 2 s
+  w.set_command({0.5, 0.5, 0});
+  w.advance_to(2 * kS);
+  // Then it is on the circle of radius v/w = 1 m centred at (0, 1), turned left by 1 rad
+  const RobotState& r = w.robot();
+  EXPECT_NEAR(r.x_m, std::sin(1.0), 0.01);
+  EXPECT_NEAR(r.y_m, 1.0 - std::cos(1.0), 0.01);
+  EXPECT_NEAR(r.yaw_rad, 1.0, 0.01);
+  EXPECT_NEAR(r.linear_mps, 0.5, 1e-9);
+  EXPECT_NEAR(r.angular_radps, 0.5, 1e-9);
+}
+
+TEST(World, AccelerationAndVelocityLimitsApply) {
+  // Given a base limited to 1 m/s^2 and 0.4 m/s
+  SimParams p;
+  p.robot.max_linear_accel_mps2 = 1.0;
+  p.robot.max_linear_mps = 0.4;
+  p.robot.command_timeout_ns = 10 * kS;
+  const Scenario s = empty_room();
+  World w(p, s);
+  // When asked for 2 m/s
+  w.set_command({2.0, 0.0, 0});
+  w.advance_to(kS / 10);
+  // Then after 0.1 s it has reached only 0.1 m/s, and later saturates at 0.4 m/s
+  EXPECT_NEAR(w.robot().linear_mps, 0.1, 1e-9);
+  w.set_command({2.0, 0.0, kS / 10});
+  w.advance_to(kS / 2);
+  EXPECT_NEAR(w.robot().linear_mps, 0.4, 1e-9);
+}
+
+TEST(World, StaleCommandStopsTheBase) {
+  // Given a base with a 300 ms command timeout driving forward
+  SimParams p = fast_base();
+  p.robot.command_timeout_ns = 300'000'000;
+  const Scenario s = empty_room();
+  World w(p, s);
+  w.set_command({0.5, 0.2, 0});
+  w.advance_to(200'000'000);
+  EXPECT_GT(w.robot().linear_mps, 0.4);
+  // When no new command arrives for longer than the timeout
+  w.advance_to(kS);
+  const double x = w.robot().x_m;
+  w.advance_to(2 * kS);
+  // Then the base has stopped and does not move any more
+  EXPECT_EQ(w.robot().linear_mps, 0.0);
+  EXPECT_EQ(w.robot().angular_radps, 0.0);
+  EXPECT_EQ(w.robot().x_m, x);
+}
+
+TEST(World, RollingBallDeceleratesAndStops) {
+  // Given a ball rolling at 1 m/s with 0.5 m/s^2 rolling deceleration
+  SimParams p;
+  p.ball.rolling_decel_mps2 = 0.5;
+  Scenario s = empty_room();
+  s.ball = BallSpec{};
+  s.ball->x_m = -5.0, s.ball->y_m = 3.0, s.ball->vx_mps = 1.0;
+  World w(p, s);
+  // When it rolls until it stops
+  w.advance_to(5 * kS);
+  // Then it travelled v^2 / (2a) = 1 m and is at rest
+  EXPECT_NEAR(w.ball().position_m.x, -4.0, 1e-6);
+  EXPECT_EQ(w.ball().velocity_mps.x, 0.0);
+}
+
+TEST(World, BallBouncesOffWallsWithRestitution) {
+  // Given a frictionless ball rolling toward the +x wall
+  SimParams p;
+  p.ball.rolling_decel_mps2 = 0.0;
+  p.ball.restitution = 0.5;
+  Scenario s = empty_room();
+  s.ball = BallSpec{};
+  s.ball->x_m = 9.0, s.ball->y_m = 5.0, s.ball->vx_mps = 2.0;
+  World w(p, s);
+  // When it reaches the wall
+  w.advance_to(kS);
+  // Then it comes back at half speed and stays inside the room
+  EXPECT_NEAR(w.ball().velocity_mps.x, -1.0, 1e-9);
+  EXPECT_LE(w.ball().position_m.x, 10.0 - s.ball->radius_m);
+}
+
+TEST(World, KickSetsTheBallVelocityAtItsTime) {
+  // Given a still ball with a kick at t = 1 s
+  Scenario s = empty_room();
+  s.ball = BallSpec{};
+  s.ball->x_m = 2.0, s.ball->y_m = 0.0;
+  s.kicks.push_back({1.0, 0.0, 1.5});
+  const SimParams p;
+  World w(p, s);
+  // When time passes the kick
+  w.advance_to(kS - 1);
+  EXPECT_EQ(w.ball().velocity_mps.y, 0.0);
+  w.advance_to(kS + kS / 10);
+  // Then the ball rolls sideways, and its texture rotates with it
+  EXPECT_GT(w.ball().velocity_mps.y, 1.4);
+  EXPECT_GT(w.ball().position_m.y, 0.1);
+  EXPECT_NE(w.ball().orientation.m[0] + w.ball().orientation.m[4] + w.ball().orientation.m[8], 3.0);
+}
+
+}  // namespace
+}  // namespace stereoball::simulator
