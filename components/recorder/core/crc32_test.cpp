@@ -1,0 +1,47 @@
+#include "recorder/core/crc32.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string_view>
+#include <vector>
+
+namespace stereoball::recorder {
+namespace {
+
+std::span<const uint8_t> as_bytes(std::string_view s) {
+  return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
+}
+
+TEST(Crc32, GivenTheStandardCheckInputWhenHashedThenMatchesTheCatalogueValue) {
+  // CRC-32/ISO-HDLC check value from the CRC catalogue.
+  EXPECT_EQ(crc32(as_bytes("123456789")), 0xCBF43926u);
+  EXPECT_EQ(crc32({}), 0u);
+}
+
+TEST(Crc32, GivenRandomSplitsWhenHashedIncrementallyThenEqualsOneShot) {
+  std::mt19937 rng(7);
+  std::vector<uint8_t> data(10'000);
+  for (auto& b : data) b = static_cast<uint8_t>(rng());
+  const uint32_t whole = crc32(data);
+  for (int trial = 0; trial < 20; ++trial) {
+    Crc32 crc;
+    size_t pos = 0;
+    while (pos < data.size()) {
+      const size_t n = std::min<size_t>(rng() % 37, data.size() - pos);
+      crc.update(std::span(data).subspan(pos, n));
+      pos += n;
+    }
+    EXPECT_EQ(crc.value(), whole);
+  }
+}
+
+TEST(Crc32, GivenOneFlippedBitWhenHashedThenDiffers) {
+  std::vector<uint8_t> data(1000, 0x5A);
+  const uint32_t before = crc32(data);
+  data[500] ^= 0x10;
+  EXPECT_NE(crc32(data), before);
+}
+
+}  // namespace
+}  // namespace stereoball::recorder

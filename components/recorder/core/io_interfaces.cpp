@@ -1,0 +1,16 @@
+#include "recorder/core/io_interfaces.hpp"
+
+#include <algorithm>
+
+namespace stereoball::recorder {
+
+Status MemorySource::read(uint64_t offset, std::span<uint8_t> out) {
+  if (offset > bytes_.size() || out.size() > bytes_.size() - offset) {
+    return "read of " + std::to_string(out.size()) + " bytes at offset " + std::to_string(offset) +
+           " is past the end (" + std::to_string(bytes_.size()) + " bytes)";
+  }
+  std::copy_n(bytes_.begin() + offset, out.size(), out.begin());
+  return std::nullopt;
+}
+
+}  // namespace stereoball::recorder

@@ -1,0 +1,242 @@
+#include "recorder/core/writer.hpp"
+
+#include <algorithm>
+
+#include "recorder/core/byte_io.hpp"
+
+namespace stereoball::recorder {
+
+std::optional<std::string> WriterParams::validate() const {
+  if (chunk_size_bytes < 1024 || chunk_size_bytes > (uint64_t{1} << 30)) {
+    return "chunk_size_bytes must be in [1024, 1073741824], got " +
+           std::to_string(chunk_size_bytes);
+  }
+  if (zstd_level < 1 || zstd_level > 19) {
+    return "zstd_level must be in [1, 19], got " + std::to_string(zstd_level);
+  }
+  return std::nullopt;
+}
+
+McapWriter::McapWriter(const WriterParams& params) : params_(params) {
+  if (params_.compression == Compression::kZstd) {
+    compressor_ = std::make_unique<ZstdCompressor>(params_.zstd_level);
+  }
+}
+
+McapWriter::~McapWriter() = default;
+
+Status McapWriter::check_writable() const {
+  if (failure_) return failure_;
+  if (sink_ == nullptr) return std::string("MCAP writer is not open");
+  if (closed_) return std::string("MCAP writer is already closed");
+  return std::nullopt;
+}
+
+Status McapWriter::emit(std::span<const uint8_t> bytes) {
+  if (auto err = sink_->write(bytes)) {
+    failure_ = "write failed at file offset " + std::to_string(position_) + ": " + *err;
+    return failure_;
+  }
+  if (params_.data_section_crc) data_crc_.update(bytes);
+  position_ += bytes.size();
+  stats_.file_bytes = position_;
+  return std::nullopt;
+}
+
+Status McapWriter::open(Sink& sink) {
+  if (auto bad = params_.validate()) return bad;
+  if (sink_ != nullptr) return std::string("MCAP writer is already open");
+  sink_ = &sink;
+  scratch_.assign(kMagic.begin(), kMagic.end());
+  append_header(scratch_, HeaderRecord{params_.profile, params_.library});
+  return emit(scratch_);
+}
+
+Result<uint16_t> McapWriter::add_schema(std::string_view name, std::string_view encoding,
+                                        std::span<const uint8_t> data) {
+  if (auto err = check_writable()) return Result<uint16_t>::fail(*err);
+  if (schemas_.size() >= 0xFFFE) return Result<uint16_t>::fail("too many schemas (max 65534)");
+  SchemaRecord schema{static_cast<uint16_t>(schemas_.size() + 1), std::string(name),
+                      std::string(encoding), std::vector<uint8_t>(data.begin(), data.end())};
+  // Outside chunks, so the definition survives even if the next chunk is cut off.
+  scratch_.clear();
+  append_schema(scratch_, schema);
+  if (auto err = emit(scratch_)) return Result<uint16_t>::fail(*err);
+  schemas_.push_back(std::move(schema));
+  return Result<uint16_t>::ok(schemas_.back().id);
+}
+
+Result<uint16_t> McapWriter::add_schema(std::string_view name, std::string_view encoding,
+                                        std::string_view text) {
+  return add_schema(
+      name, encoding,
+      std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+}
+
+Result<uint16_t> McapWriter::add_channel(uint16_t schema_id, std::string_view topic,
+                                         std::string_view message_encoding,
+                                         const std::map<std::string, std::string>& metadata) {
+  if (auto err = check_writable()) return Result<uint16_t>::fail(*err);
+  if (schema_id > schemas_.size()) {
+    return Result<uint16_t>::fail("channel '" + std::string(topic) + "' refers to unknown schema " +
+                                  std::to_string(schema_id));
+  }
+  if (channels_.size() >= 0xFFFE) return Result<uint16_t>::fail("too many channels (max 65534)");
+  ChannelRecord channel{static_cast<uint16_t>(channels_.size() + 1), schema_id, std::string(topic),
+                        std::string(message_encoding), metadata};
+  scratch_.clear();
+  append_channel(scratch_, channel);
+  if (auto err = emit(scratch_)) return Result<uint16_t>::fail(*err);
+  channels_.push_back(std::move(channel));
+  return Result<uint16_t>::ok(channels_.back().id);
+}
+
+Status McapWriter::write(const MessageView& message) {
+  if (auto err = check_writable()) return err;
+  if (message.channel_id == 0 || message.channel_id > channels_.size()) {
+    return "message on unknown channel " + std::to_string(message.channel_id);
+  }
+  if (chunk_messages_ == 0) {
+    chunk_start_ns_ = chunk_end_ns_ = message.log_time_ns;
+    chunk_records_.reserve(params_.chunk_size_bytes + message.data.size() + 64);
+  }
+  chunk_start_ns_ = std::min(chunk_start_ns_, message.log_time_ns);
+  chunk_end_ns_ = std::max(chunk_end_ns_, message.log_time_ns);
+  chunk_index_[message.channel_id].emplace_back(message.log_time_ns, chunk_records_.size());
+  append_message(chunk_records_, message);
+  ++chunk_messages_;
+
+  auto& s = statistics_;
+  if (s.message_count == 0) s.message_start_time_ns = s.message_end_time_ns = message.log_time_ns;
+  s.message_start_time_ns = std::min(s.message_start_time_ns, message.log_time_ns);
+  s.message_end_time_ns = std::max(s.message_end_time_ns, message.log_time_ns);
+  ++s.message_count;
+  ++s.channel_message_counts[message.channel_id];
+  ++stats_.messages;
+  stats_.message_bytes += message.data.size();
+
+  if (chunk_records_.size() >= params_.chunk_size_bytes) return finish_chunk();
+  return std::nullopt;
+}
+
+Status McapWriter::flush_chunk() {
+  if (auto err = check_writable()) return err;
+  return finish_chunk();
+}
+
+Status McapWriter::finish_chunk() {
+  if (chunk_messages_ == 0) return std::nullopt;
+  const uint32_t crc = params_.chunk_crc ? crc32(chunk_records_) : 0;
+  const bool zstd = params_.compression == Compression::kZstd;
+
+  scratch_.clear();
+  scratch_.reserve(64 + (zstd ? zstd_bound(chunk_records_.size()) : chunk_records_.size()));
+  ByteWriter w(scratch_);
+  w.u8(static_cast<uint8_t>(Opcode::kChunk));
+  w.u64(0);
+  w.u64(chunk_start_ns_);
+  w.u64(chunk_end_ns_);
+  w.u64(chunk_records_.size());
+  w.u32(crc);
+  w.str(zstd ? "zstd" : "");
+  const size_t records_length_pos = scratch_.size();
+  w.u64(0);
+  const size_t records_start = scratch_.size();
+  if (zstd) {
+    if (auto err = compressor_->compress(chunk_records_, scratch_)) return err;
+  } else {
+    w.bytes(chunk_records_);
+  }
+  const uint64_t compressed_size = scratch_.size() - records_start;
+  w.patch_u64(records_length_pos, compressed_size);
+  w.patch_u64(1, scratch_.size() - kRecordPrefixBytes);
+
+  ChunkIndexRecord index;
+  index.message_start_time_ns = chunk_start_ns_;
+  index.message_end_time_ns = chunk_end_ns_;
+  index.chunk_start_offset = position_;
+  index.chunk_length = scratch_.size();
+  index.compression = zstd ? "zstd" : "";
+  index.compressed_size = compressed_size;
+  index.uncompressed_size = chunk_records_.size();
+  if (auto err = emit(scratch_)) return err;
+
+  // Message indexes, one per channel, written as one block right after the chunk.
+  scratch_.clear();
+  const uint64_t indexes_start = position_;
+  for (auto& [channel, entries] : chunk_index_) {
+    index.message_index_offsets[channel] = indexes_start + scratch_.size();
+    // Stable sort: readers expect log-time order; ties keep arrival order.
+    std::stable_sort(entries.begin(), entries.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    append_message_index(scratch_, MessageIndexRecord{channel, std::move(entries)});
+  }
+  index.message_index_length = scratch_.size();
+  if (auto err = emit(scratch_)) return err;
+  if (auto err = sink_->flush()) {
+    failure_ = "flush failed: " + *err;
+    return failure_;
+  }
+
+  chunk_indexes_.push_back(std::move(index));
+  ++stats_.chunks;
+  chunk_records_.clear();
+  chunk_index_.clear();
+  chunk_messages_ = 0;
+  return std::nullopt;
+}
+
+Status McapWriter::close() {
+  if (auto err = check_writable()) return err;
+  if (auto err = finish_chunk()) return err;
+  if (auto err = write_summary_and_footer()) return err;
+  closed_ = true;
+  if (auto err = sink_->flush()) {
+    failure_ = "flush failed: " + *err;
+    return failure_;
+  }
+  return std::nullopt;
+}
+
+Status McapWriter::write_summary_and_footer() {
+  scratch_.clear();
+  append_data_end(scratch_, params_.data_section_crc ? data_crc_.value() : 0);
+  if (auto err = emit(scratch_)) return err;
+
+  const uint64_t summary_start = position_;
+  std::vector<uint8_t> summary;
+  std::vector<SummaryOffsetRecord> groups;
+  // Appends one group of same-opcode records and remembers where it is.
+  auto group = [&](Opcode op, auto&& append_all) {
+    const size_t begin = summary.size();
+    append_all();
+    if (summary.size() > begin) {
+      groups.push_back({static_cast<uint8_t>(op), summary_start + begin, summary.size() - begin});
+    }
+  };
+  group(Opcode::kSchema, [&] {
+    for (const auto& s : schemas_) append_schema(summary, s);
+  });
+  group(Opcode::kChannel, [&] {
+    for (const auto& c : channels_) append_channel(summary, c);
+  });
+  statistics_.schema_count = static_cast<uint16_t>(schemas_.size());
+  statistics_.channel_count = static_cast<uint32_t>(channels_.size());
+  statistics_.chunk_count = static_cast<uint32_t>(chunk_indexes_.size());
+  group(Opcode::kStatistics, [&] { append_statistics(summary, statistics_); });
+  group(Opcode::kChunkIndex, [&] {
+    for (const auto& c : chunk_indexes_) append_chunk_index(summary, c);
+  });
+
+  const uint64_t summary_offset_start = summary_start + summary.size();
+  for (const auto& g : groups) append_summary_offset(summary, g);
+  append_footer(summary, FooterRecord{summary_start, summary_offset_start, 0});
+  // The summary CRC covers everything from summary_start through the footer's
+  // summary_offset_start field, i.e. all but the 4 CRC bytes just appended.
+  const size_t crc_pos = summary.size() - 4;
+  ByteWriter(summary).patch_u32(crc_pos, crc32(std::span(summary).first(crc_pos)));
+  summary.insert(summary.end(), kMagic.begin(), kMagic.end());
+  return emit(summary);
+}
+
+}  // namespace stereoball::recorder

@@ -1,0 +1,78 @@
+#include "recorder/io/file_io.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace stereoball::recorder {
+
+Result<std::unique_ptr<FileSink>> FileSink::create(const std::string& path, bool sync_on_flush) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    return Result<std::unique_ptr<FileSink>>::fail("cannot create '" + path +
+                                                   "': " + std::strerror(errno));
+  }
+  return Result<std::unique_ptr<FileSink>>::ok(
+      std::unique_ptr<FileSink>(new FileSink(fd, path, sync_on_flush)));
+}
+
+FileSink::~FileSink() {
+  ::close(fd_);
+}
+
+Status FileSink::write(std::span<const uint8_t> bytes) {
+  const uint8_t* p = bytes.data();
+  size_t left = bytes.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd_, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return "'" + path_ + "': " + (n < 0 ? std::strerror(errno) : "wrote 0 bytes");
+    p += n;
+    left -= static_cast<size_t>(n);
+  }
+  return std::nullopt;
+}
+
+Status FileSink::flush() {
+  if (sync_on_flush_ && ::fdatasync(fd_) != 0) {
+    return "'" + path_ + "': fdatasync: " + std::strerror(errno);
+  }
+  return std::nullopt;
+}
+
+Result<std::unique_ptr<FileSource>> FileSource::open(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    return Result<std::unique_ptr<FileSource>>::fail("cannot open '" + path +
+                                                     "': " + std::strerror(errno));
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return Result<std::unique_ptr<FileSource>>::fail("'" + path + "' is not a regular file");
+  }
+  return Result<std::unique_ptr<FileSource>>::ok(
+      std::unique_ptr<FileSource>(new FileSource(fd, static_cast<uint64_t>(st.st_size))));
+}
+
+FileSource::~FileSource() {
+  ::close(fd_);
+}
+
+Status FileSource::read(uint64_t offset, std::span<uint8_t> out) {
+  size_t done = 0;
+  while (done < out.size()) {
+    const ssize_t n =
+        ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return std::string("read failed: ") + std::strerror(errno);
+    if (n == 0) return "unexpected end of file at offset " + std::to_string(offset + done);
+    done += static_cast<size_t>(n);
+  }
+  return std::nullopt;
+}
+
+}  // namespace stereoball::recorder

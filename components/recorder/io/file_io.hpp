@@ -1,0 +1,52 @@
+#pragma once
+// Files as MCAP sinks and sources (POSIX write/pread, no user-space buffering).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "recorder/core/io_interfaces.hpp"
+#include "recorder/core/result.hpp"
+
+namespace stereoball::recorder {
+
+/// Writes a new file sequentially. Each write() goes straight to the kernel, so everything
+/// written survives a crash (SIGKILL) of this process; flush() additionally fdatasyncs when
+/// sync_on_flush is set (survives power loss, costs throughput).
+class FileSink : public Sink {
+ public:
+  /// Creates (truncates) path; error when it cannot be opened for writing.
+  static Result<std::unique_ptr<FileSink>> create(const std::string& path,
+                                                  bool sync_on_flush = false);
+  ~FileSink() override;
+  FileSink(const FileSink&) = delete;
+  FileSink& operator=(const FileSink&) = delete;
+  Status write(std::span<const uint8_t> bytes) override;
+  Status flush() override;
+
+ private:
+  FileSink(int fd, std::string path, bool sync_on_flush)
+      : fd_(fd), path_(std::move(path)), sync_on_flush_(sync_on_flush) {}
+  int fd_;
+  std::string path_;
+  bool sync_on_flush_;
+};
+
+/// Reads an existing file at random offsets.
+class FileSource : public Source {
+ public:
+  /// Opens path for reading; error names the path and the reason.
+  static Result<std::unique_ptr<FileSource>> open(const std::string& path);
+  ~FileSource() override;
+  FileSource(const FileSource&) = delete;
+  FileSource& operator=(const FileSource&) = delete;
+  uint64_t size() const override { return size_; }
+  Status read(uint64_t offset, std::span<uint8_t> out) override;
+
+ private:
+  FileSource(int fd, uint64_t size) : fd_(fd), size_(size) {}
+  int fd_;
+  uint64_t size_;
+};
+
+}  // namespace stereoball::recorder

@@ -1,0 +1,84 @@
+#include "recorder/io/file_io.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "recorder/core/reader.hpp"
+#include "recorder/core/writer.hpp"
+
+namespace stereoball::recorder {
+namespace {
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("sb_recorder_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+TEST(FileIo, GivenAFileWrittenThroughFileSinkWhenReadThroughFileSourceThenMessagesMatch) {
+  const auto path = temp_path("roundtrip.mcap");
+  {
+    auto sink = FileSink::create(path);
+    ASSERT_TRUE(sink) << sink.error();
+    McapWriter writer(WriterParams{});
+    ASSERT_FALSE(writer.open(**sink));
+    const auto schema = writer.add_schema("S", "omgidl", std::string_view("struct S {};"));
+    const auto channel = writer.add_channel(schema.value(), "a/b", "cdr");
+    for (uint32_t i = 0; i < 100; ++i) {
+      std::vector<uint8_t> data(i * 10, static_cast<uint8_t>(i));
+      ASSERT_FALSE(writer.write({channel.value(), i, 1000u + i, 900u + i, data}));
+    }
+    ASSERT_FALSE(writer.close());
+  }
+  auto source = FileSource::open(path);
+  ASSERT_TRUE(source) << source.error();
+  McapReader reader(**source);
+  ASSERT_FALSE(reader.open());
+  EXPECT_TRUE(reader.summary().complete);
+  uint32_t n = 0;
+  ASSERT_FALSE(reader.for_each_message([&](const MessageView& m) {
+    EXPECT_EQ(m.sequence, n);
+    EXPECT_EQ(m.data.size(), n * 10);
+    EXPECT_EQ(m.publish_time_ns, 900u + n);
+    ++n;
+    return true;
+  }));
+  EXPECT_EQ(n, 100u);
+  std::filesystem::remove(path);
+}
+
+TEST(FileIo, GivenMissingPathsWhenOpenedThenTheErrorNamesThePath) {
+  auto source = FileSource::open("/nonexistent/dir/x.mcap");
+  ASSERT_FALSE(source);
+  EXPECT_NE(source.error().find("/nonexistent/dir/x.mcap"), std::string::npos);
+  auto sink = FileSink::create("/nonexistent/dir/y.mcap");
+  ASSERT_FALSE(sink);
+  EXPECT_NE(sink.error().find("/nonexistent/dir/y.mcap"), std::string::npos);
+  auto dir = FileSource::open(std::filesystem::temp_directory_path().string());
+  ASSERT_FALSE(dir);
+  EXPECT_NE(dir.error().find("not a regular file"), std::string::npos);
+}
+
+TEST(FileIo, GivenASourceWhenReadingPastTheEndThenAnErrorIsReturned) {
+  const auto path = temp_path("short.bin");
+  {
+    auto sink = FileSink::create(path);
+    ASSERT_TRUE(sink);
+    const std::vector<uint8_t> bytes = {1, 2, 3};
+    ASSERT_FALSE((*sink)->write(bytes));
+  }
+  auto source = FileSource::open(path);
+  ASSERT_TRUE(source);
+  EXPECT_EQ((*source)->size(), 3u);
+  std::vector<uint8_t> out(4);
+  EXPECT_TRUE((*source)->read(0, out));
+  out.resize(2);
+  EXPECT_FALSE((*source)->read(1, out));
+  EXPECT_EQ(out[0], 2);
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace stereoball::recorder
