@@ -1,0 +1,126 @@
+// Runs the real stereoball-calibrate binary on OpenCV's sample pairs and on bad inputs.
+
+#include "stereo/io/calibration_file.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kData = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples";
+
+struct ToolRun {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+std::string slurp(const fs::path& p) {
+  std::string s;
+  if (FILE* f = std::fopen(p.c_str(), "r")) {
+    std::array<char, 4096> buf{};
+    std::size_t n = 0;
+    while ((n = std::fread(buf.data(), 1, buf.size(), f)) > 0) s.append(buf.data(), n);
+    std::fclose(f);
+  }
+  return s;
+}
+
+class CalibrateToolTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("sb_calibrate_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  ToolRun run(const std::string& args) {
+    const std::string cmd = std::string(SB_BIN_DIR) + "/stereoball-calibrate " + args + " >" +
+                            (dir_ / "out.txt").string() + " 2>" + (dir_ / "err.txt").string();
+    const int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "out.txt"),
+            slurp(dir_ / "err.txt")};
+  }
+  fs::path dir_;
+};
+
+TEST_F(CalibrateToolTest, GivenSampleListWhenCalibratedThenFileMeetsTargetsAndReportPrinted) {
+  // Given OpenCV's stereo_calib.xml list, When calibrated with 25 mm squares
+  const std::string out = (dir_ / "calib.yaml").string();
+  const ToolRun r =
+      run("--pairs " + kData + "/stereo_calib.xml --board 9x6 --square-mm 25 -o " + out);
+  // Then it succeeds, reports RMS / row error / per-pair errors, and the file loads
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("RMS reprojection error"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("rectified row error"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("left14.jpg + right14.jpg"), std::string::npos) << r.out;
+  const auto calib = stereoball::stereo::load_calibration(out);
+  ASSERT_TRUE(calib.has_value()) << calib.error();
+  EXPECT_LT(calib->rms_px, 0.5);
+  EXPECT_GE(calib->per_pair_rms_px.size(), 10u);
+  EXPECT_EQ(calib->image_size, cv::Size(640, 480));
+}
+
+TEST_F(CalibrateToolTest, GivenGlobsWithABoardlessPairWhenCalibratedThenPairSkippedAndListed) {
+  // Given eight sample pairs plus one blank pair, as globs
+  for (int i = 1; i <= 8; ++i) {
+    // (std::format is not in GCC 12; to_string + literal trips a -Wrestrict false positive)
+    std::string n = std::to_string(i);
+    n.insert(0, 1, '0');
+    n.append(".jpg");
+    fs::create_symlink(kData + "/left" + n, dir_ / ("left" + n));
+    fs::create_symlink(kData + "/right" + n, dir_ / ("right" + n));
+  }
+  const cv::Mat blank(480, 640, CV_8UC1, cv::Scalar(128));
+  cv::imwrite((dir_ / "left99.png").string(), blank);
+  cv::imwrite((dir_ / "right99.png").string(), blank);
+  // When calibrated
+  const ToolRun r = run("--left-glob '" + (dir_ / "left*").string() + "' --right-glob '" +
+                        (dir_ / "right*").string() + "' -o " + (dir_ / "c.yaml").string());
+  // Then the blank pair is listed as skipped and the rest calibrate
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("skip left99.png + right99.png: board not found in left image"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("pairs used:                 8"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "c.yaml"));
+}
+
+TEST_F(CalibrateToolTest, GivenTooFewBoardsWhenCalibratedThenOneLineErrorAndNoFile) {
+  const ToolRun r =
+      run("--pairs " + kData + "/stereo_calib.xml --min-pairs 20 -o " + (dir_ / "c.yaml").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("need at least 20 (--min-pairs)"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  EXPECT_FALSE(fs::exists(dir_ / "c.yaml"));
+}
+
+TEST_F(CalibrateToolTest, GivenBadFlagsWhenRunThenClearErrorNamingFlag) {
+  const std::string list = "--pairs " + kData + "/stereo_calib.xml -o x.yaml";
+  const ToolRun board = run(list + " --board 9by6");
+  EXPECT_NE(board.exit_code, 0);
+  EXPECT_NE(board.err.find("--board '9by6'"), std::string::npos) << board.err;
+  const ToolRun square = run(list + " --square-mm -3");
+  EXPECT_NE(square.exit_code, 0);
+  EXPECT_NE(square.err.find("square_m"), std::string::npos) << square.err;
+  const ToolRun none = run("-o x.yaml");
+  EXPECT_NE(none.exit_code, 0);
+  EXPECT_NE(none.err.find("--pairs"), std::string::npos) << none.err;
+  const ToolRun globs = run("--left-glob '" + kData + "/left0*.jpg' --right-glob '" + kData +
+                            "/right1*.jpg' -o x.yaml");
+  EXPECT_NE(globs.exit_code, 0);
+  EXPECT_NE(globs.err.find("--right-glob matches 4"), std::string::npos) << globs.err;
+}
+
+}  // namespace

@@ -1,0 +1,249 @@
+// stereoball-calibrate: stereo calibration from chessboard pairs, written as
+// one OpenCV FileStorage YAML that every StereoBall component reads.
+
+#include "stereo/core/board_calibration.hpp"
+#include "stereo/core/rectifier.hpp"
+#include "stereo/io/calibration_file.hpp"
+
+#include <glob.h>
+#include <CLI/CLI.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using stereoball::stereo::BoardCalibrationParams;
+using stereoball::stereo::BoardCalibrationResult;
+using stereoball::stereo::PairCorners;
+using PairList = std::vector<std::pair<std::string, std::string>>;
+
+struct Options {
+  std::string pairs_list;
+  std::string left_glob;
+  std::string right_glob;
+  std::string board = "9x6";
+  double square_mm = 25.0;
+  int min_pairs = 6;
+  double alpha = 0.0;
+  int subpix_window_px = 11;
+  std::string output;
+  std::string save_rectified_dir;
+};
+
+int fail(const std::string& message) {
+  std::cerr << "stereoball-calibrate: " << message << "\n";
+  return 1;
+}
+
+std::optional<cv::Size> parse_board(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
+    return std::nullopt;
+  }
+  return cv::Size(w, h);
+}
+
+std::vector<std::string> expand_glob(const std::string& pattern) {
+  glob_t g{};
+  std::vector<std::string> out;
+  if (::glob(pattern.c_str(), 0, nullptr, &g) == 0) {
+    for (std::size_t i = 0; i < g.gl_pathc; ++i) out.emplace_back(g.gl_pathv[i]);
+  }
+  ::globfree(&g);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+stereoball::stereo::Result<PairList> collect_pairs(const Options& o) {
+  using R = stereoball::stereo::Result<PairList>;
+  if (!o.pairs_list.empty()) return stereoball::stereo::load_pair_list(o.pairs_list);
+  const auto left = expand_glob(o.left_glob), right = expand_glob(o.right_glob);
+  if (left.empty()) return R::fail("--left-glob '" + o.left_glob + "' matches no file");
+  if (right.empty()) return R::fail("--right-glob '" + o.right_glob + "' matches no file");
+  if (left.size() != right.size()) {
+    return R::fail("--left-glob matches " + std::to_string(left.size()) + " files but " +
+                   "--right-glob matches " + std::to_string(right.size()));
+  }
+  PairList pairs;
+  for (std::size_t i = 0; i < left.size(); ++i) pairs.emplace_back(left[i], right[i]);
+  return R::ok(std::move(pairs));
+}
+
+std::string base(const std::string& path) {
+  return std::filesystem::path(path).filename();
+}
+
+// Detects the board in every pair; prints and skips the pairs where it is not usable.
+std::vector<PairCorners> detect_all(const PairList& pairs, const BoardCalibrationParams& params,
+                                    std::optional<cv::Size>& image_size) {
+  std::vector<PairCorners> found;
+  for (const auto& [lp, rp] : pairs) {
+    const std::string label = base(lp) + " + " + base(rp);
+    const cv::Mat l = cv::imread(lp, cv::IMREAD_GRAYSCALE);
+    const cv::Mat r = cv::imread(rp, cv::IMREAD_GRAYSCALE);
+    std::string why;
+    if (l.empty() || r.empty()) {
+      why = "cannot read " + (l.empty() ? lp : rp);
+    } else if (l.size() != r.size() || (image_size && l.size() != *image_size)) {
+      why = "image size differs from the first pair";
+    }
+    std::optional<std::vector<cv::Point2f>> cl, cr;
+    if (why.empty() && !(cl = stereoball::stereo::find_board_corners(l, params))) {
+      why = "board not found in left image";
+    }
+    if (why.empty() && !(cr = stereoball::stereo::find_board_corners(r, params))) {
+      why = "board not found in right image";
+    }
+    if (!why.empty()) {
+      std::cout << "  skip " << label << ": " << why << "\n";
+      continue;
+    }
+    if (!image_size) image_size = l.size();
+    PairCorners pc{label, *cl, *cr};
+    if (stereoball::stereo::align_corner_order(pc.left_px, pc.right_px)) {
+      std::cout << "  note " << label << ": right corners reordered to match left\n";
+    }
+    std::cout << "  ok   " << label << "\n";
+    found.push_back(std::move(pc));
+  }
+  return found;
+}
+
+void print_report(const BoardCalibrationResult& r, double square_mm) {
+  const auto& c = r.calibration;
+  std::printf("pairs used:                 %zu\n", r.pair_names.size());
+  std::printf("RMS reprojection error:     %.4f px (stereo), left %.4f px, right %.4f px\n",
+              c.rms_px, r.left_rms_px, r.right_rms_px);
+  std::printf(
+      "rectified row error:        mean %.4f px, max %.4f px (|y_left - y_right| of "
+      "matched corners)\n",
+      r.mean_rectified_row_error_px, r.max_rectified_row_error_px);
+  std::printf("rectified focal length:     %.2f px\n", stereoball::stereo::focal_px(c));
+  std::printf("baseline:                   %.4f m (square size %.3g mm)\n",
+              stereoball::stereo::baseline_m(c), square_mm);
+  std::printf("per-pair RMS error:\n");
+  for (std::size_t i = 0; i < c.per_pair_rms_px.size(); ++i) {
+    std::printf("  %-28s %.4f px\n", r.pair_names[i].c_str(), c.per_pair_rms_px[i]);
+  }
+}
+
+// Side-by-side rectified pairs with horizontal guide lines, for a visual check.
+std::optional<std::string> save_rectified(const std::string& dir, const PairList& pairs,
+                                          const stereoball::stereo::StereoCalibration& calib) {
+  auto rect = stereoball::stereo::Rectifier::create(calib);
+  if (!rect) return rect.error();
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) return dir + ": cannot create (" + ec.message() + ")";
+  for (const auto& [lp, rp] : pairs) {
+    cv::Mat l, r, both;
+    if (rect->rectify(cv::imread(lp), cv::imread(rp), l, r)) continue;
+    cv::hconcat(l, r, both);
+    for (int y = 0; y < both.rows; y += 24) {
+      cv::line(both, {0, y}, {both.cols - 1, y}, cv::Scalar(0, 255, 0), 1);
+    }
+    const std::string out =
+        dir + "/rectified_" + std::filesystem::path(lp).stem().string() + ".png";
+    if (!cv::imwrite(out, both)) return out + ": cannot write";
+  }
+  return std::nullopt;
+}
+
+int run(const Options& o) {
+  const auto board = parse_board(o.board);
+  if (!board)
+    return fail("--board '" + o.board + "': expected COLSxROWS of inner corners, e.g. 9x6");
+  BoardCalibrationParams params;
+  params.inner_corners = *board;
+  params.square_m = o.square_mm * 1e-3;
+  params.min_pairs = o.min_pairs;
+  params.subpix_window_px = o.subpix_window_px;
+  params.rectify.alpha = o.alpha;
+  if (auto error = params.validate()) return fail(*error);
+  const auto pairs = collect_pairs(o);
+  if (!pairs) return fail(pairs.error());
+  std::cout << "detecting " << board->width << "x" << board->height << " board in " << pairs->size()
+            << " pairs\n";
+  std::optional<cv::Size> size;
+  const auto corners = detect_all(pairs.value(), params, size);
+  if (static_cast<int>(corners.size()) < params.min_pairs) {
+    return fail("board found in only " + std::to_string(corners.size()) + " of " +
+                std::to_string(pairs->size()) + " pairs, need at least " +
+                std::to_string(params.min_pairs) + " (--min-pairs)");
+  }
+  const auto result = stereoball::stereo::calibrate_stereo(corners, *size, params);
+  if (!result) return fail(result.error());
+  print_report(result.value(), o.square_mm);
+  stereoball::stereo::CalibrationFileInfo info;
+  info.mean_rectified_row_error_px = result->mean_rectified_row_error_px;
+  info.square_size_m = params.square_m;
+  info.board_inner_corners = *board;
+  info.pair_names = result->pair_names;
+  info.note = "written by stereoball-calibrate";
+  if (auto error = stereoball::stereo::save_calibration(o.output, result->calibration, info)) {
+    return fail(*error);
+  }
+  std::cout << "wrote " << o.output << "\n";
+  if (!o.save_rectified_dir.empty()) {
+    if (auto error = save_rectified(o.save_rectified_dir, pairs.value(), result->calibration)) {
+      return fail(*error);
+    }
+    std::cout << "wrote rectified pairs to " << o.save_rectified_dir << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Stereo calibration from chessboard image pairs (sub-pixel corners, per-camera and joint "
+      "stereo calibration, rectification). Writes one OpenCV FileStorage YAML with image size, "
+      "K1 D1 K2 D2 R T R1 R2 P1 P2 Q, RMS and per-pair errors; prints the RMS, per-pair errors "
+      "and the mean rectified row error of matched corners. Pairs without a visible board are "
+      "listed and skipped.",
+      "stereoball-calibrate"};
+  Options o;
+  auto* list = app.add_option("--pairs", o.pairs_list,
+                              "image list in OpenCV stereo_calib.xml format (alternating left, "
+                              "right; relative to the list's folder)")
+                   ->check(CLI::ExistingFile);
+  auto* lg = app.add_option("--left-glob", o.left_glob, "glob of left images (sorted by name)");
+  auto* rg = app.add_option("--right-glob", o.right_glob, "glob of right images (sorted by name)");
+  lg->needs(rg);
+  rg->needs(lg);
+  list->excludes(lg)->excludes(rg);
+  app.add_option("--board", o.board, "inner corners per row x per column")->capture_default_str();
+  app.add_option("--square-mm", o.square_mm, "chessboard square side in mm (sets the unit of T)")
+      ->capture_default_str();
+  app.add_option("--min-pairs", o.min_pairs, "fail if fewer pairs show the board")
+      ->capture_default_str();
+  app.add_option("--alpha", o.alpha,
+                 "rectification zoom: 0 keeps only valid pixels, 1 keeps all source pixels")
+      ->capture_default_str();
+  app.add_option("--subpix-window", o.subpix_window_px, "cornerSubPix window size, pixels")
+      ->capture_default_str();
+  app.add_option("-o,--output", o.output, "calibration file to write (.yaml)")->required();
+  app.add_option("--save-rectified", o.save_rectified_dir,
+                 "also write side-by-side rectified pairs with row guide lines to this folder");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return fail(e.what());
+  }
+  if (o.pairs_list.empty() && o.left_glob.empty()) {
+    return fail("give the pairs with --pairs LIST or --left-glob G --right-glob G");
+  }
+  return run(o);
+}
