@@ -1,0 +1,52 @@
+#pragma once
+// The motion controller: follows the ball (centre it, keep the target
+// distance), searches toward the side it was last seen, and stops on start-up,
+// stale input and emergency stop. Pure: time is an argument.
+
+#include <cstdint>
+#include <optional>
+
+#include "motion_controller/core/controller_params.hpp"
+#include "motion_controller/core/smooth_axis.hpp"
+#include "motion_controller/core/types.hpp"
+
+namespace stereoball::motion_controller {
+
+/// Turns the latest track into smooth, limited velocity commands.
+class MotionController {
+ public:
+  /// params must be valid (MotionControllerParams::validate() returned nullopt).
+  explicit MotionController(const MotionControllerParams& params);
+
+  /// Stores the latest track sample, received at now_ns (receiver clock, ns).
+  void on_track(const TrackSample& sample, std::int64_t now_ns);
+  /// Engages (latches) or clears the emergency stop.
+  void on_estop(bool engaged);
+  /// The command for the control tick at now_ns (receiver clock, ns).
+  Command step(std::int64_t now_ns);
+
+  /// True while the emergency stop is latched.
+  bool estop_engaged() const { return estop_; }
+
+ private:
+  struct Target {
+    double linear_mps = 0.0;
+    double angular_radps = 0.0;
+    Mode mode = Mode::kIdle;
+  };
+
+  Target following_target(const TrackSample& t) const;
+  Target searching_target(std::int64_t now_ns) const;
+  Command hard_stop(Mode mode);
+
+  MotionControllerParams params_;
+  SmoothAxis linear_;
+  SmoothAxis angular_;
+  std::optional<TrackSample> track_;
+  std::int64_t track_received_ns_ = 0;
+  std::int64_t search_started_ns_ = 0;
+  std::optional<std::int64_t> last_step_ns_;
+  bool estop_ = false;
+};
+
+}  // namespace stereoball::motion_controller

@@ -1,0 +1,263 @@
+#include "motion_controller/core/motion_controller.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace stereoball::motion_controller {
+namespace {
+
+constexpr std::int64_t kTickNs = 50'000'000;  // 20 Hz
+constexpr std::int64_t kT0 = 1'700'000'000'000'000'000;
+
+TrackSample following(double bearing_rad, double distance_m, std::int64_t stamp_ns) {
+  TrackSample t;
+  t.state = TrackState::kFollowing;
+  t.position_valid = true;
+  t.bearing_rad = bearing_rad;
+  t.distance_m = distance_m;
+  t.last_seen_side = bearing_rad > 0 ? Side::kRight : Side::kLeft;
+  t.capture_stamp_ns = stamp_ns;
+  t.last_accepted_stamp_ns = stamp_ns;
+  return t;
+}
+
+TrackSample with_state(TrackState s, Side side, std::int64_t stamp_ns) {
+  TrackSample t;
+  t.state = s;
+  t.last_seen_side = side;
+  t.capture_stamp_ns = stamp_ns;
+  t.last_accepted_stamp_ns = stamp_ns;
+  return t;
+}
+
+// A controller ticking at 20 Hz; every tick may deliver a fresh track first.
+class Harness {
+ public:
+  explicit Harness(const MotionControllerParams& p = MotionControllerParams{}) : c_(p) {}
+  Command tick() {
+    now_ += kTickNs;
+    return c_.step(now_);
+  }
+  Command tick(const TrackSample& t) {
+    now_ += kTickNs;
+    c_.on_track(t, now_);
+    return c_.step(now_);
+  }
+  Command run(const TrackSample& t, int ticks) {
+    Command c;
+    for (int i = 0; i < ticks; ++i) c = tick(t);
+    return c;
+  }
+  MotionController& controller() { return c_; }
+  std::int64_t now() const { return now_; }
+
+ private:
+  MotionController c_;
+  std::int64_t now_ = kT0;
+};
+
+TEST(MotionController, GivenNoTrackYet_ThenZeroAndWaiting) {
+  Harness h;
+  const Command c = h.tick();
+  EXPECT_EQ(c.linear_mps, 0.0);
+  EXPECT_EQ(c.angular_radps, 0.0);
+  EXPECT_EQ(c.mode, Mode::kWaiting);
+}
+
+TEST(MotionController, GivenIdleTrackerWithAPosition_ThenStandsStill) {
+  // Start-up: the tracker has not confirmed five consistent positions yet
+  Harness h;
+  TrackSample t = following(0.4, 3.0, kT0);
+  t.state = TrackState::kIdle;
+  const Command c = h.run(t, 40);
+  EXPECT_EQ(c.linear_mps, 0.0);
+  EXPECT_EQ(c.angular_radps, 0.0);
+  EXPECT_EQ(c.mode, Mode::kIdle);
+}
+
+TEST(MotionController, GivenBallToTheRight_ThenTurnsClockwise) {
+  Harness h;
+  const Command c = h.run(following(0.3, 1.0, kT0), 30);
+  EXPECT_EQ(c.mode, Mode::kFollowing);
+  EXPECT_LT(c.angular_radps, 0.0);
+  EXPECT_NEAR(c.angular_radps, -2.5 * 0.3, 1e-6);  // settled on -gain * bearing
+}
+
+TEST(MotionController, GivenBallToTheLeft_ThenTurnsCounterClockwise) {
+  Harness h;
+  const Command c = h.run(following(-0.2, 1.0, kT0), 30);
+  EXPECT_GT(c.angular_radps, 0.0);
+  EXPECT_NEAR(c.angular_radps, 2.5 * 0.2, 1e-6);
+}
+
+TEST(MotionController, GivenBallFartherThanTarget_ThenDrivesForward) {
+  Harness h;
+  const Command c = h.run(following(0.0, 1.5, kT0), 40);
+  EXPECT_NEAR(c.linear_mps, 0.8 * 0.5, 1e-6);
+  EXPECT_NEAR(c.angular_radps, 0.0, 1e-12);
+}
+
+TEST(MotionController, GivenBallTooClose_ThenBacksOffWithinReverseLimit) {
+  Harness h;
+  const Command c = h.run(following(0.0, 0.3, kT0), 40);
+  EXPECT_LT(c.linear_mps, 0.0);
+  EXPECT_NEAR(c.linear_mps, -0.2, 1e-9);  // 0.8 * -0.7 clamped to max_reverse_mps
+}
+
+TEST(MotionController, GivenBallAtTargetAndCentred_ThenNoMotion) {
+  Harness h;
+  const Command c = h.run(following(0.002, 1.01, kT0), 40);  // inside both deadbands
+  EXPECT_EQ(c.linear_mps, 0.0);
+  EXPECT_EQ(c.angular_radps, 0.0);
+}
+
+TEST(MotionController, GivenFarOffCentreBall_ThenTurnsBeforeDriving) {
+  Harness h;
+  const Command c = h.run(following(0.7, 4.0, kT0), 40);  // beyond slowdown_bearing_rad
+  EXPECT_EQ(c.linear_mps, 0.0);
+  EXPECT_LT(c.angular_radps, 0.0);
+}
+
+TEST(MotionController, GivenLargeErrors_ThenSpeedAccelAndJerkLimited) {
+  MotionControllerParams p;
+  Harness h(p);
+  double v_prev = 0.0;
+  double w_prev = 0.0;
+  double av_prev = 0.0;
+  double aw_prev = 0.0;
+  double max_v = 0.0;
+  double max_w = 0.0;
+  for (int i = 0; i < 200; ++i) {
+    // The ball hops from side to side every second, far away
+    const double bearing = (i / 20) % 2 == 0 ? 0.4 : -0.4;
+    const Command c = h.tick(following(bearing, 10.0, kT0 + i * kTickNs));
+    const double av = (c.linear_mps - v_prev) / 0.05;
+    const double aw = (c.angular_radps - w_prev) / 0.05;
+    ASSERT_LE(std::abs(av), p.max_linear_accel_mps2 + 1e-6) << i;
+    ASSERT_LE(std::abs(aw), p.max_angular_accel_radps2 + 1e-6) << i;
+    ASSERT_LE(std::abs(av - av_prev) / 0.05, p.max_linear_jerk_mps3 + 1e-3) << i;
+    ASSERT_LE(std::abs(aw - aw_prev) / 0.05, p.max_angular_jerk_radps3 + 1e-3) << i;
+    max_v = std::max(max_v, c.linear_mps);
+    max_w = std::max(max_w, std::abs(c.angular_radps));
+    v_prev = c.linear_mps;
+    w_prev = c.angular_radps;
+    av_prev = av;
+    aw_prev = aw;
+  }
+  EXPECT_LE(max_v, p.max_linear_mps + 1e-9);
+  EXPECT_GT(max_v, 0.1);  // it did drive
+  EXPECT_LE(max_w, p.max_angular_radps + 1e-9);
+}
+
+TEST(MotionController, GivenSearchingAfterBallLeftRight_ThenRotatesClockwiseInPlace) {
+  Harness h;
+  const Command c = h.run(with_state(TrackState::kSearching, Side::kRight, kT0), 30);
+  EXPECT_EQ(c.mode, Mode::kSearching);
+  EXPECT_NEAR(c.angular_radps, -0.8, 1e-9);
+  EXPECT_EQ(c.linear_mps, 0.0);
+}
+
+TEST(MotionController, GivenSearchingAfterBallLeftLeft_ThenRotatesCounterClockwise) {
+  Harness h;
+  const Command c = h.run(with_state(TrackState::kSearching, Side::kLeft, kT0), 30);
+  EXPECT_NEAR(c.angular_radps, 0.8, 1e-9);
+}
+
+TEST(MotionController, GivenSearchingWithUnknownSide_ThenConfiguredDefaultDirection) {
+  MotionControllerParams p;
+  p.search_left_when_unknown = false;
+  Harness h(p);
+  const Command c = h.run(with_state(TrackState::kSearching, Side::kUnknown, kT0), 30);
+  EXPECT_NEAR(c.angular_radps, -0.8, 1e-9);
+}
+
+TEST(MotionController, GivenSearchingLongerThanTimeout_ThenGivesUpAndStops) {
+  MotionControllerParams p;
+  p.search_timeout_ns = 2'000'000'000;
+  Harness h(p);
+  const TrackSample s = with_state(TrackState::kSearching, Side::kLeft, kT0);
+  EXPECT_EQ(h.run(s, 39).mode, Mode::kSearching);  // 1.95 s
+  h.run(s, 2);
+  const Command c = h.run(s, 30);
+  EXPECT_EQ(c.mode, Mode::kSearchGaveUp);
+  EXPECT_EQ(c.angular_radps, 0.0);
+  EXPECT_EQ(c.linear_mps, 0.0);
+  // And a new loss after following searches again from the start
+  h.run(following(0.0, 1.0, kT0), 5);
+  EXPECT_EQ(h.run(s, 5).mode, Mode::kSearching);
+}
+
+TEST(MotionController, GivenTrackStopsArriving_ThenZeroAfterStaleTimeout) {
+  Harness h;
+  ASSERT_GT(h.run(following(0.0, 2.0, kT0), 40).linear_mps, 0.5);
+  // No more samples: 250 ms later still following, after 300 ms exactly zero
+  Command c;
+  for (int i = 0; i < 5; ++i) c = h.tick();
+  EXPECT_EQ(c.mode, Mode::kFollowing);
+  c = h.tick();
+  c = h.tick();
+  EXPECT_EQ(c.mode, Mode::kStale);
+  EXPECT_EQ(c.linear_mps, 0.0);
+  EXPECT_EQ(c.angular_radps, 0.0);
+  // When samples come back, it drives again from zero, smoothly
+  c = h.tick(following(0.0, 2.0, kT0));
+  EXPECT_EQ(c.mode, Mode::kFollowing);
+  EXPECT_LE(c.linear_mps, 0.8 * 0.05 + 1e-9);
+}
+
+TEST(MotionController, GivenEmergencyStop_ThenZeroLatchedUntilCleared) {
+  Harness h;
+  h.run(following(0.3, 2.0, kT0), 40);
+  h.controller().on_estop(true);
+  Command c = h.run(following(0.3, 2.0, kT0), 40);  // tracks keep coming
+  EXPECT_EQ(c.mode, Mode::kEmergencyStop);
+  EXPECT_EQ(c.linear_mps, 0.0);
+  EXPECT_EQ(c.angular_radps, 0.0);
+  EXPECT_TRUE(h.controller().estop_engaged());
+  h.controller().on_estop(false);
+  c = h.run(following(0.3, 2.0, kT0), 40);
+  EXPECT_EQ(c.mode, Mode::kFollowing);
+  EXPECT_GT(c.linear_mps, 0.0);
+}
+
+TEST(MotionController, GivenFollowingButPositionTooOld_ThenHoldsStill) {
+  Harness h;
+  h.run(following(0.3, 2.0, kT0), 40);
+  TrackSample t = following(0.3, 2.0, kT0);
+  t.capture_stamp_ns = kT0 + 400'000'000;  // last accepted 400 ms before this frame
+  const Command c = h.run(t, 40);
+  EXPECT_EQ(c.mode, Mode::kHolding);
+  EXPECT_EQ(c.linear_mps, 0.0);
+  EXPECT_EQ(c.angular_radps, 0.0);
+}
+
+TEST(MotionController, GivenClosedLoopWithSimpleRobot_ThenBallCentredAtTargetDistance) {
+  // Given a unicycle robot and a still ball 3 m away, 0.6 rad to the left
+  Harness h;
+  double rx = 0.0, ry = 0.0, yaw = 0.0;
+  const double bx = 3.0 * std::cos(0.6), by = 3.0 * std::sin(0.6);
+  double bearing = 0.0, distance = 0.0;
+  for (int i = 0; i < 400; ++i) {  // 20 s
+    const double dx = bx - rx, dy = by - ry;
+    // Camera frame: z forward, x right -> bearing positive to the right
+    const double fwd = std::cos(yaw) * dx + std::sin(yaw) * dy;
+    const double left = -std::sin(yaw) * dx + std::cos(yaw) * dy;
+    bearing = std::atan2(-left, fwd);
+    distance = std::hypot(dx, dy);
+    const Command c = h.tick(following(bearing, distance, kT0 + i * kTickNs));
+    rx += c.linear_mps * std::cos(yaw) * 0.05;
+    ry += c.linear_mps * std::sin(yaw) * 0.05;
+    yaw += c.angular_radps * 0.05;
+  }
+  EXPECT_NEAR(distance, 1.0, 0.05);
+  EXPECT_NEAR(bearing, 0.0, 0.02);
+}
+
+TEST(MotionControllerNames, GivenModes_ThenStableNames) {
+  EXPECT_EQ(to_string(Mode::kSearchGaveUp), "search_gave_up");
+  EXPECT_EQ(to_string(Mode::kEmergencyStop), "emergency_stop");
+}
+
+}  // namespace
+}  // namespace stereoball::motion_controller

@@ -1,0 +1,49 @@
+#pragma once
+// Inputs and outputs of the motion controller core. They mirror the parts of
+// idl/stereoball.idl BallTrack / VelocityCommand the controller uses.
+
+#include <cstdint>
+#include <string_view>
+
+namespace stereoball::motion_controller {
+
+/// Tracker state as reported on ball/track.
+enum class TrackState { kIdle, kFollowing, kSearching };
+
+/// Side where the ball was last seen.
+enum class Side { kUnknown, kLeft, kRight };
+
+/// The part of one ball/track sample the controller needs.
+struct TrackSample {
+  TrackState state = TrackState::kIdle;
+  bool position_valid = false;  ///< bearing/distance hold an accepted estimate
+  double bearing_rad = 0.0;     ///< atan2(x, z); positive = ball to the RIGHT
+  double distance_m = 0.0;      ///< horizontal distance to the ball, metres
+  Side last_seen_side = Side::kUnknown;
+  std::int64_t capture_stamp_ns = 0;        ///< capture stamp of the frame behind this sample
+  std::int64_t last_accepted_stamp_ns = 0;  ///< capture stamp of the last accepted detection
+};
+
+/// What the controller is doing (for logs and health).
+enum class Mode {
+  kWaiting,       ///< no track received yet
+  kIdle,          ///< tracker idle: stand still
+  kFollowing,     ///< centring the ball at the target distance
+  kHolding,       ///< following, but the position is too old to steer on: slow to a stop
+  kSearching,     ///< rotating in place toward the last-seen side
+  kSearchGaveUp,  ///< searched for search_timeout_ns without success: stopped
+  kStale,         ///< no track for stale_timeout_ns: zero
+  kEmergencyStop  ///< emergency stop latched: zero
+};
+
+/// Velocity command for a differential-drive base.
+struct Command {
+  double linear_mps = 0.0;     ///< forward speed, m/s
+  double angular_radps = 0.0;  ///< yaw rate, rad/s, positive = counter-clockwise (turn left)
+  Mode mode = Mode::kWaiting;
+};
+
+/// Lower-case name of a mode, e.g. "searching".
+std::string_view to_string(Mode m);
+
+}  // namespace stereoball::motion_controller
