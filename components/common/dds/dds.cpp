@@ -72,6 +72,31 @@ Qos Qos::for_partition(const std::string& partition) {
   return qos;
 }
 
+topics::QosSpec actual_qos(EntityHandle entity) {
+  Qos qos;
+  check(dds_get_qos(entity, qos.get()), "dds_get_qos");
+  topics::QosSpec spec;
+  dds_reliability_kind_t reliability{};
+  dds_duration_t blocking = 0;
+  if (dds_qget_reliability(qos.get(), &reliability, &blocking)) {
+    spec.reliability = reliability == DDS_RELIABILITY_RELIABLE ? topics::Reliability::kReliable
+                                                               : topics::Reliability::kBestEffort;
+  }
+  dds_durability_kind_t durability{};
+  if (dds_qget_durability(qos.get(), &durability)) {
+    spec.durability = durability == DDS_DURABILITY_TRANSIENT_LOCAL ? topics::Durability::kTransientLocal
+                                                                   : topics::Durability::kVolatile;
+  }
+  dds_history_kind_t history{};
+  int32_t depth = 0;
+  if (dds_qget_history(qos.get(), &history, &depth)) {
+    spec.history_depth = history == DDS_HISTORY_KEEP_ALL ? -1 : depth;
+  }
+  dds_duration_t deadline = DDS_INFINITY;
+  if (dds_qget_deadline(qos.get(), &deadline)) spec.deadline_ns = deadline == DDS_INFINITY ? 0 : deadline;
+  return spec;
+}
+
 // ---- participant and topics --------------------------------------------------------------
 
 DomainParticipant::DomainParticipant(const ParticipantOptions& options) : options_(options) {

@@ -1,9 +1,12 @@
 #pragma once
 // QoS objects built from the topic table's QosSpec.
 
+#include <dds/dds.h>
+
 #include <memory>
 #include <string>
 
+#include "common/dds/entity.hpp"
 #include "stereoball/topics.hpp"
 
 namespace stereoball::dds {
@@ -27,5 +30,8 @@ class Qos {
  private:
   dds_qos_t* qos_;
 };
+
+/// The QoS an existing reader or writer actually has (reliability, durability, history, deadline).
+topics::QosSpec actual_qos(EntityHandle reader_or_writer);
 
 }  // namespace stereoball::dds
