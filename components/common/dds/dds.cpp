@@ -133,8 +133,8 @@ Entity create_topic(const DomainParticipant& participant, const topics::TopicSpe
 // ---- writers and readers -----------------------------------------------------------------
 
 Entity create_writer(const DomainParticipant& participant, EntityHandle topic_handle,
-                     const topics::TopicSpec& spec) {
-  const Qos qos = Qos::for_topic(spec.qos);
+                     const topics::QosSpec& qos_spec) {
+  const Qos qos = Qos::for_topic(qos_spec);
   return Entity(check(dds_create_writer(participant.publisher(), topic_handle, qos.get(), nullptr),
                       "dds_create_writer"));
 }
@@ -292,7 +292,7 @@ SerializedWriter::SerializedWriter(const DomainParticipant& participant,
                                    const topics::TopicSpec& spec)
     : spec_(spec),
       topic_(create_topic(participant, spec)),
-      writer_(create_writer(participant, topic_.handle(), spec)),
+      writer_(create_writer(participant, topic_.handle(), spec.qos)),
       sertype_(probe_sertype(participant, topic_.handle(), spec)) {}
 
 SerializedWriter::~SerializedWriter() {

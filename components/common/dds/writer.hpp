@@ -12,7 +12,7 @@ namespace stereoball::dds {
 
 /// Creates an untyped writer for topic_handle with spec's QoS in participant's publisher.
 Entity create_writer(const DomainParticipant& participant, EntityHandle topic_handle,
-                     const topics::TopicSpec& spec);
+                     const topics::QosSpec& qos);
 /// Number of readers currently matched with writer.
 uint32_t matched_readers(EntityHandle writer);
 /// Blocks until at least n readers are matched or timeout_ns passes; true if matched.
@@ -22,7 +22,11 @@ template <typename T>
 class DataWriter {
  public:
   DataWriter(const DomainParticipant& participant, const topics::Topic<T>& def)
-      : topic_(participant, def), writer_(create_writer(participant, topic_.handle(), def.spec)) {}
+      : DataWriter(participant, def, def.spec.qos) {}
+  /// With a QoS other than the table's (tools and benchmarks only).
+  DataWriter(const DomainParticipant& participant, const topics::Topic<T>& def,
+             const topics::QosSpec& qos)
+      : topic_(participant, def), writer_(create_writer(participant, topic_.handle(), qos)) {}
 
   /// Publishes sample, stamped now. Throws dds::Error on failure.
   void write(const T& sample) { check(dds_write(writer_.handle(), &sample), "dds_write"); }

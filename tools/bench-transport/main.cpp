@@ -1,0 +1,294 @@
+// stereoball bench transport: latency and throughput of a 640x480 stereo frame between two
+// processes on this host, side by side in the same run with Cyclone's own ddsperf for the
+// same payload size. Prints figures; asserts nothing.
+//
+// Latency is half the round trip (ping -> pong -> ping), the definition ddsperf's ping uses.
+
+#include <CLI/CLI.hpp>
+#include <signal.h>
+#include <sys/wait.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/dds/reader.hpp"
+#include "common/dds/waitset.hpp"
+#include "common/dds/writer.hpp"
+#include "common/node/node_runner.hpp"
+
+namespace sb = stereoball;
+
+namespace {
+
+bool g_reliable = false;
+
+// The frame topic's QoS, or the same made reliable (--reliable) to compare like with like.
+sb::topics::QosSpec frame_qos() {
+  auto qos = sb::topics::kStereoFrame.spec.qos;
+  if (g_reliable) qos.reliability = sb::topics::Reliability::kReliable;
+  return qos;
+}
+
+constexpr uint32_t kWidth = 640, kHeight = 480;
+constexpr int64_t kSecond = 1'000'000'000;
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t i = std::min(v.size() - 1, static_cast<size_t>(p / 100.0 * (v.size() - 1) + 0.5));
+  return v[i];
+}
+
+double median(std::vector<double> v) { return percentile(std::move(v), 50); }
+
+struct Frame {
+  std::vector<uint8_t> left, right;
+  stereoball_msg_StereoFrame msg{};
+  Frame() : left(kWidth * kHeight * 3, 7), right(kWidth * kHeight * 3, 9) {
+    msg.source = const_cast<char*>("bench");
+    msg.encoding = const_cast<char*>("bgr8");
+    for (auto* eye : {&msg.left, &msg.right}) {
+      eye->width_px = kWidth;
+      eye->height_px = kHeight;
+      eye->step_bytes = kWidth * 3;
+    }
+    msg.left.data = {static_cast<uint32_t>(left.size()), static_cast<uint32_t>(left.size()), left.data(), false};
+    msg.right.data = {static_cast<uint32_t>(right.size()), static_cast<uint32_t>(right.size()), right.data(), false};
+  }
+};
+
+// Waits until reader has data or timeout; true if data.
+bool wait_data(sb::dds::WaitSet& ws, int64_t timeout_ns) { return !ws.wait(timeout_ns).empty(); }
+
+int run_pong(int domain, const std::string& partition, double seconds) {
+  sb::dds::DomainParticipant in({domain, partition + ".ping"});
+  sb::dds::DomainParticipant out({domain, partition + ".pong"});
+  sb::dds::DataReader<stereoball_msg_StereoFrame> reader(in, sb::topics::kStereoFrame, frame_qos());
+  sb::dds::DataWriter<stereoball_msg_StereoFrame> writer(out, sb::topics::kStereoFrame, frame_qos());
+  sb::dds::WaitSet ws(in);
+  sb::dds::ReadCondition cond(reader.handle());
+  ws.attach(cond.handle(), 1);
+  const int64_t end = sb::node::monotonic_ns() + static_cast<int64_t>(seconds * kSecond);
+  while (sb::node::monotonic_ns() < end) {
+    if (!wait_data(ws, 100'000'000)) continue;
+    auto samples = reader.take_loaned();
+    for (size_t i = 0; i < samples.size(); ++i) {
+      if (samples.valid(i)) writer.write(samples[i], samples.info(i).source_timestamp);
+    }
+  }
+  return 0;
+}
+
+struct Figures {
+  double median_us = 0, p99_us = 0, rate_hz = 0, mbps = 0;
+  size_t count = 0;
+};
+
+Figures run_ping(int domain, const std::string& partition, int frames) {
+  sb::dds::DomainParticipant out({domain, partition + ".ping"});
+  sb::dds::DomainParticipant in({domain, partition + ".pong"});
+  sb::dds::DataWriter<stereoball_msg_StereoFrame> writer(out, sb::topics::kStereoFrame, frame_qos());
+  sb::dds::DataReader<stereoball_msg_StereoFrame> reader(in, sb::topics::kStereoFrame, frame_qos());
+  sb::dds::WaitSet ws(in);
+  sb::dds::ReadCondition cond(reader.handle());
+  ws.attach(cond.handle(), 1);
+  if (!writer.wait_for_readers(1, 10 * kSecond) || !reader.wait_for_writers(1, 10 * kSecond)) {
+    throw std::runtime_error("pong process did not match within 10 s");
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  Frame frame;
+  std::vector<double> half_rtt_us;
+  size_t lost = 0;
+  const int64_t t0 = sb::node::monotonic_ns();
+  for (int i = 0; i < frames + 20; ++i) {
+    frame.msg.seq = static_cast<uint64_t>(i);
+    const int64_t sent = sb::node::monotonic_ns();
+    writer.write(frame.msg);
+    bool got = false;
+    // Best effort: a lost frame times out after 100 ms and is counted, not waited for.
+    while (!got && sb::node::monotonic_ns() - sent < 100'000'000) {
+      if (!wait_data(ws, 100'000'000)) continue;
+      auto samples = reader.take_loaned();
+      for (size_t k = 0; k < samples.size(); ++k) {
+        if (samples.valid(k) && samples[k].seq == static_cast<uint64_t>(i)) got = true;
+      }
+    }
+    const int64_t now = sb::node::monotonic_ns();
+    if (!got) ++lost;
+    else if (i >= 20) half_rtt_us.push_back((now - sent) / 2e3);  // first 20 warm up
+  }
+  const double elapsed_s = (sb::node::monotonic_ns() - t0) * 1e-9;
+  Figures f;
+  f.count = half_rtt_us.size();
+  f.median_us = median(half_rtt_us);
+  f.p99_us = percentile(half_rtt_us, 99);
+  f.rate_hz = f.count / elapsed_s;
+  f.mbps = f.rate_hz * frame.left.size() * 2 / 1e6;
+  if (lost) std::fprintf(stderr, "  (ours: %zu of %d frames lost and skipped)\n", lost, frames + 20);
+  return f;
+}
+
+pid_t spawn(const std::vector<std::string>& args, const std::string& log_path) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    std::vector<char*> argv;
+    std::vector<std::string> copy = args;
+    for (auto& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execvp(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+int reap(pid_t pid, int timeout_s) {
+  for (int i = 0; i < timeout_s * 100; ++i) {
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  return -1;
+}
+
+std::string self_path() { return std::filesystem::read_symlink("/proc/self/exe").string(); }
+
+Figures ours(int domain, int frames, int run) {
+  const std::string partition = "bench." + std::to_string(getpid()) + "." + std::to_string(run);
+  const pid_t pong = spawn({self_path(), "--pong", "--partition", partition, "--domain",
+                            std::to_string(domain), "--seconds", "120",
+                            g_reliable ? "--reliable" : "--best-effort"},
+                           "/tmp/sb-bench-pong.log");
+  Figures f;
+  try {
+    f = run_ping(domain, partition, frames);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ours: %s\n", e.what());
+  }
+  kill(pong, SIGKILL);
+  reap(pong, 5);
+  return f;
+}
+
+// Parses ddsperf's per-second ping lines: "... size S mean ..us min ..us 50% Xus 90% ..us 99% Yus max ..us cnt N".
+Figures ddsperf(int domain, int seconds, bool best_effort) {
+  const std::string dom = std::to_string(domain + 1);  // its own domain: ddsperf has no partitions
+  std::vector<std::string> common{"ddsperf", "-i", dom};
+  if (best_effort) common.push_back("-u");
+  auto pong_args = common;
+  pong_args.insert(pong_args.end(), {"-D", std::to_string(seconds + 8), "pong", "waitset"});
+  auto ping_args = common;
+  ping_args.insert(ping_args.end(), {"-D", std::to_string(seconds), "-Qminmatch:1", "-Qinitwait:5",
+                                     "ping", "size", "1843200", "waitset"});
+  const pid_t pong = spawn(pong_args, "/tmp/sb-bench-ddsperf-pong.log");
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const pid_t ping = spawn(ping_args, "/tmp/sb-bench-ddsperf-ping.log");
+  reap(ping, seconds + 15);
+  kill(pong, SIGKILL);
+  reap(pong, 5);
+  std::ifstream in("/tmp/sb-bench-ddsperf-ping.log");
+  const std::regex line_re(R"(size (\d+) mean [\d.]+us min [\d.]+us 50% ([\d.]+)us 90% [\d.]+us 99% ([\d.]+)us max [\d.]+us cnt (\d+))");
+  std::vector<double> medians, p99s;
+  size_t count = 0;
+  std::string line;
+  bool first = true;
+  while (std::getline(in, line)) {
+    std::smatch m;
+    if (!std::regex_search(line, m, line_re)) continue;
+    if (first) {  // the first second includes discovery and warm-up
+      first = false;
+      continue;
+    }
+    medians.push_back(std::stod(m[2]));
+    p99s.push_back(std::stod(m[3]));
+    count += std::stoul(m[4]);
+  }
+  Figures f;
+  f.median_us = median(medians);
+  f.p99_us = median(p99s);
+  f.count = count;
+  f.rate_hz = medians.empty() ? 0 : count / static_cast<double>(medians.size());
+  f.mbps = f.rate_hz * 1843200 / 1e6;
+  return f;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"stereoball bench transport: 640x480 stereo frame latency/throughput vs ddsperf"};
+  bool pong = false;
+  int domain = sb::dds::domain_from_env(77);
+  std::string partition;
+  double seconds = 60;
+  int frames = 1000, runs = 3;
+  bool with_ddsperf = true;
+  app.add_flag("--pong", pong, "internal: run the echo side");
+  app.add_option("--domain", domain, "DDS domain (ddsperf uses domain+1)")->check(CLI::Range(0, 231));
+  app.add_option("--partition", partition, "internal");
+  app.add_option("--seconds", seconds, "internal");
+  app.add_option("--frames", frames, "frames per run (>= 1000 for the report)")->check(CLI::Range(10, 1000000));
+  app.add_option("--runs", runs, "runs of each side; medians are reported")->check(CLI::Range(1, 20));
+  app.add_flag("!--no-ddsperf", with_ddsperf, "skip the ddsperf comparison");
+  app.add_flag("--reliable,!--best-effort", g_reliable, "our frames reliable instead of the table's best-effort");
+  CLI11_PARSE(app, argc, argv);
+  if (pong) return run_pong(domain, partition, seconds);
+
+  const bool have_ddsperf = std::system("command -v ddsperf >/dev/null 2>&1") == 0;
+  if (with_ddsperf && !have_ddsperf) {
+    std::fprintf(stderr, "ddsperf not found (package cyclonedds-tools); comparison skipped\n");
+    with_ddsperf = false;
+  }
+  const int ddsperf_seconds = std::max(3, frames / 500 + 2);
+  std::vector<Figures> mine, theirs_rel, theirs_be;
+  for (int run = 0; run < runs; ++run) {
+    mine.push_back(ours(domain, frames, run));
+    std::printf("run %d: ours (%s keep-last-1) median %.0f us p99 %.0f us, %.1f frames/s\n",
+                run + 1, g_reliable ? "reliable" : "best-effort", mine.back().median_us, mine.back().p99_us, mine.back().rate_hz);
+    if (with_ddsperf) {
+      theirs_be.push_back(ddsperf(domain, ddsperf_seconds, true));
+      theirs_rel.push_back(ddsperf(domain, ddsperf_seconds, false));
+      std::printf("run %d: ddsperf best-effort median %.0f us p99 %.0f us; reliable median %.0f us p99 %.0f us\n",
+                  run + 1, theirs_be.back().median_us, theirs_be.back().p99_us,
+                  theirs_rel.back().median_us, theirs_rel.back().p99_us);
+    }
+    std::fflush(stdout);
+  }
+  auto med = [](const std::vector<Figures>& v, double Figures::*field) {
+    std::vector<double> x;
+    for (const auto& f : v) x.push_back(f.*field);
+    return median(x);
+  };
+  std::printf("\n640x480x3 stereo frame (1843200 B of pixels), one-way latency = round trip / 2, %d frames x %d runs\n",
+              frames, runs);
+  std::printf("%-34s %12s %12s %14s %10s\n", "", "median (us)", "p99 (us)", "pingpong (Hz)", "MB/s");
+  std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", "stereoball (dds layer, typed)",
+              med(mine, &Figures::median_us), med(mine, &Figures::p99_us), med(mine, &Figures::rate_hz),
+              med(mine, &Figures::mbps));
+  if (with_ddsperf) {
+    std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", "ddsperf best-effort (same size)",
+                med(theirs_be, &Figures::median_us), med(theirs_be, &Figures::p99_us),
+                med(theirs_be, &Figures::rate_hz), med(theirs_be, &Figures::mbps));
+    std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", "ddsperf reliable (same size)",
+                med(theirs_rel, &Figures::median_us), med(theirs_rel, &Figures::p99_us),
+                med(theirs_rel, &Figures::rate_hz), med(theirs_rel, &Figures::mbps));
+    const auto& same = g_reliable ? theirs_rel : theirs_be;
+    std::printf("ratio ours/ddsperf (same reliability, %s): median %.2f, p99 %.2f (target <= 1.2)\n",
+                g_reliable ? "reliable" : "best-effort",
+                med(mine, &Figures::median_us) / med(same, &Figures::median_us),
+                med(mine, &Figures::p99_us) / med(same, &Figures::p99_us));
+  }
+  return 0;
+}
