@@ -102,6 +102,19 @@ std::optional<std::string> validate_calibration(const StereoCalibration& calib) 
   return std::nullopt;
 }
 
+std::optional<std::string> check_image_size(const StereoCalibration& calib, cv::Size left,
+                                            cv::Size right) {
+  auto text = [](cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
+  if (left != calib.image_size) {
+    return "left image is " + text(left) + " but the calibration is for " + text(calib.image_size);
+  }
+  if (right != calib.image_size) {
+    return "right image is " + text(right) + " but the calibration is for " +
+           text(calib.image_size);
+  }
+  return std::nullopt;
+}
+
 double focal_px(const StereoCalibration& calib) {
   return calib.p1(0, 0);
 }

@@ -55,6 +55,10 @@ void rectify_calibration(StereoCalibration& calib, const RectifyOptions& options
 /// Checks sizes, finiteness and horizontal rectification; names the bad field, nullopt if OK.
 std::optional<std::string> validate_calibration(const StereoCalibration& calib);
 
+/// Checks that both frames have the calibration's image size; error names the eye and sizes.
+std::optional<std::string> check_image_size(const StereoCalibration& calib, cv::Size left,
+                                            cv::Size right);
+
 /// Rectified focal length, pixels (p1(0,0)).
 double focal_px(const StereoCalibration& calib);
 

@@ -55,5 +55,16 @@ TEST(ValidateCalibration, GivenBrokenFieldsWhenValidatedThenErrorNamesField) {
   expect_field([](StereoCalibration& c) { c.q(3, 2) = 0; }, "Q");
 }
 
+TEST(CheckImageSize, GivenFramesOfOtherSizeWhenCheckedThenErrorNamesEyeAndSizes) {
+  const StereoCalibration c = default_synthetic_rig().calibration();
+  EXPECT_EQ(check_image_size(c, {640, 480}, {640, 480}), std::nullopt);
+  const auto left = check_image_size(c, {1280, 720}, {640, 480});
+  ASSERT_TRUE(left.has_value());
+  EXPECT_EQ(*left, "left image is 1280x720 but the calibration is for 640x480");
+  const auto right = check_image_size(c, {640, 480}, {640, 479});
+  ASSERT_TRUE(right.has_value());
+  EXPECT_EQ(*right, "right image is 640x479 but the calibration is for 640x480");
+}
+
 }  // namespace
 }  // namespace stereoball::stereo
