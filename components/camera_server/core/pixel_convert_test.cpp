@@ -63,6 +63,20 @@ TEST(YuyvToBgr, GivenPaddedRowsWhenConvertedThenPaddingIsIgnored) {
   EXPECT_EQ(cv::norm(mine, opencv_reference(yuyv, w, h, step), cv::NORM_INF), 0.0);
 }
 
+TEST(YuyvToBgr, GivenOddSizesIntoExactBufferWhenConvertedThenIdenticalAndNothingWrittenPast) {
+  for (int w : {2, 14, 16, 18, 30, 70, 640}) {
+    const int h = 3;
+    const auto yuyv = random_yuyv(h, 2 * w, static_cast<uint32_t>(w));
+    std::vector<uint8_t> dst(static_cast<size_t>(3) * w * h + 16, 0xAB);  // 16 sentinel bytes
+    ASSERT_TRUE(yuyv_to_bgr_into(yuyv, w, h, 2 * w, dst.data(), 3 * w).ok());
+    const cv::Mat mine(h, w, CV_8UC3, dst.data());
+    EXPECT_EQ(cv::norm(mine, opencv_reference(yuyv, w, h, 2 * w), cv::NORM_INF), 0.0) << w;
+    for (size_t i = static_cast<size_t>(3) * w * h; i < dst.size(); ++i) {
+      ASSERT_EQ(dst[i], 0xAB) << "byte " << i << " past the image was written, width " << w;
+    }
+  }
+}
+
 TEST(YuyvToBgr, GivenTruncatedFrameWhenConvertedThenErrorNamesSizes) {
   std::vector<uint8_t> yuyv(100);
   cv::Mat out;

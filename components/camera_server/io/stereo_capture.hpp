@@ -10,25 +10,13 @@
 #include <vector>
 
 #include "camera_server/core/params.hpp"
+#include "camera_server/core/raw_image.hpp"
 #include "camera_server/core/reopen_backoff.hpp"
 #include "camera_server/core/stereo_pairer.hpp"
 #include "camera_server/io/camera_opener.hpp"
 #include "camera_server/io/video_device.hpp"
 
 namespace stereoball::camera_server {
-
-/// A captured image exactly as the driver delivered it.
-struct RawImage {
-  std::vector<uint8_t> bytes;
-  uint32_t fourcc = 0;
-  uint32_t width_px = 0;
-  uint32_t height_px = 0;
-  uint32_t step_bytes = 0;  ///< 0 for compressed formats
-  uint32_t sequence = 0;    ///< driver frame counter
-};
-
-/// A synchronized pair of raw images; stamps in ns since the Unix epoch.
-using RawStereoPair = StereoPair<RawImage>;
 
 /// Health of one camera.
 struct EyeHealth {
