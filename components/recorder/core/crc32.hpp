@@ -22,4 +22,7 @@ class Crc32 {
 /// CRC-32 of one buffer.
 uint32_t crc32(std::span<const uint8_t> bytes);
 
+/// CRC-32 of one buffer with the built-in tables (used when zlib is absent; tests compare both).
+uint32_t crc32_portable(std::span<const uint8_t> bytes);
+
 }  // namespace stereoball::recorder

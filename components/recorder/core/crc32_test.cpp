@@ -36,6 +36,16 @@ TEST(Crc32, GivenRandomSplitsWhenHashedIncrementallyThenEqualsOneShot) {
   }
 }
 
+TEST(Crc32, GivenRandomBuffersWhenHashedByBothImplementationsThenTheyAgree) {
+  std::mt19937 rng(3);
+  for (size_t n : {0u, 1u, 7u, 8u, 9u, 63u, 1000u, 4097u}) {
+    std::vector<uint8_t> data(n);
+    for (auto& b : data) b = static_cast<uint8_t>(rng());
+    EXPECT_EQ(crc32_portable(data), crc32(data)) << n;
+  }
+  EXPECT_EQ(crc32_portable(as_bytes("123456789")), 0xCBF43926u);
+}
+
 TEST(Crc32, GivenOneFlippedBitWhenHashedThenDiffers) {
   std::vector<uint8_t> data(1000, 0x5A);
   const uint32_t before = crc32(data);

@@ -235,3 +235,29 @@ TEST(WriterReader, GivenAVisitorThatStopsWhenIteratingThenNoFurtherMessagesAreDe
 
 }  // namespace
 }  // namespace stereoball::recorder
+
+namespace stereoball::recorder {
+namespace {
+
+TEST(WriterReader, GivenADataSectionCrcWhenADataRecordIsCorruptedThenTheScanReportsAMismatch) {
+  WriterParams p;
+  p.data_section_crc = true;
+  auto rec = testing::make_recording(p, 2, 50, 100);
+  // Dropping the footer makes the reader scan the data section (and check its CRC).
+  std::vector<uint8_t> intact(rec.bytes.begin(), rec.bytes.end() - 8);
+  std::vector<std::string> notes;
+  EXPECT_EQ(testing::read_all(intact, &notes), rec.messages);
+  for (const auto& n : notes) EXPECT_EQ(n.find("CRC mismatch"), std::string::npos) << n;
+  // The first "test::Msg" is the schema record in the data section (outside any chunk).
+  const std::string name = "test::Msg";
+  auto it = std::search(intact.begin(), intact.end(), name.begin(), name.end());
+  ASSERT_NE(it, intact.end());
+  *it = 'X';
+  EXPECT_EQ(testing::read_all(intact, &notes), rec.messages);
+  bool reported = false;
+  for (const auto& n : notes) reported |= n.find("data section CRC mismatch") != std::string::npos;
+  EXPECT_TRUE(reported);
+}
+
+}  // namespace
+}  // namespace stereoball::recorder

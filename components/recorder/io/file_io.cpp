@@ -43,6 +43,11 @@ Status FileSink::flush() {
   return std::nullopt;
 }
 
+Status FileSink::sync() {
+  if (::fdatasync(fd_) != 0) return "'" + path_ + "': fdatasync: " + std::strerror(errno);
+  return std::nullopt;
+}
+
 Result<std::unique_ptr<FileSource>> FileSource::open(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {

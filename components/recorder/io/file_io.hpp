@@ -23,6 +23,8 @@ class FileSink : public Sink {
   FileSink& operator=(const FileSink&) = delete;
   Status write(std::span<const uint8_t> bytes) override;
   Status flush() override;
+  /// Waits until everything written is on the device (fdatasync).
+  Status sync();
 
  private:
   FileSink(int fd, std::string path, bool sync_on_flush)
