@@ -1,0 +1,39 @@
+// motion_controller: turns ball/track into cmd/velocity (follow, search, stop)
+// at a fixed rate. Runs until SIGINT/SIGTERM.
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+#include "common/node/common_flags.hpp"
+#include "common/node/node_runner.hpp"
+#include "motion_controller/node/controller_params_file.hpp"
+#include "motion_controller/node/motion_controller_node.hpp"
+
+int main(int argc, char** argv) {
+  namespace sb = stereoball;
+  sb::node::block_termination_signals();
+  CLI::App app{
+      "motion_controller: subscribes ball/track and cmd/estop, publishes cmd/velocity at a\n"
+      "fixed rate (rate_hz, default 20 Hz): follows the ball at the target distance, rotates\n"
+      "toward the last-seen side while searching, and commands zero on start-up, stale\n"
+      "ball/track (stale_timeout_ns) and a latched emergency stop."};
+  sb::node::CommonOptions common;
+  sb::node::add_common_flags(app, common, sb::node::default_config_path("motion_controller.yaml"));
+  CLI11_PARSE(app, argc, argv);
+
+  auto params = sb::motion_controller::load_controller_params(common.config_path);
+  if (!params) {
+    std::fprintf(stderr, "motion_controller: %s\n", params.error().c_str());
+    return 2;
+  }
+  try {
+    sb::node::Runner runner("motion_controller", common);
+    sb::motion_controller::MotionControllerNode node(runner, *params);
+    return runner.run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "motion_controller: %s\n", e.what());
+    return 1;
+  }
+}

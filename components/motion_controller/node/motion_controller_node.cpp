@@ -1,0 +1,61 @@
+#include "motion_controller/node/motion_controller_node.hpp"
+
+#include <string>
+
+#include "common/util/log.hpp"
+#include "motion_controller/node/command_conversion.hpp"
+
+namespace stereoball::motion_controller {
+
+MotionControllerNode::MotionControllerNode(node::Runner& runner,
+                                           const MotionControllerNodeParams& params)
+    : runner_(runner),
+      controller_(params.controller),
+      tracks_(runner.participant(), topics::kBallTrack),
+      estop_(runner.participant(), topics::kEmergencyStop),
+      commands_(runner.participant(), topics::kVelocityCommand) {
+  runner_.on_data(tracks_.handle(), [this] { on_tracks(); });
+  runner_.on_data(estop_.handle(), [this] { on_estop(); });
+  const auto period_ns = static_cast<std::int64_t>(1e9 / params.rate_hz);
+  runner_.every(period_ns, [this](std::int64_t now_ns) { tick(now_ns); });
+  runner_.health().set_state(false, "waiting for ball/track");
+}
+
+void MotionControllerNode::on_tracks() {
+  // Only the newest state matters for the next command.
+  if (auto latest = tracks_.take_latest()) {
+    controller_.on_track(to_sample(**latest), node::now_ns());
+    runner_.health().count(std::string(topics::kBallTrack.spec.name));
+  }
+}
+
+void MotionControllerNode::on_estop() {
+  for (auto& s : estop_.take()) {
+    if (s->engaged != controller_.estop_engaged()) {
+      const char* reason = s->reason ? s->reason : "";
+      if (s->engaged) {
+        log::warn("emergency stop engaged: ", reason);
+      } else {
+        log::info("emergency stop cleared: ", reason);
+      }
+    }
+    controller_.on_estop(s->engaged);
+    runner_.health().count(std::string(topics::kEmergencyStop.spec.name));
+  }
+}
+
+void MotionControllerNode::tick(std::int64_t now_ns) {
+  const Command c = controller_.step(now_ns);
+  stereoball_msg_VelocityCommand out{};
+  to_message(c, seq_++, now_ns, out);
+  commands_.write(out);
+  runner_.health().count(std::string(topics::kVelocityCommand.spec.name));
+  const bool healthy = c.mode != Mode::kStale && c.mode != Mode::kWaiting;
+  runner_.health().set_state(healthy, std::string(to_string(c.mode)));
+  if (c.mode != last_mode_) {
+    log::info("mode ", to_string(last_mode_), " -> ", to_string(c.mode));
+    last_mode_ = c.mode;
+  }
+}
+
+}  // namespace stereoball::motion_controller

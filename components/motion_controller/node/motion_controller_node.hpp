@@ -1,0 +1,35 @@
+#pragma once
+// The motion_controller process: ball/track and cmd/estop in, cmd/velocity
+// out at a fixed rate, also when the inputs stop.
+
+#include <cstdint>
+
+#include "common/dds/reader.hpp"
+#include "common/dds/writer.hpp"
+#include "common/node/node_runner.hpp"
+#include "motion_controller/core/motion_controller.hpp"
+#include "motion_controller/node/controller_params_file.hpp"
+
+namespace stereoball::motion_controller {
+
+/// Wires the controller core to its topics and the control timer on a runner.
+class MotionControllerNode {
+ public:
+  /// Creates readers/writers on runner's participant and registers callbacks and the timer.
+  MotionControllerNode(node::Runner& runner, const MotionControllerNodeParams& params);
+
+ private:
+  void on_tracks();
+  void on_estop();
+  void tick(std::int64_t now_ns);
+
+  node::Runner& runner_;
+  MotionController controller_;
+  dds::DataReader<stereoball_msg_BallTrack> tracks_;
+  dds::DataReader<stereoball_msg_EmergencyStop> estop_;
+  dds::DataWriter<stereoball_msg_VelocityCommand> commands_;
+  std::uint64_t seq_ = 0;
+  Mode last_mode_ = Mode::kWaiting;
+};
+
+}  // namespace stereoball::motion_controller

@@ -1,0 +1,184 @@
+// Integration test: the real motion_controller process on a private domain,
+// fed ball/track and cmd/estop; checks cmd/velocity.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "common/dds/reader.hpp"
+#include "common/dds/writer.hpp"
+#include "common/node/node_runner.hpp"
+#include "process.hpp"
+
+namespace sb = stereoball;
+using namespace std::chrono_literals;
+using sb::testing::Process;
+
+namespace {
+
+struct Cmd {
+  double linear_mps;
+  double angular_radps;
+  std::chrono::steady_clock::time_point received;
+};
+
+stereoball_msg_BallTrack track(stereoball_msg_TrackState state, double bearing_rad,
+                               double distance_m, stereoball_msg_Side side) {
+  stereoball_msg_BallTrack t{};
+  t.state = state;
+  t.verdict = stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED;
+  t.reason = const_cast<char*>("test");
+  t.position_valid = state != stereoball_msg_TRACK_IDLE;
+  t.bearing_rad = bearing_rad;
+  t.distance_m = distance_m;
+  t.last_seen_side = side;
+  return t;
+}
+
+class MotionControllerNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    partition_ = sb::testing::unique_partition();
+    node_.emplace(
+        Process::start({sb::testing::bin("motion_controller"), "--config",
+                        sb::testing::source_path("config/motion_controller.yaml"), "--domain",
+                        std::to_string(sb::testing::test_domain()), "--partition", partition_}));
+    participant_.emplace(sb::dds::ParticipantOptions{sb::testing::test_domain(), partition_});
+    tracks_.emplace(*participant_, sb::topics::kBallTrack);
+    estop_.emplace(*participant_, sb::topics::kEmergencyStop);
+    commands_.emplace(*participant_, sb::topics::kVelocityCommand);
+    ASSERT_TRUE(tracks_->wait_for_readers(1, 10'000'000'000)) << node_->output();
+    ASSERT_TRUE(commands_->wait_for_writers(1, 10'000'000'000)) << node_->output();
+  }
+
+  // For duration, publishes t (if given) at 30 Hz and collects every command received.
+  std::vector<Cmd> pump(const std::optional<stereoball_msg_BallTrack>& t,
+                        std::chrono::milliseconds duration) {
+    std::vector<Cmd> got;
+    const auto end = std::chrono::steady_clock::now() + duration;
+    while (std::chrono::steady_clock::now() < end) {
+      if (t) {
+        stereoball_msg_BallTrack s = *t;
+        s.capture_stamp_ns = s.last_accepted_stamp_ns = sb::node::now_ns();
+        s.frame_seq = ++seq_;
+        tracks_->write(s);
+      }
+      collect(got);
+      std::this_thread::sleep_for(33ms);
+    }
+    collect(got);
+    return got;
+  }
+
+  void collect(std::vector<Cmd>& got) {
+    for (auto& s : commands_->take()) {
+      got.push_back({s->linear_mps, s->angular_radps, std::chrono::steady_clock::now()});
+    }
+  }
+
+  void send_estop(bool engaged) {
+    stereoball_msg_EmergencyStop e{};
+    e.stamp_ns = sb::node::now_ns();
+    e.engaged = engaged;
+    e.reason = const_cast<char*>("test");
+    estop_->write(e);
+  }
+
+  std::string partition_;
+  std::optional<Process> node_;
+  std::optional<sb::dds::DomainParticipant> participant_;
+  std::optional<sb::dds::DataWriter<stereoball_msg_BallTrack>> tracks_;
+  std::optional<sb::dds::DataWriter<stereoball_msg_EmergencyStop>> estop_;
+  std::optional<sb::dds::DataReader<stereoball_msg_VelocityCommand>> commands_;
+  std::uint64_t seq_ = 0;
+};
+
+TEST_F(MotionControllerNodeTest, GivenNoInput_ThenZeroCommandsAtAbout20Hz) {
+  pump(std::nullopt, 300ms);  // let the timer settle
+  const auto cmds = pump(std::nullopt, 2000ms);
+  EXPECT_GE(cmds.size(), 30u) << node_->output();
+  EXPECT_LE(cmds.size(), 50u);
+  for (const auto& c : cmds) {
+    EXPECT_EQ(c.linear_mps, 0.0);
+    EXPECT_EQ(c.angular_radps, 0.0);
+  }
+}
+
+TEST_F(MotionControllerNodeTest, GivenBallToTheRightFar_ThenTurnsRightAndDrives) {
+  const auto cmds =
+      pump(track(stereoball_msg_TRACK_FOLLOWING, 0.2, 2.0, stereoball_msg_SIDE_RIGHT), 1500ms);
+  ASSERT_FALSE(cmds.empty());
+  EXPECT_LT(cmds.back().angular_radps, -0.1) << node_->output();
+  EXPECT_GT(cmds.back().linear_mps, 0.1);
+}
+
+TEST_F(MotionControllerNodeTest, GivenTrackStops_ThenZeroWithinHalfASecond) {
+  pump(track(stereoball_msg_TRACK_FOLLOWING, 0.0, 2.0, stereoball_msg_SIDE_RIGHT), 1500ms);
+  const auto stopped_at = std::chrono::steady_clock::now();
+  const auto cmds = pump(std::nullopt, 1000ms);
+  ASSERT_GT(cmds.size(), 10u);
+  // Commands keep coming although the input stopped, and turn to zero by 0.5 s
+  EXPECT_GT(cmds.front().linear_mps, 0.0);
+  for (const auto& c : cmds) {
+    if (c.received - stopped_at > 500ms) {
+      EXPECT_EQ(c.linear_mps, 0.0);
+      EXPECT_EQ(c.angular_radps, 0.0);
+    }
+  }
+  EXPECT_EQ(cmds.back().linear_mps, 0.0);
+}
+
+TEST_F(MotionControllerNodeTest, GivenEmergencyStop_ThenZeroLatchedUntilCleared) {
+  const auto following = track(stereoball_msg_TRACK_FOLLOWING, -0.2, 2.0, stereoball_msg_SIDE_LEFT);
+  ASSERT_GT(pump(following, 1000ms).back().linear_mps, 0.1);
+  send_estop(true);
+  const auto during = pump(following, 1000ms);
+  ASSERT_FALSE(during.empty());
+  EXPECT_EQ(during.back().linear_mps, 0.0);
+  EXPECT_EQ(during.back().angular_radps, 0.0);
+  // Latched: all commands of the last half second are zero although tracks continue
+  for (std::size_t i = during.size() / 2; i < during.size(); ++i) {
+    EXPECT_EQ(during[i].linear_mps, 0.0);
+  }
+  send_estop(false);
+  const auto after = pump(following, 1000ms);
+  EXPECT_GT(after.back().linear_mps, 0.1);
+  EXPECT_GT(after.back().angular_radps, 0.1);  // ball to the left: counter-clockwise
+}
+
+TEST_F(MotionControllerNodeTest, GivenSearchingAfterLeftExit_ThenRotatesLeftInPlace) {
+  const auto cmds =
+      pump(track(stereoball_msg_TRACK_SEARCHING, 0.0, 0.0, stereoball_msg_SIDE_LEFT), 1000ms);
+  ASSERT_FALSE(cmds.empty());
+  EXPECT_NEAR(cmds.back().angular_radps, 0.8, 1e-9);
+  EXPECT_EQ(cmds.back().linear_mps, 0.0);
+}
+
+TEST_F(MotionControllerNodeTest, GivenSigterm_ThenExitsZero) {
+  node_->signal(SIGTERM);
+  EXPECT_EQ(node_->wait_for_exit(5s), 0) << node_->output();
+}
+
+TEST(MotionControllerNodeCli, GivenBadConfig_ThenOneClearLineAndNonZeroExit) {
+  const std::string dir = sb::testing::temp_dir();
+  std::ofstream(dir + "/bad.yaml") << "rate_hz: 20\n";
+  const auto [code, out] =
+      sb::testing::run({sb::testing::bin("motion_controller"), "--config", dir + "/bad.yaml"}, 10s);
+  EXPECT_NE(code, 0);
+  EXPECT_NE(out.find("bad.yaml"), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+}
+
+TEST(MotionControllerNodeCli, GivenHelp_ThenDescribesTopicsAndExitsZero) {
+  const auto [code, out] = sb::testing::run({sb::testing::bin("motion_controller"), "--help"}, 10s);
+  EXPECT_EQ(code, 0);
+  EXPECT_NE(out.find("cmd/velocity"), std::string::npos) << out;
+}
+
+}  // namespace
