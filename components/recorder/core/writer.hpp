@@ -28,13 +28,13 @@ enum class Compression { kZstd, kNone };
 struct WriterParams {
   uint64_t chunk_size_bytes = 4 << 20;  ///< close a chunk once its uncompressed records reach this
   Compression compression = Compression::kZstd;
-  int zstd_level = 1;            ///< zstd level, 1 (fastest) .. 19 (smallest)
-  bool chunk_crc = true;         ///< store the CRC-32 of each chunk's uncompressed records
+  int zstd_level = 1;     ///< zstd level, 1 (fastest) .. 19 (smallest)
+  bool chunk_crc = true;  ///< store the CRC-32 of each chunk's uncompressed records
   /// Store the CRC-32 of the whole data section in DataEnd. Off by default: it costs a pass over
   /// every byte written, while chunk CRCs already protect all messages and the summary CRC the
   /// index (the MCAP spec allows 0 = not available).
   bool data_section_crc = false;
-  std::string profile;           ///< MCAP header profile ("" = none)
+  std::string profile;                          ///< MCAP header profile ("" = none)
   std::string library = "stereoball-recorder";  ///< MCAP header library string
   /// nullopt when valid, else a message naming the bad field and its allowed range.
   std::optional<std::string> validate() const;
