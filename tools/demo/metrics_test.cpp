@@ -1,0 +1,108 @@
+#include "metrics.hpp"
+
+#include <gtest/gtest.h>
+
+namespace stereoball::demo {
+namespace {
+
+TruthSample truth(uint64_t seq, double t, bool visible, double z = 1.0, double x = 0.0) {
+  TruthSample s;
+  s.seq = seq;
+  s.t_s = t;
+  s.ball_present = true;
+  s.visible = visible;
+  s.ball_cam_m[0] = x;
+  s.ball_cam_m[2] = z;
+  return s;
+}
+
+TrackSample track(uint64_t seq, TrackState state, bool accepted, double z, double x = 0.0) {
+  TrackSample s;
+  s.seq = seq;
+  s.state = state;
+  s.accepted = accepted;
+  s.position_m[0] = x;
+  s.position_m[2] = z;
+  return s;
+}
+
+DetectionSample detection(uint64_t seq, bool found, double z, double x = 0.0) {
+  DetectionSample d;
+  d.seq = seq;
+  d.found = found;
+  d.position_m[0] = x;
+  d.position_m[2] = z;
+  return d;
+}
+
+TEST(Metrics, GivenAccurateTrackWhenScoredThenErrorsAndRatesMatch) {
+  std::vector<TruthSample> gt;
+  std::vector<DetectionSample> det;
+  std::vector<TrackSample> trk;
+  for (uint64_t i = 0; i < 10; ++i) {
+    gt.push_back(truth(i, i * 0.1, true, 1.0));
+    det.push_back(detection(i, i % 2 == 0, 1.01));
+    trk.push_back(track(i, TrackState::kFollowing, true, 1.02));
+  }
+  const auto m = score("s", gt, det, trk, {});
+  EXPECT_EQ(m.frames, 10u);
+  EXPECT_EQ(m.visible_frames, 10u);
+  EXPECT_DOUBLE_EQ(m.detection_rate, 0.5);
+  EXPECT_NEAR(m.error_median_m, 0.02, 1e-9);
+  EXPECT_NEAR(m.error_median_rel, 0.02, 1e-9);
+  EXPECT_DOUBLE_EQ(m.accept_rate_visible, 1.0);
+  EXPECT_NEAR(m.following_distance_error_m, 0.0, 1e-12);  // target 1 m, ball at 1 m
+  EXPECT_DOUBLE_EQ(m.within_tolerance, 1.0);
+}
+
+TEST(Metrics, GivenDetectionsOnClutterThenFalseAcceptRateCountsOnlyAcceptedOnes) {
+  std::vector<TruthSample> gt;
+  std::vector<DetectionSample> det;
+  std::vector<TrackSample> trk;
+  for (uint64_t i = 0; i < 4; ++i) {
+    gt.push_back(truth(i, i * 0.1, false));
+    det.push_back(detection(i, true, 3.0));
+    trk.push_back(track(i, TrackState::kIdle, i == 3, 3.0));
+  }
+  const auto m = score("clutter", gt, det, trk, {});
+  EXPECT_EQ(m.false_detections, 4u);
+  EXPECT_DOUBLE_EQ(m.false_accept_rate, 0.25);
+}
+
+TEST(Metrics, GivenBallLostThenReacquireTimeIsFromVisibilityToFirstAcceptance) {
+  std::vector<TruthSample> gt;
+  std::vector<TrackSample> trk;
+  // visible 0..0.9 s, invisible 1.0..1.9 s, visible again from 2.0 s, accepted from 2.3 s
+  for (uint64_t i = 0; i < 30; ++i) {
+    const double t = i * 0.1;
+    const bool visible = t < 0.95 || t > 1.95;
+    gt.push_back(truth(i, t, visible));
+    const bool acc = t < 0.95 || t > 2.25;
+    trk.push_back(track(i, acc ? TrackState::kFollowing : TrackState::kSearching, acc, 1.0));
+  }
+  const auto m = score("loss", gt, {}, trk, {});
+  EXPECT_EQ(m.losses, 1u);
+  EXPECT_EQ(m.reacquired, 1u);
+  EXPECT_NEAR(m.reacquire_median_s, 0.3, 1e-9);
+}
+
+TEST(Metrics, GivenFollowingWithoutBallThenLongestBlindFollowingIsMeasured) {
+  std::vector<TruthSample> gt;
+  std::vector<TrackSample> trk;
+  for (uint64_t i = 0; i < 10; ++i) {
+    gt.push_back(truth(i, i * 0.1, false));
+    trk.push_back(track(i, i >= 4 ? TrackState::kFollowing : TrackState::kIdle, false, 2.0));
+  }
+  const auto m = score("blind", gt, {}, trk, {});
+  EXPECT_NEAR(m.longest_following_without_ball_s, 0.5, 1e-9);
+}
+
+TEST(Metrics, GivenBallOffCentreThenItIsOutsideTolerance) {
+  std::vector<TruthSample> gt{truth(0, 0, true, 1.0, 0.2)};  // ~11 degrees off centre
+  std::vector<TrackSample> trk{track(0, TrackState::kFollowing, true, 1.0, 0.2)};
+  const auto m = score("off", gt, {}, trk, {});
+  EXPECT_DOUBLE_EQ(m.within_tolerance, 0.0);
+}
+
+}  // namespace
+}  // namespace stereoball::demo

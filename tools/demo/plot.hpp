@@ -1,0 +1,30 @@
+#pragma once
+// Small line-chart renderer (OpenCV) for the demo's report PNGs.
+
+#include <opencv2/core.hpp>
+
+#include <string>
+#include <vector>
+
+namespace stereoball::demo {
+
+struct Series {
+  std::string label;
+  std::vector<cv::Point2d> points;
+  cv::Scalar colour;
+  bool step = false;  ///< draw as a step function (states)
+};
+
+struct Chart {
+  std::string title, x_label, y_label;
+  std::vector<Series> series;
+  bool equal_aspect = false;               ///< for top views (metres on both axes)
+  std::vector<std::string> y_tick_names;   ///< names for integer y ticks (states), optional
+};
+
+/// Renders chart into an image of the given size.
+cv::Mat render(const Chart& chart, cv::Size size);
+/// Renders charts stacked vertically into one image.
+cv::Mat render_stack(const std::vector<Chart>& charts, cv::Size each);
+
+}  // namespace stereoball::demo
