@@ -6,7 +6,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <regex>
 
 namespace stereoball::stereo {
 namespace {
@@ -30,11 +29,19 @@ class CalibrationFileTest : public ::testing::Test {
     return path;
   }
   // The good calibration's YAML with one top-level entry replaced by `replacement`.
+  // Entries are "KEY: !!opencv-matrix" followed by lines indented by three spaces, or
+  // "KEY: value" (plain string editing: GCC 12's <regex> trips -Wmaybe-uninitialized).
   std::string edited_yaml(const std::string& key, const std::string& replacement) {
     std::string yaml = calibration_to_yaml(calib_);
-    // Entries are "KEY: !!opencv-matrix" followed by indented lines, or "KEY: value".
-    const std::regex entry("\\n" + key + ":[^\\n]*(\\n   [^\\n]*)*");
-    return std::regex_replace(yaml, entry, "\n" + replacement);
+    const std::size_t begin = yaml.find("\n" + key + ":");
+    if (begin == std::string::npos) return yaml;
+    std::size_t end = yaml.find('\n', begin + 1);
+    while (end != std::string::npos && yaml.compare(end + 1, 3, "   ") == 0) {
+      end = yaml.find('\n', end + 1);
+    }
+    yaml.replace(begin, end == std::string::npos ? std::string::npos : end - begin,
+                 "\n" + replacement);
+    return yaml;
   }
   fs::path dir_;
   StereoCalibration calib_ = default_synthetic_rig().calibration();
