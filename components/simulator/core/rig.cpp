@@ -1,7 +1,5 @@
 #include "simulator/core/rig.hpp"
 
-#include <opencv2/calib3d.hpp>
-
 #include <cmath>
 
 namespace stereoball::simulator {
@@ -20,35 +18,22 @@ cv::Matx33d to_cv(const Mat3& m) {
   return cv::Matx33d(m.m[0], m.m[1], m.m[2], m.m[3], m.m[4], m.m[5], m.m[6], m.m[7], m.m[8]);
 }
 
-cv::Matx33d camera_matrix(const Intrinsics& k) {
-  return cv::Matx33d(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+stereo::CameraModel camera_model(const Intrinsics& k) {
+  return {cv::Matx33d(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1),
+          std::vector<double>(k.dist.begin(), k.dist.end())};
 }
 
 stereo::StereoCalibration rectify(int w, int h, const Intrinsics (&k)[2],
                                   const CameraPose (&pose)[2], double alpha) {
-  stereo::StereoCalibration c;
-  c.image_size = cv::Size(w, h);
-  c.k1 = camera_matrix(k[0]);
-  c.k2 = camera_matrix(k[1]);
-  c.d1.assign(k[0].dist.begin(), k[0].dist.end());
-  c.d2.assign(k[1].dist.begin(), k[1].dist.end());
   // X_right = R X_left + T, from X_robot = R_l X_left + p_l = R_r X_right + p_r.
   const Mat3 rr_t = pose[1].r_robot_from_cam.transposed();
   const Mat3 r = rr_t * pose[0].r_robot_from_cam;
   const Vec3d t = rr_t * (pose[0].position_m - pose[1].position_m);
-  c.r = to_cv(r);
-  c.t = cv::Vec3d(t.x, t.y, t.z);
-  cv::Mat r1, r2, p1, p2, q;
-  cv::stereoRectify(cv::Mat(c.k1), cv::Mat(c.d1).reshape(1, 1), cv::Mat(c.k2),
-                    cv::Mat(c.d2).reshape(1, 1), c.image_size, cv::Mat(c.r), cv::Mat(c.t), r1, r2,
-                    p1, p2, q, cv::CALIB_ZERO_DISPARITY, alpha, c.image_size);
-  c.r1 = cv::Matx33d(r1);
-  c.r2 = cv::Matx33d(r2);
-  c.p1 = cv::Matx34d(p1);
-  c.p2 = cv::Matx34d(p2);
-  c.q = cv::Matx44d(q);
-  c.rms_px = 0.0;
-  return c;
+  stereo::RectifyOptions options;
+  options.alpha = alpha;
+  options.zero_disparity = true;
+  return stereo::make_calibration(camera_model(k[0]), camera_model(k[1]), to_cv(r),
+                                  cv::Vec3d(t.x, t.y, t.z), cv::Size(w, h), options);
 }
 
 }  // namespace

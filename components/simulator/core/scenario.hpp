@@ -101,9 +101,9 @@ struct Scenario {
   std::vector<DoorFrameSpec> door_frames;
   std::vector<PlateSpec> plates;
   std::vector<KickSpec> kicks;
-  double sun_azimuth_rad = 0.8;           ///< direction the light comes from, CCW from +x
-  double sun_elevation_rad = 1.0;         ///< above the horizon, radians
-  std::vector<LightKey> lighting;         ///< sorted by t_s; empty = LightKey defaults
+  double sun_azimuth_rad = 2.4;    ///< direction the light comes from, CCW from +x (behind-left)
+  double sun_elevation_rad = 1.0;  ///< above the horizon, radians
+  std::vector<LightKey> lighting;  ///< sorted by t_s; empty = LightKey defaults
   std::vector<ScriptedCommand> commands;  ///< sorted by t_s
 
   /// First invalid field with its allowed range, or nullopt.

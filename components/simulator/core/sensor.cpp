@@ -21,13 +21,16 @@ Sensor::Sensor(double sigma_dn, uint64_t seed) : rng_(seed), enabled_(sigma_dn >
 
 void Sensor::apply(cv::Mat& image) {
   if (!enabled_) return;
-  const size_t mask = table_.size() - 1;
   const int n = image.cols * image.channels();
+  // A random start per row, chosen so the row never wraps: the inner loop then vectorizes.
+  const uint64_t span = table_.size() > static_cast<size_t>(n) ? table_.size() - n : 1;
   for (int y = 0; y < image.rows; ++y) {
     uint8_t* p = image.ptr<uint8_t>(y);
-    size_t k = rng_.next() & mask;
-    for (int i = 0; i < n; ++i, k = (k + 1) & mask) {
-      const int v = p[i] * 16 + table_[k] + 8;
+    const int16_t* noise =
+        table_.data() + (table_.size() > static_cast<size_t>(n) ? rng_.next() % span : 0);
+    const int m = std::min<int>(n, static_cast<int>(table_.size()));
+    for (int i = 0; i < m; ++i) {
+      const int v = p[i] * 16 + noise[i] + 8;
       p[i] = static_cast<uint8_t>(std::clamp(v >> 4, 0, 255));
     }
   }

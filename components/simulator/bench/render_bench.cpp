@@ -1,0 +1,91 @@
+// stereoball-sim-bench: measures the simulator's render time per stereo pair (both eyes).
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "simulator/core/simulator.hpp"
+#include "simulator/io/scenario_file.hpp"
+#include "simulator/io/sim_params_file.hpp"
+
+namespace sim = stereoball::simulator;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+void report(const char* what, std::vector<double> ms) {
+  std::sort(ms.begin(), ms.end());
+  const auto at = [&](double q) { return ms[static_cast<size_t>(q * (ms.size() - 1))]; };
+  std::printf("  %-34s median %6.2f ms  p10 %6.2f  p90 %6.2f  max %6.2f  (%zu frames)\n", what,
+              at(0.5), at(0.1), at(0.9), ms.back(), ms.size());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "stereoball-sim-bench: time the simulator per stereo pair (both eyes) on one core.\n"
+      "Reports render-only time and the full step (render + sensor noise + ground truth)."};
+  std::string scenario_name = "ball_rolling_across";
+  std::string config = std::string(SB_DEFAULT_CONFIG_DIR) + "/simulator.yaml";
+  int frames = 300, width = 0, height = 0, blur = 0;
+  app.add_option("--scenario", scenario_name, "scenario name or path")->capture_default_str();
+  app.add_option("--config", config, "simulator params file")->capture_default_str();
+  app.add_option("--frames", frames, "frames to time")
+      ->check(CLI::Range(10, 100000))
+      ->capture_default_str();
+  app.add_option("--width", width, "override image width, pixels");
+  app.add_option("--height", height, "override image height, pixels");
+  app.add_option("--blur", blur, "override motion blur sub-frames")->check(CLI::Range(1, 16));
+  CLI11_PARSE(app, argc, argv);
+
+  auto params = sim::load_sim_params(config);
+  if (!params) return std::fprintf(stderr, "stereoball-sim-bench: %s\n", params.error().c_str()), 2;
+  if (width > 0) params->width_px = width;
+  if (height > 0) params->height_px = height;
+  if (blur > 0) params->sensor.motion_blur_subframes = blur;
+  auto scenario =
+      sim::load_scenario_by_name(scenario_name, std::string(SB_DEFAULT_CONFIG_DIR) + "/scenarios");
+  if (!scenario)
+    return std::fprintf(stderr, "stereoball-sim-bench: %s\n", scenario.error().c_str()), 2;
+  if (auto e = sim::Simulator::check(*params, *scenario)) {
+    return std::fprintf(stderr, "stereoball-sim-bench: %s\n", e->c_str()), 2;
+  }
+
+  const auto t_build = Clock::now();
+  sim::Simulator simulator(*params, *scenario);
+  const double build_ms = ms_since(t_build);
+  sim::Renderer renderer(simulator.rig(), *scenario, params->left.gain, params->right.gain);
+  sim::World world(*params, *scenario);
+  const int64_t period = simulator.frame_period_ns();
+
+  std::vector<double> render_ms, step_ms;
+  cv::Mat left, right;
+  for (int i = 0; i < frames; ++i) {
+    const int64_t t = i * period;
+    world.set_command({0.2, 0.3, t});
+    world.advance_to(t);
+    const sim::LightKey light = sim::lighting_at(*scenario, t * 1e-9);
+    const auto t0 = Clock::now();
+    renderer.render(sim::Eye::kLeft, world.robot(), world.ball(), light, left);
+    renderer.render(sim::Eye::kRight, world.robot(), world.ball(), light, right);
+    render_ms.push_back(ms_since(t0));
+    const auto t1 = Clock::now();
+    const sim::SimFrame f = simulator.step(sim::VelocityCommand{0.2, 0.3, t}, t);
+    step_ms.push_back(ms_since(t1));
+  }
+  std::printf("stereoball-sim-bench: scenario %s, %dx%d, blur %d, setup (ray tables) %.1f ms\n",
+              scenario->name.c_str(), params->width_px, params->height_px,
+              params->sensor.motion_blur_subframes, build_ms);
+  report("render both eyes", render_ms);
+  report("full step (render+noise+truth)", step_ms);
+  return 0;
+}
