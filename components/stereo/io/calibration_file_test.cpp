@@ -174,3 +174,20 @@ TEST_F(CalibrationFileTest, GivenOddOrMissingListWhenLoadedThenError) {
 
 }  // namespace
 }  // namespace stereoball::stereo
+
+namespace stereoball::stereo {
+namespace {
+
+TEST(ShippedCalibration, GivenRepoCalibrationOfSamplePairsWhenLoadedThenValidAndAccurate) {
+  // Given the calibration committed under config/calibration (OpenCV sample pairs)
+  const auto c = load_calibration(std::string(SB_SOURCE_DIR) +
+                                  "/config/calibration/opencv_samples_stereo.yaml");
+  // Then it loads, is for 640x480 and records a sub-0.5 px RMS for all 13 pairs
+  ASSERT_TRUE(c.has_value()) << c.error();
+  EXPECT_EQ(c->image_size, cv::Size(640, 480));
+  EXPECT_LT(c->rms_px, 0.5);
+  EXPECT_EQ(c->per_pair_rms_px.size(), 13u);
+}
+
+}  // namespace
+}  // namespace stereoball::stereo
