@@ -1,0 +1,125 @@
+// Supervisor and `stereoball launch`: real node processes, restarts, clean stop.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "common/node/node_runner.hpp"
+#include "process.hpp"
+#include "profile.hpp"
+#include "supervisor.hpp"
+
+namespace sb = stereoball;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::string write_profile(const std::string& dir, const std::string& body) {
+  const std::string path = dir + "/profile.yaml";
+  std::ofstream(path) << body;
+  return path;
+}
+
+const char* kTwoPeers = R"(description: two test peers
+nodes:
+  - name: first
+    program: sb_test_peer
+    args: ["echo", "ball/track", "--config", "{root}/tests/foundation/test_peer.yaml"]
+  - name: second
+    program: sb_test_peer
+    args: ["echo", "ball/detection", "--config", "{root}/tests/foundation/test_peer.yaml"]
+)";
+
+sb::launch::SupervisorOptions options(const std::string& dir) {
+  sb::launch::SupervisorOptions o;
+  o.bin_dir = sb::testing::bin("").substr(0, sb::testing::bin("").size() - 1);
+  o.log_path = dir + "/nodes.log";
+  o.extra_args = {"--domain", std::to_string(sb::testing::test_domain()), "--partition",
+                  sb::testing::unique_partition()};
+  return o;
+}
+
+TEST(Profile, RepositoryProfilesAllLoad) {
+  for (const char* name : {"all-in-one", "robot", "workstation", "robot-cameras"}) {
+    auto p = sb::launch::load_profile(name, SB_SOURCE_DIR);
+    ASSERT_TRUE(p) << name << ": " << p.error();
+    EXPECT_FALSE(p->nodes.empty());
+    EXPECT_EQ(p->cyclonedds_config.find("{root}"), std::string::npos);
+  }
+}
+
+TEST(Profile, BadProfilesNameTheProblem) {
+  const std::string dir = sb::testing::temp_dir();
+  struct Case {
+    std::string body, expected;
+  };
+  const std::vector<Case> cases = {
+      {"nodes:\n  - name: a\n    program: x\n    colour: red\n", "nodes[0]: key 'colour': unknown"},
+      {"nodes:\n  - name: a\n    program: x\n  - name: a\n    program: y\n", "duplicate name 'a'"},
+      {"nodes:\n  - name: a\n", "key 'program': missing"},
+      {"description: none\n", "key 'nodes': missing or empty"},
+      {"nodes: [\n", "not valid YAML"},
+  };
+  for (const auto& c : cases) {
+    auto p = sb::launch::load_profile(write_profile(dir, c.body), SB_SOURCE_DIR);
+    ASSERT_FALSE(p) << c.body;
+    EXPECT_NE(p.error().find(c.expected), std::string::npos) << p.error();
+  }
+  auto missing = sb::launch::load_profile("no-such-profile", SB_SOURCE_DIR);
+  ASSERT_FALSE(missing);
+  EXPECT_NE(missing.error().find("all-in-one"), std::string::npos) << "lists the known profiles";
+}
+
+// Given two supervised nodes, when one is killed, then it is restarted with a new pid,
+// and stopping the profile ends both cleanly (exit 0 on SIGTERM).
+TEST(Supervisor, RestartsACrashedNodeAndStopsAllCleanly) {
+  const std::string dir = sb::testing::temp_dir();
+  auto profile = sb::launch::load_profile(write_profile(dir, kTwoPeers), SB_SOURCE_DIR);
+  ASSERT_TRUE(profile) << profile.error();
+  std::vector<std::string> events;
+  sb::launch::Supervisor supervisor(*profile, options(dir), [&](const std::string& e) { events.push_back(e); });
+  ASSERT_TRUE(supervisor.start_all(sb::node::monotonic_ns()));
+  std::this_thread::sleep_for(500ms);
+  const pid_t first_pid = supervisor.states()[0].pid;
+  ASSERT_GT(first_pid, 0);
+  supervisor.signal_node("first", SIGKILL);
+  ASSERT_TRUE(sb::testing::eventually([&] {
+    supervisor.poll(sb::node::monotonic_ns());
+    return supervisor.states()[0].pid > 0 && supervisor.states()[0].pid != first_pid;
+  }, 5s)) << "not restarted";
+  EXPECT_EQ(supervisor.states()[0].restarts, 1);
+  EXPECT_EQ(supervisor.states()[0].last_exit_code, 128 + SIGKILL);
+  EXPECT_EQ(supervisor.states()[1].restarts, 0);
+  std::this_thread::sleep_for(300ms);
+  EXPECT_TRUE(supervisor.stop_all());
+  for (const auto& st : supervisor.states()) {
+    EXPECT_EQ(st.pid, -1);
+    EXPECT_EQ(st.last_exit_code, 0) << st.name;
+  }
+}
+
+// Given `stereoball launch` running a profile, when it gets SIGTERM, then it exits 0 and
+// takes its nodes down with it.
+TEST(LaunchCommand, SigtermStopsEveryNode) {
+  const std::string dir = sb::testing::temp_dir();
+  const std::string path = write_profile(dir, kTwoPeers);
+  auto launch = sb::testing::Process::start(
+      {sb::testing::bin("stereoball-launch"), path, "--log", dir + "/nodes.log", "--domain",
+       std::to_string(sb::testing::test_domain()), "--partition", sb::testing::unique_partition()});
+  ASSERT_TRUE(launch.wait_for_output("second: started", 10s)) << launch.output();
+  ASSERT_TRUE(sb::testing::eventually([&] {
+    std::ifstream in(dir + "/nodes.log");
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    return text.find("echoing ball/detection") != std::string::npos;
+  }, 10s));
+  launch.signal(SIGTERM);
+  const auto code = launch.wait_for_exit(10s);
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 0) << launch.output();
+  EXPECT_NE(launch.output().find("all nodes stopped cleanly"), std::string::npos) << launch.output();
+}
+
+}  // namespace
