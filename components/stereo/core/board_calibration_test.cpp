@@ -3,6 +3,8 @@
 
 #include "stereo/core/board_calibration.hpp"
 
+#include "stereo/core/rectifier.hpp"
+
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
@@ -56,6 +58,27 @@ TEST(RealCalibration, GivenOpenCvSamplePairsWhenCalibratedThenRmsAndRowErrorTarg
   EXPECT_GT(cv::norm(c.t), 0.01);
   EXPECT_LT(cv::norm(c.t), 0.5);
   EXPECT_EQ(validate_calibration(c), std::nullopt);
+}
+
+TEST(RealCalibration, GivenCalibrationWhenRealPairLutRectifiedThenBoardCornersShareRows) {
+  // Given the calibration of the real sample pairs
+  const auto result =
+      calibrate_stereo(sample_corners(), cv::Size(640, 480), BoardCalibrationParams{});
+  ASSERT_TRUE(result.has_value()) << result.error();
+  const Rectifier rect = Rectifier::create(result->calibration).value();
+  // When a real pair goes through the fixed-point LUT and the board is found again
+  cv::Mat l, r;
+  ASSERT_EQ(rect.rectify(cv::imread(name("left", 3), cv::IMREAD_GRAYSCALE),
+                         cv::imread(name("right", 3), cv::IMREAD_GRAYSCALE), l, r),
+            std::nullopt);
+  const auto cl = find_board_corners(l, BoardCalibrationParams{});
+  auto cr = find_board_corners(r, BoardCalibrationParams{});
+  ASSERT_TRUE(cl && cr);
+  align_corner_order(*cl, *cr);
+  // Then corresponding corners lie on the same rows (whole-image path, not just points)
+  double sum = 0.0;
+  for (std::size_t i = 0; i < cl->size(); ++i) sum += std::abs((*cl)[i].y - (*cr)[i].y);
+  EXPECT_LT(sum / static_cast<double>(cl->size()), 0.3);
 }
 
 TEST(RealCalibration, GivenTooFewPairsWhenCalibratedThenErrorNamesMinPairs) {
