@@ -1,0 +1,110 @@
+#pragma once
+// Baselines behind the CircleDetector interface, for comparison with Pixel-to-Pixel:
+// classic 3D CHT, gradient-direction line voting, OpenCV HoughCircles.
+
+#include "ball_detector/core/circle.hpp"
+#include "ball_detector/core/circle_fit.hpp"
+#include "ball_detector/core/edge_map.hpp"
+#include "ball_detector/core/p2p_detector.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace stereoball::ball_detector {
+
+/// Parameters of the gradient-direction line voting baseline (Kimme / Minor-Sklansky / Faez).
+struct GradientVotingParams {
+  EdgeParams edge;                  ///< same edge step as Pixel-to-Pixel
+  int box_size_px = 5;              ///< accumulator smoothing (odd), pixels
+  double min_radius_px = 4.0;       ///< votes start this far from the edge point, pixels
+  double max_radius_px = 120.0;     ///< votes stop this far, pixels
+  int max_circles = 5;              ///< most circles returned
+  double min_separation_px = 10.0;  ///< closest two centres, pixels
+  double min_score = 0.5;           ///< score threshold, [0, 1]
+  double min_relative_peak = 0.15;  ///< peaks below this fraction of the strongest are ignored
+  bool refine = true;               ///< same least-squares refinement as Pixel-to-Pixel
+  RefineParams refine_params;
+
+  /// Names the first bad field and its allowed range, or nullopt.
+  std::optional<std::string> validate() const;
+};
+
+/// Every edge point draws a line along its gradient, both ways (the ball may be darker or
+/// brighter than the background), between min and max radius.
+class GradientVotingDetector final : public CircleDetector {
+ public:
+  explicit GradientVotingDetector(const GradientVotingParams& params);
+  std::vector<Circle> detect(const cv::Mat& bgr_or_grey) override;
+  const DetectionDiagnostics* diagnostics() const override;
+  std::string name() const override { return "gradient"; }
+
+ private:
+  GradientVotingParams params_;
+  EdgeMap edges_;
+  cv::Mat accumulator_;
+  std::vector<Voter> voters_;
+  mutable DetectionDiagnostics diag_;
+  mutable bool peak_ratio_done_ = false;
+};
+
+/// Parameters of the classic circle Hough transform with an (x, y, r) accumulator.
+struct ChtParams {
+  EdgeParams edge;                  ///< same edge step as Pixel-to-Pixel
+  double min_radius_px = 4.0;       ///< smallest radius, pixels
+  double max_radius_px = 120.0;     ///< largest radius, pixels
+  double radius_step_px = 1.0;      ///< radius sampling, pixels
+  int max_circles = 5;              ///< most circles returned
+  double min_separation_px = 10.0;  ///< closest two centres, pixels
+  double min_score = 0.5;           ///< votes / circle length threshold, [0, 1]
+
+  /// Names the first bad field and its allowed range, or nullopt.
+  std::optional<std::string> validate() const;
+};
+
+/// Classic CHT: each edge point votes a full circle for every radius; score = votes / circle
+/// length.
+class ChtDetector final : public CircleDetector {
+ public:
+  explicit ChtDetector(const ChtParams& params);
+  std::vector<Circle> detect(const cv::Mat& bgr_or_grey) override;
+  const DetectionDiagnostics* diagnostics() const override { return &diag_; }
+  std::string name() const override { return "cht"; }
+
+ private:
+  ChtParams params_;
+  EdgeMap edges_;
+  std::vector<float> radii_;
+  std::vector<std::vector<cv::Point>> offsets_;  // digital circle per radius
+  std::vector<std::uint16_t> votes_;
+  DetectionDiagnostics diag_;
+};
+
+/// Parameters of the OpenCV HoughCircles baseline.
+struct OpenCvHoughParams {
+  bool alt = false;                 ///< HOUGH_GRADIENT_ALT instead of HOUGH_GRADIENT
+  double dp = 1.0;                  ///< accumulator resolution divisor
+  double param1 = 100.0;            ///< Canny high threshold
+  double param2 = 30.0;             ///< accumulator threshold (ALT: circle "perfectness" in (0, 1])
+  double min_radius_px = 4.0;       ///< smallest radius, pixels
+  double max_radius_px = 120.0;     ///< largest radius, pixels
+  double min_separation_px = 10.0;  ///< OpenCV minDist, pixels
+  int max_circles = 5;              ///< most circles returned
+  int blur_ksize = 0;               ///< median blur before detection (0 = none, else odd)
+
+  /// Names the first bad field and its allowed range, or nullopt.
+  std::optional<std::string> validate() const;
+};
+
+/// cv::HoughCircles; score = min(1, votes / circumference) when OpenCV reports votes.
+class OpenCvHoughDetector final : public CircleDetector {
+ public:
+  explicit OpenCvHoughDetector(const OpenCvHoughParams& params);
+  std::vector<Circle> detect(const cv::Mat& bgr_or_grey) override;
+  std::string name() const override { return params_.alt ? "opencv-alt" : "opencv"; }
+
+ private:
+  OpenCvHoughParams params_;
+};
+
+}  // namespace stereoball::ball_detector

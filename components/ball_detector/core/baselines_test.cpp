@@ -1,0 +1,68 @@
+// Baselines and the factory: every method finds a plain ball through the common interface.
+
+#include "ball_detector/core/baselines.hpp"
+#include "ball_detector/core/circle.hpp"
+#include "ball_detector/core/synthetic.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace stereoball::ball_detector {
+namespace {
+
+TEST(Factory, GivenEachMethodNameThenADetectorOfThatNameFindsAPlainBall) {
+  const auto scene = make_scene(SceneKind::kPlain, {320, 240}, 5);
+  DetectorOptions o;
+  o.min_radius_px = 8;
+  o.max_radius_px = 60;
+  o.min_score = 0.3;
+  for (const auto& name : detector_names()) {
+    std::string err;
+    auto det = make_detector(name, o, &err);
+    ASSERT_NE(det, nullptr) << name << ": " << err;
+    EXPECT_EQ(det->name(), name);
+    const auto found = det->detect(scene.image);
+    ASSERT_FALSE(found.empty()) << name;
+    EXPECT_LT(std::hypot(found[0].x_px - scene.truth[0].x_px, found[0].y_px - scene.truth[0].y_px),
+              2.0)
+        << name;
+    EXPECT_NEAR(found[0].radius_px, scene.truth[0].radius_px, 3.0) << name;
+    EXPECT_GE(found[0].score, 0.0);
+    EXPECT_LE(found[0].score, 1.0);
+  }
+}
+
+TEST(Factory, GivenAnUnknownMethodOrBadOptionThenAnErrorNamesIt) {
+  std::string err;
+  EXPECT_EQ(make_detector("sobel", DetectorOptions{}, &err), nullptr);
+  EXPECT_NE(err.find("sobel"), std::string::npos);
+  DetectorOptions o;
+  o.max_radius_px = 1.0;
+  EXPECT_EQ(make_detector("p2p", o, &err), nullptr);
+  EXPECT_NE(err.find("max_radius_px"), std::string::npos);
+}
+
+TEST(GradientVoting, GivenTheSameBallThenItCastsMoreVotesThanPixelToPixel) {
+  const auto scene = make_scene(SceneKind::kClutter, {352, 288}, 1);
+  GradientVotingDetector grad(GradientVotingParams{});
+  PixelToPixelDetector p2p(PixelToPixelParams{});
+  grad.detect(scene.image);
+  p2p.detect(scene.image);
+  EXPECT_GT(grad.diagnostics()->increments, 2 * p2p.diagnostics()->increments);
+  EXPECT_GT(grad.diagnostics()->voters, p2p.diagnostics()->voters);
+}
+
+TEST(Cht, GivenBadParamsThenValidateNamesThem) {
+  ChtParams p;
+  EXPECT_FALSE(p.validate().has_value());
+  p.radius_step_px = 0.0;
+  EXPECT_NE(p.validate().value_or("").find("radius_step_px"), std::string::npos);
+  OpenCvHoughParams o;
+  o.alt = true;
+  o.param2 = 5.0;
+  EXPECT_NE(o.validate().value_or("").find("param2"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,171 @@
+#include "ball_detector/core/circle_fit.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numbers>
+
+namespace stereoball::ball_detector {
+namespace {
+
+inline int l1_at(const cv::Mat& dx, const cv::Mat& dy, int x, int y) {
+  return std::abs(dx.at<short>(y, x)) + std::abs(dy.at<short>(y, x));
+}
+
+// Sub-pixel edge position: parabola through the gradient magnitude at the pixel and its two
+// neighbours along the (8-direction quantised) gradient.
+cv::Point2d subpixel_edge(const EdgeMap& e, int x, int y, int gx, int gy) {
+  if (x < 1 || y < 1 || x >= e.dx.cols - 1 || y >= e.dx.rows - 1) return {double(x), double(y)};
+  const int ax = std::abs(gx), ay = std::abs(gy);
+  // tan(22.5 deg) ~ 0.4142 ~ 53/128: integer sector test.
+  int sx = 0, sy = 0;
+  if (ay * 128 <= ax * 53) {
+    sx = 1;
+  } else if (ax * 128 <= ay * 53) {
+    sy = 1;
+  } else {
+    sx = 1;
+    sy = (gx > 0) == (gy > 0) ? 1 : -1;
+  }
+  const double m0 = l1_at(e.dx, e.dy, x, y);
+  const double mm = l1_at(e.dx, e.dy, x - sx, y - sy);
+  const double mp = l1_at(e.dx, e.dy, x + sx, y + sy);
+  const double denom = mm - 2.0 * m0 + mp;
+  if (denom >= 0.0) return {double(x), double(y)};
+  const double t = std::clamp(0.5 * (mm - mp) / denom, -0.5, 0.5);
+  return {x + t * sx, y + t * sy};
+}
+
+}  // namespace
+
+std::optional<Circle> fit_circle(std::span<const cv::Point2d> points) {
+  const int n = static_cast<int>(points.size());
+  if (n < 3) return std::nullopt;
+  cv::Point2d mean(0, 0);
+  for (const auto& p : points) mean += p;
+  mean *= 1.0 / n;
+  // Kasa: x^2 + y^2 + D x + E y + F = 0 in centred coordinates (better conditioned).
+  cv::Matx33d ata = cv::Matx33d::zeros();
+  cv::Vec3d atb(0, 0, 0);
+  for (const auto& p : points) {
+    const double x = p.x - mean.x, y = p.y - mean.y;
+    const cv::Vec3d row(x, y, 1.0);
+    const double rhs = -(x * x + y * y);
+    for (int i = 0; i < 3; ++i) {
+      atb[i] += row[i] * rhs;
+      for (int j = 0; j < 3; ++j) ata(i, j) += row[i] * row[j];
+    }
+  }
+  cv::Vec3d sol;
+  if (!cv::solve(ata, atb, sol, cv::DECOMP_CHOLESKY)) return std::nullopt;
+  double cx = -sol[0] / 2.0, cy = -sol[1] / 2.0;
+  const double r2 = cx * cx + cy * cy - sol[2];
+  if (!(r2 > 0.0)) return std::nullopt;
+  double r = std::sqrt(r2);
+  // Geometric refinement: Kasa is biased on short arcs and noisy points.
+  for (int it = 0; it < 5; ++it) {
+    cv::Matx33d jtj = cv::Matx33d::zeros();
+    cv::Vec3d jtr(0, 0, 0);
+    for (const auto& p : points) {
+      const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
+      const double d = std::hypot(x, y);
+      if (d < 1e-9) continue;
+      const cv::Vec3d j(-x / d, -y / d, -1.0);
+      const double res = d - r;
+      for (int a = 0; a < 3; ++a) {
+        jtr[a] += j[a] * res;
+        for (int b = 0; b < 3; ++b) jtj(a, b) += j[a] * j[b];
+      }
+    }
+    cv::Vec3d delta;
+    if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) break;
+    cx += delta[0];
+    cy += delta[1];
+    r += delta[2];
+    if (std::abs(delta[0]) + std::abs(delta[1]) + std::abs(delta[2]) < 1e-4) break;
+  }
+  if (!(r > 0.0) || !std::isfinite(cx) || !std::isfinite(cy)) return std::nullopt;
+  return Circle{cx + mean.x, cy + mean.y, r, 0.0};
+}
+
+void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
+                          double min_radial_cos, std::vector<cv::Point2d>& out) {
+  out.clear();
+  const BitImage& bits = edges.bits;
+  const double outer = c.radius_px + band_px;
+  const double inner = std::max(0.0, c.radius_px - band_px);
+  const int y0 = std::max(0, static_cast<int>(std::floor(c.y_px - outer)));
+  const int y1 = std::min(bits.height() - 1, static_cast<int>(std::ceil(c.y_px + outer)));
+  const int x0 = std::max(0, static_cast<int>(std::floor(c.x_px - outer)));
+  const int x1 = std::min(bits.width() - 1, static_cast<int>(std::ceil(c.x_px + outer)));
+  if (x0 > x1 || y0 > y1) return;
+  const double cos2 = min_radial_cos * min_radial_cos;
+  for (int y = y0; y <= y1; ++y) {
+    const std::uint64_t* row = bits.row(y);
+    const short* gx = edges.dx.ptr<short>(y);
+    const short* gy = edges.dy.ptr<short>(y);
+    for (int w = x0 >> 6; w <= (x1 >> 6); ++w) {
+      std::uint64_t word = row[w];
+      while (word) {
+        const int x = (w << 6) + std::countr_zero(word);
+        word &= word - 1;
+        if (x < x0 || x > x1) continue;
+        const double rx = x - c.x_px, ry = y - c.y_px;
+        const double d2 = rx * rx + ry * ry;
+        if (d2 > outer * outer || d2 < inner * inner) continue;
+        const double g_dot_r = gx[x] * rx + gy[x] * ry;
+        const double g2 = static_cast<double>(gx[x]) * gx[x] + static_cast<double>(gy[x]) * gy[x];
+        if (g_dot_r * g_dot_r < cos2 * g2 * d2) continue;
+        const cv::Point2d p = subpixel_edge(edges, x, y, gx[x], gy[x]);
+        // The band applies to the sub-pixel position, which is what the fit uses.
+        const double sd = std::hypot(p.x - c.x_px, p.y - c.y_px);
+        if (sd > outer || sd < inner) continue;
+        out.push_back(p);
+      }
+    }
+  }
+}
+
+double angular_coverage(const Circle& c, std::span<const cv::Point2d> points) {
+  // About one sector per 3 px of circumference: adjacent edge pixels fill a sector, a gap of
+  // a few pixels shows.
+  const int sectors =
+      std::clamp(static_cast<int>(2.0 * std::numbers::pi * c.radius_px / 3.0), 8, 180);
+  std::vector<unsigned char> hit(sectors, 0);
+  for (const auto& p : points) {
+    const double a = std::atan2(p.y - c.y_px, p.x - c.x_px) + std::numbers::pi;
+    const int s = std::min(sectors - 1, static_cast<int>(a / (2.0 * std::numbers::pi) * sectors));
+    hit[s] = 1;
+  }
+  return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / sectors;
+}
+
+std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
+                                    const RefineParams& params) {
+  Circle c = rough;
+  std::vector<cv::Point2d> pts;
+  pts.reserve(512);
+  for (int it = 0; it < params.iterations; ++it) {
+    // A wider band first: the rough centre from a vote peak may be off by a pixel or two.
+    const double band =
+        it == 0 ? std::max(params.band_px, 0.1 * c.radius_px + 1.0) : params.band_px;
+    gather_circle_points(edges, c, band, params.min_radial_cos, pts);
+    const auto fit = fit_circle(pts);
+    if (!fit) return std::nullopt;
+    // A fit that wanders far from its seed has locked onto some other structure.
+    if (std::hypot(fit->x_px - rough.x_px, fit->y_px - rough.y_px) > 0.5 * rough.radius_px + 3.0)
+      return std::nullopt;
+    c = *fit;
+  }
+  gather_circle_points(edges, c, params.band_px, params.min_radial_cos, pts);
+  c.score = angular_coverage(c, pts);
+  return c;
+}
+
+double score_circle(const EdgeMap& edges, const Circle& c, const RefineParams& params) {
+  std::vector<cv::Point2d> pts;
+  gather_circle_points(edges, c, params.band_px, params.min_radial_cos, pts);
+  return angular_coverage(c, pts);
+}
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,43 @@
+#pragma once
+// Additions beyond the paper: sub-pixel centre and radius by least-squares circle fit on edge
+// points, and a [0, 1] score (how much of the circumference is backed by edge points).
+
+#include "ball_detector/core/circle.hpp"
+#include "ball_detector/core/edge_map.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace stereoball::ball_detector {
+
+/// Least-squares circle through points: algebraic (Kasa) start, then geometric Gauss-Newton.
+/// nullopt for fewer than 3 points or a degenerate (collinear) set. Score is left at 0.
+std::optional<Circle> fit_circle(std::span<const cv::Point2d> points);
+
+/// Options of the annulus gathering and scoring.
+struct RefineParams {
+  double band_px = 0.5;          ///< edge points within this distance of the circle count, pixels
+  double min_radial_cos = 0.85;  ///< min |cos| between edge gradient and the radius, [0, 1]
+  int iterations = 2;            ///< gather + fit rounds
+};
+
+/// Edge points within band_px of circle c whose gradient is radial, each moved to its sub-pixel
+/// position along the gradient (parabola through three gradient magnitudes).
+void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
+                          double min_radial_cos, std::vector<cv::Point2d>& out);
+
+/// Fraction in [0, 1] of angular sectors of circle c holding at least one of points.
+double angular_coverage(const Circle& c, std::span<const cv::Point2d> points);
+
+/// Refines a rough circle by repeated gather + fit, then scores it by angular coverage;
+/// nullopt if the fit fails. The result's centre is sub-pixel.
+std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
+                                    const RefineParams& params);
+
+/// Score only (no refinement): angular coverage of c's gathered edge points.
+double score_circle(const EdgeMap& edges, const Circle& c, const RefineParams& params);
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,78 @@
+// Additions: least-squares circle fit, angular coverage score.
+
+#include "ball_detector/core/circle_fit.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace stereoball::ball_detector {
+namespace {
+
+std::vector<cv::Point2d> arc(double cx, double cy, double r, double a0, double a1, int n) {
+  std::vector<cv::Point2d> pts;
+  for (int i = 0; i < n; ++i) {
+    const double a = a0 + (a1 - a0) * i / (n - 1);
+    pts.emplace_back(cx + r * std::cos(a), cy + r * std::sin(a));
+  }
+  return pts;
+}
+
+TEST(FitCircle, GivenExactPointsThenTheCircleIsRecovered) {
+  const auto c = fit_circle(arc(12.3, -4.7, 9.5, 0.0, 2 * std::numbers::pi, 40));
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->x_px, 12.3, 1e-6);
+  EXPECT_NEAR(c->y_px, -4.7, 1e-6);
+  EXPECT_NEAR(c->radius_px, 9.5, 1e-6);
+}
+
+TEST(FitCircle, GivenRoundedPointsOnAQuarterArcThenTheCentreIsWithinAPixel) {
+  auto pts = arc(50.4, 40.6, 30.0, 0.2, 1.8, 60);
+  for (auto& p : pts) p = cv::Point2d(std::round(p.x), std::round(p.y));
+  const auto c = fit_circle(pts);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->x_px, 50.4, 1.0);
+  EXPECT_NEAR(c->y_px, 40.6, 1.0);
+}
+
+TEST(FitCircle, GivenTooFewOrCollinearPointsThenNoCircle) {
+  EXPECT_FALSE(fit_circle(std::vector<cv::Point2d>{{0, 0}, {1, 1}}).has_value());
+  EXPECT_FALSE(fit_circle(std::vector<cv::Point2d>{{0, 0}, {1, 1}, {2, 2}, {3, 3}}).has_value());
+}
+
+TEST(AngularCoverage, GivenFullAndHalfCirclesThenCoverageIsOneAndAHalf) {
+  const Circle c{0, 0, 20, 0};
+  EXPECT_NEAR(angular_coverage(c, arc(0, 0, 20, 0, 2 * std::numbers::pi, 400)), 1.0, 0.02);
+  EXPECT_NEAR(angular_coverage(c, arc(0, 0, 20, 0, std::numbers::pi, 400)), 0.5, 0.05);
+  EXPECT_EQ(angular_coverage(c, std::vector<cv::Point2d>{}), 0.0);
+}
+
+TEST(RefineCircle, GivenARoughSeedOnADiscThenRefinementIsSubPixelAndScoresHigh) {
+  cv::Mat img(200, 200, CV_8UC3, cv::Scalar(60, 60, 60));
+  // Sub-pixel centre (shift = 4 bits): (100.25, 95.75), radius 40.
+  cv::circle(img, {100 * 16 + 4, 95 * 16 + 12}, 40 * 16, cv::Scalar(200, 200, 200), cv::FILLED,
+             cv::LINE_AA, 4);
+  EdgeMap e;
+  compute_edge_map(img, EdgeParams{}, e);
+  const auto c = refine_circle(e, Circle{102, 94, 37, 0}, RefineParams{});
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->x_px, 100.25, 0.3);
+  EXPECT_NEAR(c->y_px, 95.75, 0.3);
+  EXPECT_NEAR(c->radius_px, 40.0, 1.0);
+  EXPECT_GT(c->score, 0.9);
+}
+
+TEST(ScoreCircle, GivenAWrongCircleThenTheScoreIsLow) {
+  cv::Mat img(200, 200, CV_8U, cv::Scalar(60));
+  cv::circle(img, {100, 100}, 40, cv::Scalar(200), cv::FILLED, cv::LINE_AA);
+  EdgeMap e;
+  compute_edge_map(img, EdgeParams{}, e);
+  EXPECT_GT(score_circle(e, Circle{100, 100, 40, 0}, RefineParams{}), 0.9);
+  EXPECT_LT(score_circle(e, Circle{130, 100, 20, 0}, RefineParams{}), 0.3);
+}
+
+}  // namespace
+}  // namespace stereoball::ball_detector

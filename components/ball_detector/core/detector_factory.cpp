@@ -1,0 +1,77 @@
+#include "ball_detector/core/baselines.hpp"
+#include "ball_detector/core/circle.hpp"
+#include "ball_detector/core/p2p_detector.hpp"
+
+namespace stereoball::ball_detector {
+
+std::optional<std::string> validate_image(const cv::Mat& image) {
+  if (image.empty()) return std::string("image is empty");
+  if (image.depth() != CV_8U) return std::string("image must have 8-bit pixels");
+  if (image.channels() != 1 && image.channels() != 3 && image.channels() != 4)
+    return std::string("image must have 1, 3 or 4 channels");
+  if (image.cols < 8 || image.rows < 8) return std::string("image is smaller than 8x8 pixels");
+  return std::nullopt;
+}
+
+std::vector<std::string> detector_names() {
+  return {"p2p", "cht", "gradient", "opencv", "opencv-alt"};
+}
+
+std::unique_ptr<CircleDetector> make_detector(const std::string& method, const DetectorOptions& o,
+                                              std::string* error) {
+  auto fail = [error](std::string msg) -> std::unique_ptr<CircleDetector> {
+    if (error) *error = std::move(msg);
+    return nullptr;
+  };
+  if (method == "p2p") {
+    PixelToPixelParams p;
+    p.k_values = o.k_values;
+    p.max_circles = o.max_circles;
+    p.min_radius_px = o.min_radius_px;
+    p.max_radius_px = o.max_radius_px;
+    p.min_separation_px = o.min_separation_px;
+    p.min_score = o.min_score;
+    if (auto e = p.validate()) return fail("p2p: " + *e);
+    return std::make_unique<PixelToPixelDetector>(p);
+  }
+  if (method == "gradient") {
+    GradientVotingParams p;
+    p.max_circles = o.max_circles;
+    p.min_radius_px = o.min_radius_px;
+    p.max_radius_px = o.max_radius_px;
+    p.min_separation_px = o.min_separation_px;
+    p.min_score = o.min_score;
+    if (auto e = p.validate()) return fail("gradient: " + *e);
+    return std::make_unique<GradientVotingDetector>(p);
+  }
+  if (method == "cht") {
+    ChtParams p;
+    p.max_circles = o.max_circles;
+    p.min_radius_px = o.min_radius_px;
+    p.max_radius_px = o.max_radius_px;
+    p.min_separation_px = o.min_separation_px;
+    p.min_score = o.min_score;
+    if (auto e = p.validate()) return fail("cht: " + *e);
+    return std::make_unique<ChtDetector>(p);
+  }
+  if (method == "opencv" || method == "opencv-alt") {
+    OpenCvHoughParams p;
+    p.alt = method == "opencv-alt";
+    if (p.alt) {
+      p.dp = 1.5;
+      p.param1 = 300.0;
+      p.param2 = 0.8;
+    }
+    if (o.opencv_param2 > 0.0) p.param2 = o.opencv_param2;
+    p.max_circles = o.max_circles;
+    p.min_radius_px = o.min_radius_px;
+    p.max_radius_px = o.max_radius_px;
+    p.min_separation_px = std::max(1.0, o.min_separation_px);
+    if (auto e = p.validate()) return fail(method + ": " + *e);
+    return std::make_unique<OpenCvHoughDetector>(p);
+  }
+  return fail("unknown method '" + method +
+              "' (expected p2p, cht, gradient, opencv or opencv-alt)");
+}
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,103 @@
+#pragma once
+// Step 1 of Pixel-to-Pixel: a thin binary edge map (grey, Canny with image-derived
+// thresholds, removal of staircase pixels) plus a bit-packed copy for fast window counts.
+
+#include <opencv2/core.hpp>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace stereoball::ball_detector {
+
+/// Parameters of the edge step.
+struct EdgeParams {
+  double noise_factor = 4.0;  ///< high threshold >= this * median |dx|+|dy| (noise level), > 0
+  double high_percentile =
+      0.99;  ///< quantile of |dx|+|dy| giving the image's strong-edge level, (0, 1)
+  double contrast_fraction = 0.15;  ///< high threshold >= this * that quantile, [0, 1]
+  double low_ratio = 0.4;           ///< Canny low threshold = high * this, (0, 1]
+  double min_high_threshold =
+      24.0;  ///< floor of the high threshold (Sobel L1 units, 4 per grey level)
+  double max_high_threshold = 1000.0;  ///< ceiling of the high threshold (Sobel L1 units)
+  double denoise_median =
+      20.0;          ///< Gaussian pre-blur when median |dx|+|dy| exceeds this (0 = never)
+  bool thin = true;  ///< remove staircase pixels so edges are one pixel thick
+
+  /// Names the first bad field and its allowed range, or nullopt.
+  std::optional<std::string> validate() const;
+};
+
+/// Binary image packed 64 pixels per word, rows padded by one word (safe two-word reads).
+class BitImage {
+ public:
+  BitImage() = default;
+  /// Packs a CV_8U image (non-zero = set); reuses storage when the size is unchanged.
+  void assign(const cv::Mat& binary);
+  /// Pointer to the words of row y (bit x%64 of word x/64 is pixel x).
+  const std::uint64_t* row(int y) const { return words_.data() + static_cast<size_t>(y) * stride_; }
+  /// Bits of pixels [x0, x0 + n) of row y in the low n bits; requires 0 <= x0, n <= 63.
+  std::uint64_t bits(int y, int x0, int n) const {
+    const std::uint64_t* r = row(y);
+    const int w = x0 >> 6;
+    const int o = x0 & 63;
+    std::uint64_t v = r[w] >> o;
+    if (o + n > 64) v |= r[w + 1] << (64 - o);
+    return v & ((std::uint64_t{1} << n) - 1);
+  }
+  /// Whether pixel (x, y) is set; no bounds check.
+  bool test(int x, int y) const { return (row(y)[x >> 6] >> (x & 63)) & 1u; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  std::vector<std::uint64_t> words_;
+  int width_ = 0;
+  int height_ = 0;
+  int stride_ = 0;
+};
+
+/// The edge map of one image and the by-products other steps reuse.
+struct EdgeMap {
+  cv::Mat grey;                  ///< CV_8U grey image
+  cv::Mat dx, dy;                ///< CV_16S Sobel derivatives
+  cv::Mat edges;                 ///< CV_8U, 255 on edge pixels, thin
+  BitImage bits;                 ///< packed copy of edges
+  double low_threshold = 0.0;    ///< Canny low threshold used (Sobel L1 units)
+  double high_threshold = 0.0;   ///< Canny high threshold used (Sobel L1 units)
+  double median_gradient = 0.0;  ///< median |dx|+|dy| of the image (noise level), Sobel L1 units
+  bool denoised = false;         ///< whether the pre-blur ran
+  int removed_staircase = 0;     ///< pixels removed by thinning
+};
+
+/// Converts a CV_8UC1/3/4 image to CV_8U grey (no copy for grey input).
+cv::Mat to_grey(const cv::Mat& image);
+
+/// Image-derived Canny thresholds and the gradient statistics they come from (Sobel L1 units).
+struct CannyThresholds {
+  double low = 0.0;
+  double high = 0.0;
+  double median_gradient = 0.0;  ///< noise level
+};
+
+/// Canny thresholds: high = max(noise_factor * median, contrast_fraction * high quantile) of
+/// |dx|+|dy|, clamped to [min, max]; low = low_ratio * high.
+CannyThresholds canny_thresholds(const cv::Mat& dx, const cv::Mat& dy, const EdgeParams& params);
+
+/// Table over the 8-neighbour code (bit i = neighbour i, clockwise from east) saying whether
+/// the centre is a staircase pixel: it joins two perpendicular 4-neighbours and removing it
+/// keeps its neighbours 8-connected.
+const std::array<bool, 256>& staircase_table();
+
+/// 8-neighbour code of pixel (x, y) of a CV_8U image (1 <= x < cols-1, 1 <= y < rows-1).
+int neighbour_code(const cv::Mat& binary, int x, int y);
+
+/// Removes staircase pixels in place (one raster pass); returns how many were removed.
+int thin_staircase(cv::Mat& binary);
+
+/// Computes the whole edge step into out (buffers reused across calls of the same size).
+void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out);
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,186 @@
+#include "ball_detector/core/p2p_detector.hpp"
+
+#include "ball_detector/core/p2p_rules.hpp"
+#include "ball_detector/core/voting.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+
+namespace stereoball::ball_detector {
+namespace {
+
+constexpr int kMaxK = 31;  // window rows are read as one 63-bit slice
+
+double median_of(std::vector<double>& v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_sep) {
+  return std::none_of(kept.begin(), kept.end(), [&](const Circle& k) {
+    return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) < min_sep;
+  });
+}
+
+}  // namespace
+
+std::optional<std::string> PixelToPixelParams::validate() const {
+  if (auto e = edge.validate()) return "edge." + *e;
+  if (k_values.empty()) return std::string("k_values must hold at least one k in [1, 31]");
+  for (int k : k_values)
+    if (k < 1 || k > kMaxK) return std::string("k_values entries must be in [1, 31]");
+  if (box_size_px < 1 || box_size_px > 31 || box_size_px % 2 == 0)
+    return std::string("box_size_px must be odd and in [1, 31]");
+  if (!(min_radius_px >= 0.0)) return std::string("min_radius_px must be >= 0");
+  if (!(max_radius_px > min_radius_px && max_radius_px <= 4000.0))
+    return std::string("max_radius_px must be in (min_radius_px, 4000]");
+  if (max_circles < 1 || max_circles > 100) return std::string("max_circles must be in [1, 100]");
+  if (!(min_separation_px >= 0.0)) return std::string("min_separation_px must be >= 0");
+  if (!(min_score >= 0.0 && min_score <= 1.0)) return std::string("min_score must be in [0, 1]");
+  if (min_peak_votes < 0) return std::string("min_peak_votes must be >= 0");
+  if (!(min_relative_peak >= 0.0 && min_relative_peak <= 1.0))
+    return std::string("min_relative_peak must be in [0, 1]");
+  if (!(refine_params.band_px > 0.0 && refine_params.band_px <= 10.0))
+    return std::string("refine_params.band_px must be in (0, 10]");
+  if (!(refine_params.min_radial_cos >= 0.0 && refine_params.min_radial_cos <= 1.0))
+    return std::string("refine_params.min_radial_cos must be in [0, 1]");
+  return std::nullopt;
+}
+
+PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : params_(params) {
+  for (int& k : params_.k_values) k = std::clamp(k, 1, kMaxK);
+  if (params_.k_values.empty()) params_.k_values = {5};
+  params_.box_size_px = std::clamp(params_.box_size_px | 1, 1, 31);
+  voters_.reserve(8192);
+}
+
+void PixelToPixelDetector::vote(int k) {
+  const BitImage& bits = edges_.bits;
+  const int w = bits.width();
+  const int h = bits.height();
+  std::array<WindowPoint, 2 * kMaxK + 1> window{};
+  const int n = 2 * k + 1;
+  for (int y = k; y < h - k; ++y) {
+    const std::uint64_t* row = bits.row(y);
+    for (int wi = 0; wi * 64 < w; ++wi) {
+      std::uint64_t word = row[wi];
+      while (word) {
+        const int x = wi * 64 + std::countr_zero(word);
+        word &= word - 1;
+        if (x < k || x >= w - k) continue;
+        // Step 4 first: the count is a few popcounts, far cheaper than collecting points.
+        if (!window_count_ok(count_window_points(bits, x, y, k), k)) continue;
+        const int got = collect_window_points(bits, x, y, k, std::span(window.data(), n));
+        const auto line = analyse_window(std::span<const WindowPoint>(window.data(), got), k);
+        if (!line) continue;
+        const double cx = x + 0.5 * line->c2x;
+        const double cy = y + 0.5 * line->c2y;
+        diag_.increments += plot_ray(accumulator_, cx, cy, line->nx, line->ny,
+                                     params_.min_radius_px, params_.max_radius_px);
+        const float norm = std::hypot(static_cast<float>(line->nx), static_cast<float>(line->ny));
+        voters_.push_back(
+            {static_cast<float>(cx), static_cast<float>(cy), line->nx / norm, line->ny / norm});
+      }
+    }
+  }
+}
+
+std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
+  diag_ = DetectionDiagnostics{};
+  peak_ratio_done_ = false;
+  voters_.clear();
+  if (validate_image(bgr_or_grey)) return {};
+  compute_edge_map(bgr_or_grey, params_.edge, edges_);
+  accumulator_.create(edges_.edges.size(), CV_16UC1);
+  accumulator_.setTo(0);
+  for (int k : params_.k_values) vote(k);
+  const cv::Mat smoothed = box_filter(accumulator_, params_.box_size_px);
+  diag_.edges = edges_.edges;
+  diag_.accumulator = smoothed;
+  diag_.voters = static_cast<std::int64_t>(voters_.size());
+  double max_v = 0.0;
+  cv::minMaxLoc(smoothed, nullptr, &max_v);
+  const float floor_v = static_cast<float>(
+      std::max<double>(params_.min_peak_votes, params_.min_relative_peak * max_v));
+  if (max_v < params_.min_peak_votes || max_v <= 0.0) return {};
+  const auto peaks =
+      find_peaks(smoothed, floor_v, params_.min_separation_px, 3 * params_.max_circles);
+  CandidateOptions opt;
+  opt.min_radius_px = params_.min_radius_px;
+  opt.max_radius_px = params_.max_radius_px;
+  opt.line_tolerance_px = 0.5 * params_.box_size_px + 1.0;
+  opt.min_separation_px = params_.min_separation_px;
+  opt.min_score = params_.min_score;
+  opt.max_circles = params_.max_circles;
+  opt.refine = params_.refine;
+  opt.refine_params = params_.refine_params;
+  return circles_from_votes(edges_, voters_, peaks, opt);
+}
+
+const DetectionDiagnostics* PixelToPixelDetector::diagnostics() const {
+  if (!peak_ratio_done_ && !diag_.accumulator.empty()) {
+    diag_.peak_to_mean = peak_to_mean(diag_.accumulator);
+    peak_ratio_done_ = true;
+  }
+  return &diag_;
+}
+
+std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<Voter>& voters,
+                                       const std::vector<Peak>& peaks,
+                                       const CandidateOptions& options) {
+  std::vector<Circle> found;
+  std::vector<double> radii;
+  std::vector<cv::Point2d> support;
+  for (const auto& peak : peaks) {
+    radii.clear();
+    for (const auto& v : voters) {
+      const double px = peak.x - v.x, py = peak.y - v.y;
+      const double t = px * v.ux + py * v.uy;
+      if (t < options.min_radius_px || t > options.max_radius_px) continue;
+      if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) continue;
+      radii.push_back(std::sqrt(px * px + py * py));
+    }
+    if (radii.size() < 3) continue;
+    const double r0 = median_of(radii);
+    // The voters' own positions on the circle seed the fit (they are edge points).
+    support.clear();
+    for (const auto& v : voters) {
+      const double px = peak.x - v.x, py = peak.y - v.y;
+      const double d = std::sqrt(px * px + py * py);
+      if (std::abs(d - r0) > 0.2 * r0 + 1.0) continue;
+      if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) continue;
+      if (px * v.ux + py * v.uy <= 0.0) continue;
+      support.emplace_back(v.x, v.y);
+    }
+    Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};
+    if (const auto fit = fit_circle(support);
+        fit && std::hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)
+      seed = *fit;
+    std::optional<Circle> c;
+    if (options.refine) {
+      c = refine_circle(edges, seed, options.refine_params);
+    } else {
+      c = seed;
+      c->score = score_circle(edges, seed, options.refine_params);
+    }
+    if (!c || c->score < options.min_score) continue;
+    if (c->radius_px < options.min_radius_px || c->radius_px > options.max_radius_px) continue;
+    found.push_back(*c);
+  }
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  std::vector<Circle> kept;
+  for (const auto& c : found) {
+    if (static_cast<int>(kept.size()) >= options.max_circles) break;
+    // Two peaks of one ball (e.g. its seam) refine onto the same circle: keep the better.
+    if (far_from_all(kept, c, std::max(options.min_separation_px, 1.0))) kept.push_back(c);
+  }
+  return kept;
+}
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,90 @@
+#pragma once
+// The Pixel-to-Pixel circle detector (paper section III) with the additions the system needs:
+// several circles, sub-pixel centre, radius, a [0, 1] score and several window sizes k.
+
+#include "ball_detector/core/circle.hpp"
+#include "ball_detector/core/circle_fit.hpp"
+#include "ball_detector/core/edge_map.hpp"
+#include "ball_detector/core/voting.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace stereoball::ball_detector {
+
+/// Parameters of the Pixel-to-Pixel detector.
+struct PixelToPixelParams {
+  std::vector<int> k_values = {
+      5};                      ///< half window sizes, each in [1, 31]; several = multi-k (addition)
+  EdgeParams edge;             ///< edge-map step
+  int box_size_px = 5;         ///< accumulator smoothing window (odd), pixels
+  double min_radius_px = 4.0;  ///< votes start this far along each line, pixels
+  double max_radius_px = 120.0;     ///< votes stop this far along each line, pixels
+  int max_circles = 5;              ///< most circles returned (addition)
+  double min_separation_px = 10.0;  ///< closest two returned centres may be (addition), pixels
+  double min_score = 0.5;           ///< circles scoring below are dropped (addition), [0, 1]
+  int min_peak_votes = 12;          ///< smallest smoothed peak examined (votes in the box)
+  double min_relative_peak = 0.15;  ///< peaks below this fraction of the strongest are ignored
+  bool refine = true;               ///< sub-pixel least-squares refinement (addition)
+  RefineParams refine_params;       ///< refinement and scoring options
+
+  /// Names the first bad field and its allowed range, or nullopt.
+  std::optional<std::string> validate() const;
+};
+
+/// One edge point that cast a vote: where it is and which way its line goes (unit vector).
+struct Voter {
+  float x = 0.0f;
+  float y = 0.0f;
+  float ux = 0.0f;
+  float uy = 0.0f;
+};
+
+/// Pixel-to-Pixel: thin edge map -> per-window chord rules -> concave-side lines -> box filter
+/// -> peaks -> refined, scored circles sorted by decreasing score.
+class PixelToPixelDetector final : public CircleDetector {
+ public:
+  /// Params must be valid (see PixelToPixelParams::validate); invalid values are clamped.
+  explicit PixelToPixelDetector(const PixelToPixelParams& params);
+  std::vector<Circle> detect(const cv::Mat& bgr_or_grey) override;
+  const DetectionDiagnostics* diagnostics() const override;
+  std::string name() const override { return "p2p"; }
+  /// Votes of the last image, before smoothing (CV_16U).
+  const cv::Mat& raw_accumulator() const { return accumulator_; }
+  /// The voters of the last image.
+  const std::vector<Voter>& voters() const { return voters_; }
+  /// Edge map of the last image.
+  const EdgeMap& edge_map() const { return edges_; }
+
+ private:
+  void vote(int k);
+  std::vector<Circle> circles_from_peaks();
+
+  PixelToPixelParams params_;
+  EdgeMap edges_;
+  cv::Mat accumulator_;
+  std::vector<Voter> voters_;
+  mutable DetectionDiagnostics diag_;
+  mutable bool peak_ratio_done_ = false;
+};
+
+/// Candidates turned into circles for any 2D line-voting detector: consistent voters give the
+/// radius, least-squares refinement gives the sub-pixel centre, angular coverage the score.
+struct CandidateOptions {
+  double min_radius_px = 4.0;
+  double max_radius_px = 120.0;
+  double line_tolerance_px = 3.5;  ///< a voter's line passes this close to the peak, pixels
+  double min_separation_px = 10.0;
+  double min_score = 0.5;
+  int max_circles = 5;
+  bool refine = true;
+  RefineParams refine_params;
+};
+
+/// Shared post-processing: peaks of a smoothed accumulator + voters -> scored circles.
+std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<Voter>& voters,
+                                       const std::vector<Peak>& peaks,
+                                       const CandidateOptions& options);
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,165 @@
+// Pixel-to-Pixel end to end on synthetic images with known circles.
+
+#include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/core/synthetic.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+
+namespace stereoball::ball_detector {
+namespace {
+
+double centre_error(const Circle& a, const Circle& b) {
+  return std::hypot(a.x_px - b.x_px, a.y_px - b.y_px);
+}
+
+PixelToPixelParams multi_k() {
+  PixelToPixelParams p;
+  p.k_values = {3, 5, 8};
+  return p;
+}
+
+TEST(PixelToPixel, GivenPlainBallScenesThenTheBestCircleIsWithinOnePixel) {
+  PixelToPixelDetector det(multi_k());
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    const auto scene = make_scene(SceneKind::kPlain, {352, 288}, seed);
+    const auto found = det.detect(scene.image);
+    ASSERT_FALSE(found.empty()) << "seed " << seed;
+    EXPECT_LT(centre_error(found[0], scene.truth[0]), 1.0) << "seed " << seed;
+    EXPECT_NEAR(found[0].radius_px, scene.truth[0].radius_px, 1.5) << "seed " << seed;
+    EXPECT_GE(found[0].score, 0.5);
+    EXPECT_LE(found[0].score, 1.0);
+  }
+}
+
+TEST(PixelToPixel, GivenTwoColourBallsThenTheCentreIsStillFound) {
+  PixelToPixelDetector det(multi_k());
+  int hits = 0;
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    const auto scene = make_scene(SceneKind::kTwoColour, {352, 288}, seed);
+    const auto found = det.detect(scene.image);
+    hits += !found.empty() && centre_error(found[0], scene.truth[0]) < 1.0;
+  }
+  EXPECT_GE(hits, 5);
+}
+
+TEST(PixelToPixel, GivenSeveralBallsThenEachIsReturnedSortedByScore) {
+  PixelToPixelDetector det(multi_k());
+  const auto scene = make_scene(SceneKind::kMultiple, {640, 480}, 3);
+  const auto found = det.detect(scene.image);
+  ASSERT_GE(found.size(), scene.truth.size());
+  for (size_t i = 1; i < found.size(); ++i) EXPECT_GE(found[i - 1].score, found[i].score);
+  for (const auto& t : scene.truth) {
+    double best = 1e9;
+    for (const auto& f : found) best = std::min(best, centre_error(f, t));
+    EXPECT_LT(best, 1.0) << "ball at " << t.x_px << "," << t.y_px;
+  }
+}
+
+TEST(PixelToPixel, GivenOnlyLinesAndCornersThenNothingScoresAboveThreshold) {
+  PixelToPixelDetector det(multi_k());
+  for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+    const auto scene = make_scene(SceneKind::kLinesOnly, {352, 288}, seed);
+    EXPECT_TRUE(det.detect(scene.image).empty()) << "seed " << seed;
+  }
+}
+
+TEST(PixelToPixel, GivenSeparatedSquaresAndTrianglesThenNoCircleIsReported) {
+  cv::Mat img(288, 352, CV_8U, cv::Scalar(80));
+  cv::rectangle(img, cv::Rect(40, 40, 60, 60), cv::Scalar(200), cv::FILLED);
+  const std::vector<cv::Point> tri{{200, 200}, {300, 220}, {240, 120}};
+  cv::fillConvexPoly(img, tri, cv::Scalar(20), cv::LINE_AA);
+  PixelToPixelDetector det(multi_k());
+  EXPECT_TRUE(det.detect(img).empty());
+}
+
+TEST(PixelToPixel, GivenMinSeparationThenNoTwoCentresAreCloser) {
+  PixelToPixelParams p = multi_k();
+  p.min_separation_px = 40.0;
+  p.min_score = 0.0;
+  p.max_circles = 10;
+  PixelToPixelDetector det(p);
+  const auto found = det.detect(make_scene(SceneKind::kClutter, {352, 288}, 2).image);
+  for (size_t i = 0; i < found.size(); ++i)
+    for (size_t j = i + 1; j < found.size(); ++j) EXPECT_GE(centre_error(found[i], found[j]), 40.0);
+}
+
+TEST(PixelToPixel, GivenKThenItSelectsCircleSize) {
+  // Paper fig. 10/11: small k favours small circles, large k large ones.
+  cv::Mat img(288, 352, CV_8U, cv::Scalar(40));
+  cv::circle(img, {60, 140}, 8, cv::Scalar(220), cv::FILLED, cv::LINE_AA);
+  cv::circle(img, {230, 140}, 70, cv::Scalar(220), cv::FILLED, cv::LINE_AA);
+  auto votes_near = [](const cv::Mat& acc, cv::Point c) {
+    double m = 0;
+    cv::minMaxLoc(acc(cv::Rect(c.x - 3, c.y - 3, 7, 7)), nullptr, &m);
+    return m;
+  };
+  double ratio_small_k = 0, ratio_large_k = 0;
+  for (int k : {3, 15}) {
+    PixelToPixelParams p;
+    p.k_values = {k};
+    PixelToPixelDetector det(p);
+    det.detect(img);
+    const cv::Mat& acc = det.diagnostics()->accumulator;
+    const double r = votes_near(acc, {60, 140}) / std::max(1e-9, votes_near(acc, {230, 140}));
+    (k == 3 ? ratio_small_k : ratio_large_k) = r;
+  }
+  EXPECT_GT(ratio_small_k, 1.0);
+  EXPECT_LT(ratio_large_k, 1.0);
+}
+
+TEST(PixelToPixel, GivenAnEmptyOrBadImageThenNoCirclesAndValidateExplains) {
+  PixelToPixelDetector det(PixelToPixelParams{});
+  EXPECT_TRUE(det.detect(cv::Mat()).empty());
+  EXPECT_TRUE(det.detect(cv::Mat(10, 10, CV_32F, cv::Scalar(0))).empty());
+  EXPECT_NE(validate_image(cv::Mat()).value_or("").find("empty"), std::string::npos);
+  EXPECT_NE(validate_image(cv::Mat(10, 10, CV_32F)).value_or("").find("8-bit"), std::string::npos);
+  EXPECT_FALSE(validate_image(cv::Mat(10, 10, CV_8UC3)).has_value());
+}
+
+TEST(PixelToPixel, GivenGreyAndBgrVersionsOfOneImageThenResultsAgree) {
+  const auto scene = make_scene(SceneKind::kPlain, {352, 288}, 9);
+  cv::Mat grey;
+  cv::cvtColor(scene.image, grey, cv::COLOR_BGR2GRAY);
+  PixelToPixelDetector det(multi_k());
+  const auto a = det.detect(scene.image);
+  const auto b = det.detect(grey);
+  ASSERT_FALSE(a.empty());
+  ASSERT_FALSE(b.empty());
+  EXPECT_NEAR(a[0].x_px, b[0].x_px, 1e-9);
+  EXPECT_NEAR(a[0].y_px, b[0].y_px, 1e-9);
+}
+
+TEST(PixelToPixel, GivenDiagnosticsThenVotesAreCountedAndThePeakIsSharp) {
+  PixelToPixelDetector det(multi_k());
+  const auto scene = make_scene(SceneKind::kPlain, {352, 288}, 4);
+  det.detect(scene.image);
+  const auto* d = det.diagnostics();
+  ASSERT_NE(d, nullptr);
+  EXPECT_GT(d->voters, 0);
+  EXPECT_EQ(d->voters, static_cast<std::int64_t>(det.voters().size()));
+  EXPECT_GT(d->increments, d->voters);
+  EXPECT_GT(d->peak_to_mean, 5.0);
+  EXPECT_EQ(d->edges.size(), scene.image.size());
+}
+
+TEST(PixelToPixelParams, GivenBadFieldsThenValidateNamesThem) {
+  PixelToPixelParams p;
+  EXPECT_FALSE(p.validate().has_value());
+  p.k_values = {0};
+  EXPECT_NE(p.validate().value_or("").find("k_values"), std::string::npos);
+  p = PixelToPixelParams{};
+  p.box_size_px = 4;
+  EXPECT_NE(p.validate().value_or("").find("box_size_px"), std::string::npos);
+  p = PixelToPixelParams{};
+  p.max_radius_px = 1.0;
+  EXPECT_NE(p.validate().value_or("").find("max_radius_px"), std::string::npos);
+  p = PixelToPixelParams{};
+  p.min_score = 2.0;
+  EXPECT_NE(p.validate().value_or("").find("min_score"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace stereoball::ball_detector

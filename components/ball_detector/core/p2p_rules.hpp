@@ -1,0 +1,82 @@
+#pragma once
+// The rules of the Pixel-to-Pixel algorithm (paper section III-D/E), one function each.
+// Window coordinates: origin O at the centre edge point, x to the right, y down.
+
+#include "ball_detector/core/edge_map.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <optional>
+#include <span>
+
+namespace stereoball::ball_detector {
+
+/// An edge point of a window, relative to the window centre O, pixels.
+struct WindowPoint {
+  int x = 0;
+  int y = 0;
+  friend bool operator==(const WindowPoint&, const WindowPoint&) = default;
+};
+
+/// The two chord ends A and B picked in a window.
+struct ChordEnds {
+  WindowPoint a;
+  WindowPoint b;
+};
+
+/// The line to plot: through the chord midpoint C, perpendicular to AB, oriented to the concave
+/// side.
+struct VoteLine {
+  int c2x = 0;  ///< 2 * C.x (integer: C lies on a half-pixel grid), pixels
+  int c2y = 0;  ///< 2 * C.y, pixels
+  int nx = 0;   ///< direction toward the concave side (not normalised), x component
+  int ny = 0;   ///< direction toward the concave side, y component
+};
+
+/// Number of edge points in the (2k+1)^2 window centred on (x, y); the window must lie inside.
+int count_window_points(const BitImage& edges, int x, int y, int k);
+
+/// Rule of step 4: a single one-pixel-thick arc crossing the window has exactly 2k+1 points.
+inline bool window_count_ok(int count, int k) {
+  return count == 2 * k + 1;
+}
+
+/// Collects the edge points of the window (raster order) into out; returns how many (<=
+/// out.size()).
+int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<WindowPoint> out);
+
+/// The paper's cheap distance from O: |x| + |y|.
+inline int l1_distance(const WindowPoint& p) {
+  return (p.x < 0 ? -p.x : p.x) + (p.y < 0 ? -p.y : p.y);
+}
+
+/// Whether at least one homologous coordinate of p and q has strictly opposite sign.
+inline bool opposite_sign(const WindowPoint& p, const WindowPoint& q) {
+  return p.x * q.x < 0 || p.y * q.y < 0;
+}
+
+/// Step 5: A = the point farthest from O (L1, first in raster order on ties); B = the farthest
+/// point with at least one coordinate of opposite sign to A. nullopt if no such B (angular point).
+std::optional<ChordEnds> find_chord_ends(std::span<const WindowPoint> points);
+
+/// Step 6, eq. (3): A, B and O are aligned when |yB(xB-xA) - xB(yB-yA)| <= min(|xB-xA|, |yB-yA|).
+bool is_straight_segment(const WindowPoint& a, const WindowPoint& b);
+
+/// Eq. (1) and the perpendicular to AB through the midpoint C (orientation not yet chosen).
+VoteLine perpendicular_bisector(const WindowPoint& a, const WindowPoint& b);
+
+/// Step 7: orients the line toward the concave side (the side of C as seen from O, which lies on
+/// the arc); nullopt when C coincides with O's projection (no concavity).
+std::optional<VoteLine> orient_to_concave_side(const VoteLine& line);
+
+/// Steps 4-7 on one window's points: the vote line, or nullopt if any rule rejects the window.
+std::optional<VoteLine> analyse_window(std::span<const WindowPoint> points, int k);
+
+/// Step 9: smoothing by an all-ones square mask: each cell becomes the sum of votes in the
+/// size_px x size_px box around it (CV_16U in, CV_32S out, zero outside the image).
+cv::Mat box_filter(const cv::Mat& accumulator, int size_px);
+
+/// Step 9: position of the global maximum of a CV_32S map (first in raster order on ties).
+cv::Point global_maximum(const cv::Mat& smoothed);
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,95 @@
+#include "ball_detector/core/voting.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace stereoball::ball_detector {
+
+std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
+                      double dir_y, double t0_px, double t1_px) {
+  const double norm = std::hypot(dir_x, dir_y);
+  if (norm <= 0.0 || t1_px < t0_px) return 0;
+  const double ux = dir_x / norm;
+  const double uy = dir_y / norm;
+  const double sx = start_x + ux * t0_px;
+  const double sy = start_y + uy * t0_px;
+  const double len = t1_px - t0_px;
+  const bool x_major = std::abs(ux) >= std::abs(uy);
+  const double major = x_major ? ux : uy;
+  const int steps = static_cast<int>(len * std::abs(major));
+  const int step = major > 0 ? 1 : -1;
+  // Minor coordinate in 16.16 fixed point: integer stepping, no per-cell rounding.
+  const double slope = (x_major ? uy : ux) / std::abs(major);
+  int m = static_cast<int>(std::lround(x_major ? sx : sy));
+  const double minor0 = (x_major ? sy : sx) + (m - (x_major ? sx : sy)) * slope * step;
+  std::int64_t minor_fp = std::llround((minor0 + 0.5) * 65536.0);
+  const std::int64_t dminor = std::llround(slope * 65536.0);
+  const unsigned w = static_cast<unsigned>(accumulator.cols);
+  const unsigned h = static_cast<unsigned>(accumulator.rows);
+  auto* data = accumulator.ptr<std::uint16_t>(0);
+  const size_t stride = accumulator.step1();
+  std::int64_t done = 0;
+  for (int i = 0; i <= steps; ++i, m += step, minor_fp += dminor) {
+    const int n = static_cast<int>(minor_fp >> 16);
+    const unsigned x = static_cast<unsigned>(x_major ? m : n);
+    const unsigned y = static_cast<unsigned>(x_major ? n : m);
+    if (x >= w || y >= h) break;  // a ray leaves the image once and never comes back
+    std::uint16_t& cell = data[y * stride + x];
+    if (cell != 0xFFFF) ++cell;
+    ++done;
+  }
+  return done;
+}
+
+namespace {
+
+template <typename T>
+void local_maxima(const cv::Mat& m, T min_value, std::vector<Peak>& out) {
+  for (int y = 1; y < m.rows - 1; ++y) {
+    const T* up = m.ptr<T>(y - 1);
+    const T* row = m.ptr<T>(y);
+    const T* down = m.ptr<T>(y + 1);
+    for (int x = 1; x < m.cols - 1; ++x) {
+      const T v = row[x];
+      if (v < min_value) continue;
+      // Strict against earlier neighbours, non-strict against later: one pixel per plateau.
+      if (v <= up[x - 1] || v <= up[x] || v <= up[x + 1] || v <= row[x - 1]) continue;
+      if (v < row[x + 1] || v < down[x - 1] || v < down[x] || v < down[x + 1]) continue;
+      out.push_back({x, y, static_cast<float>(v)});
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<Peak> find_peaks(const cv::Mat& smoothed, float min_value, double min_separation_px,
+                             int max_peaks) {
+  std::vector<Peak> candidates;
+  if (smoothed.type() == CV_32S)
+    local_maxima<int>(smoothed, static_cast<int>(std::ceil(min_value)), candidates);
+  else
+    local_maxima<float>(smoothed, min_value, candidates);
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Peak& a, const Peak& b) { return a.value > b.value; });
+  std::vector<Peak> kept;
+  const double min_d2 = min_separation_px * min_separation_px;
+  for (const auto& c : candidates) {
+    if (static_cast<int>(kept.size()) >= max_peaks) break;
+    const bool close = std::any_of(kept.begin(), kept.end(), [&](const Peak& k) {
+      const double dx = k.x - c.x, dy = k.y - c.y;
+      return dx * dx + dy * dy < min_d2;
+    });
+    if (!close) kept.push_back(c);
+  }
+  return kept;
+}
+
+double peak_to_mean(const cv::Mat& smoothed) {
+  double max_v = 0.0;
+  cv::minMaxLoc(smoothed, nullptr, &max_v);
+  const double mean = cv::mean(smoothed)[0];
+  return mean > 0.0 ? max_v / mean : 0.0;
+}
+
+}  // namespace stereoball::ball_detector

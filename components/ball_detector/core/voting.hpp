@@ -1,0 +1,31 @@
+#pragma once
+// Accumulator helpers shared by the 2D voting detectors: ray plotting and peak extraction.
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace stereoball::ball_detector {
+
+/// Adds one vote to each CV_16U accumulator cell on the ray start + t * dir, t in [t0, t1]
+/// (dir need not be unit; t in pixels along it); clipped to the image. Returns cells incremented.
+std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
+                      double dir_y, double t0_px, double t1_px);
+
+/// A local maximum of a smoothed accumulator.
+struct Peak {
+  int x = 0;
+  int y = 0;
+  float value = 0.0f;  ///< smoothed votes (or normalised support for the 3D CHT)
+};
+
+/// Local maxima (3x3) of a CV_32S or CV_32F map with value >= min_value, strongest first, no
+/// two closer than min_separation_px, at most max_peaks.
+std::vector<Peak> find_peaks(const cv::Mat& smoothed, float min_value, double min_separation_px,
+                             int max_peaks);
+
+/// Maximum / mean of a map (0 for an all-zero map): how sharp the strongest peak is.
+double peak_to_mean(const cv::Mat& smoothed);
+
+}  // namespace stereoball::ball_detector

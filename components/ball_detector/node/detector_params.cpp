@@ -1,0 +1,24 @@
+#include "ball_detector/node/detector_params.hpp"
+
+namespace stereoball::ball_detector {
+
+std::optional<std::string> BallDetectorParams::validate() const {
+  if (!(ball_diameter_m > 0.0 && ball_diameter_m <= 5.0))
+    return std::string("ball_diameter_m must be in (0, 5] metres");
+  if (!(epipolar_tolerance_px >= 0.0 && epipolar_tolerance_px <= 100.0))
+    return std::string("epipolar_tolerance_px must be in [0, 100] pixels");
+  if (!(size_max_relative_error > 0.0 && size_max_relative_error <= 10.0))
+    return std::string("size_max_relative_error must be in (0, 10]");
+  if (max_candidates_per_eye < 1 || max_candidates_per_eye > 50)
+    return std::string("max_candidates_per_eye must be in [1, 50]");
+  if (auto e = detector_params().validate()) return "p2p." + *e;
+  return std::nullopt;
+}
+
+PixelToPixelParams BallDetectorParams::detector_params() const {
+  PixelToPixelParams p = p2p;
+  p.max_circles = max_candidates_per_eye;
+  return p;
+}
+
+}  // namespace stereoball::ball_detector

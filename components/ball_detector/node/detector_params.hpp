@@ -1,0 +1,27 @@
+#pragma once
+// Parameters of the stereo ball detection pipeline (rectify, Pixel-to-Pixel on both eyes,
+// epipolar pairing, triangulation, size check).
+
+#include <optional>
+#include <string>
+
+#include "ball_detector/core/p2p_detector.hpp"
+
+namespace stereoball::ball_detector {
+
+/// Everything the stereo pipeline needs besides the calibration.
+struct BallDetectorParams {
+  double ball_diameter_m = 0.22;          ///< true ball diameter, metres, (0, 5]
+  double epipolar_tolerance_px = 2.0;     ///< largest |y_left - y_right| of a pair, px, [0, 100]
+  double size_max_relative_error = 0.35;  ///< accepted |r - r_expected| / r_expected, (0, 10]
+  int max_candidates_per_eye = 5;         ///< circles kept per eye (P2P max_circles), [1, 50]
+  PixelToPixelParams p2p;                 ///< detector on each rectified eye
+
+  /// Names the first bad field and its allowed range, or nullopt.
+  std::optional<std::string> validate() const;
+
+  /// The detector parameters with max_circles taken from max_candidates_per_eye.
+  PixelToPixelParams detector_params() const;
+};
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,95 @@
+#include "ball_detector/node/frame_input.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstring>
+
+namespace stereoball::ball_detector {
+namespace {
+
+std::string dims(std::uint64_t w, std::uint64_t h) {
+  return std::to_string(w) + "x" + std::to_string(h);
+}
+
+std::optional<std::string> check_size(const char* eye, std::uint64_t w, std::uint64_t h,
+                                      cv::Size expected) {
+  if (w == static_cast<std::uint64_t>(expected.width) &&
+      h == static_cast<std::uint64_t>(expected.height))
+    return std::nullopt;
+  return std::string(eye) + " image is " + dims(w, h) + " but the calibration is for " +
+         dims(static_cast<std::uint64_t>(expected.width),
+              static_cast<std::uint64_t>(expected.height));
+}
+
+}  // namespace
+
+std::optional<FrameEncoding> parse_encoding(const char* text) {
+  if (text == nullptr) return std::nullopt;
+  if (std::strcmp(text, "bgr8") == 0) return FrameEncoding::kBgr8;
+  if (std::strcmp(text, "mono8") == 0) return FrameEncoding::kMono8;
+  if (std::strcmp(text, "jpeg") == 0) return FrameEncoding::kJpeg;
+  if (std::strcmp(text, "png") == 0) return FrameEncoding::kPng;
+  return std::nullopt;
+}
+
+std::optional<std::string> check_raw_eye(const char* eye, const stereoball_msg_EyeImage& image,
+                                         int channels, cv::Size expected) {
+  if (auto e = check_size(eye, image.width_px, image.height_px, expected)) return e;
+  const std::uint64_t min_step = std::uint64_t{image.width_px} * static_cast<unsigned>(channels);
+  if (image.step_bytes < min_step)
+    return std::string(eye) + " step_bytes " + std::to_string(image.step_bytes) +
+           " is smaller than width * channels = " + std::to_string(min_step);
+  const std::uint64_t need = std::uint64_t{image.step_bytes} * image.height_px;
+  if (image.data._length != need || image.data._buffer == nullptr)
+    return std::string(eye) + " image has " + std::to_string(image.data._length) +
+           " data bytes, expected step * height = " + std::to_string(need) +
+           (image.data._length < need ? " (truncated)" : "");
+  return std::nullopt;
+}
+
+std::optional<std::string> FrameDecoder::decode(const stereoball_msg_StereoFrame& msg,
+                                                cv::Size expected, cv::Mat& left,
+                                                cv::Mat& right) {
+  const auto encoding = parse_encoding(msg.encoding);
+  if (!encoding)
+    return "encoding '" + std::string(msg.encoding ? msg.encoding : "") +
+           "' is not supported (bgr8, mono8, jpeg, png)";
+  if (auto e = decode_eye("left", msg.left, *encoding, expected, decoded_left_, left)) return e;
+  return decode_eye("right", msg.right, *encoding, expected, decoded_right_, right);
+}
+
+std::optional<std::string> FrameDecoder::decode_eye(const char* eye,
+                                                    const stereoball_msg_EyeImage& image,
+                                                    FrameEncoding encoding, cv::Size expected,
+                                                    cv::Mat& buffer, cv::Mat& out) {
+  if (encoding == FrameEncoding::kBgr8 || encoding == FrameEncoding::kMono8) {
+    const int channels = encoding == FrameEncoding::kBgr8 ? 3 : 1;
+    if (auto e = check_raw_eye(eye, image, channels, expected)) return e;
+    out = cv::Mat(static_cast<int>(image.height_px), static_cast<int>(image.width_px),
+                  CV_8UC(channels), image.data._buffer, image.step_bytes);
+    return std::nullopt;
+  }
+  const char* name = encoding == FrameEncoding::kJpeg ? "jpeg" : "png";
+  if (auto e = check_size(eye, image.width_px, image.height_px, expected)) return e;
+  if (image.data._length == 0 || image.data._buffer == nullptr)
+    return std::string(eye) + " " + name + " data is empty";
+  const cv::Mat bytes(1, static_cast<int>(image.data._length), CV_8U, image.data._buffer);
+  try {
+    cv::imdecode(bytes, cv::IMREAD_COLOR, &buffer);
+  } catch (const cv::Exception&) {
+    buffer.release();
+  }
+  if (buffer.empty())
+    return std::string(eye) + " " + name + " data could not be decoded (" +
+           std::to_string(image.data._length) + " bytes)";
+  if (buffer.size() != expected)
+    return std::string(eye) + " " + name + " decodes to " +
+           dims(static_cast<std::uint64_t>(buffer.cols), static_cast<std::uint64_t>(buffer.rows)) +
+           " but the calibration is for " +
+           dims(static_cast<std::uint64_t>(expected.width),
+                static_cast<std::uint64_t>(expected.height));
+  out = buffer;
+  return std::nullopt;
+}
+
+}  // namespace stereoball::ball_detector

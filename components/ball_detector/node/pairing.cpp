@@ -1,0 +1,111 @@
+#include "ball_detector/node/pairing.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace stereoball::ball_detector {
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
+  return buf;
+}
+
+std::string no_candidate_reason(bool left_empty, bool right_empty) {
+  if (left_empty && right_empty) return "no circle in either eye";
+  return left_empty ? "no circle in the left eye" : "no circle in the right eye";
+}
+
+// Smallest row difference over all combinations, for the mismatch reason.
+double closest_rows_px(const std::vector<Circle>& left, const std::vector<Circle>& right) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Circle& l : left)
+    for (const Circle& r : right) best = std::min(best, std::abs(l.y_px - r.y_px));
+  return best;
+}
+
+}  // namespace
+
+bool better_pair(const StereoPair& a, const StereoPair& b) {
+  if (a.score != b.score) return a.score > b.score;
+  return a.row_residual_px < b.row_residual_px;
+}
+
+std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle& left,
+                                        const Circle& right) {
+  const stereo::EpipolarMatch m =
+      ctx.epipolar.check({left.x_px, left.y_px}, {right.x_px, right.y_px});
+  // A point in front of the rig appears further left in the right eye.
+  if (!m.accepted || m.x_left_px <= m.x_right_px) return std::nullopt;
+  const auto p = ctx.triangulator.point_m(m.x_left_px, m.x_right_px, m.row_px);
+  if (!p || !((*p)[2] > 0.0)) return std::nullopt;
+
+  StereoPair pair;
+  pair.left = left;
+  pair.right = right;
+  pair.row_residual_px = m.row_residual_px;
+  pair.position_m = *p;
+  pair.score = 0.5 * (left.score + right.score);
+  const double f = ctx.triangulator.focal_px();
+  pair.depth_from_size_m =
+      stereo::depth_from_radii_m(f, ctx.size.ball_diameter_m, left.radius_px, right.radius_px)
+          .value_or(0.0);
+  const double radius_px = 0.5 * (left.radius_px + right.radius_px);
+  const stereo::SizeCheck size = stereo::check_size(ctx.size, f, radius_px, (*p)[2]);
+  pair.expected_radius_px = size.expected_radius_px;
+  pair.size_error = size.relative_error;
+  pair.size_consistent = size.consistent;
+  return pair;
+}
+
+PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,
+                              const std::vector<Circle>& right) {
+  PairingResult out;
+  if (left.empty() || right.empty()) {
+    out.status = PairingStatus::kNoCandidate;
+    out.reason = no_candidate_reason(left.empty(), right.empty());
+    return out;
+  }
+  std::optional<StereoPair> best_ok;
+  std::optional<StereoPair> best_rejected;  // closest to consistent, for the reason text
+  for (std::size_t i = 0; i < left.size(); ++i) {
+    for (std::size_t j = 0; j < right.size(); ++j) {
+      auto pair = evaluate_pair(ctx, left[i], right[j]);
+      if (!pair) continue;
+      pair->left_index = i;
+      pair->right_index = j;
+      ++out.row_matches;
+      if (pair->size_consistent) {
+        ++out.size_matches;
+        if (!best_ok || better_pair(*pair, *best_ok)) best_ok = pair;
+      } else if (!best_rejected ||
+                 std::abs(pair->size_error) < std::abs(best_rejected->size_error)) {
+        best_rejected = pair;
+      }
+    }
+  }
+  if (best_ok) {
+    out.status = PairingStatus::kFound;
+    out.best = best_ok;
+    out.reason = format("pair score %.2f, row residual %.2f px, disparity %.1f px", best_ok->score,
+                        best_ok->row_residual_px, best_ok->left.x_px - best_ok->right.x_px);
+    return out;
+  }
+  if (best_rejected) {
+    const StereoPair& p = *best_rejected;
+    out.status = PairingStatus::kSizeInconsistent;
+    out.best = best_rejected;
+    out.reason = format("radius %.1f px but a ball at %.2f m should be %.1f px (error %+.0f%%)",
+                        0.5 * (p.left.radius_px + p.right.radius_px), p.position_m[2],
+                        p.expected_radius_px, 100.0 * p.size_error);
+    return out;
+  }
+  out.status = PairingStatus::kEpipolarMismatch;
+  out.reason = format("no pair in front of the rig within %.1f px rows (closest rows differ by %.1f px)",
+                      ctx.epipolar.params().max_row_diff_px, closest_rows_px(left, right));
+  return out;
+}
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,64 @@
+#pragma once
+// Pairs circle candidates of the two rectified eyes: epipolar row check, triangulation,
+// size consistency with the known ball diameter, then the best pair. Pure.
+
+#include <opencv2/core.hpp>
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ball_detector/core/circle.hpp"
+#include "stereo/core/epipolar.hpp"
+#include "stereo/core/triangulation.hpp"
+
+namespace stereoball::ball_detector {
+
+/// Outcome of pairing, mirroring the non-error detection statuses.
+enum class PairingStatus { kFound, kNoCandidate, kEpipolarMismatch, kSizeInconsistent };
+
+/// One left/right candidate pair that passed the row check and triangulated.
+struct StereoPair {
+  std::size_t left_index = 0;       ///< index into the left candidates
+  std::size_t right_index = 0;      ///< index into the right candidates
+  Circle left;                      ///< left circle, rectified pixels
+  Circle right;                     ///< right circle, rectified pixels
+  double row_residual_px = 0.0;     ///< |y_left - y_right|, rectified pixels
+  cv::Vec3d position_m;             ///< centre in the left rectified camera frame, metres
+  double depth_from_size_m = 0.0;   ///< depth implied by the radii and diameter, metres (0 = unknown)
+  double expected_radius_px = 0.0;  ///< radius the ball should have at position_m's depth, pixels
+  double size_error = 0.0;          ///< (mean radius - expected) / expected
+  bool size_consistent = false;     ///< |size_error| within tolerance
+  double score = 0.0;               ///< mean of both circles' scores, [0, 1]
+};
+
+/// Result of pairing one frame's candidates.
+struct PairingResult {
+  PairingStatus status = PairingStatus::kNoCandidate;
+  std::string reason;               ///< human-readable detail of status
+  std::optional<StereoPair> best;   ///< the chosen pair (kFound), or the closest rejected one
+  int row_matches = 0;              ///< pairs that passed the row check and triangulated
+  int size_matches = 0;             ///< of those, pairs whose size fits the ball
+};
+
+/// The geometry pairing needs; all references must outlive the call.
+struct PairingContext {
+  const stereo::EpipolarCheck& epipolar;
+  const stereo::Triangulator& triangulator;
+  const stereo::SizeCheckParams& size;
+};
+
+/// True if a should be preferred to b: higher score, then smaller row residual.
+bool better_pair(const StereoPair& a, const StereoPair& b);
+
+/// Evaluates one left/right pair; nullopt if it fails the row check or does not triangulate
+/// in front of the rig.
+std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle& left,
+                                        const Circle& right);
+
+/// Every candidate combination -> the best size-consistent pair, or the reason there is none.
+PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,
+                              const std::vector<Circle>& right);
+
+}  // namespace stereoball::ball_detector

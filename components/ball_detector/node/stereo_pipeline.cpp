@@ -1,0 +1,198 @@
+#include "ball_detector/node/stereo_pipeline.hpp"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace stereoball::ball_detector {
+namespace {
+
+constexpr int kPatchHalf = kPatchSide / 2;
+
+std::string size_text(const cv::Mat& m) {
+  return std::to_string(m.cols) + "x" + std::to_string(m.rows);
+}
+
+std::optional<std::string> check_pixels(const char* eye, const cv::Mat& m) {
+  if (m.empty()) return std::string(eye) + " image is empty";
+  if (m.depth() != CV_8U || (m.channels() != 1 && m.channels() != 3))
+    return std::string(eye) + " image must be 8-bit grey or BGR (got " +
+           std::to_string(m.channels()) + " channels, depth " + std::to_string(m.depth()) + ")";
+  return std::nullopt;
+}
+
+DetectionStatus from_pairing(PairingStatus s) {
+  switch (s) {
+    case PairingStatus::kFound: return DetectionStatus::kFound;
+    case PairingStatus::kNoCandidate: return DetectionStatus::kNoCandidate;
+    case PairingStatus::kEpipolarMismatch: return DetectionStatus::kEpipolarMismatch;
+    case PairingStatus::kSizeInconsistent: return DetectionStatus::kSizeInconsistent;
+  }
+  return DetectionStatus::kNoCandidate;
+}
+
+// Writes pixel (b, g, r) or grey v of an 8-bit image at (x, y) into the patch as R, G, B.
+void put_rgb(const cv::Mat& image, int x, int y, std::uint8_t* dst) {
+  if (image.channels() == 3) {
+    const auto& p = image.at<cv::Vec3b>(y, x);
+    dst[0] = p[2];
+    dst[1] = p[1];
+    dst[2] = p[0];
+  } else {
+    dst[0] = dst[1] = dst[2] = image.at<std::uint8_t>(y, x);
+  }
+}
+
+}  // namespace
+
+const char* to_string(DetectionStatus status) {
+  switch (status) {
+    case DetectionStatus::kFound: return "found";
+    case DetectionStatus::kNoCandidate: return "no_candidate";
+    case DetectionStatus::kEpipolarMismatch: return "epipolar_mismatch";
+    case DetectionStatus::kSizeInconsistent: return "size_inconsistent";
+    case DetectionStatus::kNoCalibration: return "no_calibration";
+    case DetectionStatus::kBadFrame: return "bad_frame";
+  }
+  return "unknown";
+}
+
+StereoPipeline::StereoPipeline(const BallDetectorParams& params)
+    : params_(params),
+      left_detector_(params.detector_params()),
+      right_detector_(params.detector_params()),
+      epipolar_(stereo::EpipolarParams{params.epipolar_tolerance_px}),
+      size_{params.ball_diameter_m, params.size_max_relative_error} {
+  patch_rays_.resize(kPatchSide * kPatchSide);
+  patch_raw_px_.reserve(kPatchSide * kPatchSide);
+  patch_map_.create(kPatchSide, kPatchSide, CV_32FC2);
+  left_candidates_.reserve(static_cast<std::size_t>(params.max_candidates_per_eye));
+  right_candidates_.reserve(static_cast<std::size_t>(params.max_candidates_per_eye));
+}
+
+std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
+  if (auto e = stereo::validate_calibration(calib)) return e;
+  auto rectifier = stereo::Rectifier::create(calib);
+  if (!rectifier) return rectifier.error();
+  auto triangulator = stereo::Triangulator::create(calib);
+  if (!triangulator) return triangulator.error();
+  rectifier_.emplace(std::move(rectifier).value());
+  triangulator_.emplace(std::move(triangulator).value());
+  const cv::Matx33d p(calib.p1(0, 0), calib.p1(0, 1), calib.p1(0, 2), calib.p1(1, 0),
+                      calib.p1(1, 1), calib.p1(1, 2), calib.p1(2, 0), calib.p1(2, 1),
+                      calib.p1(2, 2));
+  patch_ray_from_pixel_ = calib.r1.t() * p.inv();
+  return std::nullopt;
+}
+
+cv::Size StereoPipeline::image_size() const {
+  return rectifier_ ? rectifier_->calibration().image_size : cv::Size();
+}
+
+std::optional<std::string> StereoPipeline::check_input(const cv::Mat& left,
+                                                       const cv::Mat& right) const {
+  if (auto e = check_pixels("left", left)) return e;
+  if (auto e = check_pixels("right", right)) return e;
+  if (left.type() != right.type()) return std::string("left and right images differ in type");
+  return stereo::check_image_size(rectifier_->calibration(), left.size(), right.size());
+}
+
+void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified,
+                                 cv::Mat& grey, cv::Mat& out) {
+  // Grey first: the detector only needs grey, and remapping one channel is cheaper.
+  const cv::Mat* src = &raw;
+  if (raw.channels() == 3) {
+    cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY);
+    src = &grey;
+  }
+  if (rectified) {
+    src->copyTo(out);
+  } else {
+    rectifier_->rectify_eye(eye, *src, out);
+  }
+}
+
+StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, bool rectified) {
+  StereoDetection out;
+  left_candidates_.clear();
+  right_candidates_.clear();
+  if (!rectifier_) {
+    out.status = DetectionStatus::kNoCalibration;
+    out.reason = "no stereo calibration received yet";
+    return out;
+  }
+  if (auto e = check_input(left, right)) {
+    out.status = DetectionStatus::kBadFrame;
+    out.reason = *e;
+    return out;
+  }
+  prepare_eye(left, stereo::Eye::kLeft, rectified, grey_left_, rect_left_);
+  prepare_eye(right, stereo::Eye::kRight, rectified, grey_right_, rect_right_);
+  left_candidates_ = left_detector_.detect(rect_left_);
+  right_candidates_ = right_detector_.detect(rect_right_);
+  out.candidates_left = static_cast<int>(left_candidates_.size());
+  out.candidates_right = static_cast<int>(right_candidates_.size());
+
+  const PairingContext ctx{epipolar_, *triangulator_, size_};
+  const PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_);
+  fill_result(pairing, out);
+  if (out.status == DetectionStatus::kFound) cut_patch(left, rectified, out);
+  return out;
+}
+
+void StereoPipeline::fill_result(const PairingResult& pairing, StereoDetection& out) const {
+  out.status = from_pairing(pairing.status);
+  out.reason = pairing.reason;
+  if (pairing.best) {
+    const StereoPair& p = *pairing.best;
+    out.left = p.left;
+    out.right = p.right;
+    out.row_residual_px = p.row_residual_px;
+    out.position_m = p.position_m;
+    out.depth_from_size_m = p.depth_from_size_m;
+  } else if (!left_candidates_.empty()) {
+    out.left = left_candidates_.front();  // best single-eye circle, for display
+  }
+}
+
+void StereoPipeline::cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out) {
+  const cv::Size size = left_raw.size();
+  const int cx = static_cast<int>(std::lround(out.left.x_px));
+  const int cy = static_cast<int>(std::lround(out.left.y_px));
+  auto clamp_x = [&](int x) { return std::clamp(x, 0, size.width - 1); };
+  auto clamp_y = [&](int y) { return std::clamp(y, 0, size.height - 1); };
+  std::uint8_t* dst = out.patch_rgb.data();
+  if (rectified) {
+    for (int r = 0; r < kPatchSide; ++r)
+      for (int c = 0; c < kPatchSide; ++c, dst += 3)
+        put_rgb(left_raw, clamp_x(cx - kPatchHalf + c), clamp_y(cy - kPatchHalf + r), dst);
+    out.patch_valid = true;
+    return;
+  }
+  // Only 441 rectified pixels are needed: map them through the lens model instead of
+  // rectifying the whole colour image.
+  for (int r = 0; r < kPatchSide; ++r) {
+    for (int c = 0; c < kPatchSide; ++c) {
+      const cv::Vec3d ray = patch_ray_from_pixel_ * cv::Vec3d(clamp_x(cx - kPatchHalf + c),
+                                                              clamp_y(cy - kPatchHalf + r), 1.0);
+      patch_rays_[static_cast<std::size_t>(r * kPatchSide + c)] = {ray[0], ray[1], ray[2]};
+    }
+  }
+  const stereo::StereoCalibration& calib = rectifier_->calibration();
+  cv::projectPoints(patch_rays_, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(calib.k1),
+                    cv::Mat(calib.d1, true), patch_raw_px_);
+  for (int r = 0; r < kPatchSide; ++r)
+    for (int c = 0; c < kPatchSide; ++c) {
+      const cv::Point2d& p = patch_raw_px_[static_cast<std::size_t>(r * kPatchSide + c)];
+      patch_map_.at<cv::Vec2f>(r, c) = cv::Vec2f(static_cast<float>(p.x), static_cast<float>(p.y));
+    }
+  cv::remap(left_raw, patch_bgr_, patch_map_, cv::noArray(), cv::INTER_LINEAR,
+            cv::BORDER_REPLICATE);
+  for (int r = 0; r < kPatchSide; ++r)
+    for (int c = 0; c < kPatchSide; ++c, dst += 3) put_rgb(patch_bgr_, c, r, dst);
+  out.patch_valid = true;
+}
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,105 @@
+#pragma once
+// The per-frame work of the ball detector, pure: rectify both eyes through the LUT, run
+// Pixel-to-Pixel on each, pair candidates across eyes, triangulate, size check, and cut the
+// 21x21 RGB patch around the left centre. Buffers are reused from frame to frame.
+
+#include <opencv2/core.hpp>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/node/detector_params.hpp"
+#include "ball_detector/node/pairing.hpp"
+#include "stereo/core/calibration.hpp"
+#include "stereo/core/epipolar.hpp"
+#include "stereo/core/rectifier.hpp"
+#include "stereo/core/triangulation.hpp"
+
+namespace stereoball::ball_detector {
+
+/// Outcome of one stereo frame (mirrors the ball/detection statuses).
+enum class DetectionStatus {
+  kFound,
+  kNoCandidate,
+  kEpipolarMismatch,
+  kSizeInconsistent,
+  kNoCalibration,
+  kBadFrame
+};
+
+/// Short name of a status ("found", "no_candidate", ...).
+const char* to_string(DetectionStatus status);
+
+/// Side of the colour block around the left centre, pixels (paper: 21x21, k = 10).
+constexpr int kPatchSide = 21;
+/// Bytes of the colour block (R, G, B per pixel, row-major).
+constexpr int kPatchBytes = kPatchSide * kPatchSide * 3;
+
+/// What the pipeline found in one stereo frame.
+struct StereoDetection {
+  DetectionStatus status = DetectionStatus::kNoCandidate;
+  std::string reason;               ///< human-readable detail of status
+  Circle left;                      ///< best left circle, rectified pixels (score 0 if none)
+  Circle right;                     ///< matched right circle, rectified pixels
+  double row_residual_px = 0.0;     ///< |y_left - y_right|, rectified pixels
+  cv::Vec3d position_m;             ///< ball centre, left rectified camera frame, metres
+  double depth_from_size_m = 0.0;   ///< depth implied by the radii, metres (0 if unknown)
+  int candidates_left = 0;          ///< circles found in the left eye
+  int candidates_right = 0;         ///< circles found in the right eye
+  bool patch_valid = false;         ///< patch_rgb holds the block around the left centre
+  std::array<std::uint8_t, kPatchBytes> patch_rgb{};  ///< 21x21 R,G,B row-major, borders clamped
+};
+
+/// Rectification, detection and pairing of stereo frames for one calibration at a time.
+class StereoPipeline {
+ public:
+  /// params must pass validate() (invalid detector values are clamped by the detector).
+  explicit StereoPipeline(const BallDetectorParams& params);
+
+  /// Validates calib and builds the rectification LUTs and the triangulator; on error the
+  /// previous calibration (if any) stays in use and the message names the problem.
+  std::optional<std::string> set_calibration(const stereo::StereoCalibration& calib);
+  /// Whether a calibration has been set.
+  bool has_calibration() const { return rectifier_.has_value(); }
+  /// Image size frames must have, or 0x0 without calibration.
+  cv::Size image_size() const;
+
+  /// Processes one pair of CV_8UC3 (BGR) or CV_8UC1 frames of the calibration's size;
+  /// rectified = true skips the LUT (the source already rectified). Wrong input gives
+  /// kBadFrame / kNoCalibration with the reason, never an exception.
+  StereoDetection step(const cv::Mat& left, const cv::Mat& right, bool rectified);
+
+  /// Rectified grey images of the last processed frame (for debugging and tests).
+  const cv::Mat& rectified_left() const { return rect_left_; }
+  const cv::Mat& rectified_right() const { return rect_right_; }
+  /// Candidates of the last processed frame, rectified pixels, best first.
+  const std::vector<Circle>& left_candidates() const { return left_candidates_; }
+  const std::vector<Circle>& right_candidates() const { return right_candidates_; }
+
+ private:
+  std::optional<std::string> check_input(const cv::Mat& left, const cv::Mat& right) const;
+  void prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified, cv::Mat& grey,
+                   cv::Mat& out);
+  void fill_result(const PairingResult& pairing, StereoDetection& out) const;
+  void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
+
+  BallDetectorParams params_;
+  PixelToPixelDetector left_detector_;
+  PixelToPixelDetector right_detector_;
+  stereo::EpipolarCheck epipolar_;
+  stereo::SizeCheckParams size_;
+  std::optional<stereo::Rectifier> rectifier_;
+  std::optional<stereo::Triangulator> triangulator_;
+  cv::Matx33d patch_ray_from_pixel_;  // rectified pixel -> ray in the raw left camera
+  cv::Mat grey_left_, grey_right_, rect_left_, rect_right_;
+  cv::Mat patch_map_, patch_bgr_;
+  std::vector<cv::Point3d> patch_rays_;
+  std::vector<cv::Point2d> patch_raw_px_;
+  std::vector<Circle> left_candidates_, right_candidates_;
+};
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,326 @@
+// stereoball bench detect: deterministic synthetic suite (accuracy + timing) and real images
+// (timing only) for Pixel-to-Pixel and the baselines, all in one run, one core.
+
+#include "ball_detector/core/baselines.hpp"
+#include "ball_detector/core/evaluation.hpp"
+#include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/core/synthetic.hpp"
+
+#include <CLI/CLI.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace bd = stereoball::ball_detector;
+namespace fs = std::filesystem;
+
+namespace {
+
+using Factory = std::function<std::unique_ptr<bd::CircleDetector>(cv::Size)>;
+
+struct Method {
+  std::string label;
+  Factory make;
+};
+
+struct Tally {
+  int tp = 0, fp = 0, fn = 0;
+  std::vector<double> errors_px;
+  std::map<cv::Size::value_type, std::vector<double>> synth_ms;  // keyed by width
+  std::map<cv::Size::value_type, std::vector<double>> real_ms;
+  std::map<std::string, std::array<int, 3>> per_kind;  // tp, fp, fn
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+double min_radius(cv::Size s) {
+  return 0.025 * std::min(s.width, s.height);
+}
+double max_radius(cv::Size s) {
+  return 0.2 * std::min(s.width, s.height);
+}
+double min_sep(cv::Size s) {
+  return 0.04 * std::min(s.width, s.height);
+}
+
+bd::PixelToPixelParams p2p_params(cv::Size s, std::vector<int> ks) {
+  bd::PixelToPixelParams p;
+  p.k_values = std::move(ks);
+  p.min_radius_px = min_radius(s);
+  p.max_radius_px = max_radius(s);
+  p.min_separation_px = min_sep(s);
+  return p;
+}
+
+std::vector<Method> make_methods(bool with_cht, double cht_step_px) {
+  std::vector<Method> m;
+  m.push_back({"p2p k=5", [](cv::Size s) {
+                 return std::make_unique<bd::PixelToPixelDetector>(p2p_params(s, {5}));
+               }});
+  m.push_back({"p2p k=3,5,8", [](cv::Size s) {
+                 return std::make_unique<bd::PixelToPixelDetector>(p2p_params(s, {3, 5, 8}));
+               }});
+  m.push_back({"p2p k=3,5,8,15", [](cv::Size s) {
+                 return std::make_unique<bd::PixelToPixelDetector>(p2p_params(s, {3, 5, 8, 15}));
+               }});
+  m.push_back({"gradient", [](cv::Size s) {
+                 bd::GradientVotingParams p;
+                 p.min_radius_px = min_radius(s);
+                 p.max_radius_px = max_radius(s);
+                 p.min_separation_px = min_sep(s);
+                 return std::make_unique<bd::GradientVotingDetector>(p);
+               }});
+  if (with_cht)
+    m.push_back({"cht step=" + cv::format("%g", cht_step_px), [cht_step_px](cv::Size s) {
+                   bd::ChtParams p;
+                   p.min_radius_px = min_radius(s);
+                   p.max_radius_px = max_radius(s);
+                   p.min_separation_px = min_sep(s);
+                   p.radius_step_px = cht_step_px;
+                   return std::make_unique<bd::ChtDetector>(p);
+                 }});
+  for (double p2 : {20.0, 30.0, 45.0})
+    m.push_back({cv::format("opencv p2=%g", p2), [p2](cv::Size s) {
+                   bd::OpenCvHoughParams p;
+                   p.param2 = p2;
+                   p.blur_ksize = 5;
+                   p.min_radius_px = min_radius(s);
+                   p.max_radius_px = max_radius(s);
+                   p.min_separation_px = min_sep(s);
+                   return std::make_unique<bd::OpenCvHoughDetector>(p);
+                 }});
+  for (double p2 : {0.6, 0.75, 0.9})
+    m.push_back({cv::format("opencv-alt p2=%g", p2), [p2](cv::Size s) {
+                   bd::OpenCvHoughParams p;
+                   p.alt = true;
+                   p.dp = 1.5;
+                   p.param1 = 300.0;
+                   p.param2 = p2;
+                   p.min_radius_px = min_radius(s);
+                   p.max_radius_px = max_radius(s);
+                   p.min_separation_px = min_sep(s);
+                   return std::make_unique<bd::OpenCvHoughDetector>(p);
+                 }});
+  return m;
+}
+
+double time_ms(bd::CircleDetector& det, const cv::Mat& img, std::vector<bd::Circle>* out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto found = det.detect(img);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (out) *out = std::move(found);
+  return ms;
+}
+
+std::vector<cv::Mat> load_real_images(const std::string& dir, std::vector<std::string>& names) {
+  std::vector<cv::Mat> imgs;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return imgs;
+  std::vector<fs::path> paths;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const auto ext = e.path().extension().string();
+    if (ext == ".png" || ext == ".jpg") paths.push_back(e.path());
+  }
+  std::sort(paths.begin(), paths.end());
+  for (const auto& p : paths) {
+    cv::Mat m = cv::imread(p.string(), cv::IMREAD_COLOR);
+    if (m.empty()) {
+      std::fprintf(stderr, "stereoball-bench-detect: skipping unreadable '%s'\n", p.c_str());
+      continue;
+    }
+    imgs.push_back(m);
+    names.push_back(p.filename().string());
+  }
+  return imgs;
+}
+
+// Paper fig. 10/11: four circles of growing radius; the smoothed votes at each centre per k.
+void k_selection_table() {
+  const cv::Size size(352, 288);
+  cv::Mat img(size, CV_8UC3, cv::Scalar(50, 60, 55));
+  const std::vector<std::pair<cv::Point, int>> circles = {
+      {{40, 60}, 6}, {{110, 200}, 14}, {{190, 80}, 30}, {{280, 190}, 60}};
+  for (const auto& [c, r] : circles)
+    cv::circle(img, c, r, cv::Scalar(40, 170, 230), cv::FILLED, cv::LINE_AA);
+  std::printf("\nk selects circle size (paper fig. 10/11): smoothed votes at each centre\n");
+  std::printf("%-6s", "k");
+  for (const auto& [c, r] : circles) std::printf("  r=%-6d", r);
+  std::printf("  strongest\n");
+  for (int k : {3, 5, 8, 15}) {
+    bd::PixelToPixelParams p;
+    p.k_values = {k};
+    p.max_radius_px = 100;
+    bd::PixelToPixelDetector det(p);
+    det.detect(img);
+    const cv::Mat& acc = det.diagnostics()->accumulator;
+    std::printf("%-6d", k);
+    double best = -1;
+    int best_r = 0;
+    for (const auto& [c, r] : circles) {
+      double v = 0;
+      cv::minMaxLoc(acc(cv::Rect(c.x - 3, c.y - 3, 7, 7)), nullptr, &v);
+      std::printf("  %-8.2f", v);
+      if (v > best) {
+        best = v;
+        best_r = r;
+      }
+    }
+    std::printf("  r=%d\n", best_r);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Benchmark every circle detector on a deterministic synthetic suite (precision, recall, "
+      "F1 at IoU >= 0.8, median centre error) and on real images (timing only), one core."};
+  int per_kind = 6;
+  std::uint32_t seed = 1;
+  std::string real_dir = SB_DEFAULT_REAL_DIR;
+  bool no_cht = false;
+  double cht_step = 2.0;
+  std::string dump_dir;
+  double min_iou = 0.8;
+  std::string explain;
+  app.add_option("--per-kind", per_kind, "Synthetic scenes per kind and size (10 kinds)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 200));
+  app.add_option("--seed", seed, "Suite seed (same seed = same images)")->capture_default_str();
+  app.add_option("--real-dir", real_dir, "Folder of real images timed at both sizes")
+      ->capture_default_str();
+  app.add_flag("--no-cht", no_cht, "Skip the (slow) classic 3D CHT");
+  app.add_option("--cht-step", cht_step, "CHT radius step, pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 20.0));
+  app.add_option("--min-iou", min_iou, "IoU needed for a true positive")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--explain", explain,
+                 "Print every miss and false positive of the method with this label prefix");
+  app.add_option("--dump-dir", dump_dir, "Also write the synthetic images here (PNG)");
+  CLI11_PARSE(app, argc, argv);
+  cv::setNumThreads(1);
+
+  const std::vector<cv::Size> sizes = {{352, 288}, {640, 480}};
+  std::vector<std::string> real_names;
+  const auto real = load_real_images(real_dir, real_names);
+  if (real.empty())
+    std::fprintf(stderr, "stereoball-bench-detect: no real images in '%s'; timing synthetic only\n",
+                 real_dir.c_str());
+  auto methods = make_methods(!no_cht, cht_step);
+  std::vector<Tally> tallies(methods.size());
+  // Voting statistics of p2p (k=5) vs gradient voting on the ball scenes.
+  std::map<std::string, std::vector<double>> voters, increments, ratio;
+
+  for (const auto& size : sizes) {
+    const auto suite = bd::make_suite(size, per_kind, seed);
+    if (!dump_dir.empty()) {
+      fs::create_directories(dump_dir);
+      for (size_t i = 0; i < suite.size(); ++i)
+        cv::imwrite((fs::path(dump_dir) / cv::format("%dx%d_%03zu_%s.png", size.width, size.height,
+                                                     i, bd::scene_kind_name(suite[i].kind).c_str()))
+                        .string(),
+                    suite[i].image);
+    }
+    std::vector<cv::Mat> real_resized;
+    for (const auto& r : real) {
+      cv::Mat m;
+      cv::resize(r, m, size, 0, 0, cv::INTER_AREA);
+      real_resized.push_back(m);
+    }
+    for (size_t mi = 0; mi < methods.size(); ++mi) {
+      auto det = methods[mi].make(size);
+      Tally& t = tallies[mi];
+      time_ms(*det, suite.front().image, nullptr);  // warm-up: first-call allocations
+      for (const auto& scene : suite) {
+        std::vector<bd::Circle> found;
+        t.synth_ms[size.width].push_back(time_ms(*det, scene.image, &found));
+        const auto m = bd::match_circles(found, scene.truth, min_iou);
+        t.tp += m.true_positives;
+        t.fp += m.false_positives;
+        t.fn += m.false_negatives;
+        auto& k = t.per_kind[bd::scene_kind_name(scene.kind)];
+        k[0] += m.true_positives;
+        k[1] += m.false_positives;
+        k[2] += m.false_negatives;
+        t.errors_px.insert(t.errors_px.end(), m.centre_errors_px.begin(), m.centre_errors_px.end());
+        if (!explain.empty() && methods[mi].label.rfind(explain, 0) == 0 &&
+            (m.false_positives > 0 || m.false_negatives > 0)) {
+          const size_t index = static_cast<size_t>(&scene - suite.data());
+          std::printf("%s %dx%d_%03zu_%s: fp %d fn %d |", methods[mi].label.c_str(), size.width,
+                      size.height, index, bd::scene_kind_name(scene.kind).c_str(),
+                      m.false_positives, m.false_negatives);
+          for (const auto& c : scene.truth)
+            std::printf(" truth(%.1f,%.1f,%.1f)", c.x_px, c.y_px, c.radius_px);
+          for (const auto& c : found)
+            std::printf(" found(%.1f,%.1f,%.1f,%.2f)", c.x_px, c.y_px, c.radius_px, c.score);
+          std::printf("\n");
+        }
+        const auto* d = det->diagnostics();
+        const bool voting = methods[mi].label == "p2p k=5" || methods[mi].label == "gradient";
+        if (voting && d && !scene.truth.empty() && size.width == 640) {
+          voters[methods[mi].label].push_back(static_cast<double>(d->voters));
+          increments[methods[mi].label].push_back(static_cast<double>(d->increments));
+          ratio[methods[mi].label].push_back(d->peak_to_mean);
+        }
+      }
+      for (const auto& img : real_resized)
+        t.real_ms[size.width].push_back(time_ms(*det, img, nullptr));
+    }
+  }
+
+  std::printf(
+      "Synthetic suite: %d scenes per kind x 10 kinds x 2 sizes, seed %u, IoU >= %.2f; "
+      "real: %zu images from %s resized to each size; 1 thread.\n\n",
+      per_kind, seed, min_iou, real.size(), real_dir.c_str());
+  std::printf("%-18s %6s %6s %6s %9s %10s %10s %10s %10s\n", "method", "P", "R", "F1", "err_px",
+              "syn352ms", "syn640ms", "real352ms", "real640ms");
+  for (size_t mi = 0; mi < methods.size(); ++mi) {
+    const Tally& t = tallies[mi];
+    const auto s = bd::detection_scores(t.tp, t.fp, t.fn);
+    auto med = [](const std::map<int, std::vector<double>>& m, int w) {
+      const auto it = m.find(w);
+      return it == m.end() ? 0.0 : median(it->second);
+    };
+    std::printf("%-18s %6.3f %6.3f %6.3f %9.3f %10.2f %10.2f %10.2f %10.2f\n",
+                methods[mi].label.c_str(), s.precision, s.recall, s.f1, median(t.errors_px),
+                med(t.synth_ms, 352), med(t.synth_ms, 640), med(t.real_ms, 352),
+                med(t.real_ms, 640));
+  }
+
+  std::printf("\nF1 per scene kind (both sizes)\n%-18s", "method");
+  const auto& kinds = tallies.front().per_kind;
+  for (const auto& [kind, _] : kinds) std::printf(" %10s", kind.c_str());
+  std::printf("\n");
+  for (size_t mi = 0; mi < methods.size(); ++mi) {
+    std::printf("%-18s", methods[mi].label.c_str());
+    for (const auto& [kind, c] : tallies[mi].per_kind)
+      std::printf(" %10.2f", bd::detection_scores(c[0], c[1], c[2]).f1);
+    std::printf("\n");
+  }
+
+  std::printf(
+      "\nVoting at 640x480, ball scenes (medians): edge points voting, accumulator "
+      "increments, smoothed peak/mean\n");
+  for (const auto& label : {std::string("p2p k=5"), std::string("gradient")})
+    std::printf("%-18s voters %8.0f  increments %9.0f  peak/mean %8.1f\n", label.c_str(),
+                median(voters[label]), median(increments[label]), median(ratio[label]));
+  k_selection_table();
+  return 0;
+}

@@ -1,0 +1,176 @@
+// stereoball detect: find circles in image files with any detector of ball_detector/core.
+
+#include "ball_detector/core/circle.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace bd = stereoball::ball_detector;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Writes edge map, accumulator heat map and overlay; returns an error message or "".
+std::string write_debug(const fs::path& dir, const std::string& image_path, const cv::Mat& image,
+                        const bd::CircleDetector& detector, const std::vector<bd::Circle>& found) {
+  const std::string stem = fs::path(image_path).stem().string();
+  cv::Mat overlay;
+  if (image.channels() == 1)
+    cv::cvtColor(image, overlay, cv::COLOR_GRAY2BGR);
+  else if (image.channels() == 4)
+    cv::cvtColor(image, overlay, cv::COLOR_BGRA2BGR);
+  else
+    overlay = image.clone();
+  for (size_t i = 0; i < found.size(); ++i) {
+    const auto& c = found[i];
+    const cv::Scalar colour = i == 0 ? cv::Scalar(0, 255, 0) : cv::Scalar(0, 200, 255);
+    // Shift 4: sub-pixel drawing, so the overlay shows the refined centre.
+    cv::circle(overlay, cv::Point(cvRound(c.x_px * 16), cvRound(c.y_px * 16)),
+               cvRound(c.radius_px * 16), colour, 1, cv::LINE_AA, 4);
+    cv::drawMarker(overlay, cv::Point(cvRound(c.x_px), cvRound(c.y_px)), colour, cv::MARKER_CROSS,
+                   7);
+    cv::putText(overlay, cv::format("%.2f", c.score),
+                cv::Point(cvRound(c.x_px + c.radius_px), cvRound(c.y_px)), cv::FONT_HERSHEY_SIMPLEX,
+                0.4, colour);
+  }
+  std::vector<std::pair<std::string, cv::Mat>> out = {{stem + "_overlay.png", overlay}};
+  if (const auto* diag = detector.diagnostics()) {
+    if (!diag->edges.empty()) out.push_back({stem + "_edges.png", diag->edges});
+    if (!diag->accumulator.empty()) {
+      cv::Mat norm, heat;
+      cv::normalize(diag->accumulator, norm, 0, 255, cv::NORM_MINMAX, CV_8U);
+      cv::applyColorMap(norm, heat, cv::COLORMAP_JET);
+      out.push_back({stem + "_accumulator.png", heat});
+    }
+  }
+  for (const auto& [name, mat] : out) {
+    const fs::path p = dir / name;
+    bool ok = false;
+    try {
+      ok = cv::imwrite(p.string(), mat);
+    } catch (const cv::Exception&) {
+      ok = false;
+    }
+    if (!ok) return "cannot write '" + p.string() + "'";
+  }
+  return "";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Find circles (balls) in images. Prints x y r score per circle, best first; coordinates "
+      "are pixels with pixel centres on integers."};
+  std::string method = "p2p";
+  bd::DetectorOptions opt;
+  std::vector<int> ks;
+  bool json = false;
+  std::string debug_dir;
+  int threads = 1;
+  std::vector<std::string> images;
+  app.add_option("--method", method, "Detector: p2p, cht, gradient, opencv, opencv-alt")
+      ->capture_default_str()
+      ->check(CLI::IsMember(bd::detector_names()));
+  app.add_option("--k", ks,
+                 "Pixel-to-Pixel half window size; repeat for multi-k (e.g. --k 3 --k 5 --k 8). "
+                 "Default 5")
+      ->check(CLI::Range(1, 31));
+  app.add_option("--max", opt.max_circles, "Most circles reported per image")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  app.add_option("--min-score", opt.min_score, "Drop circles scoring below this, [0, 1]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--min-radius", opt.min_radius_px, "Smallest radius searched, pixels")
+      ->capture_default_str();
+  app.add_option("--max-radius", opt.max_radius_px, "Largest radius searched, pixels")
+      ->capture_default_str();
+  app.add_option("--min-separation", opt.min_separation_px,
+                 "Closest two reported centres may be, pixels")
+      ->capture_default_str();
+  app.add_option("--opencv-param2", opt.opencv_param2,
+                 "param2 of OpenCV HoughCircles (opencv: votes, opencv-alt: (0,1]); <0 = default");
+  app.add_flag("--json", json,
+               "One JSON object per image: {\"image\", \"ms\", \"circles\": [{x, y, r, score}]}");
+  app.add_option("--debug-dir", debug_dir,
+                 "Write <image>_edges.png, <image>_accumulator.png and <image>_overlay.png here");
+  app.add_option("--threads", threads, "OpenCV worker threads (1 = one core, as on the robot)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  app.add_option("IMAGE", images, "Image files (png, jpg, ...)")->required();
+  CLI11_PARSE(app, argc, argv);
+
+  cv::setNumThreads(threads);
+  if (!ks.empty()) opt.k_values = ks;
+  std::string error;
+  auto detector = bd::make_detector(method, opt, &error);
+  if (!detector) {
+    std::cerr << "stereoball-detect: " << error << "\n";
+    return 2;
+  }
+  if (!debug_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(debug_dir, ec);
+    if (ec || !fs::is_directory(debug_dir)) {
+      std::cerr << "stereoball-detect: cannot create debug directory '" << debug_dir << "'\n";
+      return 2;
+    }
+  }
+  int failures = 0;
+  for (const auto& path : images) {
+    cv::Mat image;
+    try {
+      image = cv::imread(path, cv::IMREAD_COLOR);
+    } catch (const cv::Exception&) {
+      image.release();
+    }
+    if (image.empty()) {
+      std::cerr << "stereoball-detect: cannot read image '" << path
+                << "' (missing, unreadable or not an image)\n";
+      ++failures;
+      continue;
+    }
+    if (const auto bad = bd::validate_image(image)) {
+      std::cerr << "stereoball-detect: '" << path << "': " << *bad << "\n";
+      ++failures;
+      continue;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto circles = detector->detect(image);
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (json) {
+      nlohmann::json j;
+      j["image"] = path;
+      j["ms"] = ms;
+      j["circles"] = nlohmann::json::array();
+      for (const auto& c : circles)
+        j["circles"].push_back(
+            {{"x", c.x_px}, {"y", c.y_px}, {"r", c.radius_px}, {"score", c.score}});
+      std::cout << j.dump() << "\n";
+    } else {
+      std::printf("%s: %zu circle(s), %.2f ms\n", path.c_str(), circles.size(), ms);
+      for (const auto& c : circles)
+        std::printf("  x=%.2f y=%.2f r=%.2f score=%.3f\n", c.x_px, c.y_px, c.radius_px, c.score);
+    }
+    if (!debug_dir.empty()) {
+      const std::string err = write_debug(debug_dir, path, image, *detector, circles);
+      if (!err.empty()) {
+        std::cerr << "stereoball-detect: " << err << "\n";
+        ++failures;
+      }
+    }
+  }
+  return failures == 0 ? 0 : 1;
+}
