@@ -1,0 +1,211 @@
+// stereoball record [-o FILE] [--all | TOPIC...] [--exclude T] [--split-size MB]
+//                   [--split-duration S]
+// Takes samples of the chosen topics as serialized CDR (exactly as they travelled) and writes
+// them to MCAP off the DDS thread through a bounded queue. Prints live progress once a second;
+// Ctrl-C (SIGINT/SIGTERM) stops it with a complete file.
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/dds/serialized.hpp"
+#include "common/node/common_flags.hpp"
+#include "common/node/node_runner.hpp"
+#include "recorder/core/selection.hpp"
+#include "recorder/io/recording.hpp"
+#include "stereoball/idl_text.hpp"
+#include "stereoball/topics.hpp"
+
+namespace sb = stereoball;
+namespace rec = stereoball::recorder;
+
+namespace {
+
+struct Options {
+  std::string output;
+  bool all = false;
+  std::vector<std::string> topics;
+  std::vector<std::string> exclude;
+  double split_size_mb = 0;
+  double split_duration_s = 0;
+  double duration_s = 0;
+  double queue_mb = 256;
+  double chunk_mb = 4;
+  double flush_period_s = 1.0;
+  std::string compression = "zstd";
+  int zstd_level = 1;
+  bool quiet = false;
+};
+
+std::string default_output() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char name[64];
+  std::strftime(name, sizeof name, "stereoball_%Y%m%d_%H%M%S.mcap", &tm);
+  return name;
+}
+
+// Reader QoS for recording: the table's, with a deeper history so bursts between takes are
+// not overwritten, and no deadline requirement.
+sb::topics::QosSpec recording_qos(const sb::topics::TopicSpec& spec) {
+  sb::topics::QosSpec q = spec.qos;
+  q.history_depth = std::max(q.history_depth, 32);
+  q.deadline_ns = 0;
+  return q;
+}
+
+void print_progress(double elapsed_s, const std::vector<std::string>& names,
+                    const std::vector<rec::TopicCounters>& c, uint64_t queued) {
+  std::string line;
+  char buf[160];
+  for (size_t i = 0; i < names.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%s%s %llu msg %.1f MB drop %llu", i ? " | " : "",
+                  names[i].c_str(), static_cast<unsigned long long>(c[i].messages),
+                  c[i].bytes / 1e6, static_cast<unsigned long long>(c[i].dropped));
+    line += buf;
+  }
+  std::fprintf(stderr, "[%6.1f s] %s | queue %.1f MB\n", elapsed_s, line.c_str(), queued / 1e6);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  sb::node::block_termination_signals();
+  CLI::App app{
+      "stereoball record: record topics to an MCAP file (zstd chunks, indexes, summary). "
+      "Samples are stored as the CDR bytes that travelled (message encoding cdr) with the IDL "
+      "as omgidl schema; log time = receive time, publish time = source timestamp. Stop with "
+      "Ctrl-C; a killed recorder leaves a file readable up to its last chunk."};
+  Options o;
+  sb::node::CommonOptions common;
+  std::vector<std::string> known;
+  for (const auto& t : sb::topics::all()) known.emplace_back(t.name);
+  app.add_option("TOPIC", o.topics, "topics to record (see `stereoball topic list`)");
+  app.add_flag("-a,--all", o.all, "record every topic of the topic table");
+  app.add_option("-x,--exclude", o.exclude, "topic to leave out (repeatable)");
+  app.add_option("-o,--output", o.output, "output file (default stereoball_<UTC time>.mcap)");
+  app.add_option("--split-size", o.split_size_mb, "start a new file after this many MB (0 = off)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--split-duration", o.split_duration_s,
+                 "start a new file after this many seconds (0 = off)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--duration", o.duration_s, "stop after this many seconds (0 = until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--queue-mb", o.queue_mb, "memory for queued samples before dropping, MB")
+      ->capture_default_str();
+  app.add_option("--chunk-mb", o.chunk_mb, "target uncompressed chunk size, MB")
+      ->capture_default_str();
+  app.add_option("--flush-period", o.flush_period_s,
+                 "write out a partly filled chunk after this many seconds (crash safety)")
+      ->capture_default_str();
+  app.add_option("--compression", o.compression, "chunk compression")
+      ->check(CLI::IsMember({"zstd", "none"}))
+      ->capture_default_str();
+  app.add_option("--zstd-level", o.zstd_level, "zstd level 1..19")->capture_default_str();
+  app.add_flag("-q,--quiet", o.quiet, "no live progress");
+  sb::node::add_common_flags(app, common, "", false);
+  CLI11_PARSE(app, argc, argv);
+
+  auto selected = rec::select_topics(known, o.topics, o.all, o.exclude);
+  if (!selected) {
+    std::fprintf(stderr, "stereoball record: %s\n", selected.error().c_str());
+    return 2;
+  }
+  rec::RecordingParams params;
+  params.path = o.output.empty() ? default_output() : o.output;
+  params.split_size_bytes = static_cast<uint64_t>(o.split_size_mb * 1e6);
+  params.split_duration_ns = static_cast<int64_t>(o.split_duration_s * 1e9);
+  params.queue_limit_bytes = static_cast<uint64_t>(o.queue_mb * 1e6);
+  params.chunk_flush_period_ns = static_cast<int64_t>(o.flush_period_s * 1e9);
+  params.writer.chunk_size_bytes = static_cast<uint64_t>(o.chunk_mb * (1 << 20));
+  params.writer.compression =
+      o.compression == "zstd" ? rec::Compression::kZstd : rec::Compression::kNone;
+  params.writer.zstd_level = o.zstd_level;
+  if (auto bad = params.validate()) {
+    std::fprintf(stderr, "stereoball record: %s\n", bad->c_str());
+    return 2;
+  }
+  std::vector<rec::RecordedTopic> topics;
+  std::vector<const sb::topics::TopicSpec*> specs;
+  for (const auto& name : *selected) {
+    const auto* spec = sb::topics::find(name);
+    specs.push_back(spec);
+    topics.push_back({name, std::string(spec->type_name), std::string(sb::idl_text())});
+  }
+
+  try {
+    sb::node::Runner runner("recorder", common);
+    auto recording = rec::Recording::start(params, topics);
+    if (!recording) {
+      std::fprintf(stderr, "stereoball record: %s\n", recording.error().c_str());
+      return 1;
+    }
+    std::vector<std::unique_ptr<sb::dds::SerializedReader>> readers;
+    std::printf("recording %zu topic(s) to %s (domain %d%s%s):\n", specs.size(),
+                params.path.c_str(), common.domain_id, common.partition.empty() ? "" : ", partition ",
+                common.partition.c_str());
+    for (size_t i = 0; i < specs.size(); ++i) {
+      readers.push_back(std::make_unique<sb::dds::SerializedReader>(runner.participant(), *specs[i],
+                                                                    recording_qos(*specs[i])));
+      std::printf("  %-20.*s %.*s\n", static_cast<int>(specs[i]->name.size()),
+                  specs[i]->name.data(), static_cast<int>(specs[i]->type_name.size()),
+                  specs[i]->type_name.data());
+      auto* reader = readers.back().get();
+      runner.on_data(reader->handle(), [&, reader, i] {
+        std::vector<sb::dds::SerializedSample> samples;
+        reader->take(samples, 256);
+        const int64_t received = sb::node::now_ns();
+        for (auto& s : samples) {
+          const uint64_t publish = s.source_stamp_ns > 0 ? s.source_stamp_ns : received;
+          if (!(*recording)->push(i, std::move(s.cdr), received, publish)) {
+            runner.health().drop(specs[i]->name.data(), 1);
+          }
+        }
+      });
+    }
+    std::fflush(stdout);
+    const int64_t start = sb::node::monotonic_ns();
+    bool failed = false;
+    runner.every(1'000'000'000, [&](int64_t) {
+      if (!o.quiet) {
+        print_progress((sb::node::monotonic_ns() - start) / 1e9, *selected,
+                       (*recording)->counters(), (*recording)->queued_bytes());
+      }
+      if (auto err = (*recording)->failure()) {
+        std::fprintf(stderr, "stereoball record: write failed, stopping: %s\n", err->c_str());
+        failed = true;
+        runner.stop();
+      }
+    });
+    if (o.duration_s > 0) {
+      runner.every(static_cast<int64_t>(o.duration_s * 1e9), [&](int64_t) { runner.stop(); });
+    }
+    runner.run();
+    readers.clear();
+    const auto err = (*recording)->stop();
+    const auto counters = (*recording)->counters();
+    uint64_t total = 0, dropped = 0;
+    for (const auto& c : counters) {
+      total += c.messages;
+      dropped += c.dropped;
+    }
+    std::printf("stopped: %llu messages written, %llu dropped, file(s):",
+                static_cast<unsigned long long>(total), static_cast<unsigned long long>(dropped));
+    for (const auto& f : (*recording)->files()) std::printf(" %s", f.c_str());
+    std::printf("\n");
+    if (err || failed) {
+      std::fprintf(stderr, "stereoball record: %s (file readable up to its last chunk)\n",
+                   err ? err->c_str() : "write failed");
+      return 1;
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "stereoball record: %s\n", e.what());
+    return 1;
+  }
+}
