@@ -10,19 +10,23 @@ namespace stereoball::tracker {
 PositionRegister::PositionRegister(int capacity) : capacity_(std::max(capacity, 1)) {}
 
 void PositionRegister::push(const Eigen::Vector3d& position_m, std::int64_t stamp_ns) {
-  if (full()) entries_.pop_front();
+  if (full()) entries_.erase(entries_.begin());
   entries_.push_back({position_m, stamp_ns});
 }
 
 std::optional<RegisterStats> PositionRegister::stats() const {
-  if (entries_.size() < 2) return std::nullopt;
-  const double n = static_cast<double>(entries_.size());
+  return compute_stats(entries_);
+}
+
+std::optional<RegisterStats> compute_stats(std::span<const StampedPosition> points) {
+  if (points.size() < 2) return std::nullopt;
+  const double n = static_cast<double>(points.size());
   RegisterStats s;
   s.mean_m.setZero();
-  for (const auto& e : entries_) s.mean_m += e.position_m;
+  for (const auto& e : points) s.mean_m += e.position_m;
   s.mean_m /= n;
   s.covariance_m2.setZero();
-  for (const auto& e : entries_) {
+  for (const auto& e : points) {
     const Eigen::Vector3d d = e.position_m - s.mean_m;
     s.covariance_m2 += d * d.transpose();
   }

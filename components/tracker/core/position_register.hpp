@@ -5,8 +5,9 @@
 #include <Eigen/Core>
 
 #include <cstdint>
-#include <deque>
 #include <optional>
+#include <span>
+#include <vector>
 
 namespace stereoball::tracker {
 
@@ -41,14 +42,17 @@ class PositionRegister {
   /// True when size() == capacity.
   bool full() const { return size() == capacity_; }
   /// Stored positions, oldest first.
-  const std::deque<StampedPosition>& entries() const { return entries_; }
+  const std::vector<StampedPosition>& entries() const { return entries_; }
   /// Mean, covariance and best-fit line; nullopt with fewer than two positions.
   std::optional<RegisterStats> stats() const;
 
  private:
   int capacity_;
-  std::deque<StampedPosition> entries_;
+  std::vector<StampedPosition> entries_;  // oldest first; a handful, so erase(begin) is cheap
 };
+
+/// Mean, covariance and best-fit line of points; nullopt with fewer than two.
+std::optional<RegisterStats> compute_stats(std::span<const StampedPosition> points);
 
 /// Perpendicular distance of p to the line through point with unit direction, metres.
 double distance_to_line(const Eigen::Vector3d& p, const Eigen::Vector3d& point,

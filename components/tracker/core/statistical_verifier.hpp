@@ -29,6 +29,7 @@ struct StatsCheck {
   double distance_to_mean_m = 0.0;  ///< |p - mean|, m
   double line_rms_m = 0.0;          ///< register RMS residual to its line, m
   double distance_to_line_m = 0.0;  ///< perpendicular distance of p to the line, m
+  int outlier_left_out = -1;        ///< register index left out as a stray position (-1: none)
   std::string reason;               ///< short explanation for logs and the track message
 };
 
@@ -36,7 +37,9 @@ struct StatsCheck {
 double max_jump_m(const TrackerParams& params, std::int64_t dt_ns);
 
 /// Checks position p (captured at stamp_ns) against the register; does not modify it.
+/// When the full register is inconsistent and max_outliers is 1, each position is left
+/// out in turn and the first consistent remainder that accepts p decides.
 StatsCheck check_position(const PositionRegister& reg, const Eigen::Vector3d& p,
-                          std::int64_t stamp_ns, const TrackerParams& params);
+                          std::int64_t stamp_ns, const TrackerParams& params, int max_outliers = 0);
 
 }  // namespace stereoball::tracker

@@ -144,6 +144,53 @@ TEST(StatisticalVerifier, GivenIdenticalPositions_ThenNoLineDirectionAndOnlyMean
   }
 }
 
+// A rolling ball register where the positions at the given indices are clutter.
+PositionRegister rolling_with_strays(std::initializer_list<int> stray) {
+  PositionRegister reg(5);
+  for (int i = 0; i < 5; ++i) {
+    Eigen::Vector3d p(-0.5 + i / 30.0, 0.1, 2.0);
+    for (const int s : stray) {
+      if (s == i) p = Eigen::Vector3d(1.4, -0.3, 3.5 - 0.4 * i);
+    }
+    reg.push(p, frame(i));
+  }
+  return reg;
+}
+
+TEST(StatisticalVerifier, GivenOneStrayInRegister_WhenOneOutlierAllowed_ThenJudgedWithoutIt) {
+  for (const int stray : {0, 2, 4}) {
+    const auto reg = rolling_with_strays({stray});
+    const Eigen::Vector3d next(-0.5 + 5 / 30.0, 0.1, 2.0);
+    // Without the allowance the spoiled register accepts nothing
+    const auto strict = check_position(reg, next, frame(5), TrackerParams{}, 0);
+    EXPECT_FALSE(strict.accepted) << "stray " << stray;
+    // With it, the four ball positions accept the next ball position
+    const auto lenient = check_position(reg, next, frame(5), TrackerParams{}, 1);
+    EXPECT_TRUE(lenient.accepted) << "stray " << stray << ": " << lenient.reason;
+    EXPECT_EQ(lenient.outlier_left_out, stray);
+    // And still reject clutter
+    EXPECT_FALSE(
+        check_position(reg, Eigen::Vector3d(0.4, 0.3, 2.6), frame(5), TrackerParams{}, 1).accepted);
+  }
+}
+
+TEST(StatisticalVerifier, GivenTwoStraysInRegister_ThenNothingAccepted) {
+  const auto reg = rolling_with_strays({1, 3});
+  const auto c =
+      check_position(reg, Eigen::Vector3d(-0.5 + 5 / 30.0, 0.1, 2.0), frame(5), TrackerParams{}, 1);
+  EXPECT_FALSE(c.accepted);
+  EXPECT_EQ(c.outlier_left_out, -1);
+}
+
+TEST(StatisticalVerifier, GivenConsistentRegister_WhenPositionFar_ThenNoPositionIsLeftOut) {
+  // Leaving a good position out must never turn a rejection into an acceptance
+  const auto reg = rolling_ball();
+  const auto c =
+      check_position(reg, Eigen::Vector3d(-0.5 + 5 / 30.0, 0.1, 2.2), frame(5), TrackerParams{}, 1);
+  EXPECT_FALSE(c.accepted);
+  EXPECT_EQ(c.outlier_left_out, -1);
+}
+
 TEST(MaxJump, GivenTime_ThenMarginPlusSpeedTimesTime) {
   TrackerParams p;
   p.jump_margin_m = 0.1;

@@ -14,6 +14,9 @@ struct TrackerParams {
   double ssd_threshold = 200'000.0;
   /// Positions in the shift register (paper: five).
   int register_size = 5;
+  /// While tracking, a register that is inconsistent because of this many stray
+  /// positions (0 or 1) is still used without them. Start-up always needs all five.
+  int register_outliers_allowed = 1;
   /// Lower bound of the "one standard deviation" radius around the mean, metres.
   double sigma_floor_m = 0.03;
   /// Same lower bound as a fraction of the distance of the mean from the camera, unitless.
