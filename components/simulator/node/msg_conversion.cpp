@@ -1,0 +1,110 @@
+#include "simulator/node/msg_conversion.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace stereoball::simulator {
+namespace {
+
+template <int M, int N>
+void copy(const cv::Matx<double, M, N>& m, double* out) {
+  std::copy(m.val, m.val + M * N, out);
+}
+
+dds_sequence_double as_sequence(const std::vector<double>& v) {
+  dds_sequence_double s{};
+  s._maximum = s._length = static_cast<uint32_t>(std::min<size_t>(v.size(), 14));
+  s._buffer = const_cast<double*>(v.data());
+  s._release = false;
+  return s;
+}
+
+stereoball_msg_EyeImage eye(const cv::Mat& image, int64_t stamp_ns) {
+  stereoball_msg_EyeImage e{};
+  e.capture_stamp_ns = stamp_ns;
+  e.width_px = static_cast<uint32_t>(image.cols);
+  e.height_px = static_cast<uint32_t>(image.rows);
+  e.step_bytes = static_cast<uint32_t>(image.step[0]);
+  // Simulator images are freshly allocated, hence continuous.
+  e.data._maximum = e.data._length = static_cast<uint32_t>(image.step[0] * image.rows);
+  e.data._buffer = const_cast<uint8_t*>(image.data);
+  e.data._release = false;
+  return e;
+}
+
+}  // namespace
+
+stereoball_msg_StereoCalibration calibration_to_msg(const stereo::StereoCalibration& c,
+                                                    int64_t stamp_ns, const std::string& source) {
+  stereoball_msg_StereoCalibration m{};
+  m.stamp_ns = stamp_ns;
+  m.width_px = static_cast<uint32_t>(c.image_size.width);
+  m.height_px = static_cast<uint32_t>(c.image_size.height);
+  copy(c.k1, m.k1);
+  copy(c.k2, m.k2);
+  m.d1 = as_sequence(c.d1);
+  m.d2 = as_sequence(c.d2);
+  copy(c.r, m.r);
+  std::copy(c.t.val, c.t.val + 3, m.t);
+  copy(c.r1, m.r1);
+  copy(c.r2, m.r2);
+  copy(c.p1, m.p1);
+  copy(c.p2, m.p2);
+  copy(c.q, m.q);
+  m.rms_px = c.rms_px;
+  m.source = const_cast<char*>(source.c_str());
+  return m;
+}
+
+stereoball_msg_StereoFrame frame_to_msg(const SimFrame& frame, int64_t stamp_ns,
+                                        const std::string& source) {
+  stereoball_msg_StereoFrame m{};
+  m.seq = frame.seq;
+  m.stamp_ns = stamp_ns;
+  m.source = const_cast<char*>(source.c_str());
+  m.encoding = const_cast<char*>("bgr8");
+  m.rectified = false;
+  m.left = eye(frame.left, stamp_ns);
+  m.right = eye(frame.right, stamp_ns);
+  return m;
+}
+
+stereoball_msg_GroundTruth ground_truth_to_msg(const GroundTruth& g, int64_t stamp_ns,
+                                               const std::string& scenario) {
+  stereoball_msg_GroundTruth m{};
+  m.frame_seq = g.frame_seq;
+  m.stamp_ns = stamp_ns;
+  m.sim_time_s = g.sim_time_s;
+  m.scenario = const_cast<char*>(scenario.c_str());
+  m.ball_present = g.ball_present;
+  m.ball_radius_m = g.ball_radius_m;
+  m.ball_world_m[0] = g.ball_world_m.x;
+  m.ball_world_m[1] = g.ball_world_m.y;
+  m.ball_world_m[2] = g.ball_world_m.z;
+  m.ball_camera_m[0] = g.ball_camera_m.x;
+  m.ball_camera_m[1] = g.ball_camera_m.y;
+  m.ball_camera_m[2] = g.ball_camera_m.z;
+  m.ball_visible_left = g.ball_visible_left;
+  m.ball_visible_right = g.ball_visible_right;
+  m.ball_left_px[0] = g.ball_left_px.x;
+  m.ball_left_px[1] = g.ball_left_px.y;
+  m.ball_right_px[0] = g.ball_right_px.x;
+  m.ball_right_px[1] = g.ball_right_px.y;
+  m.robot_x_m = g.robot.x_m;
+  m.robot_y_m = g.robot.y_m;
+  m.robot_yaw_rad = g.robot.yaw_rad;
+  m.robot_linear_mps = g.robot.linear_mps;
+  m.robot_angular_radps = g.robot.angular_radps;
+  return m;
+}
+
+VelocityCommand command_from_msg(const stereoball_msg_VelocityCommand& msg, int64_t now_wall_ns,
+                                 int64_t now_sim_ns, double rate) {
+  const int64_t age_ns = std::max<int64_t>(0, now_wall_ns - msg.stamp_ns);
+  const auto sim_age_ns = static_cast<int64_t>(std::llround(static_cast<double>(age_ns) * rate));
+  const double v = std::isfinite(msg.linear_mps) ? msg.linear_mps : 0.0;
+  const double w = std::isfinite(msg.angular_radps) ? msg.angular_radps : 0.0;
+  return {v, w, now_sim_ns - sim_age_ns};
+}
+
+}  // namespace stereoball::simulator

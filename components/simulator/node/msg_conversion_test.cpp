@@ -1,0 +1,72 @@
+#include "simulator/node/msg_conversion.hpp"
+
+#include <gtest/gtest.h>
+
+namespace stereoball::simulator {
+namespace {
+
+TEST(MsgConversion, CalibrationFieldsAreCopiedRowMajor) {
+  // Given the true calibration of the default rig
+  const StereoRig rig{SimParams{}};
+  const auto& c = rig.calibration();
+  const std::string source = "true";
+  // When converted
+  const auto m = calibration_to_msg(c, 123, source);
+  // Then sizes, matrices, distortion and source are those of the calibration
+  EXPECT_EQ(m.width_px, 640u);
+  EXPECT_EQ(m.height_px, 480u);
+  EXPECT_EQ(m.stamp_ns, 123);
+  EXPECT_DOUBLE_EQ(m.k1[2], c.k1(0, 2));
+  EXPECT_DOUBLE_EQ(m.p2[3], c.p2(0, 3));
+  EXPECT_DOUBLE_EQ(m.q[11], c.q(2, 3));
+  EXPECT_DOUBLE_EQ(m.t[0], c.t[0]);
+  ASSERT_EQ(m.d2._length, 5u);
+  EXPECT_DOUBLE_EQ(m.d2._buffer[1], c.d2[1]);
+  EXPECT_FALSE(m.d2._release);
+  EXPECT_STREQ(m.source, "true");
+}
+
+TEST(MsgConversion, FrameCarriesBothRawEyesAsBgr8) {
+  // Given a simulated 352x288 frame
+  SimParams p;
+  p.width_px = 352;
+  p.height_px = 288;
+  Simulator sim(p, Scenario{});
+  const SimFrame f = sim.step(std::nullopt, 0);
+  const std::string source = "simulator:test";
+  // When converted
+  const auto m = frame_to_msg(f, 77, source);
+  // Then each eye points at its image with the right geometry
+  EXPECT_STREQ(m.encoding, "bgr8");
+  EXPECT_FALSE(m.rectified);
+  EXPECT_EQ(m.left.width_px, 352u);
+  EXPECT_EQ(m.right.height_px, 288u);
+  EXPECT_EQ(m.left.step_bytes, 352u * 3);
+  EXPECT_EQ(m.left.data._length, 352u * 288 * 3);
+  EXPECT_EQ(m.left.data._buffer, f.left.data);
+  EXPECT_EQ(m.right.data._buffer, f.right.data);
+  EXPECT_EQ(m.right.capture_stamp_ns, 77);
+}
+
+TEST(MsgConversion, CommandAgeIsScaledIntoSimulatedTime) {
+  // Given a command stamped 100 ms before now on the wall clock
+  stereoball_msg_VelocityCommand msg{};
+  msg.stamp_ns = 1'000'000'000;
+  msg.linear_mps = 0.3;
+  msg.angular_radps = -0.2;
+  // When converted at simulated time 5 s running at half speed
+  const VelocityCommand c = command_from_msg(msg, 1'100'000'000, 5'000'000'000, 0.5);
+  // Then it is 50 ms old in simulated time and keeps its velocities
+  EXPECT_EQ(c.stamp_ns, 5'000'000'000 - 50'000'000);
+  EXPECT_DOUBLE_EQ(c.linear_mps, 0.3);
+  EXPECT_DOUBLE_EQ(c.angular_radps, -0.2);
+  // And a command from the future is treated as brand new, a NaN speed as zero
+  msg.stamp_ns = 2'000'000'000;
+  msg.linear_mps = std::nan("");
+  const VelocityCommand f = command_from_msg(msg, 1'100'000'000, 5'000'000'000, 0.5);
+  EXPECT_EQ(f.stamp_ns, 5'000'000'000);
+  EXPECT_EQ(f.linear_mps, 0.0);
+}
+
+}  // namespace
+}  // namespace stereoball::simulator

@@ -1,0 +1,72 @@
+#include "simulator/node/simulator_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "simulator/node/msg_conversion.hpp"
+
+namespace stereoball::simulator {
+
+SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
+                             const Scenario& scenario, const stereo::StereoCalibration& published,
+                             const SimulatorNodeOptions& options)
+    : runner_(runner),
+      params_(params),
+      scenario_(scenario),
+      options_(options),
+      sim_(std::make_unique<Simulator>(params, scenario)),
+      published_(published),
+      frame_source_("simulator:" + scenario.name),
+      frames_(runner.participant(), topics::kStereoFrame),
+      truth_(runner.participant(), topics::kGroundTruth),
+      calibration_(runner.participant(), topics::kStereoCalibration),
+      commands_(runner.participant(), topics::kVelocityCommand) {
+  // Transient-local: written once, every late joiner still receives it.
+  calibration_.write(calibration_to_msg(published_, node::now_ns(), options_.calibration_source));
+  runner_.on_data(commands_.handle(), [this] { on_commands(); });
+  const auto period_ns =
+      static_cast<int64_t>(std::llround(1e9 / (params_.frame_rate_hz * options_.rate)));
+  runner_.every(period_ns, [this](int64_t now) { tick(now); });
+  runner_.health().set_state(true, "running scenario " + scenario_.name);
+}
+
+void SimulatorNode::on_commands() {
+  for (auto& s : commands_.take()) {
+    sim_->advance(command_from_msg(*s, node::now_ns(), sim_now_ns_, options_.rate), sim_now_ns_);
+    runner_.health().count(std::string(topics::kVelocityCommand.spec.name));
+  }
+}
+
+void SimulatorNode::tick(int64_t now_ns) {
+  // Simulated time follows the wall clock (x rate) on the frame grid; if rendering falls
+  // behind, frames are skipped (and counted) rather than letting simulated time lag.
+  const int64_t mono = node::monotonic_ns();
+  if (run_start_mono_ns_ < 0) run_start_mono_ns_ = mono;
+  const int64_t period = sim_->frame_period_ns();
+  const auto sim_elapsed = static_cast<double>(mono - run_start_mono_ns_) * options_.rate;
+  int64_t index = std::max<int64_t>(frame_index_, std::llround(sim_elapsed / period));
+  if (options_.loop && index * period > static_cast<int64_t>(scenario_.duration_s * 1e9)) {
+    sim_ = std::make_unique<Simulator>(params_, scenario_);
+    run_start_mono_ns_ = mono;
+    index = frame_index_ = 0;
+    sim_now_ns_ = 0;
+    runner_.health().count("scenario_restarts");
+  }
+  if (index > frame_index_) runner_.health().drop(frame_topic_, index - frame_index_);
+  const SimFrame f = sim_->step(std::nullopt, index * period);
+  runner_.health().set_counter("render_us",
+                               static_cast<uint64_t>((node::monotonic_ns() - mono) / 1000));
+  sim_now_ns_ = f.sim_time_ns;
+  frame_index_ = index + 1;
+  stereoball_msg_StereoFrame frame = frame_to_msg(f, now_ns, frame_source_);
+  frame.seq = total_frames_;
+  stereoball_msg_GroundTruth truth = ground_truth_to_msg(f.truth, now_ns, scenario_.name);
+  truth.frame_seq = total_frames_;
+  frames_.write(frame, now_ns);
+  truth_.write(truth, now_ns);
+  runner_.health().count(frame_topic_);
+  runner_.health().count(std::string(topics::kGroundTruth.spec.name));
+  runner_.health().set_counter("frames", ++total_frames_);
+}
+
+}  // namespace stereoball::simulator

@@ -1,0 +1,52 @@
+#pragma once
+// The simulator process: renders the scenario at frame_rate_hz x rate, publishes stereo/frame,
+// sim/ground_truth and (once, latched) stereo/calibration; drives the base from cmd/velocity.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "common/dds/reader.hpp"
+#include "common/dds/writer.hpp"
+#include "common/node/node_runner.hpp"
+#include "simulator/core/simulator.hpp"
+
+namespace stereoball::simulator {
+
+/// Run options of the node (from flags).
+struct SimulatorNodeOptions {
+  double rate = 1.0;  ///< simulated seconds per wall second
+  bool loop = false;  ///< restart the scenario after its duration
+  std::string calibration_source = "simulator (true calibration)";  ///< published source text
+};
+
+/// Wires a Simulator to its topics and a frame timer on a runner.
+class SimulatorNode {
+ public:
+  /// published is the calibration to announce (the true one, or a file to test a mismatch).
+  SimulatorNode(node::Runner& runner, const SimParams& params, const Scenario& scenario,
+                const stereo::StereoCalibration& published, const SimulatorNodeOptions& options);
+
+ private:
+  void on_commands();
+  void tick(int64_t now_ns);
+
+  node::Runner& runner_;
+  SimParams params_;
+  Scenario scenario_;
+  SimulatorNodeOptions options_;
+  std::unique_ptr<Simulator> sim_;
+  stereo::StereoCalibration published_;
+  std::string frame_source_;
+  dds::DataWriter<stereoball_msg_StereoFrame> frames_;
+  dds::DataWriter<stereoball_msg_GroundTruth> truth_;
+  dds::DataWriter<stereoball_msg_StereoCalibration> calibration_;
+  dds::DataReader<stereoball_msg_VelocityCommand> commands_;
+  std::string frame_topic_{topics::kStereoFrame.spec.name};
+  int64_t run_start_mono_ns_ = -1;
+  int64_t frame_index_ = 0;  // next frame on the grid of the current run of the scenario
+  int64_t sim_now_ns_ = 0;
+  uint64_t total_frames_ = 0;
+};
+
+}  // namespace stereoball::simulator
