@@ -1,0 +1,187 @@
+#include "camera_server/node/camera_server_node.hpp"
+
+#include "camera_server/io/v4l2_device.hpp"
+#include "camera_server/node/frame_message.hpp"
+#include "common/util/log.hpp"
+#include "stereo/io/calibration_file.hpp"
+
+namespace stereoball::camera_server {
+namespace {
+
+std::string size_text(cv::Size s) {
+  return std::to_string(s.width) + "x" + std::to_string(s.height);
+}
+
+}  // namespace
+
+CameraServerNode::CameraServerNode(const CameraServerParams& params, node::Runner& runner)
+    : params_(params),
+      runner_(runner),
+      frame_writer_(runner.participant(), topics::kStereoFrame),
+      calibration_writer_(runner.participant(), topics::kStereoCalibration),
+      builder_(FrameBuilderParams{params.publish_encoding}) {}
+
+CameraServerNode::~CameraServerNode() {
+  stop_ = true;
+  if (capture_thread_.joinable()) capture_thread_.join();
+}
+
+Result<std::unique_ptr<CameraServerNode>> CameraServerNode::create(const CameraServerParams& params,
+                                                                   node::Runner& runner) {
+  if (auto e = params.validate()) return Error{*e};
+  std::unique_ptr<CameraServerNode> node(new CameraServerNode(params, runner));
+  if (auto e = node->open_source()) return Error{*e};
+  node->start();
+  return node;
+}
+
+std::optional<std::string> CameraServerNode::open_source() {
+  cv::Size size(static_cast<int>(params_.width_px), static_cast<int>(params_.height_px));
+  if (params_.source == "files") {
+    auto src = FileSource::open(FileSourceParams{params_.left_glob, params_.right_glob,
+                                                 params_.pairs_dir, params_.file_encoding});
+    if (!src) return src.error();
+    files_.emplace(std::move(*src));
+    source_name_ = files_->description();
+    size = files_->image_size();
+    log::info("file source: ", files_->size(), " pairs, ", size_text(size), " ", files_->encoding(),
+              ", ", params_.rate_hz, " Hz");
+  } else {
+    source_name_ = "v4l2:" + params_.left_device + "+" + params_.right_device;
+    capture_ = std::make_unique<StereoCapture>(params_,
+                                               [](Eye) { return std::make_unique<V4l2Device>(); });
+    // Check the calibration before touching the cameras: a wrong size is a config error.
+    if (auto e = open_calibration(size)) return e;
+    const DeviceStatus st = capture_->start();
+    if (!st.ok()) return st.message;
+    for (const auto& line : capture_->take_log()) log::warn(line);
+    const auto h = capture_->health();
+    log::info("streaming ", source_name_, " as ", fourcc_text(h.eyes[0].format.fourcc), " ",
+              size_text(size), " at ", params_.rate_hz, " Hz");
+    return std::nullopt;
+  }
+  return open_calibration(size);
+}
+
+std::optional<std::string> CameraServerNode::open_calibration(cv::Size capture_size) {
+  if (params_.calibration_file.empty()) return std::nullopt;
+  auto calib = stereo::load_calibration(params_.calibration_file);
+  if (!calib) return calib.error();
+  if (calib->image_size != capture_size) {
+    return "calibration " + params_.calibration_file + " is for " + size_text(calib->image_size) +
+           " images but the capture size is " + size_text(capture_size) +
+           "; recalibrate at this size or change width_px/height_px";
+  }
+  calibration_.emplace(std::move(calib).value());
+  if (params_.rectify) {
+    auto r = stereo::Rectifier::create(*calibration_);
+    if (!r) return params_.calibration_file + ": " + r.error();
+    rectifier_.emplace(std::move(r).value());
+  }
+  return std::nullopt;
+}
+
+void CameraServerNode::start() {
+  if (!calibration_) log::warn("no calibration_file: stereo/calibration is not published");
+  if (calibration_) {
+    stereoball_msg_StereoCalibration msg{};
+    fill_calibration_message(*calibration_, params_.calibration_file, node::now_ns(), msg);
+    calibration_writer_.write(msg);
+    runner_.health().count(std::string(topics::kStereoCalibration.spec.name));
+  }
+  if (files_) {
+    runner_.every(params_.period_ns(), [this](int64_t now_ns) { publish_file_pair(now_ns); });
+    runner_.health().set_state(true, "playing files");
+    return;
+  }
+  runner_.health().set_state(true, "streaming");
+  capture_thread_ = std::thread([this] { capture_loop(); });
+}
+
+void CameraServerNode::publish_file_pair(int64_t now_ns) {
+  if (files_done_) return;
+  const size_t i = file_seq_ % files_->size();
+  if (!params_.loop && file_seq_ >= files_->size()) {
+    files_done_ = true;
+    runner_.health().set_state(true, "file source finished");
+    log::info("file source finished after ", file_seq_, " pairs (loop: false)");
+    return;
+  }
+  const FilePair& p = files_->pair(i);
+  auto view = view_of_images(p.left, p.right, file_seq_++, now_ns);
+  if (!view) {
+    runner_.health().error("bad_file_pair", view.error());
+    return;
+  }
+  publish(*view);
+}
+
+void CameraServerNode::capture_loop() {
+  while (!stop_ && !runner_.stopping()) {
+    auto pairs = capture_->poll_once(100, node::monotonic_ns());
+    for (const auto& line : capture_->take_log()) {
+      log::warn(line);
+      if (line.find(" lost: ") != std::string::npos) runner_.health().error("camera_lost", line);
+    }
+    for (const auto& pair : pairs) {
+      auto view = builder_.step(pair);
+      if (!view) {
+        runner_.health().error("bad_frame", view.error());
+        continue;
+      }
+      publish(*view);
+    }
+    update_capture_health();
+  }
+}
+
+void CameraServerNode::update_capture_health() {
+  const CaptureHealth h = capture_->health();
+  node::Health& health = runner_.health();
+  const uint64_t drops = h.pairing.dropped_left + h.pairing.dropped_right;
+  if (drops > reported_drops_) {
+    health.drop(std::string(topics::kStereoFrame.spec.name), drops - reported_drops_);
+    reported_drops_ = drops;
+  }
+  health.set_counter("frames_left", h.eyes[0].frames);
+  health.set_counter("frames_right", h.eyes[1].frames);
+  health.set_counter("unpaired_left", h.pairing.dropped_left);
+  health.set_counter("unpaired_right", h.pairing.dropped_right);
+  health.set_counter("corrupted_frames", h.eyes[0].corrupted + h.eyes[1].corrupted);
+  health.set_counter("reopens", h.eyes[0].reopens + h.eyes[1].reopens);
+  if (capture_->healthy()) {
+    health.set_state(true, "streaming");
+  } else {
+    health.set_state(
+        false, std::string(h.eyes[0].streaming ? "right" : "left") + " camera lost, reopening");
+  }
+}
+
+void CameraServerNode::publish(const FrameView& view) {
+  const FrameView* out = &view;
+  FrameView rect;
+  if (rectifier_ && (view.encoding == "bgr8" || view.encoding == "mono8")) {
+    const int type = view.encoding == "bgr8" ? CV_8UC3 : CV_8UC1;
+    const cv::Mat l(static_cast<int>(view.left.height_px), static_cast<int>(view.left.width_px),
+                    type, const_cast<uint8_t*>(view.left.data), view.left.step_bytes);
+    const cv::Mat r(static_cast<int>(view.right.height_px), static_cast<int>(view.right.width_px),
+                    type, const_cast<uint8_t*>(view.right.data), view.right.step_bytes);
+    if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1])) {
+      runner_.health().error("rectify", *e);
+      return;
+    }
+    auto v = view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);
+    if (!v) return;
+    rect = *v;
+    rect.left.capture_stamp_ns = view.left.capture_stamp_ns;
+    rect.right.capture_stamp_ns = view.right.capture_stamp_ns;
+    rect.rectified = true;
+    out = &rect;
+  }
+  stereoball_msg_StereoFrame msg{};
+  fill_frame_message(*out, source_name_, msg);
+  frame_writer_.write(msg);
+  runner_.health().count(std::string(topics::kStereoFrame.spec.name));
+}
+
+}  // namespace stereoball::camera_server

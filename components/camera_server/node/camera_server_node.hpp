@@ -1,0 +1,60 @@
+#pragma once
+// The camera_server process: a source (two V4L2 cameras or image files) -> stereo/frame, and
+// the calibration file -> stereo/calibration (transient-local), with health on the runner.
+
+#include <atomic>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "camera_server/core/frame_builder.hpp"
+#include "camera_server/core/params.hpp"
+#include "camera_server/io/file_source.hpp"
+#include "camera_server/io/stereo_capture.hpp"
+#include "common/dds/writer.hpp"
+#include "common/node/node_runner.hpp"
+#include "stereo/core/rectifier.hpp"
+
+namespace stereoball::camera_server {
+
+/// Owns the source, the writers and the capture thread (V4L2) or playback timer (files).
+class CameraServerNode {
+ public:
+  /// Opens the source and the calibration; the error is one line naming the problem
+  /// (device missing/busy, unsupported format, calibration size != capture size, ...).
+  static Result<std::unique_ptr<CameraServerNode>> create(const CameraServerParams& params,
+                                                          node::Runner& runner);
+  ~CameraServerNode();
+  CameraServerNode(const CameraServerNode&) = delete;
+  CameraServerNode& operator=(const CameraServerNode&) = delete;
+
+ private:
+  CameraServerNode(const CameraServerParams& params, node::Runner& runner);
+  std::optional<std::string> open_source();
+  std::optional<std::string> open_calibration(cv::Size capture_size);
+  void start();
+  void publish_file_pair(int64_t now_ns);
+  void capture_loop();
+  void publish(const FrameView& view);
+  void update_capture_health();
+
+  CameraServerParams params_;
+  node::Runner& runner_;
+  dds::DataWriter<stereoball_msg_StereoFrame> frame_writer_;
+  dds::DataWriter<stereoball_msg_StereoCalibration> calibration_writer_;
+  std::string source_name_;
+  std::optional<FileSource> files_;
+  std::unique_ptr<StereoCapture> capture_;
+  FrameBuilder builder_;
+  std::optional<stereo::StereoCalibration> calibration_;
+  std::optional<stereo::Rectifier> rectifier_;
+  cv::Mat rectified_[2];
+  uint64_t file_seq_ = 0;
+  bool files_done_ = false;
+  uint64_t reported_drops_ = 0;
+  std::atomic<bool> stop_{false};
+  std::thread capture_thread_;
+};
+
+}  // namespace stereoball::camera_server

@@ -1,0 +1,148 @@
+// Integration test: the real camera_server process with the file source on the 13 real
+// OpenCV sample pairs; a subscriber checks the frames byte for byte and gets the calibration
+// as a late joiner. Configuration errors: one line, non-zero exit.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+
+#include "common/dds/reader.hpp"
+#include "process.hpp"
+#include "stereo/io/calibration_file.hpp"
+
+namespace sb = stereoball;
+using namespace std::chrono_literals;
+using sb::testing::Process;
+
+namespace {
+
+const std::string kSamples = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples";
+const std::string kCalibration =
+    sb::testing::source_path("config/calibration/opencv_samples_stereo.yaml");
+
+std::string write_config(const std::string& body) {
+  const std::string path = sb::testing::temp_dir() + "/camera_server.yaml";
+  std::ofstream(path) << body;
+  return path;
+}
+
+std::string files_config(const std::string& left_glob, const std::string& right_glob) {
+  return write_config(
+      "source: files\nleft_glob: " + left_glob + "\nright_glob: " + right_glob +
+      "\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\ncalibration_file: " + kCalibration + "\n");
+}
+
+std::vector<std::string> sample_names(const std::string& prefix) {
+  std::vector<std::string> out;
+  for (int n : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14}) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/%s%02d.jpg", prefix.c_str(), n);
+    out.push_back(kSamples + name);
+  }
+  return out;
+}
+
+bool same_pixels(const stereoball_msg_EyeImage& eye, const cv::Mat& ref) {
+  if (eye.width_px != static_cast<uint32_t>(ref.cols) ||
+      eye.height_px != static_cast<uint32_t>(ref.rows) ||
+      eye.data._length != ref.total() * ref.elemSize()) {
+    return false;
+  }
+  return std::equal(ref.data, ref.data + eye.data._length, eye.data._buffer);
+}
+
+std::pair<int, std::string> run_node(const std::string& config) {
+  return sb::testing::run(
+      {sb::testing::bin("camera_server"), "--config", config, "--domain",
+       std::to_string(sb::testing::test_domain()), "--partition", sb::testing::unique_partition()},
+      20s);
+}
+
+TEST(CameraServerNode, GivenRealPairsWhenPlayedThenFramesByteIdenticalAndCalibrationLatched) {
+  std::vector<cv::Mat> left, right;
+  for (const auto& f : sample_names("left")) left.push_back(cv::imread(f, cv::IMREAD_UNCHANGED));
+  for (const auto& f : sample_names("right")) right.push_back(cv::imread(f, cv::IMREAD_UNCHANGED));
+  const std::string partition = sb::testing::unique_partition();
+  Process node =
+      Process::start({sb::testing::bin("camera_server"), "--config",
+                      files_config(kSamples + "/left*.jpg", kSamples + "/right*.jpg"), "--domain",
+                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
+  ASSERT_TRUE(frames.wait_for_writers(1, 10'000'000'000)) << node.output();
+
+  // Given 13 pairs played in glob order, when 20 frames arrive, then each is byte-identical.
+  std::map<uint64_t, bool> seen;
+  sb::testing::eventually(
+      [&] {
+        for (auto& s : frames.take()) {
+          const size_t i = s->seq % left.size();
+          EXPECT_STREQ(s->encoding, "mono8");
+          EXPECT_FALSE(s->rectified);
+          EXPECT_TRUE(same_pixels(s->left, left[i])) << "left of seq " << s->seq;
+          EXPECT_TRUE(same_pixels(s->right, right[i])) << "right of seq " << s->seq;
+          EXPECT_EQ(s->left.capture_stamp_ns, s->stamp_ns);
+          seen[s->seq] = true;
+        }
+        return seen.size() >= 20;
+      },
+      15s);
+  ASSERT_GE(seen.size(), 20u) << node.output();
+
+  // Then a reader created now (late joiner) still receives the calibration.
+  sb::dds::DataReader<stereoball_msg_StereoCalibration> calib(participant,
+                                                              sb::topics::kStereoCalibration);
+  auto expected = sb::stereo::load_calibration(kCalibration);
+  ASSERT_TRUE(expected.has_value()) << expected.error();
+  bool got = false;
+  sb::testing::eventually(
+      [&] {
+        for (auto& c : calib.take()) {
+          got = true;
+          EXPECT_EQ(c->width_px, 640u);
+          EXPECT_EQ(c->height_px, 480u);
+          EXPECT_DOUBLE_EQ(c->k1[0], expected->k1(0, 0));
+          EXPECT_DOUBLE_EQ(c->p2[3], expected->p2(0, 3));
+          EXPECT_EQ(c->d1._length, expected->d1.size());
+        }
+        return got;
+      },
+      10s);
+  EXPECT_TRUE(got) << "no calibration for a late joiner\n" << node.output();
+
+  node.signal(SIGINT);
+  EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
+}
+
+TEST(CameraServerNode, GivenCalibrationForAnotherSizeWhenStartedThenOneLineAndFailure) {
+  const auto [code, out] = run_node(files_config(kSamples + "/aloeL.jpg", kSamples + "/aloeR.jpg"));
+  EXPECT_NE(code, 0);
+  EXPECT_NE(out.find("is for 640x480 images but the capture size is"), std::string::npos) << out;
+}
+
+TEST(CameraServerNode, GivenMissingCameraWhenStartedThenOneLineNamingDevice) {
+  const auto [code, out] = run_node(write_config(
+      "source: v4l2\nleft_device: /dev/video_missing_7\nright_device: /dev/video_missing_8\n"
+      "width_px: 640\nheight_px: 480\nrate_hz: 30\n"));
+  EXPECT_NE(code, 0);
+  EXPECT_NE(out.find("left camera: /dev/video_missing_7: open failed: no such device"),
+            std::string::npos)
+      << out;
+}
+
+TEST(CameraServerNode, GivenSameDeviceTwiceOrBadFileWhenStartedThenClearError) {
+  auto [code, out] =
+      run_node(write_config("source: v4l2\nleft_device: /dev/video0\nright_device: /dev/video0\n"
+                            "width_px: 640\nheight_px: 480\nrate_hz: 30\n"));
+  EXPECT_NE(code, 0);
+  EXPECT_NE(out.find("same device"), std::string::npos) << out;
+  std::tie(code, out) = run_node(files_config("/nonexistent/l*.png", "/nonexistent/r*.png"));
+  EXPECT_NE(code, 0);
+  EXPECT_NE(out.find("matched no files"), std::string::npos) << out;
+}
+
+}  // namespace

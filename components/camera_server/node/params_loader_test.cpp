@@ -1,0 +1,62 @@
+#include "camera_server/node/params_loader.hpp"
+
+#include <gtest/gtest.h>
+
+namespace stereoball::camera_server {
+namespace {
+
+bool has(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+TEST(CameraServerParamsFile, GivenShippedConfigsWhenLoadedThenValid) {
+  auto v4l2 = load_camera_server_params(SB_SOURCE_DIR "/config/camera_server.yaml");
+  ASSERT_TRUE(v4l2.ok()) << v4l2.error();
+  EXPECT_EQ(v4l2->source, "v4l2");
+  EXPECT_EQ(v4l2->effective_skew_ns(), 16'666'666);
+  auto files = load_camera_server_params(SB_SOURCE_DIR "/config/camera_server_files.yaml");
+  ASSERT_TRUE(files.ok()) << files.error();
+  EXPECT_EQ(files->source, "files");
+}
+
+TEST(CameraServerParamsFile, GivenControlsWhenParsedThenNestedKeysRead) {
+  auto p = parse_camera_server_params(
+      "source: v4l2\nwidth_px: 320\nheight_px: 240\nrate_hz: 15\n"
+      "controls:\n  auto_exposure: false\n  exposure_us: 5000\n  gain: 3\n",
+      "t.yaml");
+  ASSERT_TRUE(p.ok()) << p.error();
+  EXPECT_FALSE(p->controls.auto_exposure);
+  EXPECT_EQ(p->controls.exposure_us, 5000);
+  EXPECT_EQ(p->controls.gain, 3);
+  EXPECT_EQ(p->width_px, 320u);
+}
+
+TEST(CameraServerParamsFile, GivenTypoInControlsWhenParsedThenUnknownKeyNamed) {
+  auto p = parse_camera_server_params(
+      "source: v4l2\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\ncontrols:\n  gian: 3\n", "t.yaml");
+  ASSERT_FALSE(p.ok());
+  EXPECT_TRUE(has(p.error(), "controls.gian")) << p.error();
+}
+
+TEST(CameraServerParamsFile, GivenSameDeviceTwiceWhenParsedThenErrorNamesFileAndDevice) {
+  auto p = parse_camera_server_params(
+      "source: v4l2\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\n"
+      "left_device: /dev/video2\nright_device: /dev/video2\n",
+      "cams.yaml");
+  ASSERT_FALSE(p.ok());
+  EXPECT_TRUE(has(p.error(), "cams.yaml")) << p.error();
+  EXPECT_TRUE(has(p.error(), "same device")) << p.error();
+}
+
+TEST(CameraServerParamsFile, GivenMissingRequiredKeyOrBadChoiceWhenParsedThenNamed) {
+  auto missing = parse_camera_server_params("source: v4l2\nwidth_px: 640\nrate_hz: 30\n", "t.yaml");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_TRUE(has(missing.error(), "height_px")) << missing.error();
+  auto bad = parse_camera_server_params("source: usb\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\n",
+                                        "t.yaml");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_TRUE(has(bad.error(), "source")) << bad.error();
+}
+
+}  // namespace
+}  // namespace stereoball::camera_server
