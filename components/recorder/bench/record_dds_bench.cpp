@@ -2,7 +2,8 @@
 // detections, tracks, commands and ground truth at 60 Hz over DDS, while a real
 // `stereoball-record --all` process records them. Prints frames published vs recorded, drops,
 // MB/s, and the recorder's CPU per MB (from wait4 rusage).
-//   recorder_dds_bench [--seconds S] [--dir DIR] [--domain N] [-- extra stereoball-record flags]
+//   recorder_dds_bench [--seconds S] [--dir DIR] [--domain N] [--keep] [-- extra stereoball-record
+//   flags]
 
 #include <signal.h>
 #include <sys/resource.h>
@@ -37,18 +38,22 @@ int main(int argc, char** argv) {
   std::string dir = "/tmp";
   int domain = sb::dds::domain_from_env(0);
   std::vector<std::string> extra;
+  bool keep = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--seconds" && i + 1 < argc)
       seconds = std::stod(argv[++i]);
     else if (a == "--dir" && i + 1 < argc)
       dir = argv[++i];
+    else if (a == "--keep")
+      keep = true;
     else if (a == "--domain" && i + 1 < argc)
       domain = std::stoi(argv[++i]);
     else if (a == "--") {
       for (++i; i < argc; ++i) extra.push_back(argv[i]);
     } else
-      return die("usage: recorder_dds_bench [--seconds S] [--dir DIR] [--domain N] [-- flags]");
+      return die(
+          "usage: recorder_dds_bench [--seconds S] [--dir DIR] [--domain N] [--keep] [-- flags]");
   }
   const std::string partition = "recorder_bench_" + std::to_string(getpid());
   const std::string file = dir + "/recorder_dds_bench.mcap";
@@ -162,6 +167,9 @@ int main(int argc, char** argv) {
       "recorded %.1f MB payload: %.1f MB/s over the publishing time, recorder CPU %.1f s "
       "= %.2f ms/MB (%.0f%% of one core)\n",
       mb, mb / seconds, cpu_s, 1e3 * cpu_s / mb, 100.0 * cpu_s / (seconds + 2));
-  std::remove(file.c_str());
+  if (keep)
+    std::printf("kept %s\n", file.c_str());
+  else
+    std::remove(file.c_str());
   return 0;
 }
