@@ -90,6 +90,10 @@ std::optional<std::string> CameraServerParams::validate() const {
   if (rectify && calibration_file.empty()) {
     return "rectify needs calibration_file";
   }
+  if (rectify && source == "v4l2" && publish_encoding == "native") {
+    return "rectify needs decoded images: set publish_encoding to bgr8 (native yuyv/jpeg "
+           "frames cannot be rectified)";
+  }
   return std::nullopt;
 }
 

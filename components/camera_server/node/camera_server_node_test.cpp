@@ -12,6 +12,7 @@
 
 #include "common/dds/reader.hpp"
 #include "process.hpp"
+#include "stereo/core/rectifier.hpp"
 #include "stereo/io/calibration_file.hpp"
 
 namespace sb = stereoball;
@@ -114,6 +115,45 @@ TEST(CameraServerNode, GivenRealPairsWhenPlayedThenFramesByteIdenticalAndCalibra
       10s);
   EXPECT_TRUE(got) << "no calibration for a late joiner\n" << node.output();
 
+  node.signal(SIGINT);
+  EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
+}
+
+TEST(CameraServerNode, GivenRectifyWhenPlayedThenFramesEqualTheRectifierOutput) {
+  auto calib = sb::stereo::load_calibration(kCalibration);
+  ASSERT_TRUE(calib.has_value()) << calib.error();
+  auto rectifier = sb::stereo::Rectifier::create(calib.value());
+  ASSERT_TRUE(rectifier.has_value()) << rectifier.error();
+  const cv::Mat left = cv::imread(kSamples + "/left01.jpg", cv::IMREAD_UNCHANGED);
+  const cv::Mat right = cv::imread(kSamples + "/right01.jpg", cv::IMREAD_UNCHANGED);
+  cv::Mat left_rect, right_rect;
+  ASSERT_FALSE(rectifier->rectify(left, right, left_rect, right_rect));
+
+  const std::string partition = sb::testing::unique_partition();
+  const std::string config = write_config(
+      "source: files\nleft_glob: " + kSamples + "/left01.jpg\nright_glob: " + kSamples +
+      "/right01.jpg\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\ncalibration_file: " +
+      kCalibration + "\nrectify: true\n");
+  Process node =
+      Process::start({sb::testing::bin("camera_server"), "--config", config, "--domain",
+                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
+  ASSERT_TRUE(frames.wait_for_writers(1, 10'000'000'000)) << node.output();
+  bool got = false;
+  sb::testing::eventually(
+      [&] {
+        for (auto& s : frames.take()) {
+          got = true;
+          EXPECT_TRUE(s->rectified);
+          EXPECT_TRUE(same_pixels(s->left, left_rect));
+          EXPECT_TRUE(same_pixels(s->right, right_rect));
+          EXPECT_FALSE(same_pixels(s->left, left));  // rectification changed the image
+        }
+        return got;
+      },
+      10s);
+  EXPECT_TRUE(got) << node.output();
   node.signal(SIGINT);
   EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
 }
