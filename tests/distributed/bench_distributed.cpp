@@ -1,0 +1,183 @@
+// stereoball-bench-distributed: figures for robot and workstation as two hosts (two network
+// namespaces joined by veth, LAN Cyclone configuration). Needs root. Prints only.
+//  1. Frame transport robot -> workstation: sb_frame_publisher (raw bgr8 and JPEG) in the
+//     robot namespace, an observer in the workstation namespace: rate, loss, latency.
+//  2. The whole system (robot + workstation profiles): frame latency across the link, and the
+//     end-to-end time from frame capture to the velocity command it produced (defined below).
+
+#include <signal.h>
+#include <unistd.h>
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/dds/participant.hpp"
+#include "two_host_system.hpp"
+
+namespace sb = stereoball;
+namespace sd = stereoball::distributed;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::string lan_uri() {
+  return "file://" + sb::testing::source_path("config/cyclonedds/lan.xml");
+}
+
+double ms(int64_t ns) {
+  return static_cast<double>(ns) / 1e6;
+}
+
+void print_latency(const char* what, const std::vector<double>& values_ms) {
+  std::printf("  %-44s n=%-5zu p50 %7.2f ms  p99 %7.2f ms  max %7.2f ms\n", what, values_ms.size(),
+              sd::percentile(values_ms, 50), sd::percentile(values_ms, 99),
+              sd::percentile(values_ms, 100));
+}
+
+// Rate of samples between the first and last receive time, Hz.
+template <typename T>
+double rate_hz(const std::vector<T>& rx) {
+  if (rx.size() < 2) return 0.0;
+  return static_cast<double>(rx.size() - 1) / (ms(rx.back().rx_ns - rx.front().rx_ns) / 1e3);
+}
+
+int transport(const std::string& encoding, int quality, double duration_s, int domain) {
+  sd::TwoHosts hosts;
+  if (auto e = hosts.setup()) {
+    std::fprintf(stderr, "stereoball-bench-distributed: %s\n", e->c_str());
+    return 1;
+  }
+  const std::string partition = "sbbench." + std::to_string(::getpid());
+  const std::vector<std::string> common{"--domain", std::to_string(domain), "--partition",
+                                        partition};
+  std::vector<std::string> obs{sb::testing::bin("sb_netns_observer"), "--topics", "frame"};
+  obs.insert(obs.end(), common.begin(), common.end());
+  sd::GentleProcess observer(
+      sb::testing::Process::start(hosts.command(hosts.workstation(), obs, lan_uri())));
+  observer.get().wait_for_output("# observing", 5s);
+  std::this_thread::sleep_for(2s);  // discovery across the link
+  std::vector<std::string> pub{sb::testing::bin("sb_frame_publisher"),
+                               "--encoding",
+                               encoding,
+                               "--quality",
+                               std::to_string(quality),
+                               "--rate",
+                               "30",
+                               "--duration",
+                               std::to_string(duration_s)};
+  pub.insert(pub.end(), common.begin(), common.end());
+  sb::testing::Process publisher =
+      sb::testing::Process::start(hosts.command(hosts.robot(), pub, lan_uri()));
+  const auto code = publisher.wait_for_exit(
+      std::chrono::milliseconds(static_cast<int>(duration_s * 1e3) + 30'000));
+  std::this_thread::sleep_for(500ms);
+  const auto log = sd::parse_observer_log(observer.get().output());
+  const std::string out = publisher.output();
+  const auto pos = out.find("# sent ");
+  const long sent = pos == std::string::npos ? -1 : std::stol(out.substr(pos + 7));
+  if (!code || *code != 0 || sent <= 0) {
+    std::fprintf(stderr, "stereoball-bench-distributed: publisher failed: %s\n", out.c_str());
+    return 1;
+  }
+  std::vector<double> latency;
+  double bytes = 0;
+  for (const auto& f : log.frames) {
+    latency.push_back(ms(f.rx_ns - f.stamp_ns));
+    bytes += static_cast<double>(f.bytes);
+  }
+  const double mean_bytes = log.frames.empty() ? 0 : bytes / static_cast<double>(log.frames.size());
+  std::printf("%s%s: sent %ld, received %zu (%.1f%% lost), %.1f Hz, %.0f KiB/pair, %.1f Mbit/s\n",
+              encoding.c_str(), encoding == "jpeg" ? (" q" + std::to_string(quality)).c_str() : "",
+              sent, log.frames.size(),
+              100.0 * (1.0 - static_cast<double>(log.frames.size()) / static_cast<double>(sent)),
+              rate_hz(log.frames), mean_bytes / 1024, mean_bytes * 8 * rate_hz(log.frames) / 1e6);
+  print_latency("publish -> received in other namespace", latency);
+  return 0;
+}
+
+int system_run(double duration_s, int domain) {
+  sd::SystemOptions o;
+  o.domain = domain;
+  o.partition = "sbbench.system." + std::to_string(::getpid());
+  o.workstation_observer_topics = {"frame", "detection"};
+  sd::TwoHostSystem system(o);
+  if (auto e = system.start()) {
+    std::fprintf(stderr, "stereoball-bench-distributed: %s\n", e->c_str());
+    return 1;
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(duration_s * 1e3)));
+  const auto robot = system.robot_log();
+  const auto ws = system.workstation_log();
+  std::vector<double> frame_latency, detect, track_at_robot, e2e, controller_wait;
+  for (const auto& f : ws.frames) frame_latency.push_back(ms(f.rx_ns - f.stamp_ns));
+  for (const auto& d : ws.detections) detect.push_back(ms(d.publish_ns - d.capture_ns));
+  for (const auto& t : robot.tracks) track_at_robot.push_back(ms(t.rx_ns - t.capture_ns));
+  // End to end, per frame: from StereoFrame.stamp_ns (the simulator's capture/publish time,
+  // carried as BallDetection/BallTrack.capture_stamp_ns) to VelocityCommand.stamp_ns of the
+  // first command issued after that frame's track reached the robot namespace, counted only
+  // when that track was still the newest one at that command (so it determined the command).
+  size_t c = 0;
+  for (size_t i = 0; i < robot.tracks.size(); ++i) {
+    const auto& t = robot.tracks[i];
+    while (c < robot.commands.size() && robot.commands[c].stamp_ns < t.rx_ns) ++c;
+    if (c == robot.commands.size()) break;
+    const bool superseded =
+        i + 1 < robot.tracks.size() && robot.tracks[i + 1].rx_ns <= robot.commands[c].stamp_ns;
+    if (superseded) continue;
+    e2e.push_back(ms(robot.commands[c].stamp_ns - t.capture_ns));
+    controller_wait.push_back(ms(robot.commands[c].stamp_ns - t.rx_ns));
+  }
+  size_t following = 0;
+  for (const auto& t : robot.tracks) following += t.state == sd::kTrackFollowing;
+  std::printf(
+      "system (robot + workstation profiles, %.0f s): frames at workstation %.1f Hz, "
+      "detections %.1f Hz, tracks at robot %.1f Hz (%zu FOLLOWING), commands %.1f Hz\n",
+      duration_s, rate_hz(ws.frames), rate_hz(ws.detections), rate_hz(robot.tracks), following,
+      rate_hz(robot.commands));
+  print_latency("frame: simulator publish -> workstation", frame_latency);
+  print_latency("detection: capture -> detector publish", detect);
+  print_latency("track: capture -> received in robot ns", track_at_robot);
+  print_latency("controller wait: track rx -> next command", controller_wait);
+  print_latency("end to end: capture -> velocity command", e2e);
+  if (e2e.empty()) std::printf("%s\n", system.diagnostics().c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "stereoball-bench-distributed: frame transport and capture-to-command time between two\n"
+      "network namespaces joined by veth (needs root and iproute2; prints figures only)"};
+  double transport_s = 10, system_s = 30;
+  int quality = 90;
+  int domain = sb::dds::domain_from_env(0);
+  bool skip_transport = false, skip_system = false;
+  app.add_option("--transport-duration", transport_s, "seconds per transport run")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--system-duration", system_s, "seconds of the whole-system run")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--quality", quality, "JPEG quality of the compressed run")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  app.add_option("--domain", domain, "DDS domain")
+      ->check(CLI::Range(0, 232))
+      ->capture_default_str();
+  app.add_flag("--no-transport", skip_transport, "skip the frame transport runs");
+  app.add_flag("--no-system", skip_system, "skip the whole-system run");
+  CLI11_PARSE(app, argc, argv);
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  int rc = 0;
+  if (!skip_transport) {
+    rc |= transport("bgr8", quality, transport_s, domain);
+    rc |= transport("jpeg", quality, transport_s, domain);
+  }
+  if (!skip_system) rc |= system_run(system_s, domain);
+  return rc;
+}

@@ -1,0 +1,154 @@
+#include "two_hosts.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <sstream>
+#include <thread>
+
+#include "process.hpp"
+
+namespace stereoball::distributed {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::milliseconds;
+std::atomic<int> g_instance{0};
+
+bool alive(int pid) {
+  return ::kill(pid, 0) == 0;
+}
+
+}  // namespace
+
+std::string find_ip_program() {
+  for (const char* path : {"/usr/sbin/ip", "/sbin/ip", "/usr/bin/ip", "/bin/ip"}) {
+    if (fs::exists(path)) return path;
+  }
+  return "";
+}
+
+TwoHosts::TwoHosts() : ip_path_(find_ip_program()) {
+  // Names and addresses unique to this process and instance, so parallel runs never meet.
+  const int pid = static_cast<int>(::getpid());
+  const int n = g_instance++;
+  const std::string tag = std::to_string(pid) + "x" + std::to_string(n);
+  const int a = 100 + (pid + n) % 100;
+  const int b = (pid / 100 + n) % 250;
+  const std::string net = "10." + std::to_string(a) + "." + std::to_string(b) + ".";
+  robot_ = {"sbrobot" + tag, "vr" + tag, net + "1", net + "2"};
+  workstation_ = {"sbws" + tag, "vw" + tag, net + "2", net + "1"};
+}
+
+TwoHosts::~TwoHosts() {
+  // Processes first (so nothing keeps using the link), then the namespaces (and the veth).
+  if (robot_created_) kill_all(robot_);
+  if (workstation_created_) kill_all(workstation_);
+  if (robot_created_) ip({"netns", "delete", robot_.netns});
+  if (workstation_created_) ip({"netns", "delete", workstation_.netns});
+}
+
+std::optional<std::string> TwoHosts::ip(const std::vector<std::string>& args) const {
+  std::vector<std::string> argv{ip_path_};
+  argv.insert(argv.end(), args.begin(), args.end());
+  auto [code, output] = testing::run(argv, milliseconds(10'000));
+  if (code == 0) return std::nullopt;
+  std::string line;
+  for (const auto& a : argv) line += (line.empty() ? "" : " ") + a;
+  while (!output.empty() && output.back() == '\n') output.pop_back();
+  return "'" + line + "' failed (exit " + std::to_string(code) + "): " + output;
+}
+
+std::optional<std::string> TwoHosts::setup() {
+  if (ip_path_.empty()) return "iproute2 'ip' program not found";
+  if (::geteuid() != 0)
+    return "network namespaces need root (running as uid " + std::to_string(::geteuid()) + ")";
+  if (auto e = ip({"netns", "add", robot_.netns})) return e;
+  robot_created_ = true;
+  if (auto e = ip({"netns", "add", workstation_.netns})) return e;
+  workstation_created_ = true;
+  if (auto e = ip({"link", "add", robot_.iface, "netns", robot_.netns, "type", "veth", "peer",
+                   "name", workstation_.iface, "netns", workstation_.netns})) {
+    return e;
+  }
+  for (const Host* h : {&robot_, &workstation_}) {
+    if (auto e = ip({"-n", h->netns, "addr", "add", h->address + "/24", "dev", h->iface})) return e;
+    if (auto e = ip({"-n", h->netns, "link", "set", "lo", "up"})) return e;
+    if (auto e = ip({"-n", h->netns, "link", "set", h->iface, "up"})) return e;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> TwoHosts::command(const Host& host, const std::vector<std::string>& argv,
+                                           const std::string& cyclonedds_uri) const {
+  std::vector<std::string> out{ip_path_,
+                               "netns",
+                               "exec",
+                               host.netns,
+                               "/usr/bin/env",
+                               "-u",
+                               "CYCLONEDDS_URI",
+                               "STEREOBALL_IFACE=" + host.iface,
+                               "STEREOBALL_PEER=" + host.peer_address};
+  if (!cyclonedds_uri.empty()) out.push_back("CYCLONEDDS_URI=" + cyclonedds_uri);
+  out.insert(out.end(), argv.begin(), argv.end());
+  return out;
+}
+
+std::optional<std::string> TwoHosts::set_robot_link(bool up) const {
+  return ip({"-n", robot_.netns, "link", "set", robot_.iface, up ? "up" : "down"});
+}
+
+std::optional<std::string> TwoHosts::add_netem(int delay_ms, double loss_percent) const {
+  const std::string tc = fs::path(ip_path_).parent_path() / "tc";
+  if (!fs::exists(tc)) return "tc (iproute2) not installed";
+  std::ostringstream loss;
+  loss << loss_percent << "%";
+  for (const Host* h : {&robot_, &workstation_}) {
+    auto [code, output] = testing::run(
+        {ip_path_, "netns", "exec", h->netns, tc, "qdisc", "add", "dev", h->iface, "root", "netem",
+         "delay", std::to_string(delay_ms) + "ms", "loss", loss.str()},
+        milliseconds(10'000));
+    if (code != 0) {
+      while (!output.empty() && output.back() == '\n') output.pop_back();
+      return "tc qdisc add ... netem failed (exit " + std::to_string(code) + "): " + output;
+    }
+  }
+  return std::nullopt;
+}
+
+void TwoHosts::remove_netem() const {
+  const std::string tc = fs::path(ip_path_).parent_path() / "tc";
+  for (const Host* h : {&robot_, &workstation_}) {
+    testing::run({ip_path_, "netns", "exec", h->netns, tc, "qdisc", "del", "dev", h->iface, "root"},
+                 milliseconds(10'000));
+  }
+}
+
+std::vector<int> TwoHosts::pids(const Host& host) const {
+  auto [code, output] = testing::run({ip_path_, "netns", "pids", host.netns}, milliseconds(10'000));
+  std::vector<int> out;
+  if (code != 0) return out;
+  std::istringstream in(output);
+  for (int pid; in >> pid;) out.push_back(pid);
+  return out;
+}
+
+void TwoHosts::kill_all(const Host& host) const {
+  // Only processes inside this run's own namespace: ours by construction.
+  auto left = pids(host);
+  for (int pid : left) ::kill(pid, SIGTERM);
+  const auto deadline = std::chrono::steady_clock::now() + milliseconds(4000);
+  while (std::chrono::steady_clock::now() < deadline) {
+    bool any = false;
+    for (int pid : left) any = any || alive(pid);
+    if (!any) return;
+    std::this_thread::sleep_for(milliseconds(50));
+  }
+  for (int pid : pids(host)) ::kill(pid, SIGKILL);
+}
+
+}  // namespace stereoball::distributed
