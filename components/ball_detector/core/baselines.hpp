@@ -21,7 +21,7 @@ struct GradientVotingParams {
   double max_radius_px = 120.0;     ///< votes stop this far, pixels
   int max_circles = 5;              ///< most circles returned
   double min_separation_px = 10.0;  ///< closest two centres, pixels
-  double min_score = 0.5;           ///< score threshold, [0, 1]
+  double min_score = 0.55;          ///< score threshold, [0, 1]
   double min_relative_peak = 0.15;  ///< peaks below this fraction of the strongest are ignored
   bool refine = true;               ///< same least-squares refinement as Pixel-to-Pixel
   RefineParams refine_params;

@@ -50,7 +50,7 @@ struct DetectorOptions {
   double min_radius_px = 4.0;       ///< smallest radius searched, pixels
   double max_radius_px = 120.0;     ///< largest radius searched, pixels
   double min_separation_px = 10.0;  ///< closest two returned centres may be, pixels
-  double min_score = 0.5;           ///< candidates below this score are dropped, [0, 1]
+  double min_score = 0.55;          ///< candidates below this score are dropped, [0, 1]
   double opencv_param2 = -1.0;      ///< OpenCV param2 override (<0: method default)
 };
 

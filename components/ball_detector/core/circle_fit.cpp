@@ -140,15 +140,62 @@ double angular_coverage(const Circle& c, std::span<const cv::Point2d> points) {
   return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / sectors;
 }
 
+std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy,
+                                      double min_radius_px, double max_radius_px) {
+  const int r0 = std::max(1, static_cast<int>(std::floor(min_radius_px)));
+  const int r1 = static_cast<int>(std::ceil(max_radius_px));
+  if (r1 <= r0) return std::nullopt;
+  std::vector<int> hist(r1 + 2, 0);
+  const BitImage& bits = edges.bits;
+  const int y0 = std::max(0, static_cast<int>(cy) - r1 - 1);
+  const int y1 = std::min(bits.height() - 1, static_cast<int>(cy) + r1 + 1);
+  const int x0 = std::max(0, static_cast<int>(cx) - r1 - 1);
+  const int x1 = std::min(bits.width() - 1, static_cast<int>(cx) + r1 + 1);
+  for (int y = y0; y <= y1; ++y) {
+    const std::uint64_t* row = bits.row(y);
+    const short* gx = edges.dx.ptr<short>(y);
+    const short* gy = edges.dy.ptr<short>(y);
+    for (int w = x0 >> 6; w <= (x1 >> 6); ++w) {
+      std::uint64_t word = row[w];
+      while (word) {
+        const int x = (w << 6) + std::countr_zero(word);
+        word &= word - 1;
+        if (x < x0 || x > x1) continue;
+        const double rx = x - cx, ry = y - cy;
+        const double d = std::sqrt(rx * rx + ry * ry);
+        const int bin = static_cast<int>(std::lround(d));
+        if (bin < r0 || bin > r1) continue;
+        // Loose radial test: the centre is only known to a pixel or two here.
+        const double g_dot_r = gx[x] * rx + gy[x] * ry;
+        const double g = std::hypot(static_cast<double>(gx[x]), static_cast<double>(gy[x]));
+        if (std::abs(g_dot_r) < 0.7 * g * d) continue;
+        ++hist[bin];
+      }
+    }
+  }
+  double best = 0.0;
+  std::optional<double> best_r;
+  for (int r = r0; r <= r1; ++r) {
+    const int ring = hist[r] + (r > 0 ? hist[r - 1] : 0) + hist[r + 1];
+    if (ring < 8) continue;
+    const double support = ring / static_cast<double>(r);
+    if (support > best) {
+      best = support;
+      best_r = r;
+    }
+  }
+  return best_r;
+}
+
 std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
                                     const RefineParams& params) {
   Circle c = rough;
   std::vector<cv::Point2d> pts;
   pts.reserve(512);
   for (int it = 0; it < params.iterations; ++it) {
-    // A wider band first: the rough centre from a vote peak may be off by a pixel or two.
-    const double band =
-        it == 0 ? std::max(params.band_px, 0.1 * c.radius_px + 1.0) : params.band_px;
+    // Shrinking bands: the rough centre from a vote peak may be off by a pixel or two, and a
+    // wide band would let texture just inside the rim pull the fit.
+    const double band = std::max(params.band_px, 2.5 / (1 << it));
     gather_circle_points(edges, c, band, params.min_radial_cos, pts);
     const auto fit = fit_circle(pts);
     if (!fit) return std::nullopt;

@@ -21,7 +21,7 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points);
 struct RefineParams {
   double band_px = 0.5;          ///< edge points within this distance of the circle count, pixels
   double min_radial_cos = 0.85;  ///< min |cos| between edge gradient and the radius, [0, 1]
-  int iterations = 2;            ///< gather + fit rounds
+  int iterations = 3;            ///< gather + fit rounds
 };
 
 /// Edge points within band_px of circle c whose gradient is radial, each moved to its sub-pixel
@@ -31,6 +31,11 @@ void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
 
 /// Fraction in [0, 1] of angular sectors of circle c holding at least one of points.
 double angular_coverage(const Circle& c, std::span<const cv::Point2d> points);
+
+/// Radius around centre (cx, cy) best supported by edge points with a radial gradient: the
+/// 2-px ring holding the most points per unit of circumference; nullopt if no ring has 8 points.
+std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy,
+                                      double min_radius_px, double max_radius_px);
 
 /// Refines a rough circle by repeated gather + fit, then scores it by angular coverage;
 /// nullopt if the fit fails. The result's centre is sub-pixel.

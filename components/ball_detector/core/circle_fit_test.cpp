@@ -65,13 +65,16 @@ TEST(RefineCircle, GivenARoughSeedOnADiscThenRefinementIsSubPixelAndScoresHigh) 
   EXPECT_GT(c->score, 0.9);
 }
 
-TEST(ScoreCircle, GivenAWrongCircleThenTheScoreIsLow) {
+TEST(ScoreCircle, GivenTheRightCircleThenScoreIsHighAndForAWrongOneLow) {
   cv::Mat img(200, 200, CV_8U, cv::Scalar(60));
   cv::circle(img, {100, 100}, 40, cv::Scalar(200), cv::FILLED, cv::LINE_AA);
   EdgeMap e;
   compute_edge_map(img, EdgeParams{}, e);
-  EXPECT_GT(score_circle(e, Circle{100, 100, 40, 0}, RefineParams{}), 0.9);
+  const auto right = refine_circle(e, Circle{100, 100, 40, 0}, RefineParams{});
+  ASSERT_TRUE(right.has_value());
+  EXPECT_GT(score_circle(e, *right, RefineParams{}), 0.9);
   EXPECT_LT(score_circle(e, Circle{130, 100, 20, 0}, RefineParams{}), 0.3);
+  EXPECT_LT(score_circle(e, Circle{100, 100, 35, 0}, RefineParams{}), 0.1);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@ namespace stereoball::ball_detector {
 namespace {
 
 constexpr int kMaxK = 31;  // window rows are read as one 63-bit slice
+constexpr double kRingSeedBelowScore = 0.8;
 
 double median_of(std::vector<double>& v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -109,7 +110,7 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
       std::max<double>(params_.min_peak_votes, params_.min_relative_peak * max_v));
   if (max_v < params_.min_peak_votes || max_v <= 0.0) return {};
   const auto peaks =
-      find_peaks(smoothed, floor_v, params_.min_separation_px, 3 * params_.max_circles);
+      find_peaks(smoothed, floor_v, params_.min_separation_px, 2 * params_.max_circles + 2);
   CandidateOptions opt;
   opt.min_radius_px = params_.min_radius_px;
   opt.max_radius_px = params_.max_radius_px;
@@ -161,12 +162,23 @@ std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<V
     if (const auto fit = fit_circle(support);
         fit && std::hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)
       seed = *fit;
-    std::optional<Circle> c;
-    if (options.refine) {
-      c = refine_circle(edges, seed, options.refine_params);
-    } else {
-      c = seed;
-      c->score = score_circle(edges, seed, options.refine_params);
+    auto refine_seed = [&](const Circle& s) -> std::optional<Circle> {
+      if (options.refine) return refine_circle(edges, s, options.refine_params);
+      Circle unrefined = s;
+      unrefined.score = score_circle(edges, s, options.refine_params);
+      return unrefined;
+    };
+    std::optional<Circle> c = refine_seed(seed);
+    // Second seed only when the first is weak: the ring of edge points around the peak.
+    // Voters from texture inside a ball can drag the voters' median radius; the ring cannot.
+    if (!c || c->score < kRingSeedBelowScore) {
+      if (const auto ring_r =
+              estimate_radius(edges, peak.x, peak.y, options.min_radius_px, options.max_radius_px);
+          ring_r && std::abs(*ring_r - seed.radius_px) > 1.5) {
+        const auto alt = refine_seed(
+            Circle{static_cast<double>(peak.x), static_cast<double>(peak.y), *ring_r, 0.0});
+        if (alt && (!c || alt->score > c->score)) c = alt;
+      }
     }
     if (!c || c->score < options.min_score) continue;
     if (c->radius_px < options.min_radius_px || c->radius_px > options.max_radius_px) continue;

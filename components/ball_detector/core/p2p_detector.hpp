@@ -23,7 +23,7 @@ struct PixelToPixelParams {
   double max_radius_px = 120.0;     ///< votes stop this far along each line, pixels
   int max_circles = 5;              ///< most circles returned (addition)
   double min_separation_px = 10.0;  ///< closest two returned centres may be (addition), pixels
-  double min_score = 0.5;           ///< circles scoring below are dropped (addition), [0, 1]
+  double min_score = 0.55;          ///< circles scoring below are dropped (addition), [0, 1]
   int min_peak_votes = 12;          ///< smallest smoothed peak examined (votes in the box)
   double min_relative_peak = 0.15;  ///< peaks below this fraction of the strongest are ignored
   bool refine = true;               ///< sub-pixel least-squares refinement (addition)

@@ -2,6 +2,25 @@
 
 namespace stereoball::ball_detector {
 
+const char* to_string(DetectorInput input) {
+  switch (input) {
+    case DetectorInput::kGrey: return "grey";
+    case DetectorInput::kSaturation: return "saturation";
+    case DetectorInput::kRed: return "red";
+    case DetectorInput::kGreen: return "green";
+    case DetectorInput::kBlue: return "blue";
+  }
+  return "grey";
+}
+
+std::optional<DetectorInput> parse_detector_input(const std::string& text) {
+  for (DetectorInput i : {DetectorInput::kGrey, DetectorInput::kSaturation, DetectorInput::kRed,
+                          DetectorInput::kGreen, DetectorInput::kBlue}) {
+    if (text == to_string(i)) return i;
+  }
+  return std::nullopt;
+}
+
 std::optional<std::string> BallDetectorParams::validate() const {
   if (!(ball_diameter_m > 0.0 && ball_diameter_m <= 5.0))
     return std::string("ball_diameter_m must be in (0, 5] metres");

@@ -11,10 +11,6 @@ namespace {
 
 constexpr int kPatchHalf = kPatchSide / 2;
 
-std::string size_text(const cv::Mat& m) {
-  return std::to_string(m.cols) + "x" + std::to_string(m.rows);
-}
-
 std::optional<std::string> check_pixels(const char* eye, const cv::Mat& m) {
   if (m.empty()) return std::string(eye) + " image is empty";
   if (m.depth() != CV_8U || (m.channels() != 1 && m.channels() != 3))
@@ -46,6 +42,19 @@ void put_rgb(const cv::Mat& image, int x, int y, std::uint8_t* dst) {
 }
 
 }  // namespace
+
+void saturation(const cv::Mat& bgr, cv::Mat& out) {
+  out.create(bgr.size(), CV_8UC1);
+  for (int y = 0; y < bgr.rows; ++y) {
+    const std::uint8_t* s = bgr.ptr<std::uint8_t>(y);
+    std::uint8_t* d = out.ptr<std::uint8_t>(y);
+    for (int x = 0; x < bgr.cols; ++x, s += 3) {
+      const std::uint8_t hi = std::max(s[0], std::max(s[1], s[2]));
+      const std::uint8_t lo = std::min(s[0], std::min(s[1], s[2]));
+      d[x] = static_cast<std::uint8_t>(hi - lo);
+    }
+  }
+}
 
 const char* to_string(DetectionStatus status) {
   switch (status) {
@@ -101,10 +110,16 @@ std::optional<std::string> StereoPipeline::check_input(const cv::Mat& left,
 
 void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified,
                                  cv::Mat& grey, cv::Mat& out) {
-  // Grey first: the detector only needs grey, and remapping one channel is cheaper.
+  // One channel first: the detector needs one, and remapping one channel is cheaper.
   const cv::Mat* src = &raw;
   if (raw.channels() == 3) {
-    cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY);
+    switch (params_.input) {
+      case DetectorInput::kGrey: cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY); break;
+      case DetectorInput::kSaturation: saturation(raw, grey); break;
+      case DetectorInput::kRed: cv::extractChannel(raw, grey, 2); break;
+      case DetectorInput::kGreen: cv::extractChannel(raw, grey, 1); break;
+      case DetectorInput::kBlue: cv::extractChannel(raw, grey, 0); break;
+    }
     src = &grey;
   }
   if (rectified) {

@@ -1,0 +1,124 @@
+#include "ball_detector/node/ball_detector_node.hpp"
+
+#include <string>
+
+#include "ball_detector/node/message_conversion.hpp"
+
+namespace stereoball::ball_detector {
+namespace {
+
+const std::string kFrameTopic(topics::kStereoFrame.spec.name);
+const std::string kCalibrationTopic(topics::kStereoCalibration.spec.name);
+const std::string kDetectionTopic(topics::kBallDetection.spec.name);
+
+}  // namespace
+
+BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParams& params)
+    : runner_(runner),
+      pipeline_(params),
+      frames_(runner.participant(), topics::kStereoFrame),
+      calibration_(runner.participant(), topics::kStereoCalibration),
+      detections_(runner.participant(), topics::kBallDetection) {
+  runner_.on_data(calibration_.handle(), [this] { on_calibration(); });
+  runner_.on_data(frames_.handle(), [this] { on_frames(); });
+  runner_.health().set_state(false, "waiting for stereo/calibration");
+}
+
+void BallDetectorNode::on_calibration() {
+  auto sample = calibration_.take_latest();
+  if (!sample) return;
+  runner_.health().count(kCalibrationTopic);
+  const char* source = (*sample)->source ? (*sample)->source : "";
+  auto calib = from_message(**sample);
+  std::optional<std::string> problem;
+  if (!calib) {
+    problem = calib.error();
+  } else {
+    problem = pipeline_.set_calibration(*calib);
+  }
+  if (problem) {
+    runner_.health().error("bad_calibration", "stereo/calibration from '" + std::string(source) +
+                                                  "' rejected: " + *problem);
+    runner_.health().set_counter("bad_calibrations", ++bad_calibrations_);
+    log::warn("stereo/calibration from '", source, "' rejected: ", *problem,
+              pipeline_.has_calibration() ? " (keeping the previous one)" : "");
+    return;
+  }
+  const cv::Size s = pipeline_.image_size();
+  log::info("calibration from '", source, "': ", s.width, "x", s.height, " px, rms ",
+            (*sample)->rms_px, " px; rectification tables built");
+  runner_.health().set_state(true, "detecting");
+}
+
+void BallDetectorNode::on_frames() {
+  auto loaned = frames_.take_loaned();
+  const auto latest = loaned.latest_valid();
+  if (!latest) return;
+  std::uint64_t valid = 0;
+  for (std::size_t i = 0; i < loaned.size(); ++i) valid += loaned.valid(i) ? 1 : 0;
+  runner_.health().count(kFrameTopic, valid);
+  const stereoball_msg_StereoFrame& frame = loaned[*latest];
+  count_skipped(frame.seq, valid - 1);
+  process(frame);
+}
+
+void BallDetectorNode::count_skipped(std::uint64_t seq, std::uint64_t batch_skipped) {
+  // Keep-last-1 overwrites unread frames in the reader; the source's seq shows the gap.
+  std::uint64_t skipped = batch_skipped;
+  if (last_seq_ && seq > *last_seq_ + 1) skipped = std::max(skipped, seq - *last_seq_ - 1);
+  if (skipped > 0) runner_.health().drop(kFrameTopic, skipped);
+  last_seq_ = seq;
+}
+
+void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
+  const std::int64_t start_ns = node::monotonic_ns();
+  StereoDetection det;
+  if (!pipeline_.has_calibration()) {
+    det = pipeline_.step(cv::Mat(), cv::Mat(), false);  // kNoCalibration with its reason
+  } else {
+    cv::Mat left, right;
+    if (auto e = decoder_.decode(frame, pipeline_.image_size(), left, right)) {
+      det.status = DetectionStatus::kBadFrame;
+      det.reason = *e;
+    } else {
+      det = pipeline_.step(left, right, frame.rectified);
+    }
+  }
+  ++processed_;
+  if (det.status == DetectionStatus::kFound) ++found_;
+  report_problem(det, frame.seq, node::now_ns());
+  publish(det, frame, start_ns);
+}
+
+void BallDetectorNode::report_problem(const StereoDetection& det, std::uint64_t seq,
+                                      std::int64_t now_ns) {
+  if (det.status == DetectionStatus::kBadFrame) {
+    runner_.health().error("bad_frame", det.reason);
+    runner_.health().set_counter("bad_frames", ++bad_frames_);
+    if (bad_frame_log_.allow(now_ns)) {
+      log::warn("bad frame ", seq, ": ", det.reason, " (", bad_frames_ - bad_frames_logged_ - 1,
+                " more bad frames since the last report, ", bad_frames_, " in total)");
+      bad_frames_logged_ = bad_frames_;
+    }
+  } else if (det.status == DetectionStatus::kNoCalibration) {
+    runner_.health().set_counter("frames_without_calibration", ++uncalibrated_frames_);
+    if (uncalibrated_log_.allow(now_ns)) {
+      log::warn("frame ", seq, " dropped: no stereo/calibration yet (", uncalibrated_frames_,
+                " frames so far)");
+      uncalibrated_logged_ = uncalibrated_frames_;
+    }
+  }
+}
+
+void BallDetectorNode::publish(const StereoDetection& det, const stereoball_msg_StereoFrame& frame,
+                               std::int64_t start_mono_ns) {
+  const float processing_ms = static_cast<float>(node::monotonic_ns() - start_mono_ns) * 1e-6f;
+  stereoball_msg_BallDetection msg{};
+  to_message(det, FrameStamp{frame.seq, frame.stamp_ns}, processing_ms, node::now_ns(), msg);
+  detections_.write(msg);
+  runner_.health().count(kDetectionTopic);
+  runner_.health().set_counter("frames_processed", processed_);
+  runner_.health().set_counter("balls_found", found_);
+}
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,51 @@
+#pragma once
+// The ball_detector process: stereo/frame + stereo/calibration in, one ball/detection per
+// processed frame out. Always works on the newest frame (keep-last-1) and counts the rest.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "ball_detector/node/frame_input.hpp"
+#include "ball_detector/node/stereo_pipeline.hpp"
+#include "common/dds/reader.hpp"
+#include "common/dds/writer.hpp"
+#include "common/node/node_runner.hpp"
+#include "common/util/log.hpp"
+
+namespace stereoball::ball_detector {
+
+/// Wires the stereo pipeline to its topics on a runner.
+class BallDetectorNode {
+ public:
+  /// Creates readers/writers on runner's participant and registers callbacks.
+  BallDetectorNode(node::Runner& runner, const BallDetectorParams& params);
+
+ private:
+  void on_calibration();
+  void on_frames();
+  void process(const stereoball_msg_StereoFrame& frame);
+  void count_skipped(std::uint64_t seq, std::uint64_t batch_skipped);
+  void report_problem(const StereoDetection& det, std::uint64_t seq, std::int64_t now_ns);
+  void publish(const StereoDetection& det, const stereoball_msg_StereoFrame& frame,
+               std::int64_t start_mono_ns);
+
+  node::Runner& runner_;
+  StereoPipeline pipeline_;
+  FrameDecoder decoder_;
+  dds::DataReader<stereoball_msg_StereoFrame> frames_;
+  dds::DataReader<stereoball_msg_StereoCalibration> calibration_;
+  dds::DataWriter<stereoball_msg_BallDetection> detections_;
+  std::optional<std::uint64_t> last_seq_;
+  std::uint64_t processed_ = 0;
+  std::uint64_t found_ = 0;
+  std::uint64_t bad_frames_ = 0;
+  std::uint64_t uncalibrated_frames_ = 0;
+  std::uint64_t bad_calibrations_ = 0;
+  log::Throttle bad_frame_log_{1'000'000'000};
+  log::Throttle uncalibrated_log_{1'000'000'000};
+  std::uint64_t bad_frames_logged_ = 0;
+  std::uint64_t uncalibrated_logged_ = 0;
+};
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,93 @@
+// Loading config/ball_detector.yaml and rejecting bad files with clear messages.
+
+#include "ball_detector/node/detector_params_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace sb = stereoball;
+
+namespace {
+
+std::string shipped_config() {
+  std::ifstream in(std::string(SB_SOURCE_DIR) + "/config/ball_detector.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+sb::Result<sb::ball_detector::BallDetectorParams> parse(const std::string& text) {
+  auto file = sb::params::ParamsFile::parse(text, "test.yaml");
+  if (!file) return sb::Error{file.error()};
+  return sb::ball_detector::read_detector_params(*file);
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+}  // namespace
+
+TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
+  const auto p =
+      sb::ball_detector::load_detector_params(std::string(SB_SOURCE_DIR) + "/config/ball_detector.yaml");
+  ASSERT_TRUE(p.ok()) << p.error();
+  EXPECT_DOUBLE_EQ(p->ball_diameter_m, 0.22);  // the simulator's ball: radius 0.11 m
+  EXPECT_DOUBLE_EQ(p->epipolar_tolerance_px, 2.0);
+  EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kSaturation);
+  EXPECT_EQ(p->p2p.k_values, std::vector<int>{5});
+  EXPECT_EQ(p->detector_params().max_circles, p->max_candidates_per_eye);
+}
+
+TEST(DetectorParamsFile, GivenChangedValues_ThenTheyAreUsed) {
+  std::string text = replace(shipped_config(), "tolerance_px: 2.0", "tolerance_px: 1.5");
+  text = replace(text, "k_values: [5]", "k_values: [3, 8]");
+  text = replace(text, "input: saturation", "input: grey");
+  const auto p = parse(text);
+  ASSERT_TRUE(p.ok()) << p.error();
+  EXPECT_DOUBLE_EQ(p->epipolar_tolerance_px, 1.5);
+  EXPECT_EQ(p->p2p.k_values, (std::vector<int>{3, 8}));
+  EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kGrey);
+}
+
+TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {
+  const std::string base = shipped_config();
+  struct Case {
+    std::string from, to, key;
+  } cases[] = {
+      {"diameter_m: 0.22", "diameter_m: -1", "ball.diameter_m"},
+      {"k_values: [5]", "k_values: [2.5]", "p2p.k_values"},
+      {"input: saturation", "input: purple", "input"},
+      {"max_candidates_per_eye: 5", "max_candidates_per_eye: 0", "max_candidates_per_eye"},
+      {"min_score: 0.55", "min_score: 1.5", "p2p.min_score"},
+      {"max_candidates_per_eye: 5", "max_candidates_per_eye: 5\nunknown_key: 1", "unknown_key"},
+  };
+  for (const auto& c : cases) {
+    const auto p = parse(replace(base, c.from, c.to));
+    ASSERT_FALSE(p.ok()) << c.to;
+    EXPECT_NE(p.error().find("test.yaml"), std::string::npos) << p.error();
+    EXPECT_NE(p.error().find(c.key), std::string::npos) << p.error();
+  }
+}
+
+TEST(DetectorParams, GivenDefaults_ThenValid) {
+  EXPECT_EQ(sb::ball_detector::BallDetectorParams{}.validate(), std::nullopt);
+  sb::ball_detector::BallDetectorParams p;
+  p.p2p.k_values = {};
+  ASSERT_TRUE(p.validate().has_value());
+  EXPECT_NE(p.validate()->find("p2p.k_values"), std::string::npos);
+}
+
+TEST(DetectorInput, GivenEveryName_ThenRoundTrips) {
+  for (const char* name : {"grey", "saturation", "red", "green", "blue"}) {
+    const auto input = sb::ball_detector::parse_detector_input(name);
+    ASSERT_TRUE(input.has_value()) << name;
+    EXPECT_STREQ(to_string(*input), name);
+  }
+  EXPECT_FALSE(sb::ball_detector::parse_detector_input("gray").has_value());
+}

@@ -1,0 +1,109 @@
+// IDL <-> core conversions: calibration round trip, validation, detection message fields.
+
+#include "ball_detector/node/message_conversion.hpp"
+
+#include <gtest/gtest.h>
+
+#include "stereo/core/synthetic_rig.hpp"
+
+namespace sb = stereoball;
+using sb::ball_detector::DetectionStatus;
+
+TEST(CalibrationMessage, GivenSyntheticRig_ThenRoundTripsExactly) {
+  const auto calib = sb::stereo::default_synthetic_rig().calibration();
+  stereoball_msg_StereoCalibration msg{};
+  const std::string source = "synthetic";
+  sb::ball_detector::to_message(calib, source, 123, msg);
+  EXPECT_EQ(msg.width_px, 640u);
+  EXPECT_EQ(msg.d1._length, calib.d1.size());
+  EXPECT_STREQ(msg.source, "synthetic");
+  const auto back = sb::ball_detector::from_message(msg);
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_EQ(back->image_size, calib.image_size);
+  EXPECT_EQ(back->d1, calib.d1);
+  EXPECT_EQ(back->d2, calib.d2);
+  EXPECT_EQ(cv::norm(back->k1 - calib.k1), 0.0);
+  EXPECT_EQ(cv::norm(back->p2 - calib.p2), 0.0);
+  EXPECT_EQ(cv::norm(back->q - calib.q), 0.0);
+  EXPECT_EQ(cv::norm(back->t - calib.t), 0.0);
+}
+
+TEST(CalibrationMessage, GivenBadFields_ThenErrorNamesThem) {
+  auto calib = sb::stereo::default_synthetic_rig().calibration();
+  calib.d1 = {0.1, 0.2, 0.3};
+  stereoball_msg_StereoCalibration msg{};
+  const std::string source;
+  sb::ball_detector::to_message(calib, source, 0, msg);
+  auto r = sb::ball_detector::from_message(msg);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().find("d1"), std::string::npos) << r.error();
+
+  calib = sb::stereo::default_synthetic_rig().calibration();
+  sb::ball_detector::to_message(calib, source, 0, msg);
+  msg.width_px = 0;
+  r = sb::ball_detector::from_message(msg);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().find("image size"), std::string::npos) << r.error();
+
+  sb::ball_detector::to_message(calib, source, 0, msg);
+  msg.k2[0] = 0.0;  // zero focal length
+  r = sb::ball_detector::from_message(msg);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().find("K2"), std::string::npos) << r.error();
+}
+
+TEST(DetectionMessage, GivenFoundBall_ThenEveryFieldCopied) {
+  sb::ball_detector::StereoDetection det;
+  det.status = DetectionStatus::kFound;
+  det.reason = "pair score 0.8";
+  det.left = {100.5, 200.25, 30.0, 0.8};
+  det.right = {80.5, 200.75, 29.0, 0.7};
+  det.row_residual_px = 0.5;
+  det.position_m = {0.1, -0.2, 1.5};
+  det.depth_from_size_m = 1.45;
+  det.candidates_left = 3;
+  det.candidates_right = 2;
+  det.patch_valid = true;
+  det.patch_rgb[0] = 200;
+  det.patch_rgb[1322] = 7;
+  stereoball_msg_BallDetection msg{};
+  sb::ball_detector::to_message(det, {42, 1000}, 3.5f, 2000, msg);
+  EXPECT_EQ(msg.frame_seq, 42u);
+  EXPECT_EQ(msg.capture_stamp_ns, 1000);
+  EXPECT_EQ(msg.publish_stamp_ns, 2000);
+  EXPECT_EQ(msg.status, stereoball_msg_DETECTION_FOUND);
+  EXPECT_STREQ(msg.reason, "pair score 0.8");
+  EXPECT_FLOAT_EQ(msg.left.x_px, 100.5f);
+  EXPECT_FLOAT_EQ(msg.right.y_px, 200.75f);
+  EXPECT_FLOAT_EQ(msg.right.score, 0.7f);
+  EXPECT_FLOAT_EQ(msg.row_residual_px, 0.5f);
+  EXPECT_DOUBLE_EQ(msg.position_m[2], 1.5);
+  EXPECT_FLOAT_EQ(msg.depth_from_size_m, 1.45f);
+  EXPECT_EQ(msg.candidates_left, 3u);
+  EXPECT_EQ(msg.candidates_right, 2u);
+  EXPECT_FLOAT_EQ(msg.processing_ms, 3.5f);
+  EXPECT_TRUE(msg.patch_valid);
+  EXPECT_EQ(msg.patch_rgb[0], 200);
+  EXPECT_EQ(msg.patch_rgb[1322], 7);
+}
+
+TEST(DetectionMessage, GivenRejectedPair_ThenNoPositionPublished) {
+  sb::ball_detector::StereoDetection det;
+  det.status = DetectionStatus::kSizeInconsistent;
+  det.position_m = {0.1, 0.2, 5.0};
+  stereoball_msg_BallDetection msg{};
+  sb::ball_detector::to_message(det, {1, 1}, 1.0f, 1, msg);
+  EXPECT_EQ(msg.status, stereoball_msg_DETECTION_SIZE_INCONSISTENT);
+  EXPECT_EQ(msg.position_m[2], 0.0);
+}
+
+TEST(DetectionMessage, GivenEveryStatus_ThenDistinctIdlValues) {
+  EXPECT_EQ(sb::ball_detector::to_message(DetectionStatus::kNoCandidate),
+            stereoball_msg_DETECTION_NO_CANDIDATE);
+  EXPECT_EQ(sb::ball_detector::to_message(DetectionStatus::kEpipolarMismatch),
+            stereoball_msg_DETECTION_EPIPOLAR_MISMATCH);
+  EXPECT_EQ(sb::ball_detector::to_message(DetectionStatus::kNoCalibration),
+            stereoball_msg_DETECTION_NO_CALIBRATION);
+  EXPECT_EQ(sb::ball_detector::to_message(DetectionStatus::kBadFrame),
+            stereoball_msg_DETECTION_BAD_FRAME);
+}

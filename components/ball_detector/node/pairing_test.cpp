@@ -1,0 +1,120 @@
+// Pairing of left/right candidates: row check, triangulation, size check, best pair.
+
+#include "ball_detector/node/pairing.hpp"
+
+#include <gtest/gtest.h>
+
+#include "stereo/core/synthetic_rig.hpp"
+
+namespace sb = stereoball;
+using sb::ball_detector::Circle;
+using sb::ball_detector::PairingStatus;
+
+namespace {
+
+class Pairing : public ::testing::Test {
+ protected:
+  Pairing()
+      : calib_(sb::stereo::default_synthetic_rig().calibration()),
+        tri_(sb::stereo::Triangulator::create(calib_).value()),
+        epi_(sb::stereo::EpipolarParams{2.0}),
+        size_{0.22, 0.25},
+        ctx_{epi_, tri_, size_} {}
+
+  // Rectified circles of a ball of the configured size at (x, y, z) metres, left/right.
+  std::pair<Circle, Circle> ball_at(double x, double y, double z, double score = 0.9,
+                                    double radius_scale = 1.0) const {
+    const double f = tri_.focal_px();
+    const double cx = calib_.p1(0, 2), cy = calib_.p1(1, 2);
+    const double r = radius_scale * sb::stereo::expected_radius_px(f, 0.22, z);
+    const double xl = cx + f * x / z, yl = cy + f * y / z;
+    const double xr = xl - f * tri_.baseline_m() / z;
+    return {Circle{xl, yl, r, score}, Circle{xr, yl, r, score}};
+  }
+
+  sb::stereo::StereoCalibration calib_;
+  sb::stereo::Triangulator tri_;
+  sb::stereo::EpipolarCheck epi_;
+  sb::stereo::SizeCheckParams size_;
+  sb::ball_detector::PairingContext ctx_;
+};
+
+}  // namespace
+
+TEST_F(Pairing, GivenEmptyEye_ThenNoCandidateNamingTheEye) {
+  const auto [l, r] = ball_at(0.1, 0.0, 1.5);
+  auto res = pair_candidates(ctx_, {l}, {});
+  EXPECT_EQ(res.status, PairingStatus::kNoCandidate);
+  EXPECT_NE(res.reason.find("right"), std::string::npos);
+  res = pair_candidates(ctx_, {}, {});
+  EXPECT_EQ(res.status, PairingStatus::kNoCandidate);
+  EXPECT_NE(res.reason.find("either"), std::string::npos);
+}
+
+TEST_F(Pairing, GivenTrueBall_ThenFoundAtItsPosition) {
+  const auto [l, r] = ball_at(0.2, -0.1, 1.5);
+  const auto res = pair_candidates(ctx_, {l}, {r});
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_NEAR(res.best->position_m[0], 0.2, 1e-6);
+  EXPECT_NEAR(res.best->position_m[1], -0.1, 1e-6);
+  EXPECT_NEAR(res.best->position_m[2], 1.5, 1e-6);
+  EXPECT_NEAR(res.best->depth_from_size_m, 1.5, 1e-6);
+  EXPECT_NEAR(res.best->row_residual_px, 0.0, 1e-9);
+}
+
+// Given circles 2.5 px apart in rows (paper tolerance 2 px), then mismatch; at 1.9 px, found.
+TEST_F(Pairing, GivenRowDifferenceAroundTolerance_ThenOnlyWithinAccepted) {
+  auto [l, r] = ball_at(0.0, 0.0, 1.5);
+  r.y_px += 2.5;
+  auto res = pair_candidates(ctx_, {l}, {r});
+  EXPECT_EQ(res.status, PairingStatus::kEpipolarMismatch) << res.reason;
+  r.y_px -= 0.6;
+  res = pair_candidates(ctx_, {l}, {r});
+  EXPECT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_NEAR(res.best->row_residual_px, 1.9, 1e-9);
+}
+
+TEST_F(Pairing, GivenNegativeDisparity_ThenMismatch) {
+  auto [l, r] = ball_at(0.0, 0.0, 1.5);
+  std::swap(l.x_px, r.x_px);
+  EXPECT_EQ(pair_candidates(ctx_, {l}, {r}).status, PairingStatus::kEpipolarMismatch);
+}
+
+// Given a circle three times too small for a ball at its triangulated depth (a far-away
+// round object at the wrong disparity), then size inconsistent with the numbers in the reason.
+TEST_F(Pairing, GivenWrongSize_ThenSizeInconsistent) {
+  const auto [l, r] = ball_at(0.0, 0.0, 1.5, 0.9, 1.0 / 3.0);
+  const auto res = pair_candidates(ctx_, {l}, {r});
+  EXPECT_EQ(res.status, PairingStatus::kSizeInconsistent);
+  EXPECT_NE(res.reason.find("should be"), std::string::npos) << res.reason;
+  EXPECT_EQ(res.row_matches, 1);
+  EXPECT_EQ(res.size_matches, 0);
+}
+
+// Given a decoy on the same row with a higher score but the wrong size, and the true ball,
+// then the true ball is chosen; between two consistent pairs the higher score wins.
+TEST_F(Pairing, GivenSeveralCandidates_ThenBestConsistentPairByScore) {
+  const auto [bl, br] = ball_at(-0.3, 0.0, 1.5, 0.7);
+  const auto [dl, dr] = ball_at(0.3, 0.0, 1.5, 0.95, 0.4);
+  auto res = pair_candidates(ctx_, {dl, bl}, {dr, br});
+  ASSERT_EQ(res.status, PairingStatus::kFound);
+  EXPECT_EQ(res.best->left_index, 1u);
+  EXPECT_EQ(res.best->right_index, 1u);
+
+  const auto [gl, gr] = ball_at(0.3, 0.05, 2.0, 0.9);
+  res = pair_candidates(ctx_, {bl, gl}, {br, gr});
+  ASSERT_EQ(res.status, PairingStatus::kFound);
+  EXPECT_EQ(res.best->left_index, 1u);
+  EXPECT_NEAR(res.best->position_m[2], 2.0, 1e-6);
+}
+
+TEST(BetterPair, GivenEqualScores_ThenSmallerRowResidualWins) {
+  sb::ball_detector::StereoPair a, b;
+  a.score = b.score = 0.8;
+  a.row_residual_px = 0.3;
+  b.row_residual_px = 1.2;
+  EXPECT_TRUE(better_pair(a, b));
+  EXPECT_FALSE(better_pair(b, a));
+  b.score = 0.9;
+  EXPECT_TRUE(better_pair(b, a));
+}
