@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/dds/reader.hpp"
 #include "common/dds/serialized.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
@@ -60,13 +61,15 @@ sb::topics::QosSpec recording_qos(const sb::topics::TopicSpec& spec) {
 }
 
 void print_progress(double elapsed_s, const std::vector<std::string>& names,
-                    const std::vector<rec::TopicCounters>& c, uint64_t queued) {
+                    const std::vector<rec::TopicCounters>& c, const std::vector<uint64_t>& lost,
+                    uint64_t queued) {
   std::string line;
   char buf[160];
   for (size_t i = 0; i < names.size(); ++i) {
-    std::snprintf(buf, sizeof buf, "%s%s %llu msg %.1f MB drop %llu", i ? " | " : "",
+    std::snprintf(buf, sizeof buf, "%s%s %llu msg %.1f MB drop %llu lost %llu", i ? " | " : "",
                   names[i].c_str(), static_cast<unsigned long long>(c[i].messages),
-                  c[i].bytes / 1e6, static_cast<unsigned long long>(c[i].dropped));
+                  c[i].bytes / 1e6, static_cast<unsigned long long>(c[i].dropped),
+                  static_cast<unsigned long long>(lost[i]));
     line += buf;
   }
   std::fprintf(stderr, "[%6.1f s] %s | queue %.1f MB\n", elapsed_s, line.c_str(), queued / 1e6);
@@ -147,8 +150,8 @@ int main(int argc, char** argv) {
     }
     std::vector<std::unique_ptr<sb::dds::SerializedReader>> readers;
     std::printf("recording %zu topic(s) to %s (domain %d%s%s):\n", specs.size(),
-                params.path.c_str(), common.domain_id, common.partition.empty() ? "" : ", partition ",
-                common.partition.c_str());
+                params.path.c_str(), common.domain_id,
+                common.partition.empty() ? "" : ", partition ", common.partition.c_str());
     for (size_t i = 0; i < specs.size(); ++i) {
       readers.push_back(std::make_unique<sb::dds::SerializedReader>(runner.participant(), *specs[i],
                                                                     recording_qos(*specs[i])));
@@ -171,10 +174,19 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     const int64_t start = sb::node::monotonic_ns();
     bool failed = false;
+    // Samples DDS lost before we could take them (history overwritten, rejected): reported
+    // beside the queue drops so no loss is silent.
+    std::vector<uint64_t> lost(specs.size(), 0);
+    auto update_lost = [&] {
+      for (size_t i = 0; i < readers.size(); ++i) {
+        lost[i] += sb::dds::take_lost_count(readers[i]->handle());
+      }
+    };
     runner.every(1'000'000'000, [&](int64_t) {
+      update_lost();
       if (!o.quiet) {
         print_progress((sb::node::monotonic_ns() - start) / 1e9, *selected,
-                       (*recording)->counters(), (*recording)->queued_bytes());
+                       (*recording)->counters(), lost, (*recording)->queued_bytes());
       }
       if (auto err = (*recording)->failure()) {
         std::fprintf(stderr, "stereoball record: write failed, stopping: %s\n", err->c_str());
@@ -186,16 +198,19 @@ int main(int argc, char** argv) {
       runner.every(static_cast<int64_t>(o.duration_s * 1e9), [&](int64_t) { runner.stop(); });
     }
     runner.run();
+    update_lost();
     readers.clear();
     const auto err = (*recording)->stop();
     const auto counters = (*recording)->counters();
-    uint64_t total = 0, dropped = 0;
+    uint64_t total = 0, dropped = 0, lost_total = 0;
     for (const auto& c : counters) {
       total += c.messages;
       dropped += c.dropped;
     }
-    std::printf("stopped: %llu messages written, %llu dropped, file(s):",
-                static_cast<unsigned long long>(total), static_cast<unsigned long long>(dropped));
+    for (uint64_t l : lost) lost_total += l;
+    std::printf("stopped: %llu messages written, %llu dropped, %llu lost in DDS, file(s):",
+                static_cast<unsigned long long>(total), static_cast<unsigned long long>(dropped),
+                static_cast<unsigned long long>(lost_total));
     for (const auto& f : (*recording)->files()) std::printf(" %s", f.c_str());
     std::printf("\n");
     if (err || failed) {

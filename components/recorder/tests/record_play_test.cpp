@@ -89,7 +89,7 @@ TEST(RecordPlay, GivenPublishedCommandsWhenRecordedAndInterruptedThenTheFileHold
   std::this_thread::sleep_for(300ms);
   recorder.signal(SIGINT);
   ASSERT_EQ(recorder.wait_for_exit(10s), 0) << recorder.output();
-  EXPECT_NE(recorder.output().find("100 messages written, 0 dropped"), std::string::npos)
+  EXPECT_NE(recorder.output().find("100 messages written, 0 dropped, 0 lost"), std::string::npos)
       << recorder.output();
 
   std::vector<std::vector<uint8_t>> data;
