@@ -1,0 +1,272 @@
+// Integration test: the real ball_detector process on a private domain and partition, fed a
+// calibration and stereo frames rendered by the simulator (known ball), plus malformed frames.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ball_detector/node/message_conversion.hpp"
+#include "ball_detector/node/sim_frames.hpp"
+#include "common/dds/reader.hpp"
+#include "common/dds/writer.hpp"
+#include "process.hpp"
+
+namespace sb = stereoball;
+using namespace std::chrono_literals;
+using sb::testing::Process;
+
+namespace {
+
+constexpr int64_t kSecond = 1'000'000'000;
+
+// One rendered scene shared by every test: a one-colour ball 1.4 m ahead in a plain room.
+struct Scene {
+  sb::simulator::SimFrame frame;
+  sb::stereo::StereoCalibration calib;
+};
+
+const Scene& scene() {
+  static const Scene s = [] {
+    sb::ball_detector::SimBallSetup setup;
+    setup.ball_x_m = 1.5;
+    setup.ball_y_m = 0.0;
+    setup.clutter = false;
+    setup.plain_room = true;
+    setup.uniform_ball = true;
+    sb::simulator::Simulator sim(sb::ball_detector::default_sim_params(),
+                                 sb::ball_detector::make_sim_scenario(setup));
+    return Scene{sim.step(std::nullopt, 0), sim.calibration()};
+  }();
+  return s;
+}
+
+// A StereoFrame sample and the bytes it points at.
+struct Frame {
+  std::string encoding = "bgr8";
+  std::string source = "test";
+  std::vector<uint8_t> left, right;
+  stereoball_msg_StereoFrame msg{};
+
+  static Frame raw(const cv::Mat& l, const cv::Mat& r, const std::string& encoding = "bgr8") {
+    Frame f;
+    f.encoding = encoding;
+    f.left.assign(l.data, l.data + l.total() * l.elemSize());
+    f.right.assign(r.data, r.data + r.total() * r.elemSize());
+    set(f.msg.left, f.left, l.cols, l.rows, static_cast<uint32_t>(l.cols * l.elemSize()));
+    set(f.msg.right, f.right, r.cols, r.rows, static_cast<uint32_t>(r.cols * r.elemSize()));
+    return f;
+  }
+  static Frame png(const cv::Mat& l, const cv::Mat& r) {
+    Frame f;
+    f.encoding = "png";
+    cv::imencode(".png", l, f.left);
+    cv::imencode(".png", r, f.right);
+    set(f.msg.left, f.left, l.cols, l.rows, 0);
+    set(f.msg.right, f.right, r.cols, r.rows, 0);
+    return f;
+  }
+  static void set(stereoball_msg_EyeImage& eye, std::vector<uint8_t>& bytes, int w, int h,
+                  uint32_t step) {
+    eye.width_px = static_cast<uint32_t>(w);
+    eye.height_px = static_cast<uint32_t>(h);
+    eye.step_bytes = step;
+    eye.data._buffer = bytes.data();
+    eye.data._length = eye.data._maximum = static_cast<uint32_t>(bytes.size());
+  }
+};
+
+struct Detection {
+  stereoball_msg_BallDetection msg{};
+  std::string reason;
+};
+
+class BallDetectorNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    partition_ = sb::testing::unique_partition();
+    node_.emplace(Process::start({sb::testing::bin("ball_detector"), "--config",
+                                  sb::testing::source_path("config/ball_detector.yaml"),
+                                  "--domain", std::to_string(sb::testing::test_domain()),
+                                  "--partition", partition_}));
+    participant_.emplace(sb::dds::ParticipantOptions{sb::testing::test_domain(), partition_});
+    frames_.emplace(*participant_, sb::topics::kStereoFrame);
+    calibration_.emplace(*participant_, sb::topics::kStereoCalibration);
+    detections_.emplace(*participant_, sb::topics::kBallDetection);
+    status_.emplace(*participant_, sb::topics::kComponentStatus);
+    ASSERT_TRUE(frames_->wait_for_readers(1, 10 * kSecond)) << node_->output();
+    ASSERT_TRUE(detections_->wait_for_writers(1, 10 * kSecond)) << node_->output();
+  }
+
+  void publish_calibration() {
+    stereoball_msg_StereoCalibration msg{};
+    sb::ball_detector::to_message(scene().calib, calib_source_, 1, msg);
+    calibration_->write(msg);
+  }
+
+  // Publishes frame (re-sending while no answer: frames are best effort) and returns the
+  // detection of that frame.
+  Detection send(Frame frame) {
+    frame.msg.seq = ++seq_;
+    frame.msg.stamp_ns = stamp_ns_ += 33'333'333;
+    frame.msg.encoding = frame.encoding.data();
+    frame.msg.source = frame.source.data();
+    std::optional<Detection> got;
+    for (int attempt = 0; attempt < 5 && !got; ++attempt) {
+      frames_->write(frame.msg);
+      sb::testing::eventually(
+          [&] {
+            for (auto& s : detections_->take()) {
+              if (s->frame_seq != seq_) continue;
+              got = Detection{*s, s->reason ? s->reason : ""};
+            }
+            return got.has_value();
+          },
+          2s);
+    }
+    EXPECT_TRUE(got.has_value()) << "no ball/detection for frame " << seq_ << "\n"
+                                 << node_->output();
+    return got.value_or(Detection{});
+  }
+
+  Frame good_frame() const { return Frame::raw(scene().frame.left, scene().frame.right); }
+
+  // Checks a detection against the rendered ground truth.
+  static void expect_ball(const Detection& d) {
+    const auto& t = scene().frame.truth;
+    ASSERT_EQ(d.msg.status, stereoball_msg_DETECTION_FOUND) << d.reason;
+    EXPECT_NEAR(d.msg.left.x_px, t.ball_left_px.x, 1.0);
+    EXPECT_NEAR(d.msg.left.y_px, t.ball_left_px.y, 1.0);
+    EXPECT_NEAR(d.msg.right.x_px, t.ball_right_px.x, 2.0);
+    EXPECT_NEAR(d.msg.right.y_px, t.ball_right_px.y, 2.0);
+    const double dist = std::sqrt(t.ball_camera_m.x * t.ball_camera_m.x +
+                                  t.ball_camera_m.y * t.ball_camera_m.y +
+                                  t.ball_camera_m.z * t.ball_camera_m.z);
+    const double err = std::hypot(d.msg.position_m[0] - t.ball_camera_m.x,
+                                  d.msg.position_m[1] - t.ball_camera_m.y,
+                                  d.msg.position_m[2] - t.ball_camera_m.z);
+    EXPECT_LT(err, 0.02 * dist);
+    EXPECT_GT(d.msg.depth_from_size_m, 0.0f);
+    EXPECT_GE(d.msg.candidates_left, 1u);
+    EXPECT_GE(d.msg.candidates_right, 1u);
+    EXPECT_GT(d.msg.processing_ms, 0.0f);
+    EXPECT_TRUE(d.msg.patch_valid);
+    const int c = (10 * 21 + 10) * 3;  // the ball is orange: R > G > B at the centre
+    EXPECT_GT(d.msg.patch_rgb[c], d.msg.patch_rgb[c + 2]);
+  }
+
+  // Waits for a heartbeat of the node whose counter name has at least value.
+  bool heartbeat_counter_at_least(const std::string& name, uint64_t value) {
+    return sb::testing::eventually(
+        [&] {
+          for (auto& s : status_->take()) {
+            if (!s->component || std::string(s->component) != "ball_detector") continue;
+            for (uint32_t i = 0; i < s->counters._length; ++i) {
+              const auto& c = s->counters._buffer[i];
+              if (c.name && name == c.name && c.value >= value) return true;
+            }
+          }
+          return false;
+        },
+        5s);
+  }
+
+  std::string partition_;
+  std::string calib_source_ = "simulator (test)";
+  std::optional<Process> node_;
+  std::optional<sb::dds::DomainParticipant> participant_;
+  std::optional<sb::dds::DataWriter<stereoball_msg_StereoFrame>> frames_;
+  std::optional<sb::dds::DataWriter<stereoball_msg_StereoCalibration>> calibration_;
+  std::optional<sb::dds::DataReader<stereoball_msg_BallDetection>> detections_;
+  std::optional<sb::dds::DataReader<stereoball_msg_ComponentStatus>> status_;
+  uint64_t seq_ = 0;
+  int64_t stamp_ns_ = 1'700'000'000'000'000'000;
+};
+
+}  // namespace
+
+// Given a running node without calibration,
+// when frames arrive, then each gets a NO_CALIBRATION detection;
+// when the calibration is then published, the next frame gets the ball within 1 px of truth.
+TEST_F(BallDetectorNodeTest, GivenNoCalibration_ThenNoCalibrationUntilItArrives) {
+  for (int i = 0; i < 2; ++i) {
+    const Detection d = send(good_frame());
+    EXPECT_EQ(d.msg.status, stereoball_msg_DETECTION_NO_CALIBRATION) << d.reason;
+    EXPECT_FALSE(d.reason.empty());
+    EXPECT_FALSE(d.msg.patch_valid);
+  }
+  publish_calibration();
+  std::optional<Detection> d;
+  sb::testing::eventually(  // the calibration travels on its own topic: wait until it applies
+      [&] {
+        d = send(good_frame());
+        return d->msg.status != stereoball_msg_DETECTION_NO_CALIBRATION;
+      },
+      10s);
+  ASSERT_TRUE(d.has_value());
+  expect_ball(*d);
+  EXPECT_EQ(d->msg.frame_seq, seq_);
+  EXPECT_EQ(d->msg.capture_stamp_ns, stamp_ns_);
+}
+
+// Given a calibrated node,
+// when frames of the wrong size, an unsupported encoding and a truncated buffer arrive,
+// then each gets a BAD_FRAME detection naming the problem, the node keeps running, counts
+// them in its heartbeat, and answers the next good frame correctly.
+TEST_F(BallDetectorNodeTest, GivenMalformedFrames_ThenBadFrameAndNextGoodFrameAnswered) {
+  publish_calibration();
+  std::optional<Detection> first;
+  sb::testing::eventually(
+      [&] {
+        first = send(good_frame());
+        return first->msg.status != stereoball_msg_DETECTION_NO_CALIBRATION;
+      },
+      10s);
+  expect_ball(*first);
+
+  const cv::Mat small(240, 320, CV_8UC3, cv::Scalar::all(80));
+  Detection d = send(Frame::raw(small, small));
+  EXPECT_EQ(d.msg.status, stereoball_msg_DETECTION_BAD_FRAME);
+  EXPECT_NE(d.reason.find("320x240"), std::string::npos) << d.reason;
+
+  Frame yuyv = good_frame();
+  yuyv.encoding = "yuyv";
+  d = send(std::move(yuyv));
+  EXPECT_EQ(d.msg.status, stereoball_msg_DETECTION_BAD_FRAME);
+  EXPECT_NE(d.reason.find("yuyv"), std::string::npos) << d.reason;
+
+  Frame truncated = good_frame();
+  truncated.msg.right.data._length /= 2;
+  d = send(std::move(truncated));
+  EXPECT_EQ(d.msg.status, stereoball_msg_DETECTION_BAD_FRAME);
+  EXPECT_NE(d.reason.find("truncated"), std::string::npos) << d.reason;
+
+  EXPECT_TRUE(node_->running()) << node_->output();
+  expect_ball(send(good_frame()));
+  EXPECT_TRUE(heartbeat_counter_at_least("bad_frames", 3)) << node_->output();
+  EXPECT_TRUE(node_->wait_for_output("bad frame", 1s)) << node_->output();
+}
+
+// Given a calibrated node, when the pair arrives PNG-encoded, then the same ball is found.
+TEST_F(BallDetectorNodeTest, GivenPngFrames_ThenBallFound) {
+  publish_calibration();
+  std::optional<Detection> d;
+  sb::testing::eventually(
+      [&] {
+        d = send(Frame::png(scene().frame.left, scene().frame.right));
+        return d->msg.status != stereoball_msg_DETECTION_NO_CALIBRATION;
+      },
+      10s);
+  expect_ball(*d);
+}
+
+// Given a running node, when it receives SIGTERM, then it exits cleanly with code 0.
+TEST_F(BallDetectorNodeTest, GivenSigterm_ThenExitsZero) {
+  node_->signal(SIGTERM);
+  EXPECT_EQ(node_->wait_for_exit(10s), 0) << node_->output();
+}
