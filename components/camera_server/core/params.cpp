@@ -67,6 +67,9 @@ std::optional<std::string> CameraServerParams::validate() const {
   if (!(reopen_factor >= 1.0 && reopen_factor <= 10.0)) {
     return "reopen_factor must be in [1, 10], got " + std::to_string(reopen_factor);
   }
+  if (!(stall_timeout_s >= 0.1 && stall_timeout_s <= 600.0)) {
+    return "stall_timeout_s must be in [0.1, 600], got " + std::to_string(stall_timeout_s);
+  }
   if (!one_of(file_encoding, {"as_read", "bgr8", "mono8"})) {
     return "file_encoding must be \"as_read\", \"bgr8\" or \"mono8\", got \"" + file_encoding +
            "\"";

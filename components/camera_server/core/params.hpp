@@ -37,6 +37,7 @@ struct CameraServerParams {
   double reopen_initial_s = 0.5;  ///< first wait before reopening a lost camera, seconds
   double reopen_max_s = 8.0;      ///< longest wait between reopen attempts, seconds
   double reopen_factor = 2.0;     ///< wait multiplier after each failed attempt
+  double stall_timeout_s = 2.0;   ///< a streaming camera silent this long is reopened, s
   std::string left_glob;          ///< file source: glob of left images
   std::string right_glob;         ///< file source: glob of right images
   std::string pairs_dir;          ///< file source: folder of left*/right* pairs

@@ -47,6 +47,7 @@ DeviceStatus StereoCapture::open_eye(Eye eye) {
   if (!st.ok()) return st;
   s.health.streaming = true;
   s.health.format = opened.format;
+  s.last_frame_ns = -1;
   for (auto& w : opened.warnings) log_.push_back(std::string(eye_name(eye)) + " camera: " + w);
   return st;
 }
@@ -115,6 +116,7 @@ void StereoCapture::drain(Eye eye, int64_t now_ns, std::vector<RawStereoPair>& p
       continue;
     }
     ++s.health.frames;
+    s.last_frame_ns = now_ns;
     EyeFrame<RawImage> frame{eye, f.stamp_ns, {}};
     frame.payload.bytes.assign(f.data, f.data + f.bytes);
     frame.payload.fourcc = fmt.fourcc;
@@ -130,9 +132,28 @@ void StereoCapture::drain(Eye eye, int64_t now_ns, std::vector<RawStereoPair>& p
   }
 }
 
+// A camera can stop delivering without any error (USB bandwidth, power, firmware): after
+// stall_timeout_s of silence it is treated like an unplug and reopened.
+void StereoCapture::check_stall(Eye eye, int64_t now_ns) {
+  EyeState& s = state(eye);
+  if (!s.health.streaming) return;
+  if (s.last_frame_ns < 0) {
+    s.last_frame_ns = now_ns;
+    return;
+  }
+  const auto stall_ns = static_cast<int64_t>(params_.stall_timeout_s * 1e9);
+  if (now_ns - s.last_frame_ns > stall_ns) {
+    lose(eye,
+         {ETIMEDOUT, s.config.path + ": no frame for " + seconds_text(now_ns - s.last_frame_ns) +
+                         " (camera stalled: USB bandwidth, power or cable?)"},
+         now_ns);
+  }
+}
+
 std::vector<RawStereoPair> StereoCapture::poll_once(int timeout_ms, int64_t now_ns) {
   std::vector<RawStereoPair> pairs;
   for (Eye e : kEyes) try_reopen(e, now_ns);
+  for (Eye e : kEyes) check_stall(e, now_ns);
   std::array<pollfd, 2> fds{};
   std::array<Eye, 2> which{};
   nfds_t n = 0;

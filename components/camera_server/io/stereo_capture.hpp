@@ -62,11 +62,13 @@ class StereoCapture {
     CameraConfig config;
     EyeHealth health;
     ReopenBackoff backoff;
+    int64_t last_frame_ns = -1;  ///< -1 until the first poll after (re)opening
   };
 
   void lose(Eye eye, const DeviceStatus& status, int64_t now_ns);
   void try_reopen(Eye eye, int64_t now_ns);
   void drain(Eye eye, int64_t now_ns, std::vector<RawStereoPair>& pairs);
+  void check_stall(Eye eye, int64_t now_ns);
   DeviceStatus open_eye(Eye eye);
   EyeState& state(Eye eye) { return eyes_[static_cast<int>(eye)]; }
 

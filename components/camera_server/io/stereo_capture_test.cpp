@@ -70,6 +70,8 @@ TEST(StereoCapture, GivenRightUnpluggedMidStreamWhenPolledThenKeepsRunningAndReo
   auto l = make_camera();
   auto r = make_camera();
   r->failed_opens_after_unplug = 2;
+  CameraServerParams params = rig_params();
+  params.stall_timeout_s = 60.0;  // the left camera is silent in this script; not the point here
   for (int i = 0; i < 3; ++i) {
     l->push(yuyv_frame(i * kPeriodNs, static_cast<uint8_t>(i)));
     r->push(yuyv_frame(i * kPeriodNs, static_cast<uint8_t>(i)));
@@ -77,7 +79,7 @@ TEST(StereoCapture, GivenRightUnpluggedMidStreamWhenPolledThenKeepsRunningAndReo
   FakeFrameScript unplug;
   unplug.err = ENODEV;
   r->push(unplug);
-  StereoCapture cap(rig_params(), factory(l, r));
+  StereoCapture cap(params, factory(l, r));
   ASSERT_TRUE(cap.start().ok());
 
   // Given the first three pairs, when the right camera vanishes at t = 10 s
@@ -115,6 +117,28 @@ TEST(StereoCapture, GivenRightUnpluggedMidStreamWhenPolledThenKeepsRunningAndReo
   EXPECT_EQ(h.eyes[1].errors, 1u);
   EXPECT_EQ(h.eyes[1].reopens, 1u);
   EXPECT_EQ(h.eyes[0].errors, 0u);
+}
+
+TEST(StereoCapture, GivenCameraSilentWithoutErrorWhenStallTimeoutPassesThenLostAndReopened) {
+  auto l = make_camera();
+  auto r = make_camera();
+  StereoCapture cap(rig_params(), factory(l, r));  // stall_timeout_s = 2
+  ASSERT_TRUE(cap.start().ok());
+  l->push(yuyv_frame(0, 1));
+  run(cap, 0);
+  run(cap, 1 * kS);
+  l->push(yuyv_frame(1 * kS, 1));
+  run(cap, 1 * kS);
+  EXPECT_TRUE(cap.healthy());
+  run(cap, 2 * kS + kS / 10);  // right: 2.1 s of silence; left: 1.1 s
+  EXPECT_FALSE(cap.health().eyes[1].streaming);
+  EXPECT_TRUE(cap.health().eyes[0].streaming);
+  const auto log = cap.take_log();
+  ASSERT_FALSE(log.empty());
+  EXPECT_TRUE(any_line_has(log, "right camera lost: /fake/right: no frame for 2.1 s")) << log[0];
+  run(cap, 3 * kS);  // back-off 0.5 s elapsed: reopened
+  EXPECT_TRUE(cap.health().eyes[1].streaming);
+  EXPECT_EQ(r->opens, 2);
 }
 
 TEST(StereoCapture, GivenLeftMissingAtStartWhenStartedThenOneLineNamesEyeAndCause) {

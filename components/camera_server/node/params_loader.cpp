@@ -35,6 +35,7 @@ Result<CameraServerParams> read(params::ParamsFile& f) {
   optional(f, "reopen_initial_s", p.reopen_initial_s, 0.001, 60.0);
   optional(f, "reopen_max_s", p.reopen_max_s, 0.001, 600.0);
   optional(f, "reopen_factor", p.reopen_factor, 1.0, 10.0);
+  optional(f, "stall_timeout_s", p.stall_timeout_s, 0.1, 600.0);
   optional(f, "left_glob", p.left_glob);
   optional(f, "right_glob", p.right_glob);
   optional(f, "pairs_dir", p.pairs_dir);
