@@ -2,6 +2,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -19,6 +21,13 @@ namespace {
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// CPU time of this thread, ms: unaffected by other processes competing for the cores.
+double cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
 void report(const char* what, std::vector<double> ms) {
@@ -67,7 +76,7 @@ int main(int argc, char** argv) {
   sim::World world(*params, *scenario);
   const int64_t period = simulator.frame_period_ns();
 
-  std::vector<double> render_ms, step_ms;
+  std::vector<double> render_ms, step_ms, render_cpu_ms, step_cpu_ms;
   cv::Mat left, right;
   for (int i = 0; i < frames; ++i) {
     const int64_t t = i * period;
@@ -75,17 +84,23 @@ int main(int argc, char** argv) {
     world.advance_to(t);
     const sim::LightKey light = sim::lighting_at(*scenario, t * 1e-9);
     const auto t0 = Clock::now();
+    const double c0 = cpu_ms();
     renderer.render(sim::Eye::kLeft, world.robot(), world.ball(), light, left);
     renderer.render(sim::Eye::kRight, world.robot(), world.ball(), light, right);
+    render_cpu_ms.push_back(cpu_ms() - c0);
     render_ms.push_back(ms_since(t0));
     const auto t1 = Clock::now();
+    const double c1 = cpu_ms();
     const sim::SimFrame f = simulator.step(sim::VelocityCommand{0.2, 0.3, t}, t);
+    step_cpu_ms.push_back(cpu_ms() - c1);
     step_ms.push_back(ms_since(t1));
   }
   std::printf("stereoball-sim-bench: scenario %s, %dx%d, blur %d, setup (ray tables) %.1f ms\n",
               scenario->name.c_str(), params->width_px, params->height_px,
               params->sensor.motion_blur_subframes, build_ms);
-  report("render both eyes", render_ms);
-  report("full step (render+noise+truth)", step_ms);
+  report("render both eyes, wall", render_ms);
+  report("render both eyes, thread CPU", render_cpu_ms);
+  report("full step (+noise+truth), wall", step_ms);
+  report("full step (+noise+truth), CPU", step_cpu_ms);
   return 0;
 }
