@@ -1,5 +1,8 @@
 #include "simulator/core/ground_truth.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace stereoball::simulator {
 namespace {
 
@@ -18,7 +21,35 @@ bool visible(const StereoRig& rig, Eye eye, const Vec3d& cam, const Point2& rect
   return inside(project_raw(rig.intrinsics(eye), cam), w, h) && inside(rect_px, w, h);
 }
 
+Vec3d camera_centre_world(const StereoRig& rig, Eye eye, const RobotState& robot) {
+  return Vec3d{robot.x_m, robot.y_m, 0.0} + Mat3::rot_z(robot.yaw_rad) * rig.pose(eye).position_m;
+}
+
 }  // namespace
+
+bool segment_blocked(const std::vector<SolidBox>& boxes, const Vec3d& a, const Vec3d& b) {
+  const Vec3d d = b - a;
+  for (const SolidBox& box : boxes) {
+    // Slab test restricted to the segment's parameter range (0, 1).
+    double t0 = 0.0, t1 = 1.0;
+    const double o[3] = {a.x, a.y, a.z}, dv[3] = {d.x, d.y, d.z};
+    const double lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
+    bool hit = true;
+    for (int i = 0; i < 3 && hit; ++i) {
+      if (std::abs(dv[i]) < 1e-12) {
+        hit = o[i] > lo[i] && o[i] < hi[i];
+        continue;
+      }
+      double ta = (lo[i] - o[i]) / dv[i], tb = (hi[i] - o[i]) / dv[i];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      hit = t0 < t1;
+    }
+    if (hit) return true;
+  }
+  return false;
+}
 
 Vec3d world_to_camera(const StereoRig& rig, Eye eye, const RobotState& robot,
                       const Vec3d& p_world) {
@@ -29,7 +60,8 @@ Vec3d world_to_camera(const StereoRig& rig, Eye eye, const RobotState& robot,
 }
 
 GroundTruth make_ground_truth(const StereoRig& rig, const RobotState& robot, const BallState& ball,
-                              uint64_t frame_seq, int64_t sim_time_ns) {
+                              uint64_t frame_seq, int64_t sim_time_ns,
+                              const std::vector<SolidBox>& occluders) {
   GroundTruth g;
   g.frame_seq = frame_seq;
   g.sim_time_s = sim_time_ns * 1e-9;
@@ -46,8 +78,12 @@ GroundTruth make_ground_truth(const StereoRig& rig, const RobotState& robot, con
   g.ball_left_px = project_rectified(c.p1, g.ball_camera_m);
   // P2 maps points given in the rectified LEFT frame into the rectified right image.
   g.ball_right_px = project_rectified(c.p2, g.ball_camera_m);
-  g.ball_visible_left = rect[2] > 1e-3 && visible(rig, Eye::kLeft, left, g.ball_left_px);
-  g.ball_visible_right = rect[2] > 1e-3 && visible(rig, Eye::kRight, right, g.ball_right_px);
+  g.ball_visible_left =
+      rect[2] > 1e-3 && visible(rig, Eye::kLeft, left, g.ball_left_px) &&
+      !segment_blocked(occluders, camera_centre_world(rig, Eye::kLeft, robot), ball.position_m);
+  g.ball_visible_right =
+      rect[2] > 1e-3 && visible(rig, Eye::kRight, right, g.ball_right_px) &&
+      !segment_blocked(occluders, camera_centre_world(rig, Eye::kRight, robot), ball.position_m);
   return g;
 }
 

@@ -3,8 +3,10 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "simulator/core/rig.hpp"
+#include "simulator/core/scenario.hpp"
 #include "simulator/core/world.hpp"
 
 namespace stereoball::simulator {
@@ -27,9 +29,13 @@ struct GroundTruth {
 /// Ball centre in a camera's own (unrectified) frame, metres.
 Vec3d world_to_camera(const StereoRig& rig, Eye eye, const RobotState& robot, const Vec3d& p_world);
 
-/// Ground truth for the given state; visibility requires the centre inside both the raw and
-/// rectified image of the eye and in front of it.
+/// Ground truth for the given state; visibility requires the centre in front of the eye,
+/// inside both its raw and rectified image, and not hidden behind any of occluders.
 GroundTruth make_ground_truth(const StereoRig& rig, const RobotState& robot, const BallState& ball,
-                              uint64_t frame_seq, int64_t sim_time_ns);
+                              uint64_t frame_seq, int64_t sim_time_ns,
+                              const std::vector<SolidBox>& occluders = {});
+
+/// True if the segment from a to b (world, metres) passes through any of the boxes.
+bool segment_blocked(const std::vector<SolidBox>& boxes, const Vec3d& a, const Vec3d& b);
 
 }  // namespace stereoball::simulator

@@ -104,28 +104,9 @@ void Renderer::build_eye(Eye eye, const StereoRig& rig, double gain) {
 }
 
 void Renderer::build_scene(const Scenario& s) {
-  auto add_box = [this](Vec3d lo, Vec3d hi, const Rgb& c) {
-    boxes_.push_back({lo.cast<float>(), hi.cast<float>(), rgb_to_vec(c)});
-    bounds_.push_back({(lo + hi) * 0.5, (hi - lo).norm() * 0.5});
-  };
-  for (const BoxSpec& b : s.boxes) {
-    add_box({b.x_m - 0.5 * b.size_x_m, b.y_m - 0.5 * b.size_y_m, b.z_m},
-            {b.x_m + 0.5 * b.size_x_m, b.y_m + 0.5 * b.size_y_m, b.z_m + b.size_z_m}, b.color);
-  }
-  for (const DoorFrameSpec& d : s.door_frames) {
-    // Local frame: a = along the opening, b = across (depth); mapped to x/y below.
-    auto box = [&](double a0, double a1, double b0, double b1, double z0, double z1, const Rgb& c) {
-      if (d.along_x) {
-        add_box({d.x_m + a0, d.y_m + b0, z0}, {d.x_m + a1, d.y_m + b1, z1}, c);
-      } else {
-        add_box({d.x_m + b0, d.y_m + a0, z0}, {d.x_m + b1, d.y_m + a1, z1}, c);
-      }
-    };
-    const double w = 0.5 * d.width_m, j = d.jamb_m, dp = 0.5 * d.depth_m;
-    box(-w - j, -w, -dp, dp, 0.0, d.height_m + j, d.color);
-    box(w, w + j, -dp, dp, 0.0, d.height_m + j, d.color);
-    box(-w, w, -dp, dp, d.height_m, d.height_m + j, d.color);
-    box(-w, w, -0.3 * dp, 0.3 * dp, 0.0, d.height_m, d.door_color);
+  for (const SolidBox& b : solid_boxes(s)) {
+    boxes_.push_back({b.lo.cast<float>(), b.hi.cast<float>(), rgb_to_vec(b.color)});
+    bounds_.push_back({(b.lo + b.hi) * 0.5, (b.hi - b.lo).norm() * 0.5});
   }
   for (const PlateSpec& p : s.plates) {
     const double inner = p.radius_m - p.rim_m;

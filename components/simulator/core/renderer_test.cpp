@@ -181,8 +181,13 @@ TEST(Renderer, BoxHidesTheBallBehindIt) {
   Renderer r(rig, s, 1.0, 1.0);
   cv::Mat img;
   r.render(Eye::kLeft, RobotState{}, ball_at(s), s.lighting[0], img);
-  // Then no red ball pixels are visible
+  // Then no red ball pixels are visible, and the ground truth says the ball is hidden
   EXPECT_FALSE(red_centroid(img).has_value());
+  const GroundTruth g = make_ground_truth(rig, RobotState{}, ball_at(s), 0, 0, solid_boxes(s));
+  EXPECT_FALSE(g.ball_visible_left);
+  EXPECT_FALSE(g.ball_visible_right);
+  // While without the occluders it would project inside both images
+  EXPECT_TRUE(make_ground_truth(rig, RobotState{}, ball_at(s), 0, 0).ball_visible_left);
 }
 
 }  // namespace

@@ -151,6 +151,31 @@ std::optional<std::string> Scenario::validate() const {
   return check_events(*this);
 }
 
+std::vector<SolidBox> solid_boxes(const Scenario& s) {
+  std::vector<SolidBox> out;
+  for (const BoxSpec& b : s.boxes) {
+    out.push_back({{b.x_m - 0.5 * b.size_x_m, b.y_m - 0.5 * b.size_y_m, b.z_m},
+                   {b.x_m + 0.5 * b.size_x_m, b.y_m + 0.5 * b.size_y_m, b.z_m + b.size_z_m},
+                   b.color});
+  }
+  for (const DoorFrameSpec& d : s.door_frames) {
+    // Local frame: a = along the opening, b = across (depth); mapped to x/y here.
+    auto box = [&](double a0, double a1, double b0, double b1, double z0, double z1, const Rgb& c) {
+      if (d.along_x) {
+        out.push_back({{d.x_m + a0, d.y_m + b0, z0}, {d.x_m + a1, d.y_m + b1, z1}, c});
+      } else {
+        out.push_back({{d.x_m + b0, d.y_m + a0, z0}, {d.x_m + b1, d.y_m + a1, z1}, c});
+      }
+    };
+    const double w = 0.5 * d.width_m, j = d.jamb_m, dp = 0.5 * d.depth_m;
+    box(-w - j, -w, -dp, dp, 0.0, d.height_m + j, d.color);
+    box(w, w + j, -dp, dp, 0.0, d.height_m + j, d.color);
+    box(-w, w, -dp, dp, d.height_m, d.height_m + j, d.color);
+    box(-w, w, -0.3 * dp, 0.3 * dp, 0.0, d.height_m, d.door_color);
+  }
+  return out;
+}
+
 LightKey lighting_at(const Scenario& s, double t_s) {
   if (s.lighting.empty()) return LightKey{};
   if (t_s <= s.lighting.front().t_s) return s.lighting.front();

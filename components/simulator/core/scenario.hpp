@@ -110,6 +110,15 @@ struct Scenario {
   std::optional<std::string> validate() const;
 };
 
+/// An axis-aligned solid box in the world (boxes and door-frame parts), metres.
+struct SolidBox {
+  Vec3d lo, hi;
+  Rgb color;
+};
+
+/// Every solid box of the scenario: its boxes, then 4 per door frame (jambs, lintel, leaf).
+std::vector<SolidBox> solid_boxes(const Scenario& s);
+
 /// Lighting at time t_s (interpolated keyframes).
 LightKey lighting_at(const Scenario& s, double t_s);
 

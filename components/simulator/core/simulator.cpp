@@ -10,7 +10,8 @@ Simulator::Simulator(const SimParams& params, const Scenario& scenario)
       rig_(params),
       world_(params, scenario_),
       renderer_(rig_, scenario_, params.left.gain, params.right.gain),
-      sensor_(params.sensor.noise_sigma_dn, scenario.seed) {}
+      sensor_(params.sensor.noise_sigma_dn, scenario.seed),
+      occluders_(solid_boxes(scenario)) {}
 
 std::optional<std::string> Simulator::check(const SimParams& params, const Scenario& scenario) {
   if (auto e = params.validate()) return "simulator params: " + *e;
@@ -37,7 +38,8 @@ SimFrame Simulator::step(const std::optional<VelocityCommand>& command, int64_t 
   world_.advance_to(f.sim_time_ns);
   sensor_.apply(f.left);
   sensor_.apply(f.right);
-  f.truth = make_ground_truth(rig_, world_.robot(), world_.ball(), f.seq, f.sim_time_ns);
+  f.truth =
+      make_ground_truth(rig_, world_.robot(), world_.ball(), f.seq, f.sim_time_ns, occluders_);
   return f;
 }
 

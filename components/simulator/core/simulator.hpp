@@ -62,6 +62,7 @@ class Simulator {
   World world_;
   Renderer renderer_;
   Sensor sensor_;
+  std::vector<SolidBox> occluders_;
   uint64_t seq_ = 0;
   cv::Mat sub_, acc_;
 };
