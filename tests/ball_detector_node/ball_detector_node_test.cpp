@@ -90,10 +90,10 @@ class BallDetectorNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
     partition_ = sb::testing::unique_partition();
-    node_.emplace(Process::start({sb::testing::bin("ball_detector"), "--config",
-                                  sb::testing::source_path("config/ball_detector.yaml"),
-                                  "--domain", std::to_string(sb::testing::test_domain()),
-                                  "--partition", partition_}));
+    node_.emplace(
+        Process::start({sb::testing::bin("ball_detector"), "--config",
+                        sb::testing::source_path("config/ball_detector.yaml"), "--domain",
+                        std::to_string(sb::testing::test_domain()), "--partition", partition_}));
     participant_.emplace(sb::dds::ParticipantOptions{sb::testing::test_domain(), partition_});
     frames_.emplace(*participant_, sb::topics::kStereoFrame);
     calibration_.emplace(*participant_, sb::topics::kStereoCalibration);
@@ -144,12 +144,12 @@ class BallDetectorNodeTest : public ::testing::Test {
     EXPECT_NEAR(d.msg.left.y_px, t.ball_left_px.y, 1.0);
     EXPECT_NEAR(d.msg.right.x_px, t.ball_right_px.x, 2.0);
     EXPECT_NEAR(d.msg.right.y_px, t.ball_right_px.y, 2.0);
-    const double dist = std::sqrt(t.ball_camera_m.x * t.ball_camera_m.x +
-                                  t.ball_camera_m.y * t.ball_camera_m.y +
-                                  t.ball_camera_m.z * t.ball_camera_m.z);
-    const double err = std::hypot(d.msg.position_m[0] - t.ball_camera_m.x,
-                                  d.msg.position_m[1] - t.ball_camera_m.y,
-                                  d.msg.position_m[2] - t.ball_camera_m.z);
+    const double dist =
+        std::sqrt(t.ball_camera_m.x * t.ball_camera_m.x + t.ball_camera_m.y * t.ball_camera_m.y +
+                  t.ball_camera_m.z * t.ball_camera_m.z);
+    const double err =
+        std::hypot(d.msg.position_m[0] - t.ball_camera_m.x, d.msg.position_m[1] - t.ball_camera_m.y,
+                   d.msg.position_m[2] - t.ball_camera_m.z);
     EXPECT_LT(err, 0.02 * dist);
     EXPECT_GT(d.msg.depth_from_size_m, 0.0f);
     EXPECT_GE(d.msg.candidates_left, 1u);

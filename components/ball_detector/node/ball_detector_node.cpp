@@ -10,6 +10,8 @@ namespace {
 const std::string kFrameTopic(topics::kStereoFrame.spec.name);
 const std::string kCalibrationTopic(topics::kStereoCalibration.spec.name);
 const std::string kDetectionTopic(topics::kBallDetection.spec.name);
+// No frame for this long makes the node report itself unhealthy.
+constexpr std::int64_t kInputTimeoutNs = 2'000'000'000;
 
 }  // namespace
 
@@ -21,6 +23,7 @@ BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParam
       detections_(runner.participant(), topics::kBallDetection) {
   runner_.on_data(calibration_.handle(), [this] { on_calibration(); });
   runner_.on_data(frames_.handle(), [this] { on_frames(); });
+  runner_.every(1'000'000'000, [this](std::int64_t now_ns) { check_input(now_ns); });
   runner_.health().set_state(false, "waiting for stereo/calibration");
 }
 
@@ -50,6 +53,16 @@ void BallDetectorNode::on_calibration() {
   runner_.health().set_state(true, "detecting");
 }
 
+void BallDetectorNode::check_input(std::int64_t now_ns) {
+  if (!pipeline_.has_calibration()) {
+    runner_.health().set_state(false, "waiting for stereo/calibration");
+  } else if (now_ns - last_frame_ns_ > kInputTimeoutNs) {
+    runner_.health().set_state(false, "no stereo/frame for 2 s");
+  } else {
+    runner_.health().set_state(true, "detecting");
+  }
+}
+
 void BallDetectorNode::on_frames() {
   auto loaned = frames_.take_loaned();
   const auto latest = loaned.latest_valid();
@@ -57,6 +70,7 @@ void BallDetectorNode::on_frames() {
   std::uint64_t valid = 0;
   for (std::size_t i = 0; i < loaned.size(); ++i) valid += loaned.valid(i) ? 1 : 0;
   runner_.health().count(kFrameTopic, valid);
+  last_frame_ns_ = node::now_ns();
   const stereoball_msg_StereoFrame& frame = loaned[*latest];
   count_skipped(frame.seq, valid - 1);
   process(frame);
@@ -103,9 +117,8 @@ void BallDetectorNode::report_problem(const StereoDetection& det, std::uint64_t 
   } else if (det.status == DetectionStatus::kNoCalibration) {
     runner_.health().set_counter("frames_without_calibration", ++uncalibrated_frames_);
     if (uncalibrated_log_.allow(now_ns)) {
-      log::warn("frame ", seq, " dropped: no stereo/calibration yet (", uncalibrated_frames_,
+      log::warn("frame ", seq, " not processed: no stereo/calibration yet (", uncalibrated_frames_,
                 " frames so far)");
-      uncalibrated_logged_ = uncalibrated_frames_;
     }
   }
 }

@@ -23,6 +23,7 @@ class BallDetectorNode {
 
  private:
   void on_calibration();
+  void check_input(std::int64_t now_ns);
   void on_frames();
   void process(const stereoball_msg_StereoFrame& frame);
   void count_skipped(std::uint64_t seq, std::uint64_t batch_skipped);
@@ -37,6 +38,7 @@ class BallDetectorNode {
   dds::DataReader<stereoball_msg_StereoCalibration> calibration_;
   dds::DataWriter<stereoball_msg_BallDetection> detections_;
   std::optional<std::uint64_t> last_seq_;
+  std::int64_t last_frame_ns_ = 0;  // wall clock of the last frame, ns since epoch
   std::uint64_t processed_ = 0;
   std::uint64_t found_ = 0;
   std::uint64_t bad_frames_ = 0;
@@ -45,7 +47,6 @@ class BallDetectorNode {
   log::Throttle bad_frame_log_{1'000'000'000};
   log::Throttle uncalibrated_log_{1'000'000'000};
   std::uint64_t bad_frames_logged_ = 0;
-  std::uint64_t uncalibrated_logged_ = 0;
 };
 
 }  // namespace stereoball::ball_detector

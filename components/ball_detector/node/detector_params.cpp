@@ -4,11 +4,16 @@ namespace stereoball::ball_detector {
 
 const char* to_string(DetectorInput input) {
   switch (input) {
-    case DetectorInput::kGrey: return "grey";
-    case DetectorInput::kSaturation: return "saturation";
-    case DetectorInput::kRed: return "red";
-    case DetectorInput::kGreen: return "green";
-    case DetectorInput::kBlue: return "blue";
+    case DetectorInput::kGrey:
+      return "grey";
+    case DetectorInput::kSaturation:
+      return "saturation";
+    case DetectorInput::kRed:
+      return "red";
+    case DetectorInput::kGreen:
+      return "green";
+    case DetectorInput::kBlue:
+      return "blue";
   }
   return "grey";
 }

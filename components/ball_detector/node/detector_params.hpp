@@ -11,7 +11,7 @@ namespace stereoball::ball_detector {
 
 /// Which single-channel image the detector sees.
 enum class DetectorInput {
-  kGrey,        ///< luminance (BGR -> grey); a coloured ball can vanish on a floor of equal brightness
+  kGrey,  ///< luminance (BGR -> grey); a coloured ball can vanish on a floor of equal brightness
   kSaturation,  ///< max(B,G,R) - min(B,G,R): coloured ball against grey/brown surroundings
   kRed,         ///< red channel: an orange/red ball with white patches looks uniform
   kGreen,       ///< green channel
@@ -27,7 +27,7 @@ std::optional<DetectorInput> parse_detector_input(const std::string& text);
 /// Everything the stereo pipeline needs besides the calibration.
 struct BallDetectorParams {
   DetectorInput input = DetectorInput::kSaturation;  ///< image the detector runs on (mono8: grey)
-  double ball_diameter_m = 0.22;          ///< true ball diameter, metres, (0, 5]
+  double ball_diameter_m = 0.22;                     ///< true ball diameter, metres, (0, 5]
   double epipolar_tolerance_px = 2.0;     ///< largest |y_left - y_right| of a pair, px, [0, 100]
   double size_max_relative_error = 0.25;  ///< accepted |r - r_expected| / r_expected, (0, 10]
   int max_candidates_per_eye = 5;         ///< circles kept per eye (P2P max_circles), [1, 50]

@@ -34,8 +34,8 @@ std::string replace(std::string text, const std::string& from, const std::string
 }  // namespace
 
 TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
-  const auto p =
-      sb::ball_detector::load_detector_params(std::string(SB_SOURCE_DIR) + "/config/ball_detector.yaml");
+  const auto p = sb::ball_detector::load_detector_params(std::string(SB_SOURCE_DIR) +
+                                                         "/config/ball_detector.yaml");
   ASSERT_TRUE(p.ok()) << p.error();
   EXPECT_DOUBLE_EQ(p->ball_diameter_m, 0.22);  // the simulator's ball: radius 0.11 m
   EXPECT_DOUBLE_EQ(p->epipolar_tolerance_px, 2.0);

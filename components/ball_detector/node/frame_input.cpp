@@ -48,8 +48,7 @@ std::optional<std::string> check_raw_eye(const char* eye, const stereoball_msg_E
 }
 
 std::optional<std::string> FrameDecoder::decode(const stereoball_msg_StereoFrame& msg,
-                                                cv::Size expected, cv::Mat& left,
-                                                cv::Mat& right) {
+                                                cv::Size expected, cv::Mat& left, cv::Mat& right) {
   const auto encoding = parse_encoding(msg.encoding);
   if (!encoding)
     return "encoding '" + std::string(msg.encoding ? msg.encoding : "") +

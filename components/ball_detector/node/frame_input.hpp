@@ -32,8 +32,8 @@ class FrameDecoder {
 
  private:
   std::optional<std::string> decode_eye(const char* eye, const stereoball_msg_EyeImage& image,
-                                        FrameEncoding encoding, cv::Size expected,
-                                        cv::Mat& buffer, cv::Mat& out);
+                                        FrameEncoding encoding, cv::Size expected, cv::Mat& buffer,
+                                        cv::Mat& out);
 
   cv::Mat decoded_left_, decoded_right_;
 };

@@ -83,12 +83,18 @@ void to_message(const stereo::StereoCalibration& calib, const std::string& sourc
 
 stereoball_msg_DetectionStatus to_message(DetectionStatus status) {
   switch (status) {
-    case DetectionStatus::kFound: return stereoball_msg_DETECTION_FOUND;
-    case DetectionStatus::kNoCandidate: return stereoball_msg_DETECTION_NO_CANDIDATE;
-    case DetectionStatus::kEpipolarMismatch: return stereoball_msg_DETECTION_EPIPOLAR_MISMATCH;
-    case DetectionStatus::kSizeInconsistent: return stereoball_msg_DETECTION_SIZE_INCONSISTENT;
-    case DetectionStatus::kNoCalibration: return stereoball_msg_DETECTION_NO_CALIBRATION;
-    case DetectionStatus::kBadFrame: return stereoball_msg_DETECTION_BAD_FRAME;
+    case DetectionStatus::kFound:
+      return stereoball_msg_DETECTION_FOUND;
+    case DetectionStatus::kNoCandidate:
+      return stereoball_msg_DETECTION_NO_CANDIDATE;
+    case DetectionStatus::kEpipolarMismatch:
+      return stereoball_msg_DETECTION_EPIPOLAR_MISMATCH;
+    case DetectionStatus::kSizeInconsistent:
+      return stereoball_msg_DETECTION_SIZE_INCONSISTENT;
+    case DetectionStatus::kNoCalibration:
+      return stereoball_msg_DETECTION_NO_CALIBRATION;
+    case DetectionStatus::kBadFrame:
+      return stereoball_msg_DETECTION_BAD_FRAME;
   }
   return stereoball_msg_DETECTION_BAD_FRAME;
 }

@@ -23,8 +23,8 @@ void to_message(const stereo::StereoCalibration& calib, const std::string& sourc
 
 /// Frame identity a detection refers to.
 struct FrameStamp {
-  std::uint64_t seq = 0;       ///< StereoFrame.seq
-  std::int64_t stamp_ns = 0;   ///< StereoFrame.stamp_ns, ns since epoch
+  std::uint64_t seq = 0;      ///< StereoFrame.seq
+  std::int64_t stamp_ns = 0;  ///< StereoFrame.stamp_ns, ns since epoch
 };
 
 /// Fills msg from a pipeline result; msg.reason points into det.reason (det must outlive msg).

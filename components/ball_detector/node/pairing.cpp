@@ -103,8 +103,9 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
     return out;
   }
   out.status = PairingStatus::kEpipolarMismatch;
-  out.reason = format("no pair in front of the rig within %.1f px rows (closest rows differ by %.1f px)",
-                      ctx.epipolar.params().max_row_diff_px, closest_rows_px(left, right));
+  out.reason =
+      format("no pair in front of the rig within %.1f px rows (closest rows differ by %.1f px)",
+             ctx.epipolar.params().max_row_diff_px, closest_rows_px(left, right));
   return out;
 }
 

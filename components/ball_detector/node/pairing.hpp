@@ -20,13 +20,14 @@ enum class PairingStatus { kFound, kNoCandidate, kEpipolarMismatch, kSizeInconsi
 
 /// One left/right candidate pair that passed the row check and triangulated.
 struct StereoPair {
-  std::size_t left_index = 0;       ///< index into the left candidates
-  std::size_t right_index = 0;      ///< index into the right candidates
-  Circle left;                      ///< left circle, rectified pixels
-  Circle right;                     ///< right circle, rectified pixels
-  double row_residual_px = 0.0;     ///< |y_left - y_right|, rectified pixels
-  cv::Vec3d position_m;             ///< centre in the left rectified camera frame, metres
-  double depth_from_size_m = 0.0;   ///< depth implied by the radii and diameter, metres (0 = unknown)
+  std::size_t left_index = 0;    ///< index into the left candidates
+  std::size_t right_index = 0;   ///< index into the right candidates
+  Circle left;                   ///< left circle, rectified pixels
+  Circle right;                  ///< right circle, rectified pixels
+  double row_residual_px = 0.0;  ///< |y_left - y_right|, rectified pixels
+  cv::Vec3d position_m;          ///< centre in the left rectified camera frame, metres
+  double depth_from_size_m =
+      0.0;  ///< depth implied by the radii and diameter, metres (0 = unknown)
   double expected_radius_px = 0.0;  ///< radius the ball should have at position_m's depth, pixels
   double size_error = 0.0;          ///< (mean radius - expected) / expected
   bool size_consistent = false;     ///< |size_error| within tolerance
@@ -36,10 +37,10 @@ struct StereoPair {
 /// Result of pairing one frame's candidates.
 struct PairingResult {
   PairingStatus status = PairingStatus::kNoCandidate;
-  std::string reason;               ///< human-readable detail of status
-  std::optional<StereoPair> best;   ///< the chosen pair (kFound), or the closest rejected one
-  int row_matches = 0;              ///< pairs that passed the row check and triangulated
-  int size_matches = 0;             ///< of those, pairs whose size fits the ball
+  std::string reason;              ///< human-readable detail of status
+  std::optional<StereoPair> best;  ///< the chosen pair (kFound), or the closest rejected one
+  int row_matches = 0;             ///< pairs that passed the row check and triangulated
+  int size_matches = 0;            ///< of those, pairs whose size fits the ball
 };
 
 /// The geometry pairing needs; all references must outlive the call.

@@ -31,6 +31,8 @@ simulator::Scenario make_sim_scenario(const SimBallSetup& setup) {
   return s;
 }
 
-simulator::SimParams default_sim_params() { return simulator::SimParams{}; }
+simulator::SimParams default_sim_params() {
+  return simulator::SimParams{};
+}
 
 }  // namespace stereoball::ball_detector

@@ -21,10 +21,14 @@ std::optional<std::string> check_pixels(const char* eye, const cv::Mat& m) {
 
 DetectionStatus from_pairing(PairingStatus s) {
   switch (s) {
-    case PairingStatus::kFound: return DetectionStatus::kFound;
-    case PairingStatus::kNoCandidate: return DetectionStatus::kNoCandidate;
-    case PairingStatus::kEpipolarMismatch: return DetectionStatus::kEpipolarMismatch;
-    case PairingStatus::kSizeInconsistent: return DetectionStatus::kSizeInconsistent;
+    case PairingStatus::kFound:
+      return DetectionStatus::kFound;
+    case PairingStatus::kNoCandidate:
+      return DetectionStatus::kNoCandidate;
+    case PairingStatus::kEpipolarMismatch:
+      return DetectionStatus::kEpipolarMismatch;
+    case PairingStatus::kSizeInconsistent:
+      return DetectionStatus::kSizeInconsistent;
   }
   return DetectionStatus::kNoCandidate;
 }
@@ -58,12 +62,18 @@ void saturation(const cv::Mat& bgr, cv::Mat& out) {
 
 const char* to_string(DetectionStatus status) {
   switch (status) {
-    case DetectionStatus::kFound: return "found";
-    case DetectionStatus::kNoCandidate: return "no_candidate";
-    case DetectionStatus::kEpipolarMismatch: return "epipolar_mismatch";
-    case DetectionStatus::kSizeInconsistent: return "size_inconsistent";
-    case DetectionStatus::kNoCalibration: return "no_calibration";
-    case DetectionStatus::kBadFrame: return "bad_frame";
+    case DetectionStatus::kFound:
+      return "found";
+    case DetectionStatus::kNoCandidate:
+      return "no_candidate";
+    case DetectionStatus::kEpipolarMismatch:
+      return "epipolar_mismatch";
+    case DetectionStatus::kSizeInconsistent:
+      return "size_inconsistent";
+    case DetectionStatus::kNoCalibration:
+      return "no_calibration";
+    case DetectionStatus::kBadFrame:
+      return "bad_frame";
   }
   return "unknown";
 }
@@ -108,17 +118,27 @@ std::optional<std::string> StereoPipeline::check_input(const cv::Mat& left,
   return stereo::check_image_size(rectifier_->calibration(), left.size(), right.size());
 }
 
-void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified,
-                                 cv::Mat& grey, cv::Mat& out) {
+void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified, cv::Mat& grey,
+                                 cv::Mat& out) {
   // One channel first: the detector needs one, and remapping one channel is cheaper.
   const cv::Mat* src = &raw;
   if (raw.channels() == 3) {
     switch (params_.input) {
-      case DetectorInput::kGrey: cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY); break;
-      case DetectorInput::kSaturation: saturation(raw, grey); break;
-      case DetectorInput::kRed: cv::extractChannel(raw, grey, 2); break;
-      case DetectorInput::kGreen: cv::extractChannel(raw, grey, 1); break;
-      case DetectorInput::kBlue: cv::extractChannel(raw, grey, 0); break;
+      case DetectorInput::kGrey:
+        cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY);
+        break;
+      case DetectorInput::kSaturation:
+        saturation(raw, grey);
+        break;
+      case DetectorInput::kRed:
+        cv::extractChannel(raw, grey, 2);
+        break;
+      case DetectorInput::kGreen:
+        cv::extractChannel(raw, grey, 1);
+        break;
+      case DetectorInput::kBlue:
+        cv::extractChannel(raw, grey, 0);
+        break;
     }
     src = &grey;
   }

@@ -45,15 +45,15 @@ constexpr int kPatchBytes = kPatchSide * kPatchSide * 3;
 /// What the pipeline found in one stereo frame.
 struct StereoDetection {
   DetectionStatus status = DetectionStatus::kNoCandidate;
-  std::string reason;               ///< human-readable detail of status
-  Circle left;                      ///< best left circle, rectified pixels (score 0 if none)
-  Circle right;                     ///< matched right circle, rectified pixels
-  double row_residual_px = 0.0;     ///< |y_left - y_right|, rectified pixels
-  cv::Vec3d position_m;             ///< ball centre, left rectified camera frame, metres
-  double depth_from_size_m = 0.0;   ///< depth implied by the radii, metres (0 if unknown)
-  int candidates_left = 0;          ///< circles found in the left eye
-  int candidates_right = 0;         ///< circles found in the right eye
-  bool patch_valid = false;         ///< patch_rgb holds the block around the left centre
+  std::string reason;              ///< human-readable detail of status
+  Circle left;                     ///< best left circle, rectified pixels (score 0 if none)
+  Circle right;                    ///< matched right circle, rectified pixels
+  double row_residual_px = 0.0;    ///< |y_left - y_right|, rectified pixels
+  cv::Vec3d position_m;            ///< ball centre, left rectified camera frame, metres
+  double depth_from_size_m = 0.0;  ///< depth implied by the radii, metres (0 if unknown)
+  int candidates_left = 0;         ///< circles found in the left eye
+  int candidates_right = 0;        ///< circles found in the right eye
+  bool patch_valid = false;        ///< patch_rgb holds the block around the left centre
   std::array<std::uint8_t, kPatchBytes> patch_rgb{};  ///< 21x21 R,G,B row-major, borders clamped
 };
 

@@ -40,7 +40,9 @@ Rendered render(const SimBallSetup& setup) {
   return {sim.step(std::nullopt, 0), sim.calibration()};
 }
 
-double norm3(const cv::Vec3d& v) { return std::sqrt(v.dot(v)); }
+double norm3(const cv::Vec3d& v) {
+  return std::sqrt(v.dot(v));
+}
 
 cv::Vec3d truth_m(const sb::simulator::GroundTruth& t) {
   return {t.ball_camera_m.x, t.ball_camera_m.y, t.ball_camera_m.z};
