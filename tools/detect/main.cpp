@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -83,8 +84,11 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember(bd::detector_names()));
   app.add_option("--k", ks,
-                 "Pixel-to-Pixel half window size; repeat for multi-k (e.g. --k 3 --k 5 --k 8). "
-                 "Default 5")
+                 "Pixel-to-Pixel half window size k (window 2k+1); several = multi-k, as "
+                 "--k 3,5,8 or --k 3 --k 5 --k 8. Default 5")
+      ->allow_extra_args(false)
+      ->delimiter(',')
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check(CLI::Range(1, 31));
   app.add_option("--max", opt.max_circles, "Most circles reported per image")
       ->capture_default_str()
@@ -112,6 +116,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   cv::setNumThreads(threads);
+  // Our own one-line errors replace OpenCV's warnings about unreadable files.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   if (!ks.empty()) opt.k_values = ks;
   std::string error;
   auto detector = bd::make_detector(method, opt, &error);
