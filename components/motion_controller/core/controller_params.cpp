@@ -20,6 +20,8 @@ std::optional<std::string> check_range(const char* name, T value, T lo, T hi, co
 std::optional<std::string> MotionControllerParams::validate() const {
   constexpr std::int64_t kHour = 3'600'000'000'000;
   for (const auto& r : {
+           check_range("camera_right_offset_m", camera_right_offset_m, -2.0, 2.0, " m"),
+           check_range("camera_forward_offset_m", camera_forward_offset_m, -2.0, 2.0, " m"),
            check_range("target_distance_m", target_distance_m, 0.1, 20.0, " m"),
            check_range("distance_gain_per_s", distance_gain_per_s, 0.0, 20.0, " 1/s"),
            check_range("bearing_gain_per_s", bearing_gain_per_s, 0.0, 50.0, " 1/s"),

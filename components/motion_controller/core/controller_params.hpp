@@ -9,12 +9,17 @@ namespace stereoball::motion_controller {
 
 /// Controller configuration; units are in the field names.
 struct MotionControllerParams {
-  /// Distance to keep from the ball, metres.
+  /// Where the left camera (origin of ball/track) sits right of the robot's centreline, m
+  /// (negative = left; the simulated rig: -baseline/2 = -0.06).
+  double camera_right_offset_m = -0.06;
+  /// Where the left camera sits ahead of the robot's centre, metres.
+  double camera_forward_offset_m = 0.10;
+  /// Distance to keep between the robot's centre and the ball, metres.
   double target_distance_m = 1.0;
   /// linear = gain * (distance - target), 1/s.
-  double distance_gain_per_s = 0.8;
+  double distance_gain_per_s = 1.0;
   /// angular = -gain * bearing, 1/s (ball to the right -> turn right = negative).
-  double bearing_gain_per_s = 2.5;
+  double bearing_gain_per_s = 4.0;
   /// Distance errors smaller than this give no linear command, metres.
   double distance_deadband_m = 0.02;
   /// Bearing errors smaller than this give no angular command, radians.
@@ -22,7 +27,7 @@ struct MotionControllerParams {
   /// Forward speed scales with 1 - |bearing| / this (turn first, then drive), radians.
   double slowdown_bearing_rad = 0.6;
   /// Max forward speed, m/s.
-  double max_linear_mps = 0.6;
+  double max_linear_mps = 0.8;
   /// Max backward speed (positive number), m/s.
   double max_reverse_mps = 0.2;
   /// Max yaw rate, rad/s.

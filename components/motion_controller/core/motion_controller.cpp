@@ -67,15 +67,20 @@ MotionController::Target MotionController::following_target(const TrackSample& t
     return out;
   }
   out.mode = Mode::kFollowing;
+  // Steer the robot's centreline, not the left camera's optical axis, at the ball.
+  const double right_m = t.distance_m * std::sin(t.bearing_rad) + params_.camera_right_offset_m;
+  const double forward_m = t.distance_m * std::cos(t.bearing_rad) + params_.camera_forward_offset_m;
+  const double bearing_rad = std::atan2(right_m, forward_m);
+  const double distance_m = std::hypot(right_m, forward_m);
   // Camera x points right: a ball to the right (positive bearing) needs a
   // clockwise (negative) turn.
   out.angular_radps =
-      -params_.bearing_gain_per_s * deadband(t.bearing_rad, params_.bearing_deadband_rad);
+      -params_.bearing_gain_per_s * deadband(bearing_rad, params_.bearing_deadband_rad);
   const double distance_error =
-      deadband(t.distance_m - params_.target_distance_m, params_.distance_deadband_m);
+      deadband(distance_m - params_.target_distance_m, params_.distance_deadband_m);
   // Turn first, then drive: off-centre balls get less forward speed.
   const double centred =
-      std::clamp(1.0 - std::abs(t.bearing_rad) / params_.slowdown_bearing_rad, 0.0, 1.0);
+      std::clamp(1.0 - std::abs(bearing_rad) / params_.slowdown_bearing_rad, 0.0, 1.0);
   out.linear_mps =
       params_.distance_gain_per_s * distance_error * (distance_error > 0 ? centred : 1.0);
   return out;

@@ -31,10 +31,18 @@ TrackSample with_state(TrackState s, Side side, std::int64_t stamp_ns) {
   return t;
 }
 
+// Parameters with the camera on the robot's centre, so bearings are the robot's.
+MotionControllerParams centred() {
+  MotionControllerParams p;
+  p.camera_right_offset_m = 0.0;
+  p.camera_forward_offset_m = 0.0;
+  return p;
+}
+
 // A controller ticking at 20 Hz; every tick may deliver a fresh track first.
 class Harness {
  public:
-  explicit Harness(const MotionControllerParams& p = MotionControllerParams{}) : c_(p) {}
+  explicit Harness(const MotionControllerParams& p = centred()) : c_(p) {}
   Command tick() {
     now_ += kTickNs;
     return c_.step(now_);
@@ -81,20 +89,20 @@ TEST(MotionController, GivenBallToTheRight_ThenTurnsClockwise) {
   const Command c = h.run(following(0.3, 1.0, kT0), 30);
   EXPECT_EQ(c.mode, Mode::kFollowing);
   EXPECT_LT(c.angular_radps, 0.0);
-  EXPECT_NEAR(c.angular_radps, -2.5 * 0.3, 1e-6);  // settled on -gain * bearing
+  EXPECT_NEAR(c.angular_radps, -MotionControllerParams{}.bearing_gain_per_s * 0.3, 1e-6);
 }
 
 TEST(MotionController, GivenBallToTheLeft_ThenTurnsCounterClockwise) {
   Harness h;
   const Command c = h.run(following(-0.2, 1.0, kT0), 30);
   EXPECT_GT(c.angular_radps, 0.0);
-  EXPECT_NEAR(c.angular_radps, 2.5 * 0.2, 1e-6);
+  EXPECT_NEAR(c.angular_radps, MotionControllerParams{}.bearing_gain_per_s * 0.2, 1e-6);
 }
 
 TEST(MotionController, GivenBallFartherThanTarget_ThenDrivesForward) {
   Harness h;
   const Command c = h.run(following(0.0, 1.5, kT0), 40);
-  EXPECT_NEAR(c.linear_mps, 0.8 * 0.5, 1e-6);
+  EXPECT_NEAR(c.linear_mps, MotionControllerParams{}.distance_gain_per_s * 0.5, 1e-6);
   EXPECT_NEAR(c.angular_radps, 0.0, 1e-12);
 }
 
@@ -102,7 +110,7 @@ TEST(MotionController, GivenBallTooClose_ThenBacksOffWithinReverseLimit) {
   Harness h;
   const Command c = h.run(following(0.0, 0.3, kT0), 40);
   EXPECT_LT(c.linear_mps, 0.0);
-  EXPECT_NEAR(c.linear_mps, -0.2, 1e-9);  // 0.8 * -0.7 clamped to max_reverse_mps
+  EXPECT_NEAR(c.linear_mps, -0.2, 1e-9);  // gain * -0.7 clamped to max_reverse_mps
 }
 
 TEST(MotionController, GivenBallAtTargetAndCentred_ThenNoMotion) {
@@ -120,7 +128,7 @@ TEST(MotionController, GivenFarOffCentreBall_ThenTurnsBeforeDriving) {
 }
 
 TEST(MotionController, GivenLargeErrors_ThenSpeedAccelAndJerkLimited) {
-  MotionControllerParams p;
+  const MotionControllerParams p = centred();
   Harness h(p);
   double v_prev = 0.0;
   double w_prev = 0.0;
@@ -165,7 +173,7 @@ TEST(MotionController, GivenSearchingAfterBallLeftLeft_ThenRotatesCounterClockwi
 }
 
 TEST(MotionController, GivenSearchingWithUnknownSide_ThenConfiguredDefaultDirection) {
-  MotionControllerParams p;
+  MotionControllerParams p = centred();
   p.search_left_when_unknown = false;
   Harness h(p);
   const Command c = h.run(with_state(TrackState::kSearching, Side::kUnknown, kT0), 30);
@@ -173,7 +181,7 @@ TEST(MotionController, GivenSearchingWithUnknownSide_ThenConfiguredDefaultDirect
 }
 
 TEST(MotionController, GivenSearchingLongerThanTimeout_ThenGivesUpAndStops) {
-  MotionControllerParams p;
+  MotionControllerParams p = centred();
   p.search_timeout_ns = 2'000'000'000;
   Harness h(p);
   const TrackSample s = with_state(TrackState::kSearching, Side::kLeft, kT0);
@@ -230,6 +238,19 @@ TEST(MotionController, GivenFollowingButPositionTooOld_ThenHoldsStill) {
   EXPECT_EQ(c.mode, Mode::kHolding);
   EXPECT_EQ(c.linear_mps, 0.0);
   EXPECT_EQ(c.angular_radps, 0.0);
+}
+
+TEST(MotionController, GivenCameraLeftOfCentreline_WhenBallOnCameraAxis_ThenTurnsLeftToCentreIt) {
+  // Given the shipped rig: left camera 6 cm left of the centreline, 10 cm ahead
+  Harness h(MotionControllerParams{});
+  // When the ball is straight ahead of the left camera, 1 m away
+  const Command c = h.run(following(0.0, 1.0, kT0), 40);
+  // Then it is left of the robot's centreline: counter-clockwise by gain * atan2(0.06, 1.1)
+  EXPECT_GT(c.angular_radps, 0.0);
+  EXPECT_NEAR(c.angular_radps, MotionControllerParams{}.bearing_gain_per_s * std::atan2(0.06, 1.1),
+              1e-6);
+  // And the distance counts from the robot's centre (1.1 m): it drives forward
+  EXPECT_GT(c.linear_mps, 0.0);
 }
 
 TEST(MotionController, GivenClosedLoopWithSimpleRobot_ThenBallCentredAtTargetDistance) {

@@ -7,6 +7,8 @@ Result<MotionControllerNodeParams> read_controller_params(params::ParamsFile& fi
   MotionControllerNodeParams n;
   MotionControllerParams& p = n.controller;
   file.read("rate_hz", n.rate_hz, 1.0, 1000.0);
+  file.read("camera_right_offset_m", p.camera_right_offset_m, -2.0, 2.0);
+  file.read("camera_forward_offset_m", p.camera_forward_offset_m, -2.0, 2.0);
   file.read("target_distance_m", p.target_distance_m, 0.1, 20.0);
   file.read("distance_gain_per_s", p.distance_gain_per_s, 0.0, 20.0);
   file.read("bearing_gain_per_s", p.bearing_gain_per_s, 0.0, 50.0);
