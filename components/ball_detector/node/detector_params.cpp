@@ -8,6 +8,8 @@ const char* to_string(DetectorInput input) {
       return "grey";
     case DetectorInput::kSaturation:
       return "saturation";
+    case DetectorInput::kValue:
+      return "value";
     case DetectorInput::kRed:
       return "red";
     case DetectorInput::kGreen:
@@ -19,8 +21,8 @@ const char* to_string(DetectorInput input) {
 }
 
 std::optional<DetectorInput> parse_detector_input(const std::string& text) {
-  for (DetectorInput i : {DetectorInput::kGrey, DetectorInput::kSaturation, DetectorInput::kRed,
-                          DetectorInput::kGreen, DetectorInput::kBlue}) {
+  for (DetectorInput i : {DetectorInput::kGrey, DetectorInput::kSaturation, DetectorInput::kValue,
+                          DetectorInput::kRed, DetectorInput::kGreen, DetectorInput::kBlue}) {
     if (text == to_string(i)) return i;
   }
   return std::nullopt;

@@ -13,12 +13,13 @@ namespace stereoball::ball_detector {
 enum class DetectorInput {
   kGrey,  ///< luminance (BGR -> grey); a coloured ball can vanish on a floor of equal brightness
   kSaturation,  ///< max(B,G,R) - min(B,G,R): coloured ball against grey/brown surroundings
+  kValue,       ///< max(B,G,R): a coloured ball with white patches looks uniform
   kRed,         ///< red channel: an orange/red ball with white patches looks uniform
   kGreen,       ///< green channel
   kBlue,        ///< blue channel
 };
 
-/// Name used in the config file ("grey", "saturation", "red", "green", "blue").
+/// Name used in the config file ("grey", "saturation", "value", "red", "green", "blue").
 const char* to_string(DetectorInput input);
 
 /// The input named by text, or nullopt.

@@ -36,7 +36,7 @@ Result<BallDetectorParams> read_detector_params(params::ParamsFile& file) {
   file.read("size.max_relative_error", p.size_max_relative_error, 0.001, 10.0);
   file.read("max_candidates_per_eye", p.max_candidates_per_eye, 1, 50);
   std::string input = to_string(p.input);
-  file.read_choice("input", input, {"grey", "saturation", "red", "green", "blue"});
+  file.read_choice("input", input, {"grey", "saturation", "value", "red", "green", "blue"});
   if (auto parsed = parse_detector_input(input)) p.input = *parsed;
   read_p2p(file, p.p2p);
   if (auto e = p.validate()) file.fail(file.name() + ": " + *e);

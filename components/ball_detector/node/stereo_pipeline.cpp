@@ -60,6 +60,15 @@ void saturation(const cv::Mat& bgr, cv::Mat& out) {
   }
 }
 
+void value(const cv::Mat& bgr, cv::Mat& out) {
+  out.create(bgr.size(), CV_8UC1);
+  for (int y = 0; y < bgr.rows; ++y) {
+    const std::uint8_t* s = bgr.ptr<std::uint8_t>(y);
+    std::uint8_t* d = out.ptr<std::uint8_t>(y);
+    for (int x = 0; x < bgr.cols; ++x, s += 3) d[x] = std::max(s[0], std::max(s[1], s[2]));
+  }
+}
+
 const char* to_string(DetectionStatus status) {
   switch (status) {
     case DetectionStatus::kFound:
@@ -129,6 +138,9 @@ void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool recti
         break;
       case DetectorInput::kSaturation:
         saturation(raw, grey);
+        break;
+      case DetectorInput::kValue:
+        value(raw, grey);
         break;
       case DetectorInput::kRed:
         cv::extractChannel(raw, grey, 2);

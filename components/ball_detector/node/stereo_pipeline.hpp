@@ -24,6 +24,9 @@ namespace stereoball::ball_detector {
 /// Chroma of a CV_8UC3 image: max(B,G,R) - min(B,G,R) per pixel into a CV_8UC1 (reused).
 void saturation(const cv::Mat& bgr, cv::Mat& out);
 
+/// Brightest channel of a CV_8UC3 image: max(B,G,R) per pixel into a CV_8UC1 (reused).
+void value(const cv::Mat& bgr, cv::Mat& out);
+
 /// Outcome of one stereo frame (mirrors the ball/detection statuses).
 enum class DetectionStatus {
   kFound,

@@ -153,7 +153,7 @@ TEST(StereoPipeline, GivenNoBall_ThenNotFound) {
   EXPECT_FALSE(det.patch_valid);
 }
 
-TEST(Saturation, GivenColours_ThenMaxMinusMin) {
+TEST(ChannelImages, GivenColours_ThenSaturationIsMaxMinusMinAndValueIsMax) {
   cv::Mat bgr(1, 3, CV_8UC3);
   bgr.at<cv::Vec3b>(0, 0) = {20, 110, 230};
   bgr.at<cv::Vec3b>(0, 1) = {128, 128, 128};
@@ -162,5 +162,9 @@ TEST(Saturation, GivenColours_ThenMaxMinusMin) {
   sb::ball_detector::saturation(bgr, s);
   EXPECT_EQ(s.at<uint8_t>(0, 0), 210);
   EXPECT_EQ(s.at<uint8_t>(0, 1), 0);
+  EXPECT_EQ(s.at<uint8_t>(0, 2), 255);
+  sb::ball_detector::value(bgr, s);
+  EXPECT_EQ(s.at<uint8_t>(0, 0), 230);
+  EXPECT_EQ(s.at<uint8_t>(0, 1), 128);
   EXPECT_EQ(s.at<uint8_t>(0, 2), 255);
 }
