@@ -8,6 +8,11 @@
 namespace stereoball::ball_detector {
 namespace {
 
+// std::hypot guards against overflow we cannot have here and is several times slower.
+inline double fast_hypot(double a, double b) {
+  return std::sqrt(a * a + b * b);
+}
+
 inline int l1_at(const cv::Mat& dx, const cv::Mat& dy, int x, int y) {
   return std::abs(dx.at<short>(y, x)) + std::abs(dy.at<short>(y, x));
 }
@@ -68,7 +73,7 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points) {
     cv::Vec3d jtr(0, 0, 0);
     for (const auto& p : points) {
       const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
-      const double d = std::hypot(x, y);
+      const double d = fast_hypot(x, y);
       if (d < 1e-9) continue;
       const cv::Vec3d j(-x / d, -y / d, -1.0);
       const double res = d - r;
@@ -118,7 +123,7 @@ void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
         if (g_dot_r * g_dot_r < cos2 * g2 * d2) continue;
         const cv::Point2d p = subpixel_edge(edges, x, y, gx[x], gy[x]);
         // The band applies to the sub-pixel position, which is what the fit uses.
-        const double sd = std::hypot(p.x - c.x_px, p.y - c.y_px);
+        const double sd = fast_hypot(p.x - c.x_px, p.y - c.y_px);
         if (sd > outer || sd < inner) continue;
         out.push_back(p);
       }
@@ -167,7 +172,7 @@ std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy
         if (bin < r0 || bin > r1) continue;
         // Loose radial test: the centre is only known to a pixel or two here.
         const double g_dot_r = gx[x] * rx + gy[x] * ry;
-        const double g = std::hypot(static_cast<double>(gx[x]), static_cast<double>(gy[x]));
+        const double g = fast_hypot(static_cast<double>(gx[x]), static_cast<double>(gy[x]));
         if (std::abs(g_dot_r) < 0.7 * g * d) continue;
         ++hist[bin];
       }
@@ -200,7 +205,7 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
     const auto fit = fit_circle(pts);
     if (!fit) return std::nullopt;
     // A fit that wanders far from its seed has locked onto some other structure.
-    if (std::hypot(fit->x_px - rough.x_px, fit->y_px - rough.y_px) > 0.5 * rough.radius_px + 3.0)
+    if (fast_hypot(fit->x_px - rough.x_px, fit->y_px - rough.y_px) > 0.5 * rough.radius_px + 3.0)
       return std::nullopt;
     c = *fit;
   }
