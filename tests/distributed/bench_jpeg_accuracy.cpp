@@ -94,6 +94,8 @@ int main(int argc, char** argv) {
   app.add_option("--detector-config", detector_config, "ball_detector parameters")
       ->capture_default_str();
   app.add_option("--sim-config", sim_config, "simulator parameters")->capture_default_str();
+  bool verbose = false;
+  app.add_flag("--verbose", verbose, "print the raw detection status of every frame");
   CLI11_PARSE(app, argc, argv);
 
   auto detector_params = bd::load_detector_params(detector_config);
@@ -133,6 +135,11 @@ int main(int argc, char** argv) {
       ++raw.frames;
       raw.bytes += static_cast<double>(frame.left.total() * 3 * 2);
       if (r.status == bd::DetectionStatus::kFound) ++raw.found;
+      if (verbose) {
+        std::printf("%s t=%.2fs raw: %s %s (truth visible %d/%d)\n", name.c_str(), t_ns / 1e9,
+                    bd::to_string(r.status), r.reason.c_str(), frame.truth.ball_visible_left,
+                    frame.truth.ball_visible_right);
+      }
       compare_to_truth(r, frame.truth, raw);
       for (int q : qualities) {
         Stats& s = jpeg[q];

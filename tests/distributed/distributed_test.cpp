@@ -1,13 +1,17 @@
 // Robot and workstation as two hosts: two network namespaces joined by veth, the robot profile
-// in one and the workstation profile in the other (LAN configuration, unicast peers). Checks
-// the closed loop across the link, the stop when the link is cut, the resume when it returns,
-// and following under netem delay/loss where the kernel has netem.
+// in one and a workstation profile in the other (LAN configuration, unicast peers), observed
+// from inside the robot namespace.
+//  - TwoHostVision: the real workstation profile (ball_detector + tracker): the closed loop
+//    across the link, the stop when the link is cut, the resume when it returns, netem.
+//  - TwoHostLink: the workstation runs sb_truth_tracker (ball/track from ground truth, a
+//    stand-in for vision), so the link-safety checks hold whatever the detector's quality.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <thread>
 
 #include "common/node/node_runner.hpp"
@@ -22,7 +26,7 @@ namespace {
 
 constexpr int64_t kMs = 1'000'000;
 
-// Polls pred on fresh observer logs every 50 ms until true or the deadline.
+// Polls pred on fresh robot-namespace logs every 50 ms until true or the deadline.
 bool wait_until(sd::TwoHostSystem& system, std::chrono::milliseconds timeout,
                 const std::function<bool(const sd::ObserverLog&)>& pred) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
@@ -52,13 +56,140 @@ size_t following_after(const sd::ObserverLog& log, int64_t t_ns) {
   });
 }
 
-class TwoHostTest : public ::testing::Test {
+// "a/b/c..." counts of key(item) for keys 0..max.
+template <typename T, typename Key>
+std::string histogram(const std::vector<T>& items, Key key) {
+  std::vector<int> counts;
+  for (const auto& item : items) {
+    const int k = key(item);
+    if (k < 0 || k > 16) continue;
+    if (static_cast<int>(counts.size()) <= k) counts.resize(k + 1);
+    ++counts[k];
+  }
+  std::string out;
+  for (size_t i = 0; i < counts.size(); ++i) out += (i ? "/" : "") + std::to_string(counts[i]);
+  return out.empty() ? "none" : out;
+}
+
+// Waits until FOLLOWING tracks from the link drive the robot toward the ball.
+::testing::AssertionResult wait_following_and_moving(sd::TwoHostSystem& system,
+                                                     std::chrono::milliseconds timeout) {
+  const int64_t since = sb::node::now_ns();
+  const bool ok = wait_until(system, timeout, [&](const sd::ObserverLog& log) {
+    if (following_after(log, since) < 5) return false;
+    size_t run = 0;  // consecutive ground-truth samples moving toward the ball
+    for (const auto& g : log.truths) {
+      run = (g.rx_ns > since && moving_toward_ball(g)) ? run + 1 : 0;
+      if (run >= 10) return true;
+    }
+    return false;
+  });
+  if (ok) return ::testing::AssertionSuccess();
+  const auto log = system.robot_log();
+  return ::testing::AssertionFailure()
+         << "no FOLLOWING track driving the robot toward the ball within " << timeout.count()
+         << " ms (robot namespace received " << log.tracks.size() << " tracks, "
+         << following_after(log, since) << " FOLLOWING since the wait began, "
+         << log.commands.size() << " commands, " << log.truths.size()
+         << " ground-truth samples; track states idle/following/searching "
+         << histogram(log.tracks, [](const sd::TrackRx& t) { return t.state; })
+         << "; detection statuses found/no_candidate/epipolar/size/no_calib/bad_frame in the "
+            "workstation namespace "
+         << histogram(system.workstation_log().detections,
+                      [](const sd::DetectionRx& d) { return d.status; })
+         << ")";
+}
+
+// Given the robot following across the link: cut the robot's end of the link, check the
+// stop, restore it, check following resumes (nothing restarted).
+void cut_and_restore_link(sd::TwoHostSystem& system) {
+  ASSERT_TRUE(wait_following_and_moving(system, 30s));
+  auto sim = sb::simulator::load_sim_params(sb::testing::source_path("config/simulator.yaml"));
+  ASSERT_TRUE(sim) << sim.error();
+  const double speed_at_cut = system.robot_log().truths.back().linear_mps;
+
+  // When the robot's end of the link goes down
+  const int64_t cut_ns = sb::node::now_ns();
+  ASSERT_FALSE(system.hosts().set_robot_link(false).has_value());
+  struct LinkGuard {  // the link comes back even if an assertion fails
+    sd::TwoHosts& hosts;
+    ~LinkGuard() { hosts.set_robot_link(true); }
+  } guard{system.hosts()};
+
+  // Then the robot's own controller commands zero and the base comes to rest
+  std::optional<int64_t> zero_cmd_ns, stopped_ns;
+  ASSERT_TRUE(wait_until(system, 4s, [&](const sd::ObserverLog& log) {
+    zero_cmd_ns.reset();
+    for (const auto& c : log.commands) {
+      if (c.rx_ns <= cut_ns) continue;
+      if (!is_zero(c)) {
+        zero_cmd_ns.reset();
+      } else if (!zero_cmd_ns) {
+        zero_cmd_ns = c.stamp_ns;
+      }
+    }
+    stopped_ns.reset();
+    for (const auto& g : log.truths) {
+      if (g.stamp_ns <= cut_ns) continue;
+      const bool still = std::abs(g.linear_mps) < 0.01 && std::abs(g.angular_radps) < 0.02;
+      if (!still) {
+        stopped_ns.reset();
+      } else if (!stopped_ns) {
+        stopped_ns = g.stamp_ns;
+      }
+    }
+    return zero_cmd_ns && stopped_ns && log.truths.back().stamp_ns - *stopped_ns > 500 * kMs;
+  })) << "robot did not stop (and stay still) after the link was cut";
+  const double zero_cmd_ms = static_cast<double>(*zero_cmd_ns - cut_ns) / 1e6;
+  const double stopped_ms = static_cast<double>(*stopped_ns - cut_ns) / 1e6;
+  std::printf("link cut at %.2f m/s: zero command after %.0f ms, base at rest after %.0f ms\n",
+              speed_at_cut, zero_cmd_ms, stopped_ms);
+  // Within 0.5 s the robot side commands zero (stale timeout 300 ms + one 50 ms period)
+  EXPECT_LE(zero_cmd_ms, 500.0);
+  // And the base is at rest within 0.5 s plus its braking time at its deceleration limit
+  const double braking_ms = 1e3 * speed_at_cut / sim->robot.max_linear_accel_mps2;
+  EXPECT_LE(stopped_ms, 500.0 + braking_ms + 100.0) << "braking time " << braking_ms << " ms";
+
+  // When the link comes back (nothing restarted)
+  const int64_t restore_ns = sb::node::now_ns();
+  ASSERT_FALSE(system.hosts().set_robot_link(true).has_value());
+  // Then FOLLOWING tracks arrive again and the robot is driven forward again
+  EXPECT_TRUE(wait_until(system, 20s, [&](const sd::ObserverLog& log) {
+    return following_after(log, restore_ns) >= 5 &&
+           std::any_of(log.commands.begin(), log.commands.end(), [&](const sd::CommandRx& c) {
+             return c.rx_ns > restore_ns && c.linear_mps > 0.05;
+           });
+  })) << "following did not resume after the link came back";
+  const auto log = system.robot_log();
+  for (const auto& t : log.tracks) {
+    if (t.rx_ns > restore_ns && t.state == sd::kTrackFollowing) {
+      std::printf("FOLLOWING track again %.0f ms after the link came back\n",
+                  static_cast<double>(t.rx_ns - restore_ns) / 1e6);
+      break;
+    }
+  }
+}
+
+// A workstation profile whose only node turns ground truth into tracks (written once).
+std::string oracle_profile() {
+  const std::string path = sb::testing::temp_dir() + "/workstation-oracle.yaml";
+  std::ofstream(path) << "description: \"test workstation: sb_truth_tracker instead of vision\"\n"
+                      << "cyclonedds: \"" << sb::testing::source_path("config/cyclonedds/lan.xml")
+                      << "\"\nnodes:\n  - name: truth_tracker\n    program: sb_truth_tracker\n";
+  return path;
+}
+
+// One running system per suite (starting it costs seconds); the tests of a suite run in order.
+template <bool kVision>
+class TwoHostBase : public ::testing::Test {
  protected:
-  // One system for the whole suite: starting it costs seconds; the tests run in order.
   static void SetUpTestSuite() {
     sd::SystemOptions o;
     o.domain = sb::testing::test_domain();
-    o.partition = "sbtest.two_hosts." + std::to_string(::getpid());
+    o.partition =
+        std::string("sbtest.") + (kVision ? "vision." : "link.") + std::to_string(::getpid());
+    o.workstation_profile = kVision ? "workstation" : oracle_profile();
+    if (kVision) o.workstation_observer_topics = {"detection"};  // for failure messages
     system_ = new sd::TwoHostSystem(o);
     if (auto e = system_->start()) reason_ = *e;
   }
@@ -69,52 +200,53 @@ class TwoHostTest : public ::testing::Test {
   void SetUp() override {
     if (!reason_.empty()) GTEST_SKIP() << reason_;
   }
+  void TearDown() override {
+    if (HasFailure() && system_) std::printf("%s\n", system_->diagnostics().c_str());
+  }
   // Later tests need the closed loop; without it they fail at once instead of waiting again.
   bool closed_loop_seen() {
     if (!closed_loop_failed_) return true;
     ADD_FAILURE() << "the closed loop across the link never worked (see the first test)";
     return false;
   }
-  void TearDown() override {
-    if (HasFailure() && system_) std::printf("%s\n", system_->diagnostics().c_str());
+  void expect_closed_loop(std::chrono::milliseconds timeout) {
+    const auto following = wait_following_and_moving(*system_, timeout);
+    closed_loop_failed_ = !following;
+    ASSERT_TRUE(following);
   }
-  // Waits until the robot is being driven toward the ball by FOLLOWING tracks from the link.
-  ::testing::AssertionResult wait_following_and_moving(std::chrono::milliseconds timeout) {
-    const int64_t since = sb::node::now_ns();
-    const bool ok = wait_until(*system_, timeout, [&](const sd::ObserverLog& log) {
-      if (following_after(log, since) < 5) return false;
-      size_t run = 0;  // consecutive ground-truth samples moving toward the ball
-      for (const auto& g : log.truths) {
-        run = (g.rx_ns > since && moving_toward_ball(g)) ? run + 1 : 0;
-        if (run >= 10) return true;
-      }
-      return false;
-    });
-    if (ok) return ::testing::AssertionSuccess();
-    const auto log = system_->robot_log();
-    return ::testing::AssertionFailure()
-           << "no FOLLOWING track driving the robot toward the ball within " << timeout.count()
-           << " ms (robot namespace received " << log.tracks.size() << " tracks, "
-           << following_after(log, since) << " FOLLOWING since the wait began, "
-           << log.commands.size() << " commands, " << log.truths.size() << " ground-truth samples)";
+  void netem_case() {
+    // Given a link with 20 ms delay and 1% loss (netem), where the kernel offers netem
+    if (auto e = system_->hosts().add_netem(20, 1.0)) GTEST_SKIP() << *e;
+    if (!closed_loop_seen()) return;
+    struct NetemGuard {
+      sd::TwoHosts& hosts;
+      ~NetemGuard() { hosts.remove_netem(); }
+    } guard{system_->hosts()};
+    // When the system runs on it, then the robot still follows the ball
+    EXPECT_TRUE(wait_following_and_moving(*system_, 30s));
   }
 
   static sd::TwoHostSystem* system_;
   static std::string reason_;
   static bool closed_loop_failed_;
 };
-sd::TwoHostSystem* TwoHostTest::system_ = nullptr;
-std::string TwoHostTest::reason_;
-bool TwoHostTest::closed_loop_failed_ = false;
+template <bool kVision>
+sd::TwoHostSystem* TwoHostBase<kVision>::system_ = nullptr;
+template <bool kVision>
+std::string TwoHostBase<kVision>::reason_;
+template <bool kVision>
+bool TwoHostBase<kVision>::closed_loop_failed_ = false;
 
-TEST_F(TwoHostTest, DetectionsFromTheWorkstationDriveTheRobot) {
+using TwoHostVision = TwoHostBase<true>;
+using TwoHostLink = TwoHostBase<false>;
+
+TEST_F(TwoHostVision, DetectionsFromTheWorkstationDriveTheRobot) {
   // Given the robot profile in one namespace and the workstation profile in the other
   // When the system runs
   // Then tracks computed in the workstation namespace reach the robot namespace and the
   // simulated robot drives toward the ball
-  const auto following = wait_following_and_moving(40s);
-  closed_loop_failed_ = !following;
-  ASSERT_TRUE(following);
+  expect_closed_loop(40s);
+  if (HasFatalFailure()) return;
   // And the vision nodes really run on the workstation side only
   auto has = [](const std::vector<std::string>& names, const std::string& n) {
     return std::find(names.begin(), names.end(), n) != names.end();
@@ -129,85 +261,28 @@ TEST_F(TwoHostTest, DetectionsFromTheWorkstationDriveTheRobot) {
   EXPECT_TRUE(has(workstation, "tracker"));
 }
 
-TEST_F(TwoHostTest, CuttingTheLinkStopsTheRobotAndRestoringItResumesFollowing) {
-  // Given the robot following the ball across the link
+TEST_F(TwoHostVision, CuttingTheLinkStopsTheRobotAndRestoringItResumesFollowing) {
   if (!closed_loop_seen()) return;
-  ASSERT_TRUE(wait_following_and_moving(30s));
-  auto sim = sb::simulator::load_sim_params(sb::testing::source_path("config/simulator.yaml"));
-  ASSERT_TRUE(sim) << sim.error();
-  const double speed_at_cut = system_->robot_log().truths.back().linear_mps;
-
-  // When the robot's end of the link goes down
-  const int64_t cut_ns = sb::node::now_ns();
-  ASSERT_FALSE(system_->hosts().set_robot_link(false).has_value());
-  struct LinkGuard {  // the link comes back even if an assertion fails
-    sd::TwoHosts& hosts;
-    ~LinkGuard() { hosts.set_robot_link(true); }
-  } guard{system_->hosts()};
-
-  // Then the robot's own controller commands zero within 0.5 s and keeps commanding zero
-  std::optional<int64_t> zero_cmd_ns, stopped_ns;
-  ASSERT_TRUE(wait_until(*system_, 3s, [&](const sd::ObserverLog& log) {
-    zero_cmd_ns.reset();
-    for (const auto& c : log.commands) {
-      if (c.rx_ns <= cut_ns) continue;
-      if (!is_zero(c))
-        zero_cmd_ns.reset();
-      else if (!zero_cmd_ns)
-        zero_cmd_ns = c.stamp_ns;
-    }
-    stopped_ns.reset();
-    for (const auto& g : log.truths) {
-      if (g.stamp_ns <= cut_ns) continue;
-      const bool still = std::abs(g.linear_mps) < 0.01 && std::abs(g.angular_radps) < 0.02;
-      if (!still)
-        stopped_ns.reset();
-      else if (!stopped_ns)
-        stopped_ns = g.stamp_ns;
-    }
-    return zero_cmd_ns && stopped_ns && log.truths.back().stamp_ns - *stopped_ns > 500 * kMs;
-  })) << "robot did not stop after the link was cut";
-  const double zero_cmd_ms = static_cast<double>(*zero_cmd_ns - cut_ns) / 1e6;
-  const double stopped_ms = static_cast<double>(*stopped_ns - cut_ns) / 1e6;
-  std::printf("link cut at %.2f m/s: zero command after %.0f ms, base still after %.0f ms\n",
-              speed_at_cut, zero_cmd_ms, stopped_ms);
-  EXPECT_LE(zero_cmd_ms, 500.0);
-  // And the simulated base is still within 0.5 s plus its own braking time at its limit
-  const double braking_ms = 1e3 * speed_at_cut / sim->robot.max_linear_accel_mps2;
-  EXPECT_LE(stopped_ms, 500.0 + braking_ms + 100.0) << "braking time " << braking_ms << " ms";
-
-  // When the link comes back (nothing restarted)
-  const int64_t restore_ns = sb::node::now_ns();
-  ASSERT_FALSE(system_->hosts().set_robot_link(true).has_value());
-  // Then FOLLOWING tracks arrive again and the robot drives toward the ball again
-  EXPECT_TRUE(wait_until(*system_, 20s, [&](const sd::ObserverLog& log) {
-    return following_after(log, restore_ns) >= 5 &&
-           std::any_of(log.commands.begin(), log.commands.end(), [&](const sd::CommandRx& c) {
-             return c.rx_ns > restore_ns && c.linear_mps > 0.05;
-           });
-  })) << "following did not resume after the link came back";
-  std::printf("following resumed %.0f ms after the link came back\n", [&] {
-    const auto log = system_->robot_log();
-    for (const auto& t : log.tracks) {
-      if (t.rx_ns > restore_ns && t.state == sd::kTrackFollowing) {
-        return static_cast<double>(t.rx_ns - restore_ns) / 1e6;
-      }
-    }
-    return -1.0;
-  }());
+  cut_and_restore_link(*system_);
 }
 
-TEST_F(TwoHostTest, FollowsWithTwentyMillisecondsDelayAndOnePercentLoss) {
-  // Given a link with 20 ms delay and 1% loss (netem), where the kernel offers netem
-  if (auto e = system_->hosts().add_netem(20, 1.0)) GTEST_SKIP() << *e;
+TEST_F(TwoHostVision, FollowsWithTwentyMillisecondsDelayAndOnePercentLoss) {
+  netem_case();
+}
+
+TEST_F(TwoHostLink, TracksFromTheWorkstationDriveTheRobot) {
+  // Given the robot profile and a workstation whose tracks come from ground truth
+  // When the system runs, then the tracks cross the link and drive the robot to the ball
+  expect_closed_loop(30s);
+}
+
+TEST_F(TwoHostLink, CuttingTheLinkStopsTheRobotAndRestoringItResumesFollowing) {
   if (!closed_loop_seen()) return;
-  struct NetemGuard {
-    sd::TwoHosts& hosts;
-    ~NetemGuard() { hosts.remove_netem(); }
-  } guard{system_->hosts()};
-  // When the system runs on it
-  // Then the robot still follows the ball
-  EXPECT_TRUE(wait_following_and_moving(30s));
+  cut_and_restore_link(*system_);
+}
+
+TEST_F(TwoHostLink, FollowsWithTwentyMillisecondsDelayAndOnePercentLoss) {
+  netem_case();
 }
 
 }  // namespace
