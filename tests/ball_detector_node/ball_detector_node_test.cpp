@@ -7,7 +7,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <cmath>
+#include <functional>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -122,6 +124,7 @@ class BallDetectorNodeTest : public ::testing::Test {
       sb::testing::eventually(
           [&] {
             for (auto& s : detections_->take()) {
+              seen_.insert(s->frame_seq);
               if (s->frame_seq != seq_) continue;
               got = Detection{*s, s->reason ? s->reason : ""};
             }
@@ -176,6 +179,25 @@ class BallDetectorNodeTest : public ::testing::Test {
         5s);
   }
 
+  // Latest heartbeat value of dropped for topic, waiting until pred(dropped) holds.
+  std::optional<uint64_t> heartbeat_dropped(const std::string& topic,
+                                            const std::function<bool(uint64_t)>& pred) {
+    std::optional<uint64_t> dropped;
+    sb::testing::eventually(
+        [&] {
+          for (auto& s : status_->take()) {
+            if (!s->component || std::string(s->component) != "ball_detector") continue;
+            for (uint32_t i = 0; i < s->rates._length; ++i) {
+              const auto& r = s->rates._buffer[i];
+              if (r.topic && topic == r.topic) dropped = r.dropped;
+            }
+          }
+          return dropped && pred(*dropped);
+        },
+        5s);
+    return dropped;
+  }
+
   std::string partition_;
   std::string calib_source_ = "simulator (test)";
   std::optional<Process> node_;
@@ -185,6 +207,7 @@ class BallDetectorNodeTest : public ::testing::Test {
   std::optional<sb::dds::DataReader<stereoball_msg_BallDetection>> detections_;
   std::optional<sb::dds::DataReader<stereoball_msg_ComponentStatus>> status_;
   uint64_t seq_ = 0;
+  std::set<uint64_t> seen_;  // frame_seq of every detection received
   int64_t stamp_ns_ = 1'700'000'000'000'000'000;
 };
 
@@ -263,6 +286,42 @@ TEST_F(BallDetectorNodeTest, GivenPngFrames_ThenBallFound) {
       },
       10s);
   expect_ball(*d);
+}
+
+// Given a calibrated node busy with a burst of frames (keep-last-1),
+// when 30 frames are published back to back,
+// then every frame is either answered or counted as skipped in the heartbeat, and the last
+// one is always answered (the node works on the newest frame).
+TEST_F(BallDetectorNodeTest, GivenBurstOfFrames_ThenSkippedFramesCountedAndNewestAnswered) {
+  publish_calibration();
+  sb::testing::eventually(
+      [&] { return send(good_frame()).msg.status != stereoball_msg_DETECTION_NO_CALIBRATION; },
+      10s);
+  const uint64_t first_seq = seq_ + 1;
+  constexpr int kBurst = 30;
+  Frame f = good_frame();
+  f.msg.encoding = f.encoding.data();
+  f.msg.source = f.source.data();
+  for (int i = 0; i < kBurst - 1; ++i) {
+    f.msg.seq = ++seq_;
+    f.msg.stamp_ns = stamp_ns_ += 33'333'333;
+    frames_->write(f.msg);
+  }
+  const Detection last = send(good_frame());  // re-sent until answered
+  expect_ball(last);
+  sb::testing::eventually(  // late answers of the burst
+      [&] {
+        for (auto& s : detections_->take()) seen_.insert(s->frame_seq);
+        return false;
+      },
+      500ms);
+  const std::set<uint64_t> answered(seen_.lower_bound(first_seq), seen_.end());
+  const auto dropped =
+      heartbeat_dropped("stereo/frame", [&](uint64_t d) { return answered.size() + d >= kBurst; });
+  ASSERT_TRUE(dropped.has_value()) << node_->output();
+  EXPECT_EQ(answered.size() + *dropped, static_cast<size_t>(kBurst))
+      << answered.size() << " answered, " << *dropped << " dropped";
+  EXPECT_GE(answered.size(), 1u);
 }
 
 // Given a running node, when it receives SIGTERM, then it exits cleanly with code 0.
