@@ -69,6 +69,18 @@ void value(const cv::Mat& bgr, cv::Mat& out) {
   }
 }
 
+void extract_patch(const cv::Mat& image, double x_px, double y_px,
+                   std::array<std::uint8_t, kPatchBytes>& out) {
+  const int cx = static_cast<int>(std::lround(x_px));
+  const int cy = static_cast<int>(std::lround(y_px));
+  std::uint8_t* dst = out.data();
+  for (int r = 0; r < kPatchSide; ++r) {
+    const int y = std::clamp(cy - kPatchHalf + r, 0, image.rows - 1);
+    for (int c = 0; c < kPatchSide; ++c, dst += 3)
+      put_rgb(image, std::clamp(cx - kPatchHalf + c, 0, image.cols - 1), y, dst);
+  }
+}
+
 const char* to_string(DetectionStatus status) {
   switch (status) {
     case DetectionStatus::kFound:
@@ -212,9 +224,7 @@ void StereoPipeline::cut_patch(const cv::Mat& left_raw, bool rectified, StereoDe
   auto clamp_y = [&](int y) { return std::clamp(y, 0, size.height - 1); };
   std::uint8_t* dst = out.patch_rgb.data();
   if (rectified) {
-    for (int r = 0; r < kPatchSide; ++r)
-      for (int c = 0; c < kPatchSide; ++c, dst += 3)
-        put_rgb(left_raw, clamp_x(cx - kPatchHalf + c), clamp_y(cy - kPatchHalf + r), dst);
+    extract_patch(left_raw, out.left.x_px, out.left.y_px, out.patch_rgb);
     out.patch_valid = true;
     return;
   }

@@ -45,6 +45,11 @@ constexpr int kPatchSide = 21;
 /// Bytes of the colour block (R, G, B per pixel, row-major).
 constexpr int kPatchBytes = kPatchSide * kPatchSide * 3;
 
+/// The 21x21 block centred on the pixel nearest (x_px, y_px) of a CV_8UC3 (BGR) or CV_8UC1
+/// image, as R,G,B row-major; pixels outside the image repeat the nearest border pixel.
+void extract_patch(const cv::Mat& image, double x_px, double y_px,
+                   std::array<std::uint8_t, kPatchBytes>& out);
+
 /// What the pipeline found in one stereo frame.
 struct StereoDetection {
   DetectionStatus status = DetectionStatus::kNoCandidate;

@@ -168,3 +168,27 @@ TEST(ChannelImages, GivenColours_ThenSaturationIsMaxMinusMinAndValueIsMax) {
   EXPECT_EQ(s.at<uint8_t>(0, 1), 128);
   EXPECT_EQ(s.at<uint8_t>(0, 2), 255);
 }
+
+// Given a BGR image with distinct pixel values, when the patch is cut at the top-left corner,
+// then it is R,G,B row-major and outside pixels repeat the border.
+TEST(ExtractPatch, GivenCornerCentre_ThenClampedAtBordersInRgbOrder) {
+  cv::Mat bgr(30, 40, CV_8UC3);
+  for (int y = 0; y < bgr.rows; ++y)
+    for (int x = 0; x < bgr.cols; ++x)
+      bgr.at<cv::Vec3b>(y, x) = {static_cast<uint8_t>(x), static_cast<uint8_t>(y), 200};
+  std::array<uint8_t, sb::ball_detector::kPatchBytes> patch{};
+  sb::ball_detector::extract_patch(bgr, 0.2, 1.4, patch);  // nearest pixel (0, 1)
+  auto at = [&](int r, int c, int ch) { return patch[static_cast<size_t>((r * 21 + c) * 3 + ch)]; };
+  EXPECT_EQ(at(10, 10, 0), 200);  // R
+  EXPECT_EQ(at(10, 10, 1), 1);    // G = y
+  EXPECT_EQ(at(10, 10, 2), 0);    // B = x
+  EXPECT_EQ(at(0, 0, 1), 0);      // row 1 - 10 clamped to 0
+  EXPECT_EQ(at(0, 0, 2), 0);      // column -10 clamped to 0
+  EXPECT_EQ(at(20, 20, 1), 11);   // row 11
+  EXPECT_EQ(at(20, 20, 2), 10);   // column 10
+  cv::Mat grey(30, 40, CV_8UC1, cv::Scalar(77));
+  sb::ball_detector::extract_patch(grey, 39.0, 29.0, patch);
+  EXPECT_EQ(at(20, 20, 0), 77);
+  EXPECT_EQ(at(20, 20, 1), 77);
+  EXPECT_EQ(at(20, 20, 2), 77);
+}
