@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/node/detector_params_file.hpp"
 #include "ball_detector/node/stereo_pipeline.hpp"
 #include "common/node/common_flags.hpp"
@@ -68,6 +69,53 @@ void print_row(const std::string& name, const Stats& s) {
               s.encode_ms / n, s.decode_ms / n);
 }
 
+// Single-eye mode on real images (no ground truth): the best raw circle vs the nearest circle
+// found on the JPEG copy, per quality.
+int run_images(const std::vector<std::string>& images, const std::vector<int>& qualities,
+               const bd::BallDetectorParams& params) {
+  namespace sd = sb::distributed;
+  std::printf("single eye (P2P) on %zu real images; shift of the best raw circle\n", images.size());
+  std::printf("variant  KiB/img  matched | centre shift px p50 / max | radius shift px max\n");
+  for (int q : qualities) {
+    std::vector<double> shift, radius;
+    double bytes = 0;
+    int matched = 0, total = 0;
+    for (const auto& path : images) {
+      const cv::Mat raw = cv::imread(path, cv::IMREAD_COLOR);
+      if (raw.empty()) {
+        std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: cannot read image %s\n",
+                     path.c_str());
+        return 2;
+      }
+      std::vector<uint8_t> buffer;
+      cv::imencode(".jpg", raw, buffer, {cv::IMWRITE_JPEG_QUALITY, q});
+      bytes += static_cast<double>(buffer.size());
+      bd::PixelToPixelDetector a(params.detector_params()), b(params.detector_params());
+      const auto r = a.detect(raw);
+      const auto j = b.detect(cv::imdecode(buffer, cv::IMREAD_COLOR));
+      if (r.empty()) continue;
+      ++total;
+      double best = 1e9, dr = 0;
+      for (const auto& c : j) {
+        const double d = std::hypot(c.x_px - r[0].x_px, c.y_px - r[0].y_px);
+        if (d < best) {
+          best = d;
+          dr = std::abs(c.radius_px - r[0].radius_px);
+        }
+      }
+      if (best <= std::max(3.0, 0.25 * r[0].radius_px)) {  // same circle found again
+        ++matched;
+        shift.push_back(best);
+        radius.push_back(dr);
+      }
+    }
+    std::printf("jpeg%-4d %7.0f  %3d/%-3d | %8.3f / %8.3f      | %8.3f\n", q,
+                bytes / std::max<size_t>(1, images.size()) / 1024, matched, total,
+                sd::percentile(shift, 50), sd::percentile(shift, 100), sd::percentile(radius, 100));
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -94,6 +142,9 @@ int main(int argc, char** argv) {
   app.add_option("--detector-config", detector_config, "ball_detector parameters")
       ->capture_default_str();
   app.add_option("--sim-config", sim_config, "simulator parameters")->capture_default_str();
+  std::vector<std::string> images;
+  app.add_option("--images", images, "real images: single-eye raw vs JPEG comparison instead")
+      ->check(CLI::ExistingFile);
   bool verbose = false;
   app.add_flag("--verbose", verbose, "print the raw detection status of every frame");
   CLI11_PARSE(app, argc, argv);
@@ -103,6 +154,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", detector_params.error().c_str());
     return 2;
   }
+  if (!images.empty()) return run_images(images, qualities, *detector_params);
   auto sim_params = sb::simulator::load_sim_params(sim_config);
   if (!sim_params) {
     std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", sim_params.error().c_str());
