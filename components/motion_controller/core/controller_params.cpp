@@ -25,6 +25,8 @@ std::optional<std::string> MotionControllerParams::validate() const {
            check_range("target_distance_m", target_distance_m, 0.1, 20.0, " m"),
            check_range("distance_gain_per_s", distance_gain_per_s, 0.0, 20.0, " 1/s"),
            check_range("bearing_gain_per_s", bearing_gain_per_s, 0.0, 50.0, " 1/s"),
+           check_range("bearing_rate_feedforward", bearing_rate_feedforward, 0.0, 1.5, ""),
+           check_range("distance_rate_feedforward", distance_rate_feedforward, 0.0, 1.5, ""),
            check_range("distance_deadband_m", distance_deadband_m, 0.0, 1.0, " m"),
            check_range("bearing_deadband_rad", bearing_deadband_rad, 0.0, 0.5, " rad"),
            check_range("slowdown_bearing_rad", slowdown_bearing_rad, 0.01, 3.2, " rad"),

@@ -20,6 +20,10 @@ struct MotionControllerParams {
   double distance_gain_per_s = 1.0;
   /// angular = -gain * bearing, 1/s (ball to the right -> turn right = negative).
   double bearing_gain_per_s = 4.0;
+  /// Fraction of the ball's own bearing rate fed forward (0 = pure P control), unitless.
+  double bearing_rate_feedforward = 0.6;
+  /// Fraction of the ball's own range rate fed forward (0 = pure P control), unitless.
+  double distance_rate_feedforward = 0.6;
   /// Distance errors smaller than this give no linear command, metres.
   double distance_deadband_m = 0.02;
   /// Bearing errors smaller than this give no angular command, radians.

@@ -74,15 +74,22 @@ MotionController::Target MotionController::following_target(const TrackSample& t
   const double distance_m = std::hypot(right_m, forward_m);
   // Camera x points right: a ball to the right (positive bearing) needs a
   // clockwise (negative) turn.
+  // The camera sees the ball's own bearing rate plus the robot's turn (turning
+  // left moves the ball right); the difference is what the robot must match.
+  const double ball_rate_radps = t.bearing_rate_radps - angular_.velocity();
   out.angular_radps =
-      -params_.bearing_gain_per_s * deadband(bearing_rad, params_.bearing_deadband_rad);
+      -params_.bearing_gain_per_s * deadband(bearing_rad, params_.bearing_deadband_rad) -
+      params_.bearing_rate_feedforward * ball_rate_radps;
   const double distance_error =
       deadband(distance_m - params_.target_distance_m, params_.distance_deadband_m);
   // Turn first, then drive: off-centre balls get less forward speed.
   const double centred =
       std::clamp(1.0 - std::abs(bearing_rad) / params_.slowdown_bearing_rad, 0.0, 1.0);
+  // Driving forward shortens the range: the ball's own range rate is the sum.
+  const double ball_range_rate_mps = t.distance_rate_mps + linear_.velocity();
   out.linear_mps =
-      params_.distance_gain_per_s * distance_error * (distance_error > 0 ? centred : 1.0);
+      params_.distance_gain_per_s * distance_error * (distance_error > 0 ? centred : 1.0) +
+      params_.distance_rate_feedforward * ball_range_rate_mps * centred;
   return out;
 }
 

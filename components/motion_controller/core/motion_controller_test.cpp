@@ -36,6 +36,8 @@ MotionControllerParams centred() {
   MotionControllerParams p;
   p.camera_right_offset_m = 0.0;
   p.camera_forward_offset_m = 0.0;
+  p.bearing_rate_feedforward = 0.0;
+  p.distance_rate_feedforward = 0.0;
   return p;
 }
 
@@ -242,7 +244,10 @@ TEST(MotionController, GivenFollowingButPositionTooOld_ThenHoldsStill) {
 
 TEST(MotionController, GivenCameraLeftOfCentreline_WhenBallOnCameraAxis_ThenTurnsLeftToCentreIt) {
   // Given the shipped rig: left camera 6 cm left of the centreline, 10 cm ahead
-  Harness h(MotionControllerParams{});
+  MotionControllerParams p;
+  p.bearing_rate_feedforward = 0.0;  // this harness does not move the ball in the image
+  p.distance_rate_feedforward = 0.0;
+  Harness h(p);
   // When the ball is straight ahead of the left camera, 1 m away
   const Command c = h.run(following(0.0, 1.0, kT0), 40);
   // Then it is left of the robot's centreline: counter-clockwise by gain * atan2(0.06, 1.1)
@@ -251,6 +256,27 @@ TEST(MotionController, GivenCameraLeftOfCentreline_WhenBallOnCameraAxis_ThenTurn
               1e-6);
   // And the distance counts from the robot's centre (1.1 m): it drives forward
   EXPECT_GT(c.linear_mps, 0.0);
+}
+
+TEST(MotionController, GivenBallMovingRightAndAway_WhenFeedforwardOn_ThenTurnsAndDrivesHarder) {
+  // Given a centred ball at the target distance, moving right (0.3 rad/s) and away (0.4 m/s)
+  TrackSample t = following(0.0, 1.0, kT0);
+  t.bearing_rate_radps = 0.3;
+  t.distance_rate_mps = 0.4;
+  MotionControllerParams p = centred();
+  p.bearing_rate_feedforward = 0.6;
+  p.distance_rate_feedforward = 0.6;
+  Harness with_ff(p);
+  Harness without_ff(centred());
+  const Command a = with_ff.run(t, 60);
+  const Command b = without_ff.run(t, 60);
+  // Then without feedforward a P controller sees no error at all
+  EXPECT_EQ(b.angular_radps, 0.0);
+  EXPECT_EQ(b.linear_mps, 0.0);
+  // And with it the robot turns right and drives on: ff * (rate seen - own motion), settled
+  // where w = -0.6 * (0.3 - w) and v = 0.6 * (0.4 + v)
+  EXPECT_NEAR(a.angular_radps, -0.6 * 0.3 / 0.4, 1e-3);
+  EXPECT_NEAR(a.linear_mps, 0.6 * 0.4 / 0.4, 1e-3);
 }
 
 TEST(MotionController, GivenClosedLoopWithSimpleRobot_ThenBallCentredAtTargetDistance) {

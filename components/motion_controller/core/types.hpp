@@ -16,9 +16,11 @@ enum class Side { kUnknown, kLeft, kRight };
 /// The part of one ball/track sample the controller needs.
 struct TrackSample {
   TrackState state = TrackState::kIdle;
-  bool position_valid = false;  ///< bearing/distance hold an accepted estimate
-  double bearing_rad = 0.0;     ///< atan2(x, z); positive = ball to the RIGHT
-  double distance_m = 0.0;      ///< horizontal distance to the ball, metres
+  bool position_valid = false;      ///< bearing/distance hold an accepted estimate
+  double bearing_rad = 0.0;         ///< atan2(x, z); positive = ball to the RIGHT
+  double distance_m = 0.0;          ///< horizontal distance to the ball, metres
+  double bearing_rate_radps = 0.0;  ///< d(bearing)/dt seen by the camera, rad/s
+  double distance_rate_mps = 0.0;   ///< d(distance)/dt seen by the camera, m/s
   Side last_seen_side = Side::kUnknown;
   std::int64_t capture_stamp_ns = 0;        ///< capture stamp of the frame behind this sample
   std::int64_t last_accepted_stamp_ns = 0;  ///< capture stamp of the last accepted detection

@@ -27,6 +27,20 @@ TEST(CommandConversion, GivenFollowingTrack_ThenFieldsMapped) {
   EXPECT_EQ(t.last_accepted_stamp_ns, 400);
 }
 
+TEST(CommandConversion, GivenPositionAndVelocity_ThenBearingAndRangeRates) {
+  // Ball 2 m ahead moving right at 0.5 m/s and away at 0.2 m/s
+  stereoball_msg_BallTrack m{};
+  m.state = stereoball_msg_TRACK_FOLLOWING;
+  m.position_valid = true;
+  m.distance_m = 2.0;
+  m.position_m[2] = 2.0;
+  m.velocity_mps[0] = 0.5;
+  m.velocity_mps[2] = 0.2;
+  const TrackSample t = to_sample(m);
+  EXPECT_NEAR(t.bearing_rate_radps, 0.25, 1e-12);  // vx / z
+  EXPECT_NEAR(t.distance_rate_mps, 0.2, 1e-12);
+}
+
 TEST(CommandConversion, GivenStatesAndSides_ThenEachMapped) {
   stereoball_msg_BallTrack m{};
   m.state = stereoball_msg_TRACK_SEARCHING;

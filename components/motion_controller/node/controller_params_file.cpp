@@ -12,6 +12,8 @@ Result<MotionControllerNodeParams> read_controller_params(params::ParamsFile& fi
   file.read("target_distance_m", p.target_distance_m, 0.1, 20.0);
   file.read("distance_gain_per_s", p.distance_gain_per_s, 0.0, 20.0);
   file.read("bearing_gain_per_s", p.bearing_gain_per_s, 0.0, 50.0);
+  file.read("bearing_rate_feedforward", p.bearing_rate_feedforward, 0.0, 1.5);
+  file.read("distance_rate_feedforward", p.distance_rate_feedforward, 0.0, 1.5);
   file.read("distance_deadband_m", p.distance_deadband_m, 0.0, 1.0);
   file.read("bearing_deadband_rad", p.bearing_deadband_rad, 0.0, 0.5);
   file.read("slowdown_bearing_rad", p.slowdown_bearing_rad, 0.01, 3.2);
