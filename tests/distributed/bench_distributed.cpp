@@ -11,6 +11,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -26,6 +28,23 @@ namespace {
 
 std::string lan_uri() {
   return "file://" + sb::testing::source_path("config/cyclonedds/lan.xml");
+}
+
+// A copy of lan.xml whose socket receive buffer is capped at rcvbuf (e.g. "208KB": what a
+// default Debian kernel, rmem_max = 212992, grants), to show what the kernel setting buys.
+std::string capped_lan_uri(const std::string& rcvbuf) {
+  std::ifstream in(sb::testing::source_path("config/cyclonedds/lan.xml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string xml = text.str();
+  const std::string from = "<SocketReceiveBufferSize min=\"default\" max=\"32MB\"/>";
+  const auto pos = xml.find(from);
+  if (pos == std::string::npos) return "";
+  xml.replace(pos, from.size(),
+              "<SocketReceiveBufferSize min=\"default\" max=\"" + rcvbuf + "\"/>");
+  const std::string path = sb::testing::temp_dir() + "/lan-capped.xml";
+  std::ofstream(path) << xml;
+  return "file://" + path;
 }
 
 double ms(int64_t ns) {
@@ -45,7 +64,8 @@ double rate_hz(const std::vector<T>& rx) {
   return static_cast<double>(rx.size() - 1) / (ms(rx.back().rx_ns - rx.front().rx_ns) / 1e3);
 }
 
-int transport(const std::string& encoding, int quality, double duration_s, int domain) {
+int transport(const std::string& encoding, int quality, double duration_s, int domain,
+              const std::string& receiver_uri, const std::string& label) {
   sd::TwoHosts hosts;
   if (auto e = hosts.setup()) {
     std::fprintf(stderr, "stereoball-bench-distributed: %s\n", e->c_str());
@@ -57,8 +77,12 @@ int transport(const std::string& encoding, int quality, double duration_s, int d
   std::vector<std::string> obs{sb::testing::bin("sb_netns_observer"), "--topics", "frame"};
   obs.insert(obs.end(), common.begin(), common.end());
   sd::GentleProcess observer(
-      sb::testing::Process::start(hosts.command(hosts.workstation(), obs, lan_uri())));
-  observer.get().wait_for_output("# observing", 5s);
+      sb::testing::Process::start(hosts.command(hosts.workstation(), obs, receiver_uri)));
+  if (!observer.get().wait_for_output("# observing", 10s)) {
+    std::fprintf(stderr, "stereoball-bench-distributed: observer did not start: %s\n",
+                 observer.get().output().c_str());
+    return 1;
+  }
   std::this_thread::sleep_for(2s);  // discovery across the link
   std::vector<std::string> pub{sb::testing::bin("sb_frame_publisher"),
                                "--encoding",
@@ -90,9 +114,9 @@ int transport(const std::string& encoding, int quality, double duration_s, int d
     bytes += static_cast<double>(f.bytes);
   }
   const double mean_bytes = log.frames.empty() ? 0 : bytes / static_cast<double>(log.frames.size());
-  std::printf("%s%s: sent %ld, received %zu (%.1f%% lost), %.1f Hz, %.0f KiB/pair, %.1f Mbit/s\n",
+  std::printf("%s%s%s: sent %ld, received %zu (%.1f%% lost), %.1f Hz, %.0f KiB/pair, %.1f Mbit/s\n",
               encoding.c_str(), encoding == "jpeg" ? (" q" + std::to_string(quality)).c_str() : "",
-              sent, log.frames.size(),
+              label.c_str(), sent, log.frames.size(),
               100.0 * (1.0 - static_cast<double>(log.frames.size()) / static_cast<double>(sent)),
               rate_hz(log.frames), mean_bytes / 1024, mean_bytes * 8 * rate_hz(log.frames) / 1e6);
   print_latency("publish -> received in other namespace", latency);
@@ -175,8 +199,18 @@ int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   int rc = 0;
   if (!skip_transport) {
-    rc |= transport("bgr8", quality, transport_s, domain);
-    rc |= transport("jpeg", quality, transport_s, domain);
+    rc |= transport("bgr8", quality, transport_s, domain, lan_uri(), "");
+    rc |= transport("jpeg", quality, transport_s, domain, lan_uri(), "");
+    const std::string capped = capped_lan_uri("212992B");
+    if (capped.empty()) {
+      std::fprintf(stderr,
+                   "stereoball-bench-distributed: lan.xml has no 32MB receive buffer line\n");
+    } else {
+      const std::string note =
+          " (receiver socket buffer capped at 212992 B = Debian default rmem_max)";
+      rc |= transport("bgr8", quality, transport_s, domain, capped, note);
+      rc |= transport("jpeg", quality, transport_s, domain, capped, note);
+    }
   }
   if (!skip_system) rc |= system_run(system_s, domain);
   return rc;
