@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
   bool clutter = false;
   bool plain = false;
   std::string input = "saturation";
+  bool full_right = false;
   app.add_option("--frames", frames, "stereo frames to time")->check(CLI::Range(5, 10000));
   app.add_option("--threads", threads, "OpenCV threads (1 = one core, the target)")
       ->check(CLI::Range(1, 64));
@@ -76,6 +77,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 31));
   app.add_option("--min-score", min_score, "drop circles scoring below this")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_flag("--full-right", full_right,
+               "search the whole right image (default: only the rows of left circles)");
   app.add_option("--input", input, "detector input image: grey, saturation, red, green, blue");
   CLI11_PARSE(app, argc, argv);
   const auto parsed_input = sb::ball_detector::parse_detector_input(input);
@@ -108,6 +111,7 @@ int main(int argc, char** argv) {
   sb::ball_detector::BallDetectorParams params;
   params.input = *parsed_input;
   params.p2p.k_values = k_values;
+  params.right_eye_row_band = !full_right;
   params.p2p.min_score = min_score;
   sb::ball_detector::StereoPipeline pipeline(params);
   if (auto e = pipeline.set_calibration(sim.calibration())) {

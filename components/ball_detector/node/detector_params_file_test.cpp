@@ -41,6 +41,7 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
   EXPECT_DOUBLE_EQ(p->epipolar_tolerance_px, 2.0);
   EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kSaturation);
   EXPECT_EQ(p->p2p.k_values, std::vector<int>{5});
+  EXPECT_TRUE(p->right_eye_row_band);
   EXPECT_EQ(p->detector_params().max_circles, p->max_candidates_per_eye);
 }
 
@@ -48,11 +49,13 @@ TEST(DetectorParamsFile, GivenChangedValues_ThenTheyAreUsed) {
   std::string text = replace(shipped_config(), "tolerance_px: 2.0", "tolerance_px: 1.5");
   text = replace(text, "k_values: [5]", "k_values: [3, 8]");
   text = replace(text, "input: saturation", "input: grey");
+  text = replace(text, "right_eye_row_band: true", "right_eye_row_band: false");
   const auto p = parse(text);
   ASSERT_TRUE(p.ok()) << p.error();
   EXPECT_DOUBLE_EQ(p->epipolar_tolerance_px, 1.5);
   EXPECT_EQ(p->p2p.k_values, (std::vector<int>{3, 8}));
   EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kGrey);
+  EXPECT_FALSE(p->right_eye_row_band);
 }
 
 TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {

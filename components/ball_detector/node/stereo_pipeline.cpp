@@ -197,15 +197,37 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   prepare_eye(left, stereo::Eye::kLeft, rectified, grey_left_, rect_left_);
   prepare_eye(right, stereo::Eye::kRight, rectified, grey_right_, rect_right_);
   left_candidates_ = left_detector_.detect(rect_left_);
-  right_candidates_ = right_detector_.detect(rect_right_);
+  right_candidates_ =
+      params_.right_eye_row_band ? detect_right_in_band() : right_detector_.detect(rect_right_);
   out.candidates_left = static_cast<int>(left_candidates_.size());
   out.candidates_right = static_cast<int>(right_candidates_.size());
 
   const PairingContext ctx{epipolar_, *triangulator_, size_};
   const PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_);
   fill_result(pairing, out);
+  if (params_.right_eye_row_band && left_candidates_.empty())
+    out.reason = "no circle in the left eye (the right eye is searched only near left circles)";
   if (out.status == DetectionStatus::kFound) cut_patch(left, rectified, out);
   return out;
+}
+
+std::vector<Circle> StereoPipeline::detect_right_in_band() {
+  if (left_candidates_.empty()) return {};
+  // A partner lies within the row tolerance of a left centre; its disc spans about the same
+  // radius (plus margin for the size difference between eyes and edge support).
+  int y0 = rect_right_.rows;
+  int y1 = 0;
+  for (const Circle& c : left_candidates_) {
+    const double half = 1.25 * c.radius_px + params_.epipolar_tolerance_px + 8.0;
+    y0 = std::min(y0, static_cast<int>(std::floor(c.y_px - half)));
+    y1 = std::max(y1, static_cast<int>(std::ceil(c.y_px + half)) + 1);
+  }
+  y0 = std::max(y0, 0);
+  y1 = std::min(y1, rect_right_.rows);
+  if (y1 - y0 < 8) return {};
+  std::vector<Circle> found = right_detector_.detect(rect_right_.rowRange(y0, y1));
+  for (Circle& c : found) c.y_px += y0;
+  return found;
 }
 
 void StereoPipeline::fill_result(const PairingResult& pairing, StereoDetection& out) const {

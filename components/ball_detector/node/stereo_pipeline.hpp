@@ -95,6 +95,7 @@ class StereoPipeline {
   std::optional<std::string> check_input(const cv::Mat& left, const cv::Mat& right) const;
   void prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified, cv::Mat& grey,
                    cv::Mat& out);
+  std::vector<Circle> detect_right_in_band();
   void fill_result(const PairingResult& pairing, StereoDetection& out) const;
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
 
