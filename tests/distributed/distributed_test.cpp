@@ -198,7 +198,9 @@ class TwoHostBase : public ::testing::Test {
     system_ = nullptr;
   }
   void SetUp() override {
-    if (!reason_.empty()) GTEST_SKIP() << reason_;
+    if (reason_.empty()) return;
+    if (system_->unavailable()) GTEST_SKIP() << reason_;
+    FAIL() << reason_;
   }
   void TearDown() override {
     if (HasFailure() && system_) std::printf("%s\n", system_->diagnostics().c_str());

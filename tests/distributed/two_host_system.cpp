@@ -75,6 +75,11 @@ std::optional<std::string> TwoHostSystem::start() {
     processes_.push_back(
         std::make_unique<GentleProcess>(testing::Process::start(hosts_.command(host, argv))));
   };
+  for (GentleProcess* o : {robot_observer_, workstation_observer_}) {
+    if (o && !o->get().wait_for_output("# observing", milliseconds(10'000))) {
+      return "observer did not start in its namespace: " + o->get().output();
+    }
+  }
   launch(hosts_.workstation(), options_.workstation_profile, "workstation.log");
   launch(hosts_.robot(), options_.robot_profile, "robot.log");
   return std::nullopt;
