@@ -1,0 +1,98 @@
+// Smoke test of stereoball-bench-tracking: the real tool on two simulated seconds of one
+// scenario prints every table with sane figures; bad input gives one clear error line.
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "process.hpp"
+#include "tracking_run.hpp"
+
+namespace st = stereoball::testing;
+namespace bt = stereoball::bench_tracking;
+using namespace std::chrono_literals;
+
+namespace {
+
+// Numbers on the first line of text that starts with prefix (empty if there is none).
+std::vector<double> row(const std::string& text, const std::string& prefix) {
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(prefix, 0) != 0) continue;
+    std::vector<double> values;
+    const std::regex number(R"((-?\d+(\.\d+)?))");
+    const std::string rest = line.substr(prefix.size());
+    for (std::sregex_iterator it(rest.begin(), rest.end(), number), end; it != end; ++it)
+      values.push_back(std::stod(it->str()));
+    return values;
+  }
+  return {};
+}
+
+}  // namespace
+
+TEST(PercentileTest, NearestRankOfSortedCopy) {
+  // Given ten values in any order
+  const std::vector<double> v = {10, 1, 9, 2, 8, 3, 7, 4, 6, 5};
+  // Then the median is the 5th smallest, p95 the 10th, and an empty list gives 0
+  EXPECT_EQ(bt::percentile(v, 0.5), 5.0);
+  EXPECT_EQ(bt::percentile(v, 0.95), 10.0);
+  EXPECT_EQ(bt::percentile({}, 0.5), 0.0);
+}
+
+TEST(BenchTrackingTool, BallStillTwoSecondsPrintsSaneTables) {
+  // Given the tool on two simulated seconds of the still-ball scenario
+  const auto [code, out] = st::run(
+      {st::bin("stereoball-bench-tracking"), "--scenario", "ball_still", "--seconds", "2"}, 100s);
+  ASSERT_EQ(code, 0) << out;
+  // Then the visible-ball table has the scenario with 60 visible frames (30 Hz) and the
+  // detector finds the ball in most of them
+  const auto vis = row(out.substr(out.find("Ball present and visible")), "ball_still");
+  ASSERT_GE(vis.size(), 6u) << out;
+  EXPECT_EQ(vis[0], 60.0) << out;
+  EXPECT_GT(vis[1], 50.0) << "raw on-ball detection rate of ball_still\n" << out;
+  // And the 3D error of the on-ball detections (ball 1.5 m ahead) is below 10 cm
+  const auto err = row(out, "all distances");
+  ASSERT_GE(err.size(), 5u) << out;
+  EXPECT_GT(err[0], 0.0) << out;
+  EXPECT_LT(err[1], 100.0) << out;
+  // And the detector time is positive and below one second per stereo frame
+  const auto time = row(out.substr(out.find("Detector time")), "ball_still");
+  ASSERT_GE(time.size(), 5u) << out;
+  EXPECT_EQ(time[0], 60.0);
+  for (size_t i = 1; i < 5; ++i) {
+    EXPECT_GT(time[i], 0.0) << out;
+    EXPECT_LT(time[i], 1000.0) << out;
+  }
+  // And the ball-absent table says no such scenario was run
+  EXPECT_NE(out.find("(no ball-absent scenario run)"), std::string::npos) << out;
+}
+
+TEST(BenchTrackingTool, NoBallScenarioFillsTheAbsentTable) {
+  // Given one simulated second of the clutter-only scenario
+  const auto [code, out] = st::run(
+      {st::bin("stereoball-bench-tracking"), "--scenario", "no_ball", "--seconds", "1"}, 100s);
+  ASSERT_EQ(code, 0) << out;
+  // Then the absent table has 30 frames and percentages within 0..100
+  const auto absent = row(out.substr(out.find("Ball absent")), "no_ball");
+  ASSERT_EQ(absent.size(), 4u) << out;
+  EXPECT_EQ(absent[0], 30.0);
+  for (size_t i = 1; i < 4; ++i) {
+    EXPECT_GE(absent[i], 0.0);
+    EXPECT_LE(absent[i], 100.0);
+  }
+}
+
+TEST(BenchTrackingTool, UnknownScenarioIsOneClearError) {
+  // Given a scenario name that has no file
+  const auto [code, out] =
+      st::run({st::bin("stereoball-bench-tracking"), "--scenario", "no_such_scenario"}, 30s);
+  // Then the tool exits non-zero naming the scenario
+  EXPECT_NE(code, 0);
+  EXPECT_NE(out.find("no_such_scenario"), std::string::npos) << out;
+}

@@ -1,0 +1,225 @@
+// stereoball-bench-tracking: runs simulator scenarios through the ball detector pipeline and
+// the tracker core offline (no DDS, simulated time) and prints the figures of issue 6:
+// false detections with no ball, track acceptance and 3D error with the ball visible, and the
+// detector's time per stereo frame. Prints figures only; never asserts a target.
+
+#include <CLI/CLI.hpp>
+#include <opencv2/core.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ball_detector/node/detector_params_file.hpp"
+#include "motion_controller/node/controller_params_file.hpp"
+#include "simulator/io/scenario_file.hpp"
+#include "simulator/io/sim_params_file.hpp"
+#include "tracker/node/tracker_params_file.hpp"
+#include "tracking_run.hpp"
+
+namespace bt = stereoball::bench_tracking;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Options {
+  std::vector<std::string> scenarios;
+  std::string config_dir = SB_DEFAULT_CONFIG_DIR;
+  double seconds = -1.0;
+  std::optional<std::uint64_t> seed;
+  std::string drive = "script";
+  int threads = 1;
+};
+
+int fail(const std::string& message) {
+  std::fprintf(stderr, "stereoball-bench-tracking: %s\n", message.c_str());
+  return 2;
+}
+
+double pct(long part, long whole) {
+  return whole ? 100.0 * part / whole : 0.0;
+}
+
+long count(const std::vector<bt::FrameRecord>& f,
+           const std::function<bool(const bt::FrameRecord&)>& p) {
+  return static_cast<long>(std::count_if(f.begin(), f.end(), p));
+}
+
+void print_absent(const std::vector<bt::RunResult>& runs) {
+  std::printf("\nBall absent (clutter only): false detections before and after the tracker\n");
+  std::printf("%-22s %7s %14s %16s %22s\n", "scenario", "frames", "raw detect %",
+              "tracker accept %", "accepted of raw % (<1)");
+  long frames = 0, raw = 0, acc = 0;
+  for (const auto& r : runs) {
+    if (r.frames.empty() || r.frames.front().ball_present) continue;
+    const long n = static_cast<long>(r.frames.size());
+    const long nr = count(r.frames, [](auto& f) { return f.raw_found; });
+    const long na = count(r.frames, [](auto& f) { return f.raw_found && f.accepted; });
+    std::printf("%-22s %7ld %14.2f %16.2f %22.2f\n", r.scenario.c_str(), n, pct(nr, n), pct(na, n),
+                pct(na, nr));
+    frames += n, raw += nr, acc += na;
+  }
+  if (frames == 0) std::printf("(no ball-absent scenario run)\n");
+}
+
+void print_visible(const std::vector<bt::RunResult>& runs) {
+  std::printf(
+      "\nBall present and visible in both eyes (on ball = left centre within %.0f px of truth)\n",
+      bt::kOnBallPx);
+  std::printf("%-22s %7s %12s %16s %18s %10s %14s\n", "scenario", "visible", "raw on ball %",
+              "track accept %", "accept on ball %", "off-ball", "off-ball acc");
+  long vis = 0, on = 0, acc = 0, acc_on = 0;
+  for (const auto& r : runs) {
+    if (r.frames.empty() || !r.frames.front().ball_present) continue;
+    const long n = count(r.frames, [](auto& f) { return f.ball_visible; });
+    const long no = count(r.frames, [](auto& f) { return f.raw_on_ball; });
+    const long na = count(r.frames, [](auto& f) { return f.ball_visible && f.accepted; });
+    const long nao = count(r.frames, [](auto& f) { return f.accepted_on_ball; });
+    const long off = count(r.frames, [](auto& f) { return f.raw_found && !f.raw_on_ball; });
+    const long off_acc =
+        count(r.frames, [](auto& f) { return f.raw_found && !f.raw_on_ball && f.accepted; });
+    std::printf("%-22s %7ld %12.2f %16.2f %18.2f %10ld %14ld\n", r.scenario.c_str(), n, pct(no, n),
+                pct(na, n), pct(nao, n), off, off_acc);
+    vis += n, on += no, acc += na, acc_on += nao;
+  }
+  std::printf("%-22s %7ld %12.2f %16.2f %18.2f   (target: track accept >= 98%%)\n", "ALL", vis,
+              pct(on, vis), pct(acc, vis), pct(acc_on, vis));
+}
+
+void print_error(const std::vector<bt::RunResult>& runs) {
+  struct Bucket {
+    const char* name;
+    double lo_m, hi_m, target_pct;
+  };
+  const Bucket buckets[] = {{"1 m (0.8-1.2)", 0.8, 1.2, 0.1},
+                            {"2 m (1.8-2.2)", 1.8, 2.2, 0.5},
+                            {"all distances", 0.0, 1e9, -1.0}};
+  std::printf("\n3D error of on-ball detections vs ground truth (all scenarios)\n");
+  std::printf("%-16s %7s %11s %9s %11s %9s %9s\n", "distance", "frames", "median mm", "median %",
+              "p95 mm", "p95 %", "target %");
+  for (const auto& b : buckets) {
+    std::vector<double> mm, rel;
+    for (const auto& r : runs)
+      for (const auto& f : r.frames)
+        if (f.error_m >= 0 && f.true_distance_m >= b.lo_m && f.true_distance_m < b.hi_m) {
+          mm.push_back(f.error_m * 1e3);
+          rel.push_back(100.0 * f.error_m / f.true_distance_m);
+        }
+    char target[16] = "-";
+    if (b.target_pct > 0) std::snprintf(target, sizeof(target), "<=%.1f", b.target_pct);
+    std::printf("%-16s %7zu %11.1f %9.2f %11.1f %9.2f %9s\n", b.name, mm.size(),
+                bt::percentile(mm, 0.5), bt::percentile(rel, 0.5), bt::percentile(mm, 0.95),
+                bt::percentile(rel, 0.95), target);
+  }
+}
+
+void print_time(const std::vector<bt::RunResult>& runs, int threads) {
+  std::printf(
+      "\nDetector time per stereo frame (640x480 raw, rectification included, %d OpenCV "
+      "thread(s))\n",
+      threads);
+  std::printf("%-22s %7s %13s %10s %14s %11s\n", "scenario", "frames", "CPU median ms",
+              "CPU p95 ms", "wall median ms", "wall p95 ms");
+  std::vector<double> all_cpu, all_wall;
+  for (const auto& r : runs) {
+    std::vector<double> cpu, wall;
+    for (const auto& f : r.frames) cpu.push_back(f.cpu_ms), wall.push_back(f.wall_ms);
+    all_cpu.insert(all_cpu.end(), cpu.begin(), cpu.end());
+    all_wall.insert(all_wall.end(), wall.begin(), wall.end());
+    std::printf("%-22s %7zu %13.2f %10.2f %14.2f %11.2f\n", r.scenario.c_str(), cpu.size(),
+                bt::percentile(cpu, 0.5), bt::percentile(cpu, 0.95), bt::percentile(wall, 0.5),
+                bt::percentile(wall, 0.95));
+  }
+  std::printf("%-22s %7zu %13.2f %10.2f %14.2f %11.2f   (target: median <= 5 ms)\n", "ALL",
+              all_cpu.size(), bt::percentile(all_cpu, 0.5), bt::percentile(all_cpu, 0.95),
+              bt::percentile(all_wall, 0.5), bt::percentile(all_wall, 0.95));
+}
+
+std::vector<std::string> all_scenarios(const std::string& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "stereoball-bench-tracking: offline detection + tracking benchmark on simulator scenarios.\n"
+      "Renders each scenario with the simulator core (simulated time), runs the ball detector\n"
+      "pipeline (LUT rectification, Pixel-to-Pixel on both eyes, pairing, triangulation) and the\n"
+      "tracker core on every frame, compares with the ground truth and prints: false detections\n"
+      "with no ball, track acceptance and 3D error with the ball visible, detector time.\n"
+      "No DDS; figures only, no pass/fail."};
+  Options o;
+  app.add_option("--scenario", o.scenarios,
+                 "scenario name (config/scenarios/NAME.yaml) or path; repeat; default: all");
+  app.add_option("--seconds", o.seconds,
+                 "simulated seconds per scenario (default: each scenario's duration)")
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--seed", o.seed, "override every scenario's seed (sensor noise)");
+  app.add_option("--config-dir", o.config_dir,
+                 "folder with simulator.yaml, ball_detector.yaml, tracker.yaml, "
+                 "motion_controller.yaml and scenarios/")
+      ->capture_default_str();
+  app.add_option("--drive", o.drive,
+                 "who drives the robot: script (the scenario's commands) or controller (the "
+                 "motion controller core on the tracker's output)")
+      ->check(CLI::IsMember({"script", "controller"}))
+      ->capture_default_str();
+  app.add_option("--threads", o.threads, "OpenCV threads (1 = one core, the target)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  cv::setNumThreads(o.threads);
+
+  bt::RunConfig base;
+  auto sim = stereoball::simulator::load_sim_params(o.config_dir + "/simulator.yaml");
+  if (!sim) return fail(sim.error());
+  auto det = stereoball::ball_detector::load_detector_params(o.config_dir + "/ball_detector.yaml");
+  if (!det) return fail(det.error());
+  auto trk = stereoball::tracker::load_tracker_params(o.config_dir + "/tracker.yaml");
+  if (!trk) return fail(trk.error());
+  auto ctl = stereoball::motion_controller::load_controller_params(o.config_dir +
+                                                                   "/motion_controller.yaml");
+  if (!ctl) return fail(ctl.error());
+  base.sim = sim.value();
+  base.detector = det.value();
+  base.tracker = trk.value();
+  base.controller = ctl.value().controller;
+  base.drive = o.drive == "controller" ? bt::Drive::kController : bt::Drive::kScript;
+
+  const std::string scenario_dir = o.config_dir + "/scenarios";
+  if (o.scenarios.empty()) o.scenarios = all_scenarios(scenario_dir);
+  if (o.scenarios.empty()) return fail("no scenario files (*.yaml) in " + scenario_dir);
+
+  std::printf("stereoball-bench-tracking: %zu scenario(s), %dx%d at %.1f Hz, drive %s\n",
+              o.scenarios.size(), base.sim.width_px, base.sim.height_px, base.sim.frame_rate_hz,
+              o.drive.c_str());
+  std::vector<bt::RunResult> runs;
+  for (const auto& name : o.scenarios) {
+    auto s = stereoball::simulator::load_scenario_by_name(name, scenario_dir);
+    if (!s) return fail(s.error());
+    bt::RunConfig config = base;
+    config.scenario = s.value();
+    if (o.seed) config.scenario.seed = *o.seed;
+    config.seconds = o.seconds > 0 ? o.seconds : config.scenario.duration_s;
+    auto out = bt::run_scenario(config);
+    if (!out.error.empty()) return fail(out.error);
+    std::fprintf(stderr, "  %s: %zu frames\n", out.result.scenario.c_str(),
+                 out.result.frames.size());
+    runs.push_back(std::move(out.result));
+  }
+  print_absent(runs);
+  print_visible(runs);
+  print_error(runs);
+  print_time(runs, o.threads);
+  return 0;
+}
