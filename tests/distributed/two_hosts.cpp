@@ -2,6 +2,8 @@
 
 #include <signal.h>
 #include <unistd.h>
+#include <cerrno>
+#include <cstdlib>
 
 #include <atomic>
 #include <chrono>
@@ -62,10 +64,36 @@ std::optional<std::string> TwoHosts::ip(const std::vector<std::string>& args) co
   return "'" + line + "' failed (exit " + std::to_string(code) + "): " + output;
 }
 
+void TwoHosts::remove_abandoned() const {
+  // Namespaces of runs that were killed before their destructor ran (e.g. a ctest timeout):
+  // ours by name (sbrobot<pid>x<n>, sbws<pid>x<n>) and their creating process is gone.
+  auto [code, output] = testing::run({ip_path_, "netns", "list"}, milliseconds(10'000));
+  if (code != 0) return;
+  std::istringstream lines(output);
+  for (std::string name; lines >> name;) {
+    std::string rest;
+    if (name.rfind("sbrobot", 0) == 0) {
+      rest = name.substr(7);
+    } else if (name.rfind("sbws", 0) == 0) {
+      rest = name.substr(4);
+    } else {
+      continue;
+    }
+    const auto x = rest.find('x');
+    if (x == std::string::npos || x == 0) continue;
+    const int pid = std::atoi(rest.substr(0, x).c_str());
+    if (pid <= 0 || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
+    kill_all(Host{name, "", "", ""});
+    ip({"netns", "delete", name});
+  }
+}
+
 std::optional<std::string> TwoHosts::setup() {
   if (ip_path_.empty()) return "iproute2 'ip' program not found";
-  if (::geteuid() != 0)
+  if (::geteuid() != 0) {
     return "network namespaces need root (running as uid " + std::to_string(::geteuid()) + ")";
+  }
+  remove_abandoned();
   if (auto e = ip({"netns", "add", robot_.netns})) return e;
   robot_created_ = true;
   if (auto e = ip({"netns", "add", workstation_.netns})) return e;

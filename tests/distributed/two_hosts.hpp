@@ -49,6 +49,7 @@ class TwoHosts {
  private:
   std::optional<std::string> ip(const std::vector<std::string>& args) const;
   void kill_all(const Host& host) const;
+  void remove_abandoned() const;
 
   std::string ip_path_;
   Host robot_, workstation_;
