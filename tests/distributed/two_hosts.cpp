@@ -2,11 +2,11 @@
 
 #include <signal.h>
 #include <unistd.h>
-#include <cerrno>
-#include <cstdlib>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <thread>
