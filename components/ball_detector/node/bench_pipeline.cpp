@@ -66,6 +66,7 @@ int main(int argc, char** argv) {
   bool plain = false;
   std::string input = "saturation";
   bool full_right = false;
+  double size_tolerance = sb::ball_detector::BallDetectorParams{}.size_max_relative_error;
   app.add_option("--frames", frames, "stereo frames to time")->check(CLI::Range(5, 10000));
   app.add_option("--threads", threads, "OpenCV threads (1 = one core, the target)")
       ->check(CLI::Range(1, 64));
@@ -79,6 +80,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0));
   app.add_flag("--full-right", full_right,
                "search the whole right image (default: only the rows of left circles)");
+  app.add_option("--size-tolerance", size_tolerance,
+                 "accepted relative radius error at the triangulated depth")
+      ->check(CLI::Range(0.001, 10.0));
   app.add_option("--input", input, "detector input image: grey, saturation, red, green, blue");
   CLI11_PARSE(app, argc, argv);
   const auto parsed_input = sb::ball_detector::parse_detector_input(input);
@@ -112,6 +116,7 @@ int main(int argc, char** argv) {
   params.input = *parsed_input;
   params.p2p.k_values = k_values;
   params.right_eye_row_band = !full_right;
+  params.size_max_relative_error = size_tolerance;
   params.p2p.min_score = min_score;
   sb::ball_detector::StereoPipeline pipeline(params);
   if (auto e = pipeline.set_calibration(sim.calibration())) {

@@ -30,7 +30,7 @@ struct BallDetectorParams {
   DetectorInput input = DetectorInput::kSaturation;  ///< image the detector runs on (mono8: grey)
   double ball_diameter_m = 0.22;                     ///< true ball diameter, metres, (0, 5]
   double epipolar_tolerance_px = 2.0;     ///< largest |y_left - y_right| of a pair, px, [0, 100]
-  double size_max_relative_error = 0.25;  ///< accepted |r - r_expected| / r_expected, (0, 10]
+  double size_max_relative_error = 0.15;  ///< accepted |r - r_expected| / r_expected, (0, 10]
   bool right_eye_row_band = true;         ///< search the right eye only in the rows of left circles
   int max_candidates_per_eye = 5;         ///< circles kept per eye (P2P max_circles), [1, 50]
   PixelToPixelParams p2p;                 ///< detector on each rectified eye
