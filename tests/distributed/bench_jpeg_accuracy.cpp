@@ -207,6 +207,9 @@ int main(int argc, char** argv) {
           s.decode_ms += ms_since(t0);
         }
         const bd::StereoDetection d = pipelines[q]->step(eyes[0], eyes[1], false);
+        if (verbose) {
+          std::printf("  jpeg%d: %s %s\n", q, bd::to_string(d.status), d.reason.c_str());
+        }
         ++s.frames;
         if (d.status == bd::DetectionStatus::kFound) ++s.found;
         compare_to_truth(d, frame.truth, s);
