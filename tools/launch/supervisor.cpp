@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <string_view>
 #include <thread>
 
 extern char** environ;
@@ -44,8 +45,14 @@ pid_t Supervisor::spawn(const NodeSpec& spec) {
     args.insert(args.end(), it->second.begin(), it->second.end());
   }
   std::vector<std::string> env;
-  for (char** e = environ; *e; ++e) env.emplace_back(*e);
-  if (!profile_.cyclonedds_config.empty()) env.push_back("CYCLONEDDS_URI=file://" + profile_.cyclonedds_config);
+  // The profile's DDS configuration replaces an inherited one (a duplicate variable would let
+  // the inherited value win).
+  const bool profile_sets_uri = !profile_.cyclonedds_config.empty();
+  for (char** e = environ; *e; ++e) {
+    if (profile_sets_uri && std::string_view(*e).rfind("CYCLONEDDS_URI=", 0) == 0) continue;
+    env.emplace_back(*e);
+  }
+  if (profile_sets_uri) env.push_back("CYCLONEDDS_URI=file://" + profile_.cyclonedds_config);
   std::vector<char*> c_args, c_env;
   for (auto& a : args) c_args.push_back(a.data());
   c_args.push_back(nullptr);
