@@ -104,17 +104,21 @@ void print_error(const std::vector<bt::RunResult>& runs) {
               "p95 mm", "p95 %", "target %");
   for (const auto& b : buckets) {
     std::vector<double> mm, rel;
+    double sum[3] = {0, 0, 0};
     for (const auto& r : runs)
       for (const auto& f : r.frames)
         if (f.error_m >= 0 && f.true_distance_m >= b.lo_m && f.true_distance_m < b.hi_m) {
           mm.push_back(f.error_m * 1e3);
           rel.push_back(100.0 * f.error_m / f.true_distance_m);
+          for (int i = 0; i < 3; ++i) sum[i] += f.error_xyz_m[i] * 1e3;
         }
+    const double n = mm.empty() ? 1.0 : static_cast<double>(mm.size());
     char target[16] = "-";
     if (b.target_pct > 0) std::snprintf(target, sizeof(target), "<=%.1f", b.target_pct);
-    std::printf("%-16s %7zu %11.1f %9.2f %11.1f %9.2f %9s\n", b.name, mm.size(),
-                bt::percentile(mm, 0.5), bt::percentile(rel, 0.5), bt::percentile(mm, 0.95),
-                bt::percentile(rel, 0.95), target);
+    std::printf("%-16s %7zu %11.1f %9.2f %11.1f %9.2f %9s   %+.1f / %+.1f / %+.1f\n", b.name,
+                mm.size(), bt::percentile(mm, 0.5), bt::percentile(rel, 0.5),
+                bt::percentile(mm, 0.95), bt::percentile(rel, 0.95), target, sum[0] / n, sum[1] / n,
+                sum[2] / n);
   }
 }
 

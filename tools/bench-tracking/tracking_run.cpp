@@ -70,6 +70,7 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
   if (r.raw_on_ball) {
     const double ex = d.position_m[0] - c.x, ey = d.position_m[1] - c.y, ez = d.position_m[2] - c.z;
     r.error_m = std::sqrt(ex * ex + ey * ey + ez * ez);
+    r.error_xyz_m[0] = ex, r.error_xyz_m[1] = ey, r.error_xyz_m[2] = ez;
   }
   r.accepted_on_ball = r.accepted && r.raw_on_ball;
   return r;
