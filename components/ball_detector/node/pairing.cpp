@@ -46,7 +46,8 @@ std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle&
   pair.left = left;
   pair.right = right;
   pair.row_residual_px = m.row_residual_px;
-  pair.position_m = *p;
+  // Image circle centres triangulate to the centre of the outline, r^2/D in front of the ball.
+  pair.position_m = stereo::sphere_centre_from_outline_m(*p, 0.5 * ctx.size.ball_diameter_m);
   pair.score = 0.5 * (left.score + right.score);
   const double f = ctx.triangulator.focal_px();
   pair.depth_from_size_m =

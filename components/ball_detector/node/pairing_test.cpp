@@ -21,12 +21,16 @@ class Pairing : public ::testing::Test {
         size_{0.22, 0.25},
         ctx_{epi_, tri_, size_} {}
 
-  // Rectified circles of a ball of the configured size at (x, y, z) metres, left/right.
-  std::pair<Circle, Circle> ball_at(double x, double y, double z, double score = 0.9,
+  // Rectified circles of a ball of the configured size centred at (x, y, z) metres, left/right.
+  // Each eye sees the outline of the ball, whose centre is the tangent circle of the viewing
+  // cone: r^2/D in front of the ball's centre, so that is the point that projects here.
+  std::pair<Circle, Circle> ball_at(double x0, double y0, double z0, double score = 0.9,
                                     double radius_scale = 1.0) const {
     const double f = tri_.focal_px();
     const double cx = calib_.p1(0, 2), cy = calib_.p1(1, 2);
-    const double r = radius_scale * sb::stereo::expected_radius_px(f, 0.22, z);
+    const double r = radius_scale * sb::stereo::expected_radius_px(f, 0.22, z0);
+    const double shrink = 1.0 - 0.11 * 0.11 / (x0 * x0 + y0 * y0 + z0 * z0);
+    const double x = x0 * shrink, y = y0 * shrink, z = z0 * shrink;
     const double xl = cx + f * x / z, yl = cy + f * y / z;
     const double xr = xl - f * tri_.baseline_m() / z;
     return {Circle{xl, yl, r, score}, Circle{xr, yl, r, score}};

@@ -67,4 +67,11 @@ SizeCheck check_size(const SizeCheckParams& params, double focal_px, double radi
   return c;
 }
 
+cv::Vec3d sphere_centre_from_outline_m(const cv::Vec3d& outline_m, double radius_m) {
+  const double d = cv::norm(outline_m);
+  if (d <= 0.0 || radius_m <= 0.0) return outline_m;
+  const double centre_distance = 0.5 * (d + std::sqrt(d * d + 4.0 * radius_m * radius_m));
+  return outline_m * (centre_distance / d);
+}
+
 }  // namespace stereoball::stereo

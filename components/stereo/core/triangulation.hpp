@@ -69,4 +69,11 @@ struct SizeCheck {
 SizeCheck check_size(const SizeCheckParams& params, double focal_px, double radius_px,
                      double depth_m);
 
+/// Centre of a sphere of radius_m from the triangulated centres of its two image outlines.
+/// The outlines are the images of the circle where the viewing cone touches the sphere; that
+/// circle's centre lies r^2/D in front of the sphere's centre (D = distance to the centre), so
+/// triangulating image centres underestimates range by about r^2/D. This moves outline_m along
+/// its ray to the sphere centre: D - r^2/D = |outline_m|, metres.
+cv::Vec3d sphere_centre_from_outline_m(const cv::Vec3d& outline_m, double radius_m);
+
 }  // namespace stereoball::stereo

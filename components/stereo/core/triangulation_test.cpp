@@ -89,3 +89,23 @@ TEST(SizeCheckParams, GivenBadValuesWhenValidatedThenFieldNamed) {
 
 }  // namespace
 }  // namespace stereoball::stereo
+
+namespace stereoball::stereo {
+namespace {
+
+// Given a sphere, when its outline's centre (the tangent circle of the viewing cone, r^2/D in
+// front of the sphere's centre) is corrected, then the sphere's centre comes back.
+TEST(SphereCentre, GivenOutlineCentreWhenCorrectedThenSphereCentreIsRecovered) {
+  const double r = 0.11;
+  for (const cv::Vec3d& centre : {cv::Vec3d(0.0, 0.0, 1.0), cv::Vec3d(0.3, 0.1, 1.0), cv::Vec3d(-0.5, 0.2, 2.5)}) {
+    const double d = cv::norm(centre);
+    const cv::Vec3d outline = centre * (1.0 - r * r / (d * d));
+    const cv::Vec3d recovered = sphere_centre_from_outline_m(outline, r);
+    EXPECT_NEAR(cv::norm(recovered - centre), 0.0, 1e-12);
+    EXPECT_GT(cv::norm(centre - outline), 0.004) << "the bias being corrected is real";
+  }
+  EXPECT_EQ(sphere_centre_from_outline_m(cv::Vec3d(0, 0, 1), 0.0), cv::Vec3d(0, 0, 1));
+}
+
+}  // namespace
+}  // namespace stereoball::stereo
