@@ -77,7 +77,7 @@ double ball_distance_m(const stereoball_msg_GroundTruth& gt) {
 // Given a ball in front of the robot, when the system runs, then the tracker follows it and
 // the robot ends near the controller's target distance, facing the ball.
 TEST(Pipeline, RobotEndsNearTheBall) {
-  PipelineRun run("ball_still");
+  PipelineRun run("ball_still_plain");
   ASSERT_TRUE(sb::testing::eventually([&] {
     run.drain();
     return !run.truths.empty() && run.truths.back().sim_time_s > 12.0;
@@ -97,7 +97,7 @@ TEST(Pipeline, RobotEndsNearTheBall) {
 // controller commands zero within 0.5 s (its 300 ms stale-track timeout plus delivery), and
 // the simulated base then comes to rest at its deceleration limit (time printed).
 TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
-  PipelineRun run("ball_rolling_away", /*restart_tracker=*/false);
+  PipelineRun run("ball_rolling_away_plain", /*restart_tracker=*/false);
   ASSERT_TRUE(sb::testing::eventually([&] {
     run.drain();
     return !run.truths.empty() && std::abs(run.truths.back().robot_linear_mps) > 0.1;
