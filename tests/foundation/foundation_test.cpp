@@ -35,7 +35,7 @@ sb::dds::DomainParticipant participant(const std::string& partition) {
 
 // Takes serialized samples until one arrives or the deadline passes.
 std::optional<sb::dds::SerializedSample> take_one(sb::dds::SerializedReader& reader,
-                                                   std::chrono::milliseconds timeout) {
+                                                  std::chrono::milliseconds timeout) {
   std::vector<sb::dds::SerializedSample> got;
   sb::testing::eventually([&] { return reader.take(got, 1) > 0; }, timeout);
   if (got.empty()) return std::nullopt;
@@ -44,9 +44,9 @@ std::optional<sb::dds::SerializedSample> take_one(sb::dds::SerializedReader& rea
 
 template <typename T>
 struct TopicOf;
-#define SB_TOPIC_OF(Type, def) \
-  template <>                  \
-  struct TopicOf<Type> {       \
+#define SB_TOPIC_OF(Type, def)                           \
+  template <>                                            \
+  struct TopicOf<Type> {                                 \
     static const auto& get() { return sb::topics::def; } \
   };
 SB_TOPIC_OF(stereoball_msg_StereoFrame, kStereoFrame)
@@ -100,12 +100,18 @@ TYPED_TEST(RoundTrip, EveryFieldSurvivesTheTripThroughAnotherProcess) {
   EXPECT_EQ(original->cdr, returned->cdr);
 
   std::vector<sb::dds::Owned<TypeParam>> typed;
-  sb::testing::eventually([&] { typed = echoed_typed.take(); return !typed.empty(); }, 5s);
+  sb::testing::eventually(
+      [&] {
+        typed = echoed_typed.take();
+        return !typed.empty();
+      },
+      5s);
   ASSERT_GE(typed.size(), 1u);
   if constexpr (std::is_same_v<TypeParam, stereoball_msg_StereoFrame>) {
     EXPECT_EQ(typed[0]->left.data._length, 640u * 480u * 3u);
     EXPECT_EQ(typed[0]->right.data._length, 640u * 480u * 3u);
-    EXPECT_EQ(0, std::memcmp(typed[0]->right.data._buffer, sample.right.data._buffer, 640 * 480 * 3));
+    EXPECT_EQ(0,
+              std::memcmp(typed[0]->right.data._buffer, sample.right.data._buffer, 640 * 480 * 3));
     EXPECT_STREQ(typed[0]->source, sample.source);
   }
 }
@@ -142,11 +148,11 @@ TEST(TopicQos, LateJoiningProcessReceivesCalibration) {
   writer.write(calibration);
   std::this_thread::sleep_for(300ms);  // the writer is alone: no reader existed at write time
 
-  auto [code, output] = sb::testing::run(
-      {sb::testing::bin("stereoball-topic"), "echo", "stereo/calibration", "--count", "1",
-       "--timeout", "10", "--partition", partition, "--domain",
-       std::to_string(sb::testing::test_domain())},
-      20s);
+  auto [code, output] =
+      sb::testing::run({sb::testing::bin("stereoball-topic"), "echo", "stereo/calibration",
+                        "--count", "1", "--timeout", "10", "--partition", partition, "--domain",
+                        std::to_string(sb::testing::test_domain())},
+                       20s);
   EXPECT_EQ(code, 0) << output;
   EXPECT_NE(output.find("source: calibration-7"), std::string::npos) << output;
   EXPECT_NE(output.find("size_px: 647x487"), std::string::npos) << output;
@@ -192,7 +198,8 @@ TEST(NodeParams, BadFilesAreRejectedWithOneClearLine) {
     EXPECT_EQ(output, "sb_test_peer: " + dir + "/" + c.expected + "\n");
   }
   auto [code, output] = sb::testing::run(
-      {sb::testing::bin("sb_test_peer"), "echo", "ball/track", "--config", dir + "/absent.yaml"}, 10s);
+      {sb::testing::bin("sb_test_peer"), "echo", "ball/track", "--config", dir + "/absent.yaml"},
+      10s);
   EXPECT_EQ(code, 2);
   EXPECT_EQ(output, "sb_test_peer: " + dir + "/absent.yaml: cannot read file\n");
 }
@@ -200,7 +207,8 @@ TEST(NodeParams, BadFilesAreRejectedWithOneClearLine) {
 // Given a running node, when it receives SIGTERM or SIGINT, then it exits 0 within 1 s.
 TEST(NodeRunner, TerminationSignalsExitCleanlyWithinOneSecond) {
   for (int sig : {SIGTERM, SIGINT}) {
-    Process node = Process::start(peer_args(sb::testing::unique_partition(), {"echo", "ball/track"}));
+    Process node =
+        Process::start(peer_args(sb::testing::unique_partition(), {"echo", "ball/track"}));
     ASSERT_TRUE(node.wait_for_output("running on domain", 10s)) << node.output();
     node.signal(sig);
     const auto code = node.wait_for_exit(1000ms);
@@ -216,7 +224,12 @@ TEST(NodeRunner, PublishesHeartbeat) {
   sb::dds::DataReader<stereoball_msg_ComponentStatus> reader(p, sb::topics::kComponentStatus);
   Process node = Process::start(peer_args(partition, {"echo", "ball/track"}));
   std::vector<sb::dds::Owned<stereoball_msg_ComponentStatus>> got;
-  ASSERT_TRUE(sb::testing::eventually([&] { got = reader.take(); return !got.empty(); }, 10s));
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        got = reader.take();
+        return !got.empty();
+      },
+      10s));
   EXPECT_STREQ(got[0]->component, "sb_test_peer");
   EXPECT_EQ(got[0]->pid, node.pid());
 }

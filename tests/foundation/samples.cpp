@@ -5,7 +5,9 @@
 namespace stereoball::testing {
 namespace {
 
-double value(std::mt19937& rng) { return std::uniform_real_distribution<double>(-100, 100)(rng); }
+double value(std::mt19937& rng) {
+  return std::uniform_real_distribution<double>(-100, 100)(rng);
+}
 
 template <size_t N>
 void fill_array(double (&a)[N], std::mt19937& rng) {
@@ -26,7 +28,8 @@ stereoball_msg_EyeImage eye(SampleStorage& s, std::mt19937& rng, uint32_t w, uin
   e.width_px = w;
   e.height_px = h;
   e.step_bytes = w * 3;
-  e.data = {static_cast<uint32_t>(bytes.size()), static_cast<uint32_t>(bytes.size()), bytes.data(), false};
+  e.data = {static_cast<uint32_t>(bytes.size()), static_cast<uint32_t>(bytes.size()), bytes.data(),
+            false};
   return e;
 }
 
@@ -37,7 +40,8 @@ stereoball_msg_EyeCircle circle(std::mt19937& rng) {
 
 }  // namespace
 
-void fill(stereoball_msg_StereoFrame& m, SampleStorage& s, uint32_t seed, uint32_t width, uint32_t height) {
+void fill(stereoball_msg_StereoFrame& m, SampleStorage& s, uint32_t seed, uint32_t width,
+          uint32_t height) {
   std::mt19937 rng(seed);
   m.seq = seed + 1000;
   m.stamp_ns = 1'700'000'000'000'000'000 + seed;
@@ -152,11 +156,13 @@ void fill(stereoball_msg_ComponentStatus& m, SampleStorage& s, uint32_t seed) {
   m.state = s.str("state-" + std::to_string(seed));
   auto& rates = s.rates.emplace_back();
   for (uint32_t i = 0; i < 3; ++i) {
-    rates.push_back({s.str("topic/" + std::to_string(i)), static_cast<float>(value(rng)), rng(), rng()});
+    rates.push_back(
+        {s.str("topic/" + std::to_string(i)), static_cast<float>(value(rng)), rng(), rng()});
   }
   m.rates = {3, 3, rates.data(), false};
   auto& counters = s.counters.emplace_back();
-  for (uint32_t i = 0; i < 2; ++i) counters.push_back({s.str("counter" + std::to_string(i)), rng()});
+  for (uint32_t i = 0; i < 2; ++i)
+    counters.push_back({s.str("counter" + std::to_string(i)), rng()});
   m.counters = {2, 2, counters.data(), false};
   m.errors = seed + 5;
   m.last_error = s.str("last error " + std::to_string(seed));

@@ -62,7 +62,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.fallthrough();
   sb::node::CommonOptions common;
-  sb::node::add_common_flags(app, common, std::string(SB_SOURCE_DIR) + "/tests/foundation/test_peer.yaml");
+  sb::node::add_common_flags(app, common,
+                             std::string(SB_SOURCE_DIR) + "/tests/foundation/test_peer.yaml");
   std::string topic_name;
   auto* echo = app.add_subcommand("echo", "echo a topic into <partition>.echo");
   echo->add_option("topic", topic_name)->required();
@@ -79,7 +80,8 @@ int main(int argc, char** argv) {
   try {
     sb::node::Runner runner("sb_test_peer", common);
     if (publish->parsed()) {
-      sb::dds::DataWriter<stereoball_msg_StereoFrame> writer(runner.participant(), sb::topics::kStereoFrame);
+      sb::dds::DataWriter<stereoball_msg_StereoFrame> writer(runner.participant(),
+                                                             sb::topics::kStereoFrame);
       writer.wait_for_readers(1, 5'000'000'000);
       for (int i = 0; i < frames; ++i) {
         sb::testing::SampleStorage storage;

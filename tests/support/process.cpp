@@ -24,7 +24,8 @@ int decode_status(int status) {
 }
 }  // namespace
 
-Process Process::start(const std::vector<std::string>& argv, const std::vector<std::string>& extra_env) {
+Process Process::start(const std::vector<std::string>& argv,
+                       const std::vector<std::string>& extra_env) {
   char log_template[] = "/tmp/sb-test-proc-XXXXXX";
   const int log_fd = mkstemp(log_template);
   if (log_fd < 0) throw std::runtime_error("cannot create log file for child process");
@@ -106,7 +107,8 @@ bool Process::wait_for_output(const std::string& text, std::chrono::milliseconds
   return eventually([&] { return output().find(text) != std::string::npos; }, timeout);
 }
 
-std::pair<int, std::string> run(const std::vector<std::string>& argv, std::chrono::milliseconds timeout,
+std::pair<int, std::string> run(const std::vector<std::string>& argv,
+                                std::chrono::milliseconds timeout,
                                 const std::vector<std::string>& extra_env) {
   Process p = Process::start(argv, extra_env);
   auto code = p.wait_for_exit(timeout);

@@ -4,11 +4,11 @@
 //
 // Latency is half the round trip (ping -> pong -> ping), the definition ddsperf's ping uses.
 
-#include <CLI/CLI.hpp>
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
-#include <fcntl.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -48,7 +48,9 @@ double percentile(std::vector<double> v, double p) {
   return v[i];
 }
 
-double median(std::vector<double> v) { return percentile(std::move(v), 50); }
+double median(std::vector<double> v) {
+  return percentile(std::move(v), 50);
+}
 
 struct Frame {
   std::vector<uint8_t> left, right;
@@ -61,19 +63,24 @@ struct Frame {
       eye->height_px = kHeight;
       eye->step_bytes = kWidth * 3;
     }
-    msg.left.data = {static_cast<uint32_t>(left.size()), static_cast<uint32_t>(left.size()), left.data(), false};
-    msg.right.data = {static_cast<uint32_t>(right.size()), static_cast<uint32_t>(right.size()), right.data(), false};
+    msg.left.data = {static_cast<uint32_t>(left.size()), static_cast<uint32_t>(left.size()),
+                     left.data(), false};
+    msg.right.data = {static_cast<uint32_t>(right.size()), static_cast<uint32_t>(right.size()),
+                      right.data(), false};
   }
 };
 
 // Waits until reader has data or timeout; true if data.
-bool wait_data(sb::dds::WaitSet& ws, int64_t timeout_ns) { return !ws.wait(timeout_ns).empty(); }
+bool wait_data(sb::dds::WaitSet& ws, int64_t timeout_ns) {
+  return !ws.wait(timeout_ns).empty();
+}
 
 int run_pong(int domain, const std::string& partition, double seconds) {
   sb::dds::DomainParticipant in({domain, partition + ".ping"});
   sb::dds::DomainParticipant out({domain, partition + ".pong"});
   sb::dds::DataReader<stereoball_msg_StereoFrame> reader(in, sb::topics::kStereoFrame, frame_qos());
-  sb::dds::DataWriter<stereoball_msg_StereoFrame> writer(out, sb::topics::kStereoFrame, frame_qos());
+  sb::dds::DataWriter<stereoball_msg_StereoFrame> writer(out, sb::topics::kStereoFrame,
+                                                         frame_qos());
   sb::dds::WaitSet ws(in);
   sb::dds::ReadCondition cond(reader.handle());
   ws.attach(cond.handle(), 1);
@@ -96,7 +103,8 @@ struct Figures {
 Figures run_ping(int domain, const std::string& partition, int frames) {
   sb::dds::DomainParticipant out({domain, partition + ".ping"});
   sb::dds::DomainParticipant in({domain, partition + ".pong"});
-  sb::dds::DataWriter<stereoball_msg_StereoFrame> writer(out, sb::topics::kStereoFrame, frame_qos());
+  sb::dds::DataWriter<stereoball_msg_StereoFrame> writer(out, sb::topics::kStereoFrame,
+                                                         frame_qos());
   sb::dds::DataReader<stereoball_msg_StereoFrame> reader(in, sb::topics::kStereoFrame, frame_qos());
   sb::dds::WaitSet ws(in);
   sb::dds::ReadCondition cond(reader.handle());
@@ -123,8 +131,10 @@ Figures run_ping(int domain, const std::string& partition, int frames) {
       }
     }
     const int64_t now = sb::node::monotonic_ns();
-    if (!got) ++lost;
-    else if (i >= 20) half_rtt_us.push_back((now - sent) / 2e3);  // first 20 warm up
+    if (!got)
+      ++lost;
+    else if (i >= 20)
+      half_rtt_us.push_back((now - sent) / 2e3);  // first 20 warm up
   }
   const double elapsed_s = (sb::node::monotonic_ns() - t0) * 1e-9;
   Figures f;
@@ -133,7 +143,8 @@ Figures run_ping(int domain, const std::string& partition, int frames) {
   f.p99_us = percentile(half_rtt_us, 99);
   f.rate_hz = f.count / elapsed_s;
   f.mbps = f.rate_hz * frame.left.size() * 2 / 1e6;
-  if (lost) std::fprintf(stderr, "  (ours: %zu of %d frames lost and skipped)\n", lost, frames + 20);
+  if (lost)
+    std::fprintf(stderr, "  (ours: %zu of %d frames lost and skipped)\n", lost, frames + 20);
   return f;
 }
 
@@ -164,14 +175,16 @@ int reap(pid_t pid, int timeout_s) {
   return -1;
 }
 
-std::string self_path() { return std::filesystem::read_symlink("/proc/self/exe").string(); }
+std::string self_path() {
+  return std::filesystem::read_symlink("/proc/self/exe").string();
+}
 
 Figures ours(int domain, int frames, int run) {
   const std::string partition = "bench." + std::to_string(getpid()) + "." + std::to_string(run);
-  const pid_t pong = spawn({self_path(), "--pong", "--partition", partition, "--domain",
-                            std::to_string(domain), "--seconds", "120",
-                            g_reliable ? "--reliable" : "--best-effort"},
-                           "/tmp/sb-bench-pong.log");
+  const pid_t pong =
+      spawn({self_path(), "--pong", "--partition", partition, "--domain", std::to_string(domain),
+             "--seconds", "120", g_reliable ? "--reliable" : "--best-effort"},
+            "/tmp/sb-bench-pong.log");
   Figures f;
   try {
     f = run_ping(domain, partition, frames);
@@ -183,7 +196,8 @@ Figures ours(int domain, int frames, int run) {
   return f;
 }
 
-// Parses ddsperf's per-second ping lines: "... size S mean ..us min ..us 50% Xus 90% ..us 99% Yus max ..us cnt N".
+// Parses ddsperf's per-second ping lines: "... size S mean ..us min ..us 50% Xus 90% ..us 99% Yus
+// max ..us cnt N".
 Figures ddsperf(int domain, int seconds, bool best_effort) {
   const std::string dom = std::to_string(domain + 1);  // its own domain: ddsperf has no partitions
   std::vector<std::string> common{"ddsperf", "-i", dom};
@@ -200,7 +214,8 @@ Figures ddsperf(int domain, int seconds, bool best_effort) {
   kill(pong, SIGKILL);
   reap(pong, 5);
   std::ifstream in("/tmp/sb-bench-ddsperf-ping.log");
-  const std::regex line_re(R"(size (\d+) mean [\d.]+us min [\d.]+us 50% ([\d.]+)us 90% [\d.]+us 99% ([\d.]+)us max [\d.]+us cnt (\d+))");
+  const std::regex line_re(
+      R"(size (\d+) mean [\d.]+us min [\d.]+us 50% ([\d.]+)us 90% [\d.]+us 99% ([\d.]+)us max [\d.]+us cnt (\d+))");
   std::vector<double> medians, p99s;
   size_t count = 0;
   std::string line;
@@ -236,13 +251,17 @@ int main(int argc, char** argv) {
   int frames = 1000, runs = 3;
   bool with_ddsperf = true;
   app.add_flag("--pong", pong, "internal: run the echo side");
-  app.add_option("--domain", domain, "DDS domain (ddsperf uses domain+1)")->check(CLI::Range(0, 231));
+  app.add_option("--domain", domain, "DDS domain (ddsperf uses domain+1)")
+      ->check(CLI::Range(0, 231));
   app.add_option("--partition", partition, "internal");
   app.add_option("--seconds", seconds, "internal");
-  app.add_option("--frames", frames, "frames per run (>= 1000 for the report)")->check(CLI::Range(10, 1000000));
-  app.add_option("--runs", runs, "runs of each side; medians are reported")->check(CLI::Range(1, 20));
+  app.add_option("--frames", frames, "frames per run (>= 1000 for the report)")
+      ->check(CLI::Range(10, 1000000));
+  app.add_option("--runs", runs, "runs of each side; medians are reported")
+      ->check(CLI::Range(1, 20));
   app.add_flag("!--no-ddsperf", with_ddsperf, "skip the ddsperf comparison");
-  app.add_flag("--reliable,!--best-effort", g_reliable, "our frames reliable instead of the table's best-effort");
+  app.add_flag("--reliable,!--best-effort", g_reliable,
+               "our frames reliable instead of the table's best-effort");
   CLI11_PARSE(app, argc, argv);
   if (pong) return run_pong(domain, partition, seconds);
 
@@ -256,13 +275,16 @@ int main(int argc, char** argv) {
   for (int run = 0; run < runs; ++run) {
     mine.push_back(ours(domain, frames, run));
     std::printf("run %d: ours (%s keep-last-1) median %.0f us p99 %.0f us, %.1f frames/s\n",
-                run + 1, g_reliable ? "reliable" : "best-effort", mine.back().median_us, mine.back().p99_us, mine.back().rate_hz);
+                run + 1, g_reliable ? "reliable" : "best-effort", mine.back().median_us,
+                mine.back().p99_us, mine.back().rate_hz);
     if (with_ddsperf) {
       theirs_be.push_back(ddsperf(domain, ddsperf_seconds, true));
       theirs_rel.push_back(ddsperf(domain, ddsperf_seconds, false));
-      std::printf("run %d: ddsperf best-effort median %.0f us p99 %.0f us; reliable median %.0f us p99 %.0f us\n",
-                  run + 1, theirs_be.back().median_us, theirs_be.back().p99_us,
-                  theirs_rel.back().median_us, theirs_rel.back().p99_us);
+      std::printf(
+          "run %d: ddsperf best-effort median %.0f us p99 %.0f us; reliable median %.0f us p99 "
+          "%.0f us\n",
+          run + 1, theirs_be.back().median_us, theirs_be.back().p99_us, theirs_rel.back().median_us,
+          theirs_rel.back().p99_us);
     }
     std::fflush(stdout);
   }
@@ -271,12 +293,15 @@ int main(int argc, char** argv) {
     for (const auto& f : v) x.push_back(f.*field);
     return median(x);
   };
-  std::printf("\n640x480x3 stereo frame (1843200 B of pixels), one-way latency = round trip / 2, %d frames x %d runs\n",
-              frames, runs);
-  std::printf("%-34s %12s %12s %14s %10s\n", "", "median (us)", "p99 (us)", "pingpong (Hz)", "MB/s");
+  std::printf(
+      "\n640x480x3 stereo frame (1843200 B of pixels), one-way latency = round trip / 2, %d frames "
+      "x %d runs\n",
+      frames, runs);
+  std::printf("%-34s %12s %12s %14s %10s\n", "", "median (us)", "p99 (us)", "pingpong (Hz)",
+              "MB/s");
   std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", "stereoball (dds layer, typed)",
-              med(mine, &Figures::median_us), med(mine, &Figures::p99_us), med(mine, &Figures::rate_hz),
-              med(mine, &Figures::mbps));
+              med(mine, &Figures::median_us), med(mine, &Figures::p99_us),
+              med(mine, &Figures::rate_hz), med(mine, &Figures::mbps));
   if (with_ddsperf) {
     std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", "ddsperf best-effort (same size)",
                 med(theirs_be, &Figures::median_us), med(theirs_be, &Figures::p99_us),
@@ -285,10 +310,11 @@ int main(int argc, char** argv) {
                 med(theirs_rel, &Figures::median_us), med(theirs_rel, &Figures::p99_us),
                 med(theirs_rel, &Figures::rate_hz), med(theirs_rel, &Figures::mbps));
     const auto& same = g_reliable ? theirs_rel : theirs_be;
-    std::printf("ratio ours/ddsperf (same reliability, %s): median %.2f, p99 %.2f (target <= 1.2)\n",
-                g_reliable ? "reliable" : "best-effort",
-                med(mine, &Figures::median_us) / med(same, &Figures::median_us),
-                med(mine, &Figures::p99_us) / med(same, &Figures::p99_us));
+    std::printf(
+        "ratio ours/ddsperf (same reliability, %s): median %.2f, p99 %.2f (target <= 1.2)\n",
+        g_reliable ? "reliable" : "best-effort",
+        med(mine, &Figures::median_us) / med(same, &Figures::median_us),
+        med(mine, &Figures::p99_us) / med(same, &Figures::p99_us));
   }
   return 0;
 }

@@ -2,14 +2,14 @@
 // motion_controller as separate processes), shows progress, scores the run against the
 // simulator's ground truth and writes a report (summary, plots, log) to --out.
 
-#include <CLI/CLI.hpp>
 #include <signal.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
+#include <CLI/CLI.hpp>
 
 #include <atomic>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -30,7 +30,9 @@ using sb::demo::TrackState;
 namespace {
 
 std::atomic<bool> g_stop{false};
-void on_signal(int) { g_stop = true; }
+void on_signal(int) {
+  g_stop = true;
+}
 
 struct Recorded {
   std::vector<sb::demo::TruthSample> truth;
@@ -41,22 +43,29 @@ struct Recorded {
 
 TrackState to_state(stereoball_msg_TrackState s) {
   switch (s) {
-    case stereoball_msg_TRACK_FOLLOWING: return TrackState::kFollowing;
-    case stereoball_msg_TRACK_SEARCHING: return TrackState::kSearching;
-    default: return TrackState::kIdle;
+    case stereoball_msg_TRACK_FOLLOWING:
+      return TrackState::kFollowing;
+    case stereoball_msg_TRACK_SEARCHING:
+      return TrackState::kSearching;
+    default:
+      return TrackState::kIdle;
   }
 }
 
 const char* state_name(TrackState s) {
-  return s == TrackState::kFollowing ? "FOLLOWING" : s == TrackState::kSearching ? "SEARCHING" : "IDLE";
+  return s == TrackState::kFollowing   ? "FOLLOWING"
+         : s == TrackState::kSearching ? "SEARCHING"
+                                       : "IDLE";
 }
 
 bool accepted(stereoball_msg_TrackVerdict v) {
-  return v == stereoball_msg_VERDICT_STARTUP_ACCEPTED || v == stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED ||
+  return v == stereoball_msg_VERDICT_STARTUP_ACCEPTED ||
+         v == stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED ||
          v == stereoball_msg_VERDICT_STATISTICS_ACCEPTED;
 }
 
-// The controller's target distance, read from its parameters file (any key named target_distance_m).
+// The controller's target distance, read from its parameters file (any key named
+// target_distance_m).
 double find_target_distance(const YAML::Node& node, double fallback) {
   if (node.IsMap()) {
     for (const auto& item : node) {
@@ -113,7 +122,8 @@ void drain(Readers& r, Recorded& rec) {
   for (auto& s : r.command.take(256)) rec.commands.emplace_back(s->linear_mps, s->angular_radps);
 }
 
-void write_plots(const fs::path& out, const std::string& scenario, const Recorded& rec, double target_m) {
+void write_plots(const fs::path& out, const std::string& scenario, const Recorded& rec,
+                 double target_m) {
   using sb::demo::Chart;
   using sb::demo::Series;
   Chart top{"top view: " + scenario, "x (m)", "y (m)", {}, true, {}};
@@ -127,7 +137,8 @@ void write_plots(const fs::path& out, const std::string& scenario, const Recorde
 
   Chart dist{"distance to ball", "time (s)", "m", {}, false, {}};
   Chart bearing{"bearing of ball (+ = right)", "time (s)", "deg", {}, false, {}};
-  Series d_true{"truth", {}, cv::Scalar(0, 120, 255)}, d_target{"target", {}, cv::Scalar(0, 160, 0)};
+  Series d_true{"truth", {}, cv::Scalar(0, 120, 255)},
+      d_target{"target", {}, cv::Scalar(0, 160, 0)};
   Series b_true{"truth", {}, cv::Scalar(0, 120, 255)};
   for (const auto& t : rec.truth) {
     if (!t.ball_present) continue;
@@ -142,7 +153,8 @@ void write_plots(const fs::path& out, const std::string& scenario, const Recorde
 
   std::map<uint64_t, double> t_of_seq;
   for (const auto& t : rec.truth) t_of_seq[t.seq] = t.t_s;
-  Chart states{"track state and ball visibility", "time (s)", "", {}, false, {"IDLE", "FOLLOWING", "SEARCHING"}};
+  Chart states{"track state and ball visibility", "time (s)", "", {}, false,
+               {"IDLE", "FOLLOWING", "SEARCHING"}};
   Series state{"track state", {}, cv::Scalar(200, 0, 120), true};
   Series visible{"ball visible", {}, cv::Scalar(0, 160, 0), true};
   for (const auto& tr : rec.tracks) {
@@ -169,18 +181,27 @@ int main(int argc, char** argv) {
   double duration_s = 20, rate = 1.0;
   std::string out_dir = "demo-out";
   int domain = sb::dds::domain_from_env(0);
-  app.add_option("-s,--scenario", scenarios, "scenario(s) from config/scenarios (default: ball_rolling_away_plain, ball_still_plain, no_ball)");
-  app.add_option("-d,--duration", duration_s, "simulated seconds per scenario")->check(CLI::Range(1.0, 3600.0))->capture_default_str();
+  app.add_option("-s,--scenario", scenarios,
+                 "scenario(s) from config/scenarios (default: ball_rolling_away_plain, "
+                 "ball_still_plain, no_ball)");
+  app.add_option("-d,--duration", duration_s, "simulated seconds per scenario")
+      ->check(CLI::Range(1.0, 3600.0))
+      ->capture_default_str();
   app.add_option("-o,--out", out_dir, "report folder (created)")->capture_default_str();
-  app.add_option("--domain", domain, "DDS domain")->check(CLI::Range(0, 232))->capture_default_str();
-  app.add_option("--rate", rate, "simulation speed (1 = real time)")->check(CLI::Range(0.1, 10.0))->capture_default_str();
+  app.add_option("--domain", domain, "DDS domain")
+      ->check(CLI::Range(0, 232))
+      ->capture_default_str();
+  app.add_option("--rate", rate, "simulation speed (1 = real time)")
+      ->check(CLI::Range(0.1, 10.0))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (scenarios.empty()) scenarios = {"ball_rolling_away_plain", "ball_still_plain", "no_ball"};
   sb::log::init("demo");
   const fs::path root = SB_SOURCE_ROOT;
   for (const auto& s : scenarios) {
     if (!fs::exists(root / "config" / "scenarios" / (s + ".yaml"))) {
-      std::fprintf(stderr, "stereoball demo: unknown scenario '%s' (see config/scenarios/)\n", s.c_str());
+      std::fprintf(stderr, "stereoball demo: unknown scenario '%s' (see config/scenarios/)\n",
+                   s.c_str());
       return 2;
     }
   }
@@ -192,12 +213,14 @@ int main(int argc, char** argv) {
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) {
-    std::fprintf(stderr, "stereoball demo: cannot create %s: %s\n", out_dir.c_str(), ec.message().c_str());
+    std::fprintf(stderr, "stereoball demo: cannot create %s: %s\n", out_dir.c_str(),
+                 ec.message().c_str());
     return 2;
   }
   double target_m = 1.0;
   try {
-    target_m = find_target_distance(YAML::LoadFile((root / "config" / "motion_controller.yaml").string()), 1.0);
+    target_m = find_target_distance(
+        YAML::LoadFile((root / "config" / "motion_controller.yaml").string()), 1.0);
   } catch (const std::exception&) {
   }
   if (!profile->cyclonedds_config.empty() && !std::getenv("CYCLONEDDS_URI")) {
@@ -222,7 +245,8 @@ int main(int argc, char** argv) {
     sb::dds::DomainParticipant participant({domain, partition});
     Readers readers(participant);
     Recorded rec;
-    sb::launch::Supervisor supervisor(*profile, options, [](const std::string& e) { sb::log::info(e); });
+    sb::launch::Supervisor supervisor(*profile, options,
+                                      [](const std::string& e) { sb::log::info(e); });
     if (auto started = supervisor.start_all(sb::node::monotonic_ns()); !started) {
       std::fprintf(stderr, "stereoball demo: %s\n", started.error().c_str());
       return 2;
@@ -245,12 +269,15 @@ int main(int argc, char** argv) {
         next_print = now + 500'000'000;
         const char* st = rec.tracks.empty() ? "-" : state_name(rec.tracks.back().state);
         const double dist = rec.truth.empty() || !rec.truth.back().ball_present
-                                ? NAN : sb::demo::horizontal_distance_m(rec.truth.back().ball_cam_m);
-        std::printf("%s  t=%5.1f s  %5.1f fps  track %-9s  ball %s  detections %zu  cmd %+.2f m/s %+.2f rad/s%s",
-                    tty ? "\r" : "", sim_t, fps, st,
-                    std::isnan(dist) ? "  absent" : fmt("%5.2f m", dist).c_str(), rec.detections.size(),
-                    rec.commands.empty() ? 0.0 : rec.commands.back().first,
-                    rec.commands.empty() ? 0.0 : rec.commands.back().second, tty ? "   " : "\n");
+                                ? NAN
+                                : sb::demo::horizontal_distance_m(rec.truth.back().ball_cam_m);
+        std::printf(
+            "%s  t=%5.1f s  %5.1f fps  track %-9s  ball %s  detections %zu  cmd %+.2f m/s %+.2f "
+            "rad/s%s",
+            tty ? "\r" : "", sim_t, fps, st,
+            std::isnan(dist) ? "  absent" : fmt("%5.2f m", dist).c_str(), rec.detections.size(),
+            rec.commands.empty() ? 0.0 : rec.commands.back().first,
+            rec.commands.empty() ? 0.0 : rec.commands.back().second, tty ? "   " : "\n");
         std::fflush(stdout);
       }
     }
@@ -260,12 +287,14 @@ int main(int argc, char** argv) {
     for (const auto& st : supervisor.states()) {
       if (st.given_up || st.restarts > 0) {
         nodes_ok = false;
-        std::printf("  node %s: %d restarts, last exit code %d\n", st.name.c_str(), st.restarts, st.last_exit_code);
+        std::printf("  node %s: %d restarts, last exit code %d\n", st.name.c_str(), st.restarts,
+                    st.last_exit_code);
       }
     }
     if (!clean) std::printf("  (some nodes did not stop cleanly; see %s)\n", log_path.c_str());
     if (rec.truth.empty()) {
-      std::printf("  no ground truth received: the simulator did not run (see %s)\n", log_path.c_str());
+      std::printf("  no ground truth received: the simulator did not run (see %s)\n",
+                  log_path.c_str());
       nodes_ok = false;
     }
     sb::demo::MetricsParams params;
@@ -275,9 +304,12 @@ int main(int argc, char** argv) {
   }
 
   std::ofstream md(fs::path(out_dir) / "summary.md");
-  md << "# StereoBall demo summary\n\n| scenario | frames | visible | detection rate | false detections | "
-        "false-accept rate | track accepted (visible) | 3D error median (m) | p95 (m) | rel. median | "
-        "losses | reacquired | reacquire median (s) | distance error following (m) | within tolerance |\n"
+  md << "# StereoBall demo summary\n\n| scenario | frames | visible | detection rate | false "
+        "detections | "
+        "false-accept rate | track accepted (visible) | 3D error median (m) | p95 (m) | rel. "
+        "median | "
+        "losses | reacquired | reacquire median (s) | distance error following (m) | within "
+        "tolerance |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& m : results) {
     md << "| " << m.scenario << " | " << m.frames << " | " << m.visible_frames << " | "
@@ -286,9 +318,11 @@ int main(int argc, char** argv) {
        << fmt("%.4f", m.error_median_m) << " | " << fmt("%.4f", m.error_p95_m) << " | "
        << fmt("%.4f", m.error_median_rel) << " | " << m.losses << " | " << m.reacquired << " | "
        << (m.reacquire_median_s < 0 ? std::string("-") : fmt("%.2f", m.reacquire_median_s)) << " | "
-       << fmt("%.3f", m.following_distance_error_m) << " | " << fmt("%.3f", m.within_tolerance) << " |\n";
+       << fmt("%.3f", m.following_distance_error_m) << " | " << fmt("%.3f", m.within_tolerance)
+       << " |\n";
   }
-  md << "\nPlots: `<scenario>_topview.png`, `<scenario>_distance_bearing.png`, `<scenario>_state.png`. "
+  md << "\nPlots: `<scenario>_topview.png`, `<scenario>_distance_bearing.png`, "
+        "`<scenario>_state.png`. "
         "Log of every node: `stereoball.log`.\n";
   md.close();
   std::printf("\n");

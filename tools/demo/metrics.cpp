@@ -20,8 +20,12 @@ double quantile(std::vector<double> v, double q) {
 
 }  // namespace
 
-double horizontal_distance_m(const double p[3]) { return std::hypot(p[0], p[2]); }
-double bearing_rad(const double p[3]) { return std::atan2(p[0], p[2]); }
+double horizontal_distance_m(const double p[3]) {
+  return std::hypot(p[0], p[2]);
+}
+double bearing_rad(const double p[3]) {
+  return std::atan2(p[0], p[2]);
+}
 
 ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample>& truth_in,
                       const std::vector<DetectionSample>& detections,
@@ -50,9 +54,12 @@ ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample
     if (trk) state = trk->state;
     if (gt.visible) ++m.visible_frames;
     if (det && det->found) {
-      const bool is_ball = gt.visible && distance3(det->position_m, gt.ball_cam_m) <= params.false_error_m;
-      if (is_ball) ++found_visible;
-      else ++m.false_detections;
+      const bool is_ball =
+          gt.visible && distance3(det->position_m, gt.ball_cam_m) <= params.false_error_m;
+      if (is_ball)
+        ++found_visible;
+      else
+        ++m.false_detections;
       if (!is_ball && trk && trk->accepted) ++false_accepted;
     }
     if (trk && trk->accepted) {
@@ -67,7 +74,8 @@ ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample
     // Losses and reacquisition: a visibility gap longer than min_gap_s, then the time from
     // visibility returning to the first accepted detection.
     if (!gt.visible && was_visible) invisible_since = gt.t_s;
-    if (gt.visible && !was_visible && invisible_since >= 0 && gt.t_s - invisible_since >= params.min_gap_s) {
+    if (gt.visible && !was_visible && invisible_since >= 0 &&
+        gt.t_s - invisible_since >= params.min_gap_s) {
       ++m.losses;
       visible_again_at = gt.t_s;
     }
@@ -80,7 +88,8 @@ ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample
     if (state == TrackState::kFollowing) {
       if (gt.visible) {
         ++follow_frames;
-        const double dist_err = std::abs(horizontal_distance_m(gt.ball_cam_m) - params.target_distance_m);
+        const double dist_err =
+            std::abs(horizontal_distance_m(gt.ball_cam_m) - params.target_distance_m);
         follow_err_sum += dist_err;
         if (dist_err <= params.distance_tolerance_m &&
             std::abs(bearing_rad(gt.ball_cam_m)) <= params.bearing_tolerance_rad) {
@@ -99,8 +108,10 @@ ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample
     }
   }
   m.detection_rate = m.visible_frames ? static_cast<double>(found_visible) / m.visible_frames : 0;
-  m.false_accept_rate = m.false_detections ? static_cast<double>(false_accepted) / m.false_detections : 0;
-  m.accept_rate_visible = m.visible_frames ? static_cast<double>(accepted_visible) / m.visible_frames : 0;
+  m.false_accept_rate =
+      m.false_detections ? static_cast<double>(false_accepted) / m.false_detections : 0;
+  m.accept_rate_visible =
+      m.visible_frames ? static_cast<double>(accepted_visible) / m.visible_frames : 0;
   m.error_median_m = quantile(errors, 0.5);
   m.error_p95_m = quantile(errors, 0.95);
   m.error_median_rel = quantile(rel_errors, 0.5);

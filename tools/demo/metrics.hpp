@@ -13,9 +13,9 @@ enum class TrackState { kIdle, kFollowing, kSearching };
 /// Ground truth of one frame.
 struct TruthSample {
   uint64_t seq = 0;
-  double t_s = 0;              ///< simulated time, seconds
+  double t_s = 0;  ///< simulated time, seconds
   bool ball_present = false;
-  bool visible = false;        ///< ball centre visible in both eyes
+  bool visible = false;              ///< ball centre visible in both eyes
   double ball_cam_m[3] = {0, 0, 0};  ///< left rectified camera frame
   double ball_world_m[2] = {0, 0};
   double robot_world_m[2] = {0, 0};
@@ -31,33 +31,33 @@ struct DetectionSample {
 struct TrackSample {
   uint64_t seq = 0;
   TrackState state = TrackState::kIdle;
-  bool accepted = false;       ///< this frame's detection was accepted
+  bool accepted = false;  ///< this frame's detection was accepted
   double position_m[3] = {0, 0, 0};
 };
 
 struct MetricsParams {
-  double target_distance_m = 1.0;   ///< the controller's target distance
+  double target_distance_m = 1.0;  ///< the controller's target distance
   double distance_tolerance_m = 0.25;
   double bearing_tolerance_rad = 5.0 * 3.14159265358979 / 180.0;
-  double false_error_m = 0.3;       ///< an accepted position this far from the truth is false
-  double min_gap_s = 0.5;           ///< shorter invisibility is not a "loss"
+  double false_error_m = 0.3;  ///< an accepted position this far from the truth is false
+  double min_gap_s = 0.5;      ///< shorter invisibility is not a "loss"
 };
 
 struct ScenarioMetrics {
   std::string scenario;
   size_t frames = 0;
   size_t visible_frames = 0;
-  double detection_rate = 0;          ///< found detections / visible frames
-  size_t false_detections = 0;        ///< found but not the ball (invisible or far off)
-  double false_accept_rate = 0;       ///< of false detections, fraction the tracker accepted
+  double detection_rate = 0;     ///< found detections / visible frames
+  size_t false_detections = 0;   ///< found but not the ball (invisible or far off)
+  double false_accept_rate = 0;  ///< of false detections, fraction the tracker accepted
   size_t accepted_frames = 0;
-  double accept_rate_visible = 0;     ///< visible frames with an accepted track
-  double error_median_m = 0, error_p95_m = 0;        ///< accepted vs truth, visible frames
-  double error_median_rel = 0;        ///< error / distance
+  double accept_rate_visible = 0;              ///< visible frames with an accepted track
+  double error_median_m = 0, error_p95_m = 0;  ///< accepted vs truth, visible frames
+  double error_median_rel = 0;                 ///< error / distance
   size_t losses = 0, reacquired = 0;
-  double reacquire_median_s = -1;     ///< -1 if no loss
+  double reacquire_median_s = -1;         ///< -1 if no loss
   double following_distance_error_m = 0;  ///< mean |distance - target| while following
-  double within_tolerance = 0;        ///< following & visible frames within both tolerances
+  double within_tolerance = 0;            ///< following & visible frames within both tolerances
   double longest_following_without_ball_s = 0;  ///< following while no ball is visible
 };
 

@@ -61,15 +61,17 @@ cv::Mat render(const Chart& chart, cv::Size size) {
     yr.lo = cy - s * area.height / 2, yr.hi = cy + s * area.height / 2;
   }
   auto to_px = [&](cv::Point2d p) {
-    return cv::Point(static_cast<int>(area.x + (p.x - xr.lo) / (xr.hi - xr.lo) * area.width),
-                     static_cast<int>(area.y + area.height - (p.y - yr.lo) / (yr.hi - yr.lo) * area.height));
+    return cv::Point(
+        static_cast<int>(area.x + (p.x - xr.lo) / (xr.hi - xr.lo) * area.width),
+        static_cast<int>(area.y + area.height - (p.y - yr.lo) / (yr.hi - yr.lo) * area.height));
   };
   const auto grey = cv::Scalar(220, 220, 220), black = cv::Scalar(0, 0, 0);
   const double xs = nice_step(xr.hi - xr.lo);
   for (double x = std::ceil(xr.lo / xs) * xs; x <= xr.hi; x += xs) {
     const int px = to_px({x, yr.lo}).x;
     cv::line(img, {px, area.y}, {px, area.y + area.height}, grey, 1);
-    cv::putText(img, label(x), {px - 10, area.y + area.height + 16}, cv::FONT_HERSHEY_SIMPLEX, 0.4, black, 1, cv::LINE_AA);
+    cv::putText(img, label(x), {px - 10, area.y + area.height + 16}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                black, 1, cv::LINE_AA);
   }
   if (chart.y_tick_names.empty()) {
     const double ys = nice_step(yr.hi - yr.lo);
@@ -82,7 +84,8 @@ cv::Mat render(const Chart& chart, cv::Size size) {
     for (size_t i = 0; i < chart.y_tick_names.size(); ++i) {
       const int py = to_px({xr.lo, static_cast<double>(i)}).y;
       cv::line(img, {area.x, py}, {area.x + area.width, py}, grey, 1);
-      cv::putText(img, chart.y_tick_names[i], {3, py + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.35, black, 1, cv::LINE_AA);
+      cv::putText(img, chart.y_tick_names[i], {3, py + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.35, black, 1,
+                  cv::LINE_AA);
     }
   }
   cv::rectangle(img, area, black, 1);
@@ -98,13 +101,16 @@ cv::Mat render(const Chart& chart, cv::Size size) {
   int lx = area.x + 10;
   for (const auto& s : chart.series) {
     cv::line(img, {lx, area.y + 12}, {lx + 20, area.y + 12}, s.colour, 3);
-    cv::putText(img, s.label, {lx + 25, area.y + 16}, cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+    cv::putText(img, s.label, {lx + 25, area.y + 16}, cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1,
+                cv::LINE_AA);
     lx += 40 + static_cast<int>(s.label.size()) * 9;
   }
   cv::putText(img, chart.title, {left, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, black, 1, cv::LINE_AA);
-  cv::putText(img, chart.x_label, {area.x + area.width / 2 - 30, size.height - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+  cv::putText(img, chart.x_label, {area.x + area.width / 2 - 30, size.height - 8},
+              cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
   if (!chart.y_label.empty()) {
-    cv::putText(img, chart.y_label, {left, area.y + area.height - 6}, cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(90, 90, 90), 1, cv::LINE_AA);
+    cv::putText(img, chart.y_label, {left, area.y + area.height - 6}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                cv::Scalar(90, 90, 90), 1, cv::LINE_AA);
   }
   return img;
 }

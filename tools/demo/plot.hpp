@@ -18,8 +18,8 @@ struct Series {
 struct Chart {
   std::string title, x_label, y_label;
   std::vector<Series> series;
-  bool equal_aspect = false;               ///< for top views (metres on both axes)
-  std::vector<std::string> y_tick_names;   ///< names for integer y ticks (states), optional
+  bool equal_aspect = false;              ///< for top views (metres on both axes)
+  std::vector<std::string> y_tick_names;  ///< names for integer y ticks (states), optional
 };
 
 /// Renders chart into an image of the given size.

@@ -1,13 +1,13 @@
 // stereoball launch PROFILE: start the nodes of deploy/PROFILE.yaml and supervise them
 // (restart crashed nodes with back-off; Ctrl-C or SIGTERM stops them all, then exits 0).
 
-#include <CLI/CLI.hpp>
 #include <signal.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <atomic>
-#include <csignal>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <thread>
@@ -21,7 +21,9 @@ namespace fs = std::filesystem;
 
 namespace {
 std::atomic<bool> g_stop{false};
-void on_signal(int) { g_stop = true; }
+void on_signal(int) {
+  g_stop = true;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -30,10 +32,14 @@ int main(int argc, char** argv) {
   int domain = sb::dds::domain_from_env(0);
   double duration_s = 0;
   app.add_option("profile", profile_name, "profile name (deploy/NAME.yaml) or path")->required();
-  app.add_option("--domain", domain, "DDS domain for every node")->check(CLI::Range(0, 232))->capture_default_str();
+  app.add_option("--domain", domain, "DDS domain for every node")
+      ->check(CLI::Range(0, 232))
+      ->capture_default_str();
   app.add_option("--partition", partition, "DDS partition for every node");
-  app.add_option("--log", log_path, "file that collects every node's output")->capture_default_str();
-  app.add_option("--duration", duration_s, "stop after S seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
+  app.add_option("--log", log_path, "file that collects every node's output")
+      ->capture_default_str();
+  app.add_option("--duration", duration_s, "stop after S seconds (0 = until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
   CLI11_PARSE(app, argc, argv);
   sb::log::init("launch");
 
@@ -47,23 +53,28 @@ int main(int argc, char** argv) {
   options.bin_dir = fs::read_symlink("/proc/self/exe").parent_path().string();
   options.log_path = log_path;
   options.extra_args = {"--domain", std::to_string(domain)};
-  if (!partition.empty()) options.extra_args.insert(options.extra_args.end(), {"--partition", partition});
+  if (!partition.empty())
+    options.extra_args.insert(options.extra_args.end(), {"--partition", partition});
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
-  sb::launch::Supervisor supervisor(*profile, options, [](const std::string& e) { sb::log::info(e); });
+  sb::launch::Supervisor supervisor(*profile, options,
+                                    [](const std::string& e) { sb::log::info(e); });
   sb::log::info("profile ", profile->name, ": ", profile->description, " (logs: ", log_path, ")");
   if (auto started = supervisor.start_all(sb::node::monotonic_ns()); !started) {
     std::fprintf(stderr, "stereoball launch: %s\n", started.error().c_str());
     supervisor.stop_all();
     return 2;
   }
-  const int64_t end = duration_s > 0 ? sb::node::monotonic_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
+  const int64_t end = duration_s > 0
+                          ? sb::node::monotonic_ns() + static_cast<int64_t>(duration_s * 1e9)
+                          : INT64_MAX;
   while (!g_stop && sb::node::monotonic_ns() < end) {
     supervisor.poll(sb::node::monotonic_ns());
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   sb::log::info("stopping all nodes");
   const bool clean = supervisor.stop_all();
-  sb::log::info(clean ? "all nodes stopped cleanly" : "some nodes did not stop cleanly (see the log)");
+  sb::log::info(clean ? "all nodes stopped cleanly"
+                      : "some nodes did not stop cleanly (see the log)");
   return 0;
 }

@@ -15,12 +15,19 @@ Result<NodeSpec> parse_node(const YAML::Node& node, const std::string& where) {
   for (const auto& item : node) {
     const std::string key = item.first.as<std::string>();
     try {
-      if (key == "name") spec.name = item.second.as<std::string>();
-      else if (key == "program") spec.program = item.second.as<std::string>();
-      else if (key == "args") spec.args = item.second.as<std::vector<std::string>>();
-      else if (key == "restart") spec.restart = item.second.as<bool>();
-      else if (key == "optional") spec.optional = item.second.as<bool>();
-      else return Error{where + ": key '" + key + "': unknown (allowed: name, program, args, restart, optional)"};
+      if (key == "name")
+        spec.name = item.second.as<std::string>();
+      else if (key == "program")
+        spec.program = item.second.as<std::string>();
+      else if (key == "args")
+        spec.args = item.second.as<std::vector<std::string>>();
+      else if (key == "restart")
+        spec.restart = item.second.as<bool>();
+      else if (key == "optional")
+        spec.optional = item.second.as<bool>();
+      else
+        return Error{where + ": key '" + key +
+                     "': unknown (allowed: name, program, args, restart, optional)"};
     } catch (const YAML::Exception&) {
       return Error{where + ": key '" + key + "': wrong type"};
     }
@@ -58,21 +65,26 @@ Result<Profile> load_profile(const std::string& name_or_path, const std::string&
   profile.name = path.stem().string();
   for (const auto& item : root) {
     const std::string key = item.first.as<std::string>();
-    if (key == "description") profile.description = item.second.as<std::string>();
-    else if (key == "cyclonedds") profile.cyclonedds_config = item.second.as<std::string>();
+    if (key == "description")
+      profile.description = item.second.as<std::string>();
+    else if (key == "cyclonedds")
+      profile.cyclonedds_config = item.second.as<std::string>();
     else if (key == "nodes") {
       if (!item.second.IsSequence()) return Error{path.string() + ": key 'nodes': expected a list"};
       std::set<std::string> names;
       for (size_t i = 0; i < item.second.size(); ++i) {
-        auto node = parse_node(item.second[i], path.string() + ": nodes[" + std::to_string(i) + "]");
+        auto node =
+            parse_node(item.second[i], path.string() + ": nodes[" + std::to_string(i) + "]");
         if (!node) return Error{node.error()};
         if (!names.insert(node->name).second) {
-          return Error{path.string() + ": nodes[" + std::to_string(i) + "]: duplicate name '" + node->name + "'"};
+          return Error{path.string() + ": nodes[" + std::to_string(i) + "]: duplicate name '" +
+                       node->name + "'"};
         }
         profile.nodes.push_back(std::move(*node));
       }
     } else {
-      return Error{path.string() + ": key '" + key + "': unknown (allowed: description, cyclonedds, nodes)"};
+      return Error{path.string() + ": key '" + key +
+                   "': unknown (allowed: description, cyclonedds, nodes)"};
     }
   }
   if (profile.nodes.empty()) return Error{path.string() + ": key 'nodes': missing or empty"};

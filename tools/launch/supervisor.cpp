@@ -21,7 +21,8 @@ int decode_status(int status) {
 }
 int64_t mono_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch()).count();
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 }  // namespace
 
@@ -89,7 +90,8 @@ Result<bool> Supervisor::start_all(int64_t now_ns) {
         events_(spec.name + ": skipped (" + spec.program + " is not built)");
         continue;
       }
-      return Error{spec.name + ": program " + program + " not found (build first: bash run.sh build)"};
+      return Error{spec.name + ": program " + program +
+                   " not found (build first: bash run.sh build)"};
     }
     states_[i].pid = spawn(spec);
     events_(spec.name + ": started (pid " + std::to_string(states_[i].pid) + ")");
@@ -113,15 +115,15 @@ void Supervisor::poll(int64_t now_ns) {
       }
       if (st.restarts >= options_.max_restarts) {
         st.given_up = true;
-        events_(st.name + ": exited with code " + std::to_string(st.last_exit_code) + ", gave up after " +
-                std::to_string(st.restarts) + " restarts");
+        events_(st.name + ": exited with code " + std::to_string(st.last_exit_code) +
+                ", gave up after " + std::to_string(st.restarts) + " restarts");
         continue;
       }
       // Back-off doubles from 0.5 s so a node that cannot start does not spin.
       const int64_t delay_ns = 500'000'000LL << std::min(st.restarts, 4);
       restart_due_ns_[i] = now_ns + delay_ns;
-      events_(st.name + ": exited with code " + std::to_string(st.last_exit_code) + ", restarting in " +
-              std::to_string(delay_ns / 1'000'000) + " ms");
+      events_(st.name + ": exited with code " + std::to_string(st.last_exit_code) +
+              ", restarting in " + std::to_string(delay_ns / 1'000'000) + " ms");
     } else if (restart_due_ns_[i] > 0 && now_ns >= restart_due_ns_[i]) {
       restart_due_ns_[i] = 0;
       ++st.restarts;

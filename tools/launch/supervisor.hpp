@@ -15,22 +15,22 @@
 namespace stereoball::launch {
 
 struct SupervisorOptions {
-  std::string bin_dir;                   ///< where the node programs are
-  std::string log_path;                  ///< every node's stdout/stderr is appended here
-  std::vector<std::string> extra_args;   ///< appended to every node (e.g. --domain N)
+  std::string bin_dir;                  ///< where the node programs are
+  std::string log_path;                 ///< every node's stdout/stderr is appended here
+  std::vector<std::string> extra_args;  ///< appended to every node (e.g. --domain N)
   std::map<std::string, std::vector<std::string>> node_args;  ///< appended per node name
-  int max_restarts = 5;                  ///< per node; then it stays down (reported)
-  int64_t stop_grace_ns = 3'000'000'000; ///< SIGTERM -> SIGKILL delay
+  int max_restarts = 5;                   ///< per node; then it stays down (reported)
+  int64_t stop_grace_ns = 3'000'000'000;  ///< SIGTERM -> SIGKILL delay
 };
 
 /// What happened to a node, for the console and for tests.
 struct NodeState {
   std::string name;
-  pid_t pid = -1;            ///< -1 when not running
+  pid_t pid = -1;  ///< -1 when not running
   int restarts = 0;
-  int last_exit_code = 0;    ///< 128+signal if killed by a signal
+  int last_exit_code = 0;  ///< 128+signal if killed by a signal
   bool given_up = false;
-  bool skipped = false;      ///< optional node whose program is not built
+  bool skipped = false;  ///< optional node whose program is not built
 };
 
 class Supervisor {

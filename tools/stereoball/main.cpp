@@ -49,8 +49,9 @@ void print_usage(const fs::path& dir) {
     // bench has only nested programs (stereoball-bench-detect, ...).
     const bool present = sub.name == "help" || sub.name == "version" || sub.name == "bench" ||
                          fs::exists(dir / ("stereoball-" + std::string(sub.name)));
-    std::printf("  %-10s %.*s%s\n", std::string(sub.name).c_str(), static_cast<int>(sub.summary.size()),
-                sub.summary.data(), present ? "" : "  (not built)");
+    std::printf("  %-10s %.*s%s\n", std::string(sub.name).c_str(),
+                static_cast<int>(sub.summary.size()), sub.summary.data(),
+                present ? "" : "  (not built)");
   }
   std::printf("\n`stereoball <command> --help` shows the options of a command.\n");
 }

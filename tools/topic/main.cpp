@@ -24,7 +24,9 @@ namespace sb = stereoball;
 namespace {
 
 std::atomic<bool> g_interrupted{false};
-void on_signal(int) { g_interrupted = true; }
+void on_signal(int) {
+  g_interrupted = true;
+}
 
 const char* reliability(const sb::topics::QosSpec& q) {
   return q.reliability == sb::topics::Reliability::kReliable ? "reliable" : "best-effort";
@@ -47,7 +49,8 @@ int list_topics() {
 // Deadline helper: 0 seconds means "no deadline".
 struct Deadline {
   explicit Deadline(double seconds)
-      : end(seconds > 0 ? sb::node::monotonic_ns() + static_cast<int64_t>(seconds * 1e9) : INT64_MAX) {}
+      : end(seconds > 0 ? sb::node::monotonic_ns() + static_cast<int64_t>(seconds * 1e9)
+                        : INT64_MAX) {}
   bool passed() const { return sb::node::monotonic_ns() >= end; }
   int64_t end;
 };
@@ -80,7 +83,8 @@ int echo_typed(sb::dds::DomainParticipant& participant, const sb::topics::Topic<
 int echo_topic(const sb::node::CommonOptions& options, const std::string& name, int count,
                double timeout_s) {
   if (!sb::topics::find(name)) {
-    std::fprintf(stderr, "stereoball topic echo: unknown topic '%s' (see `stereoball topic list`)\n",
+    std::fprintf(stderr,
+                 "stereoball topic echo: unknown topic '%s' (see `stereoball topic list`)\n",
                  name.c_str());
     return 2;
   }
@@ -102,7 +106,8 @@ HzStats compute(const std::deque<std::pair<int64_t, size_t>>& window) {
   s.window = window.size();
   if (window.size() < 2) return s;
   std::vector<double> dt;
-  for (size_t i = 1; i < window.size(); ++i) dt.push_back((window[i].first - window[i - 1].first) * 1e-9);
+  for (size_t i = 1; i < window.size(); ++i)
+    dt.push_back((window[i].first - window[i - 1].first) * 1e-9);
   const double mean = std::accumulate(dt.begin(), dt.end(), 0.0) / dt.size();
   double var = 0;
   for (double d : dt) var += (d - mean) * (d - mean);
@@ -119,9 +124,12 @@ HzStats compute(const std::deque<std::pair<int64_t, size_t>>& window) {
 
 std::string human_bytes(double bytes) {
   char buf[32];
-  if (bytes >= 1e6) std::snprintf(buf, sizeof buf, "%.2f MB", bytes / 1e6);
-  else if (bytes >= 1e3) std::snprintf(buf, sizeof buf, "%.2f KB", bytes / 1e3);
-  else std::snprintf(buf, sizeof buf, "%.0f B", bytes);
+  if (bytes >= 1e6)
+    std::snprintf(buf, sizeof buf, "%.2f MB", bytes / 1e6);
+  else if (bytes >= 1e3)
+    std::snprintf(buf, sizeof buf, "%.2f KB", bytes / 1e3);
+  else
+    std::snprintf(buf, sizeof buf, "%.0f B", bytes);
   return buf;
 }
 
@@ -162,10 +170,11 @@ int hz_topic(const sb::node::CommonOptions& options, const std::string& name, si
         std::printf("no new messages\n");
       } else {
         const HzStats s = compute(window);
-        std::printf("average rate: %.3f Hz\n\tmin: %.4fs max: %.4fs std dev: %.5fs window: %zu\n"
-                    "\tbandwidth: %s/s (mean size %s)\n",
-                    s.rate_hz, s.min_s, s.max_s, s.std_s, s.window,
-                    human_bytes(s.bytes_per_s).c_str(), human_bytes(s.mean_bytes).c_str());
+        std::printf(
+            "average rate: %.3f Hz\n\tmin: %.4fs max: %.4fs std dev: %.5fs window: %zu\n"
+            "\tbandwidth: %s/s (mean size %s)\n",
+            s.rate_hz, s.min_s, s.max_s, s.std_s, s.window, human_bytes(s.bytes_per_s).c_str(),
+            human_bytes(s.mean_bytes).c_str());
       }
       std::fflush(stdout);
     }
@@ -189,14 +198,19 @@ int main(int argc, char** argv) {
   double timeout_s = 0;
   auto* echo = app.add_subcommand("echo", "print samples of a topic (images summarised)");
   echo->add_option("topic", name, "topic name, e.g. ball/track")->required();
-  echo->add_option("-n,--count", count, "stop after N samples (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
-  echo->add_option("--timeout", timeout_s, "give up after S seconds (0 = never)")->check(CLI::NonNegativeNumber);
+  echo->add_option("-n,--count", count, "stop after N samples (0 = until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
+  echo->add_option("--timeout", timeout_s, "give up after S seconds (0 = never)")
+      ->check(CLI::NonNegativeNumber);
   size_t window = 100;
   double duration_s = 0;
-  auto* hz = app.add_subcommand("hz", "rate, jitter and bandwidth of a topic, printed every second");
+  auto* hz =
+      app.add_subcommand("hz", "rate, jitter and bandwidth of a topic, printed every second");
   hz->add_option("topic", name, "topic name, e.g. stereo/frame")->required();
-  hz->add_option("-w,--window", window, "samples in the rolling window")->check(CLI::Range(2, 100000));
-  hz->add_option("--duration", duration_s, "stop after S seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
+  hz->add_option("-w,--window", window, "samples in the rolling window")
+      ->check(CLI::Range(2, 100000));
+  hz->add_option("--duration", duration_s, "stop after S seconds (0 = until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
   CLI11_PARSE(app, argc, argv);
   try {
     if (list->parsed()) return list_topics();

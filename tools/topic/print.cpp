@@ -6,7 +6,9 @@
 namespace stereoball::tools {
 namespace {
 
-const char* str(const char* s) { return s ? s : ""; }
+const char* str(const char* s) {
+  return s ? s : "";
+}
 
 std::string fmt(const char* format, double value) {
   char buf[64];
@@ -29,8 +31,8 @@ std::string seq(const dds_sequence_double& s) {
 
 std::string eye(const stereoball_msg_EyeImage& e) {
   std::ostringstream os;
-  os << e.width_px << "x" << e.height_px << " step " << e.step_bytes << " bytes "
-     << e.data._length << " capture_stamp_ns " << e.capture_stamp_ns;
+  os << e.width_px << "x" << e.height_px << " step " << e.step_bytes << " bytes " << e.data._length
+     << " capture_stamp_ns " << e.capture_stamp_ns;
   return os.str();
 }
 
@@ -41,43 +43,62 @@ std::string circle(const stereoball_msg_EyeCircle& c) {
 
 const char* status_name(stereoball_msg_DetectionStatus s) {
   switch (s) {
-    case stereoball_msg_DETECTION_FOUND: return "FOUND";
-    case stereoball_msg_DETECTION_NO_CANDIDATE: return "NO_CANDIDATE";
-    case stereoball_msg_DETECTION_EPIPOLAR_MISMATCH: return "EPIPOLAR_MISMATCH";
-    case stereoball_msg_DETECTION_SIZE_INCONSISTENT: return "SIZE_INCONSISTENT";
-    case stereoball_msg_DETECTION_NO_CALIBRATION: return "NO_CALIBRATION";
-    case stereoball_msg_DETECTION_BAD_FRAME: return "BAD_FRAME";
+    case stereoball_msg_DETECTION_FOUND:
+      return "FOUND";
+    case stereoball_msg_DETECTION_NO_CANDIDATE:
+      return "NO_CANDIDATE";
+    case stereoball_msg_DETECTION_EPIPOLAR_MISMATCH:
+      return "EPIPOLAR_MISMATCH";
+    case stereoball_msg_DETECTION_SIZE_INCONSISTENT:
+      return "SIZE_INCONSISTENT";
+    case stereoball_msg_DETECTION_NO_CALIBRATION:
+      return "NO_CALIBRATION";
+    case stereoball_msg_DETECTION_BAD_FRAME:
+      return "BAD_FRAME";
   }
   return "?";
 }
 
 const char* state_name(stereoball_msg_TrackState s) {
   switch (s) {
-    case stereoball_msg_TRACK_IDLE: return "IDLE";
-    case stereoball_msg_TRACK_FOLLOWING: return "FOLLOWING";
-    case stereoball_msg_TRACK_SEARCHING: return "SEARCHING";
+    case stereoball_msg_TRACK_IDLE:
+      return "IDLE";
+    case stereoball_msg_TRACK_FOLLOWING:
+      return "FOLLOWING";
+    case stereoball_msg_TRACK_SEARCHING:
+      return "SEARCHING";
   }
   return "?";
 }
 
 const char* side_name(stereoball_msg_Side s) {
   switch (s) {
-    case stereoball_msg_SIDE_UNKNOWN: return "UNKNOWN";
-    case stereoball_msg_SIDE_LEFT: return "LEFT";
-    case stereoball_msg_SIDE_RIGHT: return "RIGHT";
+    case stereoball_msg_SIDE_UNKNOWN:
+      return "UNKNOWN";
+    case stereoball_msg_SIDE_LEFT:
+      return "LEFT";
+    case stereoball_msg_SIDE_RIGHT:
+      return "RIGHT";
   }
   return "?";
 }
 
 const char* verdict_name(stereoball_msg_TrackVerdict v) {
   switch (v) {
-    case stereoball_msg_VERDICT_NO_DETECTION: return "NO_DETECTION";
-    case stereoball_msg_VERDICT_STARTUP_COLLECTING: return "STARTUP_COLLECTING";
-    case stereoball_msg_VERDICT_STARTUP_INCONSISTENT: return "STARTUP_INCONSISTENT";
-    case stereoball_msg_VERDICT_STARTUP_ACCEPTED: return "STARTUP_ACCEPTED";
-    case stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED: return "BLOCK_MATCH_ACCEPTED";
-    case stereoball_msg_VERDICT_STATISTICS_ACCEPTED: return "STATISTICS_ACCEPTED";
-    case stereoball_msg_VERDICT_REJECTED: return "REJECTED";
+    case stereoball_msg_VERDICT_NO_DETECTION:
+      return "NO_DETECTION";
+    case stereoball_msg_VERDICT_STARTUP_COLLECTING:
+      return "STARTUP_COLLECTING";
+    case stereoball_msg_VERDICT_STARTUP_INCONSISTENT:
+      return "STARTUP_INCONSISTENT";
+    case stereoball_msg_VERDICT_STARTUP_ACCEPTED:
+      return "STARTUP_ACCEPTED";
+    case stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED:
+      return "BLOCK_MATCH_ACCEPTED";
+    case stereoball_msg_VERDICT_STATISTICS_ACCEPTED:
+      return "STATISTICS_ACCEPTED";
+    case stereoball_msg_VERDICT_REJECTED:
+      return "REJECTED";
   }
   return "?";
 }
@@ -122,8 +143,10 @@ std::string to_text(const stereoball_msg_BallTrack& m) {
      << "\nverdict: " << verdict_name(m.verdict) << "\nreason: " << str(m.reason)
      << "\nposition_valid: " << (m.position_valid ? "true" : "false")
      << "\nposition_m: " << vec(m.position_m) << "\nvelocity_mps: " << vec(m.velocity_mps)
-     << "\nbearing_rad: " << fmt("%.4f", m.bearing_rad) << "\ndistance_m: " << fmt("%.3f", m.distance_m)
-     << "\nlast_seen_side: " << side_name(m.last_seen_side) << "\nssd: " << fmt("%.0f", m.ssd) << "\n";
+     << "\nbearing_rad: " << fmt("%.4f", m.bearing_rad)
+     << "\ndistance_m: " << fmt("%.3f", m.distance_m)
+     << "\nlast_seen_side: " << side_name(m.last_seen_side) << "\nssd: " << fmt("%.0f", m.ssd)
+     << "\n";
   return os.str();
 }
 
@@ -131,7 +154,8 @@ std::string to_text(const stereoball_msg_VelocityCommand& m) {
   std::ostringstream os;
   os << "seq: " << m.seq << "\nstamp_ns: " << m.stamp_ns
      << "\nlinear_mps: " << fmt("%.3f", m.linear_mps)
-     << "\nangular_radps: " << fmt("%.3f", m.angular_radps) << "\nsource: " << str(m.source) << "\n";
+     << "\nangular_radps: " << fmt("%.3f", m.angular_radps) << "\nsource: " << str(m.source)
+     << "\n";
   return os.str();
 }
 
@@ -145,7 +169,8 @@ std::string to_text(const stereoball_msg_EmergencyStop& m) {
 std::string to_text(const stereoball_msg_GroundTruth& m) {
   std::ostringstream os;
   os << "frame_seq: " << m.frame_seq << "\nsim_time_s: " << fmt("%.3f", m.sim_time_s)
-     << "\nscenario: " << str(m.scenario) << "\nball_present: " << (m.ball_present ? "true" : "false")
+     << "\nscenario: " << str(m.scenario)
+     << "\nball_present: " << (m.ball_present ? "true" : "false")
      << "\nball_world_m: " << vec(m.ball_world_m) << "\nball_camera_m: " << vec(m.ball_camera_m)
      << "\nball_visible: left " << (m.ball_visible_left ? "yes" : "no") << ", right "
      << (m.ball_visible_right ? "yes" : "no") << "\nball_left_px: " << vec(m.ball_left_px, "%.2f")
@@ -159,8 +184,8 @@ std::string to_text(const stereoball_msg_ComponentStatus& m) {
   std::ostringstream os;
   os << "component: " << str(m.component) << " (pid " << m.pid << " on " << str(m.host) << ")"
      << "\nuptime_s: " << fmt("%.1f", m.uptime_s) << "\nhealthy: " << (m.healthy ? "true" : "false")
-     << "\nstate: " << str(m.state) << "\nerrors: " << m.errors << "\nlast_error: " << str(m.last_error)
-     << "\nrates:\n";
+     << "\nstate: " << str(m.state) << "\nerrors: " << m.errors
+     << "\nlast_error: " << str(m.last_error) << "\nrates:\n";
   for (uint32_t i = 0; i < m.rates._length; ++i) {
     const auto& r = m.rates._buffer[i];
     os << "  " << str(r.topic) << ": " << fmt("%.1f", r.rate_hz) << " Hz, count " << r.count

@@ -3,11 +3,11 @@
 #include <dds/ddsi/ddsi_serdata.h>
 #include <dds/ddsi/ddsi_sertype.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <cstdlib>
 #include <string>
 #include <thread>
-#include <unistd.h>
 
 #include "common/dds/error.hpp"
 #include "common/dds/participant.hpp"
@@ -84,8 +84,9 @@ topics::QosSpec actual_qos(EntityHandle entity) {
   }
   dds_durability_kind_t durability{};
   if (dds_qget_durability(qos.get(), &durability)) {
-    spec.durability = durability == DDS_DURABILITY_TRANSIENT_LOCAL ? topics::Durability::kTransientLocal
-                                                                   : topics::Durability::kVolatile;
+    spec.durability = durability == DDS_DURABILITY_TRANSIENT_LOCAL
+                          ? topics::Durability::kTransientLocal
+                          : topics::Durability::kVolatile;
   }
   dds_history_kind_t history{};
   int32_t depth = 0;
@@ -93,7 +94,8 @@ topics::QosSpec actual_qos(EntityHandle entity) {
     spec.history_depth = history == DDS_HISTORY_KEEP_ALL ? -1 : depth;
   }
   dds_duration_t deadline = DDS_INFINITY;
-  if (dds_qget_deadline(qos.get(), &deadline)) spec.deadline_ns = deadline == DDS_INFINITY ? 0 : deadline;
+  if (dds_qget_deadline(qos.get(), &deadline))
+    spec.deadline_ns = deadline == DDS_INFINITY ? 0 : deadline;
   return spec;
 }
 
@@ -125,9 +127,9 @@ int domain_from_env(int fallback) {
 
 Entity create_topic(const DomainParticipant& participant, const topics::TopicSpec& spec) {
   const std::string name(spec.name);
-  return Entity(check(
-      dds_create_topic(participant.handle(), spec.descriptor, name.c_str(), nullptr, nullptr),
-      ("dds_create_topic(" + name + ")").c_str()));
+  return Entity(
+      check(dds_create_topic(participant.handle(), spec.descriptor, name.c_str(), nullptr, nullptr),
+            ("dds_create_topic(" + name + ")").c_str()));
 }
 
 // ---- writers and readers -----------------------------------------------------------------
@@ -192,12 +194,18 @@ uint64_t take_lost_count(EntityHandle reader) {
 // ---- waitset -----------------------------------------------------------------------------
 
 ReadCondition::ReadCondition(EntityHandle reader)
-    : condition_(check(dds_create_readcondition(reader, DDS_ANY_STATE), "dds_create_readcondition")) {}
+    : condition_(
+          check(dds_create_readcondition(reader, DDS_ANY_STATE), "dds_create_readcondition")) {}
 
 GuardCondition::GuardCondition(const DomainParticipant& participant)
-    : condition_(check(dds_create_guardcondition(participant.handle()), "dds_create_guardcondition")) {}
-void GuardCondition::trigger() { dds_set_guardcondition(condition_.handle(), true); }
-void GuardCondition::reset() { dds_set_guardcondition(condition_.handle(), false); }
+    : condition_(
+          check(dds_create_guardcondition(participant.handle()), "dds_create_guardcondition")) {}
+void GuardCondition::trigger() {
+  dds_set_guardcondition(condition_.handle(), true);
+}
+void GuardCondition::reset() {
+  dds_set_guardcondition(condition_.handle(), false);
+}
 
 WaitSet::WaitSet(const DomainParticipant& participant)
     : waitset_(check(dds_create_waitset(participant.handle()), "dds_create_waitset")) {}
@@ -237,7 +245,8 @@ size_t SerializedReader::take(std::vector<SerializedSample>& out, size_t max) {
   while (taken < max) {
     ddsi_serdata* data = nullptr;
     dds_sample_info_t info;
-    const int n = check(dds_takecdr(reader_.handle(), &data, 1, &info, DDS_ANY_STATE), "dds_takecdr");
+    const int n =
+        check(dds_takecdr(reader_.handle(), &data, 1, &info, DDS_ANY_STATE), "dds_takecdr");
     if (n == 0) break;
     if (info.valid_data) {
       SerializedSample sample;
@@ -277,7 +286,8 @@ const ddsi_sertype* probe_sertype(const DomainParticipant& participant, EntityHa
   ddsi_serdata* data = nullptr;
   dds_sample_info_t info;
   for (int attempt = 0; attempt < 200; ++attempt) {
-    if (check(dds_takecdr(reader.handle(), &data, 1, &info, DDS_ANY_STATE), "dds_takecdr(probe)") > 0)
+    if (check(dds_takecdr(reader.handle(), &data, 1, &info, DDS_ANY_STATE), "dds_takecdr(probe)") >
+        0)
       break;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
@@ -305,7 +315,8 @@ void SerializedWriter::write(std::span<const uint8_t> cdr) {
   iov.iov_base = const_cast<uint8_t*>(cdr.data());
   iov.iov_len = static_cast<decltype(iov.iov_len)>(cdr.size());
   ddsi_serdata* data = ddsi_serdata_from_ser_iov(sertype_, SDK_DATA, 1, &iov, cdr.size());
-  if (!data) throw Error("decoding recorded CDR for " + std::string(spec_.name), DDS_RETCODE_BAD_PARAMETER);
+  if (!data)
+    throw Error("decoding recorded CDR for " + std::string(spec_.name), DDS_RETCODE_BAD_PARAMETER);
   check(dds_writecdr(writer_.handle(), data), "dds_writecdr");
 }
 

@@ -10,8 +10,8 @@ namespace stereoball::dds {
 
 /// Domain id and partition a process joins.
 struct ParticipantOptions {
-  int domain_id = 0;        ///< 0..232
-  std::string partition;    ///< "" = default partition
+  int domain_id = 0;      ///< 0..232
+  std::string partition;  ///< "" = default partition
 };
 
 class DomainParticipant {

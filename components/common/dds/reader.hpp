@@ -28,7 +28,9 @@ uint64_t take_lost_count(EntityHandle reader);
 template <typename T>
 class Owned {
  public:
-  Owned(const dds_topic_descriptor_t* desc) : desc_(desc) { std::memset(&value_, 0, sizeof value_); }
+  Owned(const dds_topic_descriptor_t* desc) : desc_(desc) {
+    std::memset(&value_, 0, sizeof value_);
+  }
   ~Owned() { release(); }
   Owned(Owned&& other) noexcept : desc_(other.desc_), source_stamp_ns_(other.source_stamp_ns_) {
     std::memcpy(&value_, &other.value_, sizeof value_);

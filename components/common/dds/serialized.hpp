@@ -17,7 +17,7 @@ namespace stereoball::dds {
 /// One sample as it travelled: CDR bytes including the 4-byte encapsulation header.
 struct SerializedSample {
   std::vector<uint8_t> cdr;
-  int64_t source_stamp_ns = 0;   ///< writer's source timestamp, ns since epoch
+  int64_t source_stamp_ns = 0;  ///< writer's source timestamp, ns since epoch
 };
 
 class SerializedReader {

@@ -8,9 +8,9 @@
 namespace stereoball::node {
 
 struct CommonOptions {
-  std::string config_path;      ///< the component's YAML parameters
-  int domain_id = 0;            ///< DDS domain (default: $STEREOBALL_DOMAIN or 0)
-  std::string partition;        ///< DDS partition ("" = default)
+  std::string config_path;  ///< the component's YAML parameters
+  int domain_id = 0;        ///< DDS domain (default: $STEREOBALL_DOMAIN or 0)
+  std::string partition;    ///< DDS partition ("" = default)
   std::string log_level = "info";
 };
 

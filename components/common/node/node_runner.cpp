@@ -57,7 +57,8 @@ Runner::Runner(std::string component, const CommonOptions& options)
     const sigset_t set = termination_signals();
     int signal_number = 0;
     sigwait(&set, &signal_number);
-    if (!stop_.load()) log::info("received ", signal_number == SIGINT ? "SIGINT" : "SIGTERM", ", stopping");
+    if (!stop_.load())
+      log::info("received ", signal_number == SIGINT ? "SIGINT" : "SIGTERM", ", stopping");
     stop();
   });
 }
@@ -124,7 +125,8 @@ void Runner::publish_heartbeat(int64_t now) {
   names.reserve(snap.rates.size() + snap.counters.size());
   for (const auto& [topic, rate] : snap.rates) {
     names.push_back(topic);
-    rates.push_back({names.back().data(), static_cast<float>(rate.rate_hz), rate.count, rate.dropped});
+    rates.push_back(
+        {names.back().data(), static_cast<float>(rate.rate_hz), rate.count, rate.dropped});
   }
   for (const auto& [name, value] : snap.counters) {
     names.push_back(name);

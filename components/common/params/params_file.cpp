@@ -155,9 +155,12 @@ void ParamsFile::read(std::string_view key, bool& out) {
   auto node = scalar(key);
   if (!node) return;
   const std::string text = node->Scalar();
-  if (text == "true" || text == "yes" || text == "on") out = true;
-  else if (text == "false" || text == "no" || text == "off") out = false;
-  else key_error(key, "expected true or false, got '" + text + "'");
+  if (text == "true" || text == "yes" || text == "on")
+    out = true;
+  else if (text == "false" || text == "no" || text == "off")
+    out = false;
+  else
+    key_error(key, "expected true or false, got '" + text + "'");
 }
 
 void ParamsFile::read(std::string_view key, std::string& out) {
@@ -200,7 +203,9 @@ void ParamsFile::read(std::string_view key, std::vector<double>& out, size_t exa
   out = std::move(values);
 }
 
-bool ParamsFile::has(std::string_view key) { return lookup(key).has_value(); }
+bool ParamsFile::has(std::string_view key) {
+  return lookup(key).has_value();
+}
 
 std::optional<std::string> ParamsFile::finish() const {
   if (error_) return error_;

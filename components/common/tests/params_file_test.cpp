@@ -86,7 +86,8 @@ TEST(ParamsFile, GivenIntegerWithFractionThenRejected) {
   Demo demo;
   std::string text = kGood;
   text.replace(text.find("count: 7"), 8, "count: 7.5");
-  EXPECT_EQ(*load_demo(text, demo), "demo.yaml: key 'nested.count': expected an integer, got '7.5'");
+  EXPECT_EQ(*load_demo(text, demo),
+            "demo.yaml: key 'nested.count': expected an integer, got '7.5'");
 }
 
 TEST(ParamsFile, GivenUnreadableOrInvalidFileThenLoadFails) {

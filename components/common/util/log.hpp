@@ -24,13 +24,21 @@ std::string concat(const Args&... args) {
 }
 
 template <typename... Args>
-void debug(const Args&... args) { write(Level::kDebug, concat(args...)); }
+void debug(const Args&... args) {
+  write(Level::kDebug, concat(args...));
+}
 template <typename... Args>
-void info(const Args&... args) { write(Level::kInfo, concat(args...)); }
+void info(const Args&... args) {
+  write(Level::kInfo, concat(args...));
+}
 template <typename... Args>
-void warn(const Args&... args) { write(Level::kWarn, concat(args...)); }
+void warn(const Args&... args) {
+  write(Level::kWarn, concat(args...));
+}
 template <typename... Args>
-void error(const Args&... args) { write(Level::kError, concat(args...)); }
+void error(const Args&... args) {
+  write(Level::kError, concat(args...));
+}
 
 /// Lets a message through at most once per period; counts what it suppressed.
 class Throttle {

@@ -23,8 +23,8 @@ struct QosSpec {
 
 /// Untyped description of a topic (for tools that handle any topic).
 struct TopicSpec {
-  std::string_view name;        ///< DDS topic name, e.g. "stereo/frame"
-  std::string_view type_name;   ///< IDL type name, e.g. "stereoball::msg::StereoFrame"
+  std::string_view name;       ///< DDS topic name, e.g. "stereo/frame"
+  std::string_view type_name;  ///< IDL type name, e.g. "stereoball::msg::StereoFrame"
   const dds_topic_descriptor_t* descriptor;
   QosSpec qos;
   std::string_view description;
@@ -41,38 +41,53 @@ constexpr int64_t kMs = 1'000'000;
 
 // Frames: best effort, keep-last-1 — the latest image wins, stale images never queue.
 inline constexpr Topic<stereoball_msg_StereoFrame> kStereoFrame{
-    {"stereo/frame", "stereoball::msg::StereoFrame", &stereoball_msg_StereoFrame_desc,
+    {"stereo/frame",
+     "stereoball::msg::StereoFrame",
+     &stereoball_msg_StereoFrame_desc,
      {Reliability::kBestEffort, Durability::kVolatile, 1, 0},
      "synchronized stereo pair (both eyes)"}};
 // Calibration: reliable, transient-local so a late joiner receives it.
 inline constexpr Topic<stereoball_msg_StereoCalibration> kStereoCalibration{
-    {"stereo/calibration", "stereoball::msg::StereoCalibration",
+    {"stereo/calibration",
+     "stereoball::msg::StereoCalibration",
      &stereoball_msg_StereoCalibration_desc,
      {Reliability::kReliable, Durability::kTransientLocal, 1, 0},
      "stereo calibration (latched)"}};
 inline constexpr Topic<stereoball_msg_BallDetection> kBallDetection{
-    {"ball/detection", "stereoball::msg::BallDetection", &stereoball_msg_BallDetection_desc,
+    {"ball/detection",
+     "stereoball::msg::BallDetection",
+     &stereoball_msg_BallDetection_desc,
      {Reliability::kReliable, Durability::kVolatile, 8, 0},
      "ball detection per stereo frame"}};
 inline constexpr Topic<stereoball_msg_BallTrack> kBallTrack{
-    {"ball/track", "stereoball::msg::BallTrack", &stereoball_msg_BallTrack_desc,
+    {"ball/track",
+     "stereoball::msg::BallTrack",
+     &stereoball_msg_BallTrack_desc,
      {Reliability::kReliable, Durability::kVolatile, 8, 0},
      "tracker state per detection"}};
 // Commands: reliable with a deadline; the base stops when they go stale.
 inline constexpr Topic<stereoball_msg_VelocityCommand> kVelocityCommand{
-    {"cmd/velocity", "stereoball::msg::VelocityCommand", &stereoball_msg_VelocityCommand_desc,
+    {"cmd/velocity",
+     "stereoball::msg::VelocityCommand",
+     &stereoball_msg_VelocityCommand_desc,
      {Reliability::kReliable, Durability::kVolatile, 1, 200 * kMs},
      "velocity command for the base"}};
 inline constexpr Topic<stereoball_msg_EmergencyStop> kEmergencyStop{
-    {"cmd/estop", "stereoball::msg::EmergencyStop", &stereoball_msg_EmergencyStop_desc,
+    {"cmd/estop",
+     "stereoball::msg::EmergencyStop",
+     &stereoball_msg_EmergencyStop_desc,
      {Reliability::kReliable, Durability::kTransientLocal, 1, 0},
      "emergency stop (latched)"}};
 inline constexpr Topic<stereoball_msg_GroundTruth> kGroundTruth{
-    {"sim/ground_truth", "stereoball::msg::GroundTruth", &stereoball_msg_GroundTruth_desc,
+    {"sim/ground_truth",
+     "stereoball::msg::GroundTruth",
+     &stereoball_msg_GroundTruth_desc,
      {Reliability::kReliable, Durability::kVolatile, 16, 0},
      "simulator ground truth per frame"}};
 inline constexpr Topic<stereoball_msg_ComponentStatus> kComponentStatus{
-    {"health/status", "stereoball::msg::ComponentStatus", &stereoball_msg_ComponentStatus_desc,
+    {"health/status",
+     "stereoball::msg::ComponentStatus",
+     &stereoball_msg_ComponentStatus_desc,
      {Reliability::kReliable, Durability::kVolatile, 16, 0},
      "node heartbeat (rates, drops, errors)"}};
 
