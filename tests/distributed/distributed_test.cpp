@@ -245,7 +245,8 @@ using TwoHostLink = TwoHostBase<false>;
 TEST_F(TwoHostVision, DetectionsFromTheWorkstationDriveTheRobot) {
   // Blocked: ball_detector finds the textured simulator ball in too few frames for the closed
   // loop (issue 6); the link behaviour is covered by TwoHostLink with a ground-truth tracker.
-  GTEST_SKIP() << "closed loop over the link needs reliable detection of the textured simulator ball (open, issue 6)";
+  GTEST_SKIP() << "closed loop over the link needs reliable detection of the textured simulator "
+                  "ball (open, issue 6)";
 
   // Given the robot profile in one namespace and the workstation profile in the other
   // When the system runs
@@ -270,7 +271,8 @@ TEST_F(TwoHostVision, DetectionsFromTheWorkstationDriveTheRobot) {
 TEST_F(TwoHostVision, CuttingTheLinkStopsTheRobotAndRestoringItResumesFollowing) {
   // Blocked: ball_detector finds the textured simulator ball in too few frames for the closed
   // loop (issue 6); the link behaviour is covered by TwoHostLink with a ground-truth tracker.
-  GTEST_SKIP() << "closed loop over the link needs reliable detection of the textured simulator ball (open, issue 6)";
+  GTEST_SKIP() << "closed loop over the link needs reliable detection of the textured simulator "
+                  "ball (open, issue 6)";
 
   if (!closed_loop_seen()) return;
   cut_and_restore_link(*system_);
@@ -279,7 +281,8 @@ TEST_F(TwoHostVision, CuttingTheLinkStopsTheRobotAndRestoringItResumesFollowing)
 TEST_F(TwoHostVision, FollowsWithTwentyMillisecondsDelayAndOnePercentLoss) {
   // Blocked: ball_detector finds the textured simulator ball in too few frames for the closed
   // loop (issue 6); the link behaviour is covered by TwoHostLink with a ground-truth tracker.
-  GTEST_SKIP() << "closed loop over the link needs reliable detection of the textured simulator ball (open, issue 6)";
+  GTEST_SKIP() << "closed loop over the link needs reliable detection of the textured simulator "
+                  "ball (open, issue 6)";
 
   netem_case();
 }

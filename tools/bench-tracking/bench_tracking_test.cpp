@@ -49,7 +49,8 @@ TEST(BenchTrackingTool, BallStillTwoSecondsPrintsSaneTables) {
   // Given the tool on two simulated seconds of the still-ball scenario (plain room, one-colour
   // ball: on the textured ball the detector currently finds ~13% of frames, see the README)
   const auto [code, out] = st::run(
-      {st::bin("stereoball-bench-tracking"), "--scenario", "ball_still_plain", "--seconds", "2"}, 100s);
+      {st::bin("stereoball-bench-tracking"), "--scenario", "ball_still_plain", "--seconds", "2"},
+      100s);
   ASSERT_EQ(code, 0) << out;
   // Then the visible-ball table has the scenario with 60 visible frames (30 Hz) and the
   // detector finds the ball in most of them

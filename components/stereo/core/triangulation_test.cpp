@@ -97,7 +97,8 @@ namespace {
 // front of the sphere's centre) is corrected, then the sphere's centre comes back.
 TEST(SphereCentre, GivenOutlineCentreWhenCorrectedThenSphereCentreIsRecovered) {
   const double r = 0.11;
-  for (const cv::Vec3d& centre : {cv::Vec3d(0.0, 0.0, 1.0), cv::Vec3d(0.3, 0.1, 1.0), cv::Vec3d(-0.5, 0.2, 2.5)}) {
+  for (const cv::Vec3d& centre :
+       {cv::Vec3d(0.0, 0.0, 1.0), cv::Vec3d(0.3, 0.1, 1.0), cv::Vec3d(-0.5, 0.2, 2.5)}) {
     const double d = cv::norm(centre);
     const cv::Vec3d outline = centre * (1.0 - r * r / (d * d));
     const cv::Vec3d recovered = sphere_centre_from_outline_m(outline, r);
