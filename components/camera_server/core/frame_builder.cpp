@@ -70,6 +70,13 @@ Result<FrameView> FrameBuilder::step(const RawStereoPair& pair) {
   return v;
 }
 
+cv::Mat image_of(const EyeView& eye, const std::string& encoding) {
+  if (encoding != "bgr8" && encoding != "mono8") return {};
+  return cv::Mat(static_cast<int>(eye.height_px), static_cast<int>(eye.width_px),
+                 encoding == "bgr8" ? CV_8UC3 : CV_8UC1, const_cast<uint8_t*>(eye.data),
+                 eye.step_bytes);
+}
+
 Result<FrameView> view_of_images(const cv::Mat& left, const cv::Mat& right, uint64_t seq,
                                  int64_t stamp_ns) {
   if (left.empty() || right.empty()) return fail("empty image in a file pair");

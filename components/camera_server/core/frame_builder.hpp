@@ -60,6 +60,10 @@ class FrameBuilder {
   cv::Mat bgr_[2];
 };
 
+/// The pixels of a decoded eye ("bgr8" -> CV_8UC3, "mono8" -> CV_8UC1) without a copy; empty
+/// for other encodings.
+cv::Mat image_of(const EyeView& eye, const std::string& encoding);
+
 /// View of two decoded images (CV_8UC1 -> "mono8", CV_8UC3 -> "bgr8"); both share one stamp.
 Result<FrameView> view_of_images(const cv::Mat& left, const cv::Mat& right, uint64_t seq,
                                  int64_t stamp_ns);

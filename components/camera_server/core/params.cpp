@@ -57,6 +57,12 @@ std::optional<std::string> CameraServerParams::validate() const {
   if (!one_of(publish_encoding, {"bgr8", "native"})) {
     return "publish_encoding must be \"bgr8\" or \"native\", got \"" + publish_encoding + "\"";
   }
+  if (auto e = output.validate()) return e;
+  if (output.compressed() && source == "v4l2" && publish_encoding == "native") {
+    return "frame_encoding " + output.frame_encoding +
+           " needs decoded images: set publish_encoding to bgr8 (native yuyv/jpeg frames are "
+           "published as captured)";
+  }
   if (auto e = controls.validate()) return e;
   if (!(reopen_initial_s > 0.0 && reopen_initial_s <= 60.0)) {
     return "reopen_initial_s must be in (0, 60], got " + std::to_string(reopen_initial_s);

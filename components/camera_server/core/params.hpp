@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "camera_server/core/frame_codec.hpp"
+
 namespace stereoball::camera_server {
 
 /// Camera controls applied identically to both cameras; negative/zero values leave a control
@@ -33,6 +35,7 @@ struct CameraServerParams {
   uint32_t buffer_count = 4;  ///< mmap buffers per camera
   std::string publish_encoding =
       "bgr8";                     ///< "bgr8" (converted) or "native" (yuyv/jpeg as captured)
+  FrameCodecParams output;        ///< frame_encoding (raw|jpeg|png) and jpeg_quality
   CameraControls controls;        ///< applied to both cameras
   double reopen_initial_s = 0.5;  ///< first wait before reopening a lost camera, seconds
   double reopen_max_s = 8.0;      ///< longest wait between reopen attempts, seconds

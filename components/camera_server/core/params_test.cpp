@@ -39,6 +39,9 @@ TEST(CameraServerParams, GivenBadFieldsWhenValidatedThenEachIsNamed) {
   EXPECT_TRUE(names(error_after([](auto& p) { p.pixel_format.assign("h264"); }), "pixel_format"));
   EXPECT_TRUE(names(error_after([](auto& p) { p.rectify = true; }), "calibration_file"));
   EXPECT_TRUE(names(error_after([](auto& p) { p.controls.exposure_us = -3; }), "exposure_us"));
+  EXPECT_TRUE(
+      names(error_after([](auto& p) { p.output.frame_encoding.assign("gif"); }), "frame_encoding"));
+  EXPECT_TRUE(names(error_after([](auto& p) { p.output.jpeg_quality = 0; }), "jpeg_quality"));
   EXPECT_TRUE(names(error_after([](auto& p) {
                       p.rectify = true;
                       p.calibration_file.assign("c.yaml");

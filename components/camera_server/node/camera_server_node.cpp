@@ -19,7 +19,9 @@ CameraServerNode::CameraServerNode(const CameraServerParams& params, node::Runne
       runner_(runner),
       frame_writer_(runner.participant(), topics::kStereoFrame),
       calibration_writer_(runner.participant(), topics::kStereoCalibration),
-      builder_(FrameBuilderParams{params.publish_encoding}) {}
+      builder_(FrameBuilderParams{params.publish_encoding}) {
+  if (params.output.compressed()) compressor_.emplace(params.output);
+}
 
 CameraServerNode::~CameraServerNode() {
   stop_ = true;
@@ -82,6 +84,12 @@ std::optional<std::string> CameraServerNode::open_calibration(cv::Size capture_s
 }
 
 void CameraServerNode::start() {
+  if (compressor_) {
+    log::info("publishing ", params_.output.frame_encoding, " frames",
+              params_.output.frame_encoding == "jpeg"
+                  ? " at quality " + std::to_string(params_.output.jpeg_quality)
+                  : std::string());
+  }
   if (!calibration_) log::warn("no calibration_file: stereo/calibration is not published");
   if (calibration_) {
     stereoball_msg_StereoCalibration msg{};
@@ -157,27 +165,45 @@ void CameraServerNode::update_capture_health() {
   }
 }
 
-void CameraServerNode::publish(const FrameView& view) {
-  const FrameView* out = &view;
-  FrameView rect;
-  if (rectifier_ && (view.encoding == "bgr8" || view.encoding == "mono8")) {
-    const int type = view.encoding == "bgr8" ? CV_8UC3 : CV_8UC1;
-    const cv::Mat l(static_cast<int>(view.left.height_px), static_cast<int>(view.left.width_px),
-                    type, const_cast<uint8_t*>(view.left.data), view.left.step_bytes);
-    const cv::Mat r(static_cast<int>(view.right.height_px), static_cast<int>(view.right.width_px),
-                    type, const_cast<uint8_t*>(view.right.data), view.right.step_bytes);
-    if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1])) {
-      runner_.health().error("rectify", *e);
-      return;
-    }
-    auto v = view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);
-    if (!v) return;
-    rect = *v;
-    rect.left.capture_stamp_ns = view.left.capture_stamp_ns;
-    rect.right.capture_stamp_ns = view.right.capture_stamp_ns;
-    rect.rectified = true;
-    out = &rect;
+// The rectified copy of a decoded view in storage, the view itself when not rectifying, or
+// nullptr when rectification failed (counted in health).
+const FrameView* CameraServerNode::rectify(const FrameView& view, FrameView& storage) {
+  const cv::Mat l = image_of(view.left, view.encoding), r = image_of(view.right, view.encoding);
+  if (!rectifier_ || l.empty()) return &view;
+  if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1])) {
+    runner_.health().error("rectify", *e);
+    return nullptr;
   }
+  auto v = view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);
+  if (!v) return nullptr;
+  storage = *v;
+  storage.left.capture_stamp_ns = view.left.capture_stamp_ns;
+  storage.right.capture_stamp_ns = view.right.capture_stamp_ns;
+  storage.rectified = true;
+  return &storage;
+}
+
+// The jpeg/png view in storage with frame_encoding set, else the view itself; nullptr when
+// encoding failed (counted in health).
+const FrameView* CameraServerNode::compress(const FrameView& view, FrameView& storage) {
+  if (!compressor_) return &view;
+  const int64_t start_ns = node::monotonic_ns();
+  auto v = compressor_->step(view);
+  if (!v) {
+    runner_.health().error("encode", v.error());
+    return nullptr;
+  }
+  runner_.health().set_counter("encode_us",
+                               static_cast<uint64_t>((node::monotonic_ns() - start_ns) / 1000));
+  storage = *v;
+  return &storage;
+}
+
+void CameraServerNode::publish(const FrameView& view) {
+  FrameView rectified, compressed;
+  const FrameView* out = rectify(view, rectified);
+  if (out != nullptr) out = compress(*out, compressed);
+  if (out == nullptr) return;
   stereoball_msg_StereoFrame msg{};
   fill_frame_message(*out, source_name_, msg);
   frame_writer_.write(msg);

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "camera_server/core/frame_builder.hpp"
+#include "camera_server/core/frame_compressor.hpp"
 #include "camera_server/core/params.hpp"
 #include "camera_server/io/file_source.hpp"
 #include "camera_server/io/stereo_capture.hpp"
@@ -37,6 +38,8 @@ class CameraServerNode {
   void publish_file_pair(int64_t now_ns);
   void capture_loop();
   void publish(const FrameView& view);
+  const FrameView* rectify(const FrameView& view, FrameView& storage);
+  const FrameView* compress(const FrameView& view, FrameView& storage);
   void update_capture_health();
 
   CameraServerParams params_;
@@ -50,6 +53,7 @@ class CameraServerNode {
   std::optional<stereo::StereoCalibration> calibration_;
   std::optional<stereo::Rectifier> rectifier_;
   cv::Mat rectified_[2];
+  std::optional<FrameCompressor> compressor_;  // frame_encoding jpeg/png
   uint64_t file_seq_ = 0;
   bool files_done_ = false;
   uint64_t reported_drops_ = 0;

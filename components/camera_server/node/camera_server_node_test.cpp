@@ -56,11 +56,21 @@ bool same_pixels(const stereoball_msg_EyeImage& eye, const cv::Mat& ref) {
   return std::equal(ref.data, ref.data + eye.data._length, eye.data._buffer);
 }
 
+std::pair<int, std::string> run_node_with(const std::string& config,
+                                          const std::vector<std::string>& extra) {
+  std::vector<std::string> argv{sb::testing::bin("camera_server"),
+                                "--config",
+                                config,
+                                "--domain",
+                                std::to_string(sb::testing::test_domain()),
+                                "--partition",
+                                sb::testing::unique_partition()};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  return sb::testing::run(argv, 20s);
+}
+
 std::pair<int, std::string> run_node(const std::string& config) {
-  return sb::testing::run(
-      {sb::testing::bin("camera_server"), "--config", config, "--domain",
-       std::to_string(sb::testing::test_domain()), "--partition", sb::testing::unique_partition()},
-      20s);
+  return run_node_with(config, {});
 }
 
 TEST(CameraServerNode, GivenRealPairsWhenPlayedThenFramesByteIdenticalAndCalibrationLatched) {
@@ -183,6 +193,115 @@ TEST(CameraServerNode, GivenSameDeviceTwiceOrBadFileWhenStartedThenClearError) {
   std::tie(code, out) = run_node(files_config("/nonexistent/l*.png", "/nonexistent/r*.png"));
   EXPECT_NE(code, 0);
   EXPECT_NE(out.find("matched no files"), std::string::npos) << out;
+}
+
+// Takes frames until n distinct ones arrived; compressed eyes are decoded as ball_detector does
+// (cv::imdecode) and compared with the file images they came from.
+struct DecodedFrames {
+  int count = 0;
+  double worst_mean_abs_diff = 0;  // decoded eye vs its file image, DN
+  size_t max_pair_bytes = 0;
+  bool contract_ok = true;  // encoding, step 0, decoded size as announced
+};
+
+DecodedFrames receive_decoded(const std::string& encoding, int n, const std::vector<cv::Mat>& left,
+                              const std::vector<cv::Mat>& right, Process& node,
+                              const std::string& partition) {
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
+  EXPECT_TRUE(frames.wait_for_writers(1, 10'000'000'000)) << node.output();
+  DecodedFrames r;
+  auto check_eye = [&](const stereoball_msg_EyeImage& eye, const cv::Mat& ref) {
+    const cv::Mat bytes(1, static_cast<int>(eye.data._length), CV_8U, eye.data._buffer);
+    const cv::Mat img = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+    r.contract_ok = r.contract_ok && eye.step_bytes == 0 && !img.empty() &&
+                    img.cols == static_cast<int>(eye.width_px) &&
+                    img.rows == static_cast<int>(eye.height_px) && img.size() == ref.size() &&
+                    img.type() == ref.type();
+    if (img.size() != ref.size() || img.type() != ref.type()) return;
+    cv::Mat d;
+    cv::absdiff(img, ref, d);
+    r.worst_mean_abs_diff = std::max(r.worst_mean_abs_diff, cv::mean(d)[0]);
+  };
+  sb::testing::eventually(
+      [&] {
+        for (auto& s : frames.take()) {
+          const size_t i = s->seq % left.size();
+          r.contract_ok = r.contract_ok && encoding == s->encoding;
+          check_eye(s->left, left[i]);
+          check_eye(s->right, right[i]);
+          r.max_pair_bytes =
+              std::max<size_t>(r.max_pair_bytes, s->left.data._length + s->right.data._length);
+          ++r.count;
+        }
+        return r.count >= n;
+      },
+      15s);
+  return r;
+}
+
+TEST(CameraServerNode, GivenFrameEncodingJpegWhenPlayedThenEyesDecodeCloseToTheFilesAndSmaller) {
+  std::vector<cv::Mat> left, right;
+  for (const auto& f : sample_names("left")) left.push_back(cv::imread(f, cv::IMREAD_UNCHANGED));
+  for (const auto& f : sample_names("right")) right.push_back(cv::imread(f, cv::IMREAD_UNCHANGED));
+  // Given the 13 real pairs played with frame_encoding jpeg at quality 90
+  const std::string partition = sb::testing::unique_partition();
+  Process node = Process::start(
+      {sb::testing::bin("camera_server"), "--config",
+       files_config(kSamples + "/left*.jpg", kSamples + "/right*.jpg"), "--frame-encoding", "jpeg",
+       "--domain", std::to_string(sb::testing::test_domain()), "--partition", partition});
+  // When 15 frames arrive
+  const DecodedFrames r = receive_decoded("jpeg", 15, left, right, node, partition);
+  ASSERT_GE(r.count, 15) << node.output();
+  // Then each follows the contract, decodes to its own file's pixels within JPEG error, and a
+  // pair is a fraction of the raw mono8 pair (2 x 640 x 480 bytes)
+  EXPECT_TRUE(r.contract_ok);
+  EXPECT_LT(r.worst_mean_abs_diff, 3.0);
+  EXPECT_LT(r.max_pair_bytes, 2u * 640 * 480 / 2);
+  std::printf(
+      "jpeg q90 file frames: largest pair %zu bytes (raw mono8 %u), worst mean |diff| "
+      "%.2f DN\n",
+      r.max_pair_bytes, 2u * 640 * 480, r.worst_mean_abs_diff);
+  node.signal(SIGINT);
+  EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
+}
+
+TEST(CameraServerNode, GivenFrameEncodingPngInTheConfigWhenPlayedThenEyesAreLossless) {
+  const cv::Mat left = cv::imread(kSamples + "/left03.jpg", cv::IMREAD_UNCHANGED);
+  const cv::Mat right = cv::imread(kSamples + "/right03.jpg", cv::IMREAD_UNCHANGED);
+  // Given one pair played with frame_encoding png from the config file
+  const std::string partition = sb::testing::unique_partition();
+  const std::string config = write_config(
+      "source: files\nleft_glob: " + kSamples + "/left03.jpg\nright_glob: " + kSamples +
+      "/right03.jpg\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\nframe_encoding: png\n");
+  Process node =
+      Process::start({sb::testing::bin("camera_server"), "--config", config, "--domain",
+                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  // When frames arrive, then they decode to exactly the file's pixels
+  const DecodedFrames r = receive_decoded("png", 3, {left}, {right}, node, partition);
+  ASSERT_GE(r.count, 3) << node.output();
+  EXPECT_TRUE(r.contract_ok);
+  EXPECT_EQ(r.worst_mean_abs_diff, 0.0);
+}
+
+TEST(CameraServerNode, GivenBadFrameEncodingOrQualityWhenStartedThenOneLineNamingFileAndKey) {
+  const std::string files = "source: files\nleft_glob: " + kSamples +
+                            "/left01.jpg\nright_glob: " + kSamples +
+                            "/right01.jpg\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\n";
+  for (const std::string bad : {"frame_encoding: h264\n", "jpeg_quality: 0\n"}) {
+    const std::string config = write_config(files + bad);
+    const auto [code, out] = run_node(config);
+    EXPECT_EQ(code, 2) << out;
+    EXPECT_NE(out.find(config), std::string::npos) << out;
+    EXPECT_NE(out.find(bad.substr(0, bad.find(':'))), std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  }
+  // And a bad override flag is refused too
+  const auto [code, out] =
+      run_node_with(files_config(kSamples + "/left01.jpg", kSamples + "/right01.jpg"),
+                    {"--frame-encoding", "gif"});
+  EXPECT_NE(code, 0) << out;
+  EXPECT_NE(out.find("--frame-encoding"), std::string::npos) << out;
 }
 
 }  // namespace

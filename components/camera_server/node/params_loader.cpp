@@ -26,6 +26,10 @@ Result<CameraServerParams> read(params::ParamsFile& f) {
   if (f.has("publish_encoding")) {
     f.read_choice("publish_encoding", p.publish_encoding, {"bgr8", "native"});
   }
+  if (f.has("frame_encoding")) {
+    f.read_choice("frame_encoding", p.output.frame_encoding, frame_encoding_choices());
+  }
+  optional(f, "jpeg_quality", p.output.jpeg_quality, 1, 100);
   optional(f, "controls.auto_exposure", p.controls.auto_exposure);
   optional(f, "controls.exposure_us", p.controls.exposure_us, 0, 10'000'000);
   optional(f, "controls.gain", p.controls.gain, -1, 100'000);

@@ -58,5 +58,34 @@ TEST(CameraServerParamsFile, GivenMissingRequiredKeyOrBadChoiceWhenParsedThenNam
   EXPECT_TRUE(has(bad.error(), "source")) << bad.error();
 }
 
+TEST(CameraServerParamsFile, GivenFrameEncodingKeysWhenParsedThenReadOrNamedWithTheFile) {
+  const std::string base = "source: v4l2\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\n";
+  // Absent: raw (today's behaviour)
+  auto absent = parse_camera_server_params(base, "c.yaml");
+  ASSERT_TRUE(absent.ok()) << absent.error();
+  EXPECT_EQ(absent->output.frame_encoding, "raw");
+  EXPECT_EQ(absent->output.jpeg_quality, 90);
+  // Set: read
+  auto jpeg =
+      parse_camera_server_params(base + "frame_encoding: jpeg\njpeg_quality: 75\n", "c.yaml");
+  ASSERT_TRUE(jpeg.ok()) << jpeg.error();
+  EXPECT_EQ(jpeg->output.frame_encoding, "jpeg");
+  EXPECT_EQ(jpeg->output.jpeg_quality, 75);
+  // Bad values: one line naming the file and the key
+  for (const std::string bad : {"frame_encoding: webp\n", "jpeg_quality: 0\n",
+                                "jpeg_quality: 101\n", "jpeg_quality: high\n"}) {
+    auto p = parse_camera_server_params(base + bad, "c.yaml");
+    ASSERT_FALSE(p.ok()) << bad;
+    EXPECT_TRUE(has(p.error(), "c.yaml")) << p.error();
+    EXPECT_TRUE(has(p.error(), bad.substr(0, bad.find(':')))) << p.error();
+    EXPECT_FALSE(has(p.error(), "\n")) << p.error();
+  }
+  // Compressing needs decoded images: native camera bytes cannot be re-encoded
+  auto native = parse_camera_server_params(base + "frame_encoding: png\npublish_encoding: native\n",
+                                           "c.yaml");
+  ASSERT_FALSE(native.ok());
+  EXPECT_TRUE(has(native.error(), "publish_encoding")) << native.error();
+}
+
 }  // namespace
 }  // namespace stereoball::camera_server

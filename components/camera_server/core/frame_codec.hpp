@@ -1,0 +1,51 @@
+#pragma once
+// Compressed stereo stream: how a frame publisher (camera_server, simulator) puts each eye on
+// the wire, and the encoder. Contract of compressed frames (deploy/README.md): StereoFrame
+// encoding "jpeg" or "png" for both eyes, each EyeImage.data one complete JPEG/PNG stream,
+// width_px/height_px the decoded size, step_bytes 0.
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace stereoball::camera_server {
+
+/// The values frame_encoding accepts: "raw" (pixels as they are), "jpeg", "png".
+const std::vector<std::string>& frame_encoding_choices();
+
+/// How a publisher encodes the eyes of its stereo frames.
+struct FrameCodecParams {
+  std::string frame_encoding = "raw";  ///< "raw", "jpeg" (lossy) or "png" (lossless)
+  int jpeg_quality = 90;               ///< JPEG quality, 1 (smallest) .. 100 (closest to raw)
+
+  /// Names the first bad field and its allowed values, or nullopt.
+  std::optional<std::string> validate() const;
+  /// True when the eyes are compressed ("jpeg" or "png").
+  bool compressed() const { return frame_encoding == "jpeg" || frame_encoding == "png"; }
+};
+
+/// zlib level of PNG frames: 1 = fastest; PNG is lossless at every level, higher levels only
+/// trade encode time (several times longer) for a few percent fewer bytes.
+inline constexpr int kPngCompressionLevel = 1;
+
+/// Encodes one eye of a stereo frame, reusing its output buffer from frame to frame.
+class EyeEncoder {
+ public:
+  /// params must be valid and compressed().
+  explicit EyeEncoder(const FrameCodecParams& params);
+
+  /// Compresses an 8-bit grey or BGR image into bytes(); nullopt on success, else the problem.
+  std::optional<std::string> encode(const cv::Mat& image);
+  /// The complete JPEG/PNG stream of the last successful encode().
+  const std::vector<uint8_t>& bytes() const { return bytes_; }
+
+ private:
+  FrameCodecParams params_;
+  std::vector<int> flags_;
+  std::vector<uint8_t> bytes_;
+};
+
+}  // namespace stereoball::camera_server

@@ -1,0 +1,38 @@
+#include "camera_server/core/frame_compressor.hpp"
+
+namespace stereoball::camera_server {
+namespace {
+
+Result<EyeView> compress_eye(const char* name, const EyeView& eye, const std::string& encoding,
+                             EyeEncoder& encoder) {
+  const cv::Mat image = image_of(eye, encoding);
+  if (image.empty()) {
+    return fail(std::string(name) + " eye: cannot compress \"" + encoding +
+                "\" frames, only bgr8 or mono8");
+  }
+  if (auto e = encoder.encode(image)) return fail(std::string(name) + " eye: " + *e);
+  EyeView out = eye;
+  out.step_bytes = 0;
+  out.data = encoder.bytes().data();
+  out.bytes = encoder.bytes().size();
+  return out;
+}
+
+}  // namespace
+
+FrameCompressor::FrameCompressor(const FrameCodecParams& params)
+    : params_(params), left_(params), right_(params) {}
+
+Result<FrameView> FrameCompressor::step(const FrameView& view) {
+  auto left = compress_eye("left", view.left, view.encoding, left_);
+  if (!left) return Error{left.error()};
+  auto right = compress_eye("right", view.right, view.encoding, right_);
+  if (!right) return Error{right.error()};
+  FrameView out = view;
+  out.encoding = params_.frame_encoding;
+  out.left = *left;
+  out.right = *right;
+  return out;
+}
+
+}  // namespace stereoball::camera_server
