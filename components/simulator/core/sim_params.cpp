@@ -63,6 +63,11 @@ std::optional<std::string> SimParams::validate() const {
   if (auto err =
           check("robot.max_angular_accel_radps2", robot.max_angular_accel_radps2, 0.01, 200.0))
     return err;
+  if (auto err = check("robot.max_linear_brake_mps2", robot.max_linear_brake_mps2, 0.01, 100.0))
+    return err;
+  if (auto err =
+          check("robot.max_angular_brake_radps2", robot.max_angular_brake_radps2, 0.01, 400.0))
+    return err;
   if (robot.command_timeout_ns <= 0 || robot.command_timeout_ns > 60'000'000'000) {
     return range_error("robot.command_timeout_ns", static_cast<double>(robot.command_timeout_ns), 1,
                        60e9);

@@ -38,6 +38,8 @@ struct RobotParams {
   double max_angular_radps = 2.0;            ///< |yaw rate| limit, rad/s
   double max_linear_accel_mps2 = 1.5;        ///< |forward acceleration| limit, m/s^2
   double max_angular_accel_radps2 = 6.0;     ///< |yaw acceleration| limit, rad/s^2
+  double max_linear_brake_mps2 = 4.0;        ///< |deceleration| limit while |speed| drops, m/s^2
+  double max_angular_brake_radps2 = 16.0;    ///< |yaw deceleration| limit while |rate| drops
   int64_t command_timeout_ns = 300'000'000;  ///< commands older than this stop the base, ns
   double radius_m = 0.20;                    ///< footprint radius (walls, ball contact), metres
 };

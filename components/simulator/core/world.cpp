@@ -10,6 +10,19 @@ double approach(double current, double target, double max_delta) {
   return current + std::clamp(target - current, -max_delta, max_delta);
 }
 
+// Moves current toward target: at the brake limit while |current| drops toward zero, at the
+// acceleration limit otherwise. Reversing brakes to zero first and spends the rest of the step
+// accelerating the other way.
+double approach_braking(double current, double target, double accel_dt, double brake_dt) {
+  if (current < 0.0) return -approach_braking(-current, -target, accel_dt, brake_dt);
+  if (current == 0.0 || target >= current) return approach(current, target, accel_dt);
+  const double floor = std::max(target, 0.0);
+  if (current - brake_dt > floor) return current - brake_dt;
+  if (target >= 0.0) return target;
+  const double rest_of_step = 1.0 - current / brake_dt;  // fraction left after stopping
+  return approach(0.0, target, accel_dt * rest_of_step);
+}
+
 constexpr double kNsPerS = 1e9;
 
 }  // namespace
@@ -26,8 +39,10 @@ void RobotBase::step(double dt_s, int64_t now_ns) {
     w_target = std::clamp(cmd_->angular_radps, -p_.max_angular_radps, p_.max_angular_radps);
   }
   const double v0 = s_.linear_mps, w0 = s_.angular_radps;
-  s_.linear_mps = approach(v0, v_target, p_.max_linear_accel_mps2 * dt_s);
-  s_.angular_radps = approach(w0, w_target, p_.max_angular_accel_radps2 * dt_s);
+  s_.linear_mps = approach_braking(v0, v_target, p_.max_linear_accel_mps2 * dt_s,
+                                   p_.max_linear_brake_mps2 * dt_s);
+  s_.angular_radps = approach_braking(w0, w_target, p_.max_angular_accel_radps2 * dt_s,
+                                      p_.max_angular_brake_radps2 * dt_s);
   // Trapezoidal velocities over the step, then the exact arc for constant (v, w).
   const double v = 0.5 * (v0 + s_.linear_mps), w = 0.5 * (w0 + s_.angular_radps);
   const double yaw0 = s_.yaw_rad;

@@ -78,6 +78,97 @@ TEST(World, StaleCommandStopsTheBase) {
   EXPECT_EQ(w.robot().x_m, x);
 }
 
+// Drives a default-limited base (1.5 m/s^2 up, 4 m/s^2 braking) to v, w; returns the time.
+int64_t drive_to(World& w, double v_mps, double w_radps) {
+  w.set_command({v_mps, w_radps, 0});
+  w.advance_to(2 * kS);
+  EXPECT_NEAR(w.robot().linear_mps, v_mps, 1e-9);
+  EXPECT_NEAR(w.robot().angular_radps, w_radps, 1e-9);
+  return 2 * kS;
+}
+
+TEST(World, ZeroCommandBrakesAtTheBrakeLimitWhileAccelerationStaysAtItsLimit) {
+  // Given the default base (accelerates at 1.5 m/s^2, brakes at 4 m/s^2)
+  SimParams p;
+  p.robot.command_timeout_ns = 10 * kS;
+  ASSERT_DOUBLE_EQ(p.robot.max_linear_accel_mps2, 1.5);
+  ASSERT_DOUBLE_EQ(p.robot.max_linear_brake_mps2, 4.0);
+  World w(p, empty_room());
+  // When it speeds up from rest, then only at 1.5 m/s^2: 0.15 m/s after 0.1 s
+  w.set_command({0.8, 0.0, 0});
+  w.advance_to(kS / 10);
+  EXPECT_NEAR(w.robot().linear_mps, 0.15, 1e-9);
+  const int64_t t0 = drive_to(w, 0.8, 0.0);
+  // When commanded zero at 0.8 m/s
+  w.set_command({0.0, 0.0, t0});
+  const double brake_s = 0.8 / p.robot.max_linear_brake_mps2;  // 0.2 s
+  w.advance_to(t0 + static_cast<int64_t>((brake_s - 0.01) * kS));
+  // Then 10 ms before 0.8 / 4 s it is still rolling at 4 m/s^2 * 10 ms
+  EXPECT_NEAR(w.robot().linear_mps, 0.04, 1e-6);
+  // And one physics step after 0.8 / 4 s it is at rest (at 1.5 m/s^2 it would need 0.53 s)
+  w.advance_to(t0 + static_cast<int64_t>(brake_s * kS) + 2'000'000);
+  EXPECT_EQ(w.robot().linear_mps, 0.0);
+}
+
+TEST(World, SlowingDownBrakesButReversingAcceleratesPastZero) {
+  // Given the default base driving forward at 0.6 m/s
+  SimParams p;
+  p.robot.command_timeout_ns = 10 * kS;
+  World w(p, empty_room());
+  int64_t t = drive_to(w, 0.6, 0.0);
+  // When commanded 0.2 m/s, then it slows at the brake limit: 0.2 m/s after 0.1 s
+  w.set_command({0.2, 0.0, t});
+  w.advance_to(t + kS / 20);
+  EXPECT_NEAR(w.robot().linear_mps, 0.4, 1e-9);
+  w.advance_to(t += kS / 10);
+  EXPECT_NEAR(w.robot().linear_mps, 0.2, 1e-9);
+  // When commanded -0.5 m/s, then it brakes to zero in 0.05 s and then speeds up backwards
+  // at the acceleration limit only: -1.5 m/s^2 * 0.1 s after the stop
+  w.set_command({-0.5, 0.0, t});
+  w.advance_to(t + kS / 20 + kS / 10);
+  EXPECT_NEAR(w.robot().linear_mps, -0.15, 1e-9);
+  // And braking from reverse is symmetric: -0.5 m/s to rest in 0.125 s
+  w.advance_to(t += 2 * kS);
+  w.set_command({0.0, 0.0, t});
+  w.advance_to(t + kS / 10);
+  EXPECT_NEAR(w.robot().linear_mps, -0.1, 1e-9);
+  w.advance_to(t + kS / 8 + 2'000'000);
+  EXPECT_EQ(w.robot().linear_mps, 0.0);
+}
+
+TEST(World, YawRateBrakesAtItsOwnLimit) {
+  // Given the default base turning at 1.6 rad/s (6 rad/s^2 up, 16 rad/s^2 braking)
+  SimParams p;
+  p.robot.command_timeout_ns = 10 * kS;
+  World w(p, empty_room());
+  const int64_t t0 = drive_to(w, 0.0, 1.6);
+  // When commanded zero, then it is at 1.6 - 16 * 0.05 = 0.8 rad/s after 50 ms, at rest after 0.1 s
+  w.set_command({0.0, 0.0, t0});
+  w.advance_to(t0 + kS / 20);
+  EXPECT_NEAR(w.robot().angular_radps, 0.8, 1e-9);
+  w.advance_to(t0 + kS / 10 + 2'000'000);
+  EXPECT_EQ(w.robot().angular_radps, 0.0);
+}
+
+TEST(World, StaleCommandBrakesAtTheBrakeLimit) {
+  // Given the default base at 0.8 m/s on a command that will go stale after 300 ms
+  SimParams p;
+  World w(p, empty_room());
+  w.set_command({0.8, 0.0, 0});
+  w.advance_to(kS / 4);  // 0.375 m/s
+  const int64_t t0 = 2 * kS;
+  for (int64_t t = kS / 4; t <= t0; t += kS / 20) {
+    w.set_command({0.8, 0.0, t});
+    w.advance_to(t);
+  }
+  ASSERT_NEAR(w.robot().linear_mps, 0.8, 1e-9);
+  // When no command arrives for 300 ms + 0.8 / 4 s, then the base is at rest
+  w.advance_to(t0 + 300'000'000);
+  EXPECT_NEAR(w.robot().linear_mps, 0.8, 0.01);
+  w.advance_to(t0 + 500'000'000 + 4'000'000);
+  EXPECT_EQ(w.robot().linear_mps, 0.0);
+}
+
 TEST(World, RollingBallDeceleratesAndStops) {
   // Given a ball rolling at 1 m/s with 0.5 m/s^2 rolling deceleration
   SimParams p;

@@ -41,6 +41,8 @@ void read_sim_params(params::ParamsFile& f, SimParams& p) {
   f.read("robot.max_angular_radps", p.robot.max_angular_radps, 0.0, 20.0);
   f.read("robot.max_linear_accel_mps2", p.robot.max_linear_accel_mps2, 0.01, 100.0);
   f.read("robot.max_angular_accel_radps2", p.robot.max_angular_accel_radps2, 0.01, 200.0);
+  f.read("robot.max_linear_brake_mps2", p.robot.max_linear_brake_mps2, 0.01, 100.0);
+  f.read("robot.max_angular_brake_radps2", p.robot.max_angular_brake_radps2, 0.01, 400.0);
   f.read("robot.command_timeout_ns", p.robot.command_timeout_ns, int64_t{1},
          int64_t{60'000'000'000});
   f.read("robot.radius_m", p.robot.radius_m, 0.0, 2.0);
@@ -52,14 +54,24 @@ void read_sim_params(params::ParamsFile& f, SimParams& p) {
   f.read("sensor.shutter_s", p.sensor.shutter_s, 0.0, 1.0);
 }
 
-Result<SimParams> load_sim_params(const std::string& path) {
+Result<SimulatorConfig> load_simulator_config(const std::string& path) {
   auto file = params::ParamsFile::load(path);
   if (!file) return Error{file.error()};
-  SimParams p;
-  read_sim_params(*file, p);
-  if (auto e = p.validate()) file->fail(*e);
+  SimulatorConfig c;
+  read_sim_params(*file, c.sim);
+  file->read_choice("frame_encoding", c.output.frame_encoding,
+                    camera_server::frame_encoding_choices());
+  file->read("jpeg_quality", c.output.jpeg_quality, 1, 100);
+  if (auto e = c.sim.validate()) file->fail(*e);
+  if (auto e = c.output.validate()) file->fail(*e);
   if (auto e = file->finish()) return Error{*e};
-  return p;
+  return c;
+}
+
+Result<SimParams> load_sim_params(const std::string& path) {
+  auto c = load_simulator_config(path);
+  if (!c) return Error{c.error()};
+  return c->sim;
 }
 
 }  // namespace stereoball::simulator

@@ -28,7 +28,8 @@ int main(int argc, char** argv) {
   sb::node::block_termination_signals();
   CLI::App app{
       "simulator: a simulated stereo rig on a differential-drive robot in a room. Publishes\n"
-      "stereo/frame (raw bgr8, both eyes) at frame_rate_hz x --rate, sim/ground_truth per frame\n"
+      "stereo/frame (raw bgr8, or jpeg/png per eye with frame_encoding) at frame_rate_hz x\n"
+      "--rate, sim/ground_truth per frame\n"
       "and stereo/calibration (latched: the rig's true calibration, or --calibration FILE);\n"
       "drives the base from cmd/velocity (stale commands stop it)."};
   sb::node::CommonOptions common;
@@ -50,14 +51,25 @@ int main(int argc, char** argv) {
                  "publish this calibration file instead of the true one (calibrated-vs-true "
                  "mismatch tests); its image size must match the simulator's");
   app.add_flag("--loop", options.loop, "restart the scenario when its duration has passed");
+  std::string frame_encoding;
+  int jpeg_quality = 0;
+  app.add_option("--frame-encoding", frame_encoding,
+                 "overrides frame_encoding of the config: raw (bgr8), jpeg or png per eye")
+      ->check(CLI::IsMember(sb::camera_server::frame_encoding_choices()));
+  app.add_option("--jpeg-quality", jpeg_quality, "overrides jpeg_quality of the config (1-100)")
+      ->check(CLI::Range(1, 100));
   CLI11_PARSE(app, argc, argv);
 
-  auto params = sb::simulator::load_sim_params(common.config_path);
-  if (!params) return fail(params.error());
+  auto config = sb::simulator::load_simulator_config(common.config_path);
+  if (!config) return fail(config.error());
+  const sb::simulator::SimParams& params = config->sim;
+  options.output = config->output;
+  if (!frame_encoding.empty()) options.output.frame_encoding = frame_encoding;
+  if (jpeg_quality != 0) options.output.jpeg_quality = jpeg_quality;
   auto scenario = sb::simulator::load_scenario_by_name(scenario_name, scenarios_dir);
   if (!scenario) return fail(scenario.error());
-  if (auto e = sb::simulator::Simulator::check(*params, *scenario)) return fail(*e);
-  const sb::simulator::StereoRig rig(*params);
+  if (auto e = sb::simulator::Simulator::check(params, *scenario)) return fail(*e);
+  const sb::simulator::StereoRig rig(params);
   sb::stereo::StereoCalibration published = rig.calibration();
   if (!calibration_path.empty()) {
     auto loaded = sb::stereo::load_calibration(calibration_path);
@@ -74,7 +86,7 @@ int main(int argc, char** argv) {
   }
   try {
     sb::node::Runner runner("simulator", common);
-    sb::simulator::SimulatorNode node(runner, *params, *scenario, published, options);
+    sb::simulator::SimulatorNode node(runner, params, *scenario, published, options);
     return runner.run();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "simulator: %s\n", e.what());

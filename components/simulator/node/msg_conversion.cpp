@@ -69,6 +69,20 @@ stereoball_msg_StereoFrame frame_to_msg(const SimFrame& frame, int64_t stamp_ns,
   return m;
 }
 
+stereoball_msg_StereoFrame encoded_frame_to_msg(const SimFrame& frame, const std::string& encoding,
+                                                const std::vector<uint8_t>& left,
+                                                const std::vector<uint8_t>& right, int64_t stamp_ns,
+                                                const std::string& source) {
+  stereoball_msg_StereoFrame m = frame_to_msg(frame, stamp_ns, source);
+  m.encoding = const_cast<char*>(encoding.c_str());
+  for (auto [eye, bytes] : {std::pair{&m.left, &left}, std::pair{&m.right, &right}}) {
+    eye->step_bytes = 0;
+    eye->data._maximum = eye->data._length = static_cast<uint32_t>(bytes->size());
+    eye->data._buffer = const_cast<uint8_t*>(bytes->data());
+  }
+  return m;
+}
+
 stereoball_msg_GroundTruth ground_truth_to_msg(const GroundTruth& g, int64_t stamp_ns,
                                                const std::string& scenario) {
   stereoball_msg_GroundTruth m{};

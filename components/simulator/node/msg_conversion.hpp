@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "simulator/core/ground_truth.hpp"
 #include "simulator/core/simulator.hpp"
@@ -19,6 +20,14 @@ stereoball_msg_StereoCalibration calibration_to_msg(const stereo::StereoCalibrat
 /// stereo/frame message (bgr8, raw eyes) of a simulated frame; frame and source must outlive it.
 stereoball_msg_StereoFrame frame_to_msg(const SimFrame& frame, int64_t stamp_ns,
                                         const std::string& source);
+
+/// stereo/frame message carrying compressed eyes: encoding ("jpeg"/"png"), step_bytes 0, the
+/// decoded size of the frame's images, data = one complete stream per eye. frame, encoding,
+/// left, right and source must outlive it.
+stereoball_msg_StereoFrame encoded_frame_to_msg(const SimFrame& frame, const std::string& encoding,
+                                                const std::vector<uint8_t>& left,
+                                                const std::vector<uint8_t>& right, int64_t stamp_ns,
+                                                const std::string& source);
 
 /// sim/ground_truth message; scenario must outlive it.
 stereoball_msg_GroundTruth ground_truth_to_msg(const GroundTruth& g, int64_t stamp_ns,

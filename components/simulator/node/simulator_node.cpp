@@ -21,6 +21,9 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       truth_(runner.participant(), topics::kGroundTruth),
       calibration_(runner.participant(), topics::kStereoCalibration),
       commands_(runner.participant(), topics::kVelocityCommand) {
+  if (options_.output.compressed()) {
+    for (auto& e : encoders_) e.emplace(options_.output);
+  }
   // Transient-local: written once, every late joiner still receives it.
   calibration_.write(calibration_to_msg(published_, node::now_ns(), options_.calibration_source));
   runner_.on_data(commands_.handle(), [this] { on_commands(); });
@@ -58,15 +61,37 @@ void SimulatorNode::tick(int64_t now_ns) {
                                static_cast<uint64_t>((node::monotonic_ns() - mono) / 1000));
   sim_now_ns_ = f.sim_time_ns;
   frame_index_ = index + 1;
-  stereoball_msg_StereoFrame frame = frame_to_msg(f, now_ns, frame_source_);
-  frame.seq = total_frames_;
+  publish_frame(f, now_ns);
   stereoball_msg_GroundTruth truth = ground_truth_to_msg(f.truth, now_ns, scenario_.name);
   truth.frame_seq = total_frames_;
-  frames_.write(frame, now_ns);
   truth_.write(truth, now_ns);
-  runner_.health().count(frame_topic_);
   runner_.health().count(std::string(topics::kGroundTruth.spec.name));
   runner_.health().set_counter("frames", ++total_frames_);
+}
+
+void SimulatorNode::publish_frame(const SimFrame& f, int64_t now_ns) {
+  if (!encoders_[0]) {
+    stereoball_msg_StereoFrame frame = frame_to_msg(f, now_ns, frame_source_);
+    frame.seq = total_frames_;
+    frames_.write(frame, now_ns);
+    runner_.health().count(frame_topic_);
+    return;
+  }
+  const int64_t start = node::monotonic_ns();
+  for (auto [encoder, image] : {std::pair{&encoders_[0], &f.left}, {&encoders_[1], &f.right}}) {
+    if (auto e = (*encoder)->encode(*image)) {
+      runner_.health().error("encode", *e);
+      return;
+    }
+  }
+  runner_.health().set_counter("encode_us",
+                               static_cast<uint64_t>((node::monotonic_ns() - start) / 1000));
+  stereoball_msg_StereoFrame frame =
+      encoded_frame_to_msg(f, options_.output.frame_encoding, encoders_[0]->bytes(),
+                           encoders_[1]->bytes(), now_ns, frame_source_);
+  frame.seq = total_frames_;
+  frames_.write(frame, now_ns);
+  runner_.health().count(frame_topic_);
 }
 
 }  // namespace stereoball::simulator

@@ -4,8 +4,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "camera_server/core/frame_codec.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
@@ -18,6 +20,7 @@ struct SimulatorNodeOptions {
   double rate = 1.0;  ///< simulated seconds per wall second
   bool loop = false;  ///< restart the scenario after its duration
   std::string calibration_source = "simulator (true calibration)";  ///< published source text
+  camera_server::FrameCodecParams output;  ///< raw bgr8 or jpeg/png eyes (must be valid)
 };
 
 /// Wires a Simulator to its topics and a frame timer on a runner.
@@ -30,6 +33,7 @@ class SimulatorNode {
  private:
   void on_commands();
   void tick(int64_t now_ns);
+  void publish_frame(const SimFrame& f, int64_t now_ns);
 
   node::Runner& runner_;
   SimParams params_;
@@ -38,6 +42,7 @@ class SimulatorNode {
   std::unique_ptr<Simulator> sim_;
   stereo::StereoCalibration published_;
   std::string frame_source_;
+  std::optional<camera_server::EyeEncoder> encoders_[2];  // left, right (jpeg/png only)
   dds::DataWriter<stereoball_msg_StereoFrame> frames_;
   dds::DataWriter<stereoball_msg_GroundTruth> truth_;
   dds::DataWriter<stereoball_msg_StereoCalibration> calibration_;
