@@ -10,10 +10,8 @@
 #include <vector>
 
 #include "process.hpp"
-#include "tracking_run.hpp"
 
 namespace st = stereoball::testing;
-namespace bt = stereoball::bench_tracking;
 using namespace std::chrono_literals;
 
 namespace {
@@ -35,15 +33,6 @@ std::vector<double> row(const std::string& text, const std::string& prefix) {
 }
 
 }  // namespace
-
-TEST(PercentileTest, NearestRankOfSortedCopy) {
-  // Given ten values in any order
-  const std::vector<double> v = {10, 1, 9, 2, 8, 3, 7, 4, 6, 5};
-  // Then the median is the 5th smallest, p95 the 10th, and an empty list gives 0
-  EXPECT_EQ(bt::percentile(v, 0.5), 5.0);
-  EXPECT_EQ(bt::percentile(v, 0.95), 10.0);
-  EXPECT_EQ(bt::percentile({}, 0.5), 0.0);
-}
 
 TEST(BenchTrackingTool, BallStillTwoSecondsPrintsSaneTables) {
   // Given the tool on two simulated seconds of the still-ball scenario (plain room, one-colour

@@ -8,21 +8,16 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "ball_detector/node/detector_params_file.hpp"
-#include "motion_controller/node/controller_params_file.hpp"
-#include "simulator/io/scenario_file.hpp"
-#include "simulator/io/sim_params_file.hpp"
-#include "tracker/node/tracker_params_file.hpp"
+#include "loop_config.hpp"
 #include "tracking_run.hpp"
 
 namespace bt = stereoball::bench_tracking;
-namespace fs = std::filesystem;
+namespace sl = stereoball::sim_loop;
 
 namespace {
 
@@ -116,8 +111,8 @@ void print_error(const std::vector<bt::RunResult>& runs) {
     char target[16] = "-";
     if (b.target_pct > 0) std::snprintf(target, sizeof(target), "<=%.1f", b.target_pct);
     std::printf("%-16s %7zu %11.1f %9.2f %11.1f %9.2f %9s   %+.1f / %+.1f / %+.1f\n", b.name,
-                mm.size(), bt::percentile(mm, 0.5), bt::percentile(rel, 0.5),
-                bt::percentile(mm, 0.95), bt::percentile(rel, 0.95), target, sum[0] / n, sum[1] / n,
+                mm.size(), sl::percentile(mm, 0.5), sl::percentile(rel, 0.5),
+                sl::percentile(mm, 0.95), sl::percentile(rel, 0.95), target, sum[0] / n, sum[1] / n,
                 sum[2] / n);
   }
 }
@@ -136,21 +131,12 @@ void print_time(const std::vector<bt::RunResult>& runs, int threads) {
     all_cpu.insert(all_cpu.end(), cpu.begin(), cpu.end());
     all_wall.insert(all_wall.end(), wall.begin(), wall.end());
     std::printf("%-22s %7zu %13.2f %10.2f %14.2f %11.2f\n", r.scenario.c_str(), cpu.size(),
-                bt::percentile(cpu, 0.5), bt::percentile(cpu, 0.95), bt::percentile(wall, 0.5),
-                bt::percentile(wall, 0.95));
+                sl::percentile(cpu, 0.5), sl::percentile(cpu, 0.95), sl::percentile(wall, 0.5),
+                sl::percentile(wall, 0.95));
   }
   std::printf("%-22s %7zu %13.2f %10.2f %14.2f %11.2f   (target: median <= 5 ms)\n", "ALL",
-              all_cpu.size(), bt::percentile(all_cpu, 0.5), bt::percentile(all_cpu, 0.95),
-              bt::percentile(all_wall, 0.5), bt::percentile(all_wall, 0.95));
-}
-
-std::vector<std::string> all_scenarios(const std::string& dir) {
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  return names;
+              all_cpu.size(), sl::percentile(all_cpu, 0.5), sl::percentile(all_cpu, 0.95),
+              sl::percentile(all_wall, 0.5), sl::percentile(all_wall, 0.95));
 }
 
 }  // namespace
@@ -188,24 +174,13 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   cv::setNumThreads(o.threads);
 
-  bt::RunConfig base;
-  auto sim = stereoball::simulator::load_sim_params(o.config_dir + "/simulator.yaml");
-  if (!sim) return fail(sim.error());
-  auto det = stereoball::ball_detector::load_detector_params(o.config_dir + "/ball_detector.yaml");
-  if (!det) return fail(det.error());
-  auto trk = stereoball::tracker::load_tracker_params(o.config_dir + "/tracker.yaml");
-  if (!trk) return fail(trk.error());
-  auto ctl = stereoball::motion_controller::load_controller_params(o.config_dir +
-                                                                   "/motion_controller.yaml");
-  if (!ctl) return fail(ctl.error());
-  base.sim = sim.value();
-  base.detector = det.value();
-  base.tracker = trk.value();
-  base.controller = ctl.value().controller;
+  auto loaded = sl::load_loop_config(o.config_dir);
+  if (!loaded) return fail(loaded.error());
+  bt::RunConfig base = loaded.value();
   base.drive = o.drive == "controller" ? bt::Drive::kController : bt::Drive::kScript;
 
   const std::string scenario_dir = o.config_dir + "/scenarios";
-  if (o.scenarios.empty()) o.scenarios = all_scenarios(scenario_dir);
+  if (o.scenarios.empty()) o.scenarios = sl::scenario_names(scenario_dir);
   if (o.scenarios.empty()) return fail("no scenario files (*.yaml) in " + scenario_dir);
 
   std::printf("stereoball-bench-tracking: %zu scenario(s), %dx%d at %.1f Hz, drive %s%s\n",
@@ -213,15 +188,11 @@ int main(int argc, char** argv) {
               o.drive.c_str(), o.plain ? ", plain room and one-colour ball" : "");
   std::vector<bt::RunResult> runs;
   for (const auto& name : o.scenarios) {
-    auto s = stereoball::simulator::load_scenario_by_name(name, scenario_dir);
+    auto s = sl::load_scenario(name, scenario_dir, o.plain);
     if (!s) return fail(s.error());
     bt::RunConfig config = base;
     config.scenario = s.value();
     if (o.seed) config.scenario.seed = *o.seed;
-    if (o.plain) {
-      config.scenario.room.plain = true;
-      if (config.scenario.ball) config.scenario.ball->color_b = config.scenario.ball->color_a;
-    }
     config.seconds = o.seconds > 0 ? o.seconds : config.scenario.duration_s;
     auto out = bt::run_scenario(config);
     if (!out.error.empty()) return fail(out.error);

@@ -1,34 +1,18 @@
 #pragma once
-// One offline run of the detection + tracking chain on a simulator scenario: simulator core
-// renders raw stereo frames at simulated time, the ball detector pipeline (rectification
-// included) detects, the tracker core decides; every frame is compared with the ground truth.
-// No DDS, no wall clock in the chain (only the timing figures read clocks).
+// One offline run of the detection + tracking chain on a simulator scenario (the shared loop
+// of tools/sim-loop: simulator core, ball detector pipeline, tracker core, optionally the
+// motion controller core driving); every frame is compared with the ground truth.
 
-#include <cstdint>
 #include <string>
 #include <vector>
 
-#include "ball_detector/node/detector_params.hpp"
-#include "motion_controller/core/controller_params.hpp"
-#include "simulator/core/scenario.hpp"
-#include "simulator/core/sim_params.hpp"
-#include "tracker/core/tracker_params.hpp"
+#include "sim_loop.hpp"
 
 namespace stereoball::bench_tracking {
 
-/// Who drives the robot during a run.
-enum class Drive { kScript, kController };
-
-/// Everything one run needs.
-struct RunConfig {
-  simulator::SimParams sim;
-  simulator::Scenario scenario;
-  ball_detector::BallDetectorParams detector;
-  tracker::TrackerParams tracker;
-  motion_controller::MotionControllerParams controller;
-  Drive drive = Drive::kScript;  ///< scenario script, or the motion controller core on tracks
-  double seconds = 10.0;         ///< simulated seconds to run
-};
+/// Everything one run needs (the shared offline loop's configuration).
+using RunConfig = sim_loop::LoopConfig;
+using sim_loop::Drive;
 
 /// Per-frame outcome (kept so figures can be aggregated over scenarios).
 struct FrameRecord {
@@ -60,8 +44,5 @@ struct RunOutcome {
   std::string error;  ///< empty on success
 };
 RunOutcome run_scenario(const RunConfig& config);
-
-/// Median (q = 0.5), p95 (q = 0.95) etc. by nearest rank; 0 for an empty list.
-double percentile(std::vector<double> values, double q);
 
 }  // namespace stereoball::bench_tracking

@@ -301,6 +301,32 @@ TEST(MotionController, GivenClosedLoopWithSimpleRobot_ThenBallCentredAtTargetDis
   EXPECT_NEAR(bearing, 0.0, 0.02);
 }
 
+TEST(PolarRates, GivenPointAheadMovingRightAndAway_ThenBearingAndRangeRates) {
+  // Given a point 2 m straight ahead moving 0.5 m/s right and 0.3 m/s away
+  const PolarRates r = polar_rates(0.0, 2.0, 0.5, 0.3);
+  // Then the bearing grows at vx / z and the range at vz
+  EXPECT_NEAR(r.bearing_radps, 0.25, 1e-12);
+  EXPECT_NEAR(r.range_mps, 0.3, 1e-12);
+}
+
+TEST(PolarRates, GivenPointToTheRightMovingForward_ThenBearingShrinks) {
+  // Given a point at 45 degrees right (1, 1) moving forward at 1 m/s
+  const PolarRates r = polar_rates(1.0, 1.0, 0.0, 1.0);
+  // Then the bearing decreases (-x / r^2) and the range grows (z / r)
+  EXPECT_NEAR(r.bearing_radps, -0.5, 1e-12);
+  EXPECT_NEAR(r.range_mps, 1.0 / std::sqrt(2.0), 1e-12);
+}
+
+TEST(PolarRates, GivenPointAtOriginOrNaN_ThenZero) {
+  // Given degenerate inputs, Then both rates are zero (no division by zero, no NaN)
+  const PolarRates at_origin = polar_rates(0.0, 0.0, 1.0, 1.0);
+  EXPECT_EQ(at_origin.bearing_radps, 0.0);
+  EXPECT_EQ(at_origin.range_mps, 0.0);
+  const PolarRates nan = polar_rates(std::nan(""), 1.0, 1.0, 1.0);
+  EXPECT_EQ(nan.bearing_radps, 0.0);
+  EXPECT_EQ(nan.range_mps, 0.0);
+}
+
 TEST(MotionControllerNames, GivenModes_ThenStableNames) {
   EXPECT_EQ(to_string(Mode::kSearchGaveUp), "search_gave_up");
   EXPECT_EQ(to_string(Mode::kEmergencyStop), "emergency_stop");

@@ -1,6 +1,18 @@
 #include "motion_controller/core/types.hpp"
 
+#include <cmath>
+
 namespace stereoball::motion_controller {
+
+PolarRates polar_rates(double x_m, double z_m, double vx_mps, double vz_mps) {
+  const double r2 = x_m * x_m + z_m * z_m;
+  if (!(r2 > 1e-6)) return {};  // also catches NaN
+  PolarRates out;
+  out.bearing_radps = (z_m * vx_mps - x_m * vz_mps) / r2;
+  out.range_mps = (x_m * vx_mps + z_m * vz_mps) / std::sqrt(r2);
+  if (!std::isfinite(out.bearing_radps) || !std::isfinite(out.range_mps)) return {};
+  return out;
+}
 
 std::string_view to_string(Mode m) {
   switch (m) {

@@ -45,6 +45,16 @@ struct Command {
   Mode mode = Mode::kWaiting;
 };
 
+/// Rates of change, as seen by the camera, of a point's bearing and horizontal range.
+struct PolarRates {
+  double bearing_radps = 0.0;  ///< d(atan2(x, z))/dt, rad/s (positive = moving right)
+  double range_mps = 0.0;      ///< d(sqrt(x^2 + z^2))/dt, m/s (positive = moving away)
+};
+
+/// Bearing and range rates of a point at (x_m, z_m) moving at (vx_mps, vz_mps) in the camera's
+/// x (right) / z (forward) plane; zero when the point is at the origin or a value is not finite.
+PolarRates polar_rates(double x_m, double z_m, double vx_mps, double vz_mps);
+
 /// Lower-case name of a mode, e.g. "searching".
 std::string_view to_string(Mode m);
 

@@ -36,13 +36,12 @@ TrackSample to_sample(const stereoball_msg_BallTrack& msg) {
       msg.position_valid && std::isfinite(msg.bearing_rad) && std::isfinite(msg.distance_m);
   t.bearing_rad = t.position_valid ? msg.bearing_rad : 0.0;
   t.distance_m = t.position_valid ? msg.distance_m : 0.0;
-  const double x = msg.position_m[0], z = msg.position_m[2];
-  const double vx = msg.velocity_mps[0], vz = msg.velocity_mps[2];
-  const double r2 = x * x + z * z;
-  const double rate = r2 > 1e-6 ? (z * vx - x * vz) / r2 : 0.0;  // d/dt atan2(x, z)
-  t.bearing_rate_radps = t.position_valid && std::isfinite(rate) ? rate : 0.0;
-  const double range_rate = r2 > 1e-6 ? (x * vx + z * vz) / std::sqrt(r2) : 0.0;
-  t.distance_rate_mps = t.position_valid && std::isfinite(range_rate) ? range_rate : 0.0;
+  if (t.position_valid) {
+    const PolarRates rates =
+        polar_rates(msg.position_m[0], msg.position_m[2], msg.velocity_mps[0], msg.velocity_mps[2]);
+    t.bearing_rate_radps = rates.bearing_radps;
+    t.distance_rate_mps = rates.range_mps;
+  }
   t.last_seen_side = from_msg(msg.last_seen_side);
   t.capture_stamp_ns = msg.capture_stamp_ns;
   t.last_accepted_stamp_ns = msg.last_accepted_stamp_ns;

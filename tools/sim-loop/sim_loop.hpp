@@ -1,0 +1,88 @@
+#pragma once
+// The whole system in one process at simulated time: the simulator core renders raw stereo
+// frames, the ball detector pipeline (rectification included) detects, the tracker core
+// decides, and either the scenario's script or the motion controller core (at its own rate,
+// its commands applied to the simulated base at the tick times) drives the robot.
+// No DDS, no wall clock in the loop (only the detector timing figures read clocks).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+#include "ball_detector/node/detector_params.hpp"
+#include "ball_detector/node/stereo_pipeline.hpp"
+#include "common/util/result.hpp"
+#include "motion_controller/core/controller_params.hpp"
+#include "motion_controller/core/motion_controller.hpp"
+#include "simulator/core/scenario.hpp"
+#include "simulator/core/sim_params.hpp"
+#include "simulator/core/simulator.hpp"
+#include "tracker/core/tracker.hpp"
+#include "tracker/core/tracker_params.hpp"
+
+namespace stereoball::sim_loop {
+
+/// Who drives the robot during a run.
+enum class Drive { kScript, kController };
+
+/// Everything one run needs.
+struct LoopConfig {
+  simulator::SimParams sim;
+  simulator::Scenario scenario;
+  ball_detector::BallDetectorParams detector;
+  tracker::TrackerParams tracker;
+  motion_controller::MotionControllerParams controller;
+  double controller_rate_hz = 20.0;  ///< motion controller ticks per simulated second, Hz
+  Drive drive = Drive::kScript;      ///< scenario script, or the motion controller core
+  double seconds = 10.0;             ///< simulated seconds to run
+};
+
+/// What happened at one camera frame.
+struct LoopFrame {
+  simulator::GroundTruth truth;              ///< true ball and robot at the frame time
+  simulator::Vec3d ball_velocity_mps;        ///< true ball velocity, world frame, m/s
+  ball_detector::StereoDetection detection;  ///< the detector pipeline's output
+  tracker::Track track;                      ///< the tracker's output for this detection
+  /// Latest controller command before this frame (Drive::kController, after the first tick).
+  std::optional<motion_controller::Command> command;
+  std::int64_t command_stamp_ns = -1;  ///< tick time of command, simulated ns (-1 if none)
+  double detector_cpu_ms = 0.0;        ///< detector thread CPU time for this stereo frame, ms
+  double detector_wall_ms = 0.0;       ///< detector wall time for this stereo frame, ms
+};
+
+/// Steps the loop one camera frame at a time.
+class SimLoop {
+ public:
+  /// Builds the loop, or an error naming the problem (scenario, params, calibration).
+  static Result<std::unique_ptr<SimLoop>> create(const LoopConfig& config);
+
+  /// Camera frames in the configured run (seconds x frame rate).
+  std::int64_t frame_count() const { return frame_count_; }
+  /// Frames stepped so far.
+  std::int64_t frames_done() const { return next_frame_; }
+  /// Runs the controller ticks due up to the next frame, renders and processes that frame.
+  LoopFrame step();
+
+ private:
+  explicit SimLoop(const LoopConfig& config);
+  void run_controller_ticks(std::int64_t until_ns);
+  std::optional<simulator::VelocityCommand> scripted_command(std::int64_t t_ns) const;
+
+  LoopConfig config_;
+  simulator::Simulator sim_;
+  ball_detector::StereoPipeline pipeline_;
+  tracker::Tracker tracker_;
+  motion_controller::MotionController controller_;
+  std::int64_t frame_period_ns_ = 0;
+  std::int64_t tick_period_ns_ = 0;
+  std::int64_t frame_count_ = 0;
+  std::int64_t next_frame_ = 0;
+  std::int64_t next_tick_ns_ = 0;
+  std::optional<motion_controller::Command> last_command_;
+  std::int64_t last_command_ns_ = -1;
+};
+
+/// Converts a tracker track to the controller's input, as the nodes do over ball/track.
+motion_controller::TrackSample to_controller(const tracker::Track& track, std::int64_t stamp_ns);
+
+}  // namespace stereoball::sim_loop

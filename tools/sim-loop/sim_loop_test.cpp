@@ -1,0 +1,108 @@
+// Tests of the offline closed loop: controller ticks at its own rate, who drives the robot,
+// configuration errors, and the nearest-rank percentile.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "loop_config.hpp"
+#include "sim_loop.hpp"
+
+namespace stereoball::sim_loop {
+namespace {
+
+const std::string kConfigDir = std::string(SB_SOURCE_DIR) + "/config";
+
+LoopConfig config_for(const std::string& scenario, Drive drive, double seconds) {
+  auto c = load_loop_config(kConfigDir);
+  EXPECT_TRUE(c.ok()) << c.error();
+  LoopConfig config = c.value();
+  auto s = load_scenario(scenario, kConfigDir + "/scenarios", false);
+  EXPECT_TRUE(s.ok()) << s.error();
+  config.scenario = s.value();
+  config.drive = drive;
+  config.seconds = seconds;
+  return config;
+}
+
+TEST(SimLoop, GivenControllerDrive_ThenCommandsComeFromTicksAtTheControllerRate) {
+  // Given the controller at 20 Hz and the camera at 30 Hz on one simulated second
+  LoopConfig config = config_for("no_ball", Drive::kController, 1.0);
+  config.controller_rate_hz = 20.0;
+  auto run = run_all(config);
+  ASSERT_TRUE(run.ok()) << run.error();
+  ASSERT_EQ(run->frames.size(), 30u);
+  // Then every frame carries the latest tick before (or at) its time: a multiple of 50 ms,
+  // less than 50 ms old
+  for (const auto& f : run->frames) {
+    ASSERT_TRUE(f.command.has_value());
+    const auto frame_ns = static_cast<std::int64_t>(std::llround(f.truth.sim_time_s * 1e9));
+    EXPECT_EQ(f.command_stamp_ns % 50'000'000, 0) << f.command_stamp_ns;
+    EXPECT_LE(f.command_stamp_ns, frame_ns);
+    EXPECT_GT(f.command_stamp_ns, frame_ns - 50'000'000);
+  }
+}
+
+TEST(SimLoop, GivenNoBallAndControllerDrive_ThenTheRobotStaysStill) {
+  // Given no ball: the tracker never follows, so the controller commands nothing
+  auto run = run_all(config_for("no_ball", Drive::kController, 1.0));
+  ASSERT_TRUE(run.ok()) << run.error();
+  // Then the robot has not moved or turned (the scenario's turning script is not used)
+  const auto& last = run->frames.back().truth.robot;
+  EXPECT_NEAR(last.yaw_rad, 0.0, 1e-9);
+  EXPECT_NEAR(last.x_m, 0.0, 1e-9);
+  EXPECT_FALSE(run->frames.back().truth.ball_present);
+}
+
+TEST(SimLoop, GivenScriptDrive_ThenTheScenarioScriptTurnsTheRobot) {
+  // Given the no_ball script (turn left at 0.3 rad/s from t = 0)
+  auto run = run_all(config_for("no_ball", Drive::kScript, 1.0));
+  ASSERT_TRUE(run.ok()) << run.error();
+  // Then the robot has turned left, and no controller command was issued
+  EXPECT_GT(run->frames.back().truth.robot.yaw_rad, 0.1);
+  EXPECT_FALSE(run->frames.back().command.has_value());
+}
+
+TEST(SimLoop, GivenBadRateOrLength_ThenCreateNamesTheProblem) {
+  // Given a zero controller rate, Then the error names the rate
+  LoopConfig config = config_for("no_ball", Drive::kController, 1.0);
+  config.controller_rate_hz = 0.0;
+  auto loop = SimLoop::create(config);
+  ASSERT_FALSE(loop.ok());
+  EXPECT_NE(loop.error().find("controller rate"), std::string::npos) << loop.error();
+  // Given an invalid controller parameter, Then the error names the field
+  config.controller_rate_hz = 20.0;
+  config.controller.max_linear_mps = -1.0;
+  loop = SimLoop::create(config);
+  ASSERT_FALSE(loop.ok());
+  EXPECT_NE(loop.error().find("max_linear_mps"), std::string::npos) << loop.error();
+}
+
+TEST(LoopConfig, GivenUnknownScenario_ThenErrorNamesIt) {
+  auto s = load_scenario("no_such_scenario", kConfigDir + "/scenarios", false);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().find("no_such_scenario"), std::string::npos) << s.error();
+}
+
+TEST(LoopConfig, GivenPlain_ThenOneColourBallAndPlainRoom) {
+  auto s = load_scenario("ball_still", kConfigDir + "/scenarios", true);
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_TRUE(s->room.plain);
+  ASSERT_TRUE(s->ball.has_value());
+  EXPECT_EQ(s->ball->color_b.r, s->ball->color_a.r);
+  EXPECT_EQ(s->ball->color_b.g, s->ball->color_a.g);
+  EXPECT_EQ(s->ball->color_b.b, s->ball->color_a.b);
+}
+
+TEST(Percentile, GivenTenValues_ThenNearestRankOfSortedCopy) {
+  // Given ten values in any order
+  const std::vector<double> v = {10, 1, 9, 2, 8, 3, 7, 4, 6, 5};
+  // Then the median is the 5th smallest, p95 the 10th, and an empty list gives 0
+  EXPECT_EQ(percentile(v, 0.5), 5.0);
+  EXPECT_EQ(percentile(v, 0.95), 10.0);
+  EXPECT_EQ(percentile({}, 0.5), 0.0);
+}
+
+}  // namespace
+}  // namespace stereoball::sim_loop
