@@ -1,4 +1,6 @@
-// stereoball-sim-bench: measures the simulator's render time per stereo pair (both eyes).
+// stereoball-sim-bench: measures the simulator's render time per stereo pair (both eyes) and,
+// with --frame-encoding jpeg|png, the encode time and bytes of a compressed pair (the node's
+// encoder).
 
 #include <CLI/CLI.hpp>
 
@@ -7,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +40,11 @@ void report(const char* what, std::vector<double> ms) {
               at(0.5), at(0.1), at(0.9), ms.back(), ms.size());
 }
 
+// Bytes of one raw bgr8 eye.
+double raw_bytes_per_eye(const sim::SimParams& p) {
+  return 3.0 * p.width_px * p.height_px;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -54,6 +62,14 @@ int main(int argc, char** argv) {
   app.add_option("--width", width, "override image width, pixels");
   app.add_option("--height", height, "override image height, pixels");
   app.add_option("--blur", blur, "override motion blur sub-frames")->check(CLI::Range(1, 16));
+  stereoball::camera_server::FrameCodecParams codec;
+  app.add_option("--frame-encoding", codec.frame_encoding,
+                 "also time compressing each pair: raw (no), jpeg or png")
+      ->check(CLI::IsMember(stereoball::camera_server::frame_encoding_choices()))
+      ->capture_default_str();
+  app.add_option("--jpeg-quality", codec.jpeg_quality, "JPEG quality")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   auto params = sim::load_sim_params(config);
@@ -76,7 +92,10 @@ int main(int argc, char** argv) {
   sim::World world(*params, *scenario);
   const int64_t period = simulator.frame_period_ns();
 
-  std::vector<double> render_ms, step_ms, render_cpu_ms, step_cpu_ms;
+  std::vector<double> render_ms, step_ms, render_cpu_ms, step_cpu_ms, encode_ms, encode_cpu_ms;
+  std::vector<double> pair_bytes;
+  std::optional<stereoball::camera_server::EyeEncoder> encoder;
+  if (codec.compressed()) encoder.emplace(codec);
   cv::Mat left, right;
   for (int i = 0; i < frames; ++i) {
     const int64_t t = i * period;
@@ -94,6 +113,19 @@ int main(int argc, char** argv) {
     const sim::SimFrame f = simulator.step(sim::VelocityCommand{0.2, 0.3, t}, t);
     step_cpu_ms.push_back(cpu_ms() - c1);
     step_ms.push_back(ms_since(t1));
+    if (!encoder) continue;
+    const auto t2 = Clock::now();
+    const double c2 = cpu_ms();
+    size_t bytes = 0;
+    for (const cv::Mat* eye : {&f.left, &f.right}) {
+      if (auto e = encoder->encode(*eye)) {
+        return std::fprintf(stderr, "stereoball-sim-bench: %s\n", e->c_str()), 1;
+      }
+      bytes += encoder->bytes().size();
+    }
+    encode_cpu_ms.push_back(cpu_ms() - c2);
+    encode_ms.push_back(ms_since(t2));
+    pair_bytes.push_back(static_cast<double>(bytes));
   }
   std::printf("stereoball-sim-bench: scenario %s, %dx%d, blur %d, setup (ray tables) %.1f ms\n",
               scenario->name.c_str(), params->width_px, params->height_px,
@@ -102,5 +134,18 @@ int main(int argc, char** argv) {
   report("render both eyes, thread CPU", render_cpu_ms);
   report("full step (+noise+truth), wall", step_ms);
   report("full step (+noise+truth), CPU", step_cpu_ms);
+  if (!encoder) return 0;
+  const std::string name = codec.frame_encoding == "jpeg"
+                               ? "jpeg q" + std::to_string(codec.jpeg_quality)
+                               : codec.frame_encoding;
+  report((name + " encode both eyes, wall").c_str(), encode_ms);
+  report((name + " encode both eyes, CPU").c_str(), encode_cpu_ms);
+  std::sort(pair_bytes.begin(), pair_bytes.end());
+  const double raw_bytes = 2.0 * raw_bytes_per_eye(*params);
+  std::printf(
+      "  %s bytes per pair: median %.0f (min %.0f, max %.0f) vs raw bgr8 %.0f = %.1fx "
+      "smaller\n",
+      name.c_str(), pair_bytes[pair_bytes.size() / 2], pair_bytes.front(), pair_bytes.back(),
+      raw_bytes, raw_bytes / pair_bytes[pair_bytes.size() / 2]);
   return 0;
 }

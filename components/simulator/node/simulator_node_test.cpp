@@ -4,15 +4,25 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
 #include <chrono>
+#include <fstream>
+#include <map>
 #include <optional>
+#include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
 #include "process.hpp"
 #include "simulator/core/rig.hpp"
+#include "simulator/core/simulator.hpp"
+#include "simulator/io/scenario_file.hpp"
+#include "simulator/io/sim_params_file.hpp"
 #include "stereo/io/calibration_file.hpp"
 
 namespace sb = stereoball;
@@ -23,11 +33,12 @@ namespace {
 
 class SimulatorNodeTest : public ::testing::Test {
  protected:
-  void start(std::vector<std::string> extra = {}) {
+  void start(std::vector<std::string> extra = {},
+             const std::string& config = sb::testing::source_path("config/simulator.yaml")) {
     partition_ = sb::testing::unique_partition();
     std::vector<std::string> argv{sb::testing::bin("simulator"),
                                   "--config",
-                                  sb::testing::source_path("config/simulator.yaml"),
+                                  config,
                                   "--scenario",
                                   "ball_still",
                                   "--domain",
@@ -171,6 +182,150 @@ TEST_F(SimulatorNodeTest, GivenCalibrationFile_ThenThatCalibrationIsPublished) {
   ASSERT_TRUE(calib.has_value()) << node_->output();
   EXPECT_NEAR((*calib)->k1[0], wrong.k1(0, 0), 1e-6);
   EXPECT_STREQ((*calib)->source, path.c_str());
+}
+
+// config/simulator.yaml with "key: value" lines replaced, written to a fresh temp file.
+std::string edited_config(const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::ifstream in(sb::testing::source_path("config/simulator.yaml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  for (const auto& [from, to] : edits) {
+    const auto pos = s.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    if (pos != std::string::npos) s.replace(pos, from.size(), to);
+  }
+  const std::string path = sb::testing::temp_dir() + "/simulator.yaml";
+  std::ofstream(path) << s;
+  return path;
+}
+
+double mean_abs_diff(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat d;
+  cv::absdiff(a, b, d);
+  const cv::Scalar m = cv::mean(d);
+  return (m[0] + m[1] + m[2]) / 3.0;
+}
+
+// Compressed frames of the node compared with the same frame rendered here by the core.
+struct CompressedCheck {
+  int frames = 0;
+  bool contract_ok = true;           // encoding, step 0, decoded size = announced = 640x480
+  double worst_own_eye_diff = 0;     // decoded eye vs its raw render, mean |diff| DN
+  double best_other_eye_diff = 1e9;  // decoded left vs the raw right render (a swap shows)
+  size_t max_pair_bytes = 0;
+};
+
+class SimulatorCompressedTest : public SimulatorNodeTest {
+ protected:
+  // Runs the node with frame_encoding `encoding` (noise off, so a frame is a pure function of
+  // its simulated time) and checks `n` frames against local renders at their ground-truth time.
+  CompressedCheck run(const std::string& encoding, int n) {
+    const std::string config =
+        edited_config({{"frame_encoding: raw", "frame_encoding: " + encoding},
+                       {"noise_sigma_dn: 2.0", "noise_sigma_dn: 0.0"}});
+    auto params = sb::simulator::load_sim_params(config);
+    EXPECT_TRUE(params.ok()) << params.error();
+    auto scenario = sb::simulator::load_scenario_by_name(
+        "ball_still", sb::testing::source_path("config/scenarios"));
+    EXPECT_TRUE(scenario.ok()) << scenario.error();
+    CompressedCheck r;
+    if (!params.ok() || !scenario.ok()) return r;
+    start({}, config);
+    sb::dds::DataReader<stereoball_msg_StereoFrame> frames(*participant_, sb::topics::kStereoFrame);
+    sb::dds::DataReader<stereoball_msg_GroundTruth> truth(*participant_, sb::topics::kGroundTruth);
+    std::map<uint64_t, double> sim_time_s;  // frame seq -> simulated time
+    std::vector<sb::dds::Owned<stereoball_msg_StereoFrame>> got;
+    sb::testing::eventually(
+        [&] {
+          for (auto& g : truth.take()) sim_time_s[g->frame_seq] = g->sim_time_s;
+          for (auto& f : frames.take()) got.push_back(std::move(f));
+          return static_cast<int>(got.size()) >= n;
+        },
+        20s);
+    sb::testing::eventually(
+        [&] {
+          for (auto& g : truth.take()) sim_time_s[g->frame_seq] = g->sim_time_s;
+          return std::all_of(got.begin(), got.end(),
+                             [&](const auto& f) { return sim_time_s.count(f->seq) > 0; });
+        },
+        5s);
+    for (const auto& f : got) {
+      if (!sim_time_s.count(f->seq)) continue;
+      sb::simulator::Simulator sim(*params, *scenario);
+      const auto raw = sim.step(std::nullopt, std::llround(sim_time_s[f->seq] * 1e9));
+      const cv::Mat left = decode(f->left), right = decode(f->right);
+      r.contract_ok = r.contract_ok && encoding == f->encoding && f->left.step_bytes == 0 &&
+                      f->right.step_bytes == 0 && f->left.width_px == 640 &&
+                      f->left.height_px == 480 && left.size() == raw.left.size() &&
+                      right.size() == raw.right.size() && left.type() == CV_8UC3;
+      if (!r.contract_ok) break;
+      r.worst_own_eye_diff = std::max(
+          {r.worst_own_eye_diff, mean_abs_diff(left, raw.left), mean_abs_diff(right, raw.right)});
+      r.best_other_eye_diff = std::min(r.best_other_eye_diff, mean_abs_diff(left, raw.right));
+      r.max_pair_bytes =
+          std::max<size_t>(r.max_pair_bytes, f->left.data._length + f->right.data._length);
+      ++r.frames;
+    }
+    return r;
+  }
+
+  static cv::Mat decode(const stereoball_msg_EyeImage& eye) {
+    const cv::Mat bytes(1, static_cast<int>(eye.data._length), CV_8U, eye.data._buffer);
+    return cv::imdecode(bytes, cv::IMREAD_COLOR);
+  }
+};
+
+TEST_F(SimulatorCompressedTest,
+       GivenFrameEncodingJpeg_ThenEyesDecodeCloseToTheRawRenderAndSmaller) {
+  // Given the simulator with frame_encoding jpeg (quality 90, the config's default)
+  // When 10 frames arrive
+  const CompressedCheck r = run("jpeg", 10);
+  // Then each follows the compressed-frame contract, each eye decodes to its own raw render
+  // within JPEG error, and a pair is a small fraction of the raw 2 x 640 x 480 x 3 bytes
+  ASSERT_GE(r.frames, 10) << node_->output();
+  EXPECT_TRUE(r.contract_ok);
+  EXPECT_LT(r.worst_own_eye_diff, 2.0);
+  EXPECT_GT(r.best_other_eye_diff, 3.0 * r.worst_own_eye_diff);
+  const size_t raw_pair = 2u * 640 * 480 * 3;
+  EXPECT_LT(r.max_pair_bytes, raw_pair / 8);
+  std::printf(
+      "simulator jpeg q90 (noise off): largest pair %zu bytes vs raw %zu (%.1fx), worst "
+      "mean |diff| to the raw render %.2f DN\n",
+      r.max_pair_bytes, raw_pair, static_cast<double>(raw_pair) / r.max_pair_bytes,
+      r.worst_own_eye_diff);
+}
+
+TEST_F(SimulatorCompressedTest, GivenFrameEncodingPng_ThenEyesAreExactlyTheRawRender) {
+  // Given the simulator with frame_encoding png, when 5 frames arrive
+  const CompressedCheck r = run("png", 5);
+  // Then they decode to exactly the raw render (lossless)
+  ASSERT_GE(r.frames, 5) << node_->output();
+  EXPECT_TRUE(r.contract_ok);
+  EXPECT_EQ(r.worst_own_eye_diff, 0.0);
+  EXPECT_LT(r.max_pair_bytes, 2u * 640 * 480 * 3);
+}
+
+TEST(SimulatorNodeCli, GivenBadFrameEncodingOrQuality_ThenOneLineNamingFileAndKey) {
+  const std::string bin = sb::testing::bin("simulator");
+  for (const auto& [from, to, key] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"frame_encoding: raw", "frame_encoding: gif", "frame_encoding"},
+           {"jpeg_quality: 90", "jpeg_quality: 0", "jpeg_quality"},
+           {"max_linear_brake_mps2: 4.0", "max_linear_brake_mps2: -1",
+            "robot.max_linear_brake_mps2"}}) {
+    const std::string config = edited_config({{from, to}});
+    const auto [code, out] = sb::testing::run({bin, "--config", config}, 10s);
+    EXPECT_EQ(code, 2) << out;
+    EXPECT_NE(out.find(config), std::string::npos) << out;
+    EXPECT_NE(out.find(key), std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  }
+  // And out-of-range override flags are refused
+  const auto [code, out] = sb::testing::run(
+      {bin, "--config", sb::testing::source_path("config/simulator.yaml"), "--jpeg-quality", "0"},
+      10s);
+  EXPECT_NE(code, 0) << out;
+  EXPECT_NE(out.find("--jpeg-quality"), std::string::npos) << out;
 }
 
 TEST(SimulatorNodeCli, GivenBadInputs_ThenOneClearLineAndNonZeroExit) {
