@@ -27,6 +27,17 @@ double bearing_rad(const double p[3]) {
   return std::atan2(p[0], p[2]);
 }
 
+double robot_ball_distance_m(const TruthSample& t) {
+  return std::hypot(t.ball_world_m[0] - t.robot_world_m[0], t.ball_world_m[1] - t.robot_world_m[1]);
+}
+
+double robot_ball_bearing_rad(const TruthSample& t) {
+  const double heading =
+      std::atan2(t.ball_world_m[1] - t.robot_world_m[1], t.ball_world_m[0] - t.robot_world_m[0]);
+  // World yaw is counter-clockwise (left) positive; the bearing is right positive.
+  return -std::remainder(heading - t.robot_yaw_rad, 2.0 * M_PI);
+}
+
 ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample>& truth_in,
                       const std::vector<DetectionSample>& detections,
                       const std::vector<TrackSample>& tracks, const MetricsParams& params) {
@@ -88,11 +99,11 @@ ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample
     if (state == TrackState::kFollowing) {
       if (gt.visible) {
         ++follow_frames;
-        const double dist_err =
-            std::abs(horizontal_distance_m(gt.ball_cam_m) - params.target_distance_m);
+        // The controller keeps the distance from the robot's centre and points its centreline.
+        const double dist_err = std::abs(robot_ball_distance_m(gt) - params.target_distance_m);
         follow_err_sum += dist_err;
         if (dist_err <= params.distance_tolerance_m &&
-            std::abs(bearing_rad(gt.ball_cam_m)) <= params.bearing_tolerance_rad) {
+            std::abs(robot_ball_bearing_rad(gt)) <= params.bearing_tolerance_rad) {
           ++within;
         }
       }

@@ -56,8 +56,9 @@ struct ScenarioMetrics {
   double error_median_rel = 0;                 ///< error / distance
   size_t losses = 0, reacquired = 0;
   double reacquire_median_s = -1;         ///< -1 if no loss
-  double following_distance_error_m = 0;  ///< mean |distance - target| while following
-  double within_tolerance = 0;            ///< following & visible frames within both tolerances
+  double following_distance_error_m = 0;  ///< mean |robot-ball distance - target| following
+  double within_tolerance =
+      0;  ///< following & visible frames within both tolerances (robot centre)
   double longest_following_without_ball_s = 0;  ///< following while no ball is visible
 };
 
@@ -69,5 +70,12 @@ ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample
 /// Horizontal distance sqrt(x^2 + z^2) and bearing atan2(x, z) of a camera-frame point.
 double horizontal_distance_m(const double p[3]);
 double bearing_rad(const double p[3]);
+
+/// Distance on the floor from the robot's centre to the ball's centre (world truth), m: what
+/// the controller's target_distance_m refers to.
+double robot_ball_distance_m(const TruthSample& t);
+/// Angle of the ball's centre from the robot's heading (world truth), rad in (-pi, pi],
+/// positive = ball to the RIGHT (the sign of bearing_rad).
+double robot_ball_bearing_rad(const TruthSample& t);
 
 }  // namespace stereoball::demo

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace stereoball::demo {
 namespace {
 
@@ -13,6 +15,9 @@ TruthSample truth(uint64_t seq, double t, bool visible, double z = 1.0, double x
   s.visible = visible;
   s.ball_cam_m[0] = x;
   s.ball_cam_m[2] = z;
+  // Robot at the origin facing +x (world y = left): the same ball seen from the world.
+  s.ball_world_m[0] = z;
+  s.ball_world_m[1] = -x;
   return s;
 }
 
@@ -101,6 +106,35 @@ TEST(Metrics, GivenBallOffCentreThenItIsOutsideTolerance) {
   std::vector<TruthSample> gt{truth(0, 0, true, 1.0, 0.2)};  // ~11 degrees off centre
   std::vector<TrackSample> trk{track(0, TrackState::kFollowing, true, 1.0, 0.2)};
   const auto m = score("off", gt, {}, trk, {});
+  EXPECT_DOUBLE_EQ(m.within_tolerance, 0.0);
+}
+
+TEST(Metrics, GivenRobotTurnedAndMoved_ThenDistanceAndBearingFromItsCentre) {
+  // Given the robot at (1, 1) facing +y (yaw 90 deg) and the ball at (2, 3): 2 m ahead, 1 m right
+  TruthSample t;
+  t.robot_world_m[0] = 1.0;
+  t.robot_world_m[1] = 1.0;
+  t.robot_yaw_rad = M_PI / 2;
+  t.ball_world_m[0] = 2.0;
+  t.ball_world_m[1] = 3.0;
+  // Then the distance is from the robot centre and the bearing is positive (right)
+  EXPECT_NEAR(robot_ball_distance_m(t), std::sqrt(5.0), 1e-12);
+  EXPECT_NEAR(robot_ball_bearing_rad(t), std::atan2(1.0, 2.0), 1e-12);
+  // And a ball to the left behind the robot gets a negative bearing near -180 deg, not +180+
+  t.ball_world_m[0] = 0.9;
+  t.ball_world_m[1] = 0.0;
+  EXPECT_LT(robot_ball_bearing_rad(t), -M_PI / 2);
+  EXPECT_GT(robot_ball_bearing_rad(t), -M_PI);
+}
+
+TEST(Metrics, GivenBallAtTargetFromCameraButNotFromRobotCentre_ThenOutsideTolerance) {
+  // Given the ball 1.0 m from the camera but the robot centre 0.3 m further back (1.3 m)
+  TruthSample gt = truth(0, 0, true, 1.0);
+  gt.robot_world_m[0] = -0.3;
+  std::vector<TrackSample> trk{track(0, TrackState::kFollowing, true, 1.0)};
+  // Then the distance error counts from the robot centre and the frame is out of tolerance
+  const auto m = score("offset", {gt}, {}, trk, {});
+  EXPECT_NEAR(m.following_distance_error_m, 0.3, 1e-9);
   EXPECT_DOUBLE_EQ(m.within_tolerance, 0.0);
 }
 

@@ -1,0 +1,165 @@
+// stereoball-bench-closed-loop: the closed-loop acceptance figures of issue 7. Runs every
+// scenario (several seeds) through the whole system in one process at simulated time
+// (simulator core -> ball detector pipeline -> tracker core -> motion controller core at its
+// rate -> simulated base) and prints, per scenario and in total: (a) how long the robot keeps
+// a reachable ball within tolerance, (b) whether it turns the right way and reacquires a ball
+// that left the view, (c) whether it ever follows for long with no ball. Figures only.
+
+#include <CLI/CLI.hpp>
+#include <opencv2/core.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "closed_loop_run.hpp"
+#include "loop_config.hpp"
+#include "report.hpp"
+
+namespace bc = stereoball::bench_closed_loop;
+namespace sl = stereoball::sim_loop;
+
+namespace {
+
+struct Options {
+  std::vector<std::string> scenarios;
+  int seeds = 3;
+  double seconds = -1.0;
+  bool plain = false;
+  std::string json_path;
+  std::string config_dir = SB_DEFAULT_CONFIG_DIR;
+  double settle_s = 2.0;
+  double reacquire_limit_s = 10.0;
+};
+
+int fail(const std::string& message) {
+  std::fprintf(stderr, "stereoball-bench-closed-loop: %s\n", message.c_str());
+  return 2;
+}
+
+void add_options(CLI::App& app, Options& o) {
+  app.add_option("--scenario", o.scenarios,
+                 "scenario name (config/scenarios/NAME.yaml) or path; repeat; default: all");
+  app.add_option("--seeds", o.seeds, "runs per scenario; run i uses the scenario's seed + i")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  app.add_option("--seconds", o.seconds,
+                 "simulated seconds per run (default: each scenario's duration_s)")
+      ->check(CLI::Range(0.5, 3600.0));
+  app.add_flag("--plain", o.plain,
+               "untextured floor and one-colour ball in every scenario (the detector's easy "
+               "case)");
+  app.add_option("--json", o.json_path, "also write every figure as JSON to this file");
+  app.add_option("--config-dir", o.config_dir,
+                 "folder with simulator.yaml, ball_detector.yaml, tracker.yaml, "
+                 "motion_controller.yaml and scenarios/")
+      ->capture_default_str();
+  app.add_option("--settle", o.settle_s,
+                 "(a): seconds the ball must be visible and slow enough before it counts as "
+                 "reachable")
+      ->check(CLI::Range(0.0, 60.0))
+      ->capture_default_str();
+  app.add_option("--reacquire-limit", o.reacquire_limit_s,
+                 "(b): seconds after leaving the view within which the ball must be followed "
+                 "again")
+      ->check(CLI::Range(0.5, 600.0))
+      ->capture_default_str();
+}
+
+bc::AcceptanceParams acceptance_params(const sl::LoopConfig& base, const Options& o) {
+  bc::AcceptanceParams p;
+  p.target_distance_m = base.controller.target_distance_m;
+  p.max_ball_speed_mps = base.controller.max_linear_mps;
+  p.search_turn_radps = 0.5 * base.controller.search_angular_radps;
+  p.settle_s = o.settle_s;
+  p.reacquire_limit_s = o.reacquire_limit_s;
+  p.frame_period_s = 1.0 / base.sim.frame_rate_hz;
+  return p;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "stereoball-bench-closed-loop: closed-loop acceptance benchmark (issue 7).\n"
+      "Runs each scenario with several seeds through simulator core, ball detector pipeline,\n"
+      "tracker core and motion controller core (20 Hz, driving the simulated robot) in one\n"
+      "process at simulated time, and prints per scenario and in total: (a) time the robot keeps\n"
+      "a reachable ball within 0.25 m of the target distance and 5 deg of its heading, (b) right\n"
+      "turn and reacquisition after the ball leaves the view, (c) longest 'following' with no\n"
+      "ball. Figures only (exit 0); the definitions are printed with the table."};
+  Options o;
+  add_options(app, o);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help
+  } catch (const CLI::ParseError& e) {
+    return fail(std::string(e.what()) + " (see --help)");
+  }
+  cv::setNumThreads(1);
+
+  auto loaded = sl::load_loop_config(o.config_dir);
+  if (!loaded) return fail(loaded.error());
+  const sl::LoopConfig base = loaded.value();
+  const std::string scenario_dir = o.config_dir + "/scenarios";
+  if (o.scenarios.empty()) o.scenarios = sl::scenario_names(scenario_dir);
+  if (o.scenarios.empty()) return fail("no scenario files (*.yaml) in " + scenario_dir);
+  // Every scenario is checked before the first (long) run.
+  std::vector<stereoball::simulator::Scenario> scenarios;
+  for (const auto& name : o.scenarios) {
+    auto s = sl::load_scenario(name, scenario_dir, o.plain);
+    if (!s) return fail(s.error());
+    scenarios.push_back(s.value());
+  }
+  std::ofstream json_out;
+  if (!o.json_path.empty()) {
+    json_out.open(o.json_path);
+    if (!json_out) return fail("cannot write --json file " + o.json_path);
+  }
+  const bc::AcceptanceParams params = acceptance_params(base, o);
+
+  std::printf(
+      "stereoball-bench-closed-loop: %zu scenario(s) x %d seed(s), camera %.0f Hz, controller "
+      "%.0f Hz, target %.2f m%s\n",
+      scenarios.size(), o.seeds, base.sim.frame_rate_hz, base.controller_rate_hz,
+      base.controller.target_distance_m, o.plain ? ", plain room and one-colour ball" : "");
+  std::vector<bc::JudgedRun> runs;
+  for (const auto& scenario : scenarios) {
+    for (int i = 0; i < o.seeds; ++i) {
+      sl::LoopConfig config = base;
+      config.scenario = scenario;
+      config.scenario.seed = scenario.seed + static_cast<std::uint64_t>(i);
+      config.seconds = o.seconds > 0 ? o.seconds : scenario.duration_s;
+      const auto t0 = std::chrono::steady_clock::now();
+      auto samples = bc::run_closed_loop(config);
+      if (!samples) return fail(samples.error());
+      bc::JudgedRun r{scenario.name, config.scenario.seed, samples->size(),
+                      bc::judge_run(scenario.name, samples.value(), params)};
+      std::fprintf(stderr, "  %s seed %llu: %zu frames in %.1f s\n", scenario.name.c_str(),
+                   static_cast<unsigned long long>(r.seed), r.frames,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      runs.push_back(std::move(r));
+    }
+  }
+  std::vector<bc::Summary> summaries;
+  std::vector<const bc::JudgedRun*> all;
+  for (const auto& scenario : scenarios) {
+    std::vector<const bc::JudgedRun*> group;
+    for (const auto& r : runs)
+      if (r.scenario == scenario.name) group.push_back(&r);
+    summaries.push_back(bc::summarize(scenario.name, group, params));
+  }
+  for (const auto& r : runs) all.push_back(&r);
+  const bc::Summary total = bc::summarize("TOTAL", all, params);
+  bc::print_report(stdout, summaries, total, params);
+  bc::print_details(stdout, summaries, runs);
+  if (json_out.is_open()) {
+    json_out << bc::to_json(runs, summaries, total, params).dump(2) << "\n";
+    if (!json_out) return fail("writing --json file " + o.json_path + " failed");
+  }
+  return 0;
+}
