@@ -18,6 +18,7 @@
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/node/detector_params_file.hpp"
 #include "ball_detector/node/stereo_pipeline.hpp"
+#include "camera_server/core/frame_codec.hpp"
 #include "common/node/common_flags.hpp"
 #include "simulator/core/simulator.hpp"
 #include "simulator/io/scenario_file.hpp"
@@ -87,8 +88,13 @@ int run_images(const std::vector<std::string>& images, const std::vector<int>& q
                      path.c_str());
         return 2;
       }
-      std::vector<uint8_t> buffer;
-      cv::imencode(".jpg", raw, buffer, {cv::IMWRITE_JPEG_QUALITY, q});
+      sb::camera_server::EyeEncoder encoder({"jpeg", q});
+      if (auto err = encoder.encode(raw)) {
+        std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s: %s\n", path.c_str(),
+                     err->c_str());
+        return 2;
+      }
+      const std::vector<uint8_t>& buffer = encoder.bytes();
       bytes += static_cast<double>(buffer.size());
       bd::PixelToPixelDetector a(params.detector_params()), b(params.detector_params());
       const auto r = a.detect(raw);
@@ -162,7 +168,6 @@ int main(int argc, char** argv) {
   }
   Stats raw;
   std::map<int, Stats> jpeg;
-  std::vector<uint8_t> buffer;
   for (const auto& name : scenarios) {
     auto scenario = sb::simulator::load_scenario_by_name(name, scenarios_dir);
     if (!scenario) {
@@ -199,11 +204,16 @@ int main(int argc, char** argv) {
         const cv::Mat* in[2] = {&frame.left, &frame.right};
         for (int e = 0; e < 2; ++e) {
           auto t0 = std::chrono::steady_clock::now();
-          cv::imencode(".jpg", *in[e], buffer, {cv::IMWRITE_JPEG_QUALITY, q});
+          // The publishers' own encoder (camera_server, simulator with frame_encoding jpeg).
+          sb::camera_server::EyeEncoder encoder({"jpeg", q});
+          if (auto err = encoder.encode(*in[e])) {
+            std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", err->c_str());
+            return 1;
+          }
           s.encode_ms += ms_since(t0);
-          s.bytes += static_cast<double>(buffer.size());
+          s.bytes += static_cast<double>(encoder.bytes().size());
           t0 = std::chrono::steady_clock::now();
-          eyes[e] = cv::imdecode(buffer, cv::IMREAD_COLOR);
+          eyes[e] = cv::imdecode(encoder.bytes(), cv::IMREAD_COLOR);
           s.decode_ms += ms_since(t0);
         }
         const bd::StereoDetection d = pipelines[q]->step(eyes[0], eyes[1], false);

@@ -1,11 +1,13 @@
 // The compressed stereo stream end to end: the real simulator process publishing JPEG eyes
-// (frame_encoding jpeg) and the real ball_detector process on a private domain; the detector
-// accepts the stream transparently (no BAD_FRAME) and finds the ball where the raw stream does.
+// (started as deploy/robot-jpeg.yaml starts it) and the real ball_detector process on a private
+// domain; the detector accepts the stream transparently (no BAD_FRAME) and finds the ball where
+// the raw stream (deploy/robot.yaml) lets it.
 
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -16,6 +18,7 @@
 #include "common/dds/participant.hpp"
 #include "common/dds/reader.hpp"
 #include "process.hpp"
+#include "profile.hpp"
 #include "stereoball/topics.hpp"
 
 namespace sb = stereoball;
@@ -32,9 +35,25 @@ struct DetectorRun {
   std::string log;
 };
 
-// Runs simulator (--frame-encoding encoding) + ball_detector until n detections arrived.
-DetectorRun run_pipeline(const std::string& encoding, int n) {
-  const std::string partition = sb::testing::unique_partition() + "." + encoding;
+// The simulator's program and arguments in a deploy/ profile, plus the test scenario.
+std::vector<std::string> simulator_of(const std::string& profile_name) {
+  auto profile = sb::launch::load_profile(profile_name, SB_SOURCE_DIR);
+  EXPECT_TRUE(profile) << profile.error();
+  if (!profile) return {};
+  for (const auto& node : profile->nodes) {
+    if (node.name != "simulator") continue;
+    std::vector<std::string> argv{sb::testing::bin(node.program)};
+    argv.insert(argv.end(), node.args.begin(), node.args.end());
+    argv.insert(argv.end(), {"--scenario", "ball_still_plain"});
+    return argv;
+  }
+  ADD_FAILURE() << profile_name << " has no simulator";
+  return {};
+}
+
+// Runs the simulator as in deploy/<profile>.yaml + ball_detector until n detections arrived.
+DetectorRun run_pipeline(const std::string& profile, int n) {
+  const std::string partition = sb::testing::unique_partition() + "." + profile;
   const std::vector<std::string> bus{"--domain", std::to_string(sb::testing::test_domain()),
                                      "--partition", partition};
   auto args = [&](std::vector<std::string> a) {
@@ -47,9 +66,7 @@ DetectorRun run_pipeline(const std::string& encoding, int n) {
   sb::dds::DataReader<stereoball_msg_GroundTruth> truth(participant, sb::topics::kGroundTruth);
   Process detector = Process::start(args({sb::testing::bin("ball_detector"), "--config",
                                           sb::testing::source_path("config/ball_detector.yaml")}));
-  Process simulator = Process::start(args(
-      {sb::testing::bin("simulator"), "--config", sb::testing::source_path("config/simulator.yaml"),
-       "--scenario", "ball_still_plain", "--frame-encoding", encoding}));
+  Process simulator = Process::start(args(simulator_of(profile)));
   DetectorRun r;
   std::map<uint64_t, std::array<double, 3>> truth_m;  // frame seq -> ball, left camera frame
   std::vector<sb::dds::Owned<stereoball_msg_BallDetection>> got;
@@ -97,10 +114,11 @@ double median(std::vector<double> v) {
 }
 
 TEST(CompressedStream, GivenSimulatorJpegFrames_ThenBallDetectorAcceptsThemAndFindsTheBall) {
-  // Given the simulator publishing raw frames, then JPEG q90 frames, of a still one-colour ball
+  // Given the simulator as the robot profile runs it (raw frames), then as the robot-jpeg
+  // profile runs it (JPEG q90 frames), of a still one-colour ball
   // When ball_detector runs on each stream for 60 calibrated frames
-  const DetectorRun raw = run_pipeline("raw", 60);
-  const DetectorRun jpeg = run_pipeline("jpeg", 60);
+  const DetectorRun raw = run_pipeline("robot", 60);
+  const DetectorRun jpeg = run_pipeline("robot-jpeg", 60);
   std::printf("raw:  %d detections, %d found, median 3D error %.1f mm\n", raw.detections, raw.found,
               1e3 * median(raw.error_m));
   std::printf("jpeg: %d detections, %d found, median 3D error %.1f mm\n", jpeg.detections,

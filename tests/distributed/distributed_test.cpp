@@ -146,8 +146,8 @@ void cut_and_restore_link(sd::TwoHostSystem& system) {
               speed_at_cut, zero_cmd_ms, stopped_ms);
   // Within 0.5 s the robot side commands zero (stale timeout 300 ms + one 50 ms period)
   EXPECT_LE(zero_cmd_ms, 500.0);
-  // And the base is at rest within 0.5 s plus its braking time at its deceleration limit
-  const double braking_ms = 1e3 * speed_at_cut / sim->robot.max_linear_accel_mps2;
+  // And the base is at rest within 0.5 s plus its braking time at its brake limit
+  const double braking_ms = 1e3 * speed_at_cut / sim->robot.max_linear_brake_mps2;
   EXPECT_LE(stopped_ms, 500.0 + braking_ms + 100.0) << "braking time " << braking_ms << " ms";
 
   // When the link comes back (nothing restarted)

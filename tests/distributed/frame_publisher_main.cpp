@@ -4,13 +4,13 @@
 
 #include <CLI/CLI.hpp>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "camera_server/core/frame_codec.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
@@ -29,19 +29,20 @@ struct EncodedEye {
   uint32_t width = 0, height = 0, step = 0;
 };
 
-EncodedEye encode(const cv::Mat& bgr, const std::string& encoding, int quality) {
-  EncodedEye e;
+// The eye as published: raw bgr8 pixels, or compressed by the publishers' shared encoder.
+std::optional<std::string> encode(const cv::Mat& bgr, const std::string& encoding, int quality,
+                                  EncodedEye& e) {
   e.width = static_cast<uint32_t>(bgr.cols);
   e.height = static_cast<uint32_t>(bgr.rows);
   if (encoding == "bgr8") {
     e.step = static_cast<uint32_t>(bgr.step[0]);
     e.bytes.assign(bgr.data, bgr.data + bgr.step[0] * bgr.rows);
-  } else if (encoding == "jpeg") {
-    cv::imencode(".jpg", bgr, e.bytes, {cv::IMWRITE_JPEG_QUALITY, quality});
-  } else {
-    cv::imencode(".png", bgr, e.bytes, {cv::IMWRITE_PNG_COMPRESSION, 1});
+    return std::nullopt;
   }
-  return e;
+  sb::camera_server::EyeEncoder encoder({encoding, quality});
+  if (auto err = encoder.encode(bgr)) return err;
+  e.bytes = encoder.bytes();
+  return std::nullopt;
 }
 
 stereoball_msg_EyeImage eye_msg(EncodedEye& e, int64_t stamp_ns) {
@@ -96,7 +97,12 @@ int main(int argc, char** argv) {
   std::vector<std::pair<EncodedEye, EncodedEye>> frames;
   for (int i = 0; i < distinct; ++i) {
     const auto f = sim.step(std::nullopt, static_cast<int64_t>((0.5 + 0.2 * i) * 1e9));
-    frames.emplace_back(encode(f.left, encoding, quality), encode(f.right, encoding, quality));
+    auto& [left, right] = frames.emplace_back();
+    for (auto [image, eye] : {std::pair{&f.left, &left}, std::pair{&f.right, &right}}) {
+      if (auto e = encode(*image, encoding, quality, *eye)) {
+        return std::fprintf(stderr, "sb_frame_publisher: %s\n", e->c_str()), 1;
+      }
+    }
   }
   try {
     sb::node::Runner runner("frame_publisher", common);

@@ -117,7 +117,7 @@ TEST(Pipeline, RobotEndsNearTheBall) {
 
 // Given the robot following a rolling ball, when the tracker process is killed, then the
 // controller commands zero within 0.5 s (its 300 ms stale-track timeout plus delivery), and
-// the simulated base then comes to rest at its deceleration limit (time printed).
+// the simulated base then comes to rest at its braking limit (time printed).
 TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
   PipelineRun run("ball_rolling_away_plain", /*restart_tracker=*/false);
   ASSERT_TRUE(sb::testing::eventually(
@@ -131,6 +131,7 @@ TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
   run.supervisor->signal_node("tracker", SIGKILL);
   const int64_t killed_mono = sb::node::monotonic_ns();
   const double killed_at = run.truths.back().sim_time_s;
+  const double speed_at_kill = run.truths.back().robot_linear_mps;
   int64_t zero_cmd_mono = -1;
   double stopped_at = -1;
   ASSERT_TRUE(sb::testing::eventually(
@@ -150,11 +151,16 @@ TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
   ASSERT_GT(zero_cmd_mono, 0) << "no zero command after the kill";
   const double zero_after_s = (zero_cmd_mono - killed_mono) * 1e-9;
   EXPECT_LT(zero_after_s, 0.5) << "zero command " << zero_after_s << " s after the kill";
-  EXPECT_LT(stopped_at - killed_at, 2.0)
+  // At rest within the 0.5 s for the zero command plus braking from the controller's top speed
+  // (0.8 m/s, config/motion_controller.yaml) at the base's brake limit (4 m/s^2,
+  // config/simulator.yaml: 0.2 s) plus one 30 Hz ground-truth frame. Measured 0.37-0.47 s over
+  // 10 runs (killed at 0.10-0.14 m/s); the 0.5 s has too little margin to assert here.
+  EXPECT_LT(stopped_at - killed_at, 0.5 + 0.8 / 4.0 + 0.04)
       << "base still moving " << stopped_at - killed_at << " s after the kill";
   std::printf(
-      "zero command %.3f s after the tracker was killed; robot at rest %.3f s (simulated) after\n",
-      zero_after_s, stopped_at - killed_at);
+      "killed at %.2f m/s: zero command %.3f s after the tracker was killed; robot at rest %.3f s "
+      "(simulated) after\n",
+      speed_at_kill, zero_after_s, stopped_at - killed_at);
 }
 
 }  // namespace
