@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "camera_server/node/camera_server_node.hpp"
+#include "camera_server/node/frame_codec_flags.hpp"
 #include "camera_server/node/params_loader.hpp"
 #include "common/node/node_runner.hpp"
 #include "common/util/log.hpp"
@@ -18,13 +19,7 @@ int main(int argc, char** argv) {
       "stereo/calibration (transient-local). Parameters: components/camera_server/README.md."};
   sb::node::CommonOptions common;
   sb::node::add_common_flags(app, common, sb::node::default_config_path("camera_server.yaml"));
-  std::string frame_encoding;
-  int jpeg_quality = 0;
-  app.add_option("--frame-encoding", frame_encoding,
-                 "overrides frame_encoding of the config: raw, jpeg or png (compressed eyes)")
-      ->check(CLI::IsMember(sb::camera_server::frame_encoding_choices()));
-  app.add_option("--jpeg-quality", jpeg_quality, "overrides jpeg_quality of the config (1-100)")
-      ->check(CLI::Range(1, 100));
+  const sb::camera_server::FrameCodecFlags codec_flags(app);
   CLI11_PARSE(app, argc, argv);
   sb::log::Level level = sb::log::Level::kInfo;
   sb::log::parse_level(common.log_level, level);
@@ -34,8 +29,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "camera_server: %s\n", params.error().c_str());
     return 2;
   }
-  if (!frame_encoding.empty()) params->output.frame_encoding = frame_encoding;
-  if (jpeg_quality != 0) params->output.jpeg_quality = jpeg_quality;
+  codec_flags.apply(params->output);
   try {
     sb::node::Runner runner("camera_server", common);
     auto node = sb::camera_server::CameraServerNode::create(*params, runner);

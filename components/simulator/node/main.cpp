@@ -7,6 +7,7 @@
 #include <exception>
 #include <string>
 
+#include "camera_server/node/frame_codec_flags.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
 #include "simulator/io/scenario_file.hpp"
@@ -51,21 +52,14 @@ int main(int argc, char** argv) {
                  "publish this calibration file instead of the true one (calibrated-vs-true "
                  "mismatch tests); its image size must match the simulator's");
   app.add_flag("--loop", options.loop, "restart the scenario when its duration has passed");
-  std::string frame_encoding;
-  int jpeg_quality = 0;
-  app.add_option("--frame-encoding", frame_encoding,
-                 "overrides frame_encoding of the config: raw (bgr8), jpeg or png per eye")
-      ->check(CLI::IsMember(sb::camera_server::frame_encoding_choices()));
-  app.add_option("--jpeg-quality", jpeg_quality, "overrides jpeg_quality of the config (1-100)")
-      ->check(CLI::Range(1, 100));
+  const sb::camera_server::FrameCodecFlags codec_flags(app);
   CLI11_PARSE(app, argc, argv);
 
   auto config = sb::simulator::load_simulator_config(common.config_path);
   if (!config) return fail(config.error());
   const sb::simulator::SimParams& params = config->sim;
   options.output = config->output;
-  if (!frame_encoding.empty()) options.output.frame_encoding = frame_encoding;
-  if (jpeg_quality != 0) options.output.jpeg_quality = jpeg_quality;
+  codec_flags.apply(options.output);
   auto scenario = sb::simulator::load_scenario_by_name(scenario_name, scenarios_dir);
   if (!scenario) return fail(scenario.error());
   if (auto e = sb::simulator::Simulator::check(params, *scenario)) return fail(*e);

@@ -26,13 +26,18 @@ TEST(MsgConversion, CalibrationFieldsAreCopiedRowMajor) {
   EXPECT_STREQ(m.source, "true");
 }
 
-TEST(MsgConversion, FrameCarriesBothRawEyesAsBgr8) {
-  // Given a simulated 352x288 frame
+// A simulated 352x288 frame of an empty scenario.
+SimFrame small_frame() {
   SimParams p;
   p.width_px = 352;
   p.height_px = 288;
   Simulator sim(p, Scenario{});
-  const SimFrame f = sim.step(std::nullopt, 0);
+  return sim.step(std::nullopt, 0);
+}
+
+TEST(MsgConversion, FrameCarriesBothRawEyesAsBgr8) {
+  // Given a simulated 352x288 frame
+  const SimFrame f = small_frame();
   const std::string source = "simulator:test";
   // When converted
   const auto m = frame_to_msg(f, 77, source);
@@ -50,11 +55,7 @@ TEST(MsgConversion, FrameCarriesBothRawEyesAsBgr8) {
 
 TEST(MsgConversion, EncodedFrameCarriesOneStreamPerEyeWithTheDecodedSize) {
   // Given a simulated 352x288 frame and two (stand-in) compressed streams of different lengths
-  SimParams p;
-  p.width_px = 352;
-  p.height_px = 288;
-  Simulator sim(p, Scenario{});
-  const SimFrame f = sim.step(std::nullopt, 0);
+  const SimFrame f = small_frame();
   const std::string source = "simulator:test", encoding = "jpeg";
   const std::vector<uint8_t> left(1234, 1), right(999, 2);
   // When converted
