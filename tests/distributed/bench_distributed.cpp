@@ -123,9 +123,10 @@ int transport(const std::string& encoding, int quality, double duration_s, int d
   return 0;
 }
 
-int system_run(double duration_s, int domain) {
+int system_run(double duration_s, int domain, const std::string& robot_profile) {
   sd::SystemOptions o;
   o.domain = domain;
+  o.robot_profile = robot_profile;
   o.partition = "sbbench.system." + std::to_string(::getpid());
   o.workstation_observer_topics = {"frame", "detection"};
   sd::TwoHostSystem system(o);
@@ -158,10 +159,10 @@ int system_run(double duration_s, int domain) {
   size_t following = 0;
   for (const auto& t : robot.tracks) following += t.state == sd::kTrackFollowing;
   std::printf(
-      "system (robot + workstation profiles, %.0f s): frames at workstation %.1f Hz, "
+      "system (%s + workstation profiles, %.0f s): frames at workstation %.1f Hz, "
       "detections %.1f Hz, tracks at robot %.1f Hz (%zu FOLLOWING), commands %.1f Hz\n",
-      duration_s, rate_hz(ws.frames), rate_hz(ws.detections), rate_hz(robot.tracks), following,
-      rate_hz(robot.commands));
+      robot_profile.c_str(), duration_s, rate_hz(ws.frames), rate_hz(ws.detections),
+      rate_hz(robot.tracks), following, rate_hz(robot.commands));
   print_latency("frame: simulator publish -> workstation", frame_latency);
   print_latency("detection: capture -> detector publish", detect);
   print_latency("track: capture -> received in robot ns", track_at_robot);
@@ -195,6 +196,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--no-transport", skip_transport, "skip the frame transport runs");
   app.add_flag("--no-system", skip_system, "skip the whole-system run");
+  std::string robot_profile = "robot";
+  app.add_option("--robot-profile", robot_profile,
+                 "robot profile of the whole-system run (robot-jpeg: JPEG frames over the link)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   int rc = 0;
@@ -212,6 +217,6 @@ int main(int argc, char** argv) {
       rc |= transport("jpeg", quality, transport_s, domain, capped, note);
     }
   }
-  if (!skip_system) rc |= system_run(system_s, domain);
+  if (!skip_system) rc |= system_run(system_s, domain, robot_profile);
   return rc;
 }
