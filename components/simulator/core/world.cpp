@@ -16,8 +16,8 @@ double approach(double current, double target, double max_delta) {
 double approach_braking(double current, double target, double accel_dt, double brake_dt) {
   if (current < 0.0) return -approach_braking(-current, -target, accel_dt, brake_dt);
   if (current == 0.0 || target >= current) return approach(current, target, accel_dt);
-  const double floor = std::max(target, 0.0);
-  if (current - brake_dt > floor) return current - brake_dt;
+  const double lowest = std::max(target, 0.0);  // braking never crosses zero
+  if (current - brake_dt > lowest) return current - brake_dt;
   if (target >= 0.0) return target;
   const double rest_of_step = 1.0 - current / brake_dt;  // fraction left after stopping
   return approach(0.0, target, accel_dt * rest_of_step);

@@ -70,28 +70,28 @@ void SimulatorNode::tick(int64_t now_ns) {
 }
 
 void SimulatorNode::publish_frame(const SimFrame& f, int64_t now_ns) {
-  if (!encoders_[0]) {
-    stereoball_msg_StereoFrame frame = frame_to_msg(f, now_ns, frame_source_);
-    frame.seq = total_frames_;
-    frames_.write(frame, now_ns);
-    runner_.health().count(frame_topic_);
-    return;
+  stereoball_msg_StereoFrame frame = frame_to_msg(f, now_ns, frame_source_);
+  if (encoders_[0]) {
+    if (!encode_eyes(f)) return;
+    frame = encoded_frame_to_msg(f, options_.output.frame_encoding, encoders_[0]->bytes(),
+                                 encoders_[1]->bytes(), now_ns, frame_source_);
   }
+  frame.seq = total_frames_;
+  frames_.write(frame, now_ns);
+  runner_.health().count(frame_topic_);
+}
+
+bool SimulatorNode::encode_eyes(const SimFrame& f) {
   const int64_t start = node::monotonic_ns();
   for (auto [encoder, image] : {std::pair{&encoders_[0], &f.left}, {&encoders_[1], &f.right}}) {
     if (auto e = (*encoder)->encode(*image)) {
       runner_.health().error("encode", *e);
-      return;
+      return false;
     }
   }
   runner_.health().set_counter("encode_us",
                                static_cast<uint64_t>((node::monotonic_ns() - start) / 1000));
-  stereoball_msg_StereoFrame frame =
-      encoded_frame_to_msg(f, options_.output.frame_encoding, encoders_[0]->bytes(),
-                           encoders_[1]->bytes(), now_ns, frame_source_);
-  frame.seq = total_frames_;
-  frames_.write(frame, now_ns);
-  runner_.health().count(frame_topic_);
+  return true;
 }
 
 }  // namespace stereoball::simulator

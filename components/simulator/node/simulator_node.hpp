@@ -34,6 +34,7 @@ class SimulatorNode {
   void on_commands();
   void tick(int64_t now_ns);
   void publish_frame(const SimFrame& f, int64_t now_ns);
+  bool encode_eyes(const SimFrame& f);  // into encoders_; false (health error) on failure
 
   node::Runner& runner_;
   SimParams params_;
