@@ -30,6 +30,7 @@ struct Options {
   double seconds = -1.0;
   bool plain = false;
   std::string json_path;
+  std::string trace_dir;
   std::string config_dir = SB_DEFAULT_CONFIG_DIR;
   double settle_s = 2.0;
   double reacquire_limit_s = 10.0;
@@ -53,6 +54,9 @@ void add_options(CLI::App& app, Options& o) {
                "untextured floor and one-colour ball in every scenario (the detector's easy "
                "case)");
   app.add_option("--json", o.json_path, "also write every figure as JSON to this file");
+  app.add_option("--trace", o.trace_dir,
+                 "write every run frame by frame to DIR/<scenario>_seed<N>.csv (existing folder)")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--config-dir", o.config_dir,
                  "folder with simulator.yaml, ball_detector.yaml, tracker.yaml, "
                  "motion_controller.yaml and scenarios/")
@@ -137,6 +141,14 @@ int main(int argc, char** argv) {
       const auto t0 = std::chrono::steady_clock::now();
       auto samples = bc::run_closed_loop(config);
       if (!samples) return fail(samples.error());
+      if (!o.trace_dir.empty()) {
+        const std::string path = o.trace_dir + "/" + scenario.name + "_seed" +
+                                 std::to_string(config.scenario.seed) + ".csv";
+        std::FILE* f = std::fopen(path.c_str(), "w");
+        if (!f) return fail("cannot write trace file " + path);
+        bc::write_trace(f, samples.value());
+        std::fclose(f);
+      }
       bc::JudgedRun r{scenario.name, config.scenario.seed, samples->size(),
                       bc::judge_run(scenario.name, samples.value(), params)};
       std::fprintf(stderr, "  %s seed %llu: %zu frames in %.1f s\n", scenario.name.c_str(),

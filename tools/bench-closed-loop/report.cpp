@@ -279,6 +279,20 @@ void print_details(std::FILE* out, const std::vector<Summary>& scenarios,
   if (!any) std::fprintf(out, "(none)\n");
 }
 
+void write_trace(std::FILE* out, const std::vector<Sample>& samples) {
+  std::fprintf(out,
+               "t_s,ball_present,visible,ball_speed_mps,distance_m,bearing_deg,detected,"
+               "track_state,accepted,track_x_m,track_z_m,searching,angular_radps\n");
+  for (const Sample& s : samples) {
+    std::fprintf(out, "%.4f,%d,%d,%.3f,%.4f,%.3f,%d,%d,%d,%.4f,%.4f,%d,%.4f\n", s.truth.t_s,
+                 s.truth.ball_present, s.truth.visible, s.ball_speed_mps,
+                 demo::robot_ball_distance_m(s.truth),
+                 demo::robot_ball_bearing_rad(s.truth) * kRadToDeg, s.detection.found,
+                 static_cast<int>(s.track.state), s.track.accepted, s.track.position_m[0],
+                 s.track.position_m[2], s.searching, s.angular_radps);
+  }
+}
+
 nlohmann::json to_json(const std::vector<JudgedRun>& runs, const std::vector<Summary>& scenarios,
                        const Summary& total, const AcceptanceParams& p) {
   nlohmann::json j;

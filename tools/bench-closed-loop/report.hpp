@@ -54,6 +54,9 @@ void print_details(std::FILE* out, const std::vector<Summary>& scenarios,
 nlohmann::json to_json(const std::vector<JudgedRun>& runs, const std::vector<Summary>& scenarios,
                        const Summary& total, const AcceptanceParams& params);
 
+/// Writes one run frame by frame as CSV (time, truth, track, command) for diagnosis.
+void write_trace(std::FILE* out, const std::vector<Sample>& samples);
+
 /// The definitions of the three criteria in words, with the thresholds in force.
 std::vector<std::string> definitions(const AcceptanceParams& params);
 

@@ -56,6 +56,10 @@ struct MotionControllerParams {
   std::int64_t position_hold_ns = 300'000'000;
   /// Longest control period used for integration; longer gaps are clamped, ns.
   std::int64_t max_step_ns = 200'000'000;
+  /// Span of the tracker's velocity fit (its velocity_window_ns), ns: the track's bearing and
+  /// range rates average the robot's own motion over this span before the last accepted
+  /// position, so that same average (not the present velocity) is removed from them.
+  std::int64_t track_velocity_window_ns = 500'000'000;
 
   /// Empty when valid; otherwise names the bad field and its allowed range.
   std::optional<std::string> validate() const;

@@ -35,9 +35,11 @@ Command MotionController::step(std::int64_t now_ns) {
       last_step_ns_ ? std::clamp<std::int64_t>(now_ns - *last_step_ns_, 0, params_.max_step_ns) : 0;
   last_step_ns_ = now_ns;
   // Safety stops are immediate, not ramped: the base must not keep moving.
-  if (estop_) return hard_stop(Mode::kEmergencyStop);
-  if (!track_) return hard_stop(Mode::kWaiting);
-  if (now_ns - track_received_ns_ > params_.stale_timeout_ns) return hard_stop(Mode::kStale);
+  if (estop_) return record(hard_stop(Mode::kEmergencyStop), now_ns);
+  if (!track_) return record(hard_stop(Mode::kWaiting), now_ns);
+  if (now_ns - track_received_ns_ > params_.stale_timeout_ns) {
+    return record(hard_stop(Mode::kStale), now_ns);
+  }
 
   Target target;
   switch (track_->state) {
@@ -56,7 +58,24 @@ Command MotionController::step(std::int64_t now_ns) {
   c.linear_mps = linear_.step(target.linear_mps, dt_s);
   c.angular_radps = angular_.step(target.angular_radps, dt_s);
   c.mode = target.mode;
+  return record(c, now_ns);
+}
+
+Command MotionController::record(const Command& c, std::int64_t now_ns) {
+  history_.record(now_ns, {c.linear_mps, c.angular_radps});
+  // Enough history for the oldest velocity window a usable track can refer to.
+  const std::int64_t keep_ns = params_.track_velocity_window_ns + params_.position_hold_ns +
+                               params_.stale_timeout_ns + params_.max_step_ns;
+  history_.forget_before(now_ns - keep_ns);
   return c;
+}
+
+Velocity MotionController::own_motion_behind(const TrackSample& t) const {
+  if (params_.track_velocity_window_ns <= 0) return {linear_.velocity(), angular_.velocity()};
+  // The fit ends at the last accepted capture: its age in the sender's clock, moved to ours.
+  const std::int64_t end_ns =
+      track_received_ns_ - std::max<std::int64_t>(0, t.capture_stamp_ns - t.last_accepted_stamp_ns);
+  return history_.slope_weighted_mean(end_ns - params_.track_velocity_window_ns, end_ns);
 }
 
 MotionController::Target MotionController::following_target(const TrackSample& t) const {
@@ -75,8 +94,11 @@ MotionController::Target MotionController::following_target(const TrackSample& t
   // Camera x points right: a ball to the right (positive bearing) needs a
   // clockwise (negative) turn.
   // The camera sees the ball's own bearing rate plus the robot's turn (turning
-  // left moves the ball right); the difference is what the robot must match.
-  const double ball_rate_radps = t.bearing_rate_radps - angular_.velocity();
+  // left moves the ball right); the difference is what the robot must match. The seen rate
+  // is a fit over a past window, so the robot's turn over that window is removed, not the
+  // present one (which made the loop oscillate: a phantom ball motion that grows).
+  const Velocity own = own_motion_behind(t);
+  const double ball_rate_radps = t.bearing_rate_radps - own.angular_radps;
   out.angular_radps =
       -params_.bearing_gain_per_s * deadband(bearing_rad, params_.bearing_deadband_rad) -
       params_.bearing_rate_feedforward * ball_rate_radps;
@@ -86,7 +108,7 @@ MotionController::Target MotionController::following_target(const TrackSample& t
   const double centred =
       std::clamp(1.0 - std::abs(bearing_rad) / params_.slowdown_bearing_rad, 0.0, 1.0);
   // Driving forward shortens the range: the ball's own range rate is the sum.
-  const double ball_range_rate_mps = t.distance_rate_mps + linear_.velocity();
+  const double ball_range_rate_mps = t.distance_rate_mps + own.linear_mps;
   out.linear_mps =
       params_.distance_gain_per_s * distance_error * (distance_error > 0 ? centred : 1.0) +
       params_.distance_rate_feedforward * ball_range_rate_mps * centred;

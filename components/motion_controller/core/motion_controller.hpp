@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "motion_controller/core/controller_params.hpp"
+#include "motion_controller/core/own_motion.hpp"
 #include "motion_controller/core/smooth_axis.hpp"
 #include "motion_controller/core/types.hpp"
 
@@ -38,10 +39,13 @@ class MotionController {
   Target following_target(const TrackSample& t) const;
   Target searching_target(std::int64_t now_ns) const;
   Command hard_stop(Mode mode);
+  Command record(const Command& c, std::int64_t now_ns);
+  Velocity own_motion_behind(const TrackSample& t) const;
 
   MotionControllerParams params_;
   SmoothAxis linear_;
   SmoothAxis angular_;
+  OwnMotionHistory history_;
   std::optional<TrackSample> track_;
   std::int64_t track_received_ns_ = 0;
   std::int64_t search_started_ns_ = 0;

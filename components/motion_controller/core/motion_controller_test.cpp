@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace stereoball::motion_controller {
 namespace {
@@ -268,8 +270,8 @@ TEST(MotionController, GivenBallMovingRightAndAway_WhenFeedforwardOn_ThenTurnsAn
   p.distance_rate_feedforward = 0.6;
   Harness with_ff(p);
   Harness without_ff(centred());
-  const Command a = with_ff.run(t, 60);
-  const Command b = without_ff.run(t, 60);
+  const Command a = with_ff.run(t, 200);
+  const Command b = without_ff.run(t, 200);
   // Then without feedforward a P controller sees no error at all
   EXPECT_EQ(b.angular_radps, 0.0);
   EXPECT_EQ(b.linear_mps, 0.0);
@@ -325,6 +327,79 @@ TEST(PolarRates, GivenPointAtOriginOrNaN_ThenZero) {
   const PolarRates nan = polar_rates(std::nan(""), 1.0, 1.0, 1.0);
   EXPECT_EQ(nan.bearing_radps, 0.0);
   EXPECT_EQ(nan.range_mps, 0.0);
+}
+
+// A unicycle robot, a still ball, a 30 Hz camera whose track velocity is a least-squares fit
+// of camera-frame positions over the last 0.5 s (as the tracker does), the controller at
+// 20 Hz. Returns the ball's bearing from the robot (rad) every 10 ms after start_s.
+std::vector<double> bearings_with_fitted_velocity(const MotionControllerParams& p, double ball_x,
+                                                  double ball_y, double seconds, double start_s) {
+  MotionController c(p);
+  double rx = 0.0, ry = 0.0, yaw = 0.0, v = 0.0, w = 0.0;
+  struct Seen {
+    double t, x, z;
+  };
+  std::vector<Seen> window;
+  std::vector<double> out;
+  const int total_ms = static_cast<int>(seconds * 1000);
+  for (int ms = 0; ms <= total_ms; ++ms) {
+    const std::int64_t now = kT0 + std::int64_t{ms} * 1'000'000;
+    const double dx = ball_x - rx, dy = ball_y - ry;
+    const double fwd = std::cos(yaw) * dx + std::sin(yaw) * dy;
+    const double right = std::sin(yaw) * dx - std::cos(yaw) * dy;
+    if ((ms * 3) % 100 < 3) {  // a camera frame every 33 or 34 ms
+      const double t = ms * 1e-3;
+      window.push_back({t, right, fwd});
+      while (window.front().t < t - 0.5) window.erase(window.begin());
+      double tm = 0, xm = 0, zm = 0;
+      for (const auto& s : window) tm += s.t, xm += s.x, zm += s.z;
+      tm /= window.size(), xm /= window.size(), zm /= window.size();
+      double stt = 0, stx = 0, stz = 0;
+      for (const auto& s : window) {
+        stt += (s.t - tm) * (s.t - tm);
+        stx += (s.t - tm) * (s.x - xm);
+        stz += (s.t - tm) * (s.z - zm);
+      }
+      const double vx = stt > 0 ? stx / stt : 0.0, vz = stt > 0 ? stz / stt : 0.0;
+      TrackSample track = following(std::atan2(right, fwd), std::hypot(right, fwd), now);
+      const PolarRates rates = polar_rates(right, fwd, vx, vz);
+      track.bearing_rate_radps = rates.bearing_radps;
+      track.distance_rate_mps = rates.range_mps;
+      c.on_track(track, now);
+    }
+    if (ms % 50 == 0) {
+      const Command cmd = c.step(now);
+      v = cmd.linear_mps, w = cmd.angular_radps;
+    }
+    if (ms * 1e-3 >= start_s && ms % 10 == 0) out.push_back(std::atan2(right, fwd));
+    rx += v * std::cos(yaw) * 1e-3;
+    ry += v * std::sin(yaw) * 1e-3;
+    yaw += w * 1e-3;
+  }
+  return out;
+}
+
+double max_abs(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+TEST(MotionController,
+     GivenFittedTrackVelocityAndFeedforward_WhenBallStill_ThenNoGrowingOscillation) {
+  // Given the shipped feedforward (0.6) and the track's rates fitted over 0.5 s, a still ball
+  // 1.6 m ahead and 7 degrees to the right
+  MotionControllerParams p = centred();
+  p.bearing_rate_feedforward = 0.6;
+  p.distance_rate_feedforward = 0.6;
+  p.track_velocity_window_ns = 500'000'000;
+  const double a = 7.0 * M_PI / 180;
+  // When the loop runs for 12 s
+  const auto late =
+      bearings_with_fitted_velocity(p, 1.6 * std::cos(a), -1.6 * std::sin(a), 12.0, 6.0);
+  // Then the robot has centred the ball and stays centred (no limit cycle), well inside 5 deg
+  ASSERT_FALSE(late.empty());
+  EXPECT_LT(max_abs(late), 1.0 * M_PI / 180) << "largest bearing in the last 6 s";
 }
 
 TEST(MotionControllerNames, GivenModes_ThenStableNames) {
