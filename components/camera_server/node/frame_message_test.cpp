@@ -36,7 +36,8 @@ TEST(FillCalibrationMessage, GivenCalibrationWhenFilledThenMatricesRowMajorAndSi
   c.p2 = cv::Matx34d(500, 0, 320, -50, 0, 500, 240, 0, 0, 0, 1, 0);
   c.rms_px = 0.4;
   stereoball_msg_StereoCalibration m{};
-  fill_calibration_message(c, "calib.yaml", 5, m);
+  const std::string source = "calib.yaml";  // m.source points into it: must outlive m's use
+  fill_calibration_message(c, source, 5, m);
   EXPECT_EQ(m.width_px, 640u);
   EXPECT_EQ(m.height_px, 480u);
   EXPECT_DOUBLE_EQ(m.k1[1 * 3 + 1], 501);  // row 1, col 1
