@@ -192,6 +192,10 @@ std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy
   return best_r;
 }
 
+double scoring_band_px(const Circle& c, const RefineParams& params) {
+  return std::max(params.band_px, params.band_per_radius * c.radius_px);
+}
+
 std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
                                     const RefineParams& params) {
   Circle c = rough;
@@ -200,7 +204,7 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
   for (int it = 0; it < params.iterations; ++it) {
     // Shrinking bands: the rough centre from a vote peak may be off by a pixel or two, and a
     // wide band would let texture just inside the rim pull the fit.
-    const double band = std::max(params.band_px, 2.5 / (1 << it));
+    const double band = std::max(scoring_band_px(c, params), 2.5 / (1 << it));
     gather_circle_points(edges, c, band, params.min_radial_cos, pts);
     const auto fit = fit_circle(pts);
     if (!fit) return std::nullopt;
@@ -209,14 +213,14 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
       return std::nullopt;
     c = *fit;
   }
-  gather_circle_points(edges, c, params.band_px, params.min_radial_cos, pts);
+  gather_circle_points(edges, c, scoring_band_px(c, params), params.min_radial_cos, pts);
   c.score = angular_coverage(c, pts);
   return c;
 }
 
 double score_circle(const EdgeMap& edges, const Circle& c, const RefineParams& params) {
   std::vector<cv::Point2d> pts;
-  gather_circle_points(edges, c, params.band_px, params.min_radial_cos, pts);
+  gather_circle_points(edges, c, scoring_band_px(c, params), params.min_radial_cos, pts);
   return angular_coverage(c, pts);
 }
 

@@ -19,7 +19,11 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points);
 
 /// Options of the annulus gathering and scoring.
 struct RefineParams {
-  double band_px = 0.5;          ///< edge points within this distance of the circle count, pixels
+  double band_px = 0.5;  ///< edge points within this distance of the circle count, pixels
+  /// Addition: the band grows to this fraction of the radius when that is wider. A sphere off
+  /// the optical axis images as an ellipse (axes differ by ~r(1/cos(theta) - 1), 2 px for r = 54
+  /// px at 15 deg), which a 0.5 px band around the best circle would mostly miss.
+  double band_per_radius = 0.025;
   double min_radial_cos = 0.85;  ///< min |cos| between edge gradient and the radius, [0, 1]
   int iterations = 3;            ///< gather + fit rounds
 };
@@ -28,6 +32,9 @@ struct RefineParams {
 /// position along the gradient (parabola through three gradient magnitudes).
 void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
                           double min_radial_cos, std::vector<cv::Point2d>& out);
+
+/// Half-width of the band around circle c whose edge points support it, pixels.
+double scoring_band_px(const Circle& c, const RefineParams& params);
 
 /// Fraction in [0, 1] of angular sectors of circle c holding at least one of points.
 double angular_coverage(const Circle& c, std::span<const cv::Point2d> points);

@@ -49,6 +49,8 @@ std::optional<std::string> PixelToPixelParams::validate() const {
   if (!(min_separation_px >= 0.0)) return std::string("min_separation_px must be >= 0");
   if (!(min_score >= 0.0 && min_score <= 1.0)) return std::string("min_score must be in [0, 1]");
   if (min_peak_votes < 0) return std::string("min_peak_votes must be >= 0");
+  if (max_peaks_examined < 1 || max_peaks_examined > 1000)
+    return std::string("max_peaks_examined must be in [1, 1000]");
   if (!(min_relative_peak >= 0.0 && min_relative_peak <= 1.0))
     return std::string("min_relative_peak must be in [0, 1]");
   if (!(refine_params.band_px > 0.0 && refine_params.band_px <= 10.0))
@@ -70,6 +72,7 @@ void PixelToPixelDetector::vote(int k) {
   const int w = bits.width();
   const int h = bits.height();
   std::array<WindowPoint, 2 * kMaxK + 1> window{};
+  std::array<std::uint64_t, 2 * kMaxK + 1> mask{};
   const int n = 2 * k + 1;
   for (int y = k; y < h - k; ++y) {
     const std::uint64_t* row = bits.row(y);
@@ -80,8 +83,17 @@ void PixelToPixelDetector::vote(int k) {
         word &= word - 1;
         if (x < k || x >= w - k) continue;
         // Step 4 first: the count is a few popcounts, far cheaper than collecting points.
-        if (!window_count_ok(count_window_points(bits, x, y, k), k)) continue;
-        const int got = collect_window_points(bits, x, y, k, std::span(window.data(), n));
+        const int count = count_window_points(bits, x, y, k);
+        int got = 0;
+        if (window_count_ok(count, k)) {
+          got = collect_window_points(bits, x, y, k, std::span(window.data(), n));
+        } else if (params_.isolate_arc && count > n) {
+          // Addition: judge the arc through O alone when other edges share the window.
+          if (connected_window_rows(bits, x, y, k, mask) != n) continue;
+          got = collect_masked_points(mask, k, std::span(window.data(), n));
+        } else {
+          continue;
+        }
         const auto line = analyse_window(std::span<const WindowPoint>(window.data(), got), k);
         if (!line) continue;
         const double cx = x + 0.5 * line->c2x;
@@ -114,8 +126,8 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
   const float floor_v = static_cast<float>(
       std::max<double>(params_.min_peak_votes, params_.min_relative_peak * max_v));
   if (max_v < params_.min_peak_votes || max_v <= 0.0) return {};
-  const auto peaks =
-      find_peaks(smoothed, floor_v, params_.min_separation_px, 2 * params_.max_circles + 2);
+  const auto peaks = find_peaks(smoothed, floor_v, params_.min_separation_px,
+                                std::max(params_.max_peaks_examined, params_.max_circles));
   CandidateOptions opt;
   opt.min_radius_px = params_.min_radius_px;
   opt.max_radius_px = params_.max_radius_px;

@@ -26,8 +26,16 @@ struct PixelToPixelParams {
   double min_score = 0.55;          ///< circles scoring below are dropped (addition), [0, 1]
   int min_peak_votes = 12;          ///< smallest smoothed peak examined (votes in the box)
   double min_relative_peak = 0.15;  ///< peaks below this fraction of the strongest are ignored
-  bool refine = true;               ///< sub-pixel least-squares refinement (addition)
-  RefineParams refine_params;       ///< refinement and scoring options
+  /// Accumulator peaks turned into scored candidates (addition), strongest first. More than
+  /// max_circles: a large ball outline collects fewer votes than small round texture on it
+  /// (its arcs are flatter), yet outscores that texture once refined and scored.
+  int max_peaks_examined = 16;
+  /// Addition: a window failing the count rule is judged again on the edge points 8-connected
+  /// to its centre (the arc through O), so texture or a line merely passing through the window
+  /// does not silence an arc. Off = the paper's rule exactly.
+  bool isolate_arc = true;
+  bool refine = true;          ///< sub-pixel least-squares refinement (addition)
+  RefineParams refine_params;  ///< refinement and scoring options
 
   /// Names the first bad field and its allowed range, or nullopt.
   std::optional<std::string> validate() const;

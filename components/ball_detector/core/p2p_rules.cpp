@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstdlib>
 
@@ -24,6 +25,70 @@ int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<
       const int c = std::countr_zero(bits);
       bits &= bits - 1;
       out[used++] = WindowPoint{c - k, r};
+    }
+  }
+  return used;
+}
+
+namespace {
+
+// Grows seed along the set bits of row (both directions) until blocked: a run fill.
+inline std::uint64_t fill_runs(std::uint64_t seed, std::uint64_t row) {
+  seed &= row;
+  for (std::uint64_t prev = 0; seed != prev;) {
+    prev = seed;
+    seed |= ((seed << 1) | (seed >> 1)) & row;
+  }
+  return seed;
+}
+
+// The bits of row 8-connected to a neighbour row's mask.
+inline std::uint64_t touching(std::uint64_t neighbour, std::uint64_t row) {
+  return fill_runs(neighbour | (neighbour << 1) | (neighbour >> 1), row);
+}
+
+}  // namespace
+
+int connected_window_rows(const BitImage& edges, int x, int y, int k,
+                          std::span<std::uint64_t> rows) {
+  const int n = 2 * k + 1;
+  if (static_cast<int>(rows.size()) < n) return 0;
+  std::array<std::uint64_t, 64> window{};
+  for (int r = 0; r < n; ++r) {
+    window[static_cast<std::size_t>(r)] = edges.bits(y - k + r, x - k, n);
+    rows[static_cast<std::size_t>(r)] = 0;
+  }
+  rows[static_cast<std::size_t>(k)] =
+      fill_runs(std::uint64_t{1} << k, window[static_cast<std::size_t>(k)]);
+  // Flood fill by alternating sweeps from the centre row down and up, each row grown from its
+  // neighbour and then along its own runs; an arc through a window converges in one or two.
+  for (bool grew = true; grew;) {
+    grew = false;
+    auto grow_row = [&](int r, int from) {
+      const auto ri = static_cast<std::size_t>(r);
+      const std::uint64_t add =
+          touching(rows[static_cast<std::size_t>(from)], window[ri]) & ~rows[ri];
+      if (add == 0) return;
+      rows[ri] = fill_runs(rows[ri] | add, window[ri]);
+      grew = true;
+    };
+    for (int r = 1; r < n; ++r) grow_row(r, r - 1);
+    for (int r = n - 2; r >= 0; --r) grow_row(r, r + 1);
+  }
+  int count = 0;
+  for (int r = 0; r < n; ++r) count += std::popcount(rows[static_cast<std::size_t>(r)]);
+  return count;
+}
+
+int collect_masked_points(std::span<const std::uint64_t> rows, int k, std::span<WindowPoint> out) {
+  const int n = std::min(2 * k + 1, static_cast<int>(rows.size()));
+  int used = 0;
+  for (int r = 0; r < n; ++r) {
+    std::uint64_t bits = rows[static_cast<std::size_t>(r)];
+    while (bits != 0 && used < static_cast<int>(out.size())) {
+      const int c = std::countr_zero(bits);
+      bits &= bits - 1;
+      out[used++] = WindowPoint{c - k, r - k};
     }
   }
   return used;

@@ -45,6 +45,15 @@ inline bool window_count_ok(int count, int k) {
 /// out.size()).
 int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<WindowPoint> out);
 
+/// Addition: the window's edge points 8-connected to O, as one bit mask per window row (bit c
+/// of rows[r] = pixel (c - k, r - k)); returns how many. Lets the count rule judge the arc through
+/// O alone when unrelated edges (texture, a line passing by) share the window.
+int connected_window_rows(const BitImage& edges, int x, int y, int k,
+                          std::span<std::uint64_t> rows);
+
+/// Collects the points of connected_window_rows' masks (raster order); returns how many.
+int collect_masked_points(std::span<const std::uint64_t> rows, int k, std::span<WindowPoint> out);
+
 /// The paper's cheap distance from O: |x| + |y|.
 inline int l1_distance(const WindowPoint& p) {
   return (p.x < 0 ? -p.x : p.x) + (p.y < 0 ? -p.y : p.y);

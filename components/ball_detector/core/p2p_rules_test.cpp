@@ -47,6 +47,47 @@ TEST(WindowCount, GivenCountsOtherThan2kPlus1ThenTheWindowIsRejected) {
   EXPECT_TRUE(window_count_ok(11, 5));
 }
 
+// Addition (arc isolation): given the figure 6 arc plus isolated points and a separate line in
+// the window (figure 8b, count 13 != 9), when only the points 8-connected to O are kept, then
+// exactly the arc's 9 points remain, in the same raster order as a plain collection of the arc.
+TEST(ArcIsolation, GivenArcWithUnconnectedEdgesThenOnlyTheArcRemains) {
+  std::vector<WindowPoint> pts = figure6_arc();
+  const std::vector<WindowPoint> clutter = {{-4, -4}, {-3, -4}, {-2, -4}, {3, 3}};
+  pts.insert(pts.end(), clutter.begin(), clutter.end());
+  int cx = 0, cy = 0;
+  const BitImage img = window_image(pts, 4, cx, cy);
+  EXPECT_EQ(count_window_points(img, cx, cy, 4), 13);
+  std::vector<std::uint64_t> rows(9);
+  EXPECT_EQ(connected_window_rows(img, cx, cy, 4, rows), 9);
+  std::vector<WindowPoint> got(9);
+  ASSERT_EQ(collect_masked_points(rows, 4, got), 9);
+  int ax = 0, ay = 0;
+  const BitImage arc_only = window_image(figure6_arc(), 4, ax, ay);
+  std::vector<WindowPoint> expected(9);
+  ASSERT_EQ(collect_window_points(arc_only, ax, ay, 4, expected), 9);
+  EXPECT_EQ(got, expected);
+}
+
+// Given a line touching the arc (a junction), then the component holds both and the count rule
+// still rejects the window: only edges that merely share the window are ignored.
+TEST(ArcIsolation, GivenLineJoiningTheArcThenTheComponentIsLargerThan2kPlus1) {
+  std::vector<WindowPoint> pts = figure6_arc();
+  for (int y = -4; y <= -1; ++y) pts.push_back({0, y});  // a vertical line ending at O
+  int cx = 0, cy = 0;
+  const BitImage img = window_image(pts, 4, cx, cy);
+  std::vector<std::uint64_t> rows(9);
+  EXPECT_EQ(connected_window_rows(img, cx, cy, 4, rows), 13);
+  EXPECT_FALSE(window_count_ok(13, 4));
+}
+
+// Given a window with O alone (isolated point, figure 8), then the component is just O.
+TEST(ArcIsolation, GivenIsolatedCentreThenComponentIsOnePoint) {
+  int cx = 0, cy = 0;
+  const BitImage img = window_image({{0, 0}, {3, 3}, {-4, 2}}, 4, cx, cy);
+  std::vector<std::uint64_t> rows(9);
+  EXPECT_EQ(connected_window_rows(img, cx, cy, 4, rows), 1);
+}
+
 TEST(WindowCount, GivenPointsOutsideTheWindowWhenCountingThenTheyAreIgnored) {
   auto pts = figure6_arc();
   pts.push_back({5, 0});  // just outside a k = 4 window

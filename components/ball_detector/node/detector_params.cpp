@@ -41,6 +41,12 @@ std::optional<std::string> BallDetectorParams::validate() const {
   return std::nullopt;
 }
 
+PixelToPixelParams pipeline_p2p_defaults() {
+  PixelToPixelParams p;
+  p.edge.min_high_threshold = 150.0;
+  return p;
+}
+
 PixelToPixelParams BallDetectorParams::detector_params() const {
   PixelToPixelParams p = p2p;
   p.max_circles = max_candidates_per_eye;

@@ -25,15 +25,19 @@ const char* to_string(DetectorInput input);
 /// The input named by text, or nullopt.
 std::optional<DetectorInput> parse_detector_input(const std::string& text);
 
+/// The Pixel-to-Pixel settings the pipeline starts from (config/ball_detector.yaml mirrors
+/// them): the core's defaults with a Canny floor that keeps shading ramps on the ball out.
+PixelToPixelParams pipeline_p2p_defaults();
+
 /// Everything the stereo pipeline needs besides the calibration.
 struct BallDetectorParams {
-  DetectorInput input = DetectorInput::kSaturation;  ///< image the detector runs on (mono8: grey)
-  double ball_diameter_m = 0.22;                     ///< true ball diameter, metres, (0, 5]
+  DetectorInput input = DetectorInput::kRed;  ///< image the detector runs on (mono8: grey)
+  double ball_diameter_m = 0.22;              ///< true ball diameter, metres, (0, 5]
   double epipolar_tolerance_px = 2.0;     ///< largest |y_left - y_right| of a pair, px, [0, 100]
   double size_max_relative_error = 0.15;  ///< accepted |r - r_expected| / r_expected, (0, 10]
   bool right_eye_row_band = true;         ///< search the right eye only in the rows of left circles
   int max_candidates_per_eye = 5;         ///< circles kept per eye (P2P max_circles), [1, 50]
-  PixelToPixelParams p2p;                 ///< detector on each rectified eye
+  PixelToPixelParams p2p = pipeline_p2p_defaults();  ///< detector on each rectified eye
 
   /// Names the first bad field and its allowed range, or nullopt.
   std::optional<std::string> validate() const;

@@ -25,6 +25,8 @@ void read_p2p(params::ParamsFile& file, PixelToPixelParams& p) {
   file.read("p2p.max_radius_px", p.max_radius_px, 1.0, 4000.0);
   file.read("p2p.min_separation_px", p.min_separation_px, 0.0, 4000.0);
   file.read("p2p.min_score", p.min_score, 0.0, 1.0);
+  file.read("p2p.max_peaks_examined", p.max_peaks_examined, 1, 1000);
+  file.read("p2p.edge_min_threshold", p.edge.min_high_threshold, 1.0, 1000.0);
 }
 
 }  // namespace

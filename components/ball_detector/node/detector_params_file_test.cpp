@@ -39,7 +39,9 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
   ASSERT_TRUE(p.ok()) << p.error();
   EXPECT_DOUBLE_EQ(p->ball_diameter_m, 0.22);  // the simulator's ball: radius 0.11 m
   EXPECT_DOUBLE_EQ(p->epipolar_tolerance_px, 2.0);
-  EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kSaturation);
+  EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kRed);
+  EXPECT_DOUBLE_EQ(p->p2p.edge.min_high_threshold, 150.0);
+  EXPECT_EQ(p->p2p.max_peaks_examined, 16);
   EXPECT_EQ(p->p2p.k_values, std::vector<int>{5});
   EXPECT_TRUE(p->right_eye_row_band);
   EXPECT_EQ(p->detector_params().max_circles, p->max_candidates_per_eye);
@@ -48,7 +50,9 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
 TEST(DetectorParamsFile, GivenChangedValues_ThenTheyAreUsed) {
   std::string text = replace(shipped_config(), "tolerance_px: 2.0", "tolerance_px: 1.5");
   text = replace(text, "k_values: [5]", "k_values: [3, 8]");
-  text = replace(text, "input: saturation", "input: grey");
+  text = replace(text, "input: red", "input: grey");
+  text = replace(text, "max_peaks_examined: 16", "max_peaks_examined: 7");
+  text = replace(text, "edge_min_threshold: 150", "edge_min_threshold: 40");
   text = replace(text, "right_eye_row_band: true", "right_eye_row_band: false");
   const auto p = parse(text);
   ASSERT_TRUE(p.ok()) << p.error();
@@ -56,6 +60,8 @@ TEST(DetectorParamsFile, GivenChangedValues_ThenTheyAreUsed) {
   EXPECT_EQ(p->p2p.k_values, (std::vector<int>{3, 8}));
   EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kGrey);
   EXPECT_FALSE(p->right_eye_row_band);
+  EXPECT_EQ(p->p2p.max_peaks_examined, 7);
+  EXPECT_DOUBLE_EQ(p->p2p.edge.min_high_threshold, 40.0);
 }
 
 TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {
@@ -65,7 +71,9 @@ TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {
   } cases[] = {
       {"diameter_m: 0.22", "diameter_m: -1", "ball.diameter_m"},
       {"k_values: [5]", "k_values: [2.5]", "p2p.k_values"},
-      {"input: saturation", "input: purple", "input"},
+      {"input: red", "input: purple", "input"},
+      {"max_peaks_examined: 16", "max_peaks_examined: 0", "p2p.max_peaks_examined"},
+      {"edge_min_threshold: 150", "edge_min_threshold: -3", "p2p.edge_min_threshold"},
       {"max_candidates_per_eye: 5", "max_candidates_per_eye: 0", "max_candidates_per_eye"},
       {"min_score: 0.55", "min_score: 1.5", "p2p.min_score"},
       {"max_candidates_per_eye: 5", "max_candidates_per_eye: 5\nunknown_key: 1", "unknown_key"},

@@ -39,15 +39,15 @@ std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle&
       ctx.epipolar.check({left.x_px, left.y_px}, {right.x_px, right.y_px});
   // A point in front of the rig appears further left in the right eye.
   if (!m.accepted || m.x_left_px <= m.x_right_px) return std::nullopt;
-  const auto p = ctx.triangulator.point_m(m.x_left_px, m.x_right_px, m.row_px);
+  const auto p = ctx.triangulator.sphere_centre_m({left.x_px, left.y_px}, {right.x_px, right.y_px},
+                                                  0.5 * ctx.size.ball_diameter_m);
   if (!p || !((*p)[2] > 0.0)) return std::nullopt;
 
   StereoPair pair;
   pair.left = left;
   pair.right = right;
   pair.row_residual_px = m.row_residual_px;
-  // Image circle centres triangulate to the centre of the outline, r^2/D in front of the ball.
-  pair.position_m = stereo::sphere_centre_from_outline_m(*p, 0.5 * ctx.size.ball_diameter_m);
+  pair.position_m = *p;
   pair.score = 0.5 * (left.score + right.score);
   const double f = ctx.triangulator.focal_px();
   pair.depth_from_size_m =

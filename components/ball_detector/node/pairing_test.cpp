@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "stereo/core/synthetic_rig.hpp"
 
 namespace sb = stereoball;
@@ -22,18 +24,25 @@ class Pairing : public ::testing::Test {
         ctx_{epi_, tri_, size_} {}
 
   // Rectified circles of a ball of the configured size centred at (x, y, z) metres, left/right.
-  // Each eye sees the outline of the ball, whose centre is the tangent circle of the viewing
-  // cone: r^2/D in front of the ball's centre, so that is the point that projects here.
+  // Each eye sees the ball's outline, an ellipse whose centre lies along the radial line from
+  // the principal point at the midpoint of tan(theta - alpha) and tan(theta + alpha).
   std::pair<Circle, Circle> ball_at(double x0, double y0, double z0, double score = 0.9,
                                     double radius_scale = 1.0) const {
     const double f = tri_.focal_px();
     const double cx = calib_.p1(0, 2), cy = calib_.p1(1, 2);
     const double r = radius_scale * sb::stereo::expected_radius_px(f, 0.22, z0);
-    const double shrink = 1.0 - 0.11 * 0.11 / (x0 * x0 + y0 * y0 + z0 * z0);
-    const double x = x0 * shrink, y = y0 * shrink, z = z0 * shrink;
-    const double xl = cx + f * x / z, yl = cy + f * y / z;
-    const double xr = xl - f * tri_.baseline_m() / z;
-    return {Circle{xl, yl, r, score}, Circle{xr, yl, r, score}};
+    auto outline_centre = [&](double x, double y, double z) {
+      const double t = std::sqrt(x * x + y * y) / z;
+      const double alpha = std::asin(0.11 / std::sqrt(x * x + y * y + z * z));
+      const double theta = std::atan(t);
+      const double u = 0.5 * (std::tan(theta + alpha) + std::tan(theta - alpha));
+      const double scale = t > 0.0 ? u / t : 1.0;
+      return cv::Point2d(cx + f * scale * x / z, cy + f * scale * y / z);
+    };
+    const cv::Point2d left = outline_centre(x0, y0, z0);
+    // The right camera sits baseline_m to the right; its rectified principal point equals cx.
+    const cv::Point2d right = outline_centre(x0 - tri_.baseline_m(), y0, z0);
+    return {Circle{left.x, left.y, r, score}, Circle{right.x, right.y, r, score}};
   }
 
   sb::stereo::StereoCalibration calib_;
@@ -63,7 +72,7 @@ TEST_F(Pairing, GivenTrueBall_ThenFoundAtItsPosition) {
   EXPECT_NEAR(res.best->position_m[1], -0.1, 1e-6);
   EXPECT_NEAR(res.best->position_m[2], 1.5, 1e-6);
   EXPECT_NEAR(res.best->depth_from_size_m, 1.5, 1e-6);
-  EXPECT_NEAR(res.best->row_residual_px, 0.0, 1e-9);
+  EXPECT_NEAR(res.best->row_residual_px, 0.0, 0.05);
 }
 
 // Given circles 2.5 px apart in rows (paper tolerance 2 px), then mismatch; at 1.9 px, found.

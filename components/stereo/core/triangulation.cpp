@@ -10,7 +10,34 @@ Result<Triangulator> Triangulator::create(const StereoCalibration& calib) {
 }
 
 Triangulator::Triangulator(const StereoCalibration& calib)
-    : q_(calib.q), focal_px_(stereo::focal_px(calib)), baseline_m_(stereo::baseline_m(calib)) {}
+    : q_(calib.q), focal_px_(stereo::focal_px(calib)), baseline_m_(stereo::baseline_m(calib)) {
+  // Q = [1 0 0 -cx; 0 1 0 -cy; 0 0 0 f; 0 0 -1/Tx (cx - cx')/Tx] (cv::stereoRectify).
+  principal_left_px_ = {-q_(0, 3), -q_(1, 3)};
+  const double cx_right = q_(3, 2) != 0.0 ? -q_(0, 3) + q_(3, 3) / q_(3, 2) : -q_(0, 3);
+  principal_right_px_ = {cx_right, -q_(1, 3)};
+}
+
+std::optional<cv::Vec3d> Triangulator::sphere_centre_m(const cv::Point2d& left_px,
+                                                       const cv::Point2d& right_px,
+                                                       double radius_m) const {
+  auto p = point_m(left_px.x, right_px.x, 0.5 * (left_px.y + right_px.y));
+  if (!p || radius_m <= 0.0) return p;
+  // A few rounds: the first distance is short by ~r^2/D, which barely moves the correction.
+  for (int round = 0; round < 3; ++round) {
+    // Each eye sees the ball from its own centre; the right one is baseline_m along +x.
+    const double from_left = cv::norm(*p);
+    const double from_right = cv::norm(*p - cv::Vec3d(baseline_m_, 0.0, 0.0));
+    if (!(from_left > radius_m) || !(from_right > radius_m)) return p;
+    const cv::Point2d l =
+        sphere_centre_image_px(left_px, principal_left_px_, focal_px_, radius_m / from_left);
+    const cv::Point2d r =
+        sphere_centre_image_px(right_px, principal_right_px_, focal_px_, radius_m / from_right);
+    const auto next = point_m(l.x, r.x, 0.5 * (l.y + r.y));
+    if (!next) return p;
+    p = next;
+  }
+  return p;
+}
 
 std::optional<cv::Vec3d> Triangulator::point_m(double x_left_px, double x_right_px,
                                                double row_px) const {
@@ -67,11 +94,20 @@ SizeCheck check_size(const SizeCheckParams& params, double focal_px, double radi
   return c;
 }
 
-cv::Vec3d sphere_centre_from_outline_m(const cv::Vec3d& outline_m, double radius_m) {
-  const double d = cv::norm(outline_m);
-  if (d <= 0.0 || radius_m <= 0.0) return outline_m;
-  const double centre_distance = 0.5 * (d + std::sqrt(d * d + 4.0 * radius_m * radius_m));
-  return outline_m * (centre_distance / d);
+cv::Point2d sphere_centre_image_px(const cv::Point2d& outline_centre_px,
+                                   const cv::Point2d& principal_px, double focal_px,
+                                   double sin_half_angle) {
+  const cv::Point2d offset = outline_centre_px - principal_px;
+  const double u = std::sqrt(offset.dot(offset)) / focal_px;  // tan of the midpoint angle
+  if (!(u > 0.0) || !(focal_px > 0.0) || !(sin_half_angle > 0.0) || !(sin_half_angle < 1.0))
+    return outline_centre_px;
+  const double s = sin_half_angle;
+  const double a2 = s * s / (1.0 - s * s);  // tan^2(alpha)
+  // tan(t+a) + tan(t-a) = 2t(1+a^2) / (1 - t^2 a^2) = 2u, solved for t = tan(theta) in the
+  // cancellation-free form of the quadratic root.
+  const double b = 1.0 + a2;
+  const double t = 2.0 * u / (b + std::sqrt(b * b + 4.0 * u * u * a2));
+  return principal_px + offset * (t / u);
 }
 
 }  // namespace stereoball::stereo

@@ -26,6 +26,14 @@ class Triangulator {
   /// Depth (z) for a disparity x_left - x_right, metres; nullopt if not in front.
   std::optional<double> depth_from_disparity_m(double disparity_px) const;
 
+  /// Centre of a sphere of radius_m, left rectified frame, metres, from the centres of its
+  /// image outlines (rectified pixels, rows averaged): each eye's centre is moved to the
+  /// projection of the sphere's centre (sphere_centre_image_px, at the distance of a first
+  /// triangulation) before triangulating. Without this, range comes out about r^2/D short and
+  /// an off-axis ball about (r/D)^2 of its offset too far out. nullopt if not in front.
+  std::optional<cv::Vec3d> sphere_centre_m(const cv::Point2d& left_px, const cv::Point2d& right_px,
+                                           double radius_m) const;
+
   /// Rectified focal length, pixels.
   double focal_px() const { return focal_px_; }
   /// Baseline, metres.
@@ -34,6 +42,8 @@ class Triangulator {
  private:
   explicit Triangulator(const StereoCalibration& calib);
   cv::Matx44d q_;
+  cv::Point2d principal_left_px_;
+  cv::Point2d principal_right_px_;
   double focal_px_;
   double baseline_m_;
 };
@@ -69,11 +79,14 @@ struct SizeCheck {
 SizeCheck check_size(const SizeCheckParams& params, double focal_px, double radius_px,
                      double depth_m);
 
-/// Centre of a sphere of radius_m from the triangulated centres of its two image outlines.
-/// The outlines are the images of the circle where the viewing cone touches the sphere; that
-/// circle's centre lies r^2/D in front of the sphere's centre (D = distance to the centre), so
-/// triangulating image centres underestimates range by about r^2/D. This moves outline_m along
-/// its ray to the sphere centre: D - r^2/D = |outline_m|, metres.
-cv::Vec3d sphere_centre_from_outline_m(const cv::Vec3d& outline_m, double radius_m);
+/// Where the centre of a sphere projects, from the centre of its image outline, pixels.
+/// An off-axis sphere images as an ellipse stretched away from the principal point, and its
+/// centre lies farther out than the centre's projection: at angle theta off the axis with
+/// half-angle alpha the outline spans tan(theta - alpha) .. tan(theta + alpha) (normalised
+/// units) along the radial line. Inverting that midpoint shifts the point back toward the
+/// principal point. sin_half_angle = sphere radius / distance of its centre, in [0, 1).
+cv::Point2d sphere_centre_image_px(const cv::Point2d& outline_centre_px,
+                                   const cv::Point2d& principal_px, double focal_px,
+                                   double sin_half_angle);
 
 }  // namespace stereoball::stereo

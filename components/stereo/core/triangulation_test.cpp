@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
 namespace stereoball::stereo {
 namespace {
 
@@ -93,19 +95,70 @@ TEST(SizeCheckParams, GivenBadValuesWhenValidatedThenFieldNamed) {
 namespace stereoball::stereo {
 namespace {
 
-// Given a sphere, when its outline's centre (the tangent circle of the viewing cone, r^2/D in
-// front of the sphere's centre) is corrected, then the sphere's centre comes back.
-TEST(SphereCentre, GivenOutlineCentreWhenCorrectedThenSphereCentreIsRecovered) {
-  const double r = 0.11;
-  for (const cv::Vec3d& centre :
-       {cv::Vec3d(0.0, 0.0, 1.0), cv::Vec3d(0.3, 0.1, 1.0), cv::Vec3d(-0.5, 0.2, 2.5)}) {
-    const double d = cv::norm(centre);
-    const cv::Vec3d outline = centre * (1.0 - r * r / (d * d));
-    const cv::Vec3d recovered = sphere_centre_from_outline_m(outline, r);
-    EXPECT_NEAR(cv::norm(recovered - centre), 0.0, 1e-12);
-    EXPECT_GT(cv::norm(centre - outline), 0.004) << "the bias being corrected is real";
+// Projects the silhouette of a sphere (centre c, radius r, camera at the origin looking along
+// +z, focal f, principal point pp): points of the sphere where the viewing ray is tangent.
+std::vector<cv::Point2f> silhouette_px(const cv::Vec3d& c, double r, double f, cv::Point2d pp) {
+  const double d = cv::norm(c);
+  const cv::Vec3d axis = c / d;
+  // The tangent points form a circle of radius r*sqrt(d^2-r^2)/d around axis*(d - r^2/d).
+  const cv::Vec3d centre = axis * (d - r * r / d);
+  const double rho = r * std::sqrt(d * d - r * r) / d;
+  const cv::Vec3d e1 = cv::normalize(axis.cross(cv::Vec3d(0, 1, 0)));
+  const cv::Vec3d e2 = axis.cross(e1);
+  std::vector<cv::Point2f> out;
+  for (int i = 0; i < 720; ++i) {
+    const double a = i * CV_PI / 360.0;
+    const cv::Vec3d p = centre + rho * (std::cos(a) * e1 + std::sin(a) * e2);
+    out.emplace_back(static_cast<float>(pp.x + f * p[0] / p[2]),
+                     static_cast<float>(pp.y + f * p[1] / p[2]));
   }
-  EXPECT_EQ(sphere_centre_from_outline_m(cv::Vec3d(0, 0, 1), 0.0), cv::Vec3d(0, 0, 1));
+  return out;
+}
+
+// Given spheres on and off the axis, when the centre of their exact image outline (an ellipse,
+// fitted by OpenCV) is corrected, then it lands on the projection of the sphere's centre.
+TEST(SphereCentre, GivenOutlineEllipseCentreWhenCorrectedThenCentreProjectionIsRecovered) {
+  const double f = 530.0, r = 0.11;
+  const cv::Point2d pp(318.0, 242.0);
+  for (const cv::Vec3d& c : {cv::Vec3d(0.0, 0.0, 1.0), cv::Vec3d(0.35, 0.1, 1.0),
+                             cv::Vec3d(-0.5, 0.25, 1.2), cv::Vec3d(0.9, -0.3, 2.5)}) {
+    const cv::Point2d truth(pp.x + f * c[0] / c[2], pp.y + f * c[1] / c[2]);
+    const cv::RotatedRect ellipse = cv::fitEllipse(silhouette_px(c, r, f, pp));
+    const cv::Point2d outline_centre(ellipse.center.x, ellipse.center.y);
+    const cv::Point2d fixed = sphere_centre_image_px(outline_centre, pp, f, r / cv::norm(c));
+    EXPECT_LT(cv::norm(fixed - truth), 0.01) << c;
+    if (c[0] != 0.0) {
+      EXPECT_GT(cv::norm(outline_centre - truth), 0.3) << "the bias is real";
+    }
+  }
+  EXPECT_EQ(sphere_centre_image_px({400, 300}, pp, f, 0.0), cv::Point2d(400, 300));
+}
+
+// Given an ideal rectified rig and a ball off to the side, when the centres of the two exact
+// outlines are triangulated with sphere_centre_m, then the ball's centre comes back to 0.1 mm,
+// while plain triangulation of the outline centres is millimetres off.
+TEST(SphereCentre, GivenBothOutlinesWhenTriangulatedThenSphereCentreIsRecovered) {
+  const double f = 500.0, b = 0.12, r = 0.11;
+  const cv::Point2d pp(320.0, 240.0);
+  const CameraModel cam{cv::Matx33d(f, 0, pp.x, 0, f, pp.y, 0, 0, 1), {}};
+  const Triangulator tri =
+      Triangulator::create(
+          make_calibration(cam, cam, cv::Matx33d::eye(), cv::Vec3d(-b, 0, 0), cv::Size(640, 480)))
+          .value();
+  for (const cv::Vec3d& c :
+       {cv::Vec3d(0.06, 0.0, 0.8), cv::Vec3d(0.4, 0.15, 1.0), cv::Vec3d(-0.6, 0.1, 2.0)}) {
+    auto centre_of = [&](const cv::Vec3d& in_eye) {
+      const cv::RotatedRect e = cv::fitEllipse(silhouette_px(in_eye, r, f, pp));
+      return cv::Point2d(e.center.x, e.center.y);
+    };
+    const cv::Point2d left = centre_of(c);
+    const cv::Point2d right = centre_of(c - cv::Vec3d(b, 0, 0));
+    const auto fixed = tri.sphere_centre_m(left, right, r);
+    ASSERT_TRUE(fixed.has_value());
+    EXPECT_LT(cv::norm(*fixed - c), 1e-4) << c << " got " << *fixed;
+    const auto plain = tri.point_m(left.x, right.x, 0.5 * (left.y + right.y));
+    EXPECT_GT(cv::norm(*plain - c), 2e-3) << "the bias being corrected is real";
+  }
 }
 
 }  // namespace
