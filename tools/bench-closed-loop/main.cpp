@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "closed_loop_run.hpp"
-#include "loop_config.hpp"
+#include "loop_cli.hpp"
 #include "report.hpp"
 
 namespace bc = stereoball::bench_closed_loop;
@@ -25,13 +25,10 @@ namespace sl = stereoball::sim_loop;
 namespace {
 
 struct Options {
-  std::vector<std::string> scenarios;
+  sl::LoopCli loop;
   int seeds = 3;
-  double seconds = -1.0;
-  bool plain = false;
   std::string json_path;
   std::string trace_dir;
-  std::string config_dir = SB_DEFAULT_CONFIG_DIR;
   double settle_s = 2.0;
   double reacquire_limit_s = 10.0;
 };
@@ -42,25 +39,15 @@ int fail(const std::string& message) {
 }
 
 void add_options(CLI::App& app, Options& o) {
-  app.add_option("--scenario", o.scenarios,
-                 "scenario name (config/scenarios/NAME.yaml) or path; repeat; default: all");
+  o.loop.config_dir = SB_DEFAULT_CONFIG_DIR;
+  sl::add_loop_options(app, o.loop);
   app.add_option("--seeds", o.seeds, "runs per scenario; run i uses the scenario's seed + i")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
-  app.add_option("--seconds", o.seconds,
-                 "simulated seconds per run (default: each scenario's duration_s)")
-      ->check(CLI::Range(0.5, 3600.0));
-  app.add_flag("--plain", o.plain,
-               "untextured floor and one-colour ball in every scenario (the detector's easy "
-               "case)");
   app.add_option("--json", o.json_path, "also write every figure as JSON to this file");
   app.add_option("--trace", o.trace_dir,
                  "write every run frame by frame to DIR/<scenario>_seed<N>.csv (existing folder)")
       ->check(CLI::ExistingDirectory);
-  app.add_option("--config-dir", o.config_dir,
-                 "folder with simulator.yaml, ball_detector.yaml, tracker.yaml, "
-                 "motion_controller.yaml and scenarios/")
-      ->capture_default_str();
   app.add_option("--settle", o.settle_s,
                  "(a): seconds the ball must be visible and slow enough before it counts as "
                  "reachable")
@@ -106,19 +93,10 @@ int main(int argc, char** argv) {
   }
   cv::setNumThreads(1);
 
-  auto loaded = sl::load_loop_config(o.config_dir);
-  if (!loaded) return fail(loaded.error());
-  const sl::LoopConfig base = loaded.value();
-  const std::string scenario_dir = o.config_dir + "/scenarios";
-  if (o.scenarios.empty()) o.scenarios = sl::scenario_names(scenario_dir);
-  if (o.scenarios.empty()) return fail("no scenario files (*.yaml) in " + scenario_dir);
-  // Every scenario is checked before the first (long) run.
-  std::vector<stereoball::simulator::Scenario> scenarios;
-  for (const auto& name : o.scenarios) {
-    auto s = sl::load_scenario(name, scenario_dir, o.plain);
-    if (!s) return fail(s.error());
-    scenarios.push_back(s.value());
-  }
+  auto selected = sl::select_runs(o.loop);
+  if (!selected) return fail(selected.error());
+  const sl::LoopConfig& base = selected->base;
+  const auto& scenarios = selected->scenarios;
   std::ofstream json_out;
   if (!o.json_path.empty()) {
     json_out.open(o.json_path);
@@ -130,14 +108,14 @@ int main(int argc, char** argv) {
       "stereoball-bench-closed-loop: %zu scenario(s) x %d seed(s), camera %.0f Hz, controller "
       "%.0f Hz, target %.2f m%s\n",
       scenarios.size(), o.seeds, base.sim.frame_rate_hz, base.controller_rate_hz,
-      base.controller.target_distance_m, o.plain ? ", plain room and one-colour ball" : "");
+      base.controller.target_distance_m, o.loop.plain ? ", plain room and one-colour ball" : "");
   std::vector<bc::JudgedRun> runs;
   for (const auto& scenario : scenarios) {
     for (int i = 0; i < o.seeds; ++i) {
       sl::LoopConfig config = base;
       config.scenario = scenario;
       config.scenario.seed = scenario.seed + static_cast<std::uint64_t>(i);
-      config.seconds = o.seconds > 0 ? o.seconds : scenario.duration_s;
+      config.seconds = sl::run_seconds(o.loop, scenario);
       const auto t0 = std::chrono::steady_clock::now();
       auto samples = bc::run_closed_loop(config);
       if (!samples) return fail(samples.error());

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "loop_cli.hpp"
 #include "loop_config.hpp"
 #include "tracking_run.hpp"
 
@@ -22,13 +23,10 @@ namespace sl = stereoball::sim_loop;
 namespace {
 
 struct Options {
-  std::vector<std::string> scenarios;
-  std::string config_dir = SB_DEFAULT_CONFIG_DIR;
-  double seconds = -1.0;
+  sl::LoopCli loop;
   std::optional<std::uint64_t> seed;
   std::string drive = "script";
   int threads = 1;
-  bool plain = false;
 };
 
 int fail(const std::string& message) {
@@ -150,16 +148,9 @@ int main(int argc, char** argv) {
       "with no ball, track acceptance and 3D error with the ball visible, detector time.\n"
       "No DDS; figures only, no pass/fail."};
   Options o;
-  app.add_option("--scenario", o.scenarios,
-                 "scenario name (config/scenarios/NAME.yaml) or path; repeat; default: all");
-  app.add_option("--seconds", o.seconds,
-                 "simulated seconds per scenario (default: each scenario's duration)")
-      ->check(CLI::Range(0.1, 3600.0));
+  o.loop.config_dir = SB_DEFAULT_CONFIG_DIR;
+  sl::add_loop_options(app, o.loop);
   app.add_option("--seed", o.seed, "override every scenario's seed (sensor noise)");
-  app.add_option("--config-dir", o.config_dir,
-                 "folder with simulator.yaml, ball_detector.yaml, tracker.yaml, "
-                 "motion_controller.yaml and scenarios/")
-      ->capture_default_str();
   app.add_option("--drive", o.drive,
                  "who drives the robot: script (the scenario's commands) or controller (the "
                  "motion controller core on the tracker's output)")
@@ -168,32 +159,24 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "OpenCV threads (1 = one core, the target)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  app.add_flag("--plain", o.plain,
-               "untextured floor and one-colour ball in every scenario (the detector's easy "
-               "case: separates tracking figures from detector misses)");
   CLI11_PARSE(app, argc, argv);
   cv::setNumThreads(o.threads);
 
-  auto loaded = sl::load_loop_config(o.config_dir);
-  if (!loaded) return fail(loaded.error());
-  bt::RunConfig base = loaded.value();
+  auto selected = sl::select_runs(o.loop);
+  if (!selected) return fail(selected.error());
+  bt::RunConfig base = selected->base;
   base.drive = o.drive == "controller" ? bt::Drive::kController : bt::Drive::kScript;
 
-  const std::string scenario_dir = o.config_dir + "/scenarios";
-  if (o.scenarios.empty()) o.scenarios = sl::scenario_names(scenario_dir);
-  if (o.scenarios.empty()) return fail("no scenario files (*.yaml) in " + scenario_dir);
-
   std::printf("stereoball-bench-tracking: %zu scenario(s), %dx%d at %.1f Hz, drive %s%s\n",
-              o.scenarios.size(), base.sim.width_px, base.sim.height_px, base.sim.frame_rate_hz,
-              o.drive.c_str(), o.plain ? ", plain room and one-colour ball" : "");
+              selected->scenarios.size(), base.sim.width_px, base.sim.height_px,
+              base.sim.frame_rate_hz, o.drive.c_str(),
+              o.loop.plain ? ", plain room and one-colour ball" : "");
   std::vector<bt::RunResult> runs;
-  for (const auto& name : o.scenarios) {
-    auto s = sl::load_scenario(name, scenario_dir, o.plain);
-    if (!s) return fail(s.error());
+  for (const auto& scenario : selected->scenarios) {
     bt::RunConfig config = base;
-    config.scenario = s.value();
+    config.scenario = scenario;
     if (o.seed) config.scenario.seed = *o.seed;
-    config.seconds = o.seconds > 0 ? o.seconds : config.scenario.duration_s;
+    config.seconds = sl::run_seconds(o.loop, scenario);
     auto out = bt::run_scenario(config);
     if (!out.error.empty()) return fail(out.error);
     std::fprintf(stderr, "  %s: %zu frames\n", out.result.scenario.c_str(),

@@ -1,0 +1,37 @@
+#pragma once
+// Command-line options shared by the offline loop tools (stereoball bench tracking,
+// stereoball bench closed-loop), and what they select.
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+#include "common/util/result.hpp"
+#include "sim_loop.hpp"
+
+namespace stereoball::sim_loop {
+
+/// --scenario, --seconds, --plain, --config-dir.
+struct LoopCli {
+  std::vector<std::string> scenarios;  ///< names or paths; empty = every scenario file
+  std::string config_dir;              ///< simulator/detector/tracker/controller YAML + scenarios/
+  double seconds = -1.0;               ///< simulated seconds per run; <= 0 = scenario duration
+  bool plain = false;                  ///< plain room and one-colour ball
+};
+
+/// Adds the shared options to app; config_dir's default is o.config_dir as given.
+void add_loop_options(CLI::App& app, LoopCli& o);
+
+/// The loaded configuration and every selected scenario (all checked before any run).
+struct LoopSelection {
+  LoopConfig base;
+  std::vector<simulator::Scenario> scenarios;
+};
+/// Loads the configuration and the scenarios; the error names the file, key or scenario.
+Result<LoopSelection> select_runs(const LoopCli& o);
+
+/// Simulated seconds to run scenario: --seconds if given, else its duration_s.
+double run_seconds(const LoopCli& o, const simulator::Scenario& scenario);
+
+}  // namespace stereoball::sim_loop
