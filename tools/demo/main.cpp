@@ -142,9 +142,10 @@ void write_plots(const fs::path& out, const std::string& scenario, const Recorde
   Series b_true{"truth", {}, cv::Scalar(0, 120, 255)};
   for (const auto& t : rec.truth) {
     if (!t.ball_present) continue;
-    d_true.points.emplace_back(t.t_s, sb::demo::horizontal_distance_m(t.ball_cam_m));
+    // From the robot's centre and heading: what the controller's target refers to.
+    d_true.points.emplace_back(t.t_s, sb::demo::robot_ball_distance_m(t));
     d_target.points.emplace_back(t.t_s, target_m);
-    b_true.points.emplace_back(t.t_s, sb::demo::bearing_rad(t.ball_cam_m) * 180 / M_PI);
+    b_true.points.emplace_back(t.t_s, sb::demo::robot_ball_bearing_rad(t) * 180 / M_PI);
   }
   dist.series = {d_true, d_target};
   bearing.series = {b_true};
@@ -270,7 +271,7 @@ int main(int argc, char** argv) {
         const char* st = rec.tracks.empty() ? "-" : state_name(rec.tracks.back().state);
         const double dist = rec.truth.empty() || !rec.truth.back().ball_present
                                 ? NAN
-                                : sb::demo::horizontal_distance_m(rec.truth.back().ball_cam_m);
+                                : sb::demo::robot_ball_distance_m(rec.truth.back());
         std::printf(
             "%s  t=%5.1f s  %5.1f fps  track %-9s  ball %s  detections %zu  cmd %+.2f m/s %+.2f "
             "rad/s%s",
