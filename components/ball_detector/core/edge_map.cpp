@@ -164,27 +164,54 @@ int thin_staircase(cv::Mat& binary) {
   return removed;
 }
 
-void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
-  out.grey = to_grey(image);
+namespace {
+
+void sobel(EdgeMap& out) {
   cv::Sobel(out.grey, out.dx, CV_16S, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
   cv::Sobel(out.grey, out.dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
-  CannyThresholds t = canny_thresholds(out.dx, out.dy, params);
-  out.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
-  if (out.denoised) {
-    // Heavy noise: Canny alone would chain noise pixels into edges; blur once and redo.
-    cv::Mat smooth;
-    cv::GaussianBlur(out.grey, smooth, cv::Size(5, 5), 1.2, 1.2, cv::BORDER_REPLICATE);
-    out.grey = smooth;
-    cv::Sobel(out.grey, out.dx, CV_16S, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
-    cv::Sobel(out.grey, out.dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
-    t = canny_thresholds(out.dx, out.dy, params);
-  }
+}
+
+void blur_and_sobel(EdgeMap& out) {
+  cv::Mat smooth;
+  cv::GaussianBlur(out.grey, smooth, cv::Size(5, 5), 1.2, 1.2, cv::BORDER_REPLICATE);
+  out.grey = smooth;
+  sobel(out);
+}
+
+void canny_and_thin(const EdgeParams& params, const CannyThresholds& t, EdgeMap& out) {
   out.low_threshold = t.low;
   out.high_threshold = t.high;
   out.median_gradient = t.median_gradient;
   cv::Canny(out.dx, out.dy, out.edges, t.low, t.high, false);
   out.removed_staircase = params.thin ? thin_staircase(out.edges) : 0;
   out.bits.assign(out.edges);
+}
+
+}  // namespace
+
+void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
+  out.grey = to_grey(image);
+  sobel(out);
+  CannyThresholds t = canny_thresholds(out.dx, out.dy, params);
+  out.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
+  if (out.denoised) {
+    // Heavy noise: Canny alone would chain noise pixels into edges; blur once and redo.
+    blur_and_sobel(out);
+    t = canny_thresholds(out.dx, out.dy, params);
+  }
+  canny_and_thin(params, t, out);
+}
+
+void compute_edge_map(const cv::Mat& image, const EdgeParams& params, const CannyThresholds& fixed,
+                      bool denoise, EdgeMap& out) {
+  out.grey = to_grey(image);
+  out.denoised = denoise;
+  if (out.denoised) {
+    blur_and_sobel(out);
+  } else {
+    sobel(out);
+  }
+  canny_and_thin(params, fixed, out);
 }
 
 }  // namespace stereoball::ball_detector

@@ -100,4 +100,9 @@ int thin_staircase(cv::Mat& binary);
 /// Computes the whole edge step into out (buffers reused across calls of the same size).
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out);
 
+/// Same with the thresholds and the pre-blur decision taken elsewhere (e.g. on the full image
+/// when only a crop is searched: a crop's own statistics depend on whatever it holds).
+void compute_edge_map(const cv::Mat& image, const EdgeParams& params, const CannyThresholds& fixed,
+                      bool denoise, EdgeMap& out);
+
 }  // namespace stereoball::ball_detector

@@ -20,6 +20,9 @@ inline double fast_hypot(double a, double b) {
 
 constexpr int kMaxK = 31;  // window rows are read as one 63-bit slice
 constexpr double kRingSeedBelowScore = 0.8;
+// Arc isolation is tried only on windows with at most this many times 2k+1 points: denser
+// windows are texture, where it costs time and finds nothing the bench sequences need.
+constexpr int kIsolateMaxFactor = 3;
 
 double median_of(std::vector<double>& v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -87,7 +90,7 @@ void PixelToPixelDetector::vote(int k) {
         int got = 0;
         if (window_count_ok(count, k)) {
           got = collect_window_points(bits, x, y, k, std::span(window.data(), n));
-        } else if (params_.isolate_arc && count > n) {
+        } else if (params_.isolate_arc && count > n && count <= kIsolateMaxFactor * n) {
           // Addition: judge the arc through O alone when other edges share the window.
           if (connected_window_rows(bits, x, y, k, mask) != n) continue;
           got = collect_masked_points(mask, k, std::span(window.data(), n));
@@ -114,6 +117,22 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
   voters_.clear();
   if (validate_image(bgr_or_grey)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
+  return detect_on_edges();
+}
+
+std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
+                                                 const EdgeMap& thresholds_from) {
+  diag_ = DetectionDiagnostics{};
+  peak_ratio_done_ = false;
+  voters_.clear();
+  if (validate_image(bgr_or_grey)) return {};
+  const CannyThresholds t{thresholds_from.low_threshold, thresholds_from.high_threshold,
+                          thresholds_from.median_gradient};
+  compute_edge_map(bgr_or_grey, params_.edge, t, thresholds_from.denoised, edges_);
+  return detect_on_edges();
+}
+
+std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   accumulator_.create(edges_.edges.size(), CV_16UC1);
   accumulator_.setTo(0);
   for (int k : params_.k_values) vote(k);

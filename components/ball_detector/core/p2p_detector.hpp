@@ -56,6 +56,10 @@ class PixelToPixelDetector final : public CircleDetector {
   /// Params must be valid (see PixelToPixelParams::validate); invalid values are clamped.
   explicit PixelToPixelDetector(const PixelToPixelParams& params);
   std::vector<Circle> detect(const cv::Mat& bgr_or_grey) override;
+  /// detect() with the edge thresholds and pre-blur decision of another edge map (e.g. the
+  /// other eye's full image) instead of this image's own: for crops, whose statistics depend on
+  /// what they happen to hold.
+  std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeMap& thresholds_from);
   const DetectionDiagnostics* diagnostics() const override;
   std::string name() const override { return "p2p"; }
   /// Votes of the last image, before smoothing (CV_16U).
@@ -67,6 +71,7 @@ class PixelToPixelDetector final : public CircleDetector {
 
  private:
   void vote(int k);
+  std::vector<Circle> detect_on_edges();
   std::vector<Circle> circles_from_peaks();
 
   PixelToPixelParams params_;

@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
   sb::ball_detector::BallDetectorParams params;
   params.input = *parsed_input;
   params.p2p.k_values = k_values;
-  params.right_eye_row_band = !full_right;
+  params.right_eye_partner_boxes = !full_right;
   params.size_max_relative_error = size_tolerance;
   params.p2p.min_score = min_score;
   sb::ball_detector::StereoPipeline pipeline(params);

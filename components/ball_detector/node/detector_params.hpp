@@ -35,8 +35,11 @@ struct BallDetectorParams {
   double ball_diameter_m = 0.22;              ///< true ball diameter, metres, (0, 5]
   double epipolar_tolerance_px = 2.0;     ///< largest |y_left - y_right| of a pair, px, [0, 100]
   double size_max_relative_error = 0.15;  ///< accepted |r - r_expected| / r_expected, (0, 10]
-  bool right_eye_row_band = true;         ///< search the right eye only in the rows of left circles
-  int max_candidates_per_eye = 5;         ///< circles kept per eye (P2P max_circles), [1, 50]
+  /// Search the right eye only in the boxes where a size-consistent partner of a left circle
+  /// can lie (rows within the epipolar tolerance, disparity from the ball size at the size
+  /// tolerance); false = the whole right image.
+  bool right_eye_partner_boxes = true;
+  int max_candidates_per_eye = 5;  ///< circles kept per eye (P2P max_circles), [1, 50]
   PixelToPixelParams p2p = pipeline_p2p_defaults();  ///< detector on each rectified eye
 
   /// Names the first bad field and its allowed range, or nullopt.

@@ -37,7 +37,7 @@ Result<BallDetectorParams> read_detector_params(params::ParamsFile& file) {
   file.read("epipolar.tolerance_px", p.epipolar_tolerance_px, 0.0, 100.0);
   file.read("size.max_relative_error", p.size_max_relative_error, 0.001, 10.0);
   file.read("max_candidates_per_eye", p.max_candidates_per_eye, 1, 50);
-  file.read("right_eye_row_band", p.right_eye_row_band);
+  file.read("right_eye_partner_boxes", p.right_eye_partner_boxes);
   std::string input = to_string(p.input);
   file.read_choice("input", input, {"grey", "saturation", "value", "red", "green", "blue"});
   if (auto parsed = parse_detector_input(input)) p.input = *parsed;

@@ -43,7 +43,7 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
   EXPECT_DOUBLE_EQ(p->p2p.edge.min_high_threshold, 150.0);
   EXPECT_EQ(p->p2p.max_peaks_examined, 16);
   EXPECT_EQ(p->p2p.k_values, std::vector<int>{5});
-  EXPECT_TRUE(p->right_eye_row_band);
+  EXPECT_TRUE(p->right_eye_partner_boxes);
   EXPECT_EQ(p->detector_params().max_circles, p->max_candidates_per_eye);
 }
 
@@ -53,13 +53,13 @@ TEST(DetectorParamsFile, GivenChangedValues_ThenTheyAreUsed) {
   text = replace(text, "input: red", "input: grey");
   text = replace(text, "max_peaks_examined: 16", "max_peaks_examined: 7");
   text = replace(text, "edge_min_threshold: 150", "edge_min_threshold: 40");
-  text = replace(text, "right_eye_row_band: true", "right_eye_row_band: false");
+  text = replace(text, "right_eye_partner_boxes: true", "right_eye_partner_boxes: false");
   const auto p = parse(text);
   ASSERT_TRUE(p.ok()) << p.error();
   EXPECT_DOUBLE_EQ(p->epipolar_tolerance_px, 1.5);
   EXPECT_EQ(p->p2p.k_values, (std::vector<int>{3, 8}));
   EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kGrey);
-  EXPECT_FALSE(p->right_eye_row_band);
+  EXPECT_FALSE(p->right_eye_partner_boxes);
   EXPECT_EQ(p->p2p.max_peaks_examined, 7);
   EXPECT_DOUBLE_EQ(p->p2p.edge.min_high_threshold, 40.0);
 }

@@ -1,5 +1,6 @@
 #include "ball_detector/node/pairing.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -59,6 +60,28 @@ std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle&
   pair.size_error = size.relative_error;
   pair.size_consistent = size.consistent;
   return pair;
+}
+
+cv::Rect partner_search_box(const PairingContext& ctx, const Circle& left, cv::Size image,
+                            int margin_px) {
+  const stereo::Triangulator& tri = ctx.triangulator;
+  const auto depth =
+      stereo::depth_from_radius_m(tri.focal_px(), ctx.size.ball_diameter_m, left.radius_px);
+  if (!depth) return {};
+  // The size check accepts radii within the tolerance of the expected one, i.e. depths (and
+  // so disparities) within about that fraction of this one.
+  const double tol = ctx.size.max_relative_error;
+  const double disparity = tri.focal_px() * tri.baseline_m() / *depth;
+  const double shift = tri.principal_left_px().x - tri.principal_right_px().x;
+  const double x_near = left.x_px - shift - disparity * (1.0 + tol);  // nearest ball, leftmost
+  const double x_far = left.x_px - shift - disparity * std::max(0.0, 1.0 - tol);
+  const double reach = (1.0 + tol) * left.radius_px + margin_px;
+  const double rows = reach + ctx.epipolar.params().max_row_diff_px;
+  const int x0 = static_cast<int>(std::floor(x_near - reach));
+  const int x1 = static_cast<int>(std::ceil(x_far + reach)) + 1;
+  const int y0 = static_cast<int>(std::floor(left.y_px - rows));
+  const int y1 = static_cast<int>(std::ceil(left.y_px + rows)) + 1;
+  return cv::Rect(cv::Point(x0, y0), cv::Point(x1, y1)) & cv::Rect(cv::Point(0, 0), image);
 }
 
 PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,

@@ -50,6 +50,13 @@ struct PairingContext {
   const stereo::SizeCheckParams& size;
 };
 
+/// The rectified right-image box where a size-consistent partner of left can lie: the ball
+/// size gives the depth (within the size tolerance), the depth the disparity, the epipolar
+/// tolerance the rows; padded by margin_px (the detector's window) and clipped to image. Empty
+/// if no partner can be in the image.
+cv::Rect partner_search_box(const PairingContext& ctx, const Circle& left, cv::Size image,
+                            int margin_px);
+
 /// True if a should be preferred to b: higher score, then smaller row residual.
 bool better_pair(const StereoPair& a, const StereoPair& b);
 

@@ -131,3 +131,26 @@ TEST(BetterPair, GivenEqualScores_ThenSmallerRowResidualWins) {
   b.score = 0.9;
   EXPECT_TRUE(better_pair(b, a));
 }
+
+// Given a ball at several depths and sides, the box searched in the right eye holds its right
+// circle with room for the whole disc, and is a small part of the image.
+TEST_F(Pairing, GivenLeftCircleThenPartnerBoxHoldsTheTruePartnerOnly) {
+  const cv::Size image(640, 480);
+  for (const cv::Vec3d& c :
+       {cv::Vec3d(0.0, 0.0, 1.0), cv::Vec3d(0.3, 0.1, 1.5), cv::Vec3d(-0.4, -0.05, 2.5)}) {
+    const auto [l, r] = ball_at(c[0], c[1], c[2]);
+    const cv::Rect box = sb::ball_detector::partner_search_box(ctx_, l, image, 8);
+    ASSERT_FALSE(box.empty()) << c;
+    EXPECT_TRUE(box.contains(
+        cv::Point(static_cast<int>(r.x_px - r.radius_px), static_cast<int>(r.y_px - r.radius_px))))
+        << c << " box " << box;
+    EXPECT_TRUE(box.contains(
+        cv::Point(static_cast<int>(r.x_px + r.radius_px), static_cast<int>(r.y_px + r.radius_px))))
+        << c << " box " << box;
+    // The disc, plus the size tolerance's disparity spread: a small part of the image.
+    EXPECT_LT(box.area(), image.area() / 4) << c << " box " << box;
+  }
+  // A left circle whose partner would lie left of the image gives an empty box.
+  Circle edge{5.0, 240.0, 60.0, 0.9};
+  EXPECT_TRUE(sb::ball_detector::partner_search_box(ctx_, edge, image, 8).width < 2 * 60);
+}

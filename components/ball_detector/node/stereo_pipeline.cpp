@@ -146,8 +146,7 @@ std::optional<std::string> StereoPipeline::check_input(const cv::Mat& left,
   return stereo::check_image_size(rectifier_->calibration(), left.size(), right.size());
 }
 
-void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified, cv::Mat& grey,
-                                 cv::Mat& out) {
+const cv::Mat& StereoPipeline::detector_channel(const cv::Mat& raw, cv::Mat& grey) const {
   // One channel first: the detector needs one, and remapping one channel is cheaper.
   const cv::Mat* src = &raw;
   if (raw.channels() == 3) {
@@ -173,10 +172,16 @@ void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool recti
     }
     src = &grey;
   }
+  return *src;
+}
+
+void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified, cv::Mat& grey,
+                                 cv::Mat& out) {
+  const cv::Mat& channel = detector_channel(raw, grey);
   if (rectified) {
-    src->copyTo(out);
+    channel.copyTo(out);
   } else {
-    rectifier_->rectify_eye(eye, *src, out);
+    rectifier_->rectify_eye(eye, channel, out);
   }
 }
 
@@ -195,38 +200,71 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     return out;
   }
   prepare_eye(left, stereo::Eye::kLeft, rectified, grey_left_, rect_left_);
-  prepare_eye(right, stereo::Eye::kRight, rectified, grey_right_, rect_right_);
   left_candidates_ = left_detector_.detect(rect_left_);
-  right_candidates_ =
-      params_.right_eye_row_band ? detect_right_in_band() : right_detector_.detect(rect_right_);
+  const PairingContext ctx{epipolar_, *triangulator_, size_};
+  if (params_.right_eye_partner_boxes) {
+    right_candidates_ = detect_right_in_boxes(ctx, detector_channel(right, grey_right_), rectified);
+  } else {
+    prepare_eye(right, stereo::Eye::kRight, rectified, grey_right_, rect_right_);
+    right_candidates_ = right_detector_.detect(rect_right_);
+  }
   out.candidates_left = static_cast<int>(left_candidates_.size());
   out.candidates_right = static_cast<int>(right_candidates_.size());
 
-  const PairingContext ctx{epipolar_, *triangulator_, size_};
   const PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_);
   fill_result(pairing, out);
-  if (params_.right_eye_row_band && left_candidates_.empty())
+  if (params_.right_eye_partner_boxes && left_candidates_.empty())
     out.reason = "no circle in the left eye (the right eye is searched only near left circles)";
   if (out.status == DetectionStatus::kFound) cut_patch(left, rectified, out);
   return out;
 }
 
-std::vector<Circle> StereoPipeline::detect_right_in_band() {
-  if (left_candidates_.empty()) return {};
-  // A partner lies within the row tolerance of a left centre; its disc spans about the same
-  // radius (plus margin for the size difference between eyes and edge support).
-  int y0 = rect_right_.rows;
-  int y1 = 0;
+std::vector<cv::Rect> StereoPipeline::partner_boxes(const PairingContext& ctx) const {
+  const cv::Size size = rectifier_->calibration().image_size;
+  const auto& ks = params_.p2p.k_values;
+  // Window half size plus the smoothing box: arcs closer to a box edge cannot vote.
+  const int margin = (ks.empty() ? 5 : *std::max_element(ks.begin(), ks.end())) + 4;
+  std::vector<cv::Rect> boxes;
   for (const Circle& c : left_candidates_) {
-    const double half = 1.25 * c.radius_px + params_.epipolar_tolerance_px + 8.0;
-    y0 = std::min(y0, static_cast<int>(std::floor(c.y_px - half)));
-    y1 = std::max(y1, static_cast<int>(std::ceil(c.y_px + half)) + 1);
+    cv::Rect box = partner_search_box(ctx, c, size, margin);
+    if (box.width < 8 || box.height < 8) continue;
+    // Overlapping boxes are searched once, as their union.
+    for (bool merged = true; merged;) {
+      merged = false;
+      for (auto it = boxes.begin(); it != boxes.end(); ++it) {
+        if ((*it & box).empty()) continue;
+        box |= *it;
+        boxes.erase(it);
+        merged = true;
+        break;
+      }
+    }
+    boxes.push_back(box);
   }
-  y0 = std::max(y0, 0);
-  y1 = std::min(y1, rect_right_.rows);
-  if (y1 - y0 < 8) return {};
-  std::vector<Circle> found = right_detector_.detect(rect_right_.rowRange(y0, y1));
-  for (Circle& c : found) c.y_px += y0;
+  return boxes;
+}
+
+std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& ctx,
+                                                          const cv::Mat& right_channel,
+                                                          bool rectified) {
+  rect_right_.create(rectifier_->calibration().image_size, right_channel.type());
+  rect_right_.setTo(0);
+  std::vector<Circle> found;
+  for (const cv::Rect& box : partner_boxes(ctx)) {
+    if (rectified) {
+      right_channel(box).copyTo(rect_right_(box));
+    } else {
+      rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, box, rect_right_);
+    }
+    // The left image's thresholds: the box's own statistics depend on what it holds.
+    for (Circle c : right_detector_.detect(rect_right_(box), left_detector_.edge_map())) {
+      c.x_px += box.x;
+      c.y_px += box.y;
+      found.push_back(c);
+    }
+  }
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
   return found;
 }
 

@@ -84,7 +84,8 @@ class StereoPipeline {
   /// kBadFrame / kNoCalibration with the reason, never an exception.
   StereoDetection step(const cv::Mat& left, const cv::Mat& right, bool rectified);
 
-  /// Rectified grey images of the last processed frame (for debugging and tests).
+  /// Rectified detector-input images of the last processed frame (for debugging and tests);
+  /// with right_eye_partner_boxes the right one holds only the searched boxes (zero elsewhere).
   const cv::Mat& rectified_left() const { return rect_left_; }
   const cv::Mat& rectified_right() const { return rect_right_; }
   /// Candidates of the last processed frame, rectified pixels, best first.
@@ -95,7 +96,10 @@ class StereoPipeline {
   std::optional<std::string> check_input(const cv::Mat& left, const cv::Mat& right) const;
   void prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified, cv::Mat& grey,
                    cv::Mat& out);
-  std::vector<Circle> detect_right_in_band();
+  const cv::Mat& detector_channel(const cv::Mat& raw, cv::Mat& grey) const;
+  std::vector<cv::Rect> partner_boxes(const PairingContext& ctx) const;
+  std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
+                                            bool rectified);
   void fill_result(const PairingResult& pairing, StereoDetection& out) const;
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
 

@@ -120,18 +120,18 @@ INSTANTIATE_TEST_SUITE_P(Positions, RenderedBall,
                          ::testing::Values(plain_scene(1.5, 0.0), plain_scene(1.0, 0.1),
                                            plain_scene(1.2, 0.25)));
 
-// Given the right eye searched over the whole image instead of the left circles' rows,
-// then the same pair is found (the band only saves time).
-TEST(StereoPipeline, GivenFullRightSearch_ThenSameResultAsRowBand) {
+// Given the right eye searched over the whole image instead of the partner boxes,
+// then the same pair is found (the boxes only save time).
+TEST(StereoPipeline, GivenFullRightSearch_ThenSameResultAsPartnerBoxes) {
   const Rendered r = render(plain_scene(1.5, 0.0));
-  sb::ball_detector::BallDetectorParams band_params;
+  sb::ball_detector::BallDetectorParams box_params;
   sb::ball_detector::BallDetectorParams full_params;
-  full_params.right_eye_row_band = false;
-  StereoPipeline band(band_params);
+  full_params.right_eye_partner_boxes = false;
+  StereoPipeline boxes(box_params);
   StereoPipeline full(full_params);
-  ASSERT_EQ(band.set_calibration(r.calib), std::nullopt);
+  ASSERT_EQ(boxes.set_calibration(r.calib), std::nullopt);
   ASSERT_EQ(full.set_calibration(r.calib), std::nullopt);
-  const auto a = band.step(r.frame.left, r.frame.right, false);
+  const auto a = boxes.step(r.frame.left, r.frame.right, false);
   const auto b = full.step(r.frame.left, r.frame.right, false);
   ASSERT_EQ(a.status, DetectionStatus::kFound) << a.reason;
   ASSERT_EQ(b.status, DetectionStatus::kFound) << b.reason;

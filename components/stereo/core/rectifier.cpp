@@ -50,6 +50,21 @@ std::optional<std::string> Rectifier::rectify_eye(Eye eye, const cv::Mat& raw, c
   return std::nullopt;
 }
 
+std::optional<std::string> Rectifier::rectify_eye_region(Eye eye, const cv::Mat& raw, cv::Rect roi,
+                                                         cv::Mat& out) const {
+  if (auto error = check_size(eye, raw)) return error;
+  if (out.size() != calib_.image_size || out.type() != raw.type())
+    return std::string("rectify_eye_region: output must be ") + size_text(calib_.image_size) +
+           " of the raw frame's type";
+  roi &= cv::Rect(cv::Point(0, 0), calib_.image_size);
+  if (roi.empty()) return std::nullopt;
+  const EyeMaps& m = maps(eye);
+  cv::Mat target = out(roi);
+  // The LUT rows/columns of the region map it from anywhere in the raw frame.
+  cv::remap(raw, target, m.xy(roi), m.frac(roi), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  return std::nullopt;
+}
+
 std::optional<std::string> Rectifier::rectify(const cv::Mat& left, const cv::Mat& right,
                                               cv::Mat& left_out, cv::Mat& right_out) const {
   // Check both before writing either, so a bad pair leaves the outputs untouched.

@@ -32,6 +32,11 @@ class Rectifier {
   /// Rectifies one raw frame of one eye; same checks as rectify().
   std::optional<std::string> rectify_eye(Eye eye, const cv::Mat& raw, cv::Mat& out) const;
 
+  /// Rectifies only the rectified-image region roi of one eye into out(roi); out must already
+  /// be of the calibration's size and the raw frame's type (pixels outside roi are untouched).
+  /// Same checks as rectify_eye, plus out's size/type; roi is clipped to the image.
+  std::optional<std::string> rectify_eye_region(Eye eye, const cv::Mat& raw, cv::Rect roi,
+                                                cv::Mat& out) const;
   /// Raw (distorted) pixel -> rectified pixel, for callers that only need centres.
   cv::Point2d rectify_point(Eye eye, cv::Point2d raw_px) const;
 

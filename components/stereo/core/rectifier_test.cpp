@@ -104,6 +104,30 @@ TEST_F(RectifierTest, GivenGoodFramesWhenRectifiedThenSameSizeAndType) {
   EXPECT_EQ(l.at<cv::Vec3b>(240, 320), cv::Vec3b(100, 150, 200));
 }
 
+// Given a noisy frame, when only a region is rectified, then that region equals the same
+// region of the full rectification, pixels outside it are untouched, and a region hanging over
+// the border is clipped.
+TEST_F(RectifierTest, GivenRegionWhenRectifiedThenEqualsThatPartOfTheFullRectification) {
+  cv::Mat raw(rig_.size, CV_8UC1);
+  cv::randu(raw, 0, 256);
+  cv::Mat full;
+  ASSERT_EQ(rect_.rectify_eye(Eye::kRight, raw, full), std::nullopt);
+  cv::Mat part(rig_.size, CV_8UC1, cv::Scalar(7));
+  const cv::Rect roi(100, 50, 120, 90);
+  ASSERT_EQ(rect_.rectify_eye_region(Eye::kRight, raw, roi, part), std::nullopt);
+  EXPECT_EQ(cv::norm(full(roi), part(roi), cv::NORM_INF), 0.0);
+  EXPECT_EQ(part.at<uchar>(10, 10), 7);
+  EXPECT_EQ(part.at<uchar>(200, 300), 7);
+  const cv::Rect over(rig_.size.width - 30, rig_.size.height - 20, 100, 100);
+  ASSERT_EQ(rect_.rectify_eye_region(Eye::kRight, raw, over, part), std::nullopt);
+  const cv::Rect inside = over & cv::Rect(cv::Point(0, 0), rig_.size);
+  EXPECT_EQ(cv::norm(full(inside), part(inside), cv::NORM_INF), 0.0);
+  cv::Mat wrong(10, 10, CV_8UC1);
+  const auto error = rect_.rectify_eye_region(Eye::kRight, raw, roi, wrong);
+  ASSERT_TRUE(error.has_value());
+  EXPECT_NE(error->find("output"), std::string::npos) << *error;
+}
+
 TEST(RectifierCreate, GivenInvalidCalibrationWhenCreatedThenErrorNamesField) {
   StereoCalibration c = default_synthetic_rig().calibration();
   c.k2(1, 1) = -5;

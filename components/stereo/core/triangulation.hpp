@@ -34,6 +34,9 @@ class Triangulator {
   std::optional<cv::Vec3d> sphere_centre_m(const cv::Point2d& left_px, const cv::Point2d& right_px,
                                            double radius_m) const;
 
+  /// Principal points of the rectified left and right images, pixels (rows are shared).
+  cv::Point2d principal_left_px() const { return principal_left_px_; }
+  cv::Point2d principal_right_px() const { return principal_right_px_; }
   /// Rectified focal length, pixels.
   double focal_px() const { return focal_px_; }
   /// Baseline, metres.
