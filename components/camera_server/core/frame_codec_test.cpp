@@ -8,6 +8,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <cstdio>
+
 #include "camera_server/core/frame_compressor.hpp"
 
 // GCC 12 reports a false -Wrestrict on std::string assignment from a literal (GCC PR 105651).
@@ -89,6 +91,30 @@ TEST(EyeEncoder, GivenBgrImageWhenJpegEncodedThenDecodesCloseToItAndMuchSmaller)
   EXPECT_LT(enc.bytes().size(), img.total() * 3 / 5);
   EXPECT_EQ(enc.bytes()[0], 0xFF);  // JPEG SOI marker
   EXPECT_EQ(enc.bytes()[1], 0xD8);
+}
+
+TEST(EyeEncoder, GivenFineColourDetailThenJpegKeepsFullChromaResolution) {
+  // Given red and blue stripes 2 px wide (colour detail finer than 4:2:0 chroma keeps)
+  cv::Mat img(64, 64, CV_8UC3);
+  for (int x = 0; x < img.cols; ++x) {
+    img.col(x).setTo((x / 2) % 2 ? cv::Scalar(220, 20, 20) : cv::Scalar(20, 20, 220));
+  }
+  // When encoded by the publishers' encoder and by OpenCV's imencode (4:2:0), both at q90
+  EyeEncoder enc(codec("jpeg", 90));
+  ASSERT_FALSE(enc.encode(img));
+  std::vector<uint8_t> subsampled;
+  ASSERT_TRUE(cv::imencode(".jpg", img, subsampled, {cv::IMWRITE_JPEG_QUALITY, 90}));
+  auto red_error = [&](const std::vector<uint8_t>& bytes) {
+    cv::Mat back = cv::imdecode(bytes, cv::IMREAD_COLOR), red_back, red;
+    cv::extractChannel(back, red_back, 2);
+    cv::extractChannel(img, red, 2);
+    return mean_abs_diff(red_back, red);
+  };
+  // Then the red channel (what the ball detector uses) keeps the stripes far better
+  const double ours = red_error(enc.bytes()), opencv = red_error(subsampled);
+  std::printf("red channel error: 4:4:4 %.2f DN, 4:2:0 %.2f DN\n", ours, opencv);
+  EXPECT_LT(ours, 0.25 * opencv);
+  EXPECT_LT(ours, 8.0);
 }
 
 TEST(EyeEncoder, GivenLowerQualityThenFewerBytesAndLargerError) {
