@@ -21,7 +21,11 @@ MotionController::MotionController(const MotionControllerParams& params)
 
 void MotionController::on_track(const TrackSample& sample, std::int64_t now_ns) {
   const bool was_searching = track_ && track_->state == TrackState::kSearching;
-  if (sample.state == TrackState::kSearching && !was_searching) search_started_ns_ = now_ns;
+  if (sample.state == TrackState::kSearching && !was_searching) {
+    search_started_ns_ = now_ns;
+    // Chosen once: the direction must not flip while the robot turns.
+    search_left_ = search_left(sample, now_ns);
+  }
   track_ = sample;
   track_received_ns_ = now_ns;
 }
@@ -70,12 +74,38 @@ Command MotionController::record(const Command& c, std::int64_t now_ns) {
   return c;
 }
 
-Velocity MotionController::own_motion_behind(const TrackSample& t) const {
+Velocity MotionController::own_motion_behind(const TrackSample& t, std::int64_t received_ns) const {
   if (params_.track_velocity_window_ns <= 0) return {linear_.velocity(), angular_.velocity()};
   // The fit ends at the last accepted capture: its age in the sender's clock, moved to ours.
   const std::int64_t end_ns =
-      track_received_ns_ - std::max<std::int64_t>(0, t.capture_stamp_ns - t.last_accepted_stamp_ns);
+      received_ns - std::max<std::int64_t>(0, t.capture_stamp_ns - t.last_accepted_stamp_ns);
   return history_.slope_weighted_mean(end_ns - params_.track_velocity_window_ns, end_ns);
+}
+
+double MotionController::robot_bearing_rad(const TrackSample& t) const {
+  const double right_m = t.distance_m * std::sin(t.bearing_rad) + params_.camera_right_offset_m;
+  const double forward_m = t.distance_m * std::cos(t.bearing_rad) + params_.camera_forward_offset_m;
+  return std::atan2(right_m, forward_m);
+}
+
+bool MotionController::search_left(const TrackSample& t, std::int64_t now_ns) const {
+  bool left = params_.search_left_when_unknown;
+  if (t.last_seen_side == Side::kLeft) left = true;
+  if (t.last_seen_side == Side::kRight) left = false;
+  constexpr double kMinDistanceM = 0.05;  // closer is no usable position
+  if (!t.position_valid || t.distance_m < kMinDistanceM) return left;
+  // Where the ball is now as seen from the robot's centre (the tracker's side is the left
+  // camera's image side: a close ball right of the camera axis can be left of the robot):
+  // its last bearing, moved on by its own bearing rate and by the robot's turn since then.
+  const std::int64_t age_ns =
+      std::max<std::int64_t>(0, t.capture_stamp_ns - t.last_accepted_stamp_ns);
+  const double age_s = static_cast<double>(age_ns) * 1e-9;
+  const Velocity own = own_motion_behind(t, now_ns);
+  const double turned_rad = history_.mean(now_ns - age_ns, now_ns).angular_radps * age_s;
+  const double predicted =
+      robot_bearing_rad(t) + (t.bearing_rate_radps - own.angular_radps) * age_s + turned_rad;
+  if (std::abs(predicted) < params_.bearing_deadband_rad) return left;  // too close to call
+  return predicted < 0.0;                                               // positive bearing = right
 }
 
 MotionController::Target MotionController::following_target(const TrackSample& t) const {
@@ -89,7 +119,7 @@ MotionController::Target MotionController::following_target(const TrackSample& t
   // Steer the robot's centreline, not the left camera's optical axis, at the ball.
   const double right_m = t.distance_m * std::sin(t.bearing_rad) + params_.camera_right_offset_m;
   const double forward_m = t.distance_m * std::cos(t.bearing_rad) + params_.camera_forward_offset_m;
-  const double bearing_rad = std::atan2(right_m, forward_m);
+  const double bearing_rad = robot_bearing_rad(t);
   const double distance_m = std::hypot(right_m, forward_m);
   // Camera x points right: a ball to the right (positive bearing) needs a
   // clockwise (negative) turn.
@@ -97,7 +127,7 @@ MotionController::Target MotionController::following_target(const TrackSample& t
   // left moves the ball right); the difference is what the robot must match. The seen rate
   // is a fit over a past window, so the robot's turn over that window is removed, not the
   // present one (which made the loop oscillate: a phantom ball motion that grows).
-  const Velocity own = own_motion_behind(t);
+  const Velocity own = own_motion_behind(t, track_received_ns_);
   const double ball_rate_radps = t.bearing_rate_radps - own.angular_radps;
   out.angular_radps =
       -params_.bearing_gain_per_s * deadband(bearing_rad, params_.bearing_deadband_rad) -
@@ -122,10 +152,7 @@ MotionController::Target MotionController::searching_target(std::int64_t now_ns)
     return out;
   }
   out.mode = Mode::kSearching;
-  bool left = params_.search_left_when_unknown;
-  if (track_->last_seen_side == Side::kLeft) left = true;
-  if (track_->last_seen_side == Side::kRight) left = false;
-  out.angular_radps = left ? params_.search_angular_radps : -params_.search_angular_radps;
+  out.angular_radps = search_left_ ? params_.search_angular_radps : -params_.search_angular_radps;
   return out;
 }
 

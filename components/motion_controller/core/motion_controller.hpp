@@ -40,7 +40,9 @@ class MotionController {
   Target searching_target(std::int64_t now_ns) const;
   Command hard_stop(Mode mode);
   Command record(const Command& c, std::int64_t now_ns);
-  Velocity own_motion_behind(const TrackSample& t) const;
+  Velocity own_motion_behind(const TrackSample& t, std::int64_t received_ns) const;
+  double robot_bearing_rad(const TrackSample& t) const;
+  bool search_left(const TrackSample& t, std::int64_t now_ns) const;
 
   MotionControllerParams params_;
   SmoothAxis linear_;
@@ -49,6 +51,7 @@ class MotionController {
   std::optional<TrackSample> track_;
   std::int64_t track_received_ns_ = 0;
   std::int64_t search_started_ns_ = 0;
+  bool search_left_ = true;  // direction chosen when the search started
   std::optional<std::int64_t> last_step_ns_;
   bool estop_ = false;
 };

@@ -184,6 +184,49 @@ TEST(MotionController, GivenSearchingWithUnknownSide_ThenConfiguredDefaultDirect
   EXPECT_NEAR(c.angular_radps, -0.8, 1e-9);
 }
 
+// A searching sample that still carries the last accepted position (camera frame), lost
+// age_ns before this capture.
+TrackSample searching_at(double camera_x_m, double camera_z_m, Side tracker_side,
+                         std::int64_t stamp_ns, std::int64_t age_ns = 0) {
+  TrackSample t = with_state(TrackState::kSearching, tracker_side, stamp_ns);
+  t.position_valid = true;
+  t.bearing_rad = std::atan2(camera_x_m, camera_z_m);
+  t.distance_m = std::hypot(camera_x_m, camera_z_m);
+  t.last_accepted_stamp_ns = stamp_ns - age_ns;
+  return t;
+}
+
+TEST(MotionController, GivenCloseBallRightOfTheCameraButLeftOfTheRobot_ThenSearchesLeft) {
+  // Given the shipped rig offsets (left camera 6 cm left of the centreline) and a ball lost
+  // 0.5 m ahead, 2 cm right of the camera axis: the tracker calls that side "right"
+  Harness h(MotionControllerParams{});
+  const Command c = h.run(searching_at(0.02, 0.5, Side::kRight, kT0), 30);
+  // Then from the robot's centre the ball is left (4 cm left of the centreline): turn left
+  EXPECT_EQ(c.mode, Mode::kSearching);
+  EXPECT_NEAR(c.angular_radps, 0.8, 1e-9);
+}
+
+TEST(MotionController, GivenBallLostWhileMovingLeftFast_ThenSearchesWhereItWent) {
+  // Given a ball last seen 0.1 m right of the robot's centreline at 1 m, moving left at
+  // 1 rad/s, lost 0.4 s ago (the robot still): by now it is ~17 degrees to the left
+  Harness h(centred());
+  TrackSample t = searching_at(0.1, 1.0, Side::kRight, kT0, 400'000'000);
+  t.bearing_rate_radps = -1.0;
+  const Command c = h.run(t, 30);
+  // Then the search turns left, not toward the side of the last fix
+  EXPECT_NEAR(c.angular_radps, 0.8, 1e-9);
+}
+
+TEST(MotionController, GivenSearchStarted_ThenTheDirectionDoesNotFlipDuringIt) {
+  // Given a search that started with the ball on the left
+  Harness h(centred());
+  h.run(searching_at(-0.3, 1.0, Side::kLeft, kT0), 5);
+  // When later searching samples carry a position on the right (same lost ball)
+  const Command c = h.run(searching_at(0.3, 1.0, Side::kRight, kT0), 30);
+  // Then the robot keeps turning left
+  EXPECT_NEAR(c.angular_radps, 0.8, 1e-9);
+}
+
 TEST(MotionController, GivenSearchingLongerThanTimeout_ThenGivesUpAndStops) {
   MotionControllerParams p = centred();
   p.search_timeout_ns = 2'000'000'000;

@@ -34,9 +34,21 @@ Velocity OwnMotionHistory::at(std::int64_t t_ns) const {
 }
 
 Velocity OwnMotionHistory::slope_weighted_mean(std::int64_t from_ns, std::int64_t to_ns) const {
+  return weighted_mean(from_ns, to_ns, true);
+}
+
+Velocity OwnMotionHistory::mean(std::int64_t from_ns, std::int64_t to_ns) const {
+  return weighted_mean(from_ns, to_ns, false);
+}
+
+Velocity OwnMotionHistory::weighted_mean(std::int64_t from_ns, std::int64_t to_ns,
+                                         bool slope_weights) const {
   if (to_ns <= from_ns) return at(to_ns);
   const double l = static_cast<double>(to_ns - from_ns) * 1e-9;
-  const double total = l * l * l / 6.0;
+  const auto integral = [&](std::int64_t t_ns) {
+    const double u = static_cast<double>(t_ns - from_ns) * 1e-9;
+    return slope_weights ? weight_integral(u, l) : u;
+  };
   Velocity sum;
   // Segment k holds entries_[k].v from its time to the next entry's (before the first: zero).
   for (std::size_t k = 0; k <= entries_.size(); ++k) {
@@ -44,11 +56,11 @@ Velocity OwnMotionHistory::slope_weighted_mean(std::int64_t from_ns, std::int64_
     const std::int64_t seg_end = k == entries_.size() ? to_ns : std::min(to_ns, entries_[k].t_ns);
     if (seg_end <= seg_start) continue;
     const Velocity v = k == 0 ? Velocity{} : entries_[k - 1].v;
-    const double w = weight_integral(static_cast<double>(seg_end - from_ns) * 1e-9, l) -
-                     weight_integral(static_cast<double>(seg_start - from_ns) * 1e-9, l);
+    const double w = integral(seg_end) - integral(seg_start);
     sum.linear_mps += w * v.linear_mps;
     sum.angular_radps += w * v.angular_radps;
   }
+  const double total = integral(to_ns);
   sum.linear_mps /= total;
   sum.angular_radps /= total;
   return sum;

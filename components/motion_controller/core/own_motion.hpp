@@ -26,8 +26,12 @@ class OwnMotionHistory {
   /// slope of a quantity over that span gives its rate of change; at(to_ns) if the span is
   /// empty.
   Velocity slope_weighted_mean(std::int64_t from_ns, std::int64_t to_ns) const;
+  /// Plain time average over [from_ns, to_ns] (at(to_ns) if the span is empty).
+  Velocity mean(std::int64_t from_ns, std::int64_t to_ns) const;
 
  private:
+  Velocity weighted_mean(std::int64_t from_ns, std::int64_t to_ns, bool slope_weights) const;
+
   struct Entry {
     std::int64_t t_ns = 0;
     Velocity v;

@@ -50,5 +50,14 @@ TEST(OwnMotionHistory, GivenEmptySpanOrForgottenPast_ThenVelocityInForce) {
   EXPECT_NEAR(h.at(350 * kMs).linear_mps, 0.3, 1e-12);
 }
 
+TEST(OwnMotionHistory, GivenStep_ThenThePlainMeanIsTheTimeShare) {
+  // Given 1 rad/s then 3 rad/s from 800 ms, over 0..1000 ms
+  OwnMotionHistory h;
+  h.record(0, {0.0, 1.0});
+  h.record(800 * kMs, {0.0, 3.0});
+  // Then the plain mean weighs by time: 0.8 * 1 + 0.2 * 3
+  EXPECT_NEAR(h.mean(0, 1000 * kMs).angular_radps, 1.4, 1e-9);
+}
+
 }  // namespace
 }  // namespace stereoball::motion_controller
