@@ -3,6 +3,7 @@
 // from inside the robot namespace.
 //  - TwoHostVision: the real workstation profile (ball_detector + tracker): the closed loop
 //    across the link, the stop when the link is cut, the resume when it returns, netem.
+//  - TwoHostVisionJpeg: the same with the robot-jpeg profile (JPEG frames across the link).
 //  - TwoHostLink: the workstation runs sb_truth_tracker (ball/track from ground truth, a
 //    stand-in for vision), so the link-safety checks hold whatever the detector's quality.
 
@@ -179,17 +180,27 @@ std::string oracle_profile() {
   return path;
 }
 
+// What runs on the two hosts: vision (ball_detector + tracker) or the ground-truth stand-in on
+// the workstation, and raw or JPEG frames from the robot.
+enum class Setup { kLink, kVision, kVisionJpeg };
+
 // One running system per suite (starting it costs seconds); the tests of a suite run in order.
-template <bool kVision>
+template <Setup kSetup>
 class TwoHostBase : public ::testing::Test {
  protected:
+  static constexpr bool kVision = kSetup != Setup::kLink;
   static void SetUpTestSuite() {
     sd::SystemOptions o;
     o.domain = sb::testing::test_domain();
+    const char* names[] = {"link.", "vision.", "jpeg."};
     o.partition =
-        std::string("sbtest.") + (kVision ? "vision." : "link.") + std::to_string(::getpid());
+        std::string("sbtest.") + names[static_cast<int>(kSetup)] + std::to_string(::getpid());
     o.workstation_profile = kVision ? "workstation" : oracle_profile();
     if (kVision) o.workstation_observer_topics = {"detection"};  // for failure messages
+    if (kSetup == Setup::kVisionJpeg) {
+      o.robot_profile = "robot-jpeg";
+      o.workstation_observer_topics.push_back("frame");  // JPEG frames: cheap to observe
+    }
     system_ = new sd::TwoHostSystem(o);
     if (auto e = system_->start()) reason_ = *e;
   }
@@ -232,22 +243,18 @@ class TwoHostBase : public ::testing::Test {
   static std::string reason_;
   static bool closed_loop_failed_;
 };
-template <bool kVision>
-sd::TwoHostSystem* TwoHostBase<kVision>::system_ = nullptr;
-template <bool kVision>
-std::string TwoHostBase<kVision>::reason_;
-template <bool kVision>
-bool TwoHostBase<kVision>::closed_loop_failed_ = false;
+template <Setup kSetup>
+sd::TwoHostSystem* TwoHostBase<kSetup>::system_ = nullptr;
+template <Setup kSetup>
+std::string TwoHostBase<kSetup>::reason_;
+template <Setup kSetup>
+bool TwoHostBase<kSetup>::closed_loop_failed_ = false;
 
-using TwoHostVision = TwoHostBase<true>;
-using TwoHostLink = TwoHostBase<false>;
+using TwoHostVision = TwoHostBase<Setup::kVision>;
+using TwoHostVisionJpeg = TwoHostBase<Setup::kVisionJpeg>;
+using TwoHostLink = TwoHostBase<Setup::kLink>;
 
 TEST_F(TwoHostVision, DetectionsFromTheWorkstationDriveTheRobot) {
-  // Blocked: ball_detector finds the textured simulator ball in too few frames for the closed
-  // loop (issue 6); the link behaviour is covered by TwoHostLink with a ground-truth tracker.
-  GTEST_SKIP() << "closed loop over the link needs reliable detection of the textured simulator "
-                  "ball (open, issue 6)";
-
   // Given the robot profile in one namespace and the workstation profile in the other
   // When the system runs
   // Then tracks computed in the workstation namespace reach the robot namespace and the
@@ -269,22 +276,32 @@ TEST_F(TwoHostVision, DetectionsFromTheWorkstationDriveTheRobot) {
 }
 
 TEST_F(TwoHostVision, CuttingTheLinkStopsTheRobotAndRestoringItResumesFollowing) {
-  // Blocked: ball_detector finds the textured simulator ball in too few frames for the closed
-  // loop (issue 6); the link behaviour is covered by TwoHostLink with a ground-truth tracker.
-  GTEST_SKIP() << "closed loop over the link needs reliable detection of the textured simulator "
-                  "ball (open, issue 6)";
-
   if (!closed_loop_seen()) return;
   cut_and_restore_link(*system_);
 }
 
 TEST_F(TwoHostVision, FollowsWithTwentyMillisecondsDelayAndOnePercentLoss) {
-  // Blocked: ball_detector finds the textured simulator ball in too few frames for the closed
-  // loop (issue 6); the link behaviour is covered by TwoHostLink with a ground-truth tracker.
-  GTEST_SKIP() << "closed loop over the link needs reliable detection of the textured simulator "
-                  "ball (open, issue 6)";
-
   netem_case();
+}
+
+TEST_F(TwoHostVisionJpeg, JpegFramesAcrossTheLinkDriveTheRobot) {
+  // Given the robot-jpeg profile (the simulator publishes JPEG q90 eyes) in one namespace and
+  // the unchanged workstation profile in the other
+  // When the system runs, then detections from the JPEG frames drive the robot to the ball
+  expect_closed_loop(40s);
+  if (HasFatalFailure()) return;
+  // And the frames that crossed the link were JPEG, a small fraction of a raw pair
+  const auto frames = system_->workstation_log().frames;
+  ASSERT_FALSE(frames.empty());
+  for (const auto& f : frames) {
+    ASSERT_EQ(f.encoding, "jpeg");
+    ASSERT_LT(f.bytes, 2u * 640 * 480 * 3 / 8);
+  }
+}
+
+TEST_F(TwoHostVisionJpeg, CuttingTheLinkStopsTheRobotAndRestoringItResumesFollowing) {
+  if (!closed_loop_seen()) return;
+  cut_and_restore_link(*system_);
 }
 
 TEST_F(TwoHostLink, TracksFromTheWorkstationDriveTheRobot) {
