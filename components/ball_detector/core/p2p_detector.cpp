@@ -92,7 +92,7 @@ void PixelToPixelDetector::vote(int k) {
           got = collect_window_points(bits, x, y, k, std::span(window.data(), n));
         } else if (params_.isolate_arc && count > n && count <= kIsolateMaxFactor * n) {
           // Addition: judge the arc through O alone when other edges share the window.
-          if (connected_window_rows(bits, x, y, k, mask) != n) continue;
+          if (connected_window_rows(bits, x, y, k, mask, n) != n) continue;
           got = collect_masked_points(mask, k, std::span(window.data(), n));
         } else {
           continue;

@@ -49,8 +49,8 @@ inline std::uint64_t touching(std::uint64_t neighbour, std::uint64_t row) {
 
 }  // namespace
 
-int connected_window_rows(const BitImage& edges, int x, int y, int k,
-                          std::span<std::uint64_t> rows) {
+int connected_window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows,
+                          int stop_above) {
   const int n = 2 * k + 1;
   if (static_cast<int>(rows.size()) < n) return 0;
   std::array<std::uint64_t, 64> window{};
@@ -60,23 +60,24 @@ int connected_window_rows(const BitImage& edges, int x, int y, int k,
   }
   rows[static_cast<std::size_t>(k)] =
       fill_runs(std::uint64_t{1} << k, window[static_cast<std::size_t>(k)]);
+  int count = std::popcount(rows[static_cast<std::size_t>(k)]);
   // Flood fill by alternating sweeps from the centre row down and up, each row grown from its
   // neighbour and then along its own runs; an arc through a window converges in one or two.
-  for (bool grew = true; grew;) {
+  for (bool grew = true; grew && count <= stop_above;) {
     grew = false;
     auto grow_row = [&](int r, int from) {
       const auto ri = static_cast<std::size_t>(r);
       const std::uint64_t add =
           touching(rows[static_cast<std::size_t>(from)], window[ri]) & ~rows[ri];
       if (add == 0) return;
-      rows[ri] = fill_runs(rows[ri] | add, window[ri]);
+      const std::uint64_t grown = fill_runs(rows[ri] | add, window[ri]);
+      count += std::popcount(grown) - std::popcount(rows[ri]);
+      rows[ri] = grown;
       grew = true;
     };
     for (int r = 1; r < n; ++r) grow_row(r, r - 1);
     for (int r = n - 2; r >= 0; --r) grow_row(r, r + 1);
   }
-  int count = 0;
-  for (int r = 0; r < n; ++r) count += std::popcount(rows[static_cast<std::size_t>(r)]);
   return count;
 }
 

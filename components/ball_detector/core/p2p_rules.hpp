@@ -47,9 +47,10 @@ int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<
 
 /// Addition: the window's edge points 8-connected to O, as one bit mask per window row (bit c
 /// of rows[r] = pixel (c - k, r - k)); returns how many. Lets the count rule judge the arc through
-/// O alone when unrelated edges (texture, a line passing by) share the window.
-int connected_window_rows(const BitImage& edges, int x, int y, int k,
-                          std::span<std::uint64_t> rows);
+/// O alone when unrelated edges (texture, a line passing by) share the window. Stops growing
+/// once more than stop_above are found (then returns a count above it, masks partial).
+int connected_window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows,
+                          int stop_above = 64 * 64);
 
 /// Collects the points of connected_window_rows' masks (raster order); returns how many.
 int collect_masked_points(std::span<const std::uint64_t> rows, int k, std::span<WindowPoint> out);
