@@ -53,6 +53,10 @@ int main(int argc, char** argv) {
   app.add_option("--rate", rate_hz, "playback rate, Hz")->capture_default_str();
   app.add_option("--file-encoding", encoding, "as_read (mono8) | bgr8 | mono8")
       ->capture_default_str();
+  std::string frame_encoding = "raw";
+  app.add_option("--frame-encoding", frame_encoding, "raw | jpeg | png: how the node publishes")
+      ->check(CLI::IsMember({"raw", "jpeg", "png"}))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (common.partition.empty()) common.partition = "bench_camera_" + std::to_string(getpid());
 
@@ -60,7 +64,8 @@ int main(int argc, char** argv) {
   std::ofstream(config) << "source: files\nleft_glob: " SB_SHARED_DATA_DIR
                            "/opencv-samples/left*.jpg\nright_glob: " SB_SHARED_DATA_DIR
                            "/opencv-samples/right*.jpg\nfile_encoding: "
-                        << encoding << "\nwidth_px: 640\nheight_px: 480\nrate_hz: " << rate_hz
+                        << encoding << "\nframe_encoding: " << frame_encoding
+                        << "\nwidth_px: 640\nheight_px: 480\nrate_hz: " << rate_hz
                         << "\ncalibration_file: " SB_SOURCE_DIR
                            "/config/calibration/opencv_samples_stereo.yaml\n";
   const std::string bin = SB_BIN_DIR "/camera_server";
