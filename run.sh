@@ -12,7 +12,7 @@ PACKAGES=(
   build-essential cmake pkg-config git
   cyclonedds-dev cyclonedds-tools
   libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev libv4l-dev
-  nlohmann-json3-dev zlib1g-dev libgtest-dev libgmock-dev
+  nlohmann-json3-dev zlib1g-dev libjpeg-dev libgtest-dev libgmock-dev
   iproute2
 )
 
