@@ -20,6 +20,8 @@ BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParam
       pipeline_(params),
       frames_(runner.participant(), topics::kStereoFrame),
       calibration_(runner.participant(), topics::kStereoCalibration),
+      tracks_(runner.participant(), topics::kBallTrack),
+      params_(params),
       detections_(runner.participant(), topics::kBallDetection) {
   runner_.on_data(calibration_.handle(), [this] { on_calibration(); });
   runner_.on_data(frames_.handle(), [this] { on_frames(); });
@@ -95,13 +97,20 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
       det.status = DetectionStatus::kBadFrame;
       det.reason = *e;
     } else {
-      det = pipeline_.step(left, right, frame.rectified);
+      det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns));
     }
   }
   ++processed_;
   if (det.status == DetectionStatus::kFound) ++found_;
   report_problem(det, frame.seq, node::now_ns());
   publish(det, frame, start_ns);
+}
+
+std::optional<PositionPrior> BallDetectorNode::prior_for(std::int64_t frame_stamp_ns) {
+  if (auto sample = tracks_.take_latest()) last_track_ = from_message(**sample);
+  if (!last_track_) return std::nullopt;
+  return prior_from_track(*last_track_, frame_stamp_ns, params_.track_prior_gate_m,
+                          params_.track_prior_max_age_ns);
 }
 
 void BallDetectorNode::report_problem(const StereoDetection& det, std::uint64_t seq,

@@ -26,6 +26,7 @@ class BallDetectorNode {
   void check_input(std::int64_t now_ns);
   void on_frames();
   void process(const stereoball_msg_StereoFrame& frame);
+  std::optional<PositionPrior> prior_for(std::int64_t frame_stamp_ns);
   void count_skipped(std::uint64_t seq, std::uint64_t batch_skipped);
   void report_problem(const StereoDetection& det, std::uint64_t seq, std::int64_t now_ns);
   void publish(const StereoDetection& det, const stereoball_msg_StereoFrame& frame,
@@ -36,6 +37,9 @@ class BallDetectorNode {
   FrameDecoder decoder_;
   dds::DataReader<stereoball_msg_StereoFrame> frames_;
   dds::DataReader<stereoball_msg_StereoCalibration> calibration_;
+  dds::DataReader<stereoball_msg_BallTrack> tracks_;  // fed back: where the ball is expected
+  std::optional<TrackedBall> last_track_;
+  BallDetectorParams params_;
   dds::DataWriter<stereoball_msg_BallDetection> detections_;
   std::optional<std::uint64_t> last_seq_;
   std::int64_t last_frame_ns_ = 0;  // wall clock of the last frame, ns since epoch

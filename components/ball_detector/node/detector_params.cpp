@@ -37,6 +37,10 @@ std::optional<std::string> BallDetectorParams::validate() const {
     return std::string("size_max_relative_error must be in (0, 10]");
   if (max_candidates_per_eye < 1 || max_candidates_per_eye > 50)
     return std::string("max_candidates_per_eye must be in [1, 50]");
+  if (!(track_prior_gate_m >= 0.0 && track_prior_gate_m <= 10.0))
+    return std::string("track_prior_gate_m must be in [0, 10] metres");
+  if (track_prior_max_age_ns < 0 || track_prior_max_age_ns > 10'000'000'000)
+    return std::string("track_prior_max_age_ns must be in [0, 1e10] ns");
   if (auto e = detector_params().validate()) return "p2p." + *e;
   return std::nullopt;
 }

@@ -2,6 +2,7 @@
 // Parameters of the stereo ball detection pipeline (rectify, Pixel-to-Pixel on both eyes,
 // epipolar pairing, triangulation, size check).
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -40,6 +41,11 @@ struct BallDetectorParams {
   /// tolerance); false = the whole right image.
   bool right_eye_partner_boxes = true;
   int max_candidates_per_eye = 5;  ///< circles kept per eye (P2P max_circles), [1, 50]
+  /// Pairs within this distance of where the following track expects the ball are preferred
+  /// to better-scoring pairs elsewhere, metres, [0, 10] (0 = off).
+  double track_prior_gate_m = 0.3;
+  /// A track older than this (its capture stamp vs the frame's) is not used as a prior, ns.
+  std::int64_t track_prior_max_age_ns = 500'000'000;
   PixelToPixelParams p2p = pipeline_p2p_defaults();  ///< detector on each rectified eye
 
   /// Names the first bad field and its allowed range, or nullopt.

@@ -42,6 +42,8 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
   EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kRed);
   EXPECT_DOUBLE_EQ(p->p2p.edge.min_high_threshold, 150.0);
   EXPECT_EQ(p->p2p.max_peaks_examined, 16);
+  EXPECT_DOUBLE_EQ(p->track_prior_gate_m, 0.3);
+  EXPECT_EQ(p->track_prior_max_age_ns, 500'000'000);
   EXPECT_EQ(p->p2p.k_values, std::vector<int>{5});
   EXPECT_TRUE(p->right_eye_partner_boxes);
   EXPECT_EQ(p->detector_params().max_circles, p->max_candidates_per_eye);
@@ -73,6 +75,7 @@ TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {
       {"k_values: [5]", "k_values: [2.5]", "p2p.k_values"},
       {"input: red", "input: purple", "input"},
       {"max_peaks_examined: 16", "max_peaks_examined: 0", "p2p.max_peaks_examined"},
+      {"gate_m: 0.3", "gate_m: -1", "track_prior.gate_m"},
       {"edge_min_threshold: 150", "edge_min_threshold: -3", "p2p.edge_min_threshold"},
       {"max_candidates_per_eye: 5", "max_candidates_per_eye: 0", "max_candidates_per_eye"},
       {"min_score: 0.55", "min_score: 1.5", "p2p.min_score"},

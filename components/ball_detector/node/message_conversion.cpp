@@ -119,4 +119,18 @@ void to_message(const StereoDetection& det, const FrameStamp& frame, float proce
   std::copy(det.patch_rgb.begin(), det.patch_rgb.end(), msg.patch_rgb);
 }
 
+TrackedBall from_message(const stereoball_msg_BallTrack& msg) {
+  TrackedBall t;
+  t.following = msg.state == stereoball_msg_TRACK_FOLLOWING;
+  t.position_valid = msg.position_valid;
+  t.position_m = {msg.position_m[0], msg.position_m[1], msg.position_m[2]};
+  t.velocity_mps = {msg.velocity_mps[0], msg.velocity_mps[1], msg.velocity_mps[2]};
+  t.capture_stamp_ns = msg.capture_stamp_ns;
+  // A non-finite field (a corrupt sample) must not steer the pairing.
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(t.position_m[i]) || !std::isfinite(t.velocity_mps[i]))
+      t.position_valid = false;
+  return t;
+}
+
 }  // namespace stereoball::ball_detector

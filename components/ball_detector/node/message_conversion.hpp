@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "ball_detector/node/pairing.hpp"
 #include "ball_detector/node/stereo_pipeline.hpp"
 #include "common/util/result.hpp"
 #include "stereo/core/calibration.hpp"
@@ -15,6 +16,9 @@ namespace stereoball::ball_detector {
 /// Copies a calibration message into the core struct and validates it; the error names the
 /// bad field (e.g. "d1: 3 coefficients, expected 0, 4, 5, 8, 12 or 14").
 Result<stereo::StereoCalibration> from_message(const stereoball_msg_StereoCalibration& msg);
+
+/// The parts of a ball/track sample the detector uses as a prior.
+TrackedBall from_message(const stereoball_msg_BallTrack& msg);
 
 /// Fills msg from calib; msg's sequences and strings point into calib and source, which must
 /// outlive msg (write() serializes them).

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "stereo/core/synthetic_rig.hpp"
 
 namespace sb = stereoball;
@@ -106,4 +108,26 @@ TEST(DetectionMessage, GivenEveryStatus_ThenDistinctIdlValues) {
             stereoball_msg_DETECTION_NO_CALIBRATION);
   EXPECT_EQ(sb::ball_detector::to_message(DetectionStatus::kBadFrame),
             stereoball_msg_DETECTION_BAD_FRAME);
+}
+
+// Given a following ball/track sample, then its position, velocity and stamp are kept; a
+// non-finite coordinate makes the position invalid (never a prior).
+TEST(MessageConversion, GivenBallTrack_ThenTrackedBallAndNonFiniteInvalid) {
+  stereoball_msg_BallTrack msg{};
+  msg.state = stereoball_msg_TRACK_FOLLOWING;
+  msg.position_valid = true;
+  msg.position_m[0] = 0.2;
+  msg.position_m[2] = 1.5;
+  msg.velocity_mps[2] = -0.5;
+  msg.capture_stamp_ns = 42;
+  auto t = sb::ball_detector::from_message(msg);
+  EXPECT_TRUE(t.following);
+  EXPECT_TRUE(t.position_valid);
+  EXPECT_DOUBLE_EQ(t.position_m[2], 1.5);
+  EXPECT_DOUBLE_EQ(t.velocity_mps[2], -0.5);
+  EXPECT_EQ(t.capture_stamp_ns, 42);
+  msg.velocity_mps[1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(sb::ball_detector::from_message(msg).position_valid);
+  msg.state = stereoball_msg_TRACK_SEARCHING;
+  EXPECT_FALSE(sb::ball_detector::from_message(msg).following);
 }

@@ -29,6 +29,15 @@ double closest_rows_px(const std::vector<Circle>& left, const std::vector<Circle
 
 }  // namespace
 
+std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int64_t frame_stamp_ns,
+                                              double gate_m, std::int64_t max_age_ns) {
+  if (!(gate_m > 0.0) || !track.following || !track.position_valid) return std::nullopt;
+  const std::int64_t age_ns = frame_stamp_ns - track.capture_stamp_ns;
+  if (age_ns > max_age_ns || age_ns < -max_age_ns) return std::nullopt;
+  const double dt_s = 1e-9 * static_cast<double>(age_ns);
+  return PositionPrior{track.position_m + track.velocity_mps * dt_s, gate_m};
+}
+
 bool better_pair(const StereoPair& a, const StereoPair& b) {
   if (a.score != b.score) return a.score > b.score;
   return a.row_residual_px < b.row_residual_px;
@@ -85,7 +94,8 @@ cv::Rect partner_search_box(const PairingContext& ctx, const Circle& left, cv::S
 }
 
 PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,
-                              const std::vector<Circle>& right) {
+                              const std::vector<Circle>& right,
+                              const std::optional<PositionPrior>& prior) {
   PairingResult out;
   if (left.empty() || right.empty()) {
     out.status = PairingStatus::kNoCandidate;
@@ -93,6 +103,7 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
     return out;
   }
   std::optional<StereoPair> best_ok;
+  std::optional<StereoPair> best_near_prior;
   std::optional<StereoPair> best_rejected;  // closest to consistent, for the reason text
   for (std::size_t i = 0; i < left.size(); ++i) {
     for (std::size_t j = 0; j < right.size(); ++j) {
@@ -104,12 +115,16 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
       if (pair->size_consistent) {
         ++out.size_matches;
         if (!best_ok || better_pair(*pair, *best_ok)) best_ok = pair;
+        if (prior && cv::norm(pair->position_m - prior->position_m) <= prior->gate_m &&
+            (!best_near_prior || better_pair(*pair, *best_near_prior)))
+          best_near_prior = pair;
       } else if (!best_rejected ||
                  std::abs(pair->size_error) < std::abs(best_rejected->size_error)) {
         best_rejected = pair;
       }
     }
   }
+  if (best_near_prior) best_ok = best_near_prior;
   if (best_ok) {
     out.status = PairingStatus::kFound;
     out.best = best_ok;

@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -57,6 +58,29 @@ struct PairingContext {
 cv::Rect partner_search_box(const PairingContext& ctx, const Circle& left, cv::Size image,
                             int margin_px);
 
+/// Where the tracker expects the ball now (left rectified frame, metres): among the
+/// size-consistent pairs, those within gate_m of it are preferred to better-scoring ones
+/// elsewhere (a look-alike that outscores the ball in some frames then cannot take over).
+struct PositionPrior {
+  cv::Vec3d position_m;
+  double gate_m = 0.3;
+};
+
+/// What the detector needs of the tracker's latest ball/track.
+struct TrackedBall {
+  bool following = false;             ///< state FOLLOWING
+  bool position_valid = false;        ///< position/velocity hold an accepted estimate
+  cv::Vec3d position_m;               ///< left rectified frame, metres
+  cv::Vec3d velocity_mps;             ///< same frame, m/s
+  std::int64_t capture_stamp_ns = 0;  ///< capture stamp of the frame behind the track
+};
+
+/// The prior for a frame captured at frame_stamp_ns: the track's position moved on by its
+/// velocity; nullopt unless following with a valid position no older than max_age_ns (and
+/// not from the future by more than that), or gate_m is 0.
+std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int64_t frame_stamp_ns,
+                                              double gate_m, std::int64_t max_age_ns);
+
 /// True if a should be preferred to b: higher score, then smaller row residual.
 bool better_pair(const StereoPair& a, const StereoPair& b);
 
@@ -65,8 +89,10 @@ bool better_pair(const StereoPair& a, const StereoPair& b);
 std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle& left,
                                         const Circle& right);
 
-/// Every candidate combination -> the best size-consistent pair, or the reason there is none.
+/// Every candidate combination -> the best size-consistent pair (within the prior's gate when
+/// one is given and any pair is, else overall), or the reason there is none.
 PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,
-                              const std::vector<Circle>& right);
+                              const std::vector<Circle>& right,
+                              const std::optional<PositionPrior>& prior = std::nullopt);
 
 }  // namespace stereoball::ball_detector

@@ -154,3 +154,44 @@ TEST_F(Pairing, GivenLeftCircleThenPartnerBoxHoldsTheTruePartnerOnly) {
   Circle edge{5.0, 240.0, 60.0, 0.9};
   EXPECT_TRUE(sb::ball_detector::partner_search_box(ctx_, edge, image, 8).width < 2 * 60);
 }
+
+// Given a better-scoring look-alike pair and the ball's pair, when the tracker expects the
+// ball near its true place, then the ball's pair is chosen; without the prior, the look-alike;
+// with a prior far from both, the best score again.
+TEST_F(Pairing, GivenTrackPrior_ThenPairNearItWinsOverBetterScore) {
+  const auto [bl, br] = ball_at(0.3, 0.0, 1.5, 0.7);
+  const auto [dl, dr] = ball_at(-0.4, -0.1, 2.0, 0.95);
+  const sb::ball_detector::PositionPrior near_ball{cv::Vec3d(0.32, 0.0, 1.45), 0.3};
+  auto res = pair_candidates(ctx_, {dl, bl}, {dr, br}, near_ball);
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_NEAR(res.best->position_m[0], 0.3, 0.01);
+  res = pair_candidates(ctx_, {dl, bl}, {dr, br});
+  ASSERT_EQ(res.status, PairingStatus::kFound);
+  EXPECT_NEAR(res.best->position_m[0], -0.4, 0.01);
+  const sb::ball_detector::PositionPrior elsewhere{cv::Vec3d(1.5, 0.0, 3.0), 0.3};
+  res = pair_candidates(ctx_, {dl, bl}, {dr, br}, elsewhere);
+  EXPECT_NEAR(res.best->position_m[0], -0.4, 0.01);
+}
+
+// Given tracks in various states and ages, then a prior exists only for a following track
+// with a valid position no older than the limit, moved on by its velocity.
+TEST(TrackPrior, GivenTrackStateAndAge_ThenPriorOnlyWhenFollowingAndFresh) {
+  sb::ball_detector::TrackedBall t;
+  t.following = true;
+  t.position_valid = true;
+  t.position_m = {0.1, 0.0, 2.0};
+  t.velocity_mps = {0.0, 0.0, -1.0};
+  t.capture_stamp_ns = 1'000'000'000;
+  const auto p = sb::ball_detector::prior_from_track(t, 1'100'000'000, 0.3, 500'000'000);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_NEAR(p->position_m[2], 1.9, 1e-9);  // 0.1 s at -1 m/s
+  EXPECT_DOUBLE_EQ(p->gate_m, 0.3);
+  EXPECT_FALSE(sb::ball_detector::prior_from_track(t, 1'600'000'001, 0.3, 500'000'000));
+  EXPECT_FALSE(sb::ball_detector::prior_from_track(t, 1'100'000'000, 0.0, 500'000'000));
+  auto searching = t;
+  searching.following = false;
+  EXPECT_FALSE(sb::ball_detector::prior_from_track(searching, 1'100'000'000, 0.3, 500'000'000));
+  auto invalid = t;
+  invalid.position_valid = false;
+  EXPECT_FALSE(sb::ball_detector::prior_from_track(invalid, 1'100'000'000, 0.3, 500'000'000));
+}

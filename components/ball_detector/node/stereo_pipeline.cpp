@@ -185,7 +185,8 @@ void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool recti
   }
 }
 
-StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, bool rectified) {
+StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, bool rectified,
+                                     const std::optional<PositionPrior>& prior) {
   StereoDetection out;
   left_candidates_.clear();
   right_candidates_.clear();
@@ -211,7 +212,7 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   out.candidates_left = static_cast<int>(left_candidates_.size());
   out.candidates_right = static_cast<int>(right_candidates_.size());
 
-  const PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_);
+  const PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
   fill_result(pairing, out);
   if (params_.right_eye_partner_boxes && left_candidates_.empty())
     out.reason = "no circle in the left eye (the right eye is searched only near left circles)";

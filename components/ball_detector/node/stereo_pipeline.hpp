@@ -81,8 +81,10 @@ class StereoPipeline {
 
   /// Processes one pair of CV_8UC3 (BGR) or CV_8UC1 frames of the calibration's size;
   /// rectified = true skips the LUT (the source already rectified). Wrong input gives
-  /// kBadFrame / kNoCalibration with the reason, never an exception.
-  StereoDetection step(const cv::Mat& left, const cv::Mat& right, bool rectified);
+  /// kBadFrame / kNoCalibration with the reason, never an exception. prior: where the tracker
+  /// expects the ball (see pair_candidates).
+  StereoDetection step(const cv::Mat& left, const cv::Mat& right, bool rectified,
+                       const std::optional<PositionPrior>& prior = std::nullopt);
 
   /// Rectified detector-input images of the last processed frame (for debugging and tests);
   /// with right_eye_partner_boxes the right one holds only the searched boxes (zero elsewhere).

@@ -78,7 +78,10 @@ Tracker::Decision Tracker::decide_tracking(const Detection& d, std::int64_t now_
   if (ssd && matcher_.is_match(*ssd) && jump_ok) {
     out.verdict = Verdict::kBlockMatchAccepted;
     out.reason = block;
-  } else if (check.accepted) {
+  } else if (check.accepted && jump_ok) {
+    // The jump gate holds here too: when detections alternate between the ball and a
+    // look-alike elsewhere, the register mixes both and its spread would accept either. The
+    // gate widens with the time since the last acceptance, so reacquisition after a loss works.
     out.verdict = Verdict::kStatisticsAccepted;
     out.reason = block + (jump_ok ? "; " : " but jump too large; ") + check.reason;
   } else {
