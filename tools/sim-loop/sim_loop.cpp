@@ -37,6 +37,16 @@ tracker::Detection to_tracker(const bd::StereoDetection& d, int width_px) {
 
 }  // namespace
 
+bd::TrackedBall to_tracked_ball(const tracker::Track& t, std::int64_t stamp_ns) {
+  bd::TrackedBall b;
+  b.following = t.state == tracker::TrackState::kFollowing;
+  b.position_valid = t.position_valid;
+  b.position_m = {t.position_m.x(), t.position_m.y(), t.position_m.z()};
+  b.velocity_mps = {t.velocity_mps.x(), t.velocity_mps.y(), t.velocity_mps.z()};
+  b.capture_stamp_ns = stamp_ns;
+  return b;
+}
+
 mc::TrackSample to_controller(const tracker::Track& t, std::int64_t stamp_ns) {
   mc::TrackSample s;
   s.state = static_cast<mc::TrackState>(static_cast<int>(t.state));
@@ -112,10 +122,17 @@ LoopFrame SimLoop::step() {
   LoopFrame out;
   const double w0 = wall_ms();
   const double c0 = thread_cpu_ms();
-  out.detection = pipeline_.step(f.left, f.right, false);
+  // The previous frame's track, as the node has it from ball/track when the frame arrives.
+  const std::optional<bd::PositionPrior> prior =
+      last_track_
+          ? bd::prior_from_track(*last_track_, f.sim_time_ns, config_.detector.track_prior_gate_m,
+                                 config_.detector.track_prior_max_age_ns)
+          : std::nullopt;
+  out.detection = pipeline_.step(f.left, f.right, false, prior);
   out.detector_cpu_ms = thread_cpu_ms() - c0;
   out.detector_wall_ms = wall_ms() - w0;
   out.track = tracker_.step(to_tracker(out.detection, f.left.cols), f.sim_time_ns);
+  last_track_ = to_tracked_ball(out.track, f.sim_time_ns);
   if (config_.drive == Drive::kController) {
     controller_.on_track(to_controller(out.track, f.sim_time_ns), f.sim_time_ns);
   }

@@ -1,8 +1,10 @@
 #pragma once
 // The whole system in one process at simulated time: the simulator core renders raw stereo
 // frames, the ball detector pipeline (rectification included) detects, the tracker core
-// decides, and either the scenario's script or the motion controller core (at its own rate,
-// its commands applied to the simulated base at the tick times) drives the robot.
+// decides (its track fed back to the detector as a position prior for the next frame, as the
+// ball_detector node does with ball/track), and either the scenario's script or the motion
+// controller core (at its own rate, its commands applied to the simulated base at the tick
+// times) drives the robot.
 // No DDS, no wall clock in the loop (only the detector timing figures read clocks).
 
 #include <cstdint>
@@ -80,7 +82,11 @@ class SimLoop {
   std::int64_t next_tick_ns_ = 0;
   std::optional<motion_controller::Command> last_command_;
   std::int64_t last_command_ns_ = -1;
+  std::optional<ball_detector::TrackedBall> last_track_;  // fed back as the detector's prior
 };
+
+/// Converts a tracker track to the detector's prior input, as the node does from ball/track.
+ball_detector::TrackedBall to_tracked_ball(const tracker::Track& track, std::int64_t stamp_ns);
 
 /// Converts a tracker track to the controller's input, as the nodes do over ball/track.
 motion_controller::TrackSample to_controller(const tracker::Track& track, std::int64_t stamp_ns);

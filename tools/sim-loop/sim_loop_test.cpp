@@ -79,6 +79,26 @@ TEST(SimLoop, GivenBadRateOrLength_ThenCreateNamesTheProblem) {
   EXPECT_NE(loop.error().find("max_linear_mps"), std::string::npos) << loop.error();
 }
 
+TEST(SimLoop, GivenFollowingTrack_ThenTheDetectorPriorInputCarriesItsPositionAndVelocity) {
+  // Given a following track with a position and a velocity
+  tracker::Track t;
+  t.state = tracker::TrackState::kFollowing;
+  t.position_valid = true;
+  t.position_m = {0.1, 0.2, 1.5};
+  t.velocity_mps = {0.3, 0.0, -0.4};
+  // When converted for the detector (as the node converts ball/track)
+  const auto b = to_tracked_ball(t, 123);
+  // Then it is following, valid, stamped with the frame, and carries position and velocity
+  EXPECT_TRUE(b.following);
+  EXPECT_TRUE(b.position_valid);
+  EXPECT_EQ(b.capture_stamp_ns, 123);
+  EXPECT_DOUBLE_EQ(b.position_m[2], 1.5);
+  EXPECT_DOUBLE_EQ(b.velocity_mps[0], 0.3);
+  // And a searching track is not following (no prior from it)
+  t.state = tracker::TrackState::kSearching;
+  EXPECT_FALSE(to_tracked_ball(t, 123).following);
+}
+
 TEST(LoopConfig, GivenUnknownScenario_ThenErrorNamesIt) {
   auto s = load_scenario("no_such_scenario", kConfigDir + "/scenarios", false);
   ASSERT_FALSE(s.ok());
