@@ -100,6 +100,17 @@ int thin_staircase(cv::Mat& binary);
 /// Computes the whole edge step into out (buffers reused across calls of the same size).
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out);
 
+/// The edge step's decisions for one image, to reuse on crops of it (or of its twin).
+struct EdgeThresholds {
+  CannyThresholds canny;
+  bool denoise = false;
+};
+
+/// The thresholds and pre-blur decision an edge map was made with.
+inline EdgeThresholds thresholds_of(const EdgeMap& e) {
+  return {{e.low_threshold, e.high_threshold, e.median_gradient}, e.denoised};
+}
+
 /// Same with the thresholds and the pre-blur decision taken elsewhere (e.g. on the full image
 /// when only a crop is searched: a crop's own statistics depend on whatever it holds).
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, const CannyThresholds& fixed,

@@ -121,14 +121,12 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
 }
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
-                                                 const EdgeMap& thresholds_from) {
+                                                 const EdgeThresholds& thresholds) {
   diag_ = DetectionDiagnostics{};
   peak_ratio_done_ = false;
   voters_.clear();
   if (validate_image(bgr_or_grey)) return {};
-  const CannyThresholds t{thresholds_from.low_threshold, thresholds_from.high_threshold,
-                          thresholds_from.median_gradient};
-  compute_edge_map(bgr_or_grey, params_.edge, t, thresholds_from.denoised, edges_);
+  compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
   return detect_on_edges();
 }
 

@@ -59,7 +59,7 @@ class PixelToPixelDetector final : public CircleDetector {
   /// detect() with the edge thresholds and pre-blur decision of another edge map (e.g. the
   /// other eye's full image) instead of this image's own: for crops, whose statistics depend on
   /// what they happen to hold.
-  std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeMap& thresholds_from);
+  std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds);
   const DetectionDiagnostics* diagnostics() const override;
   std::string name() const override { return "p2p"; }
   /// Votes of the last image, before smoothing (CV_16U).

@@ -44,6 +44,9 @@ struct BallDetectorParams {
   /// Pairs within this distance of where the following track expects the ball are preferred
   /// to better-scoring pairs elsewhere, metres, [0, 10] (0 = off).
   double track_prior_gate_m = 0.3;
+  /// With a prior, search first only the left box where the expected ball can appear (and its
+  /// right partner boxes); the whole frame only if no pair turns up within the gate there.
+  bool prior_window = true;
   /// A track older than this (its capture stamp vs the frame's) is not used as a prior, ns.
   std::int64_t track_prior_max_age_ns = 500'000'000;
   PixelToPixelParams p2p = pipeline_p2p_defaults();  ///< detector on each rectified eye

@@ -39,6 +39,7 @@ Result<BallDetectorParams> read_detector_params(params::ParamsFile& file) {
   file.read("max_candidates_per_eye", p.max_candidates_per_eye, 1, 50);
   file.read("right_eye_partner_boxes", p.right_eye_partner_boxes);
   file.read("track_prior.gate_m", p.track_prior_gate_m, 0.0, 10.0);
+  file.read("track_prior.window", p.prior_window);
   file.read("track_prior.max_age_ns", p.track_prior_max_age_ns, std::int64_t{0},
             std::int64_t{10'000'000'000});
   std::string input = to_string(p.input);

@@ -195,3 +195,26 @@ TEST(TrackPrior, GivenTrackStateAndAge_ThenPriorOnlyWhenFollowingAndFresh) {
   invalid.position_valid = false;
   EXPECT_FALSE(sb::ball_detector::prior_from_track(invalid, 1'100'000'000, 0.3, 500'000'000));
 }
+
+// Given a prior at the ball, the left search box holds the ball's whole left circle; a prior
+// behind the camera gives no box.
+TEST_F(Pairing, GivenPriorThenLeftSearchBoxHoldsTheBallsDisc) {
+  const cv::Size image(640, 480);
+  for (const cv::Vec3d& c : {cv::Vec3d(0.0, 0.0, 1.0), cv::Vec3d(0.3, 0.1, 1.5)}) {
+    const auto [l, r] = ball_at(c[0], c[1], c[2]);
+    const sb::ball_detector::PositionPrior prior{c + cv::Vec3d(0.1, 0.0, -0.1), 0.3};
+    const cv::Rect box = sb::ball_detector::prior_search_box(ctx_, prior, image, 9);
+    ASSERT_FALSE(box.empty());
+    EXPECT_TRUE(box.contains(
+        cv::Point(static_cast<int>(l.x_px - l.radius_px), static_cast<int>(l.y_px - l.radius_px))))
+        << box;
+    EXPECT_TRUE(box.contains(
+        cv::Point(static_cast<int>(l.x_px + l.radius_px), static_cast<int>(l.y_px + l.radius_px))))
+        << box;
+    if (c[2] >= 1.5) {
+      EXPECT_LT(box.area(), image.area() / 2) << box;
+    }
+  }
+  const sb::ball_detector::PositionPrior behind{cv::Vec3d(0.0, 0.0, -1.0), 0.3};
+  EXPECT_TRUE(sb::ball_detector::prior_search_box(ctx_, behind, image, 9).empty());
+}

@@ -200,31 +200,86 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     out.reason = *e;
     return out;
   }
-  prepare_eye(left, stereo::Eye::kLeft, rectified, grey_left_, rect_left_);
-  left_candidates_ = left_detector_.detect(rect_left_);
   const PairingContext ctx{epipolar_, *triangulator_, size_};
-  if (params_.right_eye_partner_boxes) {
-    right_candidates_ = detect_right_in_boxes(ctx, detector_channel(right, grey_right_), rectified);
-  } else {
-    prepare_eye(right, stereo::Eye::kRight, rectified, grey_right_, rect_right_);
-    right_candidates_ = right_detector_.detect(rect_right_);
+  const cv::Mat& right_channel = detector_channel(right, grey_right_);
+  std::optional<PairingResult> pairing;
+  if (prior && params_.prior_window && left_thresholds_ &&
+      frames_since_full_search_ < kFullSearchEveryFrames) {
+    pairing = search_near_prior(ctx, detector_channel(left, grey_left_), right_channel, rectified,
+                                *prior);
   }
+  if (!pairing) pairing = search_whole_frame(ctx, left, right_channel, rectified, prior);
   out.candidates_left = static_cast<int>(left_candidates_.size());
   out.candidates_right = static_cast<int>(right_candidates_.size());
 
-  const PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
-  fill_result(pairing, out);
+  fill_result(*pairing, out);
   if (params_.right_eye_partner_boxes && left_candidates_.empty())
     out.reason = "no circle in the left eye (the right eye is searched only near left circles)";
   if (out.status == DetectionStatus::kFound) cut_patch(left, rectified, out);
   return out;
 }
 
-std::vector<cv::Rect> StereoPipeline::partner_boxes(const PairingContext& ctx) const {
+std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingContext& ctx,
+                                                               const cv::Mat& left_channel,
+                                                               const cv::Mat& right_channel,
+                                                               bool rectified,
+                                                               const PositionPrior& prior) {
   const cv::Size size = rectifier_->calibration().image_size;
+  const cv::Rect box = prior_search_box(ctx, prior, size, window_margin_px());
+  if (box.width < 8 || box.height < 8) return std::nullopt;
+  rect_left_.create(size, left_channel.type());
+  rect_left_.setTo(0);
+  if (rectified) {
+    left_channel(box).copyTo(rect_left_(box));
+  } else {
+    rectifier_->rectify_eye_region(stereo::Eye::kLeft, left_channel, box, rect_left_);
+  }
+  left_candidates_.clear();
+  for (Circle c : left_detector_.detect(rect_left_(box), *left_thresholds_)) {
+    c.x_px += box.x;
+    c.y_px += box.y;
+    left_candidates_.push_back(c);
+  }
+  right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified);
+  PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
+  ++frames_since_full_search_;
+  // Only a ball where the track expects it ends the search; anything else needs the frame.
+  if (pairing.status == PairingStatus::kFound &&
+      cv::norm(pairing.best->position_m - prior.position_m) <= prior.gate_m)
+    return pairing;
+  return std::nullopt;
+}
+
+PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx, const cv::Mat& left,
+                                                 const cv::Mat& right_channel, bool rectified,
+                                                 const std::optional<PositionPrior>& prior) {
+  prepare_eye(left, stereo::Eye::kLeft, rectified, grey_left_, rect_left_);
+  left_candidates_ = left_detector_.detect(rect_left_);
+  left_thresholds_ = thresholds_of(left_detector_.edge_map());
+  frames_since_full_search_ = 0;
+  if (params_.right_eye_partner_boxes) {
+    right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified);
+  } else {
+    rect_right_.create(rectifier_->calibration().image_size, right_channel.type());
+    if (rectified) {
+      right_channel.copyTo(rect_right_);
+    } else {
+      rectifier_->rectify_eye(stereo::Eye::kRight, right_channel, rect_right_);
+    }
+    right_candidates_ = right_detector_.detect(rect_right_);
+  }
+  return pair_candidates(ctx, left_candidates_, right_candidates_, prior);
+}
+
+int StereoPipeline::window_margin_px() const {
   const auto& ks = params_.p2p.k_values;
   // Window half size plus the smoothing box: arcs closer to a box edge cannot vote.
-  const int margin = (ks.empty() ? 5 : *std::max_element(ks.begin(), ks.end())) + 4;
+  return (ks.empty() ? 5 : *std::max_element(ks.begin(), ks.end())) + 4;
+}
+
+std::vector<cv::Rect> StereoPipeline::partner_boxes(const PairingContext& ctx) const {
+  const cv::Size size = rectifier_->calibration().image_size;
+  const int margin = window_margin_px();
   std::vector<cv::Rect> boxes;
   for (const Circle& c : left_candidates_) {
     cv::Rect box = partner_search_box(ctx, c, size, margin);
@@ -258,7 +313,8 @@ std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& 
       rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, box, rect_right_);
     }
     // The left image's thresholds: the box's own statistics depend on what it holds.
-    for (Circle c : right_detector_.detect(rect_right_(box), left_detector_.edge_map())) {
+    for (Circle c :
+         right_detector_.detect(rect_right_(box), thresholds_of(left_detector_.edge_map()))) {
       c.x_px += box.x;
       c.y_px += box.y;
       found.push_back(c);

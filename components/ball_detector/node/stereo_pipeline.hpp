@@ -40,6 +40,10 @@ enum class DetectionStatus {
 /// Short name of a status ("found", "no_candidate", ...).
 const char* to_string(DetectionStatus status);
 
+/// With a prior, the whole frame is still searched at least this often (fresh edge thresholds,
+/// and a look at the rest of the scene), frames.
+constexpr int kFullSearchEveryFrames = 15;
+
 /// Side of the colour block around the left centre, pixels (paper: 21x21, k = 10).
 constexpr int kPatchSide = 21;
 /// Bytes of the colour block (R, G, B per pixel, row-major).
@@ -100,6 +104,14 @@ class StereoPipeline {
                    cv::Mat& out);
   const cv::Mat& detector_channel(const cv::Mat& raw, cv::Mat& grey) const;
   std::vector<cv::Rect> partner_boxes(const PairingContext& ctx) const;
+  std::optional<PairingResult> search_near_prior(const PairingContext& ctx,
+                                                 const cv::Mat& left_channel,
+                                                 const cv::Mat& right_channel, bool rectified,
+                                                 const PositionPrior& prior);
+  PairingResult search_whole_frame(const PairingContext& ctx, const cv::Mat& left,
+                                   const cv::Mat& right_channel, bool rectified,
+                                   const std::optional<PositionPrior>& prior);
+  int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified);
   void fill_result(const PairingResult& pairing, StereoDetection& out) const;
@@ -118,6 +130,8 @@ class StereoPipeline {
   std::vector<cv::Point3d> patch_rays_;
   std::vector<cv::Point2d> patch_raw_px_;
   std::vector<Circle> left_candidates_, right_candidates_;
+  std::optional<EdgeThresholds> left_thresholds_;  // of the last whole left frame
+  int frames_since_full_search_ = 0;
 };
 
 }  // namespace stereoball::ball_detector

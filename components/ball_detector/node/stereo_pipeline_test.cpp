@@ -212,3 +212,30 @@ TEST(ExtractPatch, GivenCornerCentre_ThenClampedAtBordersInRgbOrder) {
   EXPECT_EQ(at(20, 20, 1), 77);
   EXPECT_EQ(at(20, 20, 2), 77);
 }
+
+// Given a prior at the ball, when the pipeline searches only near it, then it finds the same
+// pair as the whole-frame search; with a prior far from the ball it still finds the ball
+// (whole frame after the prior's box came up empty).
+TEST(StereoPipeline, GivenPriorNearOrFarFromTheBall_ThenSameBallAsWithout) {
+  const Rendered r = render(plain_scene(1.2, 0.1));
+  StereoPipeline plain({});
+  StereoPipeline with_prior({});
+  ASSERT_EQ(plain.set_calibration(r.calib), std::nullopt);
+  ASSERT_EQ(with_prior.set_calibration(r.calib), std::nullopt);
+  const auto a = plain.step(r.frame.left, r.frame.right, false);
+  ASSERT_EQ(a.status, DetectionStatus::kFound) << a.reason;
+  // The first frame has no thresholds cached yet: whole frame.
+  (void)with_prior.step(r.frame.left, r.frame.right, false);
+  const sb::ball_detector::PositionPrior near{a.position_m + cv::Vec3d(0.05, 0.0, 0.05), 0.3};
+  const auto b = with_prior.step(r.frame.left, r.frame.right, false, near);
+  ASSERT_EQ(b.status, DetectionStatus::kFound) << b.reason;
+  EXPECT_NEAR(b.left.x_px, a.left.x_px, 0.05);
+  EXPECT_NEAR(b.left.y_px, a.left.y_px, 0.05);
+  EXPECT_NEAR(b.position_m[2], a.position_m[2], 0.002);
+  // Only the box was searched: the rest of the rectified left image is empty.
+  EXPECT_EQ(with_prior.rectified_left().at<uchar>(5, 5), 0);
+  const sb::ball_detector::PositionPrior far{cv::Vec3d(-1.0, 0.0, 3.0), 0.3};
+  const auto c = with_prior.step(r.frame.left, r.frame.right, false, far);
+  ASSERT_EQ(c.status, DetectionStatus::kFound) << c.reason;
+  EXPECT_NEAR(c.left.x_px, a.left.x_px, 0.05);
+}
