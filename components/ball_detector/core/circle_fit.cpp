@@ -145,6 +145,33 @@ double angular_coverage(const Circle& c, std::span<const cv::Point2d> points) {
   return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / sectors;
 }
 
+double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> points,
+                                 const cv::Rect2d& frame, double min_inside) {
+  const int sectors =
+      std::clamp(static_cast<int>(2.0 * std::numbers::pi * c.radius_px / 3.0), 8, 180);
+  std::vector<unsigned char> inside(sectors, 0);
+  int inside_count = 0;
+  for (int s = 0; s < sectors; ++s) {
+    // Sector s spans angles [s, s+1) * 2pi/sectors - pi (the binning below); its middle:
+    const double a = (s + 0.5) * 2.0 * std::numbers::pi / sectors - std::numbers::pi;
+    const double x = c.x_px + c.radius_px * std::cos(a), y = c.y_px + c.radius_px * std::sin(a);
+    // One pixel in from the border: Sobel has no full neighbourhood on the outermost row.
+    if (x >= frame.x + 1.0 && y >= frame.y + 1.0 && x <= frame.x + frame.width - 2.0 &&
+        y <= frame.y + frame.height - 2.0) {
+      inside[s] = 1;
+      ++inside_count;
+    }
+  }
+  if (inside_count == 0 || inside_count < min_inside * sectors) return 0.0;
+  std::vector<unsigned char> hit(sectors, 0);
+  for (const auto& p : points) {
+    const double a = std::atan2(p.y - c.y_px, p.x - c.x_px) + std::numbers::pi;
+    const int s = std::min(sectors - 1, static_cast<int>(a / (2.0 * std::numbers::pi) * sectors));
+    hit[s] = inside[s];
+  }
+  return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / inside_count;
+}
+
 std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy,
                                       double min_radius_px, double max_radius_px) {
   const int r0 = std::max(1, static_cast<int>(std::floor(min_radius_px)));
@@ -214,14 +241,14 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
     c = *fit;
   }
   gather_circle_points(edges, c, scoring_band_px(c, params), params.min_radial_cos, pts);
-  c.score = angular_coverage(c, pts);
+  c.score = angular_coverage_in_frame(c, pts, edges.frame_px);
   return c;
 }
 
 double score_circle(const EdgeMap& edges, const Circle& c, const RefineParams& params) {
   std::vector<cv::Point2d> pts;
   gather_circle_points(edges, c, scoring_band_px(c, params), params.min_radial_cos, pts);
-  return angular_coverage(c, pts);
+  return angular_coverage_in_frame(c, pts, edges.frame_px);
 }
 
 }  // namespace stereoball::ball_detector

@@ -39,6 +39,12 @@ double scoring_band_px(const Circle& c, const RefineParams& params);
 /// Fraction in [0, 1] of angular sectors of circle c holding at least one of points.
 double angular_coverage(const Circle& c, std::span<const cv::Point2d> points);
 
+/// Addition: angular_coverage counting only the sectors whose arc lies inside frame (the whole
+/// camera image, in the points' coordinates): a ball cut by the image border is judged on its
+/// visible part. 0 when less than min_inside of the circle is inside.
+double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> points,
+                                 const cv::Rect2d& frame, double min_inside = 0.5);
+
 /// Radius around centre (cx, cy) best supported by edge points with a radial gradient: the
 /// 2-px ring holding the most points per unit of circumference; nullopt if no ring has 8 points.
 std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy,

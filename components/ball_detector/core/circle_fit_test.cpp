@@ -79,3 +79,21 @@ TEST(ScoreCircle, GivenTheRightCircleThenScoreIsHighAndForAWrongOneLow) {
 
 }  // namespace
 }  // namespace stereoball::ball_detector
+
+namespace stereoball::ball_detector {
+namespace {
+
+// Given a circle half outside the frame with its visible half fully supported, then the
+// in-frame coverage is 1 (the plain coverage 0.5); with less than half inside, 0.
+TEST(CoverageInFrame, GivenCircleCutByTheBorderThenVisiblePartDecides) {
+  const Circle c{0.0, 50.0, 20.0, 0.0};  // centre on the left border of a 100x100 frame
+  const cv::Rect2d frame(0, 0, 100, 100);
+  const auto right_half = arc(0, 50, 20, -std::numbers::pi / 2, std::numbers::pi / 2, 400);
+  EXPECT_NEAR(angular_coverage(c, right_half), 0.5, 0.05);
+  EXPECT_NEAR(angular_coverage_in_frame(c, right_half, frame, 0.4), 1.0, 0.05);
+  const Circle mostly_out{-10.0, 50.0, 20.0, 0.0};
+  EXPECT_EQ(angular_coverage_in_frame(mostly_out, right_half, frame, 0.5), 0.0);
+}
+
+}  // namespace
+}  // namespace stereoball::ball_detector

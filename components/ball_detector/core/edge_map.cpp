@@ -189,7 +189,19 @@ void canny_and_thin(const EdgeParams& params, const CannyThresholds& t, EdgeMap&
 
 }  // namespace
 
+namespace {
+
+cv::Rect2d frame_of(const cv::Mat& image) {
+  cv::Size whole;
+  cv::Point offset;
+  image.locateROI(whole, offset);
+  return cv::Rect2d(-offset.x, -offset.y, whole.width, whole.height);
+}
+
+}  // namespace
+
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
+  out.frame_px = frame_of(image);
   out.grey = to_grey(image);
   sobel(out);
   CannyThresholds t = canny_thresholds(out.dx, out.dy, params);
@@ -204,6 +216,7 @@ void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& o
 
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, const CannyThresholds& fixed,
                       bool denoise, EdgeMap& out) {
+  out.frame_px = frame_of(image);
   out.grey = to_grey(image);
   out.denoised = denoise;
   if (out.denoised) {

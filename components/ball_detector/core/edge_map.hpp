@@ -70,6 +70,9 @@ struct EdgeMap {
   double median_gradient = 0.0;  ///< median |dx|+|dy| of the image (noise level), Sobel L1 units
   bool denoised = false;         ///< whether the pre-blur ran
   int removed_staircase = 0;     ///< pixels removed by thinning
+  /// The whole camera image in this map's coordinates: the map itself, or, for a crop (a
+  /// cv::Mat ROI view), its parent image (from cv::Mat::locateROI).
+  cv::Rect2d frame_px;
 };
 
 /// Converts a CV_8UC1/3/4 image to CV_8U grey (no copy for grey input).
