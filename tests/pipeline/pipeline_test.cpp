@@ -81,7 +81,7 @@ double ball_distance_m(const stereoball_msg_GroundTruth& gt) {
 // Given a ball in front of the robot, when the system runs, then the tracker follows it and
 // the robot ends near the controller's target distance, facing the ball.
 TEST(Pipeline, RobotEndsNearTheBall) {
-  PipelineRun run("ball_still_plain");
+  PipelineRun run("ball_still");
   ASSERT_TRUE(sb::testing::eventually(
       [&] {
         run.drain();
@@ -119,7 +119,7 @@ TEST(Pipeline, RobotEndsNearTheBall) {
 // controller commands zero within 0.5 s (its 300 ms stale-track timeout plus delivery), and
 // the simulated base then comes to rest at its braking limit (time printed).
 TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
-  PipelineRun run("ball_rolling_away_plain", /*restart_tracker=*/false);
+  PipelineRun run("ball_rolling_away", /*restart_tracker=*/false);
   ASSERT_TRUE(sb::testing::eventually(
       [&] {
         run.drain();
