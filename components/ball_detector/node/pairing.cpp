@@ -43,15 +43,17 @@ cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior,
   const stereo::Triangulator& tri = ctx.triangulator;
   const double f = tri.focal_px();
   const cv::Vec3d& p = prior.position_m;
-  // Nearest the ball can be within the gate: its disc and the gate look largest there.
-  const double near_z = p[2] - prior.gate_m;
+  // Between two frames the prediction errs far less than the gate allows (the gate is for
+  // choosing among pairs; a miss here only costs a whole-frame search): a third of it, in
+  // depth and sideways, at the nearest depth, where the disc and the slack look largest.
+  const double slack_m = prior.gate_m / 3.0;
+  const double near_z = p[2] - slack_m;
   if (!(near_z > 0.5 * ctx.size.ball_diameter_m)) return {};
   const cv::Point2d centre =
       tri.principal_left_px() + cv::Point2d(f * p[0] / p[2], f * p[1] / p[2]);
   const double radius = stereo::expected_radius_px(f, ctx.size.ball_diameter_m, near_z);
-  // Sideways the prediction errs far less than the gate allows in depth: half of it.
-  const double reach = (1.0 + ctx.size.max_relative_error) * radius +
-                       f * 0.5 * prior.gate_m / near_z + static_cast<double>(margin_px);
+  const double reach = (1.0 + ctx.size.max_relative_error) * radius + f * slack_m / near_z +
+                       static_cast<double>(margin_px);
   const cv::Point tl(static_cast<int>(std::floor(centre.x - reach)),
                      static_cast<int>(std::floor(centre.y - reach)));
   const cv::Point br(static_cast<int>(std::ceil(centre.x + reach)) + 1,

@@ -81,9 +81,9 @@ struct TrackedBall {
 std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int64_t frame_stamp_ns,
                                               double gate_m, std::int64_t max_age_ns);
 
-/// The left rectified-image box where the ball expected at prior can appear: its disc (as near
-/// as the gate allows, at the size tolerance) plus half the gate sideways, padded by margin_px
-/// and clipped; empty if the prior is not in front of the camera.
+/// The left rectified-image box where the ball expected at prior can appear: its disc (a third
+/// of the gate nearer, at the size tolerance) plus a third of the gate sideways, padded by
+/// margin_px and clipped; empty if the prior is not in front of the camera.
 cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior, cv::Size image,
                           int margin_px);
 

@@ -202,7 +202,7 @@ TEST_F(Pairing, GivenPriorThenLeftSearchBoxHoldsTheBallsDisc) {
   const cv::Size image(640, 480);
   for (const cv::Vec3d& c : {cv::Vec3d(0.0, 0.0, 1.0), cv::Vec3d(0.3, 0.1, 1.5)}) {
     const auto [l, r] = ball_at(c[0], c[1], c[2]);
-    const sb::ball_detector::PositionPrior prior{c + cv::Vec3d(0.1, 0.0, -0.1), 0.3};
+    const sb::ball_detector::PositionPrior prior{c + cv::Vec3d(0.06, 0.0, -0.06), 0.3};
     const cv::Rect box = sb::ball_detector::prior_search_box(ctx_, prior, image, 9);
     ASSERT_FALSE(box.empty());
     EXPECT_TRUE(box.contains(
