@@ -6,6 +6,8 @@
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/synthetic.hpp"
 
+#include "common/util/bench_clock.hpp"
+
 #include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -125,13 +127,7 @@ std::vector<Method> make_methods(bool with_cht, double cht_step_px) {
   return m;
 }
 
-// CPU time of this thread, ms: with OpenCV on one thread it is the single-core cost, and it
-// stays meaningful on a machine shared with other jobs (wall time would not).
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
+using stereoball::bench::thread_cpu_ms;
 
 double time_ms(bd::CircleDetector& det, const cv::Mat& img, std::vector<bd::Circle>* out) {
   const double t0 = thread_cpu_ms();

@@ -16,24 +16,14 @@
 
 #include "ball_detector/node/sim_frames.hpp"
 #include "ball_detector/node/stereo_pipeline.hpp"
+#include "common/util/bench_clock.hpp"
 
 namespace sb = stereoball;
 
 namespace {
 
-// CPU time of this thread, ms: unlike wall time it does not grow when other processes load
-// the machine (the figure that matters for "one core").
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
-
-double wall_ms() {
-  return std::chrono::duration<double, std::milli>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
+using stereoball::bench::thread_cpu_ms;
+using stereoball::bench::wall_ms;
 
 struct Stats {
   double median = 0, p95 = 0, max = 0;
@@ -64,7 +54,7 @@ int main(int argc, char** argv) {
   int threads = 1;
   bool clutter = false;
   bool plain = false;
-  std::string input = "saturation";
+  std::string input = sb::ball_detector::to_string(sb::ball_detector::BallDetectorParams{}.input);
   bool full_right = false;
   double size_tolerance = sb::ball_detector::BallDetectorParams{}.size_max_relative_error;
   app.add_option("--frames", frames, "stereo frames to time")->check(CLI::Range(5, 10000));
@@ -83,7 +73,9 @@ int main(int argc, char** argv) {
   app.add_option("--size-tolerance", size_tolerance,
                  "accepted relative radius error at the triangulated depth")
       ->check(CLI::Range(0.001, 10.0));
-  app.add_option("--input", input, "detector input image: grey, saturation, red, green, blue");
+  app.add_option(
+      "--input", input,
+      "detector input image: grey, saturation, value, red, green, blue (default: the pipeline's)");
   CLI11_PARSE(app, argc, argv);
   const auto parsed_input = sb::ball_detector::parse_detector_input(input);
   if (!parsed_input) {

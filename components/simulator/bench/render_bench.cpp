@@ -2,6 +2,8 @@
 // with --frame-encoding jpeg|png, the encode time and bytes of a compressed pair (the node's
 // encoder).
 
+#include "common/util/bench_clock.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <time.h>
@@ -26,11 +28,8 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// CPU time of this thread, ms: unaffected by other processes competing for the cores.
 double cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+  return stereoball::bench::thread_cpu_ms();
 }
 
 void report(const char* what, std::vector<double> ms) {
