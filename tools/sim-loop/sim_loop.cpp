@@ -1,28 +1,15 @@
 #include "sim_loop.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <ctime>
+
+#include "common/util/bench_clock.hpp"
 
 namespace stereoball::sim_loop {
 namespace {
 
 namespace bd = ball_detector;
 namespace mc = motion_controller;
-
-// CPU time of this thread, ms (does not grow when other processes load the machine).
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
-
-double wall_ms() {
-  return std::chrono::duration<double, std::milli>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 tracker::Detection to_tracker(const bd::StereoDetection& d, int width_px) {
   tracker::Detection t;
@@ -120,8 +107,8 @@ LoopFrame SimLoop::step() {
   }
   const simulator::SimFrame f = sim_.step(command, t_ns);
   LoopFrame out;
-  const double w0 = wall_ms();
-  const double c0 = thread_cpu_ms();
+  const double w0 = bench::wall_ms();
+  const double c0 = bench::thread_cpu_ms();
   // The previous frame's track, as the node has it from ball/track when the frame arrives.
   const std::optional<bd::PositionPrior> prior =
       last_track_
@@ -129,8 +116,8 @@ LoopFrame SimLoop::step() {
                                  config_.detector.track_prior_max_age_ns)
           : std::nullopt;
   out.detection = pipeline_.step(f.left, f.right, false, prior);
-  out.detector_cpu_ms = thread_cpu_ms() - c0;
-  out.detector_wall_ms = wall_ms() - w0;
+  out.detector_cpu_ms = bench::thread_cpu_ms() - c0;
+  out.detector_wall_ms = bench::wall_ms() - w0;
   out.track = tracker_.step(to_tracker(out.detection, f.left.cols), f.sim_time_ns);
   last_track_ = to_tracked_ball(out.track, f.sim_time_ns);
   if (config_.drive == Drive::kController) {
