@@ -183,8 +183,8 @@ int main(int argc, char** argv) {
   std::string out_dir = "demo-out";
   int domain = sb::dds::domain_from_env(0);
   app.add_option("-s,--scenario", scenarios,
-                 "scenario(s) from config/scenarios (default: ball_rolling_away_plain, "
-                 "ball_still_plain, no_ball)");
+                 "scenario(s) from config/scenarios (default: ball_rolling_away, "
+                 "ball_leaves_right, no_ball)");
   app.add_option("-d,--duration", duration_s, "simulated seconds per scenario")
       ->check(CLI::Range(1.0, 3600.0))
       ->capture_default_str();
@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 10.0))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  if (scenarios.empty()) scenarios = {"ball_rolling_away_plain", "ball_still_plain", "no_ball"};
+  if (scenarios.empty()) scenarios = {"ball_rolling_away", "ball_leaves_right", "no_ball"};
   sb::log::init("demo");
   const fs::path root = SB_SOURCE_ROOT;
   for (const auto& s : scenarios) {
