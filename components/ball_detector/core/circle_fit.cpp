@@ -41,6 +41,30 @@ cv::Point2d subpixel_edge(const EdgeMap& e, int x, int y, int gx, int gy) {
   return {x + t * sx, y + t * sy};
 }
 
+// Calls f(x, y, gx, gy) for every edge pixel of the box [x0, x1] x [y0, y1] (clipped to the
+// map), with its Sobel gradient; whole empty 64-pixel words are skipped.
+template <typename F>
+void for_each_edge_in_box(const EdgeMap& edges, int x0, int y0, int x1, int y1, F&& f) {
+  const BitImage& bits = edges.bits;
+  x0 = std::max(0, x0);
+  y0 = std::max(0, y0);
+  x1 = std::min(bits.width() - 1, x1);
+  y1 = std::min(bits.height() - 1, y1);
+  for (int y = y0; y <= y1; ++y) {
+    const std::uint64_t* row = bits.row(y);
+    const short* gx = edges.dx.ptr<short>(y);
+    const short* gy = edges.dy.ptr<short>(y);
+    for (int w = x0 >> 6; w <= (x1 >> 6); ++w) {
+      std::uint64_t word = row[w];
+      while (word) {
+        const int x = (w << 6) + std::countr_zero(word);
+        word &= word - 1;
+        if (x >= x0 && x <= x1) f(x, y, gx[x], gy[x]);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::optional<Circle> fit_circle(std::span<const cv::Point2d> points) {
@@ -96,63 +120,56 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points) {
 void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
                           double min_radial_cos, std::vector<cv::Point2d>& out) {
   out.clear();
-  const BitImage& bits = edges.bits;
   const double outer = c.radius_px + band_px;
   const double inner = std::max(0.0, c.radius_px - band_px);
-  const int y0 = std::max(0, static_cast<int>(std::floor(c.y_px - outer)));
-  const int y1 = std::min(bits.height() - 1, static_cast<int>(std::ceil(c.y_px + outer)));
-  const int x0 = std::max(0, static_cast<int>(std::floor(c.x_px - outer)));
-  const int x1 = std::min(bits.width() - 1, static_cast<int>(std::ceil(c.x_px + outer)));
-  if (x0 > x1 || y0 > y1) return;
   const double cos2 = min_radial_cos * min_radial_cos;
-  for (int y = y0; y <= y1; ++y) {
-    const std::uint64_t* row = bits.row(y);
-    const short* gx = edges.dx.ptr<short>(y);
-    const short* gy = edges.dy.ptr<short>(y);
-    for (int w = x0 >> 6; w <= (x1 >> 6); ++w) {
-      std::uint64_t word = row[w];
-      while (word) {
-        const int x = (w << 6) + std::countr_zero(word);
-        word &= word - 1;
-        if (x < x0 || x > x1) continue;
+  for_each_edge_in_box(
+      edges, static_cast<int>(std::floor(c.x_px - outer)),
+      static_cast<int>(std::floor(c.y_px - outer)), static_cast<int>(std::ceil(c.x_px + outer)),
+      static_cast<int>(std::ceil(c.y_px + outer)), [&](int x, int y, short gx, short gy) {
         const double rx = x - c.x_px, ry = y - c.y_px;
         const double d2 = rx * rx + ry * ry;
-        if (d2 > outer * outer || d2 < inner * inner) continue;
-        const double g_dot_r = gx[x] * rx + gy[x] * ry;
-        const double g2 = static_cast<double>(gx[x]) * gx[x] + static_cast<double>(gy[x]) * gy[x];
-        if (g_dot_r * g_dot_r < cos2 * g2 * d2) continue;
-        const cv::Point2d p = subpixel_edge(edges, x, y, gx[x], gy[x]);
+        if (d2 > outer * outer || d2 < inner * inner) return;
+        const double g_dot_r = gx * rx + gy * ry;
+        const double g2 = static_cast<double>(gx) * gx + static_cast<double>(gy) * gy;
+        if (g_dot_r * g_dot_r < cos2 * g2 * d2) return;
+        const cv::Point2d p = subpixel_edge(edges, x, y, gx, gy);
         // The band applies to the sub-pixel position, which is what the fit uses.
         const double sd = fast_hypot(p.x - c.x_px, p.y - c.y_px);
-        if (sd > outer || sd < inner) continue;
+        if (sd > outer || sd < inner) return;
         out.push_back(p);
-      }
-    }
-  }
+      });
 }
 
+namespace {
+
+// About one sector per 3 px of circumference: adjacent edge pixels fill a sector, a gap of a
+// few pixels shows.
+int sector_count(const Circle& c) {
+  return std::clamp(static_cast<int>(2.0 * std::numbers::pi * c.radius_px / 3.0), 8, 180);
+}
+
+// Sector s spans angles [s, s + 1) * 2 pi / sectors - pi around the centre.
+int sector_of(const Circle& c, const cv::Point2d& p, int sectors) {
+  const double a = std::atan2(p.y - c.y_px, p.x - c.x_px) + std::numbers::pi;
+  return std::min(sectors - 1, static_cast<int>(a / (2.0 * std::numbers::pi) * sectors));
+}
+
+}  // namespace
+
 double angular_coverage(const Circle& c, std::span<const cv::Point2d> points) {
-  // About one sector per 3 px of circumference: adjacent edge pixels fill a sector, a gap of
-  // a few pixels shows.
-  const int sectors =
-      std::clamp(static_cast<int>(2.0 * std::numbers::pi * c.radius_px / 3.0), 8, 180);
+  const int sectors = sector_count(c);
   std::vector<unsigned char> hit(sectors, 0);
-  for (const auto& p : points) {
-    const double a = std::atan2(p.y - c.y_px, p.x - c.x_px) + std::numbers::pi;
-    const int s = std::min(sectors - 1, static_cast<int>(a / (2.0 * std::numbers::pi) * sectors));
-    hit[s] = 1;
-  }
+  for (const auto& p : points) hit[sector_of(c, p, sectors)] = 1;
   return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / sectors;
 }
 
 double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> points,
                                  const cv::Rect2d& frame, double min_inside) {
-  const int sectors =
-      std::clamp(static_cast<int>(2.0 * std::numbers::pi * c.radius_px / 3.0), 8, 180);
+  const int sectors = sector_count(c);
   std::vector<unsigned char> inside(sectors, 0);
   int inside_count = 0;
   for (int s = 0; s < sectors; ++s) {
-    // Sector s spans angles [s, s+1) * 2pi/sectors - pi (the binning below); its middle:
     const double a = (s + 0.5) * 2.0 * std::numbers::pi / sectors - std::numbers::pi;
     const double x = c.x_px + c.radius_px * std::cos(a), y = c.y_px + c.radius_px * std::sin(a);
     // One pixel in from the border: Sobel has no full neighbourhood on the outermost row.
@@ -165,8 +182,7 @@ double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> p
   if (inside_count == 0 || inside_count < min_inside * sectors) return 0.0;
   std::vector<unsigned char> hit(sectors, 0);
   for (const auto& p : points) {
-    const double a = std::atan2(p.y - c.y_px, p.x - c.x_px) + std::numbers::pi;
-    const int s = std::min(sectors - 1, static_cast<int>(a / (2.0 * std::numbers::pi) * sectors));
+    const int s = sector_of(c, p, sectors);
     hit[s] = inside[s];
   }
   return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / inside_count;
@@ -178,33 +194,20 @@ std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy
   const int r1 = static_cast<int>(std::ceil(max_radius_px));
   if (r1 <= r0) return std::nullopt;
   std::vector<int> hist(r1 + 2, 0);
-  const BitImage& bits = edges.bits;
-  const int y0 = std::max(0, static_cast<int>(cy) - r1 - 1);
-  const int y1 = std::min(bits.height() - 1, static_cast<int>(cy) + r1 + 1);
-  const int x0 = std::max(0, static_cast<int>(cx) - r1 - 1);
-  const int x1 = std::min(bits.width() - 1, static_cast<int>(cx) + r1 + 1);
-  for (int y = y0; y <= y1; ++y) {
-    const std::uint64_t* row = bits.row(y);
-    const short* gx = edges.dx.ptr<short>(y);
-    const short* gy = edges.dy.ptr<short>(y);
-    for (int w = x0 >> 6; w <= (x1 >> 6); ++w) {
-      std::uint64_t word = row[w];
-      while (word) {
-        const int x = (w << 6) + std::countr_zero(word);
-        word &= word - 1;
-        if (x < x0 || x > x1) continue;
-        const double rx = x - cx, ry = y - cy;
-        const double d = std::sqrt(rx * rx + ry * ry);
-        const int bin = static_cast<int>(std::lround(d));
-        if (bin < r0 || bin > r1) continue;
-        // Loose radial test: the centre is only known to a pixel or two here.
-        const double g_dot_r = gx[x] * rx + gy[x] * ry;
-        const double g = fast_hypot(static_cast<double>(gx[x]), static_cast<double>(gy[x]));
-        if (std::abs(g_dot_r) < 0.7 * g * d) continue;
-        ++hist[bin];
-      }
-    }
-  }
+  for_each_edge_in_box(edges, static_cast<int>(cx) - r1 - 1, static_cast<int>(cy) - r1 - 1,
+                       static_cast<int>(cx) + r1 + 1, static_cast<int>(cy) + r1 + 1,
+                       [&](int x, int y, short gx, short gy) {
+                         const double rx = x - cx, ry = y - cy;
+                         const double d = std::sqrt(rx * rx + ry * ry);
+                         const int bin = static_cast<int>(std::lround(d));
+                         if (bin < r0 || bin > r1) return;
+                         // Loose radial test: the centre is only known to a pixel or two here.
+                         const double g_dot_r = gx * rx + gy * ry;
+                         const double g =
+                             fast_hypot(static_cast<double>(gx), static_cast<double>(gy));
+                         if (std::abs(g_dot_r) < 0.7 * g * d) return;
+                         ++hist[bin];
+                       });
   double best = 0.0;
   std::optional<double> best_r;
   for (int r = r0; r <= r1; ++r) {
