@@ -18,6 +18,7 @@
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
 #include "process.hpp"
+#include "stereo/msg/calibration_msg.hpp"
 
 namespace sb = stereoball;
 using namespace std::chrono_literals;
@@ -106,9 +107,7 @@ class BallDetectorNodeTest : public ::testing::Test {
   }
 
   void publish_calibration() {
-    stereoball_msg_StereoCalibration msg{};
-    sb::ball_detector::to_message(scene().calib, calib_source_, 1, msg);
-    calibration_->write(msg);
+    calibration_->write(sb::stereo::calibration_to_message(scene().calib, 1, calib_source_));
   }
 
   // Publishes frame (re-sending while no answer: frames are best effort) and returns the

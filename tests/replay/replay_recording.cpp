@@ -11,6 +11,7 @@
 #include "common/dds/writer.hpp"
 #include "recorder/io/recording.hpp"
 #include "simulator/node/msg_conversion.hpp"
+#include "stereo/msg/calibration_msg.hpp"
 #include "stereoball/idl_text.hpp"
 #include "stereoball/topics.hpp"
 #include "tracker/core/tracker.hpp"
@@ -108,9 +109,10 @@ std::optional<std::string> make_replay_recording(const std::string& path, int do
     const auto ns = static_cast<std::uint64_t>(t_ns);
     return !cdr.empty() && (*recording)->push(topic, std::move(cdr), ns, ns);
   };
-  if (!push(0,
-            calib_ser.cdr(simulator::calibration_to_msg(sim.calibration(), kReplayEpochNs, source)),
-            kReplayEpochNs))
+  if (!push(
+          0,
+          calib_ser.cdr(stereo::calibration_to_message(sim.calibration(), kReplayEpochNs, source)),
+          kReplayEpochNs))
     return "calibration sample was not serialized or queued";
   const std::int64_t period_ns = sim.frame_period_ns();
   const auto width = static_cast<std::uint32_t>(sim.calibration().image_size.width);

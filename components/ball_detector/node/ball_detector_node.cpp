@@ -3,6 +3,7 @@
 #include <string>
 
 #include "ball_detector/node/message_conversion.hpp"
+#include "stereo/msg/calibration_msg.hpp"
 
 namespace stereoball::ball_detector {
 namespace {
@@ -34,7 +35,7 @@ void BallDetectorNode::on_calibration() {
   if (!sample) return;
   runner_.health().count(kCalibrationTopic);
   const char* source = (*sample)->source ? (*sample)->source : "";
-  auto calib = from_message(**sample);
+  auto calib = stereo::calibration_from_message(**sample);
   std::optional<std::string> problem;
   if (!calib) {
     problem = calib.error();

@@ -1,4 +1,4 @@
-// IDL <-> core conversions: calibration round trip, validation, detection message fields.
+// IDL <-> core conversions: detection message fields, ball/track prior.
 
 #include "ball_detector/node/message_conversion.hpp"
 
@@ -6,53 +6,8 @@
 
 #include <limits>
 
-#include "stereo/core/synthetic_rig.hpp"
-
 namespace sb = stereoball;
 using sb::ball_detector::DetectionStatus;
-
-TEST(CalibrationMessage, GivenSyntheticRig_ThenRoundTripsExactly) {
-  const auto calib = sb::stereo::default_synthetic_rig().calibration();
-  stereoball_msg_StereoCalibration msg{};
-  const std::string source = "synthetic";
-  sb::ball_detector::to_message(calib, source, 123, msg);
-  EXPECT_EQ(msg.width_px, 640u);
-  EXPECT_EQ(msg.d1._length, calib.d1.size());
-  EXPECT_STREQ(msg.source, "synthetic");
-  const auto back = sb::ball_detector::from_message(msg);
-  ASSERT_TRUE(back.ok()) << back.error();
-  EXPECT_EQ(back->image_size, calib.image_size);
-  EXPECT_EQ(back->d1, calib.d1);
-  EXPECT_EQ(back->d2, calib.d2);
-  EXPECT_EQ(cv::norm(back->k1 - calib.k1), 0.0);
-  EXPECT_EQ(cv::norm(back->p2 - calib.p2), 0.0);
-  EXPECT_EQ(cv::norm(back->q - calib.q), 0.0);
-  EXPECT_EQ(cv::norm(back->t - calib.t), 0.0);
-}
-
-TEST(CalibrationMessage, GivenBadFields_ThenErrorNamesThem) {
-  auto calib = sb::stereo::default_synthetic_rig().calibration();
-  calib.d1 = {0.1, 0.2, 0.3};
-  stereoball_msg_StereoCalibration msg{};
-  const std::string source;
-  sb::ball_detector::to_message(calib, source, 0, msg);
-  auto r = sb::ball_detector::from_message(msg);
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().find("d1"), std::string::npos) << r.error();
-
-  calib = sb::stereo::default_synthetic_rig().calibration();
-  sb::ball_detector::to_message(calib, source, 0, msg);
-  msg.width_px = 0;
-  r = sb::ball_detector::from_message(msg);
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().find("image size"), std::string::npos) << r.error();
-
-  sb::ball_detector::to_message(calib, source, 0, msg);
-  msg.k2[0] = 0.0;  // zero focal length
-  r = sb::ball_detector::from_message(msg);
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().find("K2"), std::string::npos) << r.error();
-}
 
 TEST(DetectionMessage, GivenFoundBall_ThenEveryFieldCopied) {
   sb::ball_detector::StereoDetection det;

@@ -4,6 +4,7 @@
 #include "camera_server/node/frame_message.hpp"
 #include "common/util/log.hpp"
 #include "stereo/io/calibration_file.hpp"
+#include "stereo/msg/calibration_msg.hpp"
 
 namespace stereoball::camera_server {
 namespace {
@@ -92,9 +93,8 @@ void CameraServerNode::start() {
   }
   if (!calibration_) log::warn("no calibration_file: stereo/calibration is not published");
   if (calibration_) {
-    stereoball_msg_StereoCalibration msg{};
-    fill_calibration_message(*calibration_, params_.calibration_file, node::now_ns(), msg);
-    calibration_writer_.write(msg);
+    calibration_writer_.write(
+        stereo::calibration_to_message(*calibration_, node::now_ns(), params_.calibration_file));
     runner_.health().count(std::string(topics::kStereoCalibration.spec.name));
   }
   if (files_) {

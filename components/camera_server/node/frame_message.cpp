@@ -16,19 +16,6 @@ void fill_eye(const EyeView& v, stereoball_msg_EyeImage& m) {
   m.data._release = false;
 }
 
-template <typename Matx>
-void copy_matrix(const Matx& m, double* out) {
-  std::copy(m.val, m.val + Matx::rows * Matx::cols, out);
-}
-
-template <typename Seq>
-void point_at(const std::vector<double>& v, Seq& seq) {
-  seq._buffer = const_cast<double*>(v.data());
-  seq._length = static_cast<uint32_t>(std::min<size_t>(v.size(), 14));
-  seq._maximum = seq._length;
-  seq._release = false;
-}
-
 }  // namespace
 
 void fill_frame_message(const FrameView& view, const std::string& source,
@@ -40,26 +27,6 @@ void fill_frame_message(const FrameView& view, const std::string& source,
   msg.rectified = view.rectified;
   fill_eye(view.left, msg.left);
   fill_eye(view.right, msg.right);
-}
-
-void fill_calibration_message(const stereo::StereoCalibration& c, const std::string& source,
-                              int64_t stamp_ns, stereoball_msg_StereoCalibration& msg) {
-  msg.stamp_ns = stamp_ns;
-  msg.width_px = static_cast<uint32_t>(c.image_size.width);
-  msg.height_px = static_cast<uint32_t>(c.image_size.height);
-  copy_matrix(c.k1, msg.k1);
-  copy_matrix(c.k2, msg.k2);
-  point_at(c.d1, msg.d1);
-  point_at(c.d2, msg.d2);
-  copy_matrix(c.r, msg.r);
-  std::copy(c.t.val, c.t.val + 3, msg.t);
-  copy_matrix(c.r1, msg.r1);
-  copy_matrix(c.r2, msg.r2);
-  copy_matrix(c.p1, msg.p1);
-  copy_matrix(c.p2, msg.p2);
-  copy_matrix(c.q, msg.q);
-  msg.rms_px = c.rms_px;
-  msg.source = const_cast<char*>(source.c_str());
 }
 
 }  // namespace stereoball::camera_server

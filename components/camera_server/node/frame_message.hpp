@@ -14,8 +14,4 @@ namespace stereoball::camera_server {
 void fill_frame_message(const FrameView& view, const std::string& source,
                         stereoball_msg_StereoFrame& msg);
 
-/// Fills msg from a calibration; d1/d2 and source point into calib/source (keep them alive).
-void fill_calibration_message(const stereo::StereoCalibration& calib, const std::string& source,
-                              int64_t stamp_ns, stereoball_msg_StereoCalibration& msg);
-
 }  // namespace stereoball::camera_server

@@ -26,30 +26,5 @@ TEST(FillFrameMessage, GivenViewWhenFilledThenMessagePointsAtPixelsWithMetadata)
   EXPECT_FALSE(m.left.data._release);
 }
 
-TEST(FillCalibrationMessage, GivenCalibrationWhenFilledThenMatricesRowMajorAndSizesCopied) {
-  stereo::StereoCalibration c;
-  c.image_size = cv::Size(640, 480);
-  c.k1 = cv::Matx33d(500, 0, 320, 0, 501, 240, 0, 0, 1);
-  c.d1 = {0.1, -0.2, 0, 0, 0.05};
-  c.d2 = {0.3};
-  c.t = cv::Vec3d(-0.1, 0, 0);
-  c.p2 = cv::Matx34d(500, 0, 320, -50, 0, 500, 240, 0, 0, 0, 1, 0);
-  c.rms_px = 0.4;
-  stereoball_msg_StereoCalibration m{};
-  const std::string source = "calib.yaml";  // m.source points into it: must outlive m's use
-  fill_calibration_message(c, source, 5, m);
-  EXPECT_EQ(m.width_px, 640u);
-  EXPECT_EQ(m.height_px, 480u);
-  EXPECT_DOUBLE_EQ(m.k1[1 * 3 + 1], 501);  // row 1, col 1
-  EXPECT_DOUBLE_EQ(m.k1[0 * 3 + 2], 320);
-  EXPECT_EQ(m.d1._length, 5u);
-  EXPECT_DOUBLE_EQ(m.d1._buffer[1], -0.2);
-  EXPECT_EQ(m.d2._length, 1u);
-  EXPECT_DOUBLE_EQ(m.t[0], -0.1);
-  EXPECT_DOUBLE_EQ(m.p2[3], -50);
-  EXPECT_DOUBLE_EQ(m.rms_px, 0.4);
-  EXPECT_STREQ(m.source, "calib.yaml");
-}
-
 }  // namespace
 }  // namespace stereoball::camera_server

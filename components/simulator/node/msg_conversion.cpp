@@ -6,19 +6,6 @@
 namespace stereoball::simulator {
 namespace {
 
-template <int M, int N>
-void copy(const cv::Matx<double, M, N>& m, double* out) {
-  std::copy(m.val, m.val + M * N, out);
-}
-
-dds_sequence_double as_sequence(const std::vector<double>& v) {
-  dds_sequence_double s{};
-  s._maximum = s._length = static_cast<uint32_t>(std::min<size_t>(v.size(), 14));
-  s._buffer = const_cast<double*>(v.data());
-  s._release = false;
-  return s;
-}
-
 stereoball_msg_EyeImage eye(const cv::Mat& image, int64_t stamp_ns) {
   stereoball_msg_EyeImage e{};
   e.capture_stamp_ns = stamp_ns;
@@ -33,28 +20,6 @@ stereoball_msg_EyeImage eye(const cv::Mat& image, int64_t stamp_ns) {
 }
 
 }  // namespace
-
-stereoball_msg_StereoCalibration calibration_to_msg(const stereo::StereoCalibration& c,
-                                                    int64_t stamp_ns, const std::string& source) {
-  stereoball_msg_StereoCalibration m{};
-  m.stamp_ns = stamp_ns;
-  m.width_px = static_cast<uint32_t>(c.image_size.width);
-  m.height_px = static_cast<uint32_t>(c.image_size.height);
-  copy(c.k1, m.k1);
-  copy(c.k2, m.k2);
-  m.d1 = as_sequence(c.d1);
-  m.d2 = as_sequence(c.d2);
-  copy(c.r, m.r);
-  std::copy(c.t.val, c.t.val + 3, m.t);
-  copy(c.r1, m.r1);
-  copy(c.r2, m.r2);
-  copy(c.p1, m.p1);
-  copy(c.p2, m.p2);
-  copy(c.q, m.q);
-  m.rms_px = c.rms_px;
-  m.source = const_cast<char*>(source.c_str());
-  return m;
-}
 
 stereoball_msg_StereoFrame frame_to_msg(const SimFrame& frame, int64_t stamp_ns,
                                         const std::string& source) {

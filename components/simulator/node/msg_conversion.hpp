@@ -13,10 +13,6 @@
 
 namespace stereoball::simulator {
 
-/// stereo/calibration message of calib; d1/d2 and source must outlive the message.
-stereoball_msg_StereoCalibration calibration_to_msg(const stereo::StereoCalibration& calib,
-                                                    int64_t stamp_ns, const std::string& source);
-
 /// stereo/frame message (bgr8, raw eyes) of a simulated frame; frame and source must outlive it.
 stereoball_msg_StereoFrame frame_to_msg(const SimFrame& frame, int64_t stamp_ns,
                                         const std::string& source);

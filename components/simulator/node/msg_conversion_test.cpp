@@ -5,27 +5,6 @@
 namespace stereoball::simulator {
 namespace {
 
-TEST(MsgConversion, CalibrationFieldsAreCopiedRowMajor) {
-  // Given the true calibration of the default rig
-  const StereoRig rig{SimParams{}};
-  const auto& c = rig.calibration();
-  const std::string source = "true";
-  // When converted
-  const auto m = calibration_to_msg(c, 123, source);
-  // Then sizes, matrices, distortion and source are those of the calibration
-  EXPECT_EQ(m.width_px, 640u);
-  EXPECT_EQ(m.height_px, 480u);
-  EXPECT_EQ(m.stamp_ns, 123);
-  EXPECT_DOUBLE_EQ(m.k1[2], c.k1(0, 2));
-  EXPECT_DOUBLE_EQ(m.p2[3], c.p2(0, 3));
-  EXPECT_DOUBLE_EQ(m.q[11], c.q(2, 3));
-  EXPECT_DOUBLE_EQ(m.t[0], c.t[0]);
-  ASSERT_EQ(m.d2._length, 5u);
-  EXPECT_DOUBLE_EQ(m.d2._buffer[1], c.d2[1]);
-  EXPECT_FALSE(m.d2._release);
-  EXPECT_STREQ(m.source, "true");
-}
-
 // A simulated 352x288 frame of an empty scenario.
 SimFrame small_frame() {
   SimParams p;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "simulator/node/msg_conversion.hpp"
+#include "stereo/msg/calibration_msg.hpp"
 
 namespace stereoball::simulator {
 
@@ -25,7 +26,8 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
     for (auto& e : encoders_) e.emplace(options_.output);
   }
   // Transient-local: written once, every late joiner still receives it.
-  calibration_.write(calibration_to_msg(published_, node::now_ns(), options_.calibration_source));
+  calibration_.write(
+      stereo::calibration_to_message(published_, node::now_ns(), options_.calibration_source));
   runner_.on_data(commands_.handle(), [this] { on_commands(); });
   const auto period_ns =
       static_cast<int64_t>(std::llround(1e9 / (params_.frame_rate_hz * options_.rate)));
