@@ -41,9 +41,7 @@ Command MotionController::step(std::int64_t now_ns) {
   // Safety stops are immediate, not ramped: the base must not keep moving.
   if (estop_) return record(hard_stop(Mode::kEmergencyStop), now_ns);
   if (!track_) return record(hard_stop(Mode::kWaiting), now_ns);
-  if (now_ns - track_received_ns_ > params_.stale_timeout_ns) {
-    return record(hard_stop(Mode::kStale), now_ns);
-  }
+  if (input_stale(now_ns)) return record(hard_stop(Mode::kStale), now_ns);
 
   Target target;
   switch (track_->state) {

@@ -28,6 +28,11 @@ class MotionController {
 
   /// True while the emergency stop is latched.
   bool estop_engaged() const { return estop_; }
+  /// True when a track was received once but none for longer than stale_timeout_ns (the next
+  /// step() commands the immediate zero of the stale mode).
+  bool input_stale(std::int64_t now_ns) const {
+    return track_.has_value() && now_ns - track_received_ns_ > params_.stale_timeout_ns;
+  }
 
  private:
   struct Target {

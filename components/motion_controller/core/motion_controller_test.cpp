@@ -261,6 +261,17 @@ TEST(MotionController, GivenTrackStopsArriving_ThenZeroAfterStaleTimeout) {
   EXPECT_LE(c.linear_mps, 0.8 * 0.05 + 1e-9);
 }
 
+// input_stale tells the node when to send the stale zero without waiting for its next tick.
+TEST(MotionController, GivenTrackAge_ThenInputStaleExactlyAfterTheTimeout) {
+  MotionControllerParams p;
+  MotionController mc(p);
+  EXPECT_FALSE(mc.input_stale(10'000'000'000));  // no track yet: waiting, not stale
+  mc.on_track(following(0.0, 2.0, kT0), 1'000'000'000);
+  EXPECT_FALSE(mc.input_stale(1'000'000'000 + p.stale_timeout_ns));
+  EXPECT_TRUE(mc.input_stale(1'000'000'001 + p.stale_timeout_ns));
+  EXPECT_EQ(mc.step(1'000'000'001 + p.stale_timeout_ns).mode, Mode::kStale);
+}
+
 TEST(MotionController, GivenEmergencyStop_ThenZeroLatchedUntilCleared) {
   Harness h;
   h.run(following(0.3, 2.0, kT0), 40);

@@ -6,6 +6,12 @@
 #include "motion_controller/node/command_conversion.hpp"
 
 namespace stereoball::motion_controller {
+namespace {
+
+// How often the node looks for input that just went stale, ns.
+constexpr std::int64_t kStaleWatchPeriodNs = 10'000'000;
+
+}  // namespace
 
 MotionControllerNode::MotionControllerNode(node::Runner& runner,
                                            const MotionControllerNodeParams& params)
@@ -18,6 +24,10 @@ MotionControllerNode::MotionControllerNode(node::Runner& runner,
   runner_.on_data(estop_.handle(), [this] { on_estop(); });
   const auto period_ns = static_cast<std::int64_t>(1e9 / params.rate_hz);
   runner_.every(period_ns, [this](std::int64_t now_ns) { tick(now_ns); });
+  // Safety stops go out when they happen, not at the next regular tick (up to a period later).
+  runner_.every(kStaleWatchPeriodNs, [this](std::int64_t now_ns) {
+    if (last_mode_ != Mode::kStale && controller_.input_stale(now_ns)) tick(now_ns);
+  });
   runner_.health().set_state(false, "waiting for ball/track");
 }
 
@@ -39,8 +49,10 @@ void MotionControllerNode::on_estop() {
         log::info("emergency stop cleared: ", reason);
       }
     }
+    const bool newly_engaged = s->engaged && !controller_.estop_engaged();
     controller_.on_estop(s->engaged);
     runner_.health().count(std::string(topics::kEmergencyStop.spec.name));
+    if (newly_engaged) tick(node::now_ns());
   }
 }
 
