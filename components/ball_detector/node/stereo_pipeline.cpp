@@ -175,9 +175,8 @@ const cv::Mat& StereoPipeline::detector_channel(const cv::Mat& raw, cv::Mat& gre
   return *src;
 }
 
-void StereoPipeline::prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified, cv::Mat& grey,
-                                 cv::Mat& out) {
-  const cv::Mat& channel = detector_channel(raw, grey);
+void StereoPipeline::rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                                   cv::Mat& out) const {
   if (rectified) {
     channel.copyTo(out);
   } else {
@@ -201,14 +200,14 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     return out;
   }
   const PairingContext ctx{epipolar_, *triangulator_, size_};
+  const cv::Mat& left_channel = detector_channel(left, grey_left_);
   const cv::Mat& right_channel = detector_channel(right, grey_right_);
   std::optional<PairingResult> pairing;
   if (prior && params_.prior_window && left_thresholds_ &&
       frames_since_full_search_ < kFullSearchEveryFrames) {
-    pairing = search_near_prior(ctx, detector_channel(left, grey_left_), right_channel, rectified,
-                                *prior);
+    pairing = search_near_prior(ctx, left_channel, right_channel, rectified, *prior);
   }
-  if (!pairing) pairing = search_whole_frame(ctx, left, right_channel, rectified, prior);
+  if (!pairing) pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior);
   out.candidates_left = static_cast<int>(left_candidates_.size());
   out.candidates_right = static_cast<int>(right_candidates_.size());
 
@@ -250,22 +249,18 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
   return std::nullopt;
 }
 
-PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx, const cv::Mat& left,
+PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
+                                                 const cv::Mat& left_channel,
                                                  const cv::Mat& right_channel, bool rectified,
                                                  const std::optional<PositionPrior>& prior) {
-  prepare_eye(left, stereo::Eye::kLeft, rectified, grey_left_, rect_left_);
+  rectify_whole(left_channel, stereo::Eye::kLeft, rectified, rect_left_);
   left_candidates_ = left_detector_.detect(rect_left_);
   left_thresholds_ = thresholds_of(left_detector_.edge_map());
   frames_since_full_search_ = 0;
   if (params_.right_eye_partner_boxes) {
     right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified);
   } else {
-    rect_right_.create(rectifier_->calibration().image_size, right_channel.type());
-    if (rectified) {
-      right_channel.copyTo(rect_right_);
-    } else {
-      rectifier_->rectify_eye(stereo::Eye::kRight, right_channel, rect_right_);
-    }
+    rectify_whole(right_channel, stereo::Eye::kRight, rectified, rect_right_);
     right_candidates_ = right_detector_.detect(rect_right_);
   }
   return pair_candidates(ctx, left_candidates_, right_candidates_, prior);

@@ -100,15 +100,14 @@ class StereoPipeline {
 
  private:
   std::optional<std::string> check_input(const cv::Mat& left, const cv::Mat& right) const;
-  void prepare_eye(const cv::Mat& raw, stereo::Eye eye, bool rectified, cv::Mat& grey,
-                   cv::Mat& out);
+  void rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified, cv::Mat& out) const;
   const cv::Mat& detector_channel(const cv::Mat& raw, cv::Mat& grey) const;
   std::vector<cv::Rect> partner_boxes(const PairingContext& ctx) const;
   std::optional<PairingResult> search_near_prior(const PairingContext& ctx,
                                                  const cv::Mat& left_channel,
                                                  const cv::Mat& right_channel, bool rectified,
                                                  const PositionPrior& prior);
-  PairingResult search_whole_frame(const PairingContext& ctx, const cv::Mat& left,
+  PairingResult search_whole_frame(const PairingContext& ctx, const cv::Mat& left_channel,
                                    const cv::Mat& right_channel, bool rectified,
                                    const std::optional<PositionPrior>& prior);
   int window_margin_px() const;
