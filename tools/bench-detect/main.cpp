@@ -208,6 +208,7 @@ int main(int argc, char** argv) {
   std::string dump_dir;
   double min_iou = 0.8;
   std::string explain;
+  std::vector<std::string> only;
   app.add_option("--per-kind", per_kind, "Synthetic scenes per kind and size (10 kinds)")
       ->capture_default_str()
       ->check(CLI::Range(1, 200));
@@ -224,6 +225,9 @@ int main(int argc, char** argv) {
   app.add_option("--explain", explain,
                  "Print every miss and false positive of the method with this label prefix");
   app.add_option("--dump-dir", dump_dir, "Also write the synthetic images here (PNG)");
+  app.add_option("--only", only,
+                 "Run only the methods whose label starts with this (repeatable; for profiling: "
+                 "ratios need the methods side by side in one run)");
   CLI11_PARSE(app, argc, argv);
   cv::setNumThreads(1);
 
@@ -234,6 +238,16 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "stereoball-bench-detect: no real images in '%s'; timing synthetic only\n",
                  real_dir.c_str());
   auto methods = make_methods(!no_cht, cht_step);
+  if (!only.empty()) {
+    std::erase_if(methods, [&](const Method& m) {
+      return std::none_of(only.begin(), only.end(),
+                          [&](const std::string& p) { return m.label.rfind(p, 0) == 0; });
+    });
+    if (methods.empty()) {
+      std::fprintf(stderr, "stereoball-bench-detect: --only matches no method label\n");
+      return 2;
+    }
+  }
   std::vector<Tally> tallies(methods.size());
   // Voting statistics of p2p (k=5) vs gradient voting on the ball scenes.
   std::map<std::string, std::vector<double>> voters, increments, ratio;

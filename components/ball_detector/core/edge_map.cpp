@@ -182,7 +182,7 @@ void canny_and_thin(const EdgeParams& params, const CannyThresholds& t, EdgeMap&
   out.low_threshold = t.low;
   out.high_threshold = t.high;
   out.median_gradient = t.median_gradient;
-  cv::Canny(out.dx, out.dy, out.edges, t.low, t.high, false);
+  canny_l1(out.dx, out.dy, t.low, t.high, out.edges, out.canny_work);
   out.removed_staircase = params.thin ? thin_staircase(out.edges) : 0;
   out.bits.assign(out.edges);
 }

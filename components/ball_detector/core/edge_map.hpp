@@ -2,6 +2,8 @@
 // Step 1 of Pixel-to-Pixel: a thin binary edge map (grey, Canny with image-derived
 // thresholds, removal of staircase pixels) plus a bit-packed copy for fast window counts.
 
+#include "ball_detector/core/canny.hpp"
+
 #include <opencv2/core.hpp>
 
 #include <array>
@@ -73,6 +75,7 @@ struct EdgeMap {
   /// The whole camera image in this map's coordinates: the map itself, or, for a crop (a
   /// cv::Mat ROI view), its parent image (from cv::Mat::locateROI).
   cv::Rect2d frame_px;
+  CannyWorkspace canny_work;  ///< scratch of the Canny step, reused image after image
 };
 
 /// Converts a CV_8UC1/3/4 image to CV_8U grey (no copy for grey input).

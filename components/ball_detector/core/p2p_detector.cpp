@@ -30,6 +30,54 @@ double median_of(std::vector<double>& v) {
   return *mid;
 }
 
+// The voters that may lie in a band of rows, in their original order (the refinement's sums
+// then run in the same order as a full scan, so results are identical). Voters come in raster
+// order of their edge points, one run per k, so within a run y is sorted up to a few pixels:
+// the run's prefix maximum and suffix minimum of y are sorted and bound it by binary search.
+class VoterRows {
+ public:
+  explicit VoterRows(const std::vector<Voter>& voters) : voters_(voters) {
+    const size_t n = voters.size();
+    prefix_max_.resize(n);
+    suffix_min_.resize(n);
+    size_t begin = 0;
+    for (size_t i = 0; i < n; ++i) {
+      // A big drop in y starts a new run (the next k's raster pass).
+      if (i > begin && voters[i].y < prefix_max_[i - 1] - kNewRunDropPx) {
+        runs_.push_back({begin, i});
+        begin = i;
+      }
+      prefix_max_[i] = i > begin ? std::max(prefix_max_[i - 1], voters[i].y) : voters[i].y;
+    }
+    if (n > begin) runs_.push_back({begin, n});
+    for (const auto& run : runs_)
+      for (size_t i = run.end; i-- > run.begin;)
+        suffix_min_[i] = i + 1 < run.end ? std::min(suffix_min_[i + 1], voters[i].y) : voters[i].y;
+  }
+
+  /// Calls f(voter) for every voter with y in [y_lo, y_hi] (and possibly a few others).
+  template <typename F>
+  void for_each(double y_lo, double y_hi, F&& f) const {
+    for (const auto& run : runs_) {
+      const auto first =
+          std::lower_bound(prefix_max_.begin() + run.begin, prefix_max_.begin() + run.end, y_lo);
+      const auto last =
+          std::upper_bound(suffix_min_.begin() + run.begin, suffix_min_.begin() + run.end, y_hi);
+      for (auto i = first - prefix_max_.begin(); i < last - suffix_min_.begin(); ++i)
+        f(voters_[static_cast<size_t>(i)]);
+    }
+  }
+
+ private:
+  static constexpr float kNewRunDropPx = 64.0f;
+  struct Run {
+    size_t begin, end;
+  };
+  const std::vector<Voter>& voters_;
+  std::vector<Run> runs_;
+  std::vector<float> prefix_max_, suffix_min_;
+};
+
 bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_sep) {
   return std::none_of(kept.begin(), kept.end(), [&](const Circle& k) {
     return fast_hypot(k.x_px - c.x_px, k.y_px - c.y_px) < min_sep;
@@ -76,6 +124,7 @@ void PixelToPixelDetector::vote(int k) {
   const int h = bits.height();
   std::array<WindowPoint, 2 * kMaxK + 1> window{};
   std::array<std::uint64_t, 2 * kMaxK + 1> mask{};
+  std::array<std::uint64_t, 2 * kMaxK + 1> rows{};
   const int n = 2 * k + 1;
   for (int y = k; y < h - k; ++y) {
     const std::uint64_t* row = bits.row(y);
@@ -85,14 +134,18 @@ void PixelToPixelDetector::vote(int k) {
         const int x = wi * 64 + std::countr_zero(word);
         word &= word - 1;
         if (x < k || x >= w - k) continue;
-        // Step 4 first: the count is a few popcounts, far cheaper than collecting points.
-        const int count = count_window_points(bits, x, y, k);
+        // The window's rows are read once; step 4's count is then a few popcounts, far
+        // cheaper than collecting points.
+        const auto window_bits = std::span(rows.data(), n);
+        window_rows(bits, x, y, k, window_bits);
+        int count = 0;
+        for (const std::uint64_t row_bits : window_bits) count += std::popcount(row_bits);
         int got = 0;
         if (window_count_ok(count, k)) {
-          got = collect_window_points(bits, x, y, k, std::span(window.data(), n));
+          got = collect_masked_points(window_bits, k, std::span(window.data(), n));
         } else if (params_.isolate_arc && count > n && count <= kIsolateMaxFactor * n) {
           // Addition: judge the arc through O alone when other edges share the window.
-          if (connected_window_rows(bits, x, y, k, mask, n) != n) continue;
+          if (connected_rows(window_bits, k, mask, n) != n) continue;
           got = collect_masked_points(mask, k, std::span(window.data(), n));
         } else {
           continue;
@@ -134,7 +187,8 @@ std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   accumulator_.create(edges_.edges.size(), CV_16UC1);
   accumulator_.setTo(0);
   for (int k : params_.k_values) vote(k);
-  const cv::Mat smoothed = box_filter(accumulator_, params_.box_size_px);
+  box_filter(accumulator_, params_.box_size_px, smoothed_);
+  const cv::Mat& smoothed = smoothed_;
   diag_.edges = edges_.edges;
   diag_.accumulator = smoothed;
   diag_.voters = static_cast<std::int64_t>(voters_.size());
@@ -171,27 +225,32 @@ std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<V
   std::vector<Circle> found;
   std::vector<double> radii;
   std::vector<cv::Point2d> support;
+  const VoterRows rows(voters);
+  // A voter passing the tests below is at most this far from the peak (t <= max radius and
+  // the line within tolerance), plus a pixel for float rounding.
+  const double reach_px = options.max_radius_px + options.line_tolerance_px + 1.0;
   for (const auto& peak : peaks) {
     radii.clear();
-    for (const auto& v : voters) {
+    rows.for_each(peak.y - reach_px, peak.y + reach_px, [&](const Voter& v) {
       const double px = peak.x - v.x, py = peak.y - v.y;
       const double t = px * v.ux + py * v.uy;
-      if (t < options.min_radius_px || t > options.max_radius_px) continue;
-      if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) continue;
+      if (t < options.min_radius_px || t > options.max_radius_px) return;
+      if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
       radii.push_back(std::sqrt(px * px + py * py));
-    }
+    });
     if (radii.size() < 3) continue;
     const double r0 = median_of(radii);
     // The voters' own positions on the circle seed the fit (they are edge points).
     support.clear();
-    for (const auto& v : voters) {
+    const double support_reach_px = 1.2 * r0 + 2.0;
+    rows.for_each(peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
       const double px = peak.x - v.x, py = peak.y - v.y;
       const double d = std::sqrt(px * px + py * py);
-      if (std::abs(d - r0) > 0.2 * r0 + 1.0) continue;
-      if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) continue;
-      if (px * v.ux + py * v.uy <= 0.0) continue;
+      if (std::abs(d - r0) > 0.2 * r0 + 1.0) return;
+      if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
+      if (px * v.ux + py * v.uy <= 0.0) return;
       support.emplace_back(v.x, v.y);
-    }
+    });
     Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};
     if (const auto fit = fit_circle(support);
         fit && fast_hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)

@@ -77,6 +77,7 @@ class PixelToPixelDetector final : public CircleDetector {
   PixelToPixelParams params_;
   EdgeMap edges_;
   cv::Mat accumulator_;
+  cv::Mat smoothed_;  // box-filtered accumulator_, buffer kept across images
   std::vector<Voter> voters_;
   mutable DetectionDiagnostics diag_;
   mutable bool peak_ratio_done_ = false;

@@ -5,9 +5,16 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstdint>
 #include <cstdlib>
+#include <vector>
 
 namespace stereoball::ball_detector {
+
+void window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows) {
+  const int n = 2 * k + 1;
+  for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = edges.bits(y - k + r, x - k, n);
+}
 
 int count_window_points(const BitImage& edges, int x, int y, int k) {
   const int n = 2 * k + 1;
@@ -17,29 +24,27 @@ int count_window_points(const BitImage& edges, int x, int y, int k) {
 }
 
 int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<WindowPoint> out) {
-  const int n = 2 * k + 1;
-  int used = 0;
-  for (int r = -k; r <= k; ++r) {
-    std::uint64_t bits = edges.bits(y + r, x - k, n);
-    while (bits != 0 && used < static_cast<int>(out.size())) {
-      const int c = std::countr_zero(bits);
-      bits &= bits - 1;
-      out[used++] = WindowPoint{c - k, r};
-    }
-  }
-  return used;
+  std::array<std::uint64_t, 64> rows{};
+  window_rows(edges, x, y, k, rows);
+  return collect_masked_points(std::span<const std::uint64_t>(rows.data(), 2 * k + 1), k, out);
 }
 
 namespace {
 
-// Grows seed along the set bits of row (both directions) until blocked: a run fill.
+// The bits of row in the runs (maximal sets of adjacent bits) that seed touches.
 inline std::uint64_t fill_runs(std::uint64_t seed, std::uint64_t row) {
   seed &= row;
-  for (std::uint64_t prev = 0; seed != prev;) {
-    prev = seed;
-    seed |= ((seed << 1) | (seed >> 1)) & row;
+  // Toward higher bits: adding the seeds carries through the rest of each seeded run, clearing
+  // it in the sum (seed bits themselves may be cleared too; the downward fill keeps them).
+  const std::uint64_t up = row & ~(row + seed);
+  // Toward lower bits: doubling (Kogge-Stone) steps cover runs up to 63 bits in six rounds.
+  std::uint64_t fill = seed;
+  std::uint64_t through = row;
+  for (int shift = 1; shift < 64; shift *= 2) {
+    fill |= through & (fill >> shift);
+    through &= through >> shift;
   }
-  return seed;
+  return up | fill;
 }
 
 // The bits of row 8-connected to a neighbour row's mask.
@@ -49,36 +54,71 @@ inline std::uint64_t touching(std::uint64_t neighbour, std::uint64_t row) {
 
 }  // namespace
 
+namespace {
+
+// Whether no window pixel outside the component touches it (8-neighbourhood): a dilation test,
+// cheaper than growing again.
+bool component_closed(std::span<const std::uint64_t> window, std::span<const std::uint64_t> rows,
+                      int n) {
+  auto spread = [](std::uint64_t m) { return m | (m << 1) | (m >> 1); };
+  for (int r = 0; r < n; ++r) {
+    const auto ri = static_cast<std::size_t>(r);
+    std::uint64_t near = spread(rows[ri]);
+    if (r > 0) near |= spread(rows[ri - 1]);
+    if (r + 1 < n) near |= spread(rows[ri + 1]);
+    if ((near & window[ri] & ~rows[ri]) != 0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::uint64_t> rows,
+                   int stop_above) {
+  const int n = 2 * k + 1;
+  if (static_cast<int>(rows.size()) < n || static_cast<int>(window.size()) < n || n > 63) return 0;
+  for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = 0;
+  const auto centre = static_cast<std::size_t>(k);
+  rows[centre] = fill_runs(std::uint64_t{1} << k, window[centre]);
+  int count = std::popcount(rows[centre]);
+  // One sweep down and one up from the centre row complete an arc that crosses each row once,
+  // the case that matters; a component that turns back (a U) is finished by the worklist below.
+  for (const int step : {1, -1}) {
+    for (int r = k + step; r >= 0 && r < n && count <= stop_above; r += step) {
+      const auto ri = static_cast<std::size_t>(r);
+      rows[ri] = touching(rows[ri - static_cast<std::size_t>(step)], window[ri]);
+      if (rows[ri] == 0) break;
+      count += std::popcount(rows[ri]);
+    }
+  }
+  if (count > stop_above || component_closed(window, rows, n)) return count;
+  // Worklist of rows whose mask grew: each grows its two neighbours. Rows are run-closed, so
+  // a neighbour's new bits are the runs touching the grown row.
+  std::uint64_t pending = (std::uint64_t{1} << n) - 1;
+  while (pending != 0 && count <= stop_above) {
+    const int r = std::countr_zero(pending);
+    pending &= pending - 1;
+    for (const int next : {r - 1, r + 1}) {
+      if (next < 0 || next >= n) continue;
+      const auto ni = static_cast<std::size_t>(next);
+      const std::uint64_t grown =
+          rows[ni] | touching(rows[static_cast<std::size_t>(r)], window[ni]);
+      if (grown == rows[ni]) continue;
+      count += std::popcount(grown) - std::popcount(rows[ni]);
+      rows[ni] = grown;
+      pending |= std::uint64_t{1} << next;
+    }
+  }
+  return count;
+}
+
 int connected_window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows,
                           int stop_above) {
   const int n = 2 * k + 1;
   if (static_cast<int>(rows.size()) < n) return 0;
   std::array<std::uint64_t, 64> window{};
-  for (int r = 0; r < n; ++r) {
-    window[static_cast<std::size_t>(r)] = edges.bits(y - k + r, x - k, n);
-    rows[static_cast<std::size_t>(r)] = 0;
-  }
-  rows[static_cast<std::size_t>(k)] =
-      fill_runs(std::uint64_t{1} << k, window[static_cast<std::size_t>(k)]);
-  int count = std::popcount(rows[static_cast<std::size_t>(k)]);
-  // Flood fill by alternating sweeps from the centre row down and up, each row grown from its
-  // neighbour and then along its own runs; an arc through a window converges in one or two.
-  for (bool grew = true; grew && count <= stop_above;) {
-    grew = false;
-    auto grow_row = [&](int r, int from) {
-      const auto ri = static_cast<std::size_t>(r);
-      const std::uint64_t add =
-          touching(rows[static_cast<std::size_t>(from)], window[ri]) & ~rows[ri];
-      if (add == 0) return;
-      const std::uint64_t grown = fill_runs(rows[ri] | add, window[ri]);
-      count += std::popcount(grown) - std::popcount(rows[ri]);
-      rows[ri] = grown;
-      grew = true;
-    };
-    for (int r = 1; r < n; ++r) grow_row(r, r - 1);
-    for (int r = n - 2; r >= 0; --r) grow_row(r, r + 1);
-  }
-  return count;
+  window_rows(edges, x, y, k, window);
+  return connected_rows(std::span<const std::uint64_t>(window.data(), n), k, rows, stop_above);
 }
 
 int collect_masked_points(std::span<const std::uint64_t> rows, int k, std::span<WindowPoint> out) {
@@ -135,10 +175,69 @@ std::optional<VoteLine> analyse_window(std::span<const WindowPoint> points, int 
   return orient_to_concave_side(perpendicular_bisector(ends->a, ends->b));
 }
 
+namespace {
+
+// out[x] = from[x] + ... + from[x + N - 1]; a compile-time N lets the compiler unroll and
+// vectorise (a run-time count made the whole filter slower than cv::boxFilter).
+template <int N>
+void sum_columns_n(const int* __restrict from, int* __restrict out, int w) {
+  for (int x = 0; x < w; ++x) {
+    int sum = 0;
+    for (int t = 0; t < N; ++t) sum += from[x + t];
+    out[x] = sum;
+  }
+}
+
+void sum_columns(const int* from, int* out, int w, int n) {
+  switch (n) {
+    case 1:
+      return sum_columns_n<1>(from, out, w);
+    case 3:
+      return sum_columns_n<3>(from, out, w);
+    case 5:
+      return sum_columns_n<5>(from, out, w);
+    case 7:
+      return sum_columns_n<7>(from, out, w);
+    case 9:
+      return sum_columns_n<9>(from, out, w);
+    default:
+      for (int x = 0; x < w; ++x) {
+        int sum = 0;
+        for (int t = 0; t < n; ++t) sum += from[x + t];
+        out[x] = sum;
+      }
+  }
+}
+
+}  // namespace
+
+void box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
+  CV_Assert(accumulator.type() == CV_16UC1 && size_px >= 1 && size_px % 2 == 1);
+  const int h = accumulator.rows, w = accumulator.cols, r = size_px / 2;
+  smoothed.create(h, w, CV_32SC1);
+  // Separable: running column sums over rows [y - r, y + r], then a horizontal sum of size_px
+  // columns. Twice as fast as cv::boxFilter here; the padding makes outside cells zero.
+  std::vector<int> padded(static_cast<size_t>(w + 2 * r), 0);
+  int* col = padded.data() + r;
+  auto add_row = [&](int y) {
+    const auto* a = accumulator.ptr<std::uint16_t>(y);
+    for (int x = 0; x < w; ++x) col[x] += a[x];
+  };
+  auto subtract_row = [&](int y) {
+    const auto* a = accumulator.ptr<std::uint16_t>(y);
+    for (int x = 0; x < w; ++x) col[x] -= a[x];
+  };
+  for (int y = 0; y < std::min(r, h); ++y) add_row(y);
+  for (int y = 0; y < h; ++y) {
+    if (y + r < h) add_row(y + r);
+    sum_columns(padded.data(), smoothed.ptr<int>(y), w, size_px);
+    if (y - r >= 0) subtract_row(y - r);
+  }
+}
+
 cv::Mat box_filter(const cv::Mat& accumulator, int size_px) {
   cv::Mat smoothed;
-  cv::boxFilter(accumulator, smoothed, CV_32S, cv::Size(size_px, size_px), cv::Point(-1, -1), false,
-                cv::BORDER_CONSTANT);
+  box_filter(accumulator, size_px, smoothed);
   return smoothed;
 }
 

@@ -33,6 +33,10 @@ struct VoteLine {
   int ny = 0;   ///< direction toward the concave side, y component
 };
 
+/// The 2k+1 rows of the window centred on (x, y) as bit masks (bit c of rows[r] = pixel
+/// (c - k, r - k)); the window must lie inside, rows must hold 2k+1 entries.
+void window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows);
+
 /// Number of edge points in the (2k+1)^2 window centred on (x, y); the window must lie inside.
 int count_window_points(const BitImage& edges, int x, int y, int k);
 
@@ -51,6 +55,10 @@ int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<
 /// once more than stop_above are found (then returns a count above it, masks partial).
 int connected_window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows,
                           int stop_above = 64 * 64);
+
+/// connected_window_rows on window rows already read (window_rows); k <= 31.
+int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::uint64_t> rows,
+                   int stop_above = 64 * 64);
 
 /// Collects the points of connected_window_rows' masks (raster order); returns how many.
 int collect_masked_points(std::span<const std::uint64_t> rows, int k, std::span<WindowPoint> out);
@@ -85,6 +93,8 @@ std::optional<VoteLine> analyse_window(std::span<const WindowPoint> points, int 
 /// Step 9: smoothing by an all-ones square mask: each cell becomes the sum of votes in the
 /// size_px x size_px box around it (CV_16U in, CV_32S out, zero outside the image).
 cv::Mat box_filter(const cv::Mat& accumulator, int size_px);
+/// Same into smoothed (its buffer reused when the size is unchanged); size_px odd.
+void box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed);
 
 /// Step 9: position of the global maximum of a CV_32S map (first in raster order on ties).
 cv::Point global_maximum(const cv::Mat& smoothed);

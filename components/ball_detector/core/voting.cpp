@@ -1,8 +1,10 @@
 #include "ball_detector/core/voting.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 
 namespace stereoball::ball_detector {
 
@@ -46,17 +48,27 @@ namespace {
 
 template <typename T>
 void local_maxima(const cv::Mat& m, T min_value, std::vector<Peak>& out) {
+  // One flag per column, computed without branches so the compiler vectorises the row (a
+  // textured image leaves much of the map above the floor, where branches mispredict).
+  std::vector<std::uint8_t> flag(static_cast<size_t>(m.cols) + 8, 0);
   for (int y = 1; y < m.rows - 1; ++y) {
     const T* up = m.ptr<T>(y - 1);
     const T* row = m.ptr<T>(y);
     const T* down = m.ptr<T>(y + 1);
     for (int x = 1; x < m.cols - 1; ++x) {
       const T v = row[x];
-      if (v < min_value) continue;
       // Strict against earlier neighbours, non-strict against later: one pixel per plateau.
-      if (v <= up[x - 1] || v <= up[x] || v <= up[x + 1] || v <= row[x - 1]) continue;
-      if (v < row[x + 1] || v < down[x - 1] || v < down[x] || v < down[x + 1]) continue;
-      out.push_back({x, y, static_cast<float>(v)});
+      flag[x] = (v >= min_value) & (v > up[x - 1]) & (v > up[x]) & (v > up[x + 1]) &
+                (v > row[x - 1]) & (v >= row[x + 1]) & (v >= down[x - 1]) & (v >= down[x]) &
+                (v >= down[x + 1]);
+    }
+    for (int x = 1; x < m.cols - 1; x += 8) {
+      std::uint64_t eight;
+      std::memcpy(&eight, flag.data() + x, 8);
+      for (; eight != 0; eight &= eight - 1) {
+        const int xi = x + std::countr_zero(eight) / 8;
+        if (xi < m.cols - 1) out.push_back({xi, y, static_cast<float>(row[xi])});
+      }
     }
   }
 }

@@ -1,0 +1,275 @@
+// The speed-ups of the detector against plain references: canny_l1 vs cv::Canny, box_filter vs
+// cv::boxFilter, connected_rows vs a breadth-first flood fill, find_peaks vs a brute-force
+// scan, and circles_from_votes independent of the order its voters come in.
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <deque>
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include "ball_detector/core/canny.hpp"
+#include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/core/p2p_rules.hpp"
+#include "ball_detector/core/synthetic.hpp"
+#include "ball_detector/core/voting.hpp"
+
+namespace stereoball::ball_detector {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<cv::Mat> real_greys() {
+  std::vector<cv::Mat> out;
+  const fs::path dir = fs::path(SB_SHARED_DATA_DIR) / "opencv-samples";
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const auto ext = e.path().extension();
+    if (ext != ".png" && ext != ".jpg") continue;
+    cv::Mat m = cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE);
+    if (!m.empty()) out.push_back(m);
+  }
+  return out;
+}
+
+void sobel(const cv::Mat& grey, cv::Mat& dx, cv::Mat& dy) {
+  cv::Sobel(grey, dx, CV_16S, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  cv::Sobel(grey, dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+}
+
+TEST(CannyL1, GivenRealImagesAndSeveralThresholdsThenEdgesEqualOpenCvCanny) {
+  // Given the real sample images (ships with the project's shared data)
+  const auto images = real_greys();
+  ASSERT_GE(images.size(), 10u) << "expected the OpenCV sample images in " << SB_SHARED_DATA_DIR;
+  CannyWorkspace work;
+  int compared = 0;
+  for (const auto& grey : images) {
+    cv::Mat dx, dy;
+    sobel(grey, dx, dy);
+    // Fractional thresholds too: both floor them.
+    for (const double high : {24.0, 60.5, 151.7, 400.0}) {
+      // When both compute the edge map
+      cv::Mat ours, reference;
+      canny_l1(dx, dy, 0.4 * high, high, ours, work);
+      cv::Canny(dx, dy, reference, 0.4 * high, high, false);
+      // Then every pixel agrees
+      ASSERT_EQ(cv::countNonZero(ours != reference), 0) << "high " << high;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 40);
+}
+
+TEST(CannyL1, GivenCropsTinyImagesAndSwappedThresholdsThenEdgesEqualOpenCvCanny) {
+  const auto images = real_greys();
+  ASSERT_FALSE(images.empty());
+  CannyWorkspace work;
+  std::mt19937 rng(7);
+  for (int i = 0; i < 60; ++i) {
+    // Given random crops (down to 1x1) of a real image, as the node searches boxes
+    const cv::Mat& grey = images[static_cast<size_t>(i) % images.size()];
+    const int w = 1 + static_cast<int>(rng() % 90), h = 1 + static_cast<int>(rng() % 90);
+    const int x = static_cast<int>(rng() % static_cast<unsigned>(grey.cols - w));
+    const int y = static_cast<int>(rng() % static_cast<unsigned>(grey.rows - h));
+    cv::Mat dx, dy;
+    sobel(grey(cv::Rect(x, y, w, h)), dx, dy);
+    // When the thresholds come in the wrong order (both swap them)
+    cv::Mat ours, reference;
+    canny_l1(dx, dy, 120.0, 48.0, ours, work);
+    cv::Canny(dx, dy, reference, 120.0, 48.0, false);
+    // Then the edge maps are equal
+    ASSERT_EQ(cv::countNonZero(ours != reference), 0) << w << "x" << h;
+  }
+}
+
+TEST(BoxFilter, GivenRandomVotesAndEveryOddSizeThenSumsEqualCvBoxFilter) {
+  std::mt19937 rng(3);
+  for (const int size : {1, 3, 5, 7, 9, 11, 31}) {
+    for (const cv::Size image : {cv::Size(640, 480), cv::Size(37, 5), cv::Size(3, 40)}) {
+      // Given an accumulator with random counts, a few saturated
+      cv::Mat acc(image, CV_16UC1);
+      cv::randu(acc, 0, 300);
+      acc.at<std::uint16_t>(0, 0) = 0xFFFF;
+      // When both smooth it
+      cv::Mat ours = box_filter(acc, size), reference;
+      cv::boxFilter(acc, reference, CV_32S, cv::Size(size, size), cv::Point(-1, -1), false,
+                    cv::BORDER_CONSTANT);
+      // Then every cell agrees (zero outside the image)
+      ASSERT_EQ(cv::countNonZero(ours != reference), 0) << "size " << size << " " << image;
+    }
+  }
+}
+
+// Reference: 8-connected component of the window centre by breadth-first search.
+int bfs_component(const std::array<std::uint64_t, 64>& window, int n, int k) {
+  auto set = [&](int r, int c) { return (window[static_cast<size_t>(r)] >> c) & 1u; };
+  if (!set(k, k)) return 0;
+  std::vector<char> seen(static_cast<size_t>(n * n), 0);
+  std::deque<std::pair<int, int>> queue{{k, k}};
+  seen[static_cast<size_t>(k * n + k)] = 1;
+  int count = 0;
+  while (!queue.empty()) {
+    const auto [r, c] = queue.front();
+    queue.pop_front();
+    ++count;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const int rr = r + dr, cc = c + dc;
+        if (rr < 0 || cc < 0 || rr >= n || cc >= n || !set(rr, cc)) continue;
+        char& s = seen[static_cast<size_t>(rr * n + cc)];
+        if (!s) s = 1, queue.emplace_back(rr, cc);
+      }
+  }
+  return count;
+}
+
+TEST(ConnectedRows, GivenRandomWindowsThenTheComponentEqualsABreadthFirstFloodFill) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 20000; ++trial) {
+    // Given a random window (densities from sparse to dense, several k) with its centre set
+    const int k = std::array{2, 5, 8, 15, 31}[static_cast<size_t>(trial) % 5];
+    const int n = 2 * k + 1;
+    const unsigned density = 5 + static_cast<unsigned>(trial) % 50;
+    std::array<std::uint64_t, 64> window{};
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c)
+        if (rng() % 100 < density) window[static_cast<size_t>(r)] |= std::uint64_t{1} << c;
+    window[static_cast<size_t>(k)] |= std::uint64_t{1} << k;
+    // When its component is grown (no early stop)
+    std::array<std::uint64_t, 64> rows{};
+    const int count = connected_rows(std::span<const std::uint64_t>(window.data(), n), k, rows);
+    // Then the count equals the reference, and the masks hold exactly that many window pixels
+    const int expected = bfs_component(window, n, k);
+    ASSERT_EQ(count, expected) << "trial " << trial << " k " << k;
+    int in_masks = 0;
+    for (int r = 0; r < n; ++r) {
+      ASSERT_EQ(rows[static_cast<size_t>(r)] & ~window[static_cast<size_t>(r)], 0u);
+      in_masks += std::popcount(rows[static_cast<size_t>(r)]);
+    }
+    ASSERT_EQ(in_masks, expected);
+  }
+}
+
+TEST(ConnectedRows, GivenAUShapeThatReturnsOverItsRowsThenTheWorklistFindsAllOfIt) {
+  // Given a U through the centre row whose right arm is reached only around its bottom
+  const int k = 5, n = 11;
+  std::array<std::uint64_t, 64> window{};
+  for (int r = 5; r <= 9; ++r) window[static_cast<size_t>(r)] |= 1u << 2;  // left arm, from O
+  window[9] |= 0b11111100u;                                                // bottom
+  for (int r = 2; r <= 9; ++r) window[static_cast<size_t>(r)] |= 1u << 7;  // right arm, upward
+  window[5] |= 1u << k;                                                    // O on the left arm
+  window[5] |= 1u << 3 | 1u << 4;  // joins O to the left arm
+  // When grown
+  std::array<std::uint64_t, 64> rows{};
+  const int count = connected_rows(std::span<const std::uint64_t>(window.data(), n), k, rows);
+  // Then the right arm above the centre row is included too
+  EXPECT_EQ(count, bfs_component(window, n, k));
+  EXPECT_TRUE((rows[2] >> 7) & 1u);
+}
+
+TEST(ConnectedRows, GivenAStopThenTheCountExceedsItOnlyWhenTheComponentDoes) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int k = 5, n = 11;
+    std::array<std::uint64_t, 64> window{};
+    for (int r = 0; r < n; ++r) window[static_cast<size_t>(r)] = rng() & ((1u << n) - 1);
+    window[k] |= 1u << k;
+    std::array<std::uint64_t, 64> rows{};
+    const int stopped =
+        connected_rows(std::span<const std::uint64_t>(window.data(), n), k, rows, n);
+    const int full = bfs_component(window, n, k);
+    // The rule needs exactly 2k+1: a stopped count must not look like one.
+    if (full > n)
+      EXPECT_GT(stopped, n);
+    else
+      EXPECT_EQ(stopped, full);
+  }
+}
+
+std::vector<Peak> brute_force_peaks(const cv::Mat& m, int floor_value) {
+  std::vector<Peak> out;
+  for (int y = 1; y < m.rows - 1; ++y)
+    for (int x = 1; x < m.cols - 1; ++x) {
+      const int v = m.at<int>(y, x);
+      if (v < floor_value) continue;
+      bool peak = true;
+      for (int dy = -1; dy <= 1 && peak; ++dy)
+        for (int dx = -1; dx <= 1 && peak; ++dx) {
+          if (!dx && !dy) continue;
+          const int u = m.at<int>(y + dy, x + dx);
+          // earlier in raster order: strictly greater; later: greater or equal
+          const bool earlier = dy < 0 || (dy == 0 && dx < 0);
+          peak = earlier ? v > u : v >= u;
+        }
+      if (peak) out.push_back({x, y, static_cast<float>(v)});
+    }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Peak& a, const Peak& b) { return a.value > b.value; });
+  return out;
+}
+
+TEST(FindPeaks, GivenSmoothedRandomVotesThenPeaksEqualABruteForceScan) {
+  std::mt19937 rng(9);
+  for (int trial = 0; trial < 20; ++trial) {
+    // Given a smoothed accumulator of random votes with plateaus (small integer range)
+    cv::Mat acc(97 + trial, 131 + 3 * trial, CV_16UC1);
+    cv::randu(acc, 0, 4);
+    const cv::Mat smoothed = box_filter(acc, 3);
+    const int floor_value = 10 + trial % 7;
+    // When peaks are found with no separation and no limit
+    const auto peaks = find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20);
+    // Then they are the brute-force local maxima, strongest first
+    const auto expected = brute_force_peaks(smoothed, floor_value);
+    ASSERT_EQ(peaks.size(), expected.size()) << "trial " << trial;
+    for (size_t i = 0; i < peaks.size(); ++i) {
+      EXPECT_EQ(peaks[i].x, expected[i].x);
+      EXPECT_EQ(peaks[i].y, expected[i].y);
+      EXPECT_EQ(peaks[i].value, expected[i].value);
+    }
+  }
+}
+
+TEST(CirclesFromVotes, GivenTheSameVotersInAnyOrderThenTheSameCirclesAreFound) {
+  // Given a synthetic scene with several balls and the voters P2P cast on it
+  const auto suite = make_suite(cv::Size(640, 480), 1, 4);
+  const auto several = std::find_if(suite.begin(), suite.end(),
+                                    [](const SyntheticScene& s) { return s.truth.size() >= 2; });
+  ASSERT_NE(several, suite.end());
+  PixelToPixelParams p;
+  p.k_values = {3, 5, 8};  // several raster passes: the voters come in several runs
+  p.min_radius_px = 12;
+  p.max_radius_px = 96;
+  PixelToPixelDetector detector(p);
+  const auto found = detector.detect(several->image);
+  ASSERT_GE(found.size(), 2u);
+  const cv::Mat& smoothed = detector.diagnostics()->accumulator;
+  double max_v = 0.0;
+  cv::minMaxLoc(smoothed, nullptr, &max_v);
+  const auto peaks = find_peaks(smoothed, static_cast<float>(0.15 * max_v), 10.0, 16);
+  CandidateOptions options;
+  options.min_radius_px = p.min_radius_px;
+  options.max_radius_px = p.max_radius_px;
+  const auto in_order = circles_from_votes(detector.edge_map(), detector.voters(), peaks, options);
+  // When the voters are shuffled (no raster order left to exploit)
+  auto shuffled = detector.voters();
+  std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(1));
+  const auto any_order = circles_from_votes(detector.edge_map(), shuffled, peaks, options);
+  // Then the circles agree (sums in another order: equal to rounding)
+  ASSERT_EQ(in_order.size(), any_order.size());
+  ASSERT_GE(in_order.size(), 2u);
+  for (size_t i = 0; i < in_order.size(); ++i) {
+    EXPECT_NEAR(in_order[i].x_px, any_order[i].x_px, 1e-6);
+    EXPECT_NEAR(in_order[i].y_px, any_order[i].y_px, 1e-6);
+    EXPECT_NEAR(in_order[i].radius_px, any_order[i].radius_px, 1e-6);
+    EXPECT_NEAR(in_order[i].score, any_order[i].score, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace stereoball::ball_detector
