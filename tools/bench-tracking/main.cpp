@@ -5,9 +5,12 @@
 
 #include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <optional>
 #include <string>
@@ -27,6 +30,9 @@ struct Options {
   std::optional<std::uint64_t> seed;
   std::string drive = "script";
   int threads = 1;
+  std::string frames_csv;
+  std::string png_dir;
+  std::pair<std::int64_t, std::int64_t> png_frames{0, -1};
 };
 
 int fail(const std::string& message) {
@@ -137,6 +143,37 @@ void print_time(const std::vector<bt::RunResult>& runs, int threads) {
               sl::percentile(all_wall, 0.5), sl::percentile(all_wall, 0.95));
 }
 
+// Quotes a CSV field (RFC 4180): reasons may hold commas.
+std::string csv_field(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+// One row per frame of every run: what was true, what was found, what the tracker said.
+std::optional<std::string> write_frames_csv(std::FILE* f, const std::string& path,
+                                            const std::vector<bt::RunResult>& runs) {
+  std::fprintf(f,
+               "scenario,frame,stamp_ns,visible,true_x_px,true_y_px,found,on_ball,found_x_px,"
+               "found_y_px,found_r_px,status,reason,verdict,accepted,state,error_mm\n");
+  for (const auto& r : runs) {
+    for (size_t i = 0; i < r.frames.size(); ++i) {
+      const auto& fr = r.frames[i];
+      std::fprintf(f, "%s,%zu,%lld,%d,%.2f,%.2f,%d,%d,%.2f,%.2f,%.2f,%s,%s,%s,%d,%s,%.2f\n",
+                   r.scenario.c_str(), i, static_cast<long long>(fr.stamp_ns), fr.ball_visible,
+                   fr.true_left_x_px, fr.true_left_y_px, fr.raw_found, fr.raw_on_ball,
+                   fr.found_left_x_px, fr.found_left_y_px, fr.found_radius_px,
+                   fr.detection_status.c_str(), csv_field(fr.detection_reason).c_str(),
+                   fr.verdict.c_str(), fr.accepted, fr.track_state.c_str(),
+                   fr.error_m >= 0 ? fr.error_m * 1e3 : -1.0);
+    }
+  }
+  const bool ok = std::fflush(f) == 0 && !std::ferror(f);
+  std::fclose(f);
+  if (!ok) return "cannot write '" + path + "': " + std::strerror(errno);
+  return std::nullopt;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -159,11 +196,25 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "OpenCV threads (1 = one core, the target)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
+  app.add_option("--frames-csv", o.frames_csv,
+                 "also write one CSV row per frame (truth, detection, reason, tracker verdict)");
+  app.add_option("--png-dir", o.png_dir,
+                 "write the raw frames of --png-frames as SCENARIO_left_NNNNNN.png / _right_ here");
+  app.add_option("--png-frames", o.png_frames, "FIRST:LAST, the frames written to --png-dir")
+      ->delimiter(':');
   CLI11_PARSE(app, argc, argv);
+  if (!o.png_dir.empty() && o.png_frames.second < o.png_frames.first)
+    return fail("--png-dir needs --png-frames FIRST:LAST with FIRST <= LAST");
   cv::setNumThreads(o.threads);
 
   auto selected = sl::select_runs(o.loop);
   if (!selected) return fail(selected.error());
+  // Opened before the (long) runs so a bad path fails at once.
+  std::FILE* csv = nullptr;
+  if (!o.frames_csv.empty()) {
+    csv = std::fopen(o.frames_csv.c_str(), "w");
+    if (!csv) return fail("cannot write '" + o.frames_csv + "': " + std::strerror(errno));
+  }
   bt::RunConfig base = selected->base;
   base.drive = o.drive == "controller" ? bt::Drive::kController : bt::Drive::kScript;
 
@@ -177,7 +228,17 @@ int main(int argc, char** argv) {
     config.scenario = scenario;
     if (o.seed) config.scenario.seed = *o.seed;
     config.seconds = sl::run_seconds(o.loop, scenario);
-    auto out = bt::run_scenario(config);
+    std::string png_error;
+    auto dump = [&](std::int64_t i, const sl::LoopFrame& f) {
+      if (o.png_dir.empty() || i < o.png_frames.first || i > o.png_frames.second) return;
+      for (const auto& [eye, image] : {std::pair{"left", &f.left_raw}, {"right", &f.right_raw}}) {
+        const std::string path = cv::format("%s/%s_%s_%06lld.png", o.png_dir.c_str(),
+                                            scenario.name.c_str(), eye, static_cast<long long>(i));
+        if (png_error.empty() && !cv::imwrite(path, *image)) png_error = "cannot write " + path;
+      }
+    };
+    auto out = bt::run_scenario(config, dump);
+    if (!png_error.empty()) return fail(png_error);
     if (!out.error.empty()) return fail(out.error);
     std::fprintf(stderr, "  %s: %zu frames\n", out.result.scenario.c_str(),
                  out.result.frames.size());
@@ -187,5 +248,9 @@ int main(int argc, char** argv) {
   print_visible(runs);
   print_error(runs);
   print_time(runs, o.threads);
+  if (csv) {
+    if (auto e = write_frames_csv(csv, o.frames_csv, runs)) return fail(*e);
+    std::fprintf(stderr, "  per-frame CSV: %s\n", o.frames_csv.c_str());
+  }
   return 0;
 }

@@ -14,7 +14,15 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
   r.ball_visible = g.ball_present && g.ball_visible_left && g.ball_visible_right;
   r.raw_found = d.status == bd::DetectionStatus::kFound;
   r.accepted = tracker::is_accepted(track.verdict);
+  r.stamp_ns = static_cast<std::int64_t>(std::llround(g.sim_time_s * 1e9));
+  r.detection_status = bd::to_string(d.status);
+  r.detection_reason = d.reason;
+  r.verdict = std::string(tracker::to_string(track.verdict));
+  r.track_state = std::string(tracker::to_string(track.state));
+  r.found_left_x_px = d.left.x_px, r.found_left_y_px = d.left.y_px;
+  r.found_radius_px = d.left.radius_px;
   if (!r.ball_present) return r;
+  r.true_left_x_px = g.ball_left_px.x, r.true_left_y_px = g.ball_left_px.y;
   const auto& c = g.ball_camera_m;
   r.true_distance_m = std::sqrt(c.x * c.x + c.y * c.y + c.z * c.z);
   if (r.raw_found && r.ball_visible) {
@@ -32,7 +40,7 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
 
 }  // namespace
 
-RunOutcome run_scenario(const RunConfig& config) {
+RunOutcome run_scenario(const RunConfig& config, const FrameSink& on_frame) {
   RunOutcome out;
   out.result.scenario = config.scenario.name;
   auto loop = sim_loop::SimLoop::create(config);
@@ -41,7 +49,9 @@ RunOutcome run_scenario(const RunConfig& config) {
     return out;
   }
   while ((*loop)->frames_done() < (*loop)->frame_count()) {
+    const std::int64_t index = (*loop)->frames_done();
     const sim_loop::LoopFrame f = (*loop)->step();
+    if (on_frame) on_frame(index, f);
     FrameRecord r = judge(f.truth, f.detection, f.track);
     r.cpu_ms = f.detector_cpu_ms;
     r.wall_ms = f.detector_wall_ms;

@@ -3,6 +3,8 @@
 // of tools/sim-loop: simulator core, ball detector pipeline, tracker core, optionally the
 // motion controller core driving); every frame is compared with the ground truth.
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,6 +29,14 @@ struct FrameRecord {
   double error_xyz_m[3] = {0, 0, 0};  ///< detected - true (x right, y down, z forward), m
   double cpu_ms = 0;                  ///< detector thread CPU time for this stereo frame, ms
   double wall_ms = 0;                 ///< detector wall time for this stereo frame, ms
+  // Detail for the per-frame CSV (--frames-csv): where the ball was, what was found, why.
+  std::int64_t stamp_ns = 0;                      ///< simulated capture time, ns
+  double true_left_x_px = 0, true_left_y_px = 0;  ///< true centre, left rectified image, px
+  double found_left_x_px = 0, found_left_y_px = 0, found_radius_px = 0;  ///< best left circle
+  std::string detection_status;  ///< the pipeline's status name
+  std::string detection_reason;  ///< the pipeline's reason
+  std::string verdict;           ///< the tracker's verdict name
+  std::string track_state;       ///< the tracker's state after the frame
 };
 
 /// Largest distance of the detected left centre from the true one to count as "on the ball".
@@ -43,6 +53,8 @@ struct RunOutcome {
   RunResult result;
   std::string error;  ///< empty on success
 };
-RunOutcome run_scenario(const RunConfig& config);
+/// Called after every frame with its index (for dumping frames); may be empty.
+using FrameSink = std::function<void(std::int64_t frame, const sim_loop::LoopFrame& f)>;
+RunOutcome run_scenario(const RunConfig& config, const FrameSink& on_frame = {});
 
 }  // namespace stereoball::bench_tracking

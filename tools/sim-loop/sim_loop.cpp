@@ -124,6 +124,8 @@ LoopFrame SimLoop::step() {
     controller_.on_track(to_controller(out.track, f.sim_time_ns), f.sim_time_ns);
   }
   out.truth = f.truth;
+  out.left_raw = f.left;
+  out.right_raw = f.right;
   out.ball_velocity_mps = sim_.world().ball().velocity_mps;
   out.command = last_command_;
   out.command_stamp_ns = last_command_ns_;

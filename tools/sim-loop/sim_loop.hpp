@@ -11,6 +11,8 @@
 #include <memory>
 #include <optional>
 
+#include <opencv2/core.hpp>
+
 #include "ball_detector/node/detector_params.hpp"
 #include "ball_detector/node/stereo_pipeline.hpp"
 #include "common/util/result.hpp"
@@ -50,6 +52,7 @@ struct LoopFrame {
   std::int64_t command_stamp_ns = -1;  ///< tick time of command, simulated ns (-1 if none)
   double detector_cpu_ms = 0.0;        ///< detector thread CPU time for this stereo frame, ms
   double detector_wall_ms = 0.0;       ///< detector wall time for this stereo frame, ms
+  cv::Mat left_raw, right_raw;  ///< the rendered frames (shared, not copied: valid until next step)
 };
 
 /// Steps the loop one camera frame at a time.
