@@ -48,7 +48,9 @@ void classify_row(const short* __restrict dx, const short* __restrict dy, const 
 void magnitudes_of_row(const cv::Mat& dx, const cv::Mat& dy, int y, int* out) {
   const short* gx = dx.ptr<short>(y);
   const short* gy = dy.ptr<short>(y);
-  for (int x = 0; x < dx.cols; ++x) out[x] = std::abs(gx[x]) + std::abs(gy[x]);
+  // The width in a local: out could alias dx.cols, which would keep the loop scalar.
+  const int w = dx.cols;
+  for (int x = 0; x < w; ++x) out[x] = std::abs(gx[x]) + std::abs(gy[x]);
 }
 
 // Pushes the edge pixels of a row of codes (eight at a time: kEdge is the only code with

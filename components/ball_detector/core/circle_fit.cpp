@@ -41,27 +41,52 @@ cv::Point2d subpixel_edge(const EdgeMap& e, int x, int y, int gx, int gy) {
   return {x + t * sx, y + t * sy};
 }
 
-// Calls f(x, y, gx, gy) for every edge pixel of the box [x0, x1] x [y0, y1] (clipped to the
-// map), with its Sobel gradient; whole empty 64-pixel words are skipped.
+// Calls f(x, y, gx, gy) for the edge pixels of row y in columns [x0, x1] (clipped), in order.
 template <typename F>
-void for_each_edge_in_box(const EdgeMap& edges, int x0, int y0, int x1, int y1, F&& f) {
+void for_each_edge_in_row(const EdgeMap& edges, int y, int x0, int x1, F&& f) {
   const BitImage& bits = edges.bits;
   x0 = std::max(0, x0);
-  y0 = std::max(0, y0);
   x1 = std::min(bits.width() - 1, x1);
-  y1 = std::min(bits.height() - 1, y1);
-  for (int y = y0; y <= y1; ++y) {
-    const std::uint64_t* row = bits.row(y);
-    const short* gx = edges.dx.ptr<short>(y);
-    const short* gy = edges.dy.ptr<short>(y);
-    for (int w = x0 >> 6; w <= (x1 >> 6); ++w) {
-      std::uint64_t word = row[w];
-      while (word) {
-        const int x = (w << 6) + std::countr_zero(word);
-        word &= word - 1;
-        if (x >= x0 && x <= x1) f(x, y, gx[x], gy[x]);
-      }
+  if (x1 < x0) return;
+  const std::uint64_t* row = bits.row(y);
+  const short* gx = edges.dx.ptr<short>(y);
+  const short* gy = edges.dy.ptr<short>(y);
+  for (int w = x0 >> 6; w <= (x1 >> 6); ++w) {
+    std::uint64_t word = row[w];
+    // Only the bits of [x0, x1] in this word.
+    if (w == (x0 >> 6)) word &= ~std::uint64_t{0} << (x0 & 63);
+    if (w == (x1 >> 6) && (x1 & 63) != 63) word &= (std::uint64_t{2} << (x1 & 63)) - 1;
+    while (word) {
+      const int x = (w << 6) + std::countr_zero(word);
+      word &= word - 1;
+      f(x, y, gx[x], gy[x]);
     }
+  }
+}
+
+// Calls f for the edge pixels that may lie in the annulus inner <= d <= outer around (cx, cy):
+// per row, only the one or two column ranges the annulus covers (plus a pixel of slack for
+// rounding), left to right, so callers see the pixels in raster order as with a box scan.
+template <typename F>
+void for_each_edge_in_annulus(const EdgeMap& edges, double cx, double cy, double inner,
+                              double outer, F&& f) {
+  const int y0 = std::max(0, static_cast<int>(std::floor(cy - outer)));
+  const int y1 = std::min(edges.bits.height() - 1, static_cast<int>(std::ceil(cy + outer)));
+  for (int y = y0; y <= y1; ++y) {
+    const double dy2 = (y - cy) * (y - cy);
+    if (dy2 > outer * outer) continue;
+    const double half_out = std::sqrt(outer * outer - dy2);
+    const int left_out = static_cast<int>(std::floor(cx - half_out)) - 1;
+    const int right_out = static_cast<int>(std::ceil(cx + half_out)) + 1;
+    const double half_in = dy2 < inner * inner ? std::sqrt(inner * inner - dy2) : 0.0;
+    const int left_in = static_cast<int>(std::ceil(cx - half_in)) + 1;
+    const int right_in = static_cast<int>(std::floor(cx + half_in)) - 1;
+    if (left_in >= right_in) {  // no hole in this row (or too small to skip): one range
+      for_each_edge_in_row(edges, y, left_out, right_out, f);
+      continue;
+    }
+    for_each_edge_in_row(edges, y, left_out, left_in, f);
+    for_each_edge_in_row(edges, y, right_in, right_out, f);
   }
 }
 
@@ -123,10 +148,8 @@ void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
   const double outer = c.radius_px + band_px;
   const double inner = std::max(0.0, c.radius_px - band_px);
   const double cos2 = min_radial_cos * min_radial_cos;
-  for_each_edge_in_box(
-      edges, static_cast<int>(std::floor(c.x_px - outer)),
-      static_cast<int>(std::floor(c.y_px - outer)), static_cast<int>(std::ceil(c.x_px + outer)),
-      static_cast<int>(std::ceil(c.y_px + outer)), [&](int x, int y, short gx, short gy) {
+  for_each_edge_in_annulus(
+      edges, c.x_px, c.y_px, inner, outer, [&](int x, int y, short gx, short gy) {
         const double rx = x - c.x_px, ry = y - c.y_px;
         const double d2 = rx * rx + ry * ry;
         if (d2 > outer * outer || d2 < inner * inner) return;
@@ -194,20 +217,20 @@ std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy
   const int r1 = static_cast<int>(std::ceil(max_radius_px));
   if (r1 <= r0) return std::nullopt;
   std::vector<int> hist(r1 + 2, 0);
-  for_each_edge_in_box(edges, static_cast<int>(cx) - r1 - 1, static_cast<int>(cy) - r1 - 1,
-                       static_cast<int>(cx) + r1 + 1, static_cast<int>(cy) + r1 + 1,
-                       [&](int x, int y, short gx, short gy) {
-                         const double rx = x - cx, ry = y - cy;
-                         const double d = std::sqrt(rx * rx + ry * ry);
-                         const int bin = static_cast<int>(std::lround(d));
-                         if (bin < r0 || bin > r1) return;
-                         // Loose radial test: the centre is only known to a pixel or two here.
-                         const double g_dot_r = gx * rx + gy * ry;
-                         const double g =
-                             fast_hypot(static_cast<double>(gx), static_cast<double>(gy));
-                         if (std::abs(g_dot_r) < 0.7 * g * d) return;
-                         ++hist[bin];
-                       });
+  // Pixels rounding to a bin in [r0, r1] lie in this annulus.
+  for_each_edge_in_annulus(
+      edges, cx, cy, r0 - 1.0, r1 + 1.0, [&](int x, int y, short gx, short gy) {
+        const double rx = x - cx, ry = y - cy;
+        const double d2 = rx * rx + ry * ry;
+        const int bin = static_cast<int>(std::sqrt(d2) + 0.5);  // lround of a distance >= 0
+        if (bin < r0 || bin > r1) return;
+        // Loose radial test, |g . r| >= 0.7 |g| |r|, squared (no roots): the centre is only known
+        // to a pixel or two here.
+        const double g_dot_r = gx * rx + gy * ry;
+        const double g2 = static_cast<double>(gx) * gx + static_cast<double>(gy) * gy;
+        if (g_dot_r * g_dot_r < 0.49 * g2 * d2) return;
+        ++hist[bin];
+      });
   double best = 0.0;
   std::optional<double> best_r;
   for (int r = r0; r <= r1; ++r) {

@@ -1,6 +1,7 @@
 // The speed-ups of the detector against plain references: canny_l1 vs cv::Canny, box_filter vs
-// cv::boxFilter, connected_rows vs a breadth-first flood fill, find_peaks vs a brute-force
-// scan, and circles_from_votes independent of the order its voters come in.
+// cv::boxFilter, connected_rows vs a breadth-first flood fill, chord ends from row masks vs
+// find_chord_ends, find_peaks vs a brute-force scan, and circles_from_votes independent of the
+// order its voters come in.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -190,6 +191,40 @@ TEST(ConnectedRows, GivenAStopThenTheCountExceedsItOnlyWhenTheComponentDoes) {
     else
       EXPECT_EQ(stopped, full);
   }
+}
+
+TEST(ChordEndsOfRows, GivenRandomWindowsThenAAndBEqualFindChordEndsOnTheCollectedPoints) {
+  std::mt19937 rng(13);
+  int compared = 0, with_chord = 0;
+  for (int trial = 0; trial < 50000; ++trial) {
+    // Given a random window (sparse, so every kind of configuration and tie occurs)
+    const int k = 1 + trial % 8, n = 2 * k + 1;
+    std::array<std::uint64_t, 64> rows{};
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c)
+        if (rng() % 100 < 12) rows[static_cast<size_t>(r)] |= std::uint64_t{1} << c;
+    const auto span = std::span<const std::uint64_t>(rows.data(), n);
+    std::array<WindowPoint, 64 * 64> points{};
+    const int got = collect_masked_points(span, k, points);
+    // When the chord ends are read off the masks and found on the point list
+    const auto from_rows = chord_ends_of_rows(span, k);
+    const auto from_points = find_chord_ends(std::span<const WindowPoint>(points.data(), got));
+    // Then both agree, including which point wins a tie
+    ASSERT_EQ(from_rows.has_value(), from_points.has_value()) << "trial " << trial;
+    ++compared;
+    if (!from_rows) continue;
+    ++with_chord;
+    ASSERT_EQ(from_rows->a, from_points->a) << "trial " << trial;
+    ASSERT_EQ(from_rows->b, from_points->b) << "trial " << trial;
+    // and the whole analysis of a window holding exactly 2k+1 points agrees too
+    if (got == n) {
+      const auto a = analyse_window_rows(span, k);
+      const auto b = analyse_window(std::span<const WindowPoint>(points.data(), got), k);
+      ASSERT_EQ(a.has_value(), b.has_value());
+      if (a) ASSERT_TRUE(a->c2x == b->c2x && a->c2y == b->c2y && a->nx == b->nx && a->ny == b->ny);
+    }
+  }
+  EXPECT_GT(with_chord, compared / 4);
 }
 
 std::vector<Peak> brute_force_peaks(const cv::Mat& m, int floor_value) {

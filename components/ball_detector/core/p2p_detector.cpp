@@ -122,7 +122,6 @@ void PixelToPixelDetector::vote(int k) {
   const BitImage& bits = edges_.bits;
   const int w = bits.width();
   const int h = bits.height();
-  std::array<WindowPoint, 2 * kMaxK + 1> window{};
   std::array<std::uint64_t, 2 * kMaxK + 1> mask{};
   std::array<std::uint64_t, 2 * kMaxK + 1> rows{};
   const int n = 2 * k + 1;
@@ -140,17 +139,17 @@ void PixelToPixelDetector::vote(int k) {
         window_rows(bits, x, y, k, window_bits);
         int count = 0;
         for (const std::uint64_t row_bits : window_bits) count += std::popcount(row_bits);
-        int got = 0;
+        // Steps 5-7 read the chord ends straight off the row masks (analyse_window_rows).
+        std::optional<VoteLine> line;
         if (window_count_ok(count, k)) {
-          got = collect_masked_points(window_bits, k, std::span(window.data(), n));
+          line = analyse_window_rows(window_bits, k);
         } else if (params_.isolate_arc && count > n && count <= kIsolateMaxFactor * n) {
           // Addition: judge the arc through O alone when other edges share the window.
           if (connected_rows(window_bits, k, mask, n) != n) continue;
-          got = collect_masked_points(mask, k, std::span(window.data(), n));
+          line = analyse_window_rows(std::span<const std::uint64_t>(mask.data(), n), k);
         } else {
           continue;
         }
-        const auto line = analyse_window(std::span<const WindowPoint>(window.data(), got), k);
         if (!line) continue;
         const double cx = x + 0.5 * line->c2x;
         const double cy = y + 0.5 * line->c2y;

@@ -147,6 +147,41 @@ std::optional<ChordEnds> find_chord_ends(std::span<const WindowPoint> points) {
   return ChordEnds{*a, *b};
 }
 
+std::optional<ChordEnds> chord_ends_of_rows(std::span<const std::uint64_t> rows, int k) {
+  const int n = std::min(2 * k + 1, static_cast<int>(rows.size()));
+  // Candidates in raster order (a row's lowest bit before its highest), strictly better
+  // replaces: the first point on ties, as find_chord_ends.
+  auto consider = [](const WindowPoint& p, std::optional<WindowPoint>& best) {
+    if (!best || l1_distance(p) > l1_distance(*best)) best = p;
+  };
+  std::optional<WindowPoint> a;
+  for (int r = 0; r < n; ++r) {
+    const std::uint64_t bits = rows[static_cast<std::size_t>(r)];
+    if (bits == 0) continue;
+    consider({std::countr_zero(bits) - k, r - k}, a);
+    consider({63 - std::countl_zero(bits) - k, r - k}, a);
+  }
+  if (!a) return std::nullopt;
+  std::optional<WindowPoint> b;
+  for (int r = 0; r < n; ++r) {
+    const std::uint64_t bits = rows[static_cast<std::size_t>(r)];
+    if (bits == 0) continue;
+    const int y = r - k;
+    const WindowPoint lo{std::countr_zero(bits) - k, y};
+    const WindowPoint hi{63 - std::countl_zero(bits) - k, y};
+    if (y * a->y < 0) {  // the whole row is on the other side vertically
+      consider(lo, b);
+      consider(hi, b);
+    } else if (a->x > 0 && lo.x < 0) {  // farthest point left of O
+      consider(lo, b);
+    } else if (a->x < 0 && hi.x > 0) {  // farthest point right of O
+      consider(hi, b);
+    }
+  }
+  if (!b) return std::nullopt;
+  return ChordEnds{*a, *b};
+}
+
 bool is_straight_segment(const WindowPoint& a, const WindowPoint& b) {
   const int dx = b.x - a.x;
   const int dy = b.y - a.y;
@@ -233,6 +268,17 @@ void box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
     sum_columns(padded.data(), smoothed.ptr<int>(y), w, size_px);
     if (y - r >= 0) subtract_row(y - r);
   }
+}
+
+std::optional<VoteLine> analyse_window_rows(std::span<const std::uint64_t> rows, int k) {
+  int count = 0;
+  for (int r = 0; r < std::min(2 * k + 1, static_cast<int>(rows.size())); ++r)
+    count += std::popcount(rows[static_cast<std::size_t>(r)]);
+  if (!window_count_ok(count, k)) return std::nullopt;
+  const auto ends = chord_ends_of_rows(rows, k);
+  if (!ends) return std::nullopt;
+  if (is_straight_segment(ends->a, ends->b)) return std::nullopt;
+  return orient_to_concave_side(perpendicular_bisector(ends->a, ends->b));
 }
 
 cv::Mat box_filter(const cv::Mat& accumulator, int size_px) {

@@ -77,6 +77,11 @@ inline bool opposite_sign(const WindowPoint& p, const WindowPoint& q) {
 /// point with at least one coordinate of opposite sign to A. nullopt if no such B (angular point).
 std::optional<ChordEnds> find_chord_ends(std::span<const WindowPoint> points);
 
+/// find_chord_ends of the points held in window row masks (as collect_masked_points lays them
+/// out), without collecting them: in a row, the farthest point (L1) is its lowest or highest
+/// bit, so only those two are looked at. Same A and B, ties included.
+std::optional<ChordEnds> chord_ends_of_rows(std::span<const std::uint64_t> rows, int k);
+
 /// Step 6, eq. (3): A, B and O are aligned when |yB(xB-xA) - xB(yB-yA)| <= min(|xB-xA|, |yB-yA|).
 bool is_straight_segment(const WindowPoint& a, const WindowPoint& b);
 
@@ -89,6 +94,9 @@ std::optional<VoteLine> orient_to_concave_side(const VoteLine& line);
 
 /// Steps 4-7 on one window's points: the vote line, or nullopt if any rule rejects the window.
 std::optional<VoteLine> analyse_window(std::span<const WindowPoint> points, int k);
+
+/// analyse_window on window row masks (see chord_ends_of_rows).
+std::optional<VoteLine> analyse_window_rows(std::span<const std::uint64_t> rows, int k);
 
 /// Step 9: smoothing by an all-ones square mask: each cell becomes the sum of votes in the
 /// size_px x size_px box around it (CV_16U in, CV_32S out, zero outside the image).
