@@ -31,16 +31,18 @@ int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<
 
 namespace {
 
-// The bits of row in the runs (maximal sets of adjacent bits) that seed touches.
-inline std::uint64_t fill_runs(std::uint64_t seed, std::uint64_t row) {
+// The bits of row in the runs (maximal sets of adjacent bits) that seed touches; runs are at
+// most max_run bits long (a window row: 2k+1).
+inline std::uint64_t fill_runs(std::uint64_t seed, std::uint64_t row, int max_run) {
   seed &= row;
   // Toward higher bits: adding the seeds carries through the rest of each seeded run, clearing
   // it in the sum (seed bits themselves may be cleared too; the downward fill keeps them).
   const std::uint64_t up = row & ~(row + seed);
-  // Toward lower bits: doubling (Kogge-Stone) steps cover runs up to 63 bits in six rounds.
+  // Toward lower bits: doubling (Kogge-Stone) steps; after the step of shift s a seed has
+  // reached 2s - 1 bits down, enough once 2s >= max_run.
   std::uint64_t fill = seed;
   std::uint64_t through = row;
-  for (int shift = 1; shift < 64; shift *= 2) {
+  for (int shift = 1; shift < max_run; shift *= 2) {
     fill |= through & (fill >> shift);
     through &= through >> shift;
   }
@@ -48,8 +50,8 @@ inline std::uint64_t fill_runs(std::uint64_t seed, std::uint64_t row) {
 }
 
 // The bits of row 8-connected to a neighbour row's mask.
-inline std::uint64_t touching(std::uint64_t neighbour, std::uint64_t row) {
-  return fill_runs(neighbour | (neighbour << 1) | (neighbour >> 1), row);
+inline std::uint64_t touching(std::uint64_t neighbour, std::uint64_t row, int max_run) {
+  return fill_runs(neighbour | (neighbour << 1) | (neighbour >> 1), row, max_run);
 }
 
 }  // namespace
@@ -79,14 +81,14 @@ int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::
   if (static_cast<int>(rows.size()) < n || static_cast<int>(window.size()) < n || n > 63) return 0;
   for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = 0;
   const auto centre = static_cast<std::size_t>(k);
-  rows[centre] = fill_runs(std::uint64_t{1} << k, window[centre]);
+  rows[centre] = fill_runs(std::uint64_t{1} << k, window[centre], n);
   int count = std::popcount(rows[centre]);
   // One sweep down and one up from the centre row complete an arc that crosses each row once,
   // the case that matters; a component that turns back (a U) is finished by the worklist below.
   for (const int step : {1, -1}) {
     for (int r = k + step; r >= 0 && r < n && count <= stop_above; r += step) {
       const auto ri = static_cast<std::size_t>(r);
-      rows[ri] = touching(rows[ri - static_cast<std::size_t>(step)], window[ri]);
+      rows[ri] = touching(rows[ri - static_cast<std::size_t>(step)], window[ri], n);
       if (rows[ri] == 0) break;
       count += std::popcount(rows[ri]);
     }
@@ -102,7 +104,7 @@ int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::
       if (next < 0 || next >= n) continue;
       const auto ni = static_cast<std::size_t>(next);
       const std::uint64_t grown =
-          rows[ni] | touching(rows[static_cast<std::size_t>(r)], window[ni]);
+          rows[ni] | touching(rows[static_cast<std::size_t>(r)], window[ni], n);
       if (grown == rows[ni]) continue;
       count += std::popcount(grown) - std::popcount(rows[ni]);
       rows[ni] = grown;

@@ -5,12 +5,26 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <utility>
 
 namespace stereoball::ball_detector {
 
+namespace {
+
+// std::llround without the library call (one per ray adds up): half away from zero. The
+// truncation and x - t are exact for |x| < 2^52.
+inline std::int64_t round_half_away(double x) {
+  const auto t = static_cast<std::int64_t>(x);
+  const double frac = x - static_cast<double>(t);
+  return t + (frac >= 0.5 ? 1 : 0) - (frac <= -0.5 ? 1 : 0);
+}
+
+}  // namespace
+
 std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
                       double dir_y, double t0_px, double t1_px) {
-  const double norm = std::hypot(dir_x, dir_y);
+  // Not std::hypot: no overflow to guard against here, and it is several times slower.
+  const double norm = std::sqrt(dir_x * dir_x + dir_y * dir_y);
   if (norm <= 0.0 || t1_px < t0_px) return 0;
   const double ux = dir_x / norm;
   const double uy = dir_y / norm;
@@ -23,10 +37,10 @@ std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, doub
   const int step = major > 0 ? 1 : -1;
   // Minor coordinate in 16.16 fixed point: integer stepping, no per-cell rounding.
   const double slope = (x_major ? uy : ux) / std::abs(major);
-  int m = static_cast<int>(std::lround(x_major ? sx : sy));
+  int m = static_cast<int>(round_half_away(x_major ? sx : sy));
   const double minor0 = (x_major ? sy : sx) + (m - (x_major ? sx : sy)) * slope * step;
-  std::int64_t minor_fp = std::llround((minor0 + 0.5) * 65536.0);
-  const std::int64_t dminor = std::llround(slope * 65536.0);
+  std::int64_t minor_fp = round_half_away((minor0 + 0.5) * 65536.0);
+  const std::int64_t dminor = round_half_away(slope * 65536.0);
   const unsigned w = static_cast<unsigned>(accumulator.cols);
   const unsigned h = static_cast<unsigned>(accumulator.rows);
   auto* data = accumulator.ptr<std::uint16_t>(0);
@@ -82,12 +96,23 @@ std::vector<Peak> find_peaks(const cv::Mat& smoothed, float min_value, double mi
     local_maxima<int>(smoothed, static_cast<int>(std::ceil(min_value)), candidates);
   else
     local_maxima<float>(smoothed, min_value, candidates);
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const Peak& a, const Peak& b) { return a.value > b.value; });
+  // Strongest first, raster order among equals (candidates are in raster order): a heap pops
+  // them in that order, and only as many as it takes to keep max_peaks (a textured image has
+  // thousands of candidates; sorting them all cost more than the rest of this function).
+  std::vector<std::pair<Peak, std::size_t>> heap;
+  heap.reserve(candidates.size());
+  for (std::size_t i = 0; i < candidates.size(); ++i) heap.emplace_back(candidates[i], i);
+  const auto weaker = [](const std::pair<Peak, std::size_t>& a,
+                         const std::pair<Peak, std::size_t>& b) {
+    return a.first.value != b.first.value ? a.first.value < b.first.value : a.second > b.second;
+  };
+  std::make_heap(heap.begin(), heap.end(), weaker);
   std::vector<Peak> kept;
   const double min_d2 = min_separation_px * min_separation_px;
-  for (const auto& c : candidates) {
-    if (static_cast<int>(kept.size()) >= max_peaks) break;
+  while (!heap.empty() && static_cast<int>(kept.size()) < max_peaks) {
+    std::pop_heap(heap.begin(), heap.end(), weaker);
+    const Peak c = heap.back().first;
+    heap.pop_back();
     const bool close = std::any_of(kept.begin(), kept.end(), [&](const Peak& k) {
       const double dx = k.x - c.x, dy = k.y - c.y;
       return dx * dx + dy * dy < min_d2;
