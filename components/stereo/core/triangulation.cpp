@@ -86,9 +86,15 @@ std::optional<std::string> SizeCheckParams::validate() const {
 
 SizeCheck check_size(const SizeCheckParams& params, double focal_px, double radius_px,
                      double depth_m) {
+  return check_size_against(params, radius_px,
+                            expected_radius_px(focal_px, params.ball_diameter_m, depth_m));
+}
+
+SizeCheck check_size_against(const SizeCheckParams& params, double radius_px,
+                             double expected_radius_px) {
   SizeCheck c;
-  c.expected_radius_px = expected_radius_px(focal_px, params.ball_diameter_m, depth_m);
-  if (c.expected_radius_px <= 0.0 || !(radius_px > 0.0)) return c;
+  c.expected_radius_px = expected_radius_px;
+  if (!(c.expected_radius_px > 0.0) || !(radius_px > 0.0)) return c;
   c.relative_error = (radius_px - c.expected_radius_px) / c.expected_radius_px;
   c.consistent = std::abs(c.relative_error) <= params.max_relative_error;
   return c;

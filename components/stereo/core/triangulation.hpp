@@ -79,8 +79,13 @@ struct SizeCheck {
 };
 
 /// Is radius_px plausible for a ball of params.ball_diameter_m at depth_m (focal_px pixels)?
+/// (On the optical axis; off it see sphere_outline and check_size_against.)
 SizeCheck check_size(const SizeCheckParams& params, double focal_px, double radius_px,
                      double depth_m);
+
+/// Is radius_px within params' tolerance of expected_radius_px (inconsistent if either <= 0)?
+SizeCheck check_size_against(const SizeCheckParams& params, double radius_px,
+                             double expected_radius_px);
 
 /// Where the centre of a sphere projects, from the centre of its image outline, pixels.
 /// An off-axis sphere images as an ellipse stretched away from the principal point, and its

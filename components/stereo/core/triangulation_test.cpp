@@ -1,4 +1,5 @@
 #include "stereo/core/triangulation.hpp"
+#include "stereo/core/sphere_outline.hpp"
 
 #include "stereo/core/rectifier.hpp"
 #include "stereo/core/synthetic_rig.hpp"
@@ -132,6 +133,73 @@ TEST(SphereCentre, GivenOutlineEllipseCentreWhenCorrectedThenCentreProjectionIsR
     }
   }
   EXPECT_EQ(sphere_centre_image_px({400, 300}, pp, f, 0.0), cv::Point2d(400, 300));
+}
+
+// Given spheres on and off the axis, near and far, when their exact silhouettes are fitted with
+// an ellipse by OpenCV, then sphere_outline predicts its centre, both semi-axes and the
+// direction of the major axis.
+TEST(SphereOutline, GivenExactSilhouettesThenCentreAxesAndDirectionMatchAFittedEllipse) {
+  const PinholeCamera camera{530.0, {318.0, 242.0}};
+  const double r = 0.11;
+  for (const cv::Vec3d& c :
+       {cv::Vec3d(0.0, 0.0, 1.0), cv::Vec3d(0.35, 0.1, 1.0), cv::Vec3d(-0.5, 0.25, 1.2),
+        cv::Vec3d(0.9, -0.3, 2.5), cv::Vec3d(-0.3, 0.2, 0.45), cv::Vec3d(0.6, 0.45, 0.9)}) {
+    const auto o = sphere_outline(camera, c, r);
+    ASSERT_TRUE(o.has_value()) << c;
+    const cv::RotatedRect e =
+        cv::fitEllipse(silhouette_px(c, r, camera.focal_px, camera.principal_px));
+    const double fit_major = 0.5 * std::max(e.size.width, e.size.height);
+    const double fit_minor = 0.5 * std::min(e.size.width, e.size.height);
+    EXPECT_LT(cv::norm(o->centre_px - cv::Point2d(e.center.x, e.center.y)), 0.01) << c;
+    EXPECT_NEAR(o->semi_major_px, fit_major, 0.01) << c;
+    EXPECT_NEAR(o->semi_minor_px, fit_minor, 0.01) << c;
+    if (fit_major - fit_minor > 0.5) {
+      // OpenCV's angle is that of the width axis; the major axis is either it or across it.
+      const double a = e.angle * CV_PI / 180.0;
+      const cv::Point2d width_axis(std::cos(a), std::sin(a));
+      const cv::Point2d fit_axis =
+          e.size.width >= e.size.height ? width_axis : cv::Point2d(-width_axis.y, width_axis.x);
+      EXPECT_GT(std::abs(fit_axis.dot(o->major_axis)), 0.9999) << c;
+    }
+  }
+}
+
+// Given outlines of spheres anywhere in a wide view, when the sphere is recovered from the
+// outline's centre and mean radius, then its direction, size and depth come back exactly.
+TEST(SphereOutline, GivenAnOutlineThenSphereFromOutlineInvertsIt) {
+  const PinholeCamera camera{400.0, {320.0, 240.0}};
+  const double r = 0.11;
+  int checked = 0;
+  for (double x = -1.5; x <= 1.5; x += 0.25)
+    for (double y = -1.0; y <= 1.0; y += 0.5)
+      for (double z : {0.3, 0.6, 1.0, 2.0, 5.0}) {
+        const cv::Vec3d c(x, y, z);
+        const auto o = sphere_outline(camera, c, r);
+        if (!o) continue;
+        const auto v = sphere_from_outline(camera, o->centre_px, o->mean_radius_px());
+        ASSERT_TRUE(v.has_value()) << c;
+        EXPECT_NEAR(v->depth_m(r), z, 1e-9 * z) << c;
+        const double t = std::hypot(x, y) / z;
+        EXPECT_NEAR(v->tan_off_axis, t, 1e-9 * (1.0 + t)) << c;
+        EXPECT_NEAR(v->axis_ratio, o->semi_major_px / o->semi_minor_px, 1e-9) << c;
+        if (x != 0.0 || y != 0.0) {
+          EXPECT_NEAR(v->major_axis.dot(o->major_axis), 1.0, 1e-12);
+        }
+        ++checked;
+      }
+  EXPECT_GT(checked, 300);
+}
+
+TEST(SphereOutline, GivenImpossibleInputThenNoOutlineAndNoSphere) {
+  const PinholeCamera camera{400.0, {320.0, 240.0}};
+  EXPECT_FALSE(sphere_outline(camera, {0.0, 0.0, 0.05}, 0.11));  // camera inside the ball
+  EXPECT_FALSE(sphere_outline(camera, {0.0, 0.0, -1.0}, 0.11));  // behind the camera
+  EXPECT_FALSE(sphere_outline(camera, {3.0, 0.0, 0.01}, 0.11));  // reaches 90 degrees
+  EXPECT_FALSE(sphere_outline(camera, {0.0, 0.0, 1.0}, 0.0));
+  EXPECT_FALSE(sphere_outline(PinholeCamera{}, {0.0, 0.0, 1.0}, 0.11));
+  EXPECT_FALSE(sphere_from_outline(camera, {320.0, 240.0}, 0.0));
+  EXPECT_FALSE(sphere_from_outline(camera, {NAN, 240.0}, 10.0));
+  EXPECT_FALSE(sphere_from_outline(PinholeCamera{}, {320.0, 240.0}, 10.0));
 }
 
 // Given an ideal rectified rig and a ball off to the side, when the centres of the two exact
