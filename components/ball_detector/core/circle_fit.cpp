@@ -142,23 +142,58 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points) {
   return Circle{cx + mean.x, cy + mean.y, r, 0.0};
 }
 
+cv::Point2d OutlineStretch::to_round(const cv::Point2d& d) const {
+  if (identity()) return d;
+  return d + axis * ((1.0 / ratio - 1.0) * d.dot(axis));
+}
+
+cv::Point2d OutlineStretch::from_round(const cv::Point2d& d) const {
+  if (identity()) return d;
+  return d + axis * ((ratio - 1.0) * d.dot(axis));
+}
+
+cv::Point2d OutlineStretch::gradient_to_round(const cv::Point2d& g) const {
+  // Normals transform with the inverse transpose of the (symmetric) compression.
+  return from_round(g);
+}
+
+OutlineStretch outline_stretch(const EdgeMap& edges, const Circle& c, const RefineParams& params) {
+  if (!params.camera) return {};
+  stereo::PinholeCamera camera = *params.camera;
+  // In a crop's coordinates the whole image starts at frame_px's corner.
+  camera.principal_px += cv::Point2d(edges.frame_px.x, edges.frame_px.y);
+  const auto view = stereo::sphere_from_outline(camera, {c.x_px, c.y_px}, c.radius_px);
+  if (!view || !(view->axis_ratio > 1.0)) return {};
+  return {view->major_axis, view->axis_ratio};
+}
+
 void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
                           double min_radial_cos, std::vector<cv::Point2d>& out) {
+  gather_outline_points(edges, c, OutlineStretch{}, band_px, min_radial_cos, out);
+}
+
+void gather_outline_points(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
+                           double band_px, double min_radial_cos, std::vector<cv::Point2d>& out) {
   out.clear();
-  const double outer = c.radius_px + band_px;
-  const double inner = std::max(0.0, c.radius_px - band_px);
+  const double outer = round.radius_px + band_px;
+  const double inner = std::max(0.0, round.radius_px - band_px);
   const double cos2 = min_radial_cos * min_radial_cos;
+  const cv::Point2d centre(round.x_px, round.y_px);
+  // In the image the band reaches ratio times farther along the major axis.
   for_each_edge_in_annulus(
-      edges, c.x_px, c.y_px, inner, outer, [&](int x, int y, short gx, short gy) {
-        const double rx = x - c.x_px, ry = y - c.y_px;
-        const double d2 = rx * rx + ry * ry;
+      edges, round.x_px, round.y_px, inner, stretch.ratio * outer,
+      [&](int x, int y, short gx, short gy) {
+        const cv::Point2d r = stretch.to_round({x - round.x_px, y - round.y_px});
+        const double d2 = r.x * r.x + r.y * r.y;
         if (d2 > outer * outer || d2 < inner * inner) return;
-        const double g_dot_r = gx * rx + gy * ry;
-        const double g2 = static_cast<double>(gx) * gx + static_cast<double>(gy) * gy;
+        const cv::Point2d g = stretch.gradient_to_round({double(gx), double(gy)});
+        const double g_dot_r = g.x * r.x + g.y * r.y;
+        const double g2 = g.x * g.x + g.y * g.y;
         if (g_dot_r * g_dot_r < cos2 * g2 * d2) return;
-        const cv::Point2d p = subpixel_edge(edges, x, y, gx, gy);
+        const cv::Point2d sub = subpixel_edge(edges, x, y, gx, gy);
+        const cv::Point2d p = stretch.identity() ? sub : centre + stretch.to_round(sub - centre);
         // The band applies to the sub-pixel position, which is what the fit uses.
-        const double sd = fast_hypot(p.x - c.x_px, p.y - c.y_px);
+        const double sd = fast_hypot(p.x - round.x_px, p.y - round.y_px);
         if (sd > outer || sd < inner) return;
         out.push_back(p);
       });
@@ -188,13 +223,16 @@ double angular_coverage(const Circle& c, std::span<const cv::Point2d> points) {
 }
 
 double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> points,
-                                 const cv::Rect2d& frame, double min_inside) {
+                                 const cv::Rect2d& frame, double min_inside,
+                                 const OutlineStretch& stretch) {
   const int sectors = sector_count(c);
   std::vector<unsigned char> inside(sectors, 0);
   int inside_count = 0;
   for (int s = 0; s < sectors; ++s) {
     const double a = (s + 0.5) * 2.0 * std::numbers::pi / sectors - std::numbers::pi;
-    const double x = c.x_px + c.radius_px * std::cos(a), y = c.y_px + c.radius_px * std::sin(a);
+    const cv::Point2d on_outline =
+        stretch.from_round({c.radius_px * std::cos(a), c.radius_px * std::sin(a)});
+    const double x = c.x_px + on_outline.x, y = c.y_px + on_outline.y;
     // One pixel in from the border: Sobel has no full neighbourhood on the outermost row.
     if (x >= frame.x + 1.0 && y >= frame.y + 1.0 && x <= frame.x + frame.width - 2.0 &&
         y <= frame.y + frame.height - 2.0) {
@@ -249,32 +287,62 @@ double scoring_band_px(const Circle& c, const RefineParams& params) {
   return std::max(params.band_px, params.band_per_radius * c.radius_px);
 }
 
+namespace {
+
+// The circle an outline becomes under its stretch: same centre, the minor semi-axis as radius
+// (the mean radius is (a + b) / 2 with a = ratio * b).
+Circle round_circle(const Circle& c, const OutlineStretch& stretch) {
+  Circle r = c;
+  r.radius_px = 2.0 * c.radius_px / (1.0 + stretch.ratio);
+  return r;
+}
+
+// Back from a circle fitted in the round coordinates of an outline centred at centre.
+Circle unround_circle(const Circle& fit, const cv::Point2d& centre, const OutlineStretch& stretch) {
+  if (stretch.identity()) return fit;
+  const cv::Point2d c = centre + stretch.from_round(cv::Point2d(fit.x_px, fit.y_px) - centre);
+  return Circle{c.x, c.y, 0.5 * (1.0 + stretch.ratio) * fit.radius_px, fit.score};
+}
+
+// Angular coverage of c's outline by the edge points in its scoring band.
+double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& params,
+                     std::vector<cv::Point2d>& pts) {
+  const OutlineStretch stretch = outline_stretch(edges, c, params);
+  const Circle round = round_circle(c, stretch);
+  gather_outline_points(edges, round, stretch, scoring_band_px(round, params),
+                        params.min_radial_cos, pts);
+  return angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch);
+}
+
+}  // namespace
+
 std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
                                     const RefineParams& params) {
   Circle c = rough;
   std::vector<cv::Point2d> pts;
   pts.reserve(512);
   for (int it = 0; it < params.iterations; ++it) {
+    const OutlineStretch stretch = outline_stretch(edges, c, params);
+    const Circle round = round_circle(c, stretch);
     // Shrinking bands: the rough centre from a vote peak may be off by a pixel or two, and a
     // wide band would let texture just inside the rim pull the fit.
-    const double band = std::max(scoring_band_px(c, params), 2.5 / (1 << it));
-    gather_circle_points(edges, c, band, params.min_radial_cos, pts);
+    const double band = std::max(scoring_band_px(round, params), 2.5 / (1 << it));
+    gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
     const auto fit = fit_circle(pts);
     if (!fit) return std::nullopt;
+    const Circle next = unround_circle(*fit, {c.x_px, c.y_px}, stretch);
     // A fit that wanders far from its seed has locked onto some other structure.
-    if (fast_hypot(fit->x_px - rough.x_px, fit->y_px - rough.y_px) > 0.5 * rough.radius_px + 3.0)
+    if (fast_hypot(next.x_px - rough.x_px, next.y_px - rough.y_px) > 0.5 * rough.radius_px + 3.0)
       return std::nullopt;
-    c = *fit;
+    c = next;
   }
-  gather_circle_points(edges, c, scoring_band_px(c, params), params.min_radial_cos, pts);
-  c.score = angular_coverage_in_frame(c, pts, edges.frame_px);
+  c.score = outline_score(edges, c, params, pts);
   return c;
 }
 
 double score_circle(const EdgeMap& edges, const Circle& c, const RefineParams& params) {
   std::vector<cv::Point2d> pts;
-  gather_circle_points(edges, c, scoring_band_px(c, params), params.min_radial_cos, pts);
-  return angular_coverage_in_frame(c, pts, edges.frame_px);
+  return outline_score(edges, c, params, pts);
 }
 
 }  // namespace stereoball::ball_detector

@@ -4,6 +4,7 @@
 
 #include "ball_detector/core/circle.hpp"
 #include "ball_detector/core/edge_map.hpp"
+#include "stereo/core/sphere_outline.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -26,12 +27,44 @@ struct RefineParams {
   double band_per_radius = 0.025;
   double min_radial_cos = 0.85;  ///< min |cos| between edge gradient and the radius, [0, 1]
   int iterations = 3;            ///< gather + fit rounds
+  /// A circle cut by the image border scores 0 unless this fraction of it is inside, [0, 1].
+  double min_inside_fraction = 0.5;
+  /// Addition: the (rectified, undistorted) camera of the whole image, when known. A sphere off
+  /// the optical axis images as an ellipse (sphere_outline); with the camera the refinement and
+  /// the score measure edge points against that ellipse instead of a circle, and the circle
+  /// returned has the ellipse's centre and the mean of its semi-axes as radius. Without it,
+  /// circles are measured as circles.
+  std::optional<stereo::PinholeCamera> camera;
 };
+
+/// The affine map that turns the outline a sphere images as around a centre into a circle
+/// (its minor semi-axis): a compression by 1 / ratio along axis. ratio 1 = identity.
+struct OutlineStretch {
+  cv::Point2d axis{1.0, 0.0};  ///< unit major-axis direction
+  double ratio = 1.0;          ///< semi-major / semi-minor, >= 1
+  bool identity() const { return ratio == 1.0; }
+  /// An offset from the centre, in stretched (round) coordinates.
+  cv::Point2d to_round(const cv::Point2d& d) const;
+  /// An offset in round coordinates, back in the image.
+  cv::Point2d from_round(const cv::Point2d& d) const;
+  /// A gradient (normal direction) in round coordinates.
+  cv::Point2d gradient_to_round(const cv::Point2d& g) const;
+};
+
+/// The stretch for a sphere whose outline has centre and mean radius c in edges' image, from
+/// params.camera (identity without one, or for an outline no sphere makes).
+OutlineStretch outline_stretch(const EdgeMap& edges, const Circle& c, const RefineParams& params);
 
 /// Edge points within band_px of circle c whose gradient is radial, each moved to its sub-pixel
 /// position along the gradient (parabola through three gradient magnitudes).
 void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
                           double min_radial_cos, std::vector<cv::Point2d>& out);
+
+/// gather_circle_points in stretched coordinates: round is the circle the outline becomes
+/// (centre, minor semi-axis); the edge points within band_px of it and with a normal gradient
+/// there after stretch are returned, in round coordinates (centre + to_round(p - centre)).
+void gather_outline_points(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
+                           double band_px, double min_radial_cos, std::vector<cv::Point2d>& out);
 
 /// Half-width of the band around circle c whose edge points support it, pixels.
 double scoring_band_px(const Circle& c, const RefineParams& params);
@@ -41,9 +74,11 @@ double angular_coverage(const Circle& c, std::span<const cv::Point2d> points);
 
 /// Addition: angular_coverage counting only the sectors whose arc lies inside frame (the whole
 /// camera image, in the points' coordinates): a ball cut by the image border is judged on its
-/// visible part. 0 when less than min_inside of the circle is inside.
+/// visible part. 0 when less than min_inside of the circle is inside. With a stretch, c and
+/// points are in its round coordinates (gather_outline_points) and the frame test maps back.
 double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> points,
-                                 const cv::Rect2d& frame, double min_inside = 0.5);
+                                 const cv::Rect2d& frame, double min_inside = 0.5,
+                                 const OutlineStretch& stretch = {});
 
 /// Radius around centre (cx, cy) best supported by edge points with a radial gradient: the
 /// 2-px ring holding the most points per unit of circumference; nullopt if no ring has 8 points.

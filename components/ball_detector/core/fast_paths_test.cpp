@@ -221,7 +221,9 @@ TEST(ChordEndsOfRows, GivenRandomWindowsThenAAndBEqualFindChordEndsOnTheCollecte
       const auto a = analyse_window_rows(span, k);
       const auto b = analyse_window(std::span<const WindowPoint>(points.data(), got), k);
       ASSERT_EQ(a.has_value(), b.has_value());
-      if (a) ASSERT_TRUE(a->c2x == b->c2x && a->c2y == b->c2y && a->nx == b->nx && a->ny == b->ny);
+      if (a) {
+        ASSERT_TRUE(a->c2x == b->c2x && a->c2y == b->c2y && a->nx == b->nx && a->ny == b->ny);
+      }
     }
   }
   EXPECT_GT(with_chord, compared / 4);

@@ -108,6 +108,8 @@ std::optional<std::string> PixelToPixelParams::validate() const {
     return std::string("refine_params.band_px must be in (0, 10]");
   if (!(refine_params.min_radial_cos >= 0.0 && refine_params.min_radial_cos <= 1.0))
     return std::string("refine_params.min_radial_cos must be in [0, 1]");
+  if (!(refine_params.min_inside_fraction >= 0.0 && refine_params.min_inside_fraction <= 1.0))
+    return std::string("refine_params.min_inside_fraction must be in [0, 1]");
   return std::nullopt;
 }
 
@@ -153,8 +155,8 @@ void PixelToPixelDetector::vote(int k) {
         if (!line) continue;
         const double cx = x + 0.5 * line->c2x;
         const double cy = y + 0.5 * line->c2y;
-        diag_.increments += plot_ray(accumulator_, cx, cy, line->nx, line->ny,
-                                     params_.min_radius_px, params_.max_radius_px);
+        diag_.increments +=
+            plot_ray(accumulator_, cx, cy, line->nx, line->ny, radii_.min_px, radii_.max_px);
         const float norm = fast_hypot(static_cast<float>(line->nx), static_cast<float>(line->ny));
         voters_.push_back(
             {static_cast<float>(cx), static_cast<float>(cy), line->nx / norm, line->ny / norm});
@@ -163,10 +165,22 @@ void PixelToPixelDetector::vote(int k) {
   }
 }
 
-std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
+void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
   diag_ = DetectionDiagnostics{};
   peak_ratio_done_ = false;
   voters_.clear();
+  radii_ = {params_.min_radius_px, params_.max_radius_px};
+  min_inside_fraction_ = params_.refine_params.min_inside_fraction;
+  if (hints) {
+    radii_.min_px = std::max(radii_.min_px, hints->radii.min_px);
+    radii_.max_px = std::min(radii_.max_px, hints->radii.max_px);
+    if (hints->min_inside_fraction >= 0.0)
+      min_inside_fraction_ = std::min(1.0, hints->min_inside_fraction);
+  }
+}
+
+std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
+  start(std::nullopt);
   if (validate_image(bgr_or_grey)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
   return detect_on_edges();
@@ -174,10 +188,17 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
                                                  const EdgeThresholds& thresholds) {
-  diag_ = DetectionDiagnostics{};
-  peak_ratio_done_ = false;
-  voters_.clear();
+  start(std::nullopt);
   if (validate_image(bgr_or_grey)) return {};
+  compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
+  return detect_on_edges();
+}
+
+std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
+                                                 const EdgeThresholds& thresholds,
+                                                 const SearchHints& hints) {
+  start(hints);
+  if (validate_image(bgr_or_grey) || !(radii_.max_px > radii_.min_px)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
   return detect_on_edges();
 }
@@ -199,14 +220,15 @@ std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   const auto peaks = find_peaks(smoothed, floor_v, params_.min_separation_px,
                                 std::max(params_.max_peaks_examined, params_.max_circles));
   CandidateOptions opt;
-  opt.min_radius_px = params_.min_radius_px;
-  opt.max_radius_px = params_.max_radius_px;
+  opt.min_radius_px = radii_.min_px;
+  opt.max_radius_px = radii_.max_px;
   opt.line_tolerance_px = 0.5 * params_.box_size_px + 1.0;
   opt.min_separation_px = params_.min_separation_px;
   opt.min_score = params_.min_score;
   opt.max_circles = params_.max_circles;
   opt.refine = params_.refine;
   opt.refine_params = params_.refine_params;
+  opt.refine_params.min_inside_fraction = min_inside_fraction_;
   return circles_from_votes(edges_, voters_, peaks, opt);
 }
 

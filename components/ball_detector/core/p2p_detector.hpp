@@ -41,6 +41,20 @@ struct PixelToPixelParams {
   std::optional<std::string> validate() const;
 };
 
+/// A range of circle radii, pixels.
+struct RadiusRange {
+  double min_px = 0.0;
+  double max_px = 0.0;
+};
+
+/// What a caller that knows what to expect (a tracked ball) can tell detect().
+struct SearchHints {
+  RadiusRange radii{0.0, 1e9};  ///< radii to search, intersected with the params' range
+  /// Fraction of a circle that must lie inside the image (RefineParams::min_inside_fraction);
+  /// negative = the params' value.
+  double min_inside_fraction = -1.0;
+};
+
 /// One edge point that cast a vote: where it is and which way its line goes (unit vector).
 struct Voter {
   float x = 0.0f;
@@ -60,8 +74,16 @@ class PixelToPixelDetector final : public CircleDetector {
   /// other eye's full image) instead of this image's own: for crops, whose statistics depend on
   /// what they happen to hold.
   std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds);
+  /// Same with hints: only radii in hints.radii (votes are plotted over that span only:
+  /// faster, and nothing of another size can win), and its border rule.
+  std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
+                             const SearchHints& hints);
   const DetectionDiagnostics* diagnostics() const override;
   std::string name() const override { return "p2p"; }
+  /// The rectified camera of the whole image (RefineParams::camera); nullopt = circles only.
+  void set_camera(const std::optional<stereo::PinholeCamera>& camera) {
+    params_.refine_params.camera = camera;
+  }
   /// Votes of the last image, before smoothing (CV_16U).
   const cv::Mat& raw_accumulator() const { return accumulator_; }
   /// The voters of the last image.
@@ -72,9 +94,12 @@ class PixelToPixelDetector final : public CircleDetector {
  private:
   void vote(int k);
   std::vector<Circle> detect_on_edges();
+  void start(const std::optional<SearchHints>& hints);
   std::vector<Circle> circles_from_peaks();
 
   PixelToPixelParams params_;
+  RadiusRange radii_;  // of the current image: the params' range or the caller's within it
+  double min_inside_fraction_ = 0.5;  // of the current image
   EdgeMap edges_;
   cv::Mat accumulator_;
   cv::Mat smoothed_;  // box-filtered accumulator_, buffer kept across images

@@ -8,6 +8,8 @@
 
 #include <cmath>
 
+#include "stereo/core/sphere_outline.hpp"
+
 namespace stereoball::ball_detector {
 namespace {
 
@@ -143,6 +145,91 @@ TEST(PixelToPixel, GivenDiagnosticsThenVotesAreCountedAndThePeakIsSharp) {
   EXPECT_GT(d->increments, d->voters);
   EXPECT_GT(d->peak_to_mean, 5.0);
   EXPECT_EQ(d->edges.size(), scene.image.size());
+}
+
+// An image of a ball (filled, anti-aliased) with the outline a sphere at centre_m has in
+// camera, or a true circle of the outline's mean radius at the same place.
+cv::Mat sphere_image(const stereo::PinholeCamera& camera, const cv::Vec3d& centre_m, bool as_circle,
+                     stereo::SphereOutline& outline) {
+  outline = *stereo::sphere_outline(camera, centre_m, 0.11);
+  cv::Mat img(480, 640, CV_8UC3, cv::Scalar(60, 70, 80));
+  const double angle_deg = std::atan2(outline.major_axis.y, outline.major_axis.x) * 180 / CV_PI;
+  const cv::Point2f c(static_cast<float>(outline.centre_px.x),
+                      static_cast<float>(outline.centre_px.y));
+  if (as_circle) {
+    const float r = static_cast<float>(outline.mean_radius_px());
+    cv::ellipse(img, cv::RotatedRect(c, cv::Size2f(2 * r, 2 * r), 0.0f), cv::Scalar(30, 120, 240),
+                cv::FILLED, cv::LINE_AA);
+  } else {
+    cv::ellipse(img,
+                cv::RotatedRect(c,
+                                cv::Size2f(static_cast<float>(2 * outline.semi_major_px),
+                                           static_cast<float>(2 * outline.semi_minor_px)),
+                                static_cast<float>(angle_deg)),
+                cv::Scalar(30, 120, 240), cv::FILLED, cv::LINE_AA);
+  }
+  return img;
+}
+
+// Given spheres 25-40 degrees off the axis (outline ellipses with axes 10-25 % apart), when the
+// detector knows the camera, then each scores near 1 with the ellipse's centre and mean radius;
+// without the camera the same ball scores far lower, and a true circle there (a flat disc
+// facing the camera) scores lower with the camera than a sphere does.
+TEST(PixelToPixel, GivenTheCameraThenSpheresOffTheAxisAreMeasuredAsTheEllipsesTheyImageAs) {
+  const stereo::PinholeCamera camera{400.0, {320.0, 240.0}};
+  PixelToPixelParams p;
+  p.max_radius_px = 150;
+  p.min_score = 0.0;
+  PixelToPixelDetector with_camera(p), without(p);
+  with_camera.set_camera(camera);
+  for (const cv::Vec3d& c :
+       {cv::Vec3d(-0.5, 0.2, 1.0), cv::Vec3d(0.45, -0.3, 1.1), cv::Vec3d(-0.6, -0.35, 0.9)}) {
+    stereo::SphereOutline o;
+    const cv::Mat sphere = sphere_image(camera, c, false, o);
+    const auto seen = with_camera.detect(sphere);
+    ASSERT_FALSE(seen.empty()) << c;
+    EXPECT_GT(seen[0].score, 0.95) << c;
+    EXPECT_LT(std::hypot(seen[0].x_px - o.centre_px.x, seen[0].y_px - o.centre_px.y), 0.8) << c;
+    EXPECT_NEAR(seen[0].radius_px, o.mean_radius_px(), 0.8) << c;
+    const auto plain = without.detect(sphere);
+    EXPECT_TRUE(plain.empty() || plain[0].score < seen[0].score - 0.2) << c;
+    const auto disc = with_camera.detect(sphere_image(camera, c, true, o));
+    EXPECT_TRUE(disc.empty() || disc[0].score < seen[0].score - 0.2) << c;
+  }
+  // On the axis a sphere is a circle: the camera changes nothing.
+  stereo::SphereOutline o;
+  const cv::Mat centred = sphere_image(camera, {0.0, 0.0, 1.0}, false, o);
+  const auto a = with_camera.detect(centred), b = without.detect(centred);
+  ASSERT_FALSE(a.empty());
+  ASSERT_FALSE(b.empty());
+  EXPECT_NEAR(a[0].score, b[0].score, 1e-9);
+  EXPECT_NEAR(a[0].radius_px, b[0].radius_px, 1e-6);
+}
+
+// Given a ball of radius 40 px, when the hints allow only other radii, then nothing is found;
+// when they hold 40 px, it is; and a ball 60 % outside the image counts only when the hints'
+// border rule lets a third of a circle do.
+TEST(PixelToPixel, GivenSearchHintsThenOnlyTheirRadiiAndBorderRuleApply) {
+  PixelToPixelDetector det(PixelToPixelParams{});
+  cv::Mat img(300, 400, CV_8UC3, cv::Scalar(50, 60, 55));
+  cv::circle(img, {200, 150}, 40, cv::Scalar(40, 170, 230), cv::FILLED, cv::LINE_AA);
+  EdgeMap edges;
+  compute_edge_map(img, PixelToPixelParams{}.edge, edges);
+  const EdgeThresholds t = thresholds_of(edges);
+  EXPECT_TRUE(det.detect(img, t, SearchHints{{60.0, 120.0}}).empty());
+  EXPECT_TRUE(det.detect(img, t, SearchHints{{4.0, 25.0}}).empty());
+  const auto in_range = det.detect(img, t, SearchHints{{30.0, 50.0}});
+  ASSERT_FALSE(in_range.empty());
+  EXPECT_NEAR(in_range[0].radius_px, 40.0, 1.0);
+
+  cv::Mat cut(300, 400, CV_8UC3, cv::Scalar(50, 60, 55));
+  cv::circle(cut, {410, 150}, 40, cv::Scalar(40, 170, 230), cv::FILLED, cv::LINE_AA);
+  compute_edge_map(cut, PixelToPixelParams{}.edge, edges);
+  const EdgeThresholds tc = thresholds_of(edges);
+  EXPECT_TRUE(det.detect(cut, tc).empty());
+  const auto third = det.detect(cut, tc, SearchHints{{4.0, 120.0}, 0.3});
+  ASSERT_FALSE(third.empty());
+  EXPECT_NEAR(third[0].x_px, 410.0, 1.5);
 }
 
 TEST(PixelToPixelParams, GivenBadFieldsThenValidateNamesThem) {
