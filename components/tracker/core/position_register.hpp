@@ -39,6 +39,8 @@ class PositionRegister {
   void clear() { entries_.clear(); }
   /// Number of stored positions.
   int size() const { return static_cast<int>(entries_.size()); }
+  /// Positions it holds when full.
+  int capacity() const { return capacity_; }
   /// True when size() == capacity.
   bool full() const { return size() == capacity_; }
   /// Stored positions, oldest first.

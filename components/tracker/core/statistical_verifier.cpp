@@ -77,9 +77,12 @@ double max_jump_m(const TrackerParams& params, std::int64_t dt_ns) {
 }
 
 StatsCheck check_position(const PositionRegister& reg, const Eigen::Vector3d& p,
-                          std::int64_t stamp_ns, const TrackerParams& params, int max_outliers) {
+                          std::int64_t stamp_ns, const TrackerParams& params, int max_outliers,
+                          int min_positions) {
+  const int needed = min_positions > 0 ? std::min(min_positions, reg.capacity()) : reg.capacity();
+  const bool enough = reg.size() >= needed;
   StatsCheck c;
-  if (reg.full()) c = check_points(reg.entries(), p, stamp_ns, params);
+  if (enough) c = check_points(reg.entries(), p, stamp_ns, params);
   // A consistent register that rejects p has spoken; only a register spoiled
   // by one stray detection is given a second look without it.
   if (reg.full() && !register_consistent(c) && max_outliers > 0) {
@@ -98,8 +101,8 @@ StatsCheck check_position(const PositionRegister& reg, const Eigen::Vector3d& p,
       }
     }
   }
-  c.register_full = reg.full();
-  c.reason = describe(c, reg.size(), params.register_size);
+  c.register_full = enough;
+  c.reason = describe(c, reg.size(), needed);
   return c;
 }
 

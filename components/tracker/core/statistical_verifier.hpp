@@ -16,7 +16,7 @@ namespace stereoball::tracker {
 
 /// Outcome of checking one position against the register.
 struct StatsCheck {
-  bool register_full = false;       ///< the register holds register_size positions
+  bool register_full = false;       ///< the register holds enough positions to judge
   bool steps_plausible = false;     ///< consecutive register positions obey the speed gate
   bool static_cluster = false;      ///< register spread <= max_static_spread_m
   bool clean_line = false;          ///< line residual <= line_tolerance_m and elongated
@@ -36,10 +36,12 @@ struct StatsCheck {
 /// Largest plausible displacement over dt_ns: jump_margin_m + max_ball_speed_mps * dt, metres.
 double max_jump_m(const TrackerParams& params, std::int64_t dt_ns);
 
-/// Checks position p (captured at stamp_ns) against the register; does not modify it.
-/// When the full register is inconsistent and max_outliers is 1, each position is left
-/// out in turn and the first consistent remainder that accepts p decides.
+/// Checks position p (captured at stamp_ns) against the register; does not modify it. The
+/// register speaks once it holds min_positions (0 = register_size, i.e. full). When the full
+/// register is inconsistent and max_outliers is 1, each position is left out in turn and the
+/// first consistent remainder that accepts p decides.
 StatsCheck check_position(const PositionRegister& reg, const Eigen::Vector3d& p,
-                          std::int64_t stamp_ns, const TrackerParams& params, int max_outliers = 0);
+                          std::int64_t stamp_ns, const TrackerParams& params, int max_outliers = 0,
+                          int min_positions = 0);
 
 }  // namespace stereoball::tracker

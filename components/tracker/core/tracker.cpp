@@ -72,7 +72,8 @@ Tracker::Decision Tracker::decide_tracking(const Detection& d, std::int64_t now_
   const bool jump_ok =
       (d.position_m - last_position_m_).norm() <= max_jump_m(params_, now_ns - last_accepted_ns_);
   const StatsCheck check =
-      check_position(register_, d.position_m, now_ns, params_, params_.register_outliers_allowed);
+      check_position(register_, d.position_m, now_ns, params_, params_.register_outliers_allowed,
+                     params_.reacquire_positions);
   // Paper: whatever the result, the position is shifted into the register.
   register_.push(d.position_m, now_ns);
   if (ssd && matcher_.is_match(*ssd) && jump_ok) {

@@ -24,6 +24,8 @@ std::optional<std::string> TrackerParams::validate() const {
            check_range("ssd_threshold", ssd_threshold, 1.0, 86'028'075.0, ""),
            check_range("register_size", register_size, 3, 50, ""),
            check_range("register_outliers_allowed", register_outliers_allowed, 0, 1, ""),
+           check_range("reacquire_positions", reacquire_positions, 2, register_size,
+                       " (at most register_size)"),
            check_range("sigma_floor_m", sigma_floor_m, 0.0, 10.0, " m"),
            check_range("sigma_floor_fraction", sigma_floor_fraction, 0.0, 1.0, ""),
            check_range("max_static_spread_m", max_static_spread_m, 0.001, 10.0, " m"),

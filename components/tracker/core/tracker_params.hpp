@@ -17,6 +17,10 @@ struct TrackerParams {
   /// While tracking, a register that is inconsistent because of this many stray
   /// positions (0 or 1) is still used without them. Start-up always needs all five.
   int register_outliers_allowed = 1;
+  /// Addition: while tracking (never at start-up), a register refilling after a loss (its old
+  /// positions expired) is judged once it holds this many positions, not register_size: each
+  /// reacquisition then costs this many frames instead of five. In [2, register_size].
+  int reacquire_positions = 3;
   /// Lower bound of the "one standard deviation" radius around the mean, metres.
   double sigma_floor_m = 0.03;
   /// Same lower bound as a fraction of the distance of the mean from the camera, unitless.

@@ -35,6 +35,13 @@ TEST(TrackerParams, GivenBadField_ThenMessageNamesFieldAndRange) {
   EXPECT_NE(err->find("lost_after_ns"), std::string::npos);
 
   p = TrackerParams{};
+  p.reacquire_positions = 6;  // more than the register holds
+  err = p.validate();
+  ASSERT_TRUE(err.has_value());
+  EXPECT_NE(err->find("reacquire_positions"), std::string::npos);
+  EXPECT_NE(err->find("[2, 5]"), std::string::npos);
+
+  p = TrackerParams{};
   p.ssd_threshold = -1.0;
   err = p.validate();
   ASSERT_TRUE(err.has_value());

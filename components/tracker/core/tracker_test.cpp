@@ -269,6 +269,55 @@ TEST(Tracker, GivenOldRegister_WhenDetectionArrivesAfterLongGap_ThenCollectingRe
   EXPECT_EQ(s.tracker().position_register().size(), 1);
 }
 
+// Frames a ball reappearing after a loss long enough to empty the register needs before it
+// is accepted again (it rolls on, with a look block matching cannot recognise).
+int frames_to_reacquire_after_long_loss(const TrackerParams& p) {
+  Script s(p);
+  if (s.start_following({0.2, 0.0, 2.0}, kRed).state != TrackState::kFollowing) return -1;
+  for (int i = 0; i < 45; ++i) s.none();  // 1.5 s without any detection: register expired
+  if (s.none().state != TrackState::kSearching) return -1;
+  const Patch new_look = ball_patch(150, 30, 20, 0.8, 10);
+  Eigen::Vector3d ball(-0.8, 0.05, 1.6);
+  for (int frame = 1; frame <= 10; ++frame) {
+    ball.x() += 0.5 / 30.0;
+    const Track t = s.see(ball, new_look);
+    if (t.state == TrackState::kFollowing) {
+      EXPECT_EQ(t.verdict, Verdict::kStatisticsAccepted);
+      return frame;
+    }
+    EXPECT_NE(t.reason.find("register"), std::string::npos) << t.reason;
+  }
+  return -1;
+}
+
+// Given the paper's rule (the full register of five must vouch), a ball reappearing after a
+// long loss is accepted at its sixth detection; with reacquire_positions = 3 at its fourth.
+// Start-up still needs all five.
+TEST(Tracker, GivenReacquirePositions_ThenAReappearingBallIsJudgedFromThatMany) {
+  TrackerParams paper;
+  paper.reacquire_positions = paper.register_size;
+  EXPECT_EQ(frames_to_reacquire_after_long_loss(paper), 6);
+  TrackerParams three;
+  three.reacquire_positions = 3;
+  EXPECT_EQ(frames_to_reacquire_after_long_loss(three), 4);
+  Script s(three);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(s.see({0, 0, 2}, kRed).state, TrackState::kIdle);
+  EXPECT_EQ(s.see({0, 0, 2}, kRed).state, TrackState::kFollowing);
+}
+
+// Given a register refilling with three positions that do not agree (clutter), then nothing is
+// accepted: fewer positions, the same tests.
+TEST(Tracker, GivenAFewInconsistentPositionsAfterALoss_ThenNothingIsReacquired) {
+  Script s;
+  s.start_following({0.2, 0.0, 2.0}, kRed);
+  for (int i = 0; i < 46; ++i) s.none();
+  std::mt19937 rng(21);
+  for (int i = 0; i < 30; ++i) {
+    const Track t = s.see(testing::clutter_position(rng), testing::clutter_patch(rng));
+    EXPECT_NE(t.state, TrackState::kFollowing) << "frame " << i << ": " << t.reason;
+  }
+}
+
 TEST(Tracker, GivenRejectedDetections_ThenTheyAreStillShiftedIn) {
   Script s;
   s.start_following({0, 0, 2}, kRed);

@@ -8,6 +8,7 @@ Result<TrackerParams> read_tracker_params(params::ParamsFile& file) {
   file.read("ssd_threshold", p.ssd_threshold, 1.0, 86'028'075.0);
   file.read("register_size", p.register_size, 3, 50);
   file.read("register_outliers_allowed", p.register_outliers_allowed, 0, 1);
+  file.read("reacquire_positions", p.reacquire_positions, 2, 50);
   file.read("sigma_floor_m", p.sigma_floor_m, 0.0, 10.0);
   file.read("sigma_floor_fraction", p.sigma_floor_fraction, 0.0, 1.0);
   file.read("max_static_spread_m", p.max_static_spread_m, 0.001, 10.0);
