@@ -55,6 +55,8 @@ const char* status_name(stereoball_msg_DetectionStatus s) {
       return "NO_CALIBRATION";
     case stereoball_msg_DETECTION_BAD_FRAME:
       return "BAD_FRAME";
+    case stereoball_msg_DETECTION_OFF_FLOOR:
+      return "OFF_FLOOR";
   }
   return "?";
 }

@@ -41,6 +41,14 @@ std::optional<std::string> BallDetectorParams::validate() const {
     return std::string("track_prior_gate_m must be in [0, 10] metres");
   if (track_prior_max_age_ns < 0 || track_prior_max_age_ns > 10'000'000'000)
     return std::string("track_prior_max_age_ns must be in [0, 1e10] ns");
+  if (!(prior_min_inside_fraction >= 0.0 && prior_min_inside_fraction <= 1.0))
+    return std::string("prior_min_inside_fraction must be in [0, 1]");
+  if (!(floor_camera_height_m >= 0.0 && floor_camera_height_m <= 10.0))
+    return std::string("floor_camera_height_m must be in [0, 10] metres");
+  if (!(floor_camera_pitch_rad >= -1.57 && floor_camera_pitch_rad <= 1.57))
+    return std::string("floor_camera_pitch_rad must be in [-1.57, 1.57] radians");
+  if (!(floor_tolerance_m >= 0.0 && floor_tolerance_m <= 10.0))
+    return std::string("floor_tolerance_m must be in [0, 10] metres (0 = off)");
   if (auto e = detector_params().validate()) return "p2p." + *e;
   return std::nullopt;
 }

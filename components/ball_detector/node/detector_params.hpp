@@ -49,6 +49,20 @@ struct BallDetectorParams {
   bool prior_window = true;
   /// A track older than this (its capture stamp vs the frame's) is not used as a prior, ns.
   std::int64_t track_prior_max_age_ns = 500'000'000;
+  /// Where the prior says the ball is, a circle cut by the image border counts when this much
+  /// of it is inside (elsewhere p2p.min_inside_fraction applies), [0, 1].
+  double prior_min_inside_fraction = 0.3;
+  /// Floor check (addition): a ball rests on the floor, its centre one radius above it. The
+  /// left camera's optical centre is floor_camera_height_m above the floor and pitched down by
+  /// floor_camera_pitch_rad (rotation about its x axis, before rectification); pairs whose
+  /// centre is more than floor_tolerance_m from the resting height are rejected (0 = off: a
+  /// bouncing ball). A pitch error of 1 degree moves a ball 5 m away by 9 cm.
+  double floor_camera_height_m = 0.30;   ///< metres, [0, 10]
+  double floor_camera_pitch_rad = 0.20;  ///< radians, [-1.57, 1.57]
+  double floor_tolerance_m = 0.10;       ///< metres, [0, 10] (0 = no floor check)
+  /// Measure circles against the ellipse a sphere images as where they are (each eye's
+  /// rectified camera, from stereo/calibration); false = as circles (the paper).
+  bool perspective_outline = true;
   PixelToPixelParams p2p = pipeline_p2p_defaults();  ///< detector on each rectified eye
 
   /// Names the first bad field and its allowed range, or nullopt.

@@ -27,6 +27,7 @@ void read_p2p(params::ParamsFile& file, PixelToPixelParams& p) {
   file.read("p2p.min_score", p.min_score, 0.0, 1.0);
   file.read("p2p.max_peaks_examined", p.max_peaks_examined, 1, 1000);
   file.read("p2p.edge_min_threshold", p.edge.min_high_threshold, 1.0, 1000.0);
+  file.read("p2p.min_inside_fraction", p.refine_params.min_inside_fraction, 0.0, 1.0);
 }
 
 }  // namespace
@@ -42,10 +43,15 @@ Result<BallDetectorParams> read_detector_params(params::ParamsFile& file) {
   file.read("track_prior.window", p.prior_window);
   file.read("track_prior.max_age_ns", p.track_prior_max_age_ns, std::int64_t{0},
             std::int64_t{10'000'000'000});
+  file.read("track_prior.min_inside_fraction", p.prior_min_inside_fraction, 0.0, 1.0);
   std::string input = to_string(p.input);
   file.read_choice("input", input, {"grey", "saturation", "value", "red", "green", "blue"});
   if (auto parsed = parse_detector_input(input)) p.input = *parsed;
   read_p2p(file, p.p2p);
+  file.read("p2p.perspective_outline", p.perspective_outline);
+  file.read("floor.camera_height_m", p.floor_camera_height_m, 0.0, 10.0);
+  file.read("floor.camera_pitch_rad", p.floor_camera_pitch_rad, -1.57, 1.57);
+  file.read("floor.tolerance_m", p.floor_tolerance_m, 0.0, 10.0);
   if (auto e = p.validate()) file.fail(file.name() + ": " + *e);
   if (auto e = file.finish()) return Error{*e};
   return p;

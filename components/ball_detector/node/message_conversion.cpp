@@ -29,6 +29,8 @@ stereoball_msg_DetectionStatus to_message(DetectionStatus status) {
       return stereoball_msg_DETECTION_NO_CALIBRATION;
     case DetectionStatus::kBadFrame:
       return stereoball_msg_DETECTION_BAD_FRAME;
+    case DetectionStatus::kOffFloor:
+      return stereoball_msg_DETECTION_OFF_FLOOR;
   }
   return stereoball_msg_DETECTION_BAD_FRAME;
 }

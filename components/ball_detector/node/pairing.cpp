@@ -1,5 +1,7 @@
 #include "ball_detector/node/pairing.hpp"
 
+#include "stereo/core/sphere_outline.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +19,30 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, do
 std::string no_candidate_reason(bool left_empty, bool right_empty) {
   if (left_empty && right_empty) return "no circle in either eye";
   return left_empty ? "no circle in the left eye" : "no circle in the right eye";
+}
+
+stereo::PinholeCamera left_camera(const stereo::Triangulator& tri) {
+  return {tri.focal_px(), tri.principal_left_px()};
+}
+
+stereo::PinholeCamera right_camera(const stereo::Triangulator& tri) {
+  return {tri.focal_px(), tri.principal_right_px()};
+}
+
+// Mean outline radius (what the detector's circle fit measures) of a ball of radius_m centred
+// at centre_m in camera's frame; 0 if it has no outline.
+double outline_radius_px(const stereo::PinholeCamera& camera, const cv::Vec3d& centre_m,
+                         double radius_m) {
+  const auto o = stereo::sphere_outline(camera, centre_m, radius_m);
+  return o ? o->mean_radius_px() : 0.0;
+}
+
+// Depth of the ball behind an outline, metres, or nullopt.
+std::optional<double> outline_depth_m(const stereo::PinholeCamera& camera, const Circle& c,
+                                      double radius_m) {
+  const auto view = stereo::sphere_from_outline(camera, {c.x_px, c.y_px}, c.radius_px);
+  if (!view) return std::nullopt;
+  return view->depth_m(radius_m);
 }
 
 // Smallest row difference over all combinations, for the mismatch reason.
@@ -49,16 +75,43 @@ cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior,
   const double slack_m = prior.gate_m / 3.0;
   const double near_z = p[2] - slack_m;
   if (!(near_z > 0.5 * ctx.size.ball_diameter_m)) return {};
-  const cv::Point2d centre =
-      tri.principal_left_px() + cv::Point2d(f * p[0] / p[2], f * p[1] / p[2]);
-  const double radius = stereo::expected_radius_px(f, ctx.size.ball_diameter_m, near_z);
-  const double reach = (1.0 + ctx.size.max_relative_error) * radius + f * slack_m / near_z +
-                       static_cast<double>(margin_px);
+  // The outline of the ball moved that much nearer along its line of sight (off the axis it is
+  // an ellipse: its semi-major axis is the reach).
+  const auto outline =
+      stereo::sphere_outline(left_camera(tri), p * (near_z / p[2]), 0.5 * ctx.size.ball_diameter_m);
+  if (!outline) return {};
+  const cv::Point2d centre = outline->centre_px;
+  const double reach = (1.0 + ctx.size.max_relative_error) * outline->semi_major_px +
+                       f * slack_m / near_z + static_cast<double>(margin_px);
   const cv::Point tl(static_cast<int>(std::floor(centre.x - reach)),
                      static_cast<int>(std::floor(centre.y - reach)));
   const cv::Point br(static_cast<int>(std::ceil(centre.x + reach)) + 1,
                      static_cast<int>(std::ceil(centre.y + reach)) + 1);
   return cv::Rect(tl, br) & cv::Rect(cv::Point(0, 0), image);
+}
+
+RadiusRange prior_radius_range(const PairingContext& ctx, const PositionPrior& prior) {
+  const cv::Vec3d& p = prior.position_m;
+  const double slack_m = prior.gate_m / 3.0;
+  const double r_m = 0.5 * ctx.size.ball_diameter_m;
+  const double tol = ctx.size.max_relative_error;
+  const stereo::PinholeCamera camera = left_camera(ctx.triangulator);
+  const auto near = stereo::sphere_outline(camera, p * ((p[2] - slack_m) / p[2]), r_m);
+  const auto far = stereo::sphere_outline(camera, p * ((p[2] + slack_m) / p[2]), r_m);
+  // Without an outline (the prior at or behind the camera) nothing narrows the search.
+  if (!near || !far || !(p[2] - slack_m > r_m)) return {0.0, 1e9};
+  return {far->semi_minor_px * (1.0 - tol) - 2.0, near->semi_major_px * (1.0 + tol) + 2.0};
+}
+
+RadiusRange partner_radius_range(const PairingContext& ctx, const std::vector<Circle>& left) {
+  if (left.empty()) return {0.0, 1e9};
+  const double tol = ctx.size.max_relative_error;
+  RadiusRange r{1e9, 0.0};
+  for (const Circle& c : left) {
+    r.min_px = std::min(r.min_px, c.radius_px * (1.0 - tol) - 2.0);
+    r.max_px = std::max(r.max_px, c.radius_px * (1.0 + tol) + 2.0);
+  }
+  return r;
 }
 
 bool better_pair(const StereoPair& a, const StereoPair& b) {
@@ -82,23 +135,33 @@ std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle&
   pair.row_residual_px = m.row_residual_px;
   pair.position_m = *p;
   pair.score = 0.5 * (left.score + right.score);
-  const double f = ctx.triangulator.focal_px();
-  pair.depth_from_size_m =
-      stereo::depth_from_radii_m(f, ctx.size.ball_diameter_m, left.radius_px, right.radius_px)
-          .value_or(0.0);
+  // Sizes as each eye sees the ball where it is: off the axis the outline is an ellipse whose
+  // mean radius grows by up to 1 / cos^2 of the angle (24 % at 30 degrees), more than the
+  // size tolerance.
+  const stereo::Triangulator& tri = ctx.triangulator;
+  const double ball_radius_m = 0.5 * ctx.size.ball_diameter_m;
+  const cv::Vec3d in_right = *p - cv::Vec3d(tri.baseline_m(), 0.0, 0.0);
+  const auto depth_left = outline_depth_m(left_camera(tri), left, ball_radius_m);
+  const auto depth_right = outline_depth_m(right_camera(tri), right, ball_radius_m);
+  pair.depth_from_size_m = depth_left && depth_right ? 0.5 * (*depth_left + *depth_right) : 0.0;
   const double radius_px = 0.5 * (left.radius_px + right.radius_px);
-  const stereo::SizeCheck size = stereo::check_size(ctx.size, f, radius_px, (*p)[2]);
+  const double expected_px = 0.5 * (outline_radius_px(left_camera(tri), *p, ball_radius_m) +
+                                    outline_radius_px(right_camera(tri), in_right, ball_radius_m));
+  const stereo::SizeCheck size = stereo::check_size_against(ctx.size, radius_px, expected_px);
   pair.expected_radius_px = size.expected_radius_px;
   pair.size_error = size.relative_error;
   pair.size_consistent = size.consistent;
+  if (ctx.floor) {
+    pair.height_error_m = ctx.floor->height_m(*p) - ball_radius_m;
+    pair.on_floor = std::abs(pair.height_error_m) <= ctx.floor->tolerance_m;
+  }
   return pair;
 }
 
 cv::Rect partner_search_box(const PairingContext& ctx, const Circle& left, cv::Size image,
                             int margin_px) {
   const stereo::Triangulator& tri = ctx.triangulator;
-  const auto depth =
-      stereo::depth_from_radius_m(tri.focal_px(), ctx.size.ball_diameter_m, left.radius_px);
+  const auto depth = outline_depth_m(left_camera(tri), left, 0.5 * ctx.size.ball_diameter_m);
   if (!depth) return {};
   // The size check accepts radii within the tolerance of the expected one, i.e. depths (and
   // so disparities) within about that fraction of this one.
@@ -127,7 +190,9 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
   }
   std::optional<StereoPair> best_ok;
   std::optional<StereoPair> best_near_prior;
-  std::optional<StereoPair> best_rejected;  // closest to consistent, for the reason text
+  // Closest to consistent, for the reason text: off the floor (the size fits) beats wrong size.
+  std::optional<StereoPair> best_off_floor;
+  std::optional<StereoPair> best_rejected;
   for (std::size_t i = 0; i < left.size(); ++i) {
     for (std::size_t j = 0; j < right.size(); ++j) {
       auto pair = evaluate_pair(ctx, left[i], right[j]);
@@ -135,16 +200,22 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
       pair->left_index = i;
       pair->right_index = j;
       ++out.row_matches;
-      if (pair->size_consistent) {
-        ++out.size_matches;
-        if (!best_ok || better_pair(*pair, *best_ok)) best_ok = pair;
-        if (prior && cv::norm(pair->position_m - prior->position_m) <= prior->gate_m &&
-            (!best_near_prior || better_pair(*pair, *best_near_prior)))
-          best_near_prior = pair;
-      } else if (!best_rejected ||
-                 std::abs(pair->size_error) < std::abs(best_rejected->size_error)) {
-        best_rejected = pair;
+      if (!pair->size_consistent) {
+        if (!best_rejected || std::abs(pair->size_error) < std::abs(best_rejected->size_error))
+          best_rejected = pair;
+        continue;
       }
+      ++out.size_matches;
+      if (!pair->on_floor) {
+        if (!best_off_floor ||
+            std::abs(pair->height_error_m) < std::abs(best_off_floor->height_error_m))
+          best_off_floor = pair;
+        continue;
+      }
+      if (!best_ok || better_pair(*pair, *best_ok)) best_ok = pair;
+      if (prior && cv::norm(pair->position_m - prior->position_m) <= prior->gate_m &&
+          (!best_near_prior || better_pair(*pair, *best_near_prior)))
+        best_near_prior = pair;
     }
   }
   if (best_near_prior) best_ok = best_near_prior;
@@ -153,6 +224,16 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
     out.best = best_ok;
     out.reason = format("pair score %.2f, row residual %.2f px, disparity %.1f px", best_ok->score,
                         best_ok->row_residual_px, best_ok->left.x_px - best_ok->right.x_px);
+    return out;
+  }
+  if (best_off_floor) {
+    const StereoPair& p = *best_off_floor;
+    out.status = PairingStatus::kOffFloor;
+    out.best = best_off_floor;
+    out.reason = format("ball-sized pair %.2f m ", std::abs(p.height_error_m)) +
+                 (p.height_error_m > 0.0 ? "above" : "below") +
+                 format(" where a ball on the floor is (tolerance %.2f m), %.2f m away",
+                        ctx.floor->tolerance_m, p.position_m[2]);
     return out;
   }
   if (best_rejected) {

@@ -11,13 +11,24 @@
 #include <vector>
 
 #include "ball_detector/core/circle.hpp"
+#include "ball_detector/core/p2p_detector.hpp"
 #include "stereo/core/epipolar.hpp"
 #include "stereo/core/triangulation.hpp"
 
 namespace stereoball::ball_detector {
 
 /// Outcome of pairing, mirroring the non-error detection statuses.
-enum class PairingStatus { kFound, kNoCandidate, kEpipolarMismatch, kSizeInconsistent };
+enum class PairingStatus { kFound, kNoCandidate, kEpipolarMismatch, kSizeInconsistent, kOffFloor };
+
+/// Where a ball can be: resting on the floor, its centre one radius above it (addition: a
+/// ball-sized round thing on a wall or a box is not the ball).
+struct FloorModel {
+  cv::Vec3d up{0.0, -1.0, 0.0};  ///< unit up direction in the left rectified camera frame
+  double camera_height_m = 0.3;  ///< left camera's optical centre above the floor, metres
+  double tolerance_m = 0.1;      ///< largest |centre height - ball radius| accepted, metres
+  /// Height above the floor of a point in the left rectified camera frame, metres.
+  double height_m(const cv::Vec3d& p) const { return camera_height_m + up.dot(p); }
+};
 
 /// One left/right candidate pair that passed the row check and triangulated.
 struct StereoPair {
@@ -32,6 +43,8 @@ struct StereoPair {
   double expected_radius_px = 0.0;  ///< radius the ball should have at position_m's depth, pixels
   double size_error = 0.0;          ///< (mean radius - expected) / expected
   bool size_consistent = false;     ///< |size_error| within tolerance
+  double height_error_m = 0.0;      ///< centre height above the floor - ball radius, metres
+  bool on_floor = true;             ///< |height_error_m| within the floor tolerance (or no floor)
   double score = 0.0;               ///< mean of both circles' scores, [0, 1]
 };
 
@@ -49,6 +62,7 @@ struct PairingContext {
   const stereo::EpipolarCheck& epipolar;
   const stereo::Triangulator& triangulator;
   const stereo::SizeCheckParams& size;
+  std::optional<FloorModel> floor;  ///< no floor check without one
 };
 
 /// The rectified right-image box where a size-consistent partner of left can lie: the ball
@@ -87,6 +101,15 @@ std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int
 cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior, cv::Size image,
                           int margin_px);
 
+/// Radii (mean outline radius, pixels) the left eye can see the ball expected at prior with:
+/// from a third of the gate farther to a third nearer, within the size tolerance, the
+/// ellipse's semi-axes included (votes reach its centre from either).
+RadiusRange prior_radius_range(const PairingContext& ctx, const PositionPrior& prior);
+
+/// Radii a right-eye partner of any of left can have: each within the size tolerance of its
+/// left circle (the eyes see nearly the same outline), plus 2 px.
+RadiusRange partner_radius_range(const PairingContext& ctx, const std::vector<Circle>& left);
+
 /// True if a should be preferred to b: higher score, then smaller row residual.
 bool better_pair(const StereoPair& a, const StereoPair& b);
 
@@ -95,8 +118,8 @@ bool better_pair(const StereoPair& a, const StereoPair& b);
 std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle& left,
                                         const Circle& right);
 
-/// Every candidate combination -> the best size-consistent pair (within the prior's gate when
-/// one is given and any pair is, else overall), or the reason there is none.
+/// Every candidate combination -> the best size-consistent pair on the floor (within the
+/// prior's gate when one is given and any pair is, else overall), or the reason there is none.
 PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,
                               const std::vector<Circle>& right,
                               const std::optional<PositionPrior>& prior = std::nullopt);

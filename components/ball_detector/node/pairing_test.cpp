@@ -1,6 +1,7 @@
 // Pairing of left/right candidates: row check, triangulation, size check, best pair.
 
 #include "ball_detector/node/pairing.hpp"
+#include "stereo/core/sphere_outline.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,28 +22,20 @@ class Pairing : public ::testing::Test {
         tri_(sb::stereo::Triangulator::create(calib_).value()),
         epi_(sb::stereo::EpipolarParams{2.0}),
         size_{0.22, 0.25},
-        ctx_{epi_, tri_, size_} {}
+        ctx_{epi_, tri_, size_, std::nullopt} {}
 
-  // Rectified circles of a ball of the configured size centred at (x, y, z) metres, left/right.
-  // Each eye sees the ball's outline, an ellipse whose centre lies along the radial line from
-  // the principal point at the midpoint of tan(theta - alpha) and tan(theta + alpha).
+  // Rectified circles of a ball of the configured size centred at (x, y, z) metres, left/right:
+  // each eye sees the ball's outline (sphere_outline), an ellipse off the axis; a circle fit
+  // gives its centre and the mean of its semi-axes.
   std::pair<Circle, Circle> ball_at(double x0, double y0, double z0, double score = 0.9,
                                     double radius_scale = 1.0) const {
-    const double f = tri_.focal_px();
-    const double cx = calib_.p1(0, 2), cy = calib_.p1(1, 2);
-    const double r = radius_scale * sb::stereo::expected_radius_px(f, 0.22, z0);
-    auto outline_centre = [&](double x, double y, double z) {
-      const double t = std::sqrt(x * x + y * y) / z;
-      const double alpha = std::asin(0.11 / std::sqrt(x * x + y * y + z * z));
-      const double theta = std::atan(t);
-      const double u = 0.5 * (std::tan(theta + alpha) + std::tan(theta - alpha));
-      const double scale = t > 0.0 ? u / t : 1.0;
-      return cv::Point2d(cx + f * scale * x / z, cy + f * scale * y / z);
+    auto circle_in = [&](const cv::Point2d& principal, double x) {
+      const auto o = sb::stereo::sphere_outline({tri_.focal_px(), principal}, {x, y0, z0}, 0.11);
+      return Circle{o->centre_px.x, o->centre_px.y, radius_scale * o->mean_radius_px(), score};
     };
-    const cv::Point2d left = outline_centre(x0, y0, z0);
-    // The right camera sits baseline_m to the right; its rectified principal point equals cx.
-    const cv::Point2d right = outline_centre(x0 - tri_.baseline_m(), y0, z0);
-    return {Circle{left.x, left.y, r, score}, Circle{right.x, right.y, r, score}};
+    // The right camera sits baseline_m to the right.
+    return {circle_in(tri_.principal_left_px(), x0),
+            circle_in(tri_.principal_right_px(), x0 - tri_.baseline_m())};
   }
 
   sb::stereo::StereoCalibration calib_;
@@ -217,4 +210,68 @@ TEST_F(Pairing, GivenPriorThenLeftSearchBoxHoldsTheBallsDisc) {
   }
   const sb::ball_detector::PositionPrior behind{cv::Vec3d(0.0, 0.0, -1.0), 0.3};
   EXPECT_TRUE(sb::ball_detector::prior_search_box(ctx_, behind, image, 9).empty());
+}
+
+// Given balls far off the axis (where the outline is an ellipse larger than the on-axis
+// radius) and near, then each is found at its position, size consistent within 1 %.
+TEST_F(Pairing, GivenBallsOffTheAxisAndNearThenSizeIsJudgedOnTheirEllipse) {
+  for (const cv::Vec3d& c :
+       {cv::Vec3d(-0.55, 0.3, 0.9), cv::Vec3d(0.6, -0.25, 1.0), cv::Vec3d(0.1, 0.15, 0.45)}) {
+    const auto [l, r] = ball_at(c[0], c[1], c[2]);
+    const auto res = pair_candidates(ctx_, {l}, {r});
+    ASSERT_EQ(res.status, PairingStatus::kFound) << c << ": " << res.reason;
+    EXPECT_LT(std::abs(res.best->size_error), 0.01) << c;
+    EXPECT_NEAR(res.best->depth_from_size_m, c[2], 1e-6) << c;
+    EXPECT_LT(cv::norm(res.best->position_m - c), 1e-4) << c;
+    // Off the axis the on-axis radius would misjudge the size by more than 8 %.
+    const double on_axis = sb::stereo::expected_radius_px(tri_.focal_px(), 0.22, c[2]);
+    if (std::hypot(c[0], c[1]) / c[2] > 0.6) {
+      EXPECT_GT(0.5 * (l.radius_px + r.radius_px) / on_axis - 1.0, 0.08) << c;
+    }
+  }
+}
+
+// Given a floor 0.3 m below a level camera, a ball resting on it is found; the same ball-sized
+// pair 0.4 m higher (a plate on a box) is rejected as off the floor, naming the height, and
+// without a floor model it would be found.
+TEST_F(Pairing, GivenAFloorThenOnlyABallRestingOnItIsFound) {
+  sb::ball_detector::PairingContext on_floor{epi_, tri_, size_,
+                                             sb::ball_detector::FloorModel{{0, -1, 0}, 0.3, 0.1}};
+  const double resting_y = 0.3 - 0.11;  // y is down: the centre one radius above the floor
+  const auto [bl, br] = ball_at(0.2, resting_y, 1.6);
+  auto res = pair_candidates(on_floor, {bl}, {br});
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_NEAR(res.best->height_error_m, 0.0, 1e-6);
+
+  const auto [pl, pr] = ball_at(-0.3, resting_y - 0.4, 1.8);
+  res = pair_candidates(on_floor, {pl}, {pr});
+  EXPECT_EQ(res.status, PairingStatus::kOffFloor);
+  EXPECT_NEAR(res.best->height_error_m, 0.4, 1e-6);
+  EXPECT_NE(res.reason.find("0.40 m above"), std::string::npos) << res.reason;
+  EXPECT_EQ(pair_candidates(ctx_, {pl}, {pr}).status, PairingStatus::kFound);
+
+  // Both: the ball on the floor wins even when the plate scores higher.
+  const auto [hl, hr] = ball_at(-0.3, resting_y - 0.4, 1.8, 0.99);
+  res = pair_candidates(on_floor, {hl, bl}, {hr, br});
+  ASSERT_EQ(res.status, PairingStatus::kFound);
+  EXPECT_EQ(res.best->left_index, 1u);
+}
+
+// Given a prior, the radius range it allows holds the ball's radius there and excludes a
+// ball twice as near or twice as far; a partner range holds the right circle of each left one.
+TEST_F(Pairing, GivenAPriorOrLeftCirclesThenTheRadiusRangesHoldTheBallOnly) {
+  const cv::Vec3d c(0.3, 0.1, 1.5);
+  const auto [l, r] = ball_at(c[0], c[1], c[2]);
+  const auto range =
+      sb::ball_detector::prior_radius_range(ctx_, sb::ball_detector::PositionPrior{c, 0.3});
+  EXPECT_LT(range.min_px, l.radius_px);
+  EXPECT_GT(range.max_px, l.radius_px);
+  EXPECT_GT(range.min_px, ball_at(c[0], c[1], 2.0 * c[2]).first.radius_px);
+  EXPECT_LT(range.max_px, ball_at(c[0], c[1], 0.5 * c[2]).first.radius_px);
+  const auto [l2, r2] = ball_at(-0.2, 0.0, 0.8);
+  const auto partners = sb::ball_detector::partner_radius_range(ctx_, {l, l2});
+  for (const Circle& right : {r, r2}) {
+    EXPECT_LT(partners.min_px, right.radius_px);
+    EXPECT_GT(partners.max_px, right.radius_px);
+  }
 }

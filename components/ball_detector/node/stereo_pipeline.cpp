@@ -29,6 +29,8 @@ DetectionStatus from_pairing(PairingStatus s) {
       return DetectionStatus::kEpipolarMismatch;
     case PairingStatus::kSizeInconsistent:
       return DetectionStatus::kSizeInconsistent;
+    case PairingStatus::kOffFloor:
+      return DetectionStatus::kOffFloor;
   }
   return DetectionStatus::kNoCandidate;
 }
@@ -88,6 +90,19 @@ void extract_patch(const cv::Mat& image, double x_px, double y_px,
   }
 }
 
+std::optional<FloorModel> floor_model(const BallDetectorParams& params,
+                                      const stereo::StereoCalibration& calib) {
+  if (!(params.floor_tolerance_m > 0.0)) return std::nullopt;
+  // Up in the raw left camera (x right, y down, z forward) pitched down by phi about x.
+  const double phi = params.floor_camera_pitch_rad;
+  const cv::Vec3d up_raw(0.0, -std::cos(phi), -std::sin(phi));
+  FloorModel floor;
+  floor.up = calib.r1 * up_raw;  // r1 takes raw left camera coordinates to rectified ones
+  floor.camera_height_m = params.floor_camera_height_m;
+  floor.tolerance_m = params.floor_tolerance_m;
+  return floor;
+}
+
 const char* to_string(DetectionStatus status) {
   switch (status) {
     case DetectionStatus::kFound:
@@ -102,6 +117,8 @@ const char* to_string(DetectionStatus status) {
       return "no_calibration";
     case DetectionStatus::kBadFrame:
       return "bad_frame";
+    case DetectionStatus::kOffFloor:
+      return "off_floor";
   }
   return "unknown";
 }
@@ -127,10 +144,17 @@ std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoC
   if (!triangulator) return triangulator.error();
   rectifier_.emplace(std::move(rectifier).value());
   triangulator_.emplace(std::move(triangulator).value());
+  if (params_.perspective_outline) {
+    left_detector_.set_camera(
+        stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_left_px()});
+    right_detector_.set_camera(
+        stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()});
+  }
   const cv::Matx33d p(calib.p1(0, 0), calib.p1(0, 1), calib.p1(0, 2), calib.p1(1, 0),
                       calib.p1(1, 1), calib.p1(1, 2), calib.p1(2, 0), calib.p1(2, 1),
                       calib.p1(2, 2));
   patch_ray_from_pixel_ = calib.r1.t() * p.inv();
+  floor_ = floor_model(params_, calib);
   return std::nullopt;
 }
 
@@ -199,7 +223,7 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     out.reason = *e;
     return out;
   }
-  const PairingContext ctx{epipolar_, *triangulator_, size_};
+  const PairingContext ctx{epipolar_, *triangulator_, size_, floor_};
   const cv::Mat& left_channel = detector_channel(left, grey_left_);
   const cv::Mat& right_channel = detector_channel(right, grey_right_);
   std::optional<PairingResult> pairing;
@@ -234,12 +258,15 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
     rectifier_->rectify_eye_region(stereo::Eye::kLeft, left_channel, box, rect_left_);
   }
   left_candidates_.clear();
-  for (Circle c : left_detector_.detect(rect_left_(box), *left_thresholds_)) {
+  // The tracker expects the ball here: a ball it follows out of the view is still scored on
+  // what is left of it in the image.
+  const SearchHints hints{prior_radius_range(ctx, prior), params_.prior_min_inside_fraction};
+  for (Circle c : left_detector_.detect(rect_left_(box), *left_thresholds_, hints)) {
     c.x_px += box.x;
     c.y_px += box.y;
     left_candidates_.push_back(c);
   }
-  right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified);
+  right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, true);
   PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
   ++frames_since_full_search_;
   // Only a ball where the track expects it ends the search; anything else needs the frame.
@@ -258,7 +285,7 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
   left_thresholds_ = thresholds_of(left_detector_.edge_map());
   frames_since_full_search_ = 0;
   if (params_.right_eye_partner_boxes) {
-    right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified);
+    right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, false);
   } else {
     rectify_whole(right_channel, stereo::Eye::kRight, rectified, rect_right_);
     right_candidates_ = right_detector_.detect(rect_right_);
@@ -297,10 +324,12 @@ std::vector<cv::Rect> StereoPipeline::partner_boxes(const PairingContext& ctx) c
 
 std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& ctx,
                                                           const cv::Mat& right_channel,
-                                                          bool rectified) {
+                                                          bool rectified, bool near_prior) {
   rect_right_.create(rectifier_->calibration().image_size, right_channel.type());
   rect_right_.setTo(0);
   std::vector<Circle> found;
+  SearchHints hints{partner_radius_range(ctx, left_candidates_)};
+  if (near_prior) hints.min_inside_fraction = params_.prior_min_inside_fraction;
   for (const cv::Rect& box : partner_boxes(ctx)) {
     if (rectified) {
       right_channel(box).copyTo(rect_right_(box));
@@ -308,8 +337,8 @@ std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& 
       rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, box, rect_right_);
     }
     // The left image's thresholds: the box's own statistics depend on what it holds.
-    for (Circle c :
-         right_detector_.detect(rect_right_(box), thresholds_of(left_detector_.edge_map()))) {
+    for (Circle c : right_detector_.detect(rect_right_(box),
+                                           thresholds_of(left_detector_.edge_map()), hints)) {
       c.x_px += box.x;
       c.y_px += box.y;
       found.push_back(c);

@@ -27,6 +27,11 @@ void saturation(const cv::Mat& bgr, cv::Mat& out);
 /// Brightest channel of a CV_8UC3 image: max(B,G,R) per pixel into a CV_8UC1 (reused).
 void value(const cv::Mat& bgr, cv::Mat& out);
 
+/// The floor as the left rectified camera sees it (params' camera height and pitch, rotated
+/// by the rectification), or nullopt when params.floor_tolerance_m is 0.
+std::optional<FloorModel> floor_model(const BallDetectorParams& params,
+                                      const stereo::StereoCalibration& calib);
+
 /// Outcome of one stereo frame (mirrors the ball/detection statuses).
 enum class DetectionStatus {
   kFound,
@@ -34,7 +39,8 @@ enum class DetectionStatus {
   kEpipolarMismatch,
   kSizeInconsistent,
   kNoCalibration,
-  kBadFrame
+  kBadFrame,
+  kOffFloor
 };
 
 /// Short name of a status ("found", "no_candidate", ...).
@@ -112,7 +118,7 @@ class StereoPipeline {
                                    const std::optional<PositionPrior>& prior);
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
-                                            bool rectified);
+                                            bool rectified, bool near_prior);
   void fill_result(const PairingResult& pairing, StereoDetection& out) const;
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
 
@@ -130,6 +136,7 @@ class StereoPipeline {
   std::vector<cv::Point2d> patch_raw_px_;
   std::vector<Circle> left_candidates_, right_candidates_;
   std::optional<EdgeThresholds> left_thresholds_;  // of the last whole left frame
+  std::optional<FloorModel> floor_;                // none when the floor check is off
   int frames_since_full_search_ = 0;
 };
 
