@@ -18,6 +18,7 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
   r.detection_status = bd::to_string(d.status);
   r.detection_reason = d.reason;
   r.verdict = std::string(tracker::to_string(track.verdict));
+  r.verdict_reason = track.reason;
   r.track_state = std::string(tracker::to_string(track.state));
   r.found_left_x_px = d.left.x_px, r.found_left_y_px = d.left.y_px;
   r.found_radius_px = d.left.radius_px;
@@ -26,13 +27,15 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
   const auto& c = g.ball_camera_m;
   r.true_distance_m = std::sqrt(c.x * c.x + c.y * c.y + c.z * c.z);
   if (r.raw_found && r.ball_visible) {
-    const double dx = d.left.x_px - g.ball_left_px.x, dy = d.left.y_px - g.ball_left_px.y;
-    r.raw_on_ball = std::sqrt(dx * dx + dy * dy) <= kOnBallPx;
-  }
-  if (r.raw_on_ball) {
+    // In 3D: a close ball's outline centre lies pixels away from where its centre projects
+    // (10 px at 0.45 m), yet the detection is of the ball.
     const double ex = d.position_m[0] - c.x, ey = d.position_m[1] - c.y, ez = d.position_m[2] - c.z;
-    r.error_m = std::sqrt(ex * ex + ey * ey + ez * ez);
-    r.error_xyz_m[0] = ex, r.error_xyz_m[1] = ey, r.error_xyz_m[2] = ez;
+    const double error_m = std::sqrt(ex * ex + ey * ey + ez * ez);
+    r.raw_on_ball = error_m <= g.ball_radius_m;
+    if (r.raw_on_ball) {
+      r.error_m = error_m;
+      r.error_xyz_m[0] = ex, r.error_xyz_m[1] = ey, r.error_xyz_m[2] = ez;
+    }
   }
   r.accepted_on_ball = r.accepted && r.raw_on_ball;
   return r;

@@ -21,7 +21,7 @@ struct FrameRecord {
   bool ball_present = false;          ///< scenario has a ball
   bool ball_visible = false;          ///< ball centre visible in both eyes (ground truth)
   bool raw_found = false;             ///< detector returned a stereo pair
-  bool raw_on_ball = false;           ///< ... whose left centre is within kOnBallPx of the truth
+  bool raw_on_ball = false;           ///< ... whose centre is within one ball radius of the truth
   bool accepted = false;              ///< tracker accepted this frame's detection
   bool accepted_on_ball = false;      ///< ... and the detection was on the ball
   double true_distance_m = 0;         ///< |ball centre| in the left rectified camera frame, m
@@ -36,11 +36,9 @@ struct FrameRecord {
   std::string detection_status;  ///< the pipeline's status name
   std::string detection_reason;  ///< the pipeline's reason
   std::string verdict;           ///< the tracker's verdict name
+  std::string verdict_reason;    ///< the tracker's reason for it
   std::string track_state;       ///< the tracker's state after the frame
 };
-
-/// Largest distance of the detected left centre from the true one to count as "on the ball".
-inline constexpr double kOnBallPx = 5.0;
 
 /// All frames of one scenario run.
 struct RunResult {
