@@ -66,7 +66,7 @@ TEST_F(CalibrateToolTest, GivenSampleListWhenCalibratedThenFileMeetsTargetsAndRe
   EXPECT_NE(r.out.find("rectified row error"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("left14.jpg + right14.jpg"), std::string::npos) << r.out;
   const auto calib = stereoball::stereo::load_calibration(out);
-  ASSERT_TRUE(calib.has_value()) << calib.error();
+  ASSERT_TRUE(calib.ok()) << calib.error();
   EXPECT_LT(calib->rms_px, 0.5);
   EXPECT_GE(calib->per_pair_rms_px.size(), 10u);
   EXPECT_EQ(calib->image_size, cv::Size(640, 480));

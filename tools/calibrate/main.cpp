@@ -1,6 +1,7 @@
 // stereoball-calibrate: stereo calibration from chessboard pairs, written as
 // one OpenCV FileStorage YAML that every StereoBall component reads.
 
+#include "common/util/result.hpp"
 #include "stereo/core/board_calibration.hpp"
 #include "stereo/core/rectifier.hpp"
 #include "stereo/io/calibration_file.hpp"
@@ -63,19 +64,19 @@ std::vector<std::string> expand_glob(const std::string& pattern) {
   return out;
 }
 
-stereoball::stereo::Result<PairList> collect_pairs(const Options& o) {
-  using R = stereoball::stereo::Result<PairList>;
+stereoball::Result<PairList> collect_pairs(const Options& o) {
   if (!o.pairs_list.empty()) return stereoball::stereo::load_pair_list(o.pairs_list);
   const auto left = expand_glob(o.left_glob), right = expand_glob(o.right_glob);
-  if (left.empty()) return R::fail("--left-glob '" + o.left_glob + "' matches no file");
-  if (right.empty()) return R::fail("--right-glob '" + o.right_glob + "' matches no file");
+  if (left.empty()) return stereoball::Error{"--left-glob '" + o.left_glob + "' matches no file"};
+  if (right.empty())
+    return stereoball::Error{"--right-glob '" + o.right_glob + "' matches no file"};
   if (left.size() != right.size()) {
-    return R::fail("--left-glob matches " + std::to_string(left.size()) + " files but " +
-                   "--right-glob matches " + std::to_string(right.size()));
+    return stereoball::Error{"--left-glob matches " + std::to_string(left.size()) + " files but " +
+                             "--right-glob matches " + std::to_string(right.size())};
   }
   PairList pairs;
   for (std::size_t i = 0; i < left.size(); ++i) pairs.emplace_back(left[i], right[i]);
-  return R::ok(std::move(pairs));
+  return pairs;
 }
 
 std::string base(const std::string& path) {

@@ -146,7 +146,7 @@ TEST(StereoPipeline, GivenFullRightSearch_ThenSameResultAsPartnerBoxes) {
 TEST(StereoPipeline, GivenPreRectifiedFrames_ThenSameBallAsRawPath) {
   const Rendered r = render(plain_scene(1.5, 0.0));
   auto rectifier = sb::stereo::Rectifier::create(r.calib);
-  ASSERT_TRUE(rectifier.has_value());
+  ASSERT_TRUE(rectifier.ok());
   cv::Mat left, right;
   ASSERT_EQ(rectifier->rectify(r.frame.left, r.frame.right, left, right), std::nullopt);
   StereoPipeline pipeline({});

@@ -108,7 +108,7 @@ TEST(CameraServerNode, GivenRealPairsWhenPlayedThenFramesByteIdenticalAndCalibra
   sb::dds::DataReader<stereoball_msg_StereoCalibration> calib(participant,
                                                               sb::topics::kStereoCalibration);
   auto expected = sb::stereo::load_calibration(kCalibration);
-  ASSERT_TRUE(expected.has_value()) << expected.error();
+  ASSERT_TRUE(expected.ok()) << expected.error();
   bool got = false;
   sb::testing::eventually(
       [&] {
@@ -131,9 +131,9 @@ TEST(CameraServerNode, GivenRealPairsWhenPlayedThenFramesByteIdenticalAndCalibra
 
 TEST(CameraServerNode, GivenRectifyWhenPlayedThenFramesEqualTheRectifierOutput) {
   auto calib = sb::stereo::load_calibration(kCalibration);
-  ASSERT_TRUE(calib.has_value()) << calib.error();
+  ASSERT_TRUE(calib.ok()) << calib.error();
   auto rectifier = sb::stereo::Rectifier::create(calib.value());
-  ASSERT_TRUE(rectifier.has_value()) << rectifier.error();
+  ASSERT_TRUE(rectifier.ok()) << rectifier.error();
   const cv::Mat left = cv::imread(kSamples + "/left01.jpg", cv::IMREAD_UNCHANGED);
   const cv::Mat right = cv::imread(kSamples + "/right01.jpg", cv::IMREAD_UNCHANGED);
   cv::Mat left_rect, right_rect;

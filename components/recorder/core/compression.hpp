@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "recorder/core/result.hpp"
+#include "recorder/core/status.hpp"
 
 namespace stereoball::recorder {
 

@@ -9,7 +9,7 @@ namespace stereoball::recorder {
 
 Result<FileInfo> collect_file_info(Source& source) {
   McapReader reader(source);
-  if (auto err = reader.open()) return Result<FileInfo>::fail(*err);
+  if (auto err = reader.open()) return Error{*err};
   std::map<uint16_t, TopicInfo> per_channel;
   FileInfo info;
   if (auto err = reader.for_each_message([&](const MessageView& m) {
@@ -25,7 +25,7 @@ Result<FileInfo> collect_file_info(Source& source) {
         ++info.messages;
         return true;
       })) {
-    return Result<FileInfo>::fail(*err);
+    return Error{*err};
   }
   const auto& summary = reader.summary();
   for (const auto& [id, channel] : summary.channels) {
@@ -46,7 +46,7 @@ Result<FileInfo> collect_file_info(Source& source) {
   info.indexed = summary.indexed;
   info.chunks = summary.statistics.chunk_count;
   info.notes = reader.notes();
-  return Result<FileInfo>::ok(std::move(info));
+  return info;
 }
 
 std::string format_utc(uint64_t ns) {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
 #include "recorder/core/reader.hpp"
-#include "recorder/core/result.hpp"
 
 namespace stereoball::recorder {
 

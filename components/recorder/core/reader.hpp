@@ -11,7 +11,7 @@
 
 #include "recorder/core/io_interfaces.hpp"
 #include "recorder/core/records.hpp"
-#include "recorder/core/result.hpp"
+#include "recorder/core/status.hpp"
 
 namespace stereoball::recorder {
 

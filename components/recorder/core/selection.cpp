@@ -21,13 +21,12 @@ bool contains(const std::vector<std::string>& v, const std::string& s) {
 Result<std::vector<std::string>> select_topics(const std::vector<std::string>& available,
                                                const std::vector<std::string>& requested, bool all,
                                                const std::vector<std::string>& exclude) {
-  using R = Result<std::vector<std::string>>;
-  if (all && !requested.empty()) return R::fail("give either --all or topic names, not both");
-  if (!all && requested.empty()) return R::fail("no topics given (name topics or use --all)");
+  if (all && !requested.empty()) return Error{"give either --all or topic names, not both"};
+  if (!all && requested.empty()) return Error{"no topics given (name topics or use --all)"};
   for (const auto& list : {requested, exclude}) {
     for (const auto& t : list) {
       if (!contains(available, t)) {
-        return R::fail("unknown topic '" + t + "' (known: " + known_list(available) + ")");
+        return Error{"unknown topic '" + t + "' (known: " + known_list(available) + ")"};
       }
     }
   }
@@ -35,8 +34,8 @@ Result<std::vector<std::string>> select_topics(const std::vector<std::string>& a
   for (const auto& t : all ? available : requested) {
     if (!contains(exclude, t) && !contains(out, t)) out.push_back(t);
   }
-  if (out.empty()) return R::fail("every selected topic is excluded; nothing to record");
-  return R::ok(std::move(out));
+  if (out.empty()) return Error{"every selected topic is excluded; nothing to record"};
+  return out;
 }
 
 std::optional<std::string> PlaybackParams::validate() const {

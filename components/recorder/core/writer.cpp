@@ -54,16 +54,16 @@ Status McapWriter::open(Sink& sink) {
 
 Result<uint16_t> McapWriter::add_schema(std::string_view name, std::string_view encoding,
                                         std::span<const uint8_t> data) {
-  if (auto err = check_writable()) return Result<uint16_t>::fail(*err);
-  if (schemas_.size() >= 0xFFFE) return Result<uint16_t>::fail("too many schemas (max 65534)");
+  if (auto err = check_writable()) return Error{*err};
+  if (schemas_.size() >= 0xFFFE) return Error{"too many schemas (max 65534)"};
   SchemaRecord schema{static_cast<uint16_t>(schemas_.size() + 1), std::string(name),
                       std::string(encoding), std::vector<uint8_t>(data.begin(), data.end())};
   // Outside chunks, so the definition survives even if the next chunk is cut off.
   scratch_.clear();
   append_schema(scratch_, schema);
-  if (auto err = emit(scratch_)) return Result<uint16_t>::fail(*err);
+  if (auto err = emit(scratch_)) return Error{*err};
   schemas_.push_back(std::move(schema));
-  return Result<uint16_t>::ok(schemas_.back().id);
+  return schemas_.back().id;
 }
 
 Result<uint16_t> McapWriter::add_schema(std::string_view name, std::string_view encoding,
@@ -76,19 +76,19 @@ Result<uint16_t> McapWriter::add_schema(std::string_view name, std::string_view 
 Result<uint16_t> McapWriter::add_channel(uint16_t schema_id, std::string_view topic,
                                          std::string_view message_encoding,
                                          const std::map<std::string, std::string>& metadata) {
-  if (auto err = check_writable()) return Result<uint16_t>::fail(*err);
+  if (auto err = check_writable()) return Error{*err};
   if (schema_id > schemas_.size()) {
-    return Result<uint16_t>::fail("channel '" + std::string(topic) + "' refers to unknown schema " +
-                                  std::to_string(schema_id));
+    return Error{"channel '" + std::string(topic) + "' refers to unknown schema " +
+                 std::to_string(schema_id)};
   }
-  if (channels_.size() >= 0xFFFE) return Result<uint16_t>::fail("too many channels (max 65534)");
+  if (channels_.size() >= 0xFFFE) return Error{"too many channels (max 65534)"};
   ChannelRecord channel{static_cast<uint16_t>(channels_.size() + 1), schema_id, std::string(topic),
                         std::string(message_encoding), metadata};
   scratch_.clear();
   append_channel(scratch_, channel);
-  if (auto err = emit(scratch_)) return Result<uint16_t>::fail(*err);
+  if (auto err = emit(scratch_)) return Error{*err};
   channels_.push_back(std::move(channel));
-  return Result<uint16_t>::ok(channels_.back().id);
+  return channels_.back().id;
 }
 
 Status McapWriter::write(const MessageView& message) {

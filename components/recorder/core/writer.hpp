@@ -13,11 +13,12 @@
 #include <string_view>
 #include <vector>
 
+#include "common/util/result.hpp"
 #include "recorder/core/compression.hpp"
 #include "recorder/core/crc32.hpp"
 #include "recorder/core/io_interfaces.hpp"
 #include "recorder/core/records.hpp"
-#include "recorder/core/result.hpp"
+#include "recorder/core/status.hpp"
 
 namespace stereoball::recorder {
 

@@ -12,11 +12,9 @@ namespace stereoball::recorder {
 Result<std::unique_ptr<FileSink>> FileSink::create(const std::string& path, bool sync_on_flush) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {
-    return Result<std::unique_ptr<FileSink>>::fail("cannot create '" + path +
-                                                   "': " + std::strerror(errno));
+    return Error{"cannot create '" + path + "': " + std::strerror(errno)};
   }
-  return Result<std::unique_ptr<FileSink>>::ok(
-      std::unique_ptr<FileSink>(new FileSink(fd, path, sync_on_flush)));
+  return std::unique_ptr<FileSink>(new FileSink(fd, path, sync_on_flush));
 }
 
 FileSink::~FileSink() {
@@ -51,16 +49,14 @@ Status FileSink::sync() {
 Result<std::unique_ptr<FileSource>> FileSource::open(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
-    return Result<std::unique_ptr<FileSource>>::fail("cannot open '" + path +
-                                                     "': " + std::strerror(errno));
+    return Error{"cannot open '" + path + "': " + std::strerror(errno)};
   }
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd);
-    return Result<std::unique_ptr<FileSource>>::fail("'" + path + "' is not a regular file");
+    return Error{"'" + path + "' is not a regular file"};
   }
-  return Result<std::unique_ptr<FileSource>>::ok(
-      std::unique_ptr<FileSource>(new FileSource(fd, static_cast<uint64_t>(st.st_size))));
+  return std::unique_ptr<FileSource>(new FileSource(fd, static_cast<uint64_t>(st.st_size)));
 }
 
 FileSource::~FileSource() {

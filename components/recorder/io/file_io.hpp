@@ -5,8 +5,9 @@
 #include <memory>
 #include <string>
 
+#include "common/util/result.hpp"
 #include "recorder/core/io_interfaces.hpp"
-#include "recorder/core/result.hpp"
+#include "recorder/core/status.hpp"
 
 namespace stereoball::recorder {
 

@@ -34,13 +34,12 @@ Recording::Recording(const RecordingParams& params, std::vector<RecordedTopic> t
 
 Result<std::unique_ptr<Recording>> Recording::start(const RecordingParams& params,
                                                     std::vector<RecordedTopic> topics) {
-  using R = Result<std::unique_ptr<Recording>>;
-  if (auto bad = params.validate()) return R::fail(*bad);
-  if (topics.empty()) return R::fail("no topics to record");
+  if (auto bad = params.validate()) return Error{*bad};
+  if (topics.empty()) return Error{"no topics to record"};
   std::unique_ptr<Recording> rec(new Recording(params, std::move(topics)));
-  if (auto err = rec->open_file()) return R::fail(*err);
+  if (auto err = rec->open_file()) return Error{*err};
   rec->thread_ = std::thread([r = rec.get()] { r->run(); });
-  return R::ok(std::move(rec));
+  return rec;
 }
 
 Recording::~Recording() {

@@ -14,7 +14,8 @@
 #include <thread>
 #include <vector>
 
-#include "recorder/core/result.hpp"
+#include "common/util/result.hpp"
+#include "recorder/core/status.hpp"
 #include "recorder/core/writer.hpp"
 #include "recorder/io/file_io.hpp"
 

@@ -107,17 +107,16 @@ std::pair<double, double> rectified_row_error_px(const StereoCalibration& calib,
 Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& pairs,
                                                 cv::Size image_size,
                                                 const BoardCalibrationParams& params) {
-  using R = Result<BoardCalibrationResult>;
-  if (auto error = params.validate()) return R::fail(*error);
-  if (image_size.width <= 0 || image_size.height <= 0) return R::fail("image_size: must be > 0");
+  if (auto error = params.validate()) return Error{*error};
+  if (image_size.width <= 0 || image_size.height <= 0) return Error{"image_size: must be > 0"};
   const std::size_t expected = static_cast<std::size_t>(params.inner_corners.area());
   std::vector<std::vector<cv::Point3f>> object;
   std::vector<std::vector<cv::Point2f>> left, right;
   BoardCalibrationResult out;
   for (const PairCorners& p : pairs) {
     if (p.left_px.size() != expected || p.right_px.size() != expected) {
-      return R::fail("pair " + p.name + ": expected " + std::to_string(expected) +
-                     " corners per eye");
+      return Error{"pair " + p.name + ": expected " + std::to_string(expected) +
+                   " corners per eye"};
     }
     object.push_back(board_points(params));
     left.push_back(p.left_px);
@@ -125,8 +124,8 @@ Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& 
     out.pair_names.push_back(p.name);
   }
   if (static_cast<int>(pairs.size()) < params.min_pairs) {
-    return R::fail("only " + std::to_string(pairs.size()) + " usable pairs, need at least " +
-                   std::to_string(params.min_pairs) + " (min_pairs)");
+    return Error{"only " + std::to_string(pairs.size()) + " usable pairs, need at least " +
+                 std::to_string(params.min_pairs) + " (min_pairs)"};
   }
   // Each camera alone first: a well-conditioned start for the joint refinement.
   cv::Mat k1, d1, k2, d2, rvecs, tvecs;
@@ -151,10 +150,10 @@ Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& 
     const double el = per_view.at<double>(i, 0), er = per_view.at<double>(i, 1);
     c.per_pair_rms_px.push_back(std::sqrt(0.5 * (el * el + er * er)));
   }
-  if (auto error = validate_calibration(c)) return R::fail("calibration result invalid: " + *error);
+  if (auto error = validate_calibration(c)) return Error{"calibration result invalid: " + *error};
   std::tie(out.mean_rectified_row_error_px, out.max_rectified_row_error_px) =
       rectified_row_error_px(c, pairs);
-  return R::ok(std::move(out));
+  return out;
 }
 
 }  // namespace stereoball::stereo

@@ -3,8 +3,8 @@
 // per-camera then joint stereo calibration, rectification, quality figures.
 // Pure computation on images already in memory; the tool does the file I/O.
 
+#include "common/util/result.hpp"
 #include "stereo/core/calibration.hpp"
-#include "stereo/core/result.hpp"
 
 #include <opencv2/core.hpp>
 

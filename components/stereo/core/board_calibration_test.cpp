@@ -47,7 +47,7 @@ TEST(RealCalibration, GivenOpenCvSamplePairsWhenCalibratedThenRmsAndRowErrorTarg
   // When calibrated with a 25 mm square
   const auto result = calibrate_stereo(pairs, cv::Size(640, 480), BoardCalibrationParams{});
   // Then the RMS reprojection error and the rectified row error meet the targets
-  ASSERT_TRUE(result.has_value()) << result.error();
+  ASSERT_TRUE(result.ok()) << result.error();
   const StereoCalibration& c = result->calibration;
   EXPECT_LT(c.rms_px, 0.5);
   EXPECT_LT(result->mean_rectified_row_error_px, 0.25);
@@ -64,7 +64,7 @@ TEST(RealCalibration, GivenCalibrationWhenRealPairLutRectifiedThenBoardCornersSh
   // Given the calibration of the real sample pairs
   const auto result =
       calibrate_stereo(sample_corners(), cv::Size(640, 480), BoardCalibrationParams{});
-  ASSERT_TRUE(result.has_value()) << result.error();
+  ASSERT_TRUE(result.ok()) << result.error();
   const Rectifier rect = Rectifier::create(result->calibration).value();
   // When a real pair goes through the fixed-point LUT and the board is found again
   cv::Mat l, r;
@@ -86,7 +86,7 @@ TEST(RealCalibration, GivenTooFewPairsWhenCalibratedThenErrorNamesMinPairs) {
   ASSERT_GE(all.size(), 3u);
   const std::vector<PairCorners> few(all.begin(), all.begin() + 3);
   const auto result = calibrate_stereo(few, cv::Size(640, 480), BoardCalibrationParams{});
-  ASSERT_FALSE(result.has_value());
+  ASSERT_FALSE(result.ok());
   EXPECT_NE(result.error().find("min_pairs"), std::string::npos) << result.error();
 }
 

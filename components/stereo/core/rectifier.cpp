@@ -22,8 +22,8 @@ const char* eye_name(Eye eye) {
 }  // namespace
 
 Result<Rectifier> Rectifier::create(const StereoCalibration& calib) {
-  if (auto error = validate_calibration(calib)) return Result<Rectifier>::fail(*error);
-  return Result<Rectifier>::ok(Rectifier(calib));
+  if (auto error = validate_calibration(calib)) return Error{*error};
+  return Rectifier(calib);
 }
 
 Rectifier::Rectifier(const StereoCalibration& calib) : calib_(calib) {

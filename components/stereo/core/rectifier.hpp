@@ -3,8 +3,8 @@
 // distortion and bilinear interpolation folded into one fixed-point look-up
 // table per eye, computed once per calibration and applied to every frame.
 
+#include "common/util/result.hpp"
 #include "stereo/core/calibration.hpp"
-#include "stereo/core/result.hpp"
 
 #include <opencv2/core.hpp>
 

@@ -132,7 +132,7 @@ TEST(RectifierCreate, GivenInvalidCalibrationWhenCreatedThenErrorNamesField) {
   StereoCalibration c = default_synthetic_rig().calibration();
   c.k2(1, 1) = -5;
   const auto r = Rectifier::create(c);
-  ASSERT_FALSE(r.has_value());
+  ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().rfind("K2:", 0), 0u) << r.error();
 }
 

@@ -5,8 +5,8 @@
 namespace stereoball::stereo {
 
 Result<Triangulator> Triangulator::create(const StereoCalibration& calib) {
-  if (auto error = validate_calibration(calib)) return Result<Triangulator>::fail(*error);
-  return Result<Triangulator>::ok(Triangulator(calib));
+  if (auto error = validate_calibration(calib)) return Error{*error};
+  return Triangulator(calib);
 }
 
 Triangulator::Triangulator(const StereoCalibration& calib)

@@ -3,8 +3,8 @@
 // camera frame (x right, y down, z forward), plus the independent depth from
 // the apparent radius of a ball of known diameter used as a consistency check.
 
+#include "common/util/result.hpp"
 #include "stereo/core/calibration.hpp"
-#include "stereo/core/result.hpp"
 
 #include <opencv2/core.hpp>
 

@@ -39,7 +39,7 @@ TEST(Triangulator, GivenInvalidCalibrationWhenCreatedThenErrorNamesField) {
   StereoCalibration c = default_synthetic_rig().calibration();
   c.p1(0, 0) = 0.0;
   const auto tri = Triangulator::create(c);
-  ASSERT_FALSE(tri.has_value());
+  ASSERT_FALSE(tri.ok());
   EXPECT_EQ(tri.error().rfind("P1:", 0), 0u) << tri.error();
 }
 

@@ -94,11 +94,11 @@ std::optional<std::string> read_all(const cv::FileStorage& fs, StereoCalibration
 CalibResult parse_storage(cv::FileStorage& fs, const std::string& origin) {
   StereoCalibration c;
   try {
-    if (auto e = read_all(fs, c)) return CalibResult::fail(origin + ": " + *e);
+    if (auto e = read_all(fs, c)) return Error{origin + ": " + *e};
   } catch (const cv::Exception& ex) {
-    return CalibResult::fail(origin + ": malformed calibration (" + ex.err + ")");
+    return Error{origin + ": malformed calibration (" + ex.err + ")"};
   }
-  return CalibResult::ok(std::move(c));
+  return c;
 }
 
 // No distortion is written as five zeros so every file has the same shape.
@@ -141,15 +141,15 @@ void write_all(cv::FileStorage& fs, const StereoCalibration& c, const Calibratio
 CalibResult load_calibration(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
-    return CalibResult::fail(path + ": no such calibration file");
+    return Error{path + ": no such calibration file"};
   }
   cv::FileStorage fs;
   try {
     if (!fs.open(path, cv::FileStorage::READ)) {
-      return CalibResult::fail(path + ": cannot be read as OpenCV FileStorage (YAML/XML/JSON)");
+      return Error{path + ": cannot be read as OpenCV FileStorage (YAML/XML/JSON)"};
     }
   } catch (const cv::Exception& ex) {
-    return CalibResult::fail(path + ": not a valid calibration file (" + ex.err + ")");
+    return Error{path + ": not a valid calibration file (" + ex.err + ")"};
   }
   return parse_storage(fs, path);
 }
@@ -158,10 +158,10 @@ CalibResult parse_calibration(const std::string& text) {
   cv::FileStorage fs;
   try {
     if (!fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY)) {
-      return CalibResult::fail("calibration text: cannot be parsed as OpenCV FileStorage");
+      return Error{"calibration text: cannot be parsed as OpenCV FileStorage"};
     }
   } catch (const cv::Exception& ex) {
-    return CalibResult::fail("calibration text: not valid FileStorage (" + ex.err + ")");
+    return Error{"calibration text: not valid FileStorage (" + ex.err + ")"};
   }
   return parse_storage(fs, "calibration text");
 }
@@ -187,26 +187,25 @@ std::optional<std::string> save_calibration(const std::string& path, const Stere
 }
 
 Result<std::vector<std::pair<std::string, std::string>>> load_pair_list(const std::string& path) {
-  using R = Result<std::vector<std::pair<std::string, std::string>>>;
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return R::fail(path + ": no such pair list");
+  if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such pair list"};
   std::vector<std::string> names;
   try {
     cv::FileStorage fs(path, cv::FileStorage::READ);
-    if (!fs.isOpened()) return R::fail(path + ": cannot be read as OpenCV FileStorage");
+    if (!fs.isOpened()) return Error{path + ": cannot be read as OpenCV FileStorage"};
     const cv::FileNode list = fs.getFirstTopLevelNode();
-    if (!list.isSeq()) return R::fail(path + ": first entry is not a list of image names");
+    if (!list.isSeq()) return Error{path + ": first entry is not a list of image names"};
     for (const auto& n : list) {
-      if (!n.isString()) return R::fail(path + ": list entry is not a string");
+      if (!n.isString()) return Error{path + ": list entry is not a string"};
       names.push_back(static_cast<std::string>(n));
     }
   } catch (const cv::Exception& ex) {
-    return R::fail(path + ": malformed pair list (" + ex.err + ")");
+    return Error{path + ": malformed pair list (" + ex.err + ")"};
   }
-  if (names.empty()) return R::fail(path + ": image list is empty");
+  if (names.empty()) return Error{path + ": image list is empty"};
   if (names.size() % 2 != 0) {
-    return R::fail(path + ": odd number of images (" + std::to_string(names.size()) +
-                   "), expected alternating left, right");
+    return Error{path + ": odd number of images (" + std::to_string(names.size()) +
+                 "), expected alternating left, right"};
   }
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
   std::vector<std::pair<std::string, std::string>> pairs;
@@ -217,7 +216,7 @@ Result<std::vector<std::pair<std::string, std::string>>> load_pair_list(const st
     };
     pairs.emplace_back(resolve(names[i]), resolve(names[i + 1]));
   }
-  return R::ok(std::move(pairs));
+  return pairs;
 }
 
 }  // namespace stereoball::stereo

@@ -3,8 +3,8 @@
 // extension) holding image size, K1 D1 K2 D2 R T R1 R2 P1 P2 Q, the RMS and
 // per-pair errors. Written by stereoball-calibrate, read by every node.
 
+#include "common/util/result.hpp"
 #include "stereo/core/calibration.hpp"
-#include "stereo/core/result.hpp"
 
 #include <optional>
 #include <string>

@@ -55,7 +55,7 @@ TEST_F(CalibrationFileTest, GivenCalibrationWhenSavedAndLoadedThenIdentical) {
   ASSERT_EQ(save_calibration(path, calib_, info), std::nullopt);
   const auto loaded = load_calibration(path);
   // Then every field is the same
-  ASSERT_TRUE(loaded.has_value()) << loaded.error();
+  ASSERT_TRUE(loaded.ok()) << loaded.error();
   const StereoCalibration& c = loaded.value();
   EXPECT_EQ(c.image_size, calib_.image_size);
   EXPECT_EQ(c.k1, calib_.k1);
@@ -78,7 +78,7 @@ TEST_F(CalibrationFileTest, GivenNoDistortionWhenSavedThenLoadsAsZeros) {
   const std::string path = (dir_ / "nodist.yml").string();
   ASSERT_EQ(save_calibration(path, calib_), std::nullopt);
   const auto loaded = load_calibration(path);
-  ASSERT_TRUE(loaded.has_value()) << loaded.error();
+  ASSERT_TRUE(loaded.ok()) << loaded.error();
   EXPECT_EQ(loaded->d1, std::vector<double>(5, 0.0));
 }
 
@@ -88,7 +88,7 @@ TEST_F(CalibrationFileTest, GivenMissingMatrixWhenLoadedThenErrorNamesFileAndFie
   // When loaded
   const auto loaded = load_calibration(path);
   // Then the error names the file and K2
-  ASSERT_FALSE(loaded.has_value());
+  ASSERT_FALSE(loaded.ok());
   EXPECT_NE(loaded.error().find(path), std::string::npos) << loaded.error();
   EXPECT_NE(loaded.error().find("K2: missing"), std::string::npos) << loaded.error();
 }
@@ -99,7 +99,7 @@ TEST_F(CalibrationFileTest, GivenWronglySizedMatrixWhenLoadedThenErrorNamesField
       "P1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1., 0., 0., 0., 1., 0., "
       "0., 0., 1. ]";
   const auto loaded = load_calibration(write("p1.yaml", edited_yaml("P1", p1)));
-  ASSERT_FALSE(loaded.has_value());
+  ASSERT_FALSE(loaded.ok());
   EXPECT_NE(loaded.error().find("P1: expected 3x4, got 3x3"), std::string::npos) << loaded.error();
 }
 
@@ -107,16 +107,16 @@ TEST_F(CalibrationFileTest, GivenWrongDistortionLengthWhenLoadedThenErrorNamesD1
   const std::string d1 =
       "D1: !!opencv-matrix\n   rows: 1\n   cols: 3\n   dt: d\n   data: [ 0.1, 0.2, 0.3 ]";
   const auto loaded = parse_calibration(edited_yaml("D1", d1));
-  ASSERT_FALSE(loaded.has_value());
+  ASSERT_FALSE(loaded.ok());
   EXPECT_NE(loaded.error().find("D1: expected 1xN"), std::string::npos) << loaded.error();
 }
 
 TEST_F(CalibrationFileTest, GivenMissingImageSizeOrNonMatrixWhenParsedThenFieldNamed) {
   auto missing_width = parse_calibration(edited_yaml("image_width", ""));
-  ASSERT_FALSE(missing_width.has_value());
+  ASSERT_FALSE(missing_width.ok());
   EXPECT_NE(missing_width.error().find("image_width: missing"), std::string::npos);
   auto scalar_r = parse_calibration(edited_yaml("R", "R: 3"));
-  ASSERT_FALSE(scalar_r.has_value());
+  ASSERT_FALSE(scalar_r.ok());
   EXPECT_NE(scalar_r.error().find("R:"), std::string::npos) << scalar_r.error();
 }
 
@@ -125,20 +125,20 @@ TEST_F(CalibrationFileTest, GivenInconsistentValuesWhenLoadedThenValidationNames
   const std::string t =
       "T: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ 0., 0., 0. ]";
   const auto loaded = parse_calibration(edited_yaml("T", t));
-  ASSERT_FALSE(loaded.has_value());
+  ASSERT_FALSE(loaded.ok());
   EXPECT_NE(loaded.error().find("T: must be finite and non-zero"), std::string::npos)
       << loaded.error();
 }
 
 TEST_F(CalibrationFileTest, GivenMissingOrGarbageFileWhenLoadedThenClearErrorNoCrash) {
   const auto missing = load_calibration((dir_ / "nope.yaml").string());
-  ASSERT_FALSE(missing.has_value());
+  ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.error().find("no such calibration file"), std::string::npos);
   const auto garbage = load_calibration(write("garbage.yaml", "%YAML:1.0\n: : [ {\n\x01\x02"));
-  EXPECT_FALSE(garbage.has_value());
+  EXPECT_FALSE(garbage.ok());
   EXPECT_FALSE(garbage.error().empty());
   const auto empty = load_calibration(write("empty.yaml", ""));
-  EXPECT_FALSE(empty.has_value());
+  EXPECT_FALSE(empty.ok());
 }
 
 TEST_F(CalibrationFileTest, GivenInvalidCalibrationWhenSavedThenRefused) {
@@ -152,7 +152,7 @@ TEST_F(CalibrationFileTest, GivenInvalidCalibrationWhenSavedThenRefused) {
 TEST(PairList, GivenOpenCvSampleListWhenLoadedThenThirteenExistingPairs) {
   const auto pairs =
       load_pair_list(std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/stereo_calib.xml");
-  ASSERT_TRUE(pairs.has_value()) << pairs.error();
+  ASSERT_TRUE(pairs.ok()) << pairs.error();
   ASSERT_EQ(pairs->size(), 13u);
   EXPECT_NE(pairs->front().first.find("left01.jpg"), std::string::npos);
   EXPECT_NE(pairs->front().second.find("right01.jpg"), std::string::npos);
@@ -167,9 +167,9 @@ TEST_F(CalibrationFileTest, GivenOddOrMissingListWhenLoadedThenError) {
       load_pair_list(write("odd.xml",
                            "<?xml version=\"1.0\"?>\n<opencv_storage>\n<imagelist>\n\"a.jpg\"\n"
                            "\"b.jpg\"\n\"c.jpg\"\n</imagelist>\n</opencv_storage>\n"));
-  ASSERT_FALSE(odd.has_value());
+  ASSERT_FALSE(odd.ok());
   EXPECT_NE(odd.error().find("odd number of images"), std::string::npos) << odd.error();
-  EXPECT_FALSE(load_pair_list((dir_ / "none.xml").string()).has_value());
+  EXPECT_FALSE(load_pair_list((dir_ / "none.xml").string()).ok());
 }
 
 }  // namespace
@@ -183,7 +183,7 @@ TEST(ShippedCalibration, GivenRepoCalibrationOfSamplePairsWhenLoadedThenValidAnd
   const auto c = load_calibration(std::string(SB_SOURCE_DIR) +
                                   "/config/calibration/opencv_samples_stereo.yaml");
   // Then it loads, is for 640x480 and records a sub-0.5 px RMS for all 13 pairs
-  ASSERT_TRUE(c.has_value()) << c.error();
+  ASSERT_TRUE(c.ok()) << c.error();
   EXPECT_EQ(c->image_size, cv::Size(640, 480));
   EXPECT_LT(c->rms_px, 0.5);
   EXPECT_EQ(c->per_pair_rms_px.size(), 13u);
