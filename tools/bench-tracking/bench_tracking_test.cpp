@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -86,4 +88,46 @@ TEST(BenchTrackingTool, UnknownScenarioIsOneClearError) {
   // Then the tool exits non-zero naming the scenario
   EXPECT_NE(code, 0);
   EXPECT_NE(out.find("no_such_scenario"), std::string::npos) << out;
+}
+
+TEST(BenchTrackingTool, FramesCsvHasOneRowPerFrameAndPngDirTheChosenFrames) {
+  // Given one simulated second of the still ball with the per-frame CSV and frames 3..4 as PNG
+  const std::string dir = ::testing::TempDir() + "bench_tracking_frames";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string csv = dir + "/frames.csv";
+  const auto [code, out] =
+      st::run({st::bin("stereoball-bench-tracking"), "--scenario", "ball_still_plain", "--seconds",
+               "1", "--frames-csv", csv, "--png-dir", dir, "--png-frames", "3:4"},
+              100s);
+  ASSERT_EQ(code, 0) << out;
+  // Then the CSV has the header and 30 rows, each naming the scenario, frame and verdict
+  std::ifstream in(csv);
+  std::string header, line;
+  ASSERT_TRUE(std::getline(in, header));
+  EXPECT_EQ(header.rfind("scenario,frame,stamp_ns,visible,", 0), 0u) << header;
+  int rows = 0;
+  while (std::getline(in, line)) {
+    EXPECT_EQ(line.rfind("ball_still_plain," + std::to_string(rows) + ",", 0), 0u) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 30);
+  // And exactly frames 3 and 4 of each eye were written
+  for (const char* eye : {"left", "right"})
+    for (int f = 0; f <= 5; ++f) {
+      const std::string png =
+          dir + "/ball_still_plain_" + eye + "_00000" + std::to_string(f) + ".png";
+      EXPECT_EQ(std::filesystem::exists(png), f == 3 || f == 4) << png;
+    }
+}
+
+TEST(BenchTrackingTool, UnwritableCsvOrBadFrameRangeIsOneClearErrorAtOnce) {
+  const auto [code, out] = st::run(
+      {st::bin("stereoball-bench-tracking"), "--frames-csv", "/nonexistent-dir/frames.csv"}, 30s);
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(out.find("cannot write '/nonexistent-dir/frames.csv'"), std::string::npos) << out;
+  const auto [code2, out2] = st::run(
+      {st::bin("stereoball-bench-tracking"), "--png-dir", "/tmp", "--png-frames", "9:5"}, 30s);
+  EXPECT_EQ(code2, 2);
+  EXPECT_NE(out2.find("--png-frames"), std::string::npos) << out2;
 }
