@@ -60,19 +60,6 @@ double expected_radius_px(double focal_px, double diameter_m, double depth_m) {
   return focal_px * r / std::sqrt(depth_m * depth_m - r * r);
 }
 
-std::optional<double> depth_from_radius_m(double focal_px, double diameter_m, double radius_px) {
-  if (!(radius_px > 0.0)) return std::nullopt;
-  const double r = 0.5 * diameter_m;
-  const double ratio = focal_px / radius_px;
-  return r * std::sqrt(1.0 + ratio * ratio);
-}
-
-std::optional<double> depth_from_radii_m(double focal_px, double diameter_m, double radius_left_px,
-                                         double radius_right_px) {
-  if (!(radius_left_px > 0.0) || !(radius_right_px > 0.0)) return std::nullopt;
-  return depth_from_radius_m(focal_px, diameter_m, 0.5 * (radius_left_px + radius_right_px));
-}
-
 std::optional<std::string> SizeCheckParams::validate() const {
   if (!std::isfinite(ball_diameter_m) || ball_diameter_m <= 0.0 || ball_diameter_m > 5.0) {
     return "ball_diameter_m: must be in (0, 5] metres, got " + std::to_string(ball_diameter_m);
@@ -82,12 +69,6 @@ std::optional<std::string> SizeCheckParams::validate() const {
     return "max_relative_error: must be in (0, 10], got " + std::to_string(max_relative_error);
   }
   return std::nullopt;
-}
-
-SizeCheck check_size(const SizeCheckParams& params, double focal_px, double radius_px,
-                     double depth_m) {
-  return check_size_against(params, radius_px,
-                            expected_radius_px(focal_px, params.ball_diameter_m, depth_m));
 }
 
 SizeCheck check_size_against(const SizeCheckParams& params, double radius_px,

@@ -53,15 +53,8 @@ class Triangulator {
 
 /// Apparent radius of a sphere of diameter_m whose centre is depth_m ahead, on the
 /// optical axis, for focal length focal_px; pixels. 0 if the camera is inside the ball.
+/// (Off the axis the outline is larger: see sphere_outline.)
 double expected_radius_px(double focal_px, double diameter_m, double depth_m);
-
-/// Depth of a sphere of diameter_m that appears with radius_px, metres (inverse of
-/// expected_radius_px); nullopt if radius_px <= 0.
-std::optional<double> depth_from_radius_m(double focal_px, double diameter_m, double radius_px);
-
-/// Depth from the mean of the radii seen by both eyes, metres; nullopt if either is <= 0.
-std::optional<double> depth_from_radii_m(double focal_px, double diameter_m, double radius_left_px,
-                                         double radius_right_px);
 
 /// Tolerances of the size-consistency check.
 struct SizeCheckParams {
@@ -78,12 +71,8 @@ struct SizeCheck {
   double relative_error = 0;      ///< (measured - expected) / expected
 };
 
-/// Is radius_px plausible for a ball of params.ball_diameter_m at depth_m (focal_px pixels)?
-/// (On the optical axis; off it see sphere_outline and check_size_against.)
-SizeCheck check_size(const SizeCheckParams& params, double focal_px, double radius_px,
-                     double depth_m);
-
 /// Is radius_px within params' tolerance of expected_radius_px (inconsistent if either <= 0)?
+/// The expected radius of a ball anywhere in the view: sphere_outline's mean radius.
 SizeCheck check_size_against(const SizeCheckParams& params, double radius_px,
                              double expected_radius_px);
 

@@ -43,17 +43,21 @@ TEST(Triangulator, GivenInvalidCalibrationWhenCreatedThenErrorNamesField) {
   EXPECT_EQ(tri.error().rfind("P1:", 0), 0u) << tri.error();
 }
 
-TEST(RadiusDepth, GivenDepthWhenExpectedRadiusInvertedThenSameDepth) {
+// Given balls on the optical axis, their outline is the circle of expected_radius_px, and the
+// depth comes back from it.
+TEST(RadiusDepth, GivenDepthOnTheAxisThenOutlineIsTheExpectedCircleAndDepthComesBack) {
+  const PinholeCamera camera{600.0, {320.0, 240.0}};
   for (double z : {0.3, 1.0, 2.0, 5.0}) {
     const double r = expected_radius_px(600.0, 0.2, z);
-    EXPECT_NEAR(*depth_from_radius_m(600.0, 0.2, r), z, 1e-9);
+    const auto o = sphere_outline(camera, {0.0, 0.0, z}, 0.1);
+    ASSERT_TRUE(o.has_value());
+    EXPECT_NEAR(o->semi_major_px, r, 1e-9);
+    EXPECT_NEAR(o->semi_minor_px, r, 1e-9);
+    EXPECT_NEAR(sphere_from_outline(camera, camera.principal_px, r)->depth_m(0.1), z, 1e-9);
   }
   // A 0.2 m ball at 2 m under f = 600 px looks ~30 px in radius (small-angle f*R/Z).
   EXPECT_NEAR(expected_radius_px(600.0, 0.2, 2.0), 30.0, 0.1);
-  EXPECT_FALSE(depth_from_radius_m(600.0, 0.2, 0.0).has_value());
-  EXPECT_FALSE(depth_from_radii_m(600.0, 0.2, 30.0, -1.0).has_value());
-  EXPECT_NEAR(*depth_from_radii_m(600.0, 0.2, 28.0, 32.0), *depth_from_radius_m(600, 0.2, 30),
-              1e-12);
+  EXPECT_EQ(expected_radius_px(600.0, 0.2, 0.05), 0.0);  // camera inside the ball
 }
 
 TEST(RadiusDepth, GivenSyntheticBallWhenSeenByBothEyesThenStereoAndSizeDepthsAgree) {
@@ -65,17 +69,20 @@ TEST(RadiusDepth, GivenSyntheticBallWhenSeenByBothEyesThenStereoAndSizeDepthsAgr
   const cv::Point3d centre(0.05, 0.02, 1.5);
   const cv::Point2d l = rect.rectify_point(Eye::kLeft, rig.project_left(centre));
   const cv::Point2d r = rect.rectify_point(Eye::kRight, rig.project_right(centre));
-  const double radius = expected_radius_px(focal_px(c), 0.2, 1.5);
+  const PinholeCamera camera{tri.focal_px(), tri.principal_left_px()};
+  const double radius = sphere_outline(camera, centre, 0.1)->mean_radius_px();
   // When triangulated and sized
   const auto p = tri.point_m(l.x, r.x, 0.5 * (l.y + r.y));
-  const auto z_size = depth_from_radii_m(tri.focal_px(), 0.2, radius, radius);
+  const auto view = sphere_from_outline(camera, l, radius);
   // Then both depths agree and the size check accepts it, but not a ball twice as big
   ASSERT_TRUE(p.has_value());
-  ASSERT_TRUE(z_size.has_value());
-  EXPECT_NEAR((*p)[2], *z_size, 0.01);
+  ASSERT_TRUE(view.has_value());
+  EXPECT_NEAR((*p)[2], view->depth_m(0.1), 0.01);
   const SizeCheckParams params{.ball_diameter_m = 0.2, .max_relative_error = 0.3};
-  EXPECT_TRUE(check_size(params, tri.focal_px(), radius, (*p)[2]).consistent);
-  const SizeCheck big = check_size(params, tri.focal_px(), 2.0 * radius, (*p)[2]);
+  const double expected = sphere_outline(camera, *p, 0.1)->mean_radius_px();
+  EXPECT_TRUE(check_size_against(params, radius, expected).consistent);
+  EXPECT_FALSE(check_size_against(params, radius, 0.0).consistent);
+  const SizeCheck big = check_size_against(params, 2.0 * radius, expected);
   EXPECT_FALSE(big.consistent);
   EXPECT_NEAR(big.relative_error, 1.0, 0.02);
 }
