@@ -63,6 +63,9 @@ TEST(DetectionMessage, GivenEveryStatus_ThenDistinctIdlValues) {
             stereoball_msg_DETECTION_NO_CALIBRATION);
   EXPECT_EQ(sb::ball_detector::to_message(DetectionStatus::kBadFrame),
             stereoball_msg_DETECTION_BAD_FRAME);
+  EXPECT_EQ(sb::ball_detector::to_message(DetectionStatus::kOffFloor),
+            stereoball_msg_DETECTION_OFF_FLOOR);
+  EXPECT_STREQ(sb::ball_detector::to_string(DetectionStatus::kOffFloor), "off_floor");
 }
 
 // Given a following ball/track sample, then its position, velocity and stamp are kept; a
