@@ -45,6 +45,25 @@ std::optional<double> outline_depth_m(const stereo::PinholeCamera& camera, const
   return view->depth_m(radius_m);
 }
 
+// Between two frames the prediction errs far less than the gate allows (the gate is for
+// choosing among pairs; a miss only costs a whole-frame search): a third of it, in depth and
+// sideways.
+double prior_slack_m(const PositionPrior& prior) {
+  return prior.gate_m / 3.0;
+}
+
+// The left outline of the ball expected at prior moved by depth_shift_m along its line of
+// sight (negative = nearer); nullopt if that depth is not beyond the ball's own radius.
+std::optional<stereo::SphereOutline> prior_outline(const PairingContext& ctx,
+                                                   const PositionPrior& prior,
+                                                   double depth_shift_m) {
+  const cv::Vec3d& p = prior.position_m;
+  const double r_m = 0.5 * ctx.size.ball_diameter_m;
+  const double z = p[2] + depth_shift_m;
+  if (!(p[2] > 0.0) || !(z > r_m)) return std::nullopt;
+  return stereo::sphere_outline(left_camera(ctx.triangulator), p * (z / p[2]), r_m);
+}
+
 // Smallest row difference over all combinations, for the mismatch reason.
 double closest_rows_px(const std::vector<Circle>& left, const std::vector<Circle>& right) {
   double best = std::numeric_limits<double>::infinity();
@@ -66,19 +85,12 @@ std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int
 
 cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior, cv::Size image,
                           int margin_px) {
-  const stereo::Triangulator& tri = ctx.triangulator;
-  const double f = tri.focal_px();
-  const cv::Vec3d& p = prior.position_m;
-  // Between two frames the prediction errs far less than the gate allows (the gate is for
-  // choosing among pairs; a miss here only costs a whole-frame search): a third of it, in
-  // depth and sideways, at the nearest depth, where the disc and the slack look largest.
-  const double slack_m = prior.gate_m / 3.0;
-  const double near_z = p[2] - slack_m;
-  if (!(near_z > 0.5 * ctx.size.ball_diameter_m)) return {};
-  // The outline of the ball moved that much nearer along its line of sight (off the axis it is
-  // an ellipse: its semi-major axis is the reach).
-  const auto outline =
-      stereo::sphere_outline(left_camera(tri), p * (near_z / p[2]), 0.5 * ctx.size.ball_diameter_m);
+  const double f = ctx.triangulator.focal_px();
+  // At the nearest depth the slack allows, where the disc and the slack look largest (off the
+  // axis the outline is an ellipse: its semi-major axis is the reach).
+  const double slack_m = prior_slack_m(prior);
+  const double near_z = prior.position_m[2] - slack_m;
+  const auto outline = prior_outline(ctx, prior, -slack_m);
   if (!outline) return {};
   const cv::Point2d centre = outline->centre_px;
   const double reach = (1.0 + ctx.size.max_relative_error) * outline->semi_major_px +
@@ -91,15 +103,12 @@ cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior,
 }
 
 RadiusRange prior_radius_range(const PairingContext& ctx, const PositionPrior& prior) {
-  const cv::Vec3d& p = prior.position_m;
-  const double slack_m = prior.gate_m / 3.0;
-  const double r_m = 0.5 * ctx.size.ball_diameter_m;
+  const double slack_m = prior_slack_m(prior);
   const double tol = ctx.size.max_relative_error;
-  const stereo::PinholeCamera camera = left_camera(ctx.triangulator);
-  const auto near = stereo::sphere_outline(camera, p * ((p[2] - slack_m) / p[2]), r_m);
-  const auto far = stereo::sphere_outline(camera, p * ((p[2] + slack_m) / p[2]), r_m);
+  const auto near = prior_outline(ctx, prior, -slack_m);
+  const auto far = prior_outline(ctx, prior, slack_m);
   // Without an outline (the prior at or behind the camera) nothing narrows the search.
-  if (!near || !far || !(p[2] - slack_m > r_m)) return {0.0, 1e9};
+  if (!near || !far) return {0.0, 1e9};
   return {far->semi_minor_px * (1.0 - tol) - 2.0, near->semi_major_px * (1.0 + tol) + 2.0};
 }
 
