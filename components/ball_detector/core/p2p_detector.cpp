@@ -18,7 +18,8 @@ inline double fast_hypot(double a, double b) {
   return std::sqrt(a * a + b * b);
 }
 
-constexpr int kMaxK = 31;  // window rows are read as one 63-bit slice
+constexpr int kMaxK = 31;                 // window rows are read as one 63-bit slice
+constexpr int kMaxCentreMarginPx = 4000;  // as max_radius_px: no centre is farther out
 constexpr double kRingSeedBelowScore = 0.8;
 // Arc isolation is tried only on windows with at most this many times 2k+1 points: denser
 // windows are texture, where it costs time and finds nothing the bench sequences need.
@@ -155,8 +156,8 @@ void PixelToPixelDetector::vote(int k) {
         if (!line) continue;
         const double cx = x + 0.5 * line->c2x;
         const double cy = y + 0.5 * line->c2y;
-        diag_.increments +=
-            plot_ray(accumulator_, cx, cy, line->nx, line->ny, radii_.min_px, radii_.max_px);
+        diag_.increments += plot_ray(accumulator_, cx + margin_px_, cy + margin_px_, line->nx,
+                                     line->ny, radii_.min_px, radii_.max_px);
         const float norm = fast_hypot(static_cast<float>(line->nx), static_cast<float>(line->ny));
         voters_.push_back(
             {static_cast<float>(cx), static_cast<float>(cy), line->nx / norm, line->ny / norm});
@@ -171,7 +172,9 @@ void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
   voters_.clear();
   radii_ = {params_.min_radius_px, params_.max_radius_px};
   min_inside_fraction_ = params_.refine_params.min_inside_fraction;
+  margin_px_ = 0;
   if (hints) {
+    margin_px_ = std::clamp(hints->centre_margin_px, 0, kMaxCentreMarginPx);
     radii_.min_px = std::max(radii_.min_px, hints->radii.min_px);
     radii_.max_px = std::min(radii_.max_px, hints->radii.max_px);
     if (hints->min_inside_fraction >= 0.0)
@@ -204,7 +207,8 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
 }
 
 std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
-  accumulator_.create(edges_.edges.size(), CV_16UC1);
+  const cv::Size size = edges_.edges.size();
+  accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
   for (int k : params_.k_values) vote(k);
   box_filter(accumulator_, params_.box_size_px, smoothed_);
@@ -217,8 +221,12 @@ std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   const float floor_v = static_cast<float>(
       std::max<double>(params_.min_peak_votes, params_.min_relative_peak * max_v));
   if (max_v < params_.min_peak_votes || max_v <= 0.0) return {};
-  const auto peaks = find_peaks(smoothed, floor_v, params_.min_separation_px,
-                                std::max(params_.max_peaks_examined, params_.max_circles));
+  auto peaks = find_peaks(smoothed, floor_v, params_.min_separation_px,
+                          std::max(params_.max_peaks_examined, params_.max_circles));
+  for (Peak& p : peaks) {  // back to image coordinates (outside the image with a margin)
+    p.x -= margin_px_;
+    p.y -= margin_px_;
+  }
   CandidateOptions opt;
   opt.min_radius_px = radii_.min_px;
   opt.max_radius_px = radii_.max_px;

@@ -53,6 +53,10 @@ struct SearchHints {
   /// Fraction of a circle that must lie inside the image (RefineParams::min_inside_fraction);
   /// negative = the params' value.
   double min_inside_fraction = -1.0;
+  /// Addition: centres up to this far outside the image are voted for (the accumulator is
+  /// padded by it on every side), pixels. A ball cut by the image border has its centre outside
+  /// when less than half of it is in view; an image-sized accumulator cannot find it. 0 = off.
+  int centre_margin_px = 0;
 };
 
 /// One edge point that cast a vote: where it is and which way its line goes (unit vector).
@@ -84,7 +88,7 @@ class PixelToPixelDetector final : public CircleDetector {
   void set_camera(const std::optional<stereo::PinholeCamera>& camera) {
     params_.refine_params.camera = camera;
   }
-  /// Votes of the last image, before smoothing (CV_16U).
+  /// Votes of the last image, before smoothing (CV_16U); padded by the hints' centre margin.
   const cv::Mat& raw_accumulator() const { return accumulator_; }
   /// The voters of the last image.
   const std::vector<Voter>& voters() const { return voters_; }
@@ -100,6 +104,7 @@ class PixelToPixelDetector final : public CircleDetector {
   PixelToPixelParams params_;
   RadiusRange radii_;  // of the current image: the params' range or the caller's within it
   double min_inside_fraction_ = 0.5;  // of the current image
+  int margin_px_ = 0;                 // of the current image: accumulator padding per side
   EdgeMap edges_;
   cv::Mat accumulator_;
   cv::Mat smoothed_;  // box-filtered accumulator_, buffer kept across images

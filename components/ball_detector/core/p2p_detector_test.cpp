@@ -232,6 +232,27 @@ TEST(PixelToPixel, GivenSearchHintsThenOnlyTheirRadiiAndBorderRuleApply) {
   EXPECT_NEAR(third[0].x_px, 410.0, 1.5);
 }
 
+// Given a ball whose centre lies 40 px below the image (a third of its outline in view), then
+// an image-sized accumulator has no cell for its centre and it is not found; with the hints'
+// centre margin it is, at its true centre and size.
+TEST(PixelToPixel, GivenACentreMarginThenACircleCentredOutsideTheImageIsFound) {
+  PixelToPixelDetector det(PixelToPixelParams{});
+  cv::Mat img(300, 400, CV_8UC3, cv::Scalar(50, 60, 55));
+  cv::circle(img, {200, 340}, 80, cv::Scalar(40, 170, 230), cv::FILLED, cv::LINE_AA);
+  EdgeMap edges;
+  compute_edge_map(img, PixelToPixelParams{}.edge, edges);
+  const EdgeThresholds t = thresholds_of(edges);
+  SearchHints hints{{4.0, 120.0}, 0.3};
+  const auto without = det.detect(img, t, hints);
+  EXPECT_TRUE(without.empty() || centre_error(without[0], Circle{200, 340, 80, 0}) > 5.0);
+  hints.centre_margin_px = 60;
+  const auto with = det.detect(img, t, hints);
+  ASSERT_FALSE(with.empty());
+  EXPECT_LT(centre_error(with[0], Circle{200, 340, 80, 0}), 1.5);
+  EXPECT_NEAR(with[0].radius_px, 80.0, 1.5);
+  EXPECT_EQ(det.raw_accumulator().rows, 300 + 2 * 60);
+}
+
 TEST(PixelToPixelParams, GivenBadFieldsThenValidateNamesThem) {
   PixelToPixelParams p;
   EXPECT_FALSE(p.validate().has_value());

@@ -64,6 +64,34 @@ std::optional<stereo::SphereOutline> prior_outline(const PairingContext& ctx,
   return stereo::sphere_outline(left_camera(ctx.triangulator), p * (z / p[2]), r_m);
 }
 
+// How far outside image a point within slack_px of p can be, rounded up; 0 if nowhere.
+double outside_by_px(const cv::Point2d& p, double slack_px, cv::Size image) {
+  const double out = std::max({-p.x, p.x - (image.width - 1), -p.y, p.y - (image.height - 1)});
+  return std::max(0.0, out + slack_px);
+}
+
+int margin_cap_px(double out_px, double cap_px) {
+  return static_cast<int>(std::ceil(std::min(out_px, std::max(0.0, cap_px))));
+}
+
+// The disparity range of a right-eye partner of left: the size check accepts radii within the
+// tolerance of the expected one, i.e. depths (and so disparities) within about that fraction.
+struct PartnerColumns {
+  double x_near = 0.0;  ///< nearest ball, leftmost centre, right rectified px
+  double x_far = 0.0;
+};
+
+std::optional<PartnerColumns> partner_columns(const PairingContext& ctx, const Circle& left) {
+  const stereo::Triangulator& tri = ctx.triangulator;
+  const auto depth = outline_depth_m(left_camera(tri), left, 0.5 * ctx.size.ball_diameter_m);
+  if (!depth) return std::nullopt;
+  const double tol = ctx.size.max_relative_error;
+  const double disparity = tri.focal_px() * tri.baseline_m() / *depth;
+  const double shift = tri.principal_left_px().x - tri.principal_right_px().x;
+  return PartnerColumns{left.x_px - shift - disparity * (1.0 + tol),
+                        left.x_px - shift - disparity * std::max(0.0, 1.0 - tol)};
+}
+
 // Smallest row difference over all combinations, for the mismatch reason.
 double closest_rows_px(const std::vector<Circle>& left, const std::vector<Circle>& right) {
   double best = std::numeric_limits<double>::infinity();
@@ -169,23 +197,137 @@ std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle&
 
 cv::Rect partner_search_box(const PairingContext& ctx, const Circle& left, cv::Size image,
                             int margin_px) {
-  const stereo::Triangulator& tri = ctx.triangulator;
-  const auto depth = outline_depth_m(left_camera(tri), left, 0.5 * ctx.size.ball_diameter_m);
-  if (!depth) return {};
-  // The size check accepts radii within the tolerance of the expected one, i.e. depths (and
-  // so disparities) within about that fraction of this one.
-  const double tol = ctx.size.max_relative_error;
-  const double disparity = tri.focal_px() * tri.baseline_m() / *depth;
-  const double shift = tri.principal_left_px().x - tri.principal_right_px().x;
-  const double x_near = left.x_px - shift - disparity * (1.0 + tol);  // nearest ball, leftmost
-  const double x_far = left.x_px - shift - disparity * std::max(0.0, 1.0 - tol);
-  const double reach = (1.0 + tol) * left.radius_px + margin_px;
+  const auto cols = partner_columns(ctx, left);
+  if (!cols) return {};
+  const double reach = (1.0 + ctx.size.max_relative_error) * left.radius_px + margin_px;
   const double rows = reach + ctx.epipolar.params().max_row_diff_px;
-  const int x0 = static_cast<int>(std::floor(x_near - reach));
-  const int x1 = static_cast<int>(std::ceil(x_far + reach)) + 1;
+  const int x0 = static_cast<int>(std::floor(cols->x_near - reach));
+  const int x1 = static_cast<int>(std::ceil(cols->x_far + reach)) + 1;
   const int y0 = static_cast<int>(std::floor(left.y_px - rows));
   const int y1 = static_cast<int>(std::ceil(left.y_px + rows)) + 1;
   return cv::Rect(cv::Point(x0, y0), cv::Point(x1, y1)) & cv::Rect(cv::Point(0, 0), image);
+}
+
+namespace {
+
+// The left circle is the outline of one cone from the left camera; every sphere inscribed in it
+// has its centre on the line of sight and a radius in proportion to its depth. With the ball's
+// radius one depth fits; the others are the balls the size tolerance allows, and all touch the
+// cone's top and bottom tangent planes, which contain the baseline: their right outlines lie
+// on the left circle's rows, as the true ball's does.
+struct LeftCone {
+  cv::Vec3d dir;          ///< the line of sight of the centres, z = 1
+  double depth_m = 0.0;   ///< of the ball-sized sphere in it
+  double radius_m = 0.0;  ///< the ball's
+};
+
+// The right outline of the sphere inscribed in cone at depth z_m.
+std::optional<Circle> right_outline_at(const stereo::Triangulator& tri, const LeftCone& cone,
+                                       double z_m) {
+  const cv::Vec3d in_right = cone.dir * z_m - cv::Vec3d(tri.baseline_m(), 0.0, 0.0);
+  const double r_m = cone.radius_m * z_m / cone.depth_m;
+  const auto o = stereo::sphere_outline(right_camera(tri), in_right, r_m);
+  if (!o) return std::nullopt;
+  return Circle{o->centre_px.x, o->centre_px.y, o->mean_radius_px(), 0.0};
+}
+
+// A right outline and the disparity it was made at.
+struct OutlineAt {
+  Circle outline;
+  double disparity_px = 0.0;
+};
+
+// Outlines at the disparities d_hi, d_hi - step_px, ... down to d_lo (nearest ball first).
+std::vector<OutlineAt> outlines_over(const stereo::Triangulator& tri, const LeftCone& cone,
+                                     double d_lo, double d_hi, double step_px) {
+  std::vector<OutlineAt> out;
+  const double fb = tri.focal_px() * tri.baseline_m();
+  const int steps = static_cast<int>(std::floor((d_hi - d_lo) / step_px + 1e-9));
+  for (int i = 0; i <= steps; ++i) {
+    const double d = d_hi - step_px * i;
+    if (!(d > 0.0)) break;
+    if (const auto c = right_outline_at(tri, cone, fb / d)) out.push_back({*c, d});
+  }
+  return out;
+}
+
+std::optional<LeftCone> left_cone(const PairingContext& ctx, const Circle& left) {
+  const auto view = stereo::sphere_from_outline(left_camera(ctx.triangulator),
+                                                {left.x_px, left.y_px}, left.radius_px);
+  if (!view) return std::nullopt;
+  const double r_m = 0.5 * ctx.size.ball_diameter_m;
+  const double z = view->depth_m(r_m);
+  if (!(z > 0.0)) return std::nullopt;
+  const double t = view->tan_off_axis;
+  return LeftCone{{t * view->major_axis.x, t * view->major_axis.y, 1.0}, z, r_m};
+}
+
+// The disparities partner_search_box allows: the ball-sized sphere's within the size tolerance.
+struct DisparityRange {
+  double lo = 0.0, hi = 0.0;
+};
+
+DisparityRange disparity_range(const PairingContext& ctx, const LeftCone& cone) {
+  const double d = ctx.triangulator.focal_px() * ctx.triangulator.baseline_m() / cone.depth_m;
+  const double tol = ctx.size.max_relative_error;
+  return {d * std::max(0.0, 1.0 - tol), d * (1.0 + tol)};
+}
+
+}  // namespace
+
+std::vector<Circle> partner_outlines(const PairingContext& ctx, const Circle& left,
+                                     double step_px) {
+  const auto cone = left_cone(ctx, left);
+  if (!cone || !(step_px > 0.0)) return {};
+  const DisparityRange range = disparity_range(ctx, *cone);
+  std::vector<Circle> out;
+  for (const auto& o : outlines_over(ctx.triangulator, *cone, range.lo, range.hi, step_px))
+    out.push_back(o.outline);
+  return out;
+}
+
+std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle& left,
+                                        const OutlineScorer& score, double min_score) {
+  const auto cone = left_cone(ctx, left);
+  if (!cone) return std::nullopt;
+  std::optional<OutlineAt> best;
+  auto consider = [&](double d_lo, double d_hi, double step_px) {
+    for (OutlineAt o : outlines_over(ctx.triangulator, *cone, d_lo, d_hi, step_px)) {
+      o.outline.score = score(o.outline);
+      if (!best || o.outline.score > best->outline.score) best = o;
+    }
+  };
+  const DisparityRange range = disparity_range(ctx, *cone);
+  consider(range.lo, range.hi, 1.0);
+  if (!best) return std::nullopt;
+  // The coverage score is flat within a pixel; a finer pass centres the outline on the rim.
+  const double d = best->disparity_px;
+  consider(std::max(0.25, d - 0.75), d + 0.75, 0.25);
+  if (best->outline.score < min_score) return std::nullopt;
+  return best->outline;
+}
+
+int prior_centre_margin_px(const PairingContext& ctx, const PositionPrior& prior, cv::Size image) {
+  const double slack_m = prior_slack_m(prior);
+  const auto near = prior_outline(ctx, prior, -slack_m);
+  if (!near) return 0;
+  const double slack_px = ctx.triangulator.focal_px() * slack_m / (prior.position_m[2] - slack_m);
+  return margin_cap_px(outside_by_px(near->centre_px, slack_px, image),
+                       (1.0 + ctx.size.max_relative_error) * near->semi_major_px);
+}
+
+int partner_centre_margin_px(const PairingContext& ctx, const std::vector<Circle>& left,
+                             cv::Size image) {
+  int margin = 0;
+  const double rows = ctx.epipolar.params().max_row_diff_px;
+  for (const Circle& c : left) {
+    const auto cols = partner_columns(ctx, c);
+    if (!cols) continue;
+    const double cap = (1.0 + ctx.size.max_relative_error) * c.radius_px;
+    for (const double x : {cols->x_near, cols->x_far})
+      margin = std::max(margin, margin_cap_px(outside_by_px({x, c.y_px}, rows, image), cap));
+  }
+  return margin;
 }
 
 PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -105,6 +106,33 @@ cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior,
 /// from a third of the gate farther to a third nearer, within the size tolerance, the
 /// ellipse's semi-axes included (votes reach its centre from either).
 RadiusRange prior_radius_range(const PairingContext& ctx, const PositionPrior& prior);
+
+/// How far outside the image (pixels, rounded up) the left outline centre of the ball expected
+/// at prior can lie, with the prior's slack; 0 when it is inside. Capped at the largest radius
+/// the ball can have there: a centre farther out leaves nothing of the ball in view.
+int prior_centre_margin_px(const PairingContext& ctx, const PositionPrior& prior, cv::Size image);
+
+/// The same for the right-eye partners of left: centres along each one's row, over the
+/// disparities its size allows; 0 when all lie inside the image.
+int partner_centre_margin_px(const PairingContext& ctx, const std::vector<Circle>& left,
+                             cv::Size image);
+
+/// Addition: the right-eye outlines of the ball behind the left circle, over the disparities the
+/// size check allows, step_px of disparity apart (nearest ball first): the left outline gives
+/// the ball's line of sight (a sphere of known size), each depth on it one right outline.
+/// Every one lies on the left circle's rows, as the ball's do. Empty if the left circle is no
+/// sphere's outline.
+std::vector<Circle> partner_outlines(const PairingContext& ctx, const Circle& left, double step_px);
+
+/// Scores a right-eye outline (right rectified px) against that eye's edges, [0, 1].
+using OutlineScorer = std::function<double(const Circle&)>;
+
+/// Addition: the right-eye partner of left found along its epipolar line when no detected
+/// right circle pairs with it (a ball cut by the border, whose part in view each eye fits
+/// differently): the best-scoring partner_outlines at 1 px of disparity, then at 0.25 px
+/// around it; nullopt if none scores min_score. The result carries its score.
+std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle& left,
+                                        const OutlineScorer& score, double min_score);
 
 /// Radii a right-eye partner of any of left can have: each within the size tolerance of its
 /// left circle (the eyes see nearly the same outline), plus 2 px.

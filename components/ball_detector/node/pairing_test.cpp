@@ -275,3 +275,65 @@ TEST_F(Pairing, GivenAPriorOrLeftCirclesThenTheRadiusRangesHoldTheBallOnly) {
     EXPECT_GT(partners.max_px, right.radius_px);
   }
 }
+
+// Given a ball's left outline, then every right outline along its line of sight lies on the
+// left circle's rows (both eyes' outlines touch the same epipolar planes), they run from the
+// nearest ball (leftmost) outwards, and one of them is the ball's own right outline.
+TEST_F(Pairing, GivenALeftCircleThenPartnerOutlinesLieOnItsRowsAndHoldTheTruePartner) {
+  const auto [l, r] = ball_at(0.25, 0.12, 0.6);
+  const auto outlines = partner_outlines(ctx_, l, 0.25);
+  ASSERT_GT(outlines.size(), 10u);
+  double closest = 1e9;
+  for (size_t i = 0; i < outlines.size(); ++i) {
+    EXPECT_NEAR(outlines[i].y_px, l.y_px, 0.05) << i;
+    if (i > 0) {
+      EXPECT_GT(outlines[i].x_px, outlines[i - 1].x_px) << i;
+    }
+    closest = std::min(closest, std::hypot(outlines[i].x_px - r.x_px, outlines[i].y_px - r.y_px));
+  }
+  EXPECT_LT(closest, 0.3);
+  EXPECT_TRUE(partner_outlines(ctx_, Circle{100, 100, -5, 0.9}, 0.25).empty());
+}
+
+// Given a scorer that peaks on the ball's right outline, then the predicted partner is that
+// outline (to the fine step) and pairs with the left circle at the ball's position; a scorer
+// that never reaches min_score gives none.
+TEST_F(Pairing, GivenAScorerPeakingOnTheTruePartnerThenPredictedPartnerFindsIt) {
+  const auto [l, r] = ball_at(0.25, 0.12, 0.6);
+  const auto peaked = [&, r = r](const Circle& c) {
+    return std::max(0.0, 1.0 - 0.1 * std::abs(c.x_px - r.x_px));
+  };
+  const auto p = predicted_partner(ctx_, l, peaked, 0.55);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_NEAR(p->x_px, r.x_px, 0.3);
+  EXPECT_NEAR(p->y_px, r.y_px, 0.05);
+  EXPECT_GT(p->score, 0.97);
+  const auto res = pair_candidates(ctx_, {l}, {*p});
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_NEAR(res.best->position_m[2], 0.6, 0.003);
+  EXPECT_FALSE(predicted_partner(
+                   ctx_, l, [](const Circle&) { return 0.5; }, 0.55)
+                   .has_value());
+}
+
+// Given priors inside the image, at its bottom border and far below it, then the centre margin
+// is 0, about the distance outside plus the slack, and capped at the ball's largest radius.
+TEST_F(Pairing, GivenPriorsInsideAndBelowTheImageThenTheCentreMarginCoversWhereTheCentreCanBe) {
+  const cv::Size image = calib_.image_size;
+  EXPECT_EQ(prior_centre_margin_px(ctx_, {cv::Vec3d(0.0, 0.0, 1.5), 0.3}, image), 0);
+  const sb::ball_detector::PositionPrior at_border{cv::Vec3d(0.0, 0.25, 0.5), 0.3};
+  const int m = prior_centre_margin_px(ctx_, at_border, image);
+  const auto radii = prior_radius_range(ctx_, at_border);
+  EXPECT_GT(m, 0);
+  EXPECT_LE(m, radii.max_px);
+  const sb::ball_detector::PositionPrior below{cv::Vec3d(0.0, 2.0, 0.5), 0.3};
+  EXPECT_LE(prior_centre_margin_px(ctx_, below, image),
+            static_cast<int>(std::ceil(prior_radius_range(ctx_, below).max_px)));
+  // The right eye's partners of a circle at the left border lie beyond it.
+  const auto [l, r] = ball_at(-0.2, 0.0, 0.5);
+  (void)r;
+  EXPECT_GT(partner_centre_margin_px(ctx_, {l}, image), 0);
+  const auto [lc, rc] = ball_at(0.05, 0.0, 1.5);
+  (void)rc;
+  EXPECT_EQ(partner_centre_margin_px(ctx_, {lc}, image), 0);
+}

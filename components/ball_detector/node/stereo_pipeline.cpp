@@ -227,11 +227,23 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   const cv::Mat& left_channel = detector_channel(left, grey_left_);
   const cv::Mat& right_channel = detector_channel(right, grey_right_);
   std::optional<PairingResult> pairing;
-  if (prior && params_.prior_window && left_thresholds_ &&
-      frames_since_full_search_ < kFullSearchEveryFrames) {
+  const bool window_usable = prior && params_.prior_window && left_thresholds_;
+  const bool periodic_full = window_usable && frames_since_full_search_ >= kFullSearchEveryFrames;
+  if (window_usable && !periodic_full)
     pairing = search_near_prior(ctx, left_channel, right_channel, rectified, *prior);
-  }
   if (!pairing) pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior);
+  // The periodic whole-frame search is there to find the ball elsewhere, not to lose it where
+  // the track expects it: the window search is scored with the prior's radii and its relaxed
+  // border rule, which the whole frame is not (a dim or cut ball can fail there alone).
+  if (periodic_full && pairing->status != PairingStatus::kFound) {
+    auto whole_left = left_candidates_, whole_right = right_candidates_;
+    if (auto near = search_near_prior(ctx, left_channel, right_channel, rectified, *prior)) {
+      pairing = std::move(near);
+    } else {  // the report stays the whole frame's
+      left_candidates_ = std::move(whole_left);
+      right_candidates_ = std::move(whole_right);
+    }
+  }
   out.candidates_left = static_cast<int>(left_candidates_.size());
   out.candidates_right = static_cast<int>(right_candidates_.size());
 
@@ -260,14 +272,16 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
   left_candidates_.clear();
   // The tracker expects the ball here: a ball it follows out of the view is still scored on
   // what is left of it in the image.
-  const SearchHints hints{prior_radius_range(ctx, prior), params_.prior_min_inside_fraction};
+  SearchHints hints{prior_radius_range(ctx, prior), params_.prior_min_inside_fraction};
+  // A ball the tracker follows out of the view may have its centre outside the image.
+  hints.centre_margin_px = prior_centre_margin_px(ctx, prior, size);
   for (Circle c : left_detector_.detect(rect_left_(box), *left_thresholds_, hints)) {
     c.x_px += box.x;
     c.y_px += box.y;
     left_candidates_.push_back(c);
   }
   right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, true);
-  PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
+  PairingResult pairing = pair_with_predicted_partners(ctx, prior);
   ++frames_since_full_search_;
   // Only a ball where the track expects it ends the search; anything else needs the frame.
   if (pairing.status == PairingStatus::kFound &&
@@ -289,7 +303,20 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
   } else {
     rectify_whole(right_channel, stereo::Eye::kRight, rectified, rect_right_);
     right_candidates_ = right_detector_.detect(rect_right_);
+    right_edges_box_ = cv::Rect(cv::Point(0, 0), rect_right_.size());
   }
+  return pair_with_predicted_partners(ctx, prior);
+}
+
+PairingResult StereoPipeline::pair_with_predicted_partners(
+    const PairingContext& ctx, const std::optional<PositionPrior>& prior) {
+  PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
+  if (!params_.predicted_partner || pairing.status == PairingStatus::kFound) return pairing;
+  // The left circle passed its own border rule; the right eye sees the ball shifted by the
+  // disparity, often farther out of the image: the prior's rule for it.
+  const auto predicted = predicted_partners(ctx, params_.prior_min_inside_fraction);
+  if (predicted.empty()) return pairing;
+  right_candidates_.insert(right_candidates_.end(), predicted.begin(), predicted.end());
   return pair_candidates(ctx, left_candidates_, right_candidates_, prior);
 }
 
@@ -327,15 +354,21 @@ std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& 
                                                           bool rectified, bool near_prior) {
   rect_right_.create(rectifier_->calibration().image_size, right_channel.type());
   rect_right_.setTo(0);
+  right_edges_box_ = {};
   std::vector<Circle> found;
   SearchHints hints{partner_radius_range(ctx, left_candidates_)};
-  if (near_prior) hints.min_inside_fraction = params_.prior_min_inside_fraction;
+  if (near_prior) {
+    hints.min_inside_fraction = params_.prior_min_inside_fraction;
+    hints.centre_margin_px =
+        partner_centre_margin_px(ctx, left_candidates_, rectifier_->calibration().image_size);
+  }
   for (const cv::Rect& box : partner_boxes(ctx)) {
     if (rectified) {
       right_channel(box).copyTo(rect_right_(box));
     } else {
       rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, box, rect_right_);
     }
+    right_edges_box_ = box;
     // The left image's thresholds: the box's own statistics depend on what it holds.
     for (Circle c : right_detector_.detect(rect_right_(box),
                                            thresholds_of(left_detector_.edge_map()), hints)) {
@@ -346,6 +379,42 @@ std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& 
   }
   std::stable_sort(found.begin(), found.end(),
                    [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  return found;
+}
+
+std::vector<Circle> StereoPipeline::predicted_partners(const PairingContext& ctx,
+                                                       double min_inside_fraction) {
+  const cv::Size size = rectifier_->calibration().image_size;
+  const EdgeThresholds thresholds = thresholds_of(left_detector_.edge_map());
+  const PixelToPixelParams p2p = params_.detector_params();
+  RefineParams scoring = p2p.refine_params;
+  scoring.min_inside_fraction = min_inside_fraction;
+  if (params_.perspective_outline)
+    scoring.camera =
+        stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()};
+  std::vector<Circle> found;
+  for (const Circle& left : left_candidates_) {
+    const cv::Rect box = partner_search_box(ctx, left, size, window_margin_px());
+    if (box.width < 8 || box.height < 8) continue;
+    // detect_right_in_boxes rectified this box already (it searched the union of these), and
+    // the right detector still holds the edges of the last box it searched.
+    const EdgeMap* edges = &right_detector_.edge_map();
+    cv::Point origin = right_edges_box_.tl();
+    if ((box & right_edges_box_) != box) {
+      compute_edge_map(rect_right_(box), p2p.edge, thresholds.canny, thresholds.denoise,
+                       partner_edges_);
+      edges = &partner_edges_;
+      origin = box.tl();
+    }
+    const auto score = [&](const Circle& c) {
+      Circle in_box = c;
+      in_box.x_px -= origin.x;
+      in_box.y_px -= origin.y;
+      return score_circle(*edges, in_box, scoring);
+    };
+    if (auto partner = predicted_partner(ctx, left, score, p2p.min_score))
+      found.push_back(*partner);
+  }
   return found;
 }
 

@@ -119,6 +119,9 @@ class StereoPipeline {
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified, bool near_prior);
+  std::vector<Circle> predicted_partners(const PairingContext& ctx, double min_inside_fraction);
+  PairingResult pair_with_predicted_partners(const PairingContext& ctx,
+                                             const std::optional<PositionPrior>& prior);
   void fill_result(const PairingResult& pairing, StereoDetection& out) const;
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
 
@@ -135,6 +138,8 @@ class StereoPipeline {
   std::vector<cv::Point3d> patch_rays_;
   std::vector<cv::Point2d> patch_raw_px_;
   std::vector<Circle> left_candidates_, right_candidates_;
+  EdgeMap partner_edges_;                          // right-eye edges around one predicted partner
+  cv::Rect right_edges_box_;                       // the box of the right detector's last edge map
   std::optional<EdgeThresholds> left_thresholds_;  // of the last whole left frame
   std::optional<FloorModel> floor_;                // none when the floor check is off
   int frames_since_full_search_ = 0;

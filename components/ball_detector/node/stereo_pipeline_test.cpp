@@ -239,3 +239,92 @@ TEST(StereoPipeline, GivenPriorNearOrFarFromTheBall_ThenSameBallAsWithout) {
   ASSERT_EQ(c.status, DetectionStatus::kFound) << c.reason;
   EXPECT_NEAR(c.left.x_px, a.left.x_px, 0.05);
 }
+
+namespace {
+
+// The config's radius range (config/ball_detector.yaml): balls up to 0.4 m away.
+sb::ball_detector::BallDetectorParams close_ball_params() {
+  sb::ball_detector::BallDetectorParams p;
+  p.p2p.min_radius_px = 4.0;
+  p.p2p.max_radius_px = 250.0;
+  p.p2p.min_separation_px = 10.0;
+  return p;
+}
+
+// A textured ball x_m ahead on the floor and y_m to the left, cut by the bottom border.
+Rendered render_close_ball(double x_m, double y_m) {
+  SimBallSetup s = plain_scene(x_m, y_m);
+  s.plain_room = false;
+  s.uniform_ball = false;
+  return render(s);
+}
+
+// Steps once without a prior (the window search needs a whole frame's thresholds), then with
+// a prior at the true position.
+sb::ball_detector::StereoDetection step_with_prior(StereoPipeline& pipe, const Rendered& r) {
+  EXPECT_EQ(pipe.set_calibration(r.calib), std::nullopt);
+  (void)pipe.step(r.frame.left, r.frame.right, false);
+  const sb::ball_detector::PositionPrior prior{truth_m(r.frame.truth), 0.3};
+  return pipe.step(r.frame.left, r.frame.right, false, prior);
+}
+
+}  // namespace
+
+// Given a ball 0.38 m away whose lower part lies below both images and, in the right eye, its
+// left side beyond the left border: the right eye holds too little of it for a circle of its
+// own; then the right partner is found along the left circle's epipolar line as the outline
+// its ball makes there, on the whole frame and near a prior, with the position within 2 % of
+// the distance; without that search no pair is found either way.
+TEST(StereoPipeline, GivenABallCutByTheBorder_ThenPredictedPartnerFindsIt) {
+  const Rendered r = render_close_ball(0.44, 0.10);
+  ASSERT_TRUE(r.frame.truth.ball_visible_left && r.frame.truth.ball_visible_right);
+  const cv::Vec3d truth = truth_m(r.frame.truth);
+  StereoPipeline pipe(close_ball_params());
+  ASSERT_EQ(pipe.set_calibration(r.calib), std::nullopt);
+  const auto whole = pipe.step(r.frame.left, r.frame.right, false);
+  ASSERT_EQ(whole.status, DetectionStatus::kFound) << whole.reason;
+  EXPECT_LT(norm3(whole.position_m - truth), 0.02 * truth[2]);
+  EXPECT_LT(whole.row_residual_px, 0.5);
+  const auto near = step_with_prior(pipe, r);
+  ASSERT_EQ(near.status, DetectionStatus::kFound) << near.reason;
+  EXPECT_LT(norm3(near.position_m - truth), 0.02 * truth[2]);
+
+  auto off = close_ball_params();
+  off.predicted_partner = false;
+  StereoPipeline without(off);
+  ASSERT_EQ(without.set_calibration(r.calib), std::nullopt);
+  const auto e = without.step(r.frame.left, r.frame.right, false);
+  EXPECT_NE(e.status, DetectionStatus::kFound) << e.reason;
+  const auto f = step_with_prior(without, r);
+  EXPECT_NE(f.status, DetectionStatus::kFound) << f.reason;
+}
+
+// Given a ball 0.29 m away whose centre projects below the image (most of it out of view), then
+// with the prior the left circle is found with its centre outside the image (the accumulator is
+// padded there) and the position is right.
+TEST(StereoPipeline, GivenPriorOnABallCentredBelowTheImage_ThenFoundWithItsCentreOutside) {
+  const Rendered r = render_close_ball(0.36, 0.0);
+  ASSERT_GT(r.frame.truth.ball_left_px.y, 480.0);
+  StereoPipeline pipe(close_ball_params());
+  const auto d = step_with_prior(pipe, r);
+  ASSERT_EQ(d.status, DetectionStatus::kFound) << d.reason;
+  EXPECT_GT(d.left.y_px, 479.0);
+  const cv::Vec3d truth = truth_m(r.frame.truth);
+  EXPECT_LT(norm3(d.position_m - truth), 0.02 * truth[2]);
+}
+
+// Given a ball only the prior's window search finds (centred below the image: the whole-frame
+// search has no accumulator cell for its centre), then the periodic whole-frame search does not
+// lose it: every frame of a run longer than kFullSearchEveryFrames is found.
+TEST(StereoPipeline, GivenABallOnlyTheWindowFinds_ThenThePeriodicWholeFrameSearchKeepsIt) {
+  const Rendered r = render_close_ball(0.36, 0.0);
+  StereoPipeline pipe(close_ball_params());
+  ASSERT_EQ(pipe.set_calibration(r.calib), std::nullopt);
+  const auto whole = pipe.step(r.frame.left, r.frame.right, false);
+  ASSERT_NE(whole.status, DetectionStatus::kFound) << whole.reason;
+  const sb::ball_detector::PositionPrior prior{truth_m(r.frame.truth), 0.3};
+  for (int i = 0; i < 2 * sb::ball_detector::kFullSearchEveryFrames + 2; ++i) {
+    const auto d = pipe.step(r.frame.left, r.frame.right, false, prior);
+    EXPECT_EQ(d.status, DetectionStatus::kFound) << "frame " << i << ": " << d.reason;
+  }
+}
