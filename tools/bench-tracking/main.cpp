@@ -76,9 +76,9 @@ void print_visible(const std::vector<bt::RunResult>& runs) {
   for (const auto& r : runs) {
     if (r.frames.empty() || !r.frames.front().ball_present) continue;
     const long n = count(r.frames, [](auto& f) { return f.ball_visible; });
-    const long no = count(r.frames, [](auto& f) { return f.raw_on_ball; });
+    const long no = count(r.frames, [](auto& f) { return f.ball_visible && f.raw_on_ball; });
     const long na = count(r.frames, [](auto& f) { return f.ball_visible && f.accepted; });
-    const long nao = count(r.frames, [](auto& f) { return f.accepted_on_ball; });
+    const long nao = count(r.frames, [](auto& f) { return f.ball_visible && f.accepted_on_ball; });
     const long off = count(r.frames, [](auto& f) { return f.raw_found && !f.raw_on_ball; });
     const long off_acc =
         count(r.frames, [](auto& f) { return f.raw_found && !f.raw_on_ball && f.accepted; });

@@ -26,13 +26,14 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
   r.true_left_x_px = g.ball_left_px.x, r.true_left_y_px = g.ball_left_px.y;
   const auto& c = g.ball_camera_m;
   r.true_distance_m = std::sqrt(c.x * c.x + c.y * c.y + c.z * c.z);
-  if (r.raw_found && r.ball_visible) {
+  if (r.raw_found) {
     // In 3D: a close ball's outline centre lies pixels away from where its centre projects
-    // (10 px at 0.45 m), yet the detection is of the ball.
+    // (10 px at 0.45 m), yet the detection is of the ball. Judged also when its centre is out
+    // of one image (the ball entering or leaving the view): a detection of it is not off-ball.
     const double ex = d.position_m[0] - c.x, ey = d.position_m[1] - c.y, ez = d.position_m[2] - c.z;
     const double error_m = std::sqrt(ex * ex + ey * ey + ez * ez);
     r.raw_on_ball = error_m <= g.ball_radius_m;
-    if (r.raw_on_ball) {
+    if (r.raw_on_ball && r.ball_visible) {  // the error table keeps to the visible ball
       r.error_m = error_m;
       r.error_xyz_m[0] = ex, r.error_xyz_m[1] = ey, r.error_xyz_m[2] = ez;
     }

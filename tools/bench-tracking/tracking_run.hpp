@@ -18,14 +18,16 @@ using sim_loop::Drive;
 
 /// Per-frame outcome (kept so figures can be aggregated over scenarios).
 struct FrameRecord {
-  bool ball_present = false;          ///< scenario has a ball
-  bool ball_visible = false;          ///< ball centre visible in both eyes (ground truth)
-  bool raw_found = false;             ///< detector returned a stereo pair
-  bool raw_on_ball = false;           ///< ... whose centre is within one ball radius of the truth
-  bool accepted = false;              ///< tracker accepted this frame's detection
-  bool accepted_on_ball = false;      ///< ... and the detection was on the ball
-  double true_distance_m = 0;         ///< |ball centre| in the left rectified camera frame, m
-  double error_m = -1;                ///< |detected - true| 3D position, m (-1 if not on the ball)
+  bool ball_present = false;  ///< scenario has a ball
+  bool ball_visible = false;  ///< ball centre visible in both eyes (ground truth)
+  bool raw_found = false;     ///< detector returned a stereo pair
+  /// ... whose centre is within one ball radius of the truth (judged visible or not)
+  bool raw_on_ball = false;
+  bool accepted = false;          ///< tracker accepted this frame's detection
+  bool accepted_on_ball = false;  ///< ... and the detection was on the ball
+  double true_distance_m = 0;     ///< |ball centre| in the left rectified camera frame, m
+  /// |detected - true| 3D position, m (-1 unless on the ball and the ball visible)
+  double error_m = -1;
   double error_xyz_m[3] = {0, 0, 0};  ///< detected - true (x right, y down, z forward), m
   double cpu_ms = 0;                  ///< detector thread CPU time for this stereo frame, ms
   double wall_ms = 0;                 ///< detector wall time for this stereo frame, ms

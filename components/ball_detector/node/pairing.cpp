@@ -286,25 +286,41 @@ std::vector<Circle> partner_outlines(const PairingContext& ctx, const Circle& le
   return out;
 }
 
+namespace {
+
+// The middle of the run of best-scoring outlines (they come in disparity order): a coverage
+// score is flat over a pixel or more, most for a small far ball, and the first of the run
+// would bias the depth toward the camera.
+std::optional<OutlineAt> best_of(std::vector<OutlineAt> outlines, const OutlineScorer& score) {
+  if (outlines.empty()) return std::nullopt;
+  double best = -1.0;
+  for (OutlineAt& o : outlines) {
+    o.outline.score = score(o.outline);
+    best = std::max(best, o.outline.score);
+  }
+  size_t first = 0;
+  while (outlines[first].outline.score < best) ++first;
+  size_t last = first;
+  while (last + 1 < outlines.size() && outlines[last + 1].outline.score >= best) ++last;
+  return outlines[(first + last) / 2];
+}
+
+}  // namespace
+
 std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle& left,
                                         const OutlineScorer& score, double min_score) {
   const auto cone = left_cone(ctx, left);
   if (!cone) return std::nullopt;
-  std::optional<OutlineAt> best;
-  auto consider = [&](double d_lo, double d_hi, double step_px) {
-    for (OutlineAt o : outlines_over(ctx.triangulator, *cone, d_lo, d_hi, step_px)) {
-      o.outline.score = score(o.outline);
-      if (!best || o.outline.score > best->outline.score) best = o;
-    }
-  };
   const DisparityRange range = disparity_range(ctx, *cone);
-  consider(range.lo, range.hi, 1.0);
-  if (!best) return std::nullopt;
-  // The coverage score is flat within a pixel; a finer pass centres the outline on the rim.
-  const double d = best->disparity_px;
-  consider(std::max(0.25, d - 0.75), d + 0.75, 0.25);
-  if (best->outline.score < min_score) return std::nullopt;
-  return best->outline;
+  const auto coarse =
+      best_of(outlines_over(ctx.triangulator, *cone, range.lo, range.hi, 1.0), score);
+  if (!coarse || coarse->outline.score < min_score) return std::nullopt;
+  // A finer pass centres the outline on the rim.
+  const double d = coarse->disparity_px;
+  const auto fine = best_of(
+      outlines_over(ctx.triangulator, *cone, std::max(0.25, d - 1.0), d + 1.0, 0.25), score);
+  if (!fine || fine->outline.score < coarse->outline.score) return coarse->outline;
+  return fine->outline;
 }
 
 int prior_centre_margin_px(const PairingContext& ctx, const PositionPrior& prior, cv::Size image) {

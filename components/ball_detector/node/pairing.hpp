@@ -130,7 +130,8 @@ using OutlineScorer = std::function<double(const Circle&)>;
 /// Addition: the right-eye partner of left found along its epipolar line when no detected
 /// right circle pairs with it (a ball cut by the border, whose part in view each eye fits
 /// differently): the best-scoring partner_outlines at 1 px of disparity, then at 0.25 px
-/// around it; nullopt if none scores min_score. The result carries its score.
+/// around it, each time the middle of the best-scoring run (coverage scores are flat over a
+/// pixel or more); nullopt if none scores min_score. The result carries its score.
 std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle& left,
                                         const OutlineScorer& score, double min_score);
 
