@@ -206,28 +206,37 @@ TEST(PixelToPixel, GivenTheCameraThenSpheresOffTheAxisAreMeasuredAsTheEllipsesTh
   EXPECT_NEAR(a[0].radius_px, b[0].radius_px, 1e-6);
 }
 
+// A 400x300 image with one orange disc, and the thresholds of its own edge map (as the node
+// passes a whole frame's to its crops).
+struct DiscScene {
+  cv::Mat image;
+  EdgeThresholds thresholds;
+};
+
+DiscScene disc_scene(cv::Point centre, int radius_px) {
+  DiscScene s{cv::Mat(300, 400, CV_8UC3, cv::Scalar(50, 60, 55)), {}};
+  cv::circle(s.image, centre, radius_px, cv::Scalar(40, 170, 230), cv::FILLED, cv::LINE_AA);
+  EdgeMap edges;
+  compute_edge_map(s.image, PixelToPixelParams{}.edge, edges);
+  s.thresholds = thresholds_of(edges);
+  return s;
+}
+
 // Given a ball of radius 40 px, when the hints allow only other radii, then nothing is found;
 // when they hold 40 px, it is; and a ball 60 % outside the image counts only when the hints'
 // border rule lets a third of a circle do.
 TEST(PixelToPixel, GivenSearchHintsThenOnlyTheirRadiiAndBorderRuleApply) {
   PixelToPixelDetector det(PixelToPixelParams{});
-  cv::Mat img(300, 400, CV_8UC3, cv::Scalar(50, 60, 55));
-  cv::circle(img, {200, 150}, 40, cv::Scalar(40, 170, 230), cv::FILLED, cv::LINE_AA);
-  EdgeMap edges;
-  compute_edge_map(img, PixelToPixelParams{}.edge, edges);
-  const EdgeThresholds t = thresholds_of(edges);
-  EXPECT_TRUE(det.detect(img, t, SearchHints{{60.0, 120.0}}).empty());
-  EXPECT_TRUE(det.detect(img, t, SearchHints{{4.0, 25.0}}).empty());
-  const auto in_range = det.detect(img, t, SearchHints{{30.0, 50.0}});
+  const DiscScene whole = disc_scene({200, 150}, 40);
+  EXPECT_TRUE(det.detect(whole.image, whole.thresholds, SearchHints{{60.0, 120.0}}).empty());
+  EXPECT_TRUE(det.detect(whole.image, whole.thresholds, SearchHints{{4.0, 25.0}}).empty());
+  const auto in_range = det.detect(whole.image, whole.thresholds, SearchHints{{30.0, 50.0}});
   ASSERT_FALSE(in_range.empty());
   EXPECT_NEAR(in_range[0].radius_px, 40.0, 1.0);
 
-  cv::Mat cut(300, 400, CV_8UC3, cv::Scalar(50, 60, 55));
-  cv::circle(cut, {410, 150}, 40, cv::Scalar(40, 170, 230), cv::FILLED, cv::LINE_AA);
-  compute_edge_map(cut, PixelToPixelParams{}.edge, edges);
-  const EdgeThresholds tc = thresholds_of(edges);
-  EXPECT_TRUE(det.detect(cut, tc).empty());
-  const auto third = det.detect(cut, tc, SearchHints{{4.0, 120.0}, 0.3});
+  const DiscScene cut = disc_scene({410, 150}, 40);
+  EXPECT_TRUE(det.detect(cut.image, cut.thresholds).empty());
+  const auto third = det.detect(cut.image, cut.thresholds, SearchHints{{4.0, 120.0}, 0.3});
   ASSERT_FALSE(third.empty());
   EXPECT_NEAR(third[0].x_px, 410.0, 1.5);
 }
@@ -237,18 +246,15 @@ TEST(PixelToPixel, GivenSearchHintsThenOnlyTheirRadiiAndBorderRuleApply) {
 // centre margin it is, at its true centre and size.
 TEST(PixelToPixel, GivenACentreMarginThenACircleCentredOutsideTheImageIsFound) {
   PixelToPixelDetector det(PixelToPixelParams{});
-  cv::Mat img(300, 400, CV_8UC3, cv::Scalar(50, 60, 55));
-  cv::circle(img, {200, 340}, 80, cv::Scalar(40, 170, 230), cv::FILLED, cv::LINE_AA);
-  EdgeMap edges;
-  compute_edge_map(img, PixelToPixelParams{}.edge, edges);
-  const EdgeThresholds t = thresholds_of(edges);
+  const DiscScene below = disc_scene({200, 340}, 80);
+  const Circle truth{200, 340, 80, 0};
   SearchHints hints{{4.0, 120.0}, 0.3};
-  const auto without = det.detect(img, t, hints);
-  EXPECT_TRUE(without.empty() || centre_error(without[0], Circle{200, 340, 80, 0}) > 5.0);
+  const auto without = det.detect(below.image, below.thresholds, hints);
+  EXPECT_TRUE(without.empty() || centre_error(without[0], truth) > 5.0);
   hints.centre_margin_px = 60;
-  const auto with = det.detect(img, t, hints);
+  const auto with = det.detect(below.image, below.thresholds, hints);
   ASSERT_FALSE(with.empty());
-  EXPECT_LT(centre_error(with[0], Circle{200, 340, 80, 0}), 1.5);
+  EXPECT_LT(centre_error(with[0], truth), 1.5);
   EXPECT_NEAR(with[0].radius_px, 80.0, 1.5);
   EXPECT_EQ(det.raw_accumulator().rows, 300 + 2 * 60);
 }
