@@ -174,11 +174,14 @@ void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
   min_inside_fraction_ = params_.refine_params.min_inside_fraction;
   margin_px_ = 0;
   if (hints) {
-    margin_px_ = std::clamp(hints->centre_margin_px, 0, kMaxCentreMarginPx);
     radii_.min_px = std::max(radii_.min_px, hints->radii.min_px);
     radii_.max_px = std::min(radii_.max_px, hints->radii.max_px);
     if (hints->min_inside_fraction >= 0.0)
       min_inside_fraction_ = std::min(1.0, hints->min_inside_fraction);
+    // A centre farther out than the largest radius searched leaves nothing of its circle in
+    // view: no cell is needed there (and the accumulator stays bounded).
+    const int widest = static_cast<int>(std::ceil(std::max(0.0, radii_.max_px)));
+    margin_px_ = std::clamp(hints->centre_margin_px, 0, std::min(widest, kMaxCentreMarginPx));
   }
 }
 

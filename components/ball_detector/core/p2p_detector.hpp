@@ -55,7 +55,8 @@ struct SearchHints {
   double min_inside_fraction = -1.0;
   /// Addition: centres up to this far outside the image are voted for (the accumulator is
   /// padded by it on every side), pixels. A ball cut by the image border has its centre outside
-  /// when less than half of it is in view; an image-sized accumulator cannot find it. 0 = off.
+  /// when less than half of it is in view; an image-sized accumulator cannot find it. 0 = off;
+  /// at most the largest radius searched.
   int centre_margin_px = 0;
 };
 

@@ -257,6 +257,10 @@ TEST(PixelToPixel, GivenACentreMarginThenACircleCentredOutsideTheImageIsFound) {
   EXPECT_LT(centre_error(with[0], truth), 1.5);
   EXPECT_NEAR(with[0].radius_px, 80.0, 1.5);
   EXPECT_EQ(det.raw_accumulator().rows, 300 + 2 * 60);
+  // No cell farther out than the largest radius searched.
+  hints.centre_margin_px = 100'000;
+  (void)det.detect(below.image, below.thresholds, hints);
+  EXPECT_EQ(det.raw_accumulator().rows, 300 + 2 * 120);
 }
 
 TEST(PixelToPixelParams, GivenBadFieldsThenValidateNamesThem) {

@@ -237,10 +237,15 @@ struct OutlineAt {
   double disparity_px = 0.0;
 };
 
-// Outlines at the disparities d_hi, d_hi - step_px, ... down to d_lo (nearest ball first).
+// Outlines at the disparities d_hi, d_hi - step_px, ... down to d_lo (nearest ball first);
+// at most kMaxOutlines + 1 of them (a coarser step for a wide range: each one is scored).
+constexpr int kMaxOutlines = 256;
+
 std::vector<OutlineAt> outlines_over(const stereo::Triangulator& tri, const LeftCone& cone,
                                      double d_lo, double d_hi, double step_px) {
   std::vector<OutlineAt> out;
+  if (!(d_hi >= d_lo) || !(step_px > 0.0) || !std::isfinite(d_hi)) return out;
+  step_px = std::max(step_px, (d_hi - d_lo) / kMaxOutlines);
   const double fb = tri.focal_px() * tri.baseline_m();
   const int steps = static_cast<int>(std::floor((d_hi - d_lo) / step_px + 1e-9));
   for (int i = 0; i <= steps; ++i) {

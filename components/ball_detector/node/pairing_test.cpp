@@ -293,6 +293,13 @@ TEST_F(Pairing, GivenALeftCircleThenPartnerOutlinesLieOnItsRowsAndHoldTheTruePar
   }
   EXPECT_LT(closest, 0.3);
   EXPECT_TRUE(partner_outlines(ctx_, Circle{100, 100, -5, 0.9}, 0.25).empty());
+  // A size tolerance of 10 (the most validation allows) spans 0 .. 11 times the disparity: the
+  // step coarsens so that no more than 257 outlines are scored.
+  sb::stereo::SizeCheckParams loose{0.22, 10.0};
+  const sb::ball_detector::PairingContext wide{epi_, tri_, loose, std::nullopt};
+  const auto many = partner_outlines(wide, l, 0.25);
+  EXPECT_GT(many.size(), 100u);
+  EXPECT_LE(many.size(), 257u);
 }
 
 // Given a scorer that peaks on the ball's right outline, then the predicted partner is that
