@@ -43,6 +43,9 @@ std::optional<std::string> BallDetectorParams::validate() const {
     return std::string("track_prior_max_age_ns must be in [0, 1e10] ns");
   if (!(prior_min_inside_fraction >= 0.0 && prior_min_inside_fraction <= 1.0))
     return std::string("prior_min_inside_fraction must be in [0, 1]");
+  if (!(predicted_partner_min_inside_fraction >= 0.0 &&
+        predicted_partner_min_inside_fraction <= 1.0))
+    return std::string("predicted_partner_min_inside_fraction must be in [0, 1]");
   if (!(floor_camera_height_m >= 0.0 && floor_camera_height_m <= 10.0))
     return std::string("floor_camera_height_m must be in [0, 10] metres");
   if (!(floor_camera_pitch_rad >= -1.57 && floor_camera_pitch_rad <= 1.57))

@@ -41,10 +41,13 @@ struct BallDetectorParams {
   /// tolerance); false = the whole right image.
   bool right_eye_partner_boxes = true;
   /// Addition: when no right circle pairs with a left one, look for the right outline the left
-  /// circle's ball makes along its epipolar line (scored against the right edges with the
-  /// prior's border rule, p2p.min_score to pass). For a ball cut by the border each eye sees a
-  /// different part and fits a different circle, rows apart.
+  /// circle's ball makes along its epipolar line (scored against the right edges, p2p.min_score
+  /// to pass). For a ball cut by the border each eye sees a different part and fits a different
+  /// circle, rows apart.
   bool predicted_partner = true;
+  /// The border rule for a predicted outline: it counts when this much of it is in the right
+  /// image, [0, 1]. The outline is fixed but for its disparity, so less than a free circle needs.
+  double predicted_partner_min_inside_fraction = 0.2;
   int max_candidates_per_eye = 5;  ///< circles kept per eye (P2P max_circles), [1, 50]
   /// Pairs within this distance of where the following track expects the ball are preferred
   /// to better-scoring pairs elsewhere, metres, [0, 10] (0 = off).

@@ -39,7 +39,9 @@ Result<BallDetectorParams> read_detector_params(params::ParamsFile& file) {
   file.read("size.max_relative_error", p.size_max_relative_error, 0.001, 10.0);
   file.read("max_candidates_per_eye", p.max_candidates_per_eye, 1, 50);
   file.read("right_eye_partner_boxes", p.right_eye_partner_boxes);
-  file.read("predicted_partner", p.predicted_partner);
+  file.read("predicted_partner.enabled", p.predicted_partner);
+  file.read("predicted_partner.min_inside_fraction", p.predicted_partner_min_inside_fraction, 0.0,
+            1.0);
   file.read("track_prior.gate_m", p.track_prior_gate_m, 0.0, 10.0);
   file.read("track_prior.window", p.prior_window);
   file.read("track_prior.max_age_ns", p.track_prior_max_age_ns, std::int64_t{0},

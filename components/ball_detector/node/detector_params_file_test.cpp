@@ -47,6 +47,7 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
   EXPECT_EQ(p->p2p.k_values, std::vector<int>{5});
   EXPECT_TRUE(p->right_eye_partner_boxes);
   EXPECT_TRUE(p->predicted_partner);
+  EXPECT_DOUBLE_EQ(p->predicted_partner_min_inside_fraction, 0.2);
   EXPECT_EQ(p->detector_params().max_circles, p->max_candidates_per_eye);
 }
 
@@ -57,7 +58,8 @@ TEST(DetectorParamsFile, GivenChangedValues_ThenTheyAreUsed) {
   text = replace(text, "max_peaks_examined: 16", "max_peaks_examined: 7");
   text = replace(text, "edge_min_threshold: 150", "edge_min_threshold: 40");
   text = replace(text, "right_eye_partner_boxes: true", "right_eye_partner_boxes: false");
-  text = replace(text, "predicted_partner: true", "predicted_partner: false");
+  text = replace(text, "enabled: true", "enabled: false");
+  text = replace(text, "min_inside_fraction: 0.2 ", "min_inside_fraction: 0.25 ");
   const auto p = parse(text);
   ASSERT_TRUE(p.ok()) << p.error();
   EXPECT_DOUBLE_EQ(p->epipolar_tolerance_px, 1.5);
@@ -65,6 +67,7 @@ TEST(DetectorParamsFile, GivenChangedValues_ThenTheyAreUsed) {
   EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kGrey);
   EXPECT_FALSE(p->right_eye_partner_boxes);
   EXPECT_FALSE(p->predicted_partner);
+  EXPECT_DOUBLE_EQ(p->predicted_partner_min_inside_fraction, 0.25);
   EXPECT_EQ(p->p2p.max_peaks_examined, 7);
   EXPECT_DOUBLE_EQ(p->p2p.edge.min_high_threshold, 40.0);
 }
@@ -75,7 +78,9 @@ TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {
     std::string from, to, key;
   } cases[] = {
       {"diameter_m: 0.22", "diameter_m: -1", "ball.diameter_m"},
-      {"predicted_partner: true", "predicted_partner: maybe", "predicted_partner"},
+      {"enabled: true", "enabled: maybe", "predicted_partner.enabled"},
+      {"min_inside_fraction: 0.2 ", "min_inside_fraction: 1.5 ",
+       "predicted_partner.min_inside_fraction"},
       {"k_values: [5]", "k_values: [2.5]", "p2p.k_values"},
       {"input: red", "input: purple", "input"},
       {"max_peaks_examined: 16", "max_peaks_examined: 0", "p2p.max_peaks_examined"},

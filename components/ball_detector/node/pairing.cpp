@@ -312,11 +312,33 @@ std::optional<OutlineAt> best_of(std::vector<OutlineAt> outlines, const OutlineS
 
 }  // namespace
 
+namespace {
+
+// Whether a ball in cone, at a depth the disparity range allows, can rest on the floor (twice
+// the floor tolerance: the pair triangulates a little off the cone's axis). The height of a
+// point on the line of sight is linear in its depth, so the range's ends bound it.
+bool may_rest_on_floor(const PairingContext& ctx, const LeftCone& cone,
+                       const DisparityRange& range) {
+  if (!ctx.floor) return true;
+  const double fb = ctx.triangulator.focal_px() * ctx.triangulator.baseline_m();
+  const double z_near = fb / range.hi;
+  const double z_far = range.lo > 0.0 ? fb / range.lo : 1e3;
+  const double e_near = ctx.floor->height_m(cone.dir * z_near) - cone.radius_m;
+  const double e_far = ctx.floor->height_m(cone.dir * z_far) - cone.radius_m;
+  const double slack = 2.0 * ctx.floor->tolerance_m;
+  return std::min(e_near, e_far) <= slack && std::max(e_near, e_far) >= -slack;
+}
+
+}  // namespace
+
 std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle& left,
                                         const OutlineScorer& score, double min_score) {
   const auto cone = left_cone(ctx, left);
   if (!cone) return std::nullopt;
   const DisparityRange range = disparity_range(ctx, *cone);
+  // A pair off the floor fails the floor check whatever the right eye holds: not worth the
+  // scoring (in clutter most left circles are such).
+  if (!may_rest_on_floor(ctx, *cone, range)) return std::nullopt;
   const auto coarse =
       best_of(outlines_over(ctx.triangulator, *cone, range.lo, range.hi, 1.0), score);
   if (!coarse || coarse->outline.score < min_score) return std::nullopt;

@@ -131,7 +131,9 @@ using OutlineScorer = std::function<double(const Circle&)>;
 /// right circle pairs with it (a ball cut by the border, whose part in view each eye fits
 /// differently): the best-scoring partner_outlines at 1 px of disparity, then at 0.25 px
 /// around it, each time the middle of the best-scoring run (coverage scores are flat over a
-/// pixel or more); nullopt if none scores min_score. The result carries its score.
+/// pixel or more); nullopt if none scores min_score, or if with a floor model no ball in the
+/// left circle's cone could rest on the floor (the scorer is then not called). The result
+/// carries its score.
 std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle& left,
                                         const OutlineScorer& score, double min_score);
 

@@ -344,3 +344,26 @@ TEST_F(Pairing, GivenPriorsInsideAndBelowTheImageThenTheCentreMarginCoversWhereT
   (void)rc;
   EXPECT_EQ(partner_centre_margin_px(ctx_, {lc}, image), 0);
 }
+
+// Given a floor, then a partner is sought (the scorer called) for a ball resting on it and not
+// for a ball-sized circle 0.4 m above it, whose pair would fail the floor check anyway.
+TEST_F(Pairing, GivenAFloorThenPredictedPartnerIsSoughtOnlyForBallsThatCanRestOnIt) {
+  const sb::ball_detector::PairingContext on_floor{
+      epi_, tri_, size_, sb::ball_detector::FloorModel{{0, -1, 0}, 0.3, 0.1}};
+  const double resting_y = 0.3 - 0.11;
+  int calls = 0;
+  const auto counting = [&calls](const Circle&) {
+    ++calls;
+    return 0.9;
+  };
+  const auto [bl, br] = ball_at(0.2, resting_y, 1.6);
+  (void)br;
+  EXPECT_TRUE(predicted_partner(on_floor, bl, counting, 0.55).has_value());
+  EXPECT_GT(calls, 0);
+  calls = 0;
+  const auto [pl, pr] = ball_at(-0.3, resting_y - 0.4, 1.8);
+  (void)pr;
+  EXPECT_FALSE(predicted_partner(on_floor, pl, counting, 0.55).has_value());
+  EXPECT_EQ(calls, 0);
+  EXPECT_TRUE(predicted_partner(ctx_, pl, counting, 0.55).has_value());  // no floor model
+}

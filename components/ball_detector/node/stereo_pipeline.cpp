@@ -313,8 +313,9 @@ PairingResult StereoPipeline::pair_with_predicted_partners(
   PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
   if (!params_.predicted_partner || pairing.status == PairingStatus::kFound) return pairing;
   // The left circle passed its own border rule; the right eye sees the ball shifted by the
-  // disparity, often farther out of the image: the prior's rule for it.
-  const auto predicted = predicted_partners(ctx, params_.prior_min_inside_fraction);
+  // disparity, often farther out of the image, and its outline has one free parameter left:
+  // a smaller part in view suffices.
+  const auto predicted = predicted_partners(ctx, params_.predicted_partner_min_inside_fraction);
   if (predicted.empty()) return pairing;
   right_candidates_.insert(right_candidates_.end(), predicted.begin(), predicted.end());
   return pair_candidates(ctx, left_candidates_, right_candidates_, prior);
