@@ -65,11 +65,13 @@ ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample
     if (trk) state = trk->state;
     if (gt.visible) ++m.visible_frames;
     if (det && det->found) {
+      // Judged in 3D whenever there is a ball: a detection of it entering or leaving the view
+      // (its centre out of one image) is not a false one.
       const bool is_ball =
-          gt.visible && distance3(det->position_m, gt.ball_cam_m) <= params.false_error_m;
-      if (is_ball)
+          gt.ball_present && distance3(det->position_m, gt.ball_cam_m) <= params.false_error_m;
+      if (is_ball && gt.visible)
         ++found_visible;
-      else
+      else if (!is_ball)
         ++m.false_detections;
       if (!is_ball && trk && trk->accepted) ++false_accepted;
     }

@@ -48,7 +48,7 @@ struct ScenarioMetrics {
   size_t frames = 0;
   size_t visible_frames = 0;
   double detection_rate = 0;     ///< found detections / visible frames
-  size_t false_detections = 0;   ///< found but not the ball (invisible or far off)
+  size_t false_detections = 0;   ///< found but not the ball (no ball, or far off it)
   double false_accept_rate = 0;  ///< of false detections, fraction the tracker accepted
   size_t accepted_frames = 0;
   double accept_rate_visible = 0;              ///< visible frames with an accepted track

@@ -139,4 +139,25 @@ TEST(Metrics, GivenBallAtTargetFromCameraButNotFromRobotCentre_ThenOutsideTolera
 }
 
 }  // namespace
+
+// Given detections of a ball whose centre is out of one image (entering or leaving the view),
+// then they are not false detections; the same detections with no ball in the scene are.
+TEST(Metrics, GivenDetectionsOfABallPartlyInViewThenTheyAreNotFalse) {
+  std::vector<TruthSample> gt;
+  std::vector<DetectionSample> det;
+  std::vector<TrackSample> trk;
+  for (uint64_t i = 0; i < 4; ++i) {
+    gt.push_back(truth(i, i * 0.1, false, 1.0));
+    det.push_back(detection(i, true, 1.0));
+    trk.push_back(track(i, TrackState::kFollowing, true, 1.0));
+  }
+  auto m = score("partly in view", gt, det, trk, {});
+  EXPECT_EQ(m.false_detections, 0u);
+  EXPECT_DOUBLE_EQ(m.false_accept_rate, 0.0);
+  for (auto& g : gt) g.ball_present = false;
+  m = score("no ball", gt, det, trk, {});
+  EXPECT_EQ(m.false_detections, 4u);
+  EXPECT_DOUBLE_EQ(m.false_accept_rate, 1.0);
+}
+
 }  // namespace stereoball::demo
