@@ -40,16 +40,25 @@ DetectionSample detection(uint64_t seq, bool found, double z, double x = 0.0) {
   return d;
 }
 
-TEST(Metrics, GivenAccurateTrackWhenScoredThenErrorsAndRatesMatch) {
+// One scenario's samples, a frame at a time.
+struct Samples {
   std::vector<TruthSample> gt;
   std::vector<DetectionSample> det;
   std::vector<TrackSample> trk;
-  for (uint64_t i = 0; i < 10; ++i) {
-    gt.push_back(truth(i, i * 0.1, true, 1.0));
-    det.push_back(detection(i, i % 2 == 0, 1.01));
-    trk.push_back(track(i, TrackState::kFollowing, true, 1.02));
+  void add(const TruthSample& g, const DetectionSample& d, const TrackSample& t) {
+    gt.push_back(g);
+    det.push_back(d);
+    trk.push_back(t);
   }
-  const auto m = score("s", gt, det, trk, {});
+  ScenarioMetrics scored(const std::string& name) const { return score(name, gt, det, trk, {}); }
+};
+
+TEST(Metrics, GivenAccurateTrackWhenScoredThenErrorsAndRatesMatch) {
+  Samples run;
+  for (uint64_t i = 0; i < 10; ++i)
+    run.add(truth(i, i * 0.1, true, 1.0), detection(i, i % 2 == 0, 1.01),
+            track(i, TrackState::kFollowing, true, 1.02));
+  const auto m = run.scored("s");
   EXPECT_EQ(m.frames, 10u);
   EXPECT_EQ(m.visible_frames, 10u);
   EXPECT_DOUBLE_EQ(m.detection_rate, 0.5);
@@ -61,15 +70,11 @@ TEST(Metrics, GivenAccurateTrackWhenScoredThenErrorsAndRatesMatch) {
 }
 
 TEST(Metrics, GivenDetectionsOnClutterThenFalseAcceptRateCountsOnlyAcceptedOnes) {
-  std::vector<TruthSample> gt;
-  std::vector<DetectionSample> det;
-  std::vector<TrackSample> trk;
-  for (uint64_t i = 0; i < 4; ++i) {
-    gt.push_back(truth(i, i * 0.1, false));
-    det.push_back(detection(i, true, 3.0));
-    trk.push_back(track(i, TrackState::kIdle, i == 3, 3.0));
-  }
-  const auto m = score("clutter", gt, det, trk, {});
+  Samples run;
+  for (uint64_t i = 0; i < 4; ++i)
+    run.add(truth(i, i * 0.1, false), detection(i, true, 3.0),
+            track(i, TrackState::kIdle, i == 3, 3.0));
+  const auto m = run.scored("clutter");
   EXPECT_EQ(m.false_detections, 4u);
   EXPECT_DOUBLE_EQ(m.false_accept_rate, 0.25);
 }
@@ -143,19 +148,15 @@ TEST(Metrics, GivenBallAtTargetFromCameraButNotFromRobotCentre_ThenOutsideTolera
 // Given detections of a ball whose centre is out of one image (entering or leaving the view),
 // then they are not false detections; the same detections with no ball in the scene are.
 TEST(Metrics, GivenDetectionsOfABallPartlyInViewThenTheyAreNotFalse) {
-  std::vector<TruthSample> gt;
-  std::vector<DetectionSample> det;
-  std::vector<TrackSample> trk;
-  for (uint64_t i = 0; i < 4; ++i) {
-    gt.push_back(truth(i, i * 0.1, false, 1.0));
-    det.push_back(detection(i, true, 1.0));
-    trk.push_back(track(i, TrackState::kFollowing, true, 1.0));
-  }
-  auto m = score("partly in view", gt, det, trk, {});
+  Samples run;
+  for (uint64_t i = 0; i < 4; ++i)
+    run.add(truth(i, i * 0.1, false, 1.0), detection(i, true, 1.0),
+            track(i, TrackState::kFollowing, true, 1.0));
+  auto m = run.scored("partly in view");
   EXPECT_EQ(m.false_detections, 0u);
   EXPECT_DOUBLE_EQ(m.false_accept_rate, 0.0);
-  for (auto& g : gt) g.ball_present = false;
-  m = score("no ball", gt, det, trk, {});
+  for (auto& g : run.gt) g.ball_present = false;
+  m = run.scored("no ball");
   EXPECT_EQ(m.false_detections, 4u);
   EXPECT_DOUBLE_EQ(m.false_accept_rate, 1.0);
 }
