@@ -64,6 +64,22 @@ std::optional<stereo::SphereOutline> prior_outline(const PairingContext& ctx,
   return stereo::sphere_outline(left_camera(ctx.triangulator), p * (z / p[2]), r_m);
 }
 
+// The prior's left outline at the nearest depth the slack allows, where the disc and the slack
+// look largest, and how far the slack can move it sideways there, pixels.
+struct NearOutline {
+  stereo::SphereOutline outline;
+  double slack_px = 0.0;
+};
+
+std::optional<NearOutline> prior_near_outline(const PairingContext& ctx,
+                                              const PositionPrior& prior) {
+  const double slack_m = prior_slack_m(prior);
+  const auto outline = prior_outline(ctx, prior, -slack_m);
+  if (!outline) return std::nullopt;
+  const double near_z = prior.position_m[2] - slack_m;
+  return NearOutline{*outline, ctx.triangulator.focal_px() * slack_m / near_z};
+}
+
 // How far outside image a point within slack_px of p can be, rounded up; 0 if nowhere.
 double outside_by_px(const cv::Point2d& p, double slack_px, cv::Size image) {
   const double out = std::max({-p.x, p.x - (image.width - 1), -p.y, p.y - (image.height - 1)});
@@ -113,16 +129,12 @@ std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int
 
 cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior, cv::Size image,
                           int margin_px) {
-  const double f = ctx.triangulator.focal_px();
-  // At the nearest depth the slack allows, where the disc and the slack look largest (off the
-  // axis the outline is an ellipse: its semi-major axis is the reach).
-  const double slack_m = prior_slack_m(prior);
-  const double near_z = prior.position_m[2] - slack_m;
-  const auto outline = prior_outline(ctx, prior, -slack_m);
-  if (!outline) return {};
-  const cv::Point2d centre = outline->centre_px;
-  const double reach = (1.0 + ctx.size.max_relative_error) * outline->semi_major_px +
-                       f * slack_m / near_z + static_cast<double>(margin_px);
+  // Off the axis the outline is an ellipse: its semi-major axis is the reach.
+  const auto near = prior_near_outline(ctx, prior);
+  if (!near) return {};
+  const cv::Point2d centre = near->outline.centre_px;
+  const double reach = (1.0 + ctx.size.max_relative_error) * near->outline.semi_major_px +
+                       near->slack_px + static_cast<double>(margin_px);
   const cv::Point tl(static_cast<int>(std::floor(centre.x - reach)),
                      static_cast<int>(std::floor(centre.y - reach)));
   const cv::Point br(static_cast<int>(std::ceil(centre.x + reach)) + 1,
@@ -351,12 +363,10 @@ std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle&
 }
 
 int prior_centre_margin_px(const PairingContext& ctx, const PositionPrior& prior, cv::Size image) {
-  const double slack_m = prior_slack_m(prior);
-  const auto near = prior_outline(ctx, prior, -slack_m);
+  const auto near = prior_near_outline(ctx, prior);
   if (!near) return 0;
-  const double slack_px = ctx.triangulator.focal_px() * slack_m / (prior.position_m[2] - slack_m);
-  return margin_cap_px(outside_by_px(near->centre_px, slack_px, image),
-                       (1.0 + ctx.size.max_relative_error) * near->semi_major_px);
+  return margin_cap_px(outside_by_px(near->outline.centre_px, near->slack_px, image),
+                       (1.0 + ctx.size.max_relative_error) * near->outline.semi_major_px);
 }
 
 int partner_centre_margin_px(const PairingContext& ctx, const std::vector<Circle>& left,
