@@ -1,5 +1,7 @@
 #include "ball_detector/core/canny.hpp"
 
+#include "ball_detector/core/cpu_dispatch.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -18,9 +20,10 @@ constexpr int kTan22Q15 = 13573;
 // Codes of one row from its gradients and the magnitudes of it and its two neighbour rows
 // (each readable at [-1, w]). Written with masks only (no branches, no bool selects) so that
 // the compiler vectorises the loop; each mask is 0 or all ones.
-void classify_row(const short* __restrict dx, const short* __restrict dy, const int* __restrict up,
-                  const int* __restrict mid, const int* __restrict down, int w, int low, int high,
-                  std::uint8_t* __restrict codes) {
+SB_AVX2_CLONE void classify_row(const short* __restrict dx, const short* __restrict dy,
+                                const int* __restrict up, const int* __restrict mid,
+                                const int* __restrict down, int w, int low, int high,
+                                std::uint8_t* __restrict codes) {
   for (int x = 0; x < w; ++x) {
     const int m = mid[x];
     const int gx = dx[x], gy = dy[x];
@@ -45,12 +48,18 @@ void classify_row(const short* __restrict dx, const short* __restrict dy, const 
   }
 }
 
-void magnitudes_of_row(const cv::Mat& dx, const cv::Mat& dy, int y, int* out) {
-  const short* gx = dx.ptr<short>(y);
-  const short* gy = dy.ptr<short>(y);
-  // The width in a local: out could alias dx.cols, which would keep the loop scalar.
-  const int w = dx.cols;
+SB_AVX2_CLONE void l1_magnitudes(const short* __restrict gx, const short* __restrict gy, int w,
+                                 int* __restrict out) {
   for (int x = 0; x < w; ++x) out[x] = std::abs(gx[x]) + std::abs(gy[x]);
+}
+
+void magnitudes_of_row(const cv::Mat& dx, const cv::Mat& dy, int y, int* out) {
+  l1_magnitudes(dx.ptr<short>(y), dy.ptr<short>(y), dx.cols, out);
+}
+
+SB_AVX2_CLONE void codes_to_edges(const std::uint8_t* __restrict codes, int w,
+                                  std::uint8_t* __restrict out) {
+  for (int x = 0; x < w; ++x) out[x] = codes[x] == kEdge ? 255 : 0;
 }
 
 // Pushes the edge pixels of a row of codes (eight at a time: kEdge is the only code with
@@ -114,8 +123,7 @@ void canny_l1(const cv::Mat& dx, const cv::Mat& dy, double low, double high, cv:
   edges.create(h, w, CV_8UC1);
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* codes = work.codes.data() + (y + 1) * stride + 1;
-    std::uint8_t* out = edges.ptr<std::uint8_t>(y);
-    for (int x = 0; x < w; ++x) out[x] = codes[x] == kEdge ? 255 : 0;
+    codes_to_edges(codes, w, edges.ptr<std::uint8_t>(y));
   }
 }
 

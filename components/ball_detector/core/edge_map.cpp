@@ -167,6 +167,13 @@ int thin_staircase(cv::Mat& binary) {
 namespace {
 
 void sobel(EdgeMap& out) {
+  // A crop's Sobel reads the parent image's pixels around it (its border is not replicated),
+  // which cv::spatialGradient does not; on a whole image both are equal, and spatialGradient
+  // makes dx and dy in one pass, about a quarter faster.
+  if (!out.grey.isSubmatrix()) {
+    cv::spatialGradient(out.grey, out.dx, out.dy, 3, cv::BORDER_REPLICATE);
+    return;
+  }
   cv::Sobel(out.grey, out.dx, CV_16S, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
   cv::Sobel(out.grey, out.dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
 }

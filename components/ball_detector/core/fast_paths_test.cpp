@@ -107,6 +107,23 @@ TEST(BoxFilter, GivenRandomVotesAndEveryOddSizeThenSumsEqualCvBoxFilter) {
   }
 }
 
+TEST(BoxFilter, GivenAnyVotesThenTheReturnedMaximumIsTheSmoothedMapsMaximum) {
+  std::mt19937 rng(5);
+  cv::Mat smoothed;
+  for (int trial = 0; trial < 12; ++trial) {
+    // Given accumulators from empty to dense, the strongest cell anywhere (borders included)
+    cv::Mat acc = cv::Mat::zeros(60 + trial, 80 + 5 * trial, CV_16UC1);
+    if (trial > 0) cv::randu(acc, 0, trial * 40);
+    if (trial % 3 == 1) acc.at<std::uint16_t>(acc.rows - 1, acc.cols - 1) = 60000;
+    // When it is smoothed
+    const int maximum = box_filter(acc, 1 + 2 * (trial % 4), smoothed);
+    // Then the value returned is the map's maximum
+    double reference = 0.0;
+    cv::minMaxLoc(smoothed, nullptr, &reference);
+    EXPECT_EQ(maximum, static_cast<int>(reference)) << "trial " << trial;
+  }
+}
+
 // Reference: 8-connected component of the window centre by breadth-first search.
 int bfs_component(const std::array<std::uint64_t, 64>& window, int n, int k) {
   auto set = [&](int r, int c) { return (window[static_cast<size_t>(r)] >> c) & 1u; };
@@ -251,6 +268,17 @@ std::vector<Peak> brute_force_peaks(const cv::Mat& m, int floor_value) {
   return out;
 }
 
+void expect_brute_force_peaks(const cv::Mat& smoothed, int floor_value,
+                              const std::vector<Peak>& peaks) {
+  const auto expected = brute_force_peaks(smoothed, floor_value);
+  ASSERT_EQ(peaks.size(), expected.size());
+  for (size_t i = 0; i < peaks.size(); ++i) {
+    EXPECT_EQ(peaks[i].x, expected[i].x);
+    EXPECT_EQ(peaks[i].y, expected[i].y);
+    EXPECT_EQ(peaks[i].value, expected[i].value);
+  }
+}
+
 TEST(FindPeaks, GivenSmoothedRandomVotesThenPeaksEqualABruteForceScan) {
   std::mt19937 rng(9);
   for (int trial = 0; trial < 20; ++trial) {
@@ -262,13 +290,27 @@ TEST(FindPeaks, GivenSmoothedRandomVotesThenPeaksEqualABruteForceScan) {
     // When peaks are found with no separation and no limit
     const auto peaks = find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20);
     // Then they are the brute-force local maxima, strongest first
-    const auto expected = brute_force_peaks(smoothed, floor_value);
-    ASSERT_EQ(peaks.size(), expected.size()) << "trial " << trial;
-    for (size_t i = 0; i < peaks.size(); ++i) {
-      EXPECT_EQ(peaks[i].x, expected[i].x);
-      EXPECT_EQ(peaks[i].y, expected[i].y);
-      EXPECT_EQ(peaks[i].value, expected[i].value);
+    expect_brute_force_peaks(smoothed, floor_value, peaks);
+  }
+}
+
+TEST(FindPeaks, GivenAMapWhoseRowsAreMostlyBelowTheFloorThenPeaksEqualABruteForceScan) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 20; ++trial) {
+    // Given a plain scene's map: a few bands of votes (one on the first or last row that can
+    // hold a peak) in rows that are otherwise empty, which the fast path skips
+    cv::Mat acc = cv::Mat::zeros(90 + trial, 120 + 2 * trial, CV_16UC1);
+    for (int band = 0; band < 3; ++band) {
+      const int y = band == 0 ? (trial % 2 ? 1 : acc.rows - 2) : static_cast<int>(rng() % acc.rows);
+      cv::randu(acc.row(y), 0, 9);
     }
+    cv::Mat smoothed;
+    box_filter(acc, 1 + 2 * (trial % 3), smoothed);
+    const int floor_value = 3 + trial % 5;
+    // When peaks are found with no separation and no limit
+    const auto peaks = find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20);
+    // Then they are the brute-force local maxima, strongest first
+    expect_brute_force_peaks(smoothed, floor_value, peaks);
   }
 }
 

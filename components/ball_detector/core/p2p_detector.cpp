@@ -21,9 +21,6 @@ inline double fast_hypot(double a, double b) {
 constexpr int kMaxK = 31;                 // window rows are read as one 63-bit slice
 constexpr int kMaxCentreMarginPx = 4000;  // as max_radius_px: no centre is farther out
 constexpr double kRingSeedBelowScore = 0.8;
-// Arc isolation is tried only on windows with at most this many times 2k+1 points: denser
-// windows are texture, where it costs time and finds nothing the bench sequences need.
-constexpr int kIsolateMaxFactor = 3;
 
 double median_of(std::vector<double>& v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -98,6 +95,8 @@ std::optional<std::string> PixelToPixelParams::validate() const {
   if (!(max_radius_px > min_radius_px && max_radius_px <= 4000.0))
     return std::string("max_radius_px must be in (min_radius_px, 4000]");
   if (max_circles < 1 || max_circles > 100) return std::string("max_circles must be in [1, 100]");
+  if (!(isolate_max_points_factor >= 1.0 && isolate_max_points_factor <= 64.0))
+    return std::string("isolate_max_points_factor must be in [1, 64]");
   if (!(min_separation_px >= 0.0)) return std::string("min_separation_px must be >= 0");
   if (!(min_score >= 0.0 && min_score <= 1.0)) return std::string("min_score must be in [0, 1]");
   if (min_peak_votes < 0) return std::string("min_peak_votes must be >= 0");
@@ -128,6 +127,8 @@ void PixelToPixelDetector::vote(int k) {
   std::array<std::uint64_t, 2 * kMaxK + 1> mask{};
   std::array<std::uint64_t, 2 * kMaxK + 1> rows{};
   const int n = 2 * k + 1;
+  const int isolate_max_points =
+      params_.isolate_arc ? static_cast<int>(params_.isolate_max_points_factor * n) : 0;
   for (int y = k; y < h - k; ++y) {
     const std::uint64_t* row = bits.row(y);
     for (int wi = 0; wi * 64 < w; ++wi) {
@@ -146,7 +147,7 @@ void PixelToPixelDetector::vote(int k) {
         std::optional<VoteLine> line;
         if (window_count_ok(count, k)) {
           line = analyse_window_rows(window_bits, k);
-        } else if (params_.isolate_arc && count > n && count <= kIsolateMaxFactor * n) {
+        } else if (count > n && count <= isolate_max_points) {
           // Addition: judge the arc through O alone when other edges share the window.
           if (connected_rows(window_bits, k, mask, n) != n) continue;
           line = analyse_window_rows(std::span<const std::uint64_t>(mask.data(), n), k);
@@ -214,13 +215,11 @@ std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
   for (int k : params_.k_values) vote(k);
-  box_filter(accumulator_, params_.box_size_px, smoothed_);
+  const double max_v = box_filter(accumulator_, params_.box_size_px, smoothed_);
   const cv::Mat& smoothed = smoothed_;
   diag_.edges = edges_.edges;
   diag_.accumulator = smoothed;
   diag_.voters = static_cast<std::int64_t>(voters_.size());
-  double max_v = 0.0;
-  cv::minMaxLoc(smoothed, nullptr, &max_v);
   const float floor_v = static_cast<float>(
       std::max<double>(params_.min_peak_votes, params_.min_relative_peak * max_v));
   if (max_v < params_.min_peak_votes || max_v <= 0.0) return {};

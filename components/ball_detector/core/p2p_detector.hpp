@@ -34,6 +34,10 @@ struct PixelToPixelParams {
   /// to its centre (the arc through O), so texture or a line merely passing through the window
   /// does not silence an arc. Off = the paper's rule exactly.
   bool isolate_arc = true;
+  /// Arc isolation is tried only on windows holding at most this many times 2k+1 points:
+  /// denser windows are texture, where the flood fill costs time and rarely isolates an arc
+  /// (addition), [1, 64].
+  double isolate_max_points_factor = 3.0;
   bool refine = true;          ///< sub-pixel least-squares refinement (addition)
   RefineParams refine_params;  ///< refinement and scoring options
 

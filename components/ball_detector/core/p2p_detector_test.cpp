@@ -263,6 +263,39 @@ TEST(PixelToPixel, GivenACentreMarginThenACircleCentredOutsideTheImageIsFound) {
   EXPECT_EQ(det.raw_accumulator().rows, 300 + 2 * 120);
 }
 
+// Voters of a circle outline with isolated dots scattered around it, for one isolation setting.
+std::int64_t voters_with_dots(bool isolate, double max_points_factor) {
+  cv::Mat image = cv::Mat::zeros(200, 200, CV_8UC1);
+  cv::circle(image, {100, 100}, 50, cv::Scalar(255), cv::FILLED);
+  std::uint32_t state = 7;
+  for (int i = 0; i < 500; ++i) {  // dots of one pixel, a different grey from both sides
+    state = state * 1664525u + 1013904223u;
+    const int x = 30 + static_cast<int>((state >> 8) % 140);
+    const int y = 30 + static_cast<int>((state >> 20) % 140);
+    image.at<std::uint8_t>(y, x) = 128;
+  }
+  PixelToPixelParams p;
+  p.isolate_arc = isolate;
+  p.isolate_max_points_factor = max_points_factor;
+  PixelToPixelDetector det(p);
+  (void)det.detect(image);
+  return det.diagnostics()->voters;
+}
+
+TEST(PixelToPixel, GivenDotsAroundAnOutlineThenADenserIsolationLimitIsolatesMoreArcs) {
+  // Given windows of the outline holding the arc plus a varying number of dot edges
+  const std::int64_t paper = voters_with_dots(false, 3.0);
+  // When the limit on the points a window may hold for isolation grows
+  const std::int64_t none = voters_with_dots(true, 1.0);
+  const std::int64_t twice = voters_with_dots(true, 2.0);
+  const std::int64_t thrice = voters_with_dots(true, 3.0);
+  // Then a limit of 2k+1 points isolates nothing (the paper's rule), and each larger limit
+  // lets more of the crowded windows vote
+  EXPECT_EQ(none, paper);
+  EXPECT_GT(twice, none);
+  EXPECT_GT(thrice, twice);
+}
+
 TEST(PixelToPixelParams, GivenBadFieldsThenValidateNamesThem) {
   PixelToPixelParams p;
   EXPECT_FALSE(p.validate().has_value());
@@ -277,6 +310,9 @@ TEST(PixelToPixelParams, GivenBadFieldsThenValidateNamesThem) {
   p = PixelToPixelParams{};
   p.min_score = 2.0;
   EXPECT_NE(p.validate().value_or("").find("min_score"), std::string::npos);
+  p = PixelToPixelParams{};
+  p.isolate_max_points_factor = 0.5;
+  EXPECT_NE(p.validate().value_or("").find("isolate_max_points_factor"), std::string::npos);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "ball_detector/core/p2p_rules.hpp"
 
+#include "ball_detector/core/cpu_dispatch.hpp"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -215,9 +217,11 @@ std::optional<VoteLine> analyse_window(std::span<const WindowPoint> points, int 
 namespace {
 
 // out[x] = from[x] + ... + from[x + N - 1]; a compile-time N lets the compiler unroll and
-// vectorise (a run-time count made the whole filter slower than cv::boxFilter).
+// vectorise (a run-time count made the whole filter slower than cv::boxFilter). Inlined into
+// sum_columns so that each of its CPU copies gets its own.
 template <int N>
-void sum_columns_n(const int* __restrict from, int* __restrict out, int w) {
+[[gnu::always_inline]] inline void sum_columns_n(const int* __restrict from, int* __restrict out,
+                                                 int w) {
   for (int x = 0; x < w; ++x) {
     int sum = 0;
     for (int t = 0; t < N; ++t) sum += from[x + t];
@@ -225,7 +229,7 @@ void sum_columns_n(const int* __restrict from, int* __restrict out, int w) {
   }
 }
 
-void sum_columns(const int* from, int* out, int w, int n) {
+SB_AVX2_CLONE void sum_columns(const int* from, int* out, int w, int n) {
   switch (n) {
     case 1:
       return sum_columns_n<1>(from, out, w);
@@ -246,9 +250,21 @@ void sum_columns(const int* from, int* out, int w, int n) {
   }
 }
 
+// col[x] += sign * row[x] (sign = +1 or -1).
+SB_AVX2_CLONE void add_signed_row(int* __restrict col, const std::uint16_t* __restrict row, int w,
+                                  int sign) {
+  for (int x = 0; x < w; ++x) col[x] += sign * row[x];
+}
+
+SB_AVX2_CLONE int row_maximum(const int* __restrict row, int w) {
+  int best = 0;
+  for (int x = 0; x < w; ++x) best = std::max(best, row[x]);
+  return best;
+}
+
 }  // namespace
 
-void box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
+int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
   CV_Assert(accumulator.type() == CV_16UC1 && size_px >= 1 && size_px % 2 == 1);
   const int h = accumulator.rows, w = accumulator.cols, r = size_px / 2;
   smoothed.create(h, w, CV_32SC1);
@@ -256,20 +272,20 @@ void box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
   // columns. Twice as fast as cv::boxFilter here; the padding makes outside cells zero.
   std::vector<int> padded(static_cast<size_t>(w + 2 * r), 0);
   int* col = padded.data() + r;
-  auto add_row = [&](int y) {
-    const auto* a = accumulator.ptr<std::uint16_t>(y);
-    for (int x = 0; x < w; ++x) col[x] += a[x];
+  auto add_row = [&](int y, int sign) {
+    add_signed_row(col, accumulator.ptr<std::uint16_t>(y), w, sign);
   };
-  auto subtract_row = [&](int y) {
-    const auto* a = accumulator.ptr<std::uint16_t>(y);
-    for (int x = 0; x < w; ++x) col[x] -= a[x];
-  };
-  for (int y = 0; y < std::min(r, h); ++y) add_row(y);
+  int maximum = 0;
+  for (int y = 0; y < std::min(r, h); ++y) add_row(y, 1);
   for (int y = 0; y < h; ++y) {
-    if (y + r < h) add_row(y + r);
-    sum_columns(padded.data(), smoothed.ptr<int>(y), w, size_px);
-    if (y - r >= 0) subtract_row(y - r);
+    if (y + r < h) add_row(y + r, 1);
+    int* out = smoothed.ptr<int>(y);
+    sum_columns(padded.data(), out, w, size_px);
+    // The maximum while the row is in cache: a second pass over the map cost as much again.
+    maximum = std::max(maximum, row_maximum(out, w));
+    if (y - r >= 0) add_row(y - r, -1);
   }
+  return maximum;
 }
 
 std::optional<VoteLine> analyse_window_rows(std::span<const std::uint64_t> rows, int k) {

@@ -101,8 +101,9 @@ std::optional<VoteLine> analyse_window_rows(std::span<const std::uint64_t> rows,
 /// Step 9: smoothing by an all-ones square mask: each cell becomes the sum of votes in the
 /// size_px x size_px box around it (CV_16U in, CV_32S out, zero outside the image).
 cv::Mat box_filter(const cv::Mat& accumulator, int size_px);
-/// Same into smoothed (its buffer reused when the size is unchanged); size_px odd.
-void box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed);
+/// Same into smoothed (its buffer reused when the size is unchanged); size_px odd. Returns the
+/// largest smoothed value (0 for an all-zero map).
+int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed);
 
 /// Step 9: position of the global maximum of a CV_32S map (first in raster order on ties).
 cv::Point global_maximum(const cv::Mat& smoothed);

@@ -1,5 +1,7 @@
 #include "ball_detector/core/voting.hpp"
 
+#include "ball_detector/core/cpu_dispatch.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -60,22 +62,68 @@ std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, doub
 
 namespace {
 
+// One flag per column of row (1 <= x < w - 1), computed without branches so the compiler
+// vectorises it (a textured image leaves much of the map above the floor, where branches
+// mispredict). Strict against earlier neighbours, non-strict against later: one pixel per
+// plateau.
+template <typename T>
+[[gnu::always_inline]] inline void flag_maxima(const T* __restrict up, const T* __restrict row,
+                                               const T* __restrict down, int w, T min_value,
+                                               std::uint8_t* __restrict flag) {
+  for (int x = 1; x < w - 1; ++x) {
+    const T v = row[x];
+    flag[x] = (v >= min_value) & (v > up[x - 1]) & (v > up[x]) & (v > up[x + 1]) &
+              (v > row[x - 1]) & (v >= row[x + 1]) & (v >= down[x - 1]) & (v >= down[x]) &
+              (v >= down[x + 1]);
+  }
+}
+
+// The smoothed vote maps are integer: their copy gets the CPU's widest vectors.
+SB_AVX2_CLONE void flag_maxima_int(const int* up, const int* row, const int* down, int w,
+                                   int min_value, std::uint8_t* flag) {
+  flag_maxima(up, row, down, w, min_value, flag);
+}
+
+void flag_row_maxima(const int* up, const int* row, const int* down, int w, int min_value,
+                     std::uint8_t* flag) {
+  flag_maxima_int(up, row, down, w, min_value, flag);
+}
+
+void flag_row_maxima(const float* up, const float* row, const float* down, int w, float min_value,
+                     std::uint8_t* flag) {
+  flag_maxima(up, row, down, w, min_value, flag);
+}
+
+// Whether some value of the row reaches min_value: most rows of a plain scene's map do not,
+// and testing that is a fifth of the cost of flagging them.
+template <typename T>
+[[gnu::always_inline]] inline bool reaches(const T* __restrict row, int w, T min_value) {
+  T best = row[0];
+  for (int x = 1; x < w; ++x) best = std::max(best, row[x]);
+  return best >= min_value;
+}
+
+SB_AVX2_CLONE bool reaches_int(const int* row, int w, int min_value) {
+  return reaches(row, w, min_value);
+}
+
+bool row_reaches(const int* row, int w, int min_value) {
+  return reaches_int(row, w, min_value);
+}
+
+bool row_reaches(const float* row, int w, float min_value) {
+  return reaches(row, w, min_value);
+}
+
 template <typename T>
 void local_maxima(const cv::Mat& m, T min_value, std::vector<Peak>& out) {
-  // One flag per column, computed without branches so the compiler vectorises the row (a
-  // textured image leaves much of the map above the floor, where branches mispredict).
   std::vector<std::uint8_t> flag(static_cast<size_t>(m.cols) + 8, 0);
   for (int y = 1; y < m.rows - 1; ++y) {
     const T* up = m.ptr<T>(y - 1);
     const T* row = m.ptr<T>(y);
     const T* down = m.ptr<T>(y + 1);
-    for (int x = 1; x < m.cols - 1; ++x) {
-      const T v = row[x];
-      // Strict against earlier neighbours, non-strict against later: one pixel per plateau.
-      flag[x] = (v >= min_value) & (v > up[x - 1]) & (v > up[x]) & (v > up[x + 1]) &
-                (v > row[x - 1]) & (v >= row[x + 1]) & (v >= down[x - 1]) & (v >= down[x]) &
-                (v >= down[x + 1]);
-    }
+    if (!row_reaches(row, m.cols, min_value)) continue;
+    flag_row_maxima(up, row, down, m.cols, min_value, flag.data());
     for (int x = 1; x < m.cols - 1; x += 8) {
       std::uint64_t eight;
       std::memcpy(&eight, flag.data() + x, 8);

@@ -1,0 +1,12 @@
+#pragma once
+// Runtime CPU dispatch for the integer loops the compiler vectorises (Canny's per-pixel tests,
+// the box filter, the peak scan). The build targets baseline x86-64 (SSE2) so the binaries
+// run on any PC; with this attribute GCC also emits an AVX2 copy of the function and the
+// loader picks it when the CPU has AVX2, twice the lanes. Integer arithmetic only, so both
+// copies give identical results. Elsewhere (ARM, other compilers) it expands to nothing.
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(SB_NO_CPU_DISPATCH)
+#define SB_AVX2_CLONE __attribute__((target_clones("avx2", "default")))
+#else
+#define SB_AVX2_CLONE
+#endif
