@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 namespace stereoball::ball_detector {
@@ -128,14 +129,73 @@ int neighbour_code(const cv::Mat& binary, int x, int y) {
   return code_at(binary.ptr<uchar>(y - 1), binary.ptr<uchar>(y), binary.ptr<uchar>(y + 1), x);
 }
 
-int thin_staircase(cv::Mat& binary) {
-  CV_Assert(binary.type() == CV_8UC1);
-  if (binary.rows < 3 || binary.cols < 3) return 0;
-  // The outer frame has no full neighbourhood; clearing it keeps the pass branch-free.
+namespace {
+
+// The outer frame has no full neighbourhood; clearing it keeps the pass branch-free.
+void clear_frame(cv::Mat& binary) {
   binary.row(0).setTo(0);
   binary.row(binary.rows - 1).setTo(0);
   binary.col(0).setTo(0);
   binary.col(binary.cols - 1).setTo(0);
+}
+
+// staircase_table indexed by the neighbours as packed rows give them: bits 0-2 the row above
+// (x - 1, x, x + 1), bit 3 west, bit 4 east, bits 5-7 the row below (x - 1, x, x + 1).
+std::array<bool, 256> build_packed_staircase_table() {
+  std::array<bool, 256> packed{};
+  const auto& table = staircase_table();
+  for (int i = 0; i < 256; ++i) {
+    auto on = [i](int bit) { return (i >> bit) & 1; };
+    const int code = on(4) | on(7) << 1 | on(6) << 2 | on(5) << 3 | on(3) << 4 | on(0) << 5 |
+                     on(1) << 6 | on(2) << 7;  // E, SE, S, SW, W, NW, N, NE
+    packed[i] = table[code];
+  }
+  return packed;
+}
+
+}  // namespace
+
+int thin_staircase(cv::Mat& binary, BitImage& bits) {
+  CV_Assert(binary.type() == CV_8UC1 && bits.width() == binary.cols &&
+            bits.height() == binary.rows);
+  if (binary.rows < 3 || binary.cols < 3) return 0;
+  clear_frame(binary);
+  const int w = binary.cols, h = binary.rows;
+  for (int y = 0; y < h; y += h - 1)
+    for (int x = 0; x < w; ++x) bits.clear(x, y);
+  for (int y = 1; y < h - 1; ++y) {
+    bits.clear(0, y);
+    bits.clear(w - 1, y);
+  }
+  static const std::array<bool, 256> table = build_packed_staircase_table();
+  int removed = 0;
+  for (int y = 1; y < h - 1; ++y) {
+    const std::uint64_t* mid = bits.row(y);
+    for (int wi = 0; wi * 64 < w; ++wi) {
+      // Pixels are visited in raster order and removed at once, as in the byte pass: the
+      // word is re-read after each removal (west of the next pixel, row above of the next row).
+      std::uint64_t todo = mid[wi];
+      while (todo != 0) {
+        const int x = wi * 64 + std::countr_zero(todo);
+        todo &= todo - 1;
+        const int index = static_cast<int>(
+            bits.bits(y - 1, x - 1, 3) | static_cast<std::uint64_t>(bits.test(x - 1, y)) << 3 |
+            static_cast<std::uint64_t>(bits.test(x + 1, y)) << 4 | bits.bits(y + 1, x - 1, 3) << 5);
+        if (table[index]) {
+          bits.clear(x, y);
+          binary.at<uchar>(y, x) = 0;
+          ++removed;
+        }
+      }
+    }
+  }
+  return removed;
+}
+
+int thin_staircase(cv::Mat& binary) {
+  CV_Assert(binary.type() == CV_8UC1);
+  if (binary.rows < 3 || binary.cols < 3) return 0;
+  clear_frame(binary);
   const auto& table = staircase_table();
   int removed = 0;
   for (int y = 1; y < binary.rows - 1; ++y) {
@@ -190,8 +250,8 @@ void canny_and_thin(const EdgeParams& params, const CannyThresholds& t, EdgeMap&
   out.high_threshold = t.high;
   out.median_gradient = t.median_gradient;
   canny_l1(out.dx, out.dy, t.low, t.high, out.edges, out.canny_work);
-  out.removed_staircase = params.thin ? thin_staircase(out.edges) : 0;
   out.bits.assign(out.edges);
+  out.removed_staircase = params.thin ? thin_staircase(out.edges, out.bits) : 0;
 }
 
 }  // namespace

@@ -51,6 +51,10 @@ class BitImage {
   }
   /// Whether pixel (x, y) is set; no bounds check.
   bool test(int x, int y) const { return (row(y)[x >> 6] >> (x & 63)) & 1u; }
+  /// Clears pixel (x, y); no bounds check.
+  void clear(int x, int y) {
+    words_[static_cast<size_t>(y) * stride_ + (x >> 6)] &= ~(std::uint64_t{1} << (x & 63));
+  }
   int width() const { return width_; }
   int height() const { return height_; }
 
@@ -102,6 +106,11 @@ int neighbour_code(const cv::Mat& binary, int x, int y);
 
 /// Removes staircase pixels in place (one raster pass); returns how many were removed.
 int thin_staircase(cv::Mat& binary);
+
+/// The same pass on binary and its packed copy bits (bits.assign(binary) done by the caller):
+/// the neighbour codes come from the packed rows, several times faster on textured images.
+/// Both end as thin_staircase(binary) leaves binary.
+int thin_staircase(cv::Mat& binary, BitImage& bits);
 
 /// Computes the whole edge step into out (buffers reused across calls of the same size).
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out);

@@ -1,7 +1,7 @@
-// The speed-ups of the detector against plain references: canny_l1 vs cv::Canny, box_filter vs
-// cv::boxFilter, connected_rows vs a breadth-first flood fill, chord ends from row masks vs
-// find_chord_ends, find_peaks vs a brute-force scan, and circles_from_votes independent of the
-// order its voters come in.
+// The speed-ups of the detector against plain references: canny_l1 vs cv::Canny, the packed
+// staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
+// breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
+// brute-force scan, and circles_from_votes independent of the order its voters come in.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -86,6 +86,53 @@ TEST(CannyL1, GivenCropsTinyImagesAndSwappedThresholdsThenEdgesEqualOpenCvCanny)
     cv::Canny(dx, dy, reference, 120.0, 48.0, false);
     // Then the edge maps are equal
     ASSERT_EQ(cv::countNonZero(ours != reference), 0) << w << "x" << h;
+  }
+}
+
+// Both thinning passes on one binary image: the packed one must leave the same pixels, and
+// its packed copy must match them.
+void expect_same_thinning(const cv::Mat& binary) {
+  cv::Mat reference = binary.clone(), ours = binary.clone();
+  BitImage bits;
+  bits.assign(ours);
+  const int removed_reference = thin_staircase(reference);
+  const int removed = thin_staircase(ours, bits);
+  EXPECT_EQ(removed, removed_reference);
+  ASSERT_EQ(cv::countNonZero(ours != reference), 0) << binary.size();
+  BitImage repacked;
+  repacked.assign(reference);
+  for (int y = 0; y < binary.rows; ++y)
+    for (int x = 0; x < binary.cols; ++x)
+      ASSERT_EQ(bits.test(x, y), repacked.test(x, y)) << x << "," << y;
+}
+
+TEST(ThinStaircase, GivenRealEdgeMapsThenThePackedPassRemovesTheSamePixels) {
+  // Given Canny edge maps of the real images, thick at corners and junctions
+  const auto images = real_greys();
+  ASSERT_GE(images.size(), 10u) << "expected the OpenCV sample images in " << SB_SHARED_DATA_DIR;
+  CannyWorkspace work;
+  for (const auto& grey : images) {
+    cv::Mat dx, dy, edges;
+    sobel(grey, dx, dy);
+    canny_l1(dx, dy, 24.0, 60.0, edges, work);
+    // When both passes thin it, then they agree pixel for pixel
+    expect_same_thinning(edges);
+  }
+}
+
+TEST(ThinStaircase, GivenRandomBinaryImagesOfAnyWidthThenThePackedPassRemovesTheSamePixels) {
+  std::mt19937 rng(21);
+  // Given dense random pixels (every neighbour code occurs), widths around word boundaries
+  for (const cv::Size size : {cv::Size(3, 3), cv::Size(63, 9), cv::Size(64, 7), cv::Size(65, 12),
+                              cv::Size(129, 40), cv::Size(640, 30)}) {
+    for (const int percent : {20, 45, 70}) {
+      cv::Mat binary(size, CV_8UC1);
+      for (int y = 0; y < size.height; ++y)
+        for (int x = 0; x < size.width; ++x)
+          binary.at<uchar>(y, x) = static_cast<int>(rng() % 100) < percent ? 255 : 0;
+      // When both passes thin it, then they agree pixel for pixel
+      expect_same_thinning(binary);
+    }
   }
 }
 
