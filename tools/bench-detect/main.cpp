@@ -2,6 +2,7 @@
 // (timing only) for Pixel-to-Pixel and the baselines, all in one run, one core.
 
 #include "ball_detector/core/baselines.hpp"
+#include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/evaluation.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/synthetic.hpp"
@@ -194,6 +195,62 @@ void k_selection_table() {
   }
 }
 
+// Median ms of the edge step alone at one size: the p2p edge map, and OpenCV's own grey +
+// Canny (SIMD Sobel, non-maximum suppression and hysteresis in one call) as the fastest edge
+// map at hand. No detector that starts from a full-image edge map can be faster than it.
+struct EdgeFloor {
+  std::vector<double> p2p_ms, opencv_ms;
+};
+
+void time_edge_step(const cv::Mat& image, EdgeFloor& floor) {
+  static bd::EdgeMap edges;
+  const bd::EdgeParams params;
+  double t0 = thread_cpu_ms();
+  bd::compute_edge_map(image, params, edges);
+  floor.p2p_ms.push_back(thread_cpu_ms() - t0);
+  t0 = thread_cpu_ms();
+  cv::Mat grey, canny;
+  cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  cv::Canny(grey, canny, 100.0, 300.0);
+  floor.opencv_ms.push_back(thread_cpu_ms() - t0);
+}
+
+// Median ms at 640x480 of a method, synthetic and real (0 when it did not run).
+std::pair<double, double> times_640(const std::vector<Method>& methods,
+                                    const std::vector<Tally>& tallies, const std::string& label) {
+  for (size_t mi = 0; mi < methods.size(); ++mi) {
+    if (methods[mi].label != label) continue;
+    const auto syn = tallies[mi].synth_ms.find(640);
+    const auto real = tallies[mi].real_ms.find(640);
+    return {syn == tallies[mi].synth_ms.end() ? 0.0 : median(syn->second),
+            real == tallies[mi].real_ms.end() ? 0.0 : median(real->second)};
+  }
+  return {0.0, 0.0};
+}
+
+// The speed target side by side: ALT over p2p, and ALT over the edge step alone.
+void print_speed_ratios(const std::vector<Method>& methods, const std::vector<Tally>& tallies,
+                        const EdgeFloor& syn, const EdgeFloor& real) {
+  std::printf("\nEdge step alone at 640x480 (median ms): %-10s %8s\n", "synthetic", "real");
+  std::printf("  p2p edge map                        %10.2f %8.2f\n", median(syn.p2p_ms),
+              median(real.p2p_ms));
+  std::printf("  OpenCV grey + cv::Canny             %10.2f %8.2f\n", median(syn.opencv_ms),
+              median(real.opencv_ms));
+  const auto alt = times_640(methods, tallies, "opencv-alt p2=0.9");
+  if (alt.first <= 0.0) return;
+  auto ratio = [](double a, double b) { return b > 0.0 ? a / b : 0.0; };
+  std::printf(
+      "ALT p2=0.9 time / that (the most any edge-map detector can gain on ALT): %.1fx "
+      "synthetic, %.1fx real\n",
+      ratio(alt.first, median(syn.opencv_ms)), ratio(alt.second, median(real.opencv_ms)));
+  for (const std::string label : {"p2p k=5", "p2p k=5 paper rule", "p2p k=3,5,8,15"}) {
+    const auto t = times_640(methods, tallies, label);
+    if (t.first > 0.0)
+      std::printf("ALT p2=0.9 time / %-18s at 640x480: %.2fx synthetic, %.2fx real\n",
+                  label.c_str(), ratio(alt.first, t.first), ratio(alt.second, t.second));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -251,6 +308,7 @@ int main(int argc, char** argv) {
   std::vector<Tally> tallies(methods.size());
   // Voting statistics of p2p (k=5) vs gradient voting on the ball scenes.
   std::map<std::string, std::vector<double>> voters, increments, ratio;
+  EdgeFloor syn_floor, real_floor;
 
   for (const auto& size : sizes) {
     const auto suite = bd::make_suite(size, per_kind, seed);
@@ -307,6 +365,10 @@ int main(int argc, char** argv) {
       for (const auto& img : real_resized)
         t.real_ms[size.width].push_back(time_ms(*det, img, nullptr));
     }
+    if (size.width == 640) {
+      for (const auto& scene : suite) time_edge_step(scene.image, syn_floor);
+      for (const auto& img : real_resized) time_edge_step(img, real_floor);
+    }
   }
 
   std::printf(
@@ -327,6 +389,7 @@ int main(int argc, char** argv) {
                 med(t.synth_ms, 352), med(t.synth_ms, 640), med(t.real_ms, 352),
                 med(t.real_ms, 640));
   }
+  print_speed_ratios(methods, tallies, syn_floor, real_floor);
 
   std::printf("\nF1 per scene kind (both sizes)\n%-20s", "method");
   const auto& kinds = tallies.front().per_kind;
