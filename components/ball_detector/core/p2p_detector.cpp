@@ -276,10 +276,11 @@ std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<V
     const double support_reach_px = 1.2 * r0 + 2.0;
     rows.for_each(peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
       const double px = peak.x - v.x, py = peak.y - v.y;
-      const double d = std::sqrt(px * px + py * py);
-      if (std::abs(d - r0) > 0.2 * r0 + 1.0) return;
+      // The cheap tests first: most voters in the band fail the line test, and need no root.
       if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
       if (px * v.ux + py * v.uy <= 0.0) return;
+      const double d = std::sqrt(px * px + py * py);
+      if (std::abs(d - r0) > 0.2 * r0 + 1.0) return;
       support.emplace_back(v.x, v.y);
     });
     Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};

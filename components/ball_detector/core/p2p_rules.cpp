@@ -87,13 +87,13 @@ int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::
   int count = std::popcount(rows[centre]);
   // One sweep down and one up from the centre row complete an arc that crosses each row once,
   // the case that matters; a component that turns back (a U) is finished by the worklist below.
-  for (const int step : {1, -1}) {
-    for (int r = k + step; r >= 0 && r < n && count <= stop_above; r += step) {
-      const auto ri = static_cast<std::size_t>(r);
-      rows[ri] = touching(rows[ri - static_cast<std::size_t>(step)], window[ri], n);
-      if (rows[ri] == 0) break;
-      count += std::popcount(rows[ri]);
-    }
+  // The two sweeps run interleaved: each row's fill waits on the previous row's, and two
+  // independent chains keep the CPU busy while one waits.
+  std::uint64_t below = rows[centre], above = rows[centre];
+  for (std::size_t i = 1; i <= centre && (below | above) != 0 && count <= stop_above; ++i) {
+    if (below != 0) rows[centre + i] = below = touching(below, window[centre + i], n);
+    if (above != 0) rows[centre - i] = above = touching(above, window[centre - i], n);
+    count += std::popcount(below) + std::popcount(above);
   }
   if (count > stop_above || component_closed(window, rows, n)) return count;
   // Worklist of rows whose mask grew: each grows its two neighbours. Rows are run-closed, so
