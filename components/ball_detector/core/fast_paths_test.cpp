@@ -288,6 +288,13 @@ TEST(ChordEndsOfRows, GivenRandomWindowsThenAAndBEqualFindChordEndsOnTheCollecte
       if (a) {
         ASSERT_TRUE(a->c2x == b->c2x && a->c2y == b->c2y && a->nx == b->nx && a->ny == b->ny);
       }
+      // as does the detector's path, which has counted the points already
+      const auto counted = vote_line_of_rows(span, k);
+      ASSERT_EQ(counted.has_value(), a.has_value());
+      if (a) {
+        ASSERT_TRUE(counted->c2x == a->c2x && counted->c2y == a->c2y && counted->nx == a->nx &&
+                    counted->ny == a->ny);
+      }
     }
   }
   EXPECT_GT(with_chord, compared / 4);

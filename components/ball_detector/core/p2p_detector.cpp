@@ -143,14 +143,14 @@ void PixelToPixelDetector::vote(int k) {
         window_rows(bits, x, y, k, window_bits);
         int count = 0;
         for (const std::uint64_t row_bits : window_bits) count += std::popcount(row_bits);
-        // Steps 5-7 read the chord ends straight off the row masks (analyse_window_rows).
+        // Steps 5-7 read the chord ends straight off the row masks (vote_line_of_rows).
         std::optional<VoteLine> line;
         if (window_count_ok(count, k)) {
-          line = analyse_window_rows(window_bits, k);
+          line = vote_line_of_rows(window_bits, k);
         } else if (count > n && count <= isolate_max_points) {
           // Addition: judge the arc through O alone when other edges share the window.
           if (connected_rows(window_bits, k, mask, n) != n) continue;
-          line = analyse_window_rows(std::span<const std::uint64_t>(mask.data(), n), k);
+          line = vote_line_of_rows(std::span<const std::uint64_t>(mask.data(), n), k);
         } else {
           continue;
         }

@@ -293,6 +293,10 @@ std::optional<VoteLine> analyse_window_rows(std::span<const std::uint64_t> rows,
   for (int r = 0; r < std::min(2 * k + 1, static_cast<int>(rows.size())); ++r)
     count += std::popcount(rows[static_cast<std::size_t>(r)]);
   if (!window_count_ok(count, k)) return std::nullopt;
+  return vote_line_of_rows(rows, k);
+}
+
+std::optional<VoteLine> vote_line_of_rows(std::span<const std::uint64_t> rows, int k) {
   const auto ends = chord_ends_of_rows(rows, k);
   if (!ends) return std::nullopt;
   if (is_straight_segment(ends->a, ends->b)) return std::nullopt;

@@ -98,6 +98,10 @@ std::optional<VoteLine> analyse_window(std::span<const WindowPoint> points, int 
 /// analyse_window on window row masks (see chord_ends_of_rows).
 std::optional<VoteLine> analyse_window_rows(std::span<const std::uint64_t> rows, int k);
 
+/// Steps 5-7 of analyse_window_rows, for a caller that has already counted the window's points
+/// (the count rule holds).
+std::optional<VoteLine> vote_line_of_rows(std::span<const std::uint64_t> rows, int k);
+
 /// Step 9: smoothing by an all-ones square mask: each cell becomes the sum of votes in the
 /// size_px x size_px box around it (CV_16U in, CV_32S out, zero outside the image).
 cv::Mat box_filter(const cv::Mat& accumulator, int size_px);
