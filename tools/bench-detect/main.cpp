@@ -234,7 +234,7 @@ void print_speed_ratios(const std::vector<Method>& methods, const std::vector<Ta
   std::printf("\nEdge step alone at 640x480 (median ms): %-10s %8s\n", "synthetic", "real");
   std::printf("  p2p edge map                        %10.2f %8.2f\n", median(syn.p2p_ms),
               median(real.p2p_ms));
-  std::printf("  OpenCV grey + cv::Canny             %10.2f %8.2f\n", median(syn.opencv_ms),
+  std::printf("  OpenCV grey + cv::Canny(100, 300)   %10.2f %8.2f\n", median(syn.opencv_ms),
               median(real.opencv_ms));
   const auto alt = times_640(methods, tallies, "opencv-alt p2=0.9");
   if (alt.first <= 0.0) return;
