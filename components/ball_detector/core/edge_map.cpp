@@ -161,8 +161,10 @@ int thin_staircase(cv::Mat& binary, BitImage& bits) {
   if (binary.rows < 3 || binary.cols < 3) return 0;
   clear_frame(binary);
   const int w = binary.cols, h = binary.rows;
-  for (int y = 0; y < h; y += h - 1)
-    for (int x = 0; x < w; ++x) bits.clear(x, y);
+  for (int x = 0; x < w; ++x) {  // the same frame in the packed copy
+    bits.clear(x, 0);
+    bits.clear(x, h - 1);
+  }
   for (int y = 1; y < h - 1; ++y) {
     bits.clear(0, y);
     bits.clear(w - 1, y);

@@ -1,6 +1,7 @@
 #include "ball_detector/core/p2p_rules.hpp"
 
 #include "ball_detector/core/cpu_dispatch.hpp"
+#include "ball_detector/core/voting.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -256,12 +257,6 @@ SB_AVX2_CLONE void add_signed_row(int* __restrict col, const std::uint16_t* __re
   for (int x = 0; x < w; ++x) col[x] += sign * row[x];
 }
 
-SB_AVX2_CLONE int row_maximum(const int* __restrict row, int w) {
-  int best = 0;
-  for (int x = 0; x < w; ++x) best = std::max(best, row[x]);
-  return best;
-}
-
 }  // namespace
 
 int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
@@ -281,7 +276,7 @@ int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
     if (y + r < h) add_row(y + r, 1);
     int* out = smoothed.ptr<int>(y);
     sum_columns(padded.data(), out, w, size_px);
-    // The maximum while the row is in cache: a second pass over the map cost as much again.
+    // The maximum while the row is in cache (a second pass, cv::minMaxLoc, took ~0.15 ms).
     maximum = std::max(maximum, row_maximum(out, w));
     if (y - r >= 0) add_row(y - r, -1);
   }

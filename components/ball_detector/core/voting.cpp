@@ -23,6 +23,12 @@ inline std::int64_t round_half_away(double x) {
 
 }  // namespace
 
+SB_AVX2_CLONE int row_maximum(const int* __restrict row, int w) {
+  int best = 0;
+  for (int x = 0; x < w; ++x) best = std::max(best, row[x]);
+  return best;
+}
+
 std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
                       double dir_y, double t0_px, double t1_px) {
   // Not std::hypot: no overflow to guard against here, and it is several times slower.
@@ -79,14 +85,9 @@ template <typename T>
 }
 
 // The smoothed vote maps are integer: their copy gets the CPU's widest vectors.
-SB_AVX2_CLONE void flag_maxima_int(const int* up, const int* row, const int* down, int w,
+SB_AVX2_CLONE void flag_row_maxima(const int* up, const int* row, const int* down, int w,
                                    int min_value, std::uint8_t* flag) {
   flag_maxima(up, row, down, w, min_value, flag);
-}
-
-void flag_row_maxima(const int* up, const int* row, const int* down, int w, int min_value,
-                     std::uint8_t* flag) {
-  flag_maxima_int(up, row, down, w, min_value, flag);
 }
 
 void flag_row_maxima(const float* up, const float* row, const float* down, int w, float min_value,
@@ -96,23 +97,12 @@ void flag_row_maxima(const float* up, const float* row, const float* down, int w
 
 // Whether some value of the row reaches min_value: most rows of a plain scene's map do not,
 // and testing that is a fifth of the cost of flagging them.
-template <typename T>
-[[gnu::always_inline]] inline bool reaches(const T* __restrict row, int w, T min_value) {
-  T best = row[0];
-  for (int x = 1; x < w; ++x) best = std::max(best, row[x]);
-  return best >= min_value;
-}
-
-SB_AVX2_CLONE bool reaches_int(const int* row, int w, int min_value) {
-  return reaches(row, w, min_value);
-}
-
 bool row_reaches(const int* row, int w, int min_value) {
-  return reaches_int(row, w, min_value);
+  return row_maximum(row, w) >= min_value;
 }
 
 bool row_reaches(const float* row, int w, float min_value) {
-  return reaches(row, w, min_value);
+  return w > 0 && *std::max_element(row, row + w) >= min_value;
 }
 
 template <typename T>

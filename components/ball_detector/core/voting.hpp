@@ -13,6 +13,9 @@ namespace stereoball::ball_detector {
 std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
                       double dir_y, double t0_px, double t1_px);
 
+/// Largest of row[0, w), or 0 if all are below (vote maps hold no negative value).
+int row_maximum(const int* row, int w);
+
 /// A local maximum of a smoothed accumulator.
 struct Peak {
   int x = 0;
