@@ -90,8 +90,20 @@ int margin_cap_px(double out_px, double cap_px) {
   return static_cast<int>(std::ceil(std::min(out_px, std::max(0.0, cap_px))));
 }
 
-// The disparity range of a right-eye partner of left: the size check accepts radii within the
-// tolerance of the expected one, i.e. depths (and so disparities) within about that fraction.
+// The disparities of a right-eye partner of a ball-sized sphere at depth_m: the size check
+// accepts radii within the tolerance of the expected one, i.e. depths (and so disparities)
+// within about that fraction.
+struct DisparityRange {
+  double lo = 0.0, hi = 0.0;
+};
+
+DisparityRange disparity_range(const PairingContext& ctx, double depth_m) {
+  const double d = ctx.triangulator.focal_px() * ctx.triangulator.baseline_m() / depth_m;
+  const double tol = ctx.size.max_relative_error;
+  return {d * std::max(0.0, 1.0 - tol), d * (1.0 + tol)};
+}
+
+// The columns of those partners' centres.
 struct PartnerColumns {
   double x_near = 0.0;  ///< nearest ball, leftmost centre, right rectified px
   double x_far = 0.0;
@@ -101,11 +113,9 @@ std::optional<PartnerColumns> partner_columns(const PairingContext& ctx, const C
   const stereo::Triangulator& tri = ctx.triangulator;
   const auto depth = outline_depth_m(left_camera(tri), left, 0.5 * ctx.size.ball_diameter_m);
   if (!depth) return std::nullopt;
-  const double tol = ctx.size.max_relative_error;
-  const double disparity = tri.focal_px() * tri.baseline_m() / *depth;
+  const DisparityRange range = disparity_range(ctx, *depth);
   const double shift = tri.principal_left_px().x - tri.principal_right_px().x;
-  return PartnerColumns{left.x_px - shift - disparity * (1.0 + tol),
-                        left.x_px - shift - disparity * std::max(0.0, 1.0 - tol)};
+  return PartnerColumns{left.x_px - shift - range.hi, left.x_px - shift - range.lo};
 }
 
 // Smallest row difference over all combinations, for the mismatch reason.
@@ -279,24 +289,13 @@ std::optional<LeftCone> left_cone(const PairingContext& ctx, const Circle& left)
   return LeftCone{{t * view->major_axis.x, t * view->major_axis.y, 1.0}, z, r_m};
 }
 
-// The disparities partner_search_box allows: the ball-sized sphere's within the size tolerance.
-struct DisparityRange {
-  double lo = 0.0, hi = 0.0;
-};
-
-DisparityRange disparity_range(const PairingContext& ctx, const LeftCone& cone) {
-  const double d = ctx.triangulator.focal_px() * ctx.triangulator.baseline_m() / cone.depth_m;
-  const double tol = ctx.size.max_relative_error;
-  return {d * std::max(0.0, 1.0 - tol), d * (1.0 + tol)};
-}
-
 }  // namespace
 
 std::vector<Circle> partner_outlines(const PairingContext& ctx, const Circle& left,
                                      double step_px) {
   const auto cone = left_cone(ctx, left);
   if (!cone || !(step_px > 0.0)) return {};
-  const DisparityRange range = disparity_range(ctx, *cone);
+  const DisparityRange range = disparity_range(ctx, cone->depth_m);
   std::vector<Circle> out;
   for (const auto& o : outlines_over(ctx.triangulator, *cone, range.lo, range.hi, step_px))
     out.push_back(o.outline);
@@ -322,10 +321,6 @@ std::optional<OutlineAt> best_of(std::vector<OutlineAt> outlines, const OutlineS
   return outlines[(first + last) / 2];
 }
 
-}  // namespace
-
-namespace {
-
 // Whether a ball in cone, at a depth the disparity range allows, can rest on the floor (twice
 // the floor tolerance: the pair triangulates a little off the cone's axis). The height of a
 // point on the line of sight is linear in its depth, so the range's ends bound it.
@@ -347,7 +342,7 @@ std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle&
                                         const OutlineScorer& score, double min_score) {
   const auto cone = left_cone(ctx, left);
   if (!cone) return std::nullopt;
-  const DisparityRange range = disparity_range(ctx, *cone);
+  const DisparityRange range = disparity_range(ctx, cone->depth_m);
   // A pair off the floor fails the floor check whatever the right eye holds: not worth the
   // scoring (in clutter most left circles are such).
   if (!may_rest_on_floor(ctx, *cone, range)) return std::nullopt;
