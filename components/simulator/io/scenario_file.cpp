@@ -106,6 +106,15 @@ void read_room(MapReader& top, RoomSpec& r, Err& err) {
   m.opt("baseboard", r.baseboard);
   m.opt("ceiling", r.ceiling);
   m.opt("plain", r.plain);
+  std::string pattern = "tiles";
+  m.opt("floor_pattern", pattern);
+  if (pattern == "planks") {
+    r.floor_pattern = FloorPattern::kPlanks;
+  } else if (pattern == "carpet") {
+    r.floor_pattern = FloorPattern::kCarpet;
+  } else if (pattern != "tiles") {
+    m.fail_key(m.key("floor_pattern"), "expected tiles, planks or carpet");
+  }
   m.finish();
 }
 
@@ -116,6 +125,11 @@ void read_robot(MapReader& top, Scenario& s, Err& err) {
   m.opt("x_m", s.robot_x_m);
   m.opt("y_m", s.robot_y_m);
   m.opt("yaw_rad", s.robot_yaw_rad);
+  if (m.child("max_angular_radps").IsDefined()) {
+    double max_angular = 0.0;
+    m.opt("max_angular_radps", max_angular);
+    s.robot_max_angular_radps = max_angular;
+  }
   m.finish();
 }
 
@@ -131,6 +145,17 @@ void read_ball(MapReader& top, Scenario& s, Err& err) {
   m.opt("radius_m", b.radius_m);
   m.opt("color_a", b.color_a);
   m.opt("color_b", b.color_b);
+  std::string pattern = "football";
+  m.opt("pattern", pattern);
+  if (pattern == "solid") {
+    b.pattern = BallPattern::kSolid;
+  } else if (pattern == "panels") {
+    b.pattern = BallPattern::kPanels;
+  } else if (pattern == "stripes") {
+    b.pattern = BallPattern::kStripes;
+  } else if (pattern != "football") {
+    m.fail_key(m.key("pattern"), "expected football, solid, panels or stripes");
+  }
   m.finish();
   s.ball = b;
 }
@@ -193,6 +218,11 @@ void read_lists(MapReader& top, Scenario& s, Err& err) {
     m.opt("rim_m", p.rim_m);
     m.opt("color", p.color);
     m.opt("rim_color", p.rim_color);
+  });
+  read_list(top, "spheres", s.spheres, err, [](MapReader& m, SphereSpec& p) {
+    m.opt("center_m", p.center_m);
+    m.opt("radius_m", p.radius_m);
+    m.opt("color", p.color);
   });
   read_list(top, "kicks", s.kicks, err, [](MapReader& m, KickSpec& k) {
     m.opt("t_s", k.t_s);
