@@ -88,6 +88,24 @@ class MapReader {
 
 using Err = std::optional<std::string>;
 
+// An optional key naming one of choices; out keeps its value when the key is absent.
+template <typename E>
+void opt_choice(MapReader& m, const std::string& k, E& out,
+                const std::vector<std::pair<std::string, E>>& choices) {
+  if (!m.child(k).IsDefined()) return;
+  std::string name;
+  m.opt(k, name);
+  std::string expected;
+  for (const auto& [text, value] : choices) {
+    if (text == name) {
+      out = value;
+      return;
+    }
+    expected += (expected.empty() ? "" : ", ") + text;
+  }
+  m.fail_key(m.key(k), "expected one of " + expected);
+}
+
 void read_room(MapReader& top, RoomSpec& r, Err& err) {
   const YAML::Node n = top.child("room");
   if (!n.IsDefined()) return;
@@ -106,15 +124,10 @@ void read_room(MapReader& top, RoomSpec& r, Err& err) {
   m.opt("baseboard", r.baseboard);
   m.opt("ceiling", r.ceiling);
   m.opt("plain", r.plain);
-  std::string pattern = "tiles";
-  m.opt("floor_pattern", pattern);
-  if (pattern == "planks") {
-    r.floor_pattern = FloorPattern::kPlanks;
-  } else if (pattern == "carpet") {
-    r.floor_pattern = FloorPattern::kCarpet;
-  } else if (pattern != "tiles") {
-    m.fail_key(m.key("floor_pattern"), "expected tiles, planks or carpet");
-  }
+  opt_choice(m, "floor_pattern", r.floor_pattern,
+             {{"tiles", FloorPattern::kTiles},
+              {"planks", FloorPattern::kPlanks},
+              {"carpet", FloorPattern::kCarpet}});
   m.finish();
 }
 
@@ -145,17 +158,11 @@ void read_ball(MapReader& top, Scenario& s, Err& err) {
   m.opt("radius_m", b.radius_m);
   m.opt("color_a", b.color_a);
   m.opt("color_b", b.color_b);
-  std::string pattern = "football";
-  m.opt("pattern", pattern);
-  if (pattern == "solid") {
-    b.pattern = BallPattern::kSolid;
-  } else if (pattern == "panels") {
-    b.pattern = BallPattern::kPanels;
-  } else if (pattern == "stripes") {
-    b.pattern = BallPattern::kStripes;
-  } else if (pattern != "football") {
-    m.fail_key(m.key("pattern"), "expected football, solid, panels or stripes");
-  }
+  opt_choice(m, "pattern", b.pattern,
+             {{"football", BallPattern::kFootball},
+              {"solid", BallPattern::kSolid},
+              {"panels", BallPattern::kPanels},
+              {"stripes", BallPattern::kStripes}});
   m.finish();
   s.ball = b;
 }
