@@ -3,17 +3,23 @@
 #   bash run.sh demo [demo args...]   install what is missing, build, run the whole system
 #                                     on the built-in simulator (stereoball demo)
 #   bash run.sh test                  install what is missing, build, run the test suite (ctest)
-#   bash run.sh build                 install what is missing and build only
+#   bash run.sh build                 install what is missing and build everything (no run)
 # Builds go to build/, programs to build/bin/.
 set -euo pipefail
 cd "$(dirname "$(readlink -f "$0")")"
 
-PACKAGES=(
-  build-essential cmake pkg-config git
+# What the programs are built from (every one is used by the build; V4L2 comes from the
+# kernel headers in linux-libc-dev, idlc from cyclonedds-tools).
+BUILD_PACKAGES=(
+  build-essential cmake pkg-config linux-libc-dev
   cyclonedds-dev cyclonedds-tools
-  libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev libv4l-dev
-  nlohmann-json3-dev zlib1g-dev libjpeg-dev libgtest-dev libgmock-dev
-  iproute2
+  libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev zlib1g-dev libjpeg-dev
+)
+# What only the test suite needs: GoogleTest, JSON for test fixtures, network namespaces
+# (iproute2), Fast DDS + fastddsgen for the interop test, dpkg-dev + file for the package test.
+TEST_PACKAGES=(
+  git libgtest-dev libgmock-dev nlohmann-json3-dev iproute2
+  fastddsgen libfastrtps-dev libfastcdr-dev dpkg-dev file
 )
 
 as_root() {
@@ -23,8 +29,10 @@ as_root() {
 }
 
 install_missing() {
+  local wanted=("${BUILD_PACKAGES[@]}")
+  [ "${1:-}" = test ] && wanted+=("${TEST_PACKAGES[@]}")
   local missing=()
-  for pkg in "${PACKAGES[@]}"; do
+  for pkg in "${wanted[@]}"; do
     dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
   done
   # Node.js runs the independent MCAP validator in the tests; any installed node/npm will do.
@@ -39,29 +47,32 @@ install_missing() {
   fi
 }
 
+# build TESTS TARGET: configure (with or without the test suite) and build TARGET.
 build() {
   local werror=OFF
   [ "${CI:-}" = true ] && werror=ON
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSB_WERROR="$werror" -DSB_ONLY= >/dev/null
-  cmake --build build -j"$(nproc)"
+  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSB_WERROR="$werror" -DSB_ONLY= \
+    -DSB_BUILD_TESTS="$1" >/dev/null
+  echo "run.sh: building $2 on $(nproc) cores into build/ (progress below)"
+  cmake --build build -j"$(nproc)" --target "$2"
 }
 
 case "${1:-}" in
   demo)
     install_missing demo
-    build
+    build OFF demo_programs
     shift
     exec build/bin/stereoball demo "$@"
     ;;
   test)
     install_missing test
-    build
+    build ON all
     cd build
     exec ctest --output-on-failure -j"$(nproc)" --timeout 900
     ;;
   build)
-    install_missing build
-    build
+    install_missing test
+    build ON all
     ;;
   *)
     echo "usage: bash run.sh demo|test|build" >&2

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "common/util/install_layout.hpp"
 #include "simulator/core/simulator.hpp"
 #include "simulator/io/ground_truth_csv.hpp"
 #include "simulator/io/scenario_file.hpp"
@@ -25,8 +26,8 @@ namespace {
 
 struct Options {
   std::string scenario = "ball_still";
-  std::string config = std::string(SB_DEFAULT_CONFIG_DIR) + "/simulator.yaml";
-  std::string scenarios_dir = std::string(SB_DEFAULT_CONFIG_DIR) + "/scenarios";
+  std::string config = stereoball::paths::shipped_config_path("simulator.yaml");
+  std::string scenarios_dir = stereoball::paths::shipped_config_path("scenarios");
   double duration_s = -1.0;
   std::string png_dir;
   std::string drive = "none";
