@@ -49,10 +49,13 @@ install_missing() {
 
 # build TESTS TARGET: configure (with or without the test suite) and build TARGET.
 build() {
-  local werror=OFF
+  local werror=OFF launcher=()
   [ "${CI:-}" = true ] && werror=ON
+  # ccache, where the machine has it, makes rebuilds after a fresh clone cheap (not required).
+  command -v ccache >/dev/null &&
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSB_WERROR="$werror" -DSB_ONLY= \
-    -DSB_BUILD_TESTS="$1" >/dev/null
+    -DSB_BUILD_TESTS="$1" "${launcher[@]}" >/dev/null
   echo "run.sh: building $2 on $(nproc) cores into build/ (progress below)"
   cmake --build build -j"$(nproc)" --target "$2"
 }

@@ -26,7 +26,7 @@
 #include "stereoballPubSubTypes.h"
 
 namespace {
-namespace dds = eprosima::fastdds::dds;
+namespace fdds = eprosima::fastdds::dds;
 namespace fs = std::filesystem;
 namespace msg = stereoball::msg;
 
@@ -72,7 +72,8 @@ msg::EyeImage to_eye(const cv::Mat& bgr, int64_t stamp_ns) {
   e.step_bytes(static_cast<uint32_t>(bgr.cols * 3));
   std::vector<uint8_t> bytes(static_cast<size_t>(bgr.cols) * bgr.rows * 3);
   for (int y = 0; y < bgr.rows; ++y) {
-    std::copy_n(bgr.ptr<uint8_t>(y), bgr.cols * 3, bytes.data() + static_cast<size_t>(y) * bgr.cols * 3);
+    std::copy_n(bgr.ptr<uint8_t>(y), bgr.cols * 3,
+                bytes.data() + static_cast<size_t>(y) * bgr.cols * 3);
   }
   e.data(std::move(bytes));
   return e;
@@ -88,12 +89,12 @@ std::vector<fs::path> left_images(const fs::path& dir) {
   return out;
 }
 
-dds::DataWriter* make_writer(dds::DomainParticipant* participant, dds::Publisher* publisher,
-                             dds::TypeSupport type, const std::string& topic_name,
-                             const dds::DataWriterQos& qos) {
+fdds::DataWriter* make_writer(fdds::DomainParticipant* participant, fdds::Publisher* publisher,
+                              fdds::TypeSupport type, const std::string& topic_name,
+                              const fdds::DataWriterQos& qos) {
   type.register_type(participant);
-  dds::Topic* topic =
-      participant->create_topic(topic_name, type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
+  fdds::Topic* topic =
+      participant->create_topic(topic_name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
   return topic ? publisher->create_datawriter(topic, qos) : nullptr;
 }
 
@@ -137,31 +138,31 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  dds::DomainParticipant* participant = stereoball::interop::make_loopback_participant(domain);
+  fdds::DomainParticipant* participant = stereoball::interop::make_loopback_participant(domain);
   if (!participant) return 2;
-  dds::PublisherQos pub_qos = dds::PUBLISHER_QOS_DEFAULT;
+  fdds::PublisherQos pub_qos = fdds::PUBLISHER_QOS_DEFAULT;
   if (!partition.empty()) pub_qos.partition().push_back(partition.c_str());
-  dds::Publisher* publisher = participant->create_publisher(pub_qos);
+  fdds::Publisher* publisher = participant->create_publisher(pub_qos);
 
   // The topic table's QoS (idl/include/stereoball/topics.hpp).
-  dds::DataWriterQos calibration_qos = dds::DATAWRITER_QOS_DEFAULT;
-  calibration_qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
-  calibration_qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
-  calibration_qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+  fdds::DataWriterQos calibration_qos = fdds::DATAWRITER_QOS_DEFAULT;
+  calibration_qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+  calibration_qos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
+  calibration_qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
   calibration_qos.history().depth = 1;
-  dds::DataWriterQos frame_qos = dds::DATAWRITER_QOS_DEFAULT;
-  frame_qos.reliability().kind = dds::BEST_EFFORT_RELIABILITY_QOS;
-  frame_qos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
-  frame_qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+  fdds::DataWriterQos frame_qos = fdds::DATAWRITER_QOS_DEFAULT;
+  frame_qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+  frame_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
+  frame_qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
   frame_qos.history().depth = 1;
   // A raw pair is ~1.8 MB: Fast DDS fragments it only in asynchronous publish mode.
-  frame_qos.publish_mode().kind = dds::ASYNCHRONOUS_PUBLISH_MODE;
+  frame_qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
 
-  dds::DataWriter* calibration_writer =
-      make_writer(participant, publisher, dds::TypeSupport(new msg::StereoCalibrationPubSubType()),
+  fdds::DataWriter* calibration_writer =
+      make_writer(participant, publisher, fdds::TypeSupport(new msg::StereoCalibrationPubSubType()),
                   calibration_topic, calibration_qos);
-  dds::DataWriter* frame_writer =
-      make_writer(participant, publisher, dds::TypeSupport(new msg::StereoFramePubSubType()),
+  fdds::DataWriter* frame_writer =
+      make_writer(participant, publisher, fdds::TypeSupport(new msg::StereoFramePubSubType()),
                   frame_topic, frame_qos);
   if (!calibration_writer || !frame_writer) {
     std::fprintf(stderr, "sb_fastdds_camera: cannot create the writers\n");
@@ -192,6 +193,6 @@ int main(int argc, char** argv) {
     std::this_thread::sleep_for(period);
   }
   participant->delete_contained_entities();
-  dds::DomainParticipantFactory::get_instance()->delete_participant(participant);
+  fdds::DomainParticipantFactory::get_instance()->delete_participant(participant);
   return 0;
 }

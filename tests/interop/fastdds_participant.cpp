@@ -1,18 +1,18 @@
 #include "fastdds_participant.hpp"
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
-#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
 #include <memory>
 
 namespace stereoball::interop {
 
-namespace dds = eprosima::fastdds::dds;
+namespace fdds = eprosima::fastdds::dds;
 
-dds::DomainParticipant* make_loopback_participant(int domain_id) {
-  dds::DomainParticipantQos qos;
+fdds::DomainParticipant* make_loopback_participant(int domain_id) {
+  fdds::DomainParticipantQos qos;
   qos.name("stereoball_interop_fastdds");
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   udp->interfaceWhiteList.emplace_back("127.0.0.1");
@@ -30,7 +30,7 @@ dds::DomainParticipant* make_loopback_participant(int domain_id) {
   eprosima::fastrtps::rtps::IPLocator::setIPv4(peer, 127, 0, 0, 1);
   qos.wire_protocol().builtin.initialPeersList.push_back(peer);
   qos.wire_protocol().builtin.avoid_builtin_multicast = true;
-  return dds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
+  return fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
 }
 
 }  // namespace stereoball::interop

@@ -47,7 +47,8 @@ template <size_t N>
 void expect_array(const nlohmann::json& j, const double (&expected)[N], const char* name) {
   ASSERT_TRUE(j.is_array()) << name;
   ASSERT_EQ(j.size(), N) << name;
-  for (size_t i = 0; i < N; ++i) EXPECT_EQ(j[i].get<double>(), expected[i]) << name << "[" << i << "]";
+  for (size_t i = 0; i < N; ++i)
+    EXPECT_EQ(j[i].get<double>(), expected[i]) << name << "[" << i << "]";
 }
 
 class FastDdsInterop : public ::testing::Test {
@@ -64,11 +65,11 @@ class FastDdsInterop : public ::testing::Test {
 TEST_F(FastDdsInterop, FastDdsSubscriberDecodesEveryFieldOfTrackAndCommand) {
   // Given a Fast DDS listener in this test's domain and partition
   const std::string partition = sb::testing::unique_partition();
-  Process listener = Process::start(
-      {interop_bin("sb_fastdds_listener"), "--domain", std::to_string(domain_), "--partition",
-       partition, "--timeout-s", "60", "--track-topic",
-       std::string(sb::topics::kBallTrack.spec.name), "--command-topic",
-       std::string(sb::topics::kVelocityCommand.spec.name)});
+  Process listener =
+      Process::start({interop_bin("sb_fastdds_listener"), "--domain", std::to_string(domain_),
+                      "--partition", partition, "--timeout-s", "60", "--track-topic",
+                      std::string(sb::topics::kBallTrack.spec.name), "--command-topic",
+                      std::string(sb::topics::kVelocityCommand.spec.name)});
   ASSERT_TRUE(listener.wait_for_output("ready", 30s)) << listener.output();
 
   // When StereoBall's DDS layer publishes fully populated samples (every field non-zero)
@@ -118,12 +119,13 @@ TEST_F(FastDdsInterop, FastDdsSubscriberDecodesEveryFieldOfTrackAndCommand) {
   EXPECT_EQ(c["source"].get<std::string>(), command.source);
 }
 
-TEST_F(FastDdsInterop, FastDdsSubscriberReceivesTheMotionControllersCommands) {
+TEST_F(FastDdsInterop, FastDdsSubscriberReceivesTheMotionControllersCommandsAndHeartbeat) {
   // Given the real motion_controller process (no tracks: it commands standing still)
   const std::string partition = sb::testing::unique_partition();
-  Process listener = Process::start({interop_bin("sb_fastdds_listener"), "--domain",
-                                     std::to_string(domain_), "--partition", partition,
-                                     "--count", "3", "--timeout-s", "60"});
+  Process listener = Process::start(
+      {interop_bin("sb_fastdds_listener"), "--domain", std::to_string(domain_), "--partition",
+       partition, "--count", "3", "--status-count", "1", "--timeout-s", "60", "--status-topic",
+       std::string(sb::topics::kComponentStatus.spec.name)});
   ASSERT_TRUE(listener.wait_for_output("ready", 30s)) << listener.output();
   Process controller = Process::start({sb::testing::bin("motion_controller"), "--domain",
                                        std::to_string(domain_), "--partition", partition});
@@ -148,6 +150,15 @@ TEST_F(FastDdsInterop, FastDdsSubscriberReceivesTheMotionControllersCommands) {
   }
   EXPECT_LT(got.front()["seq"].get<uint64_t>(), got.back()["seq"].get<uint64_t>())
       << "sequence numbers increase";
+  // The heartbeat's `component` (an IDL keyword, escaped in the IDL) keeps its name and value.
+  const auto statuses = samples_of(listener.output(), "health/status");
+  ASSERT_FALSE(statuses.empty());
+  bool from_controller = false;
+  for (const auto& s : statuses) {
+    from_controller |= s["component"].get<std::string>() == "motion_controller" &&
+                       s["pid"].get<int>() == controller.pid();
+  }
+  EXPECT_TRUE(from_controller) << listener.output();
 }
 
 // Ball centre in the camera frame from stereoball-sim's ground_truth.csv (first row).

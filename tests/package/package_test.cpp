@@ -22,10 +22,10 @@ class Package : public ::testing::Test {
   static void SetUpTestSuite() {
     if (!SB_PACKAGE_TOOLS) return;
     out_dir_ = new std::string(sb::testing::temp_dir());
-    const auto [code, output] = sb::testing::run(
-        {SB_CPACK, "--config", std::string(SB_BUILD_DIR) + "/CPackConfig.cmake", "-G", "DEB",
-         "-B", *out_dir_},
-        480s);
+    const auto [code, output] =
+        sb::testing::run({SB_CPACK, "--config", std::string(SB_BUILD_DIR) + "/CPackConfig.cmake",
+                          "-G", "DEB", "-B", *out_dir_},
+                         480s);
     cpack_output_ = new std::string(output);
     deb_ = new std::string(*out_dir_ + "/stereoball_" SB_PROJECT_VERSION "_amd64.deb");
     root_ = new std::string(*out_dir_ + "/root");
@@ -50,8 +50,9 @@ class Package : public ::testing::Test {
   // and Cyclone configuration (set by ctest) are removed from its environment.
   static std::vector<std::string> clean_env(std::vector<std::string> argv,
                                             const std::vector<std::string>& keep = {}) {
-    std::vector<std::string> cmd{"env", "-u", "CYCLONEDDS_URI", "-u", "STEREOBALL_CONFIG_DIR",
-                                 "-u", "SB_SOURCE_DIR", "-u", "SB_BIN_DIR"};
+    std::vector<std::string> cmd{
+        "env",           "-u", "CYCLONEDDS_URI", "-u", "STEREOBALL_CONFIG_DIR", "-u",
+        "SB_SOURCE_DIR", "-u", "SB_BIN_DIR"};
     cmd.insert(cmd.end(), keep.begin(), keep.end());
     cmd.insert(cmd.end(), argv.begin(), argv.end());
     return cmd;
@@ -106,18 +107,18 @@ TEST_F(Package, DemoRunsFromTheUnpackedFilesOnly) {
   const std::string report = sb::testing::temp_dir();
   // When the demo runs a short scenario
   const auto [code, output] = sb::testing::run(
-      clean_env({root("usr/bin/stereoball"), "demo", "--scenario", "ball_still", "--duration",
-                 "4", "--out", report, "--domain", std::to_string(sb::testing::test_domain())}),
+      clean_env({root("usr/bin/stereoball"), "demo", "--scenario", "ball_still", "--duration", "4",
+                 "--out", report, "--domain", std::to_string(sb::testing::test_domain())}),
       240s);
   // Then it completes, with every node reading the installed parameters
   ASSERT_EQ(code, 0) << output;
   std::ifstream log(report + "/stereoball.log");
   const std::string node_log((std::istreambuf_iterator<char>(log)), {});
-  for (const char* file : {"simulator.yaml", "ball_detector.yaml", "tracker.yaml",
-                           "motion_controller.yaml"}) {
-    const std::string used =
-        "parameters from " + fs::weakly_canonical(root("usr/share/stereoball/config")).string() +
-        "/" + file + " (installed files)";
+  for (const char* file :
+       {"simulator.yaml", "ball_detector.yaml", "tracker.yaml", "motion_controller.yaml"}) {
+    const std::string used = "parameters from " +
+                             fs::weakly_canonical(root("usr/share/stereoball/config")).string() +
+                             "/" + file + " (installed files)";
     EXPECT_NE(node_log.find(used), std::string::npos) << used << "\n" << node_log;
   }
   EXPECT_EQ(node_log.find(SB_SOURCE_DIR), std::string::npos) << "a source path leaked:\n"
@@ -138,12 +139,10 @@ TEST_F(Package, ConfigSearchOrderOfAnInstalledNode) {
       << env_out;
   EXPECT_NE(env_out.find("no_such_key"), std::string::npos) << env_out;
   // An explicit --config that does not exist: named, and nothing else is tried
-  auto [missing_code, missing_out] =
-      sb::testing::run(clean_env({tracker, "--domain", domain, "--config", "/nonexistent.yaml"}),
-                       30s);
+  auto [missing_code, missing_out] = sb::testing::run(
+      clean_env({tracker, "--domain", domain, "--config", "/nonexistent.yaml"}), 30s);
   EXPECT_NE(missing_code, 0);
-  EXPECT_NE(missing_out.find("/nonexistent.yaml: no such file"), std::string::npos)
-      << missing_out;
+  EXPECT_NE(missing_out.find("/nonexistent.yaml: no such file"), std::string::npos) << missing_out;
   // A folder where the file should be (unreadable as a file): an error, not a fallback
   const std::string bad_dir = sb::testing::temp_dir();
   fs::create_directories(bad_dir + "/tracker.yaml");

@@ -33,7 +33,8 @@ void add_common_flags(CLI::App& app, CommonOptions& options, const std::string& 
       if (!found) throw CLI::ValidationError("--config", found.error());
       options.config_path = found->path.string();
       options.config_origin = found->origin;
-      std::fprintf(stderr, "%s: parameters from %s (%s)\n", std::filesystem::path(app.get_name()).filename().c_str(),
+      std::fprintf(stderr, "%s: parameters from %s (%s)\n",
+                   std::filesystem::path(app.get_name()).filename().c_str(),
                    options.config_path.c_str(), options.config_origin.c_str());
     });
   }

@@ -8,10 +8,10 @@
 namespace stereoball::node {
 
 struct CommonOptions {
-  std::string config_path;  ///< the component's YAML parameters (after the search)
+  std::string config_path;    ///< the component's YAML parameters (after the search)
   std::string config_origin;  ///< which rule of the search order found it (install_layout.hpp)
-  int domain_id = 0;        ///< DDS domain (default: $STEREOBALL_DOMAIN or 0)
-  std::string partition;    ///< DDS partition ("" = default)
+  int domain_id = 0;          ///< DDS domain (default: $STEREOBALL_DOMAIN or 0)
+  std::string partition;      ///< DDS partition ("" = default)
   std::string log_level = "info";
 };
 

@@ -70,14 +70,15 @@ std::vector<Candidate> candidates(std::string_view name, const SearchRoots& root
 
 }  // namespace
 
-SearchRoots roots_for_executable(const fs::path& exe_path, const std::vector<fs::path>& build_bin_dirs,
+SearchRoots roots_for_executable(const fs::path& exe_path,
+                                 const std::vector<fs::path>& build_bin_dirs,
                                  const std::optional<fs::path>& source_dir) {
   SearchRoots roots;
   roots.etc_dir = fs::path(kEtcDir);
   const fs::path exe_dir = exe_path.parent_path();
   std::error_code ec;
-  for (const fs::path& up : {exe_dir / ".." / "share" / "stereoball",
-                             exe_dir / ".." / ".." / "share" / "stereoball"}) {
+  for (const fs::path& up :
+       {exe_dir / ".." / "share" / "stereoball", exe_dir / ".." / ".." / "share" / "stereoball"}) {
     if (fs::is_directory(up / "config", ec)) {
       roots.share_dir = fs::weakly_canonical(up, ec);
       break;
@@ -101,9 +102,9 @@ SearchRoots default_roots() {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   const std::string source = SB_BUILD_SOURCE_DIR;
-  SearchRoots roots = roots_for_executable(
-      ec ? fs::path("./unknown") : exe, split_dirs(SB_BUILD_BIN_DIRS),
-      source.empty() ? std::nullopt : std::optional<fs::path>(source));
+  SearchRoots roots =
+      roots_for_executable(ec ? fs::path("./unknown") : exe, split_dirs(SB_BUILD_BIN_DIRS),
+                           source.empty() ? std::nullopt : std::optional<fs::path>(source));
   if (const char* dir = std::getenv("STEREOBALL_CONFIG_DIR"); dir && *dir) {
     roots.env_config_dir = fs::path(dir);
   }
