@@ -14,11 +14,14 @@ BUILD_PACKAGES=(
   build-essential cmake pkg-config linux-libc-dev
   cyclonedds-dev cyclonedds-tools
   libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev zlib1g-dev libjpeg-dev
+  # Small, header-only at configure time: the test targets are declared in every build,
+  # even when only the demo's programs are compiled.
+  libgtest-dev libgmock-dev nlohmann-json3-dev
 )
-# What only the test suite needs: GoogleTest, JSON for test fixtures, network namespaces
-# (iproute2), Fast DDS + fastddsgen for the interop test, dpkg-dev + file for the package test.
+# What only running the test suite needs: network namespaces (iproute2), Fast DDS + fastddsgen
+# for the interop test, dpkg-dev + file for the package test.
 TEST_PACKAGES=(
-  git libgtest-dev libgmock-dev nlohmann-json3-dev iproute2
+  iproute2
   fastddsgen libfastrtps-dev libfastcdr-dev dpkg-dev file
 )
 
@@ -47,7 +50,7 @@ install_missing() {
   fi
 }
 
-# build TESTS TARGET: configure (with or without the test suite) and build TARGET.
+# build TARGET: configure and build TARGET (all, or demo_programs for the demo alone).
 build() {
   local werror=OFF launcher=()
   [ "${CI:-}" = true ] && werror=ON
@@ -55,27 +58,27 @@ build() {
   command -v ccache >/dev/null &&
     launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSB_WERROR="$werror" -DSB_ONLY= \
-    -DSB_BUILD_TESTS="$1" "${launcher[@]}" >/dev/null
-  echo "run.sh: building $2 on $(nproc) cores into build/ (progress below)"
-  cmake --build build -j"$(nproc)" --target "$2"
+    "${launcher[@]}" >/dev/null
+  echo "run.sh: building $1 on $(nproc) cores into build/ (progress below)"
+  cmake --build build -j"$(nproc)" --target "$1"
 }
 
 case "${1:-}" in
   demo)
     install_missing demo
-    build OFF demo_programs
+    build demo_programs
     shift
     exec build/bin/stereoball demo "$@"
     ;;
   test)
     install_missing test
-    build ON all
+    build all
     cd build
     exec ctest --output-on-failure -j"$(nproc)" --timeout 900
     ;;
   build)
     install_missing test
-    build ON all
+    build all
     ;;
   *)
     echo "usage: bash run.sh demo|test|build" >&2
