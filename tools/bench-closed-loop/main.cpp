@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/util/install_layout.hpp"
 #include "closed_loop_run.hpp"
 #include "loop_cli.hpp"
 #include "report.hpp"
@@ -40,7 +41,7 @@ int fail(const std::string& message) {
 }
 
 void add_options(CLI::App& app, Options& o) {
-  o.loop.config_dir = SB_DEFAULT_CONFIG_DIR;
+  o.loop.config_dir = stereoball::paths::shipped_config_dir();
   sl::add_loop_options(app, o.loop);
   app.add_option("--seeds", o.seeds, "runs per scenario; run i uses the scenario's seed + i")
       ->check(CLI::Range(1, 100))

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "common/util/install_layout.hpp"
 #include "loop_cli.hpp"
 #include "loop_config.hpp"
 #include "scene_report.hpp"
@@ -187,7 +188,7 @@ int main(int argc, char** argv) {
       "with no ball, track acceptance and 3D error with the ball visible, detector time.\n"
       "No DDS; figures only, no pass/fail."};
   Options o;
-  o.loop.config_dir = SB_DEFAULT_CONFIG_DIR;
+  o.loop.config_dir = stereoball::paths::shipped_config_dir();
   sl::add_loop_options(app, o.loop);
   app.add_option("--drive", o.drive,
                  "who drives the robot: script (the scenario's commands) or controller (the "

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "common/util/install_layout.hpp"
 #include "simulator/core/randomize.hpp"
 #include "simulator/core/simulator.hpp"
 #include "simulator/io/ground_truth_csv.hpp"
@@ -27,8 +28,8 @@ namespace {
 
 struct Options {
   std::string scenario = "ball_still";
-  std::string config = std::string(SB_DEFAULT_CONFIG_DIR) + "/simulator.yaml";
-  std::string scenarios_dir = std::string(SB_DEFAULT_CONFIG_DIR) + "/scenarios";
+  std::string config = stereoball::paths::shipped_config_path("simulator.yaml");
+  std::string scenarios_dir = stereoball::paths::shipped_config_path("scenarios");
   double duration_s = -1.0;
   std::string png_dir;
   std::string drive = "none";
@@ -36,7 +37,7 @@ struct Options {
   std::optional<int> width_px, height_px;
   int randomize = 0;
   std::uint64_t seed = 1;
-  std::string ranges = std::string(SB_DEFAULT_CONFIG_DIR) + "/randomize.yaml";
+  std::string ranges = stereoball::paths::shipped_config_path("randomize.yaml");
 };
 
 // Simple pursuit on the ground truth: turn toward the ball, keep about 1 m from it.
