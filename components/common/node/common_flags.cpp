@@ -22,7 +22,7 @@ void add_common_flags(CLI::App& app, CommonOptions& options, const std::string& 
                        " from $STEREOBALL_CONFIG_DIR, /etc/stereoball, the installed files or "
                        "the source tree, first found");
     // Resolved once the command line is parsed, so --help works without any file.
-    app.parse_complete_callback([&app, &options, config_name] {
+    app.parse_complete_callback([&options, config_name] {
       // An absolute default (test programs) is used as given, like --config.
       if (options.config_path.empty() && std::filesystem::path(config_name).is_absolute()) {
         options.config_path = config_name;
@@ -33,9 +33,6 @@ void add_common_flags(CLI::App& app, CommonOptions& options, const std::string& 
       if (!found) throw CLI::ValidationError("--config", found.error());
       options.config_path = found->path.string();
       options.config_origin = found->origin;
-      std::fprintf(stderr, "%s: parameters from %s (%s)\n",
-                   std::filesystem::path(app.get_name()).filename().c_str(),
-                   options.config_path.c_str(), options.config_origin.c_str());
     });
   }
   app.add_option("--domain", options.domain_id, "DDS domain id (default: $STEREOBALL_DOMAIN or 0)")

@@ -17,8 +17,9 @@ struct CommonOptions {
 
 /// Adds the shared flags to app; with_config=false for tools that have no params file.
 /// config_name ("tracker.yaml") is searched (common/util/install_layout.hpp) unless --config
-/// names a file; after parsing, config_path holds the file and a line on stderr says which
-/// file was used; a missing or unreadable file is a parse error that lists what was tried.
+/// names a file; after parsing, config_path holds the file and config_origin the rule that
+/// found it (node::Runner logs both); a missing or unreadable file is a parse error that lists
+/// what was tried.
 void add_common_flags(CLI::App& app, CommonOptions& options, const std::string& config_name,
                       bool with_config = true);
 

@@ -46,6 +46,10 @@ Runner::Runner(std::string component, const CommonOptions& options)
   log::Level level = log::Level::kInfo;
   log::parse_level(options.log_level, level);
   log::init(component_, level);
+  // Said once the parameters loaded, so a bad file is still reported in one line.
+  if (!options.config_path.empty()) {
+    log::info("parameters from ", options.config_path, " (", options.config_origin, ")");
+  }
   participant_ = std::make_unique<dds::DomainParticipant>(
       dds::ParticipantOptions{options.domain_id, options.partition});
   waitset_ = std::make_unique<dds::WaitSet>(*participant_);
