@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
       "ball/track (stale_timeout_ns) and a latched emergency stop. Tracks with a zero, future\n"
       "or backwards capture stamp are logged and never acted on."};
   sb::node::CommonOptions common;
-  sb::node::add_common_flags(app, common, sb::node::default_config_path("motion_controller.yaml"));
+  sb::node::add_common_flags(app, common, "motion_controller.yaml");
   CLI11_PARSE(app, argc, argv);
 
   auto params = sb::motion_controller::load_controller_params(common.config_path);
