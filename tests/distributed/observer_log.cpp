@@ -27,7 +27,8 @@ ObserverLog parse_observer_log(const std::string& text) {
       }
       case 'D': {
         DetectionRx d{};
-        if (in >> d.rx_ns >> d.capture_ns >> d.publish_ns >> d.frame_seq >> d.status) {
+        if (in >> d.rx_ns >> d.capture_ns >> d.publish_ns >> d.frame_seq >> d.status >>
+            d.processing_ms) {
           log.detections.push_back(d);
         }
         break;
@@ -42,7 +43,8 @@ ObserverLog parse_observer_log(const std::string& text) {
       }
       case 'C': {
         CommandRx c{};
-        if (in >> c.rx_ns >> c.stamp_ns >> c.seq >> c.linear_mps >> c.angular_radps) {
+        if (in >> c.rx_ns >> c.stamp_ns >> c.seq >> c.linear_mps >> c.angular_radps >>
+            c.capture_ns) {
           log.commands.push_back(c);
         }
         break;

@@ -3,9 +3,9 @@
 // their parser, shared by the two-host test and the distributed benchmark.
 //   F rx_ns stamp_ns seq bytes encoding                     stereo/frame
 //   G rx_ns stamp_ns frame_seq robot_x robot_y robot_yaw linear angular ball_x ball_y
-//   D rx_ns capture_ns publish_ns frame_seq status          ball/detection
+//   D rx_ns capture_ns publish_ns frame_seq status processing_ms   ball/detection
 //   T rx_ns capture_ns publish_ns frame_seq state distance_m bearing_rad    ball/track
-//   C rx_ns stamp_ns seq linear_mps angular_radps           cmd/velocity
+//   C rx_ns stamp_ns seq linear_mps angular_radps capture_ns   cmd/velocity
 // Times are CLOCK_REALTIME ns since epoch; the namespaces share the clock.
 
 #include <cstdint>
@@ -31,6 +31,7 @@ struct DetectionRx {
   int64_t rx_ns, capture_ns, publish_ns;
   uint64_t frame_seq;
   int status;
+  double processing_ms;  ///< detector time from taking the frame to publishing, ms
 };
 /// One received ball/track (state: 0 idle, 1 following, 2 searching).
 struct TrackRx {
@@ -44,6 +45,7 @@ struct CommandRx {
   int64_t rx_ns, stamp_ns;
   uint64_t seq;
   double linear_mps, angular_radps;
+  int64_t capture_ns;  ///< capture stamp of the track it answers (0: timer or stop command)
 };
 
 /// Everything an observer printed so far (malformed or partial lines are skipped).

@@ -73,9 +73,9 @@ struct Observer {
   }
   void on_detections() {
     for (auto& s : detections->take(64)) {
-      std::printf("D %lld %lld %lld %llu %d\n", (long long)sb::node::now_ns(),
+      std::printf("D %lld %lld %lld %llu %d %.4f\n", (long long)sb::node::now_ns(),
                   (long long)s->capture_stamp_ns, (long long)s->publish_stamp_ns,
-                  (unsigned long long)s->frame_seq, (int)s->status);
+                  (unsigned long long)s->frame_seq, (int)s->status, s->processing_ms);
     }
   }
   void on_tracks() {
@@ -87,9 +87,9 @@ struct Observer {
   }
   void on_commands() {
     for (auto& s : commands->take(64)) {
-      std::printf("C %lld %lld %llu %.4f %.4f\n", (long long)sb::node::now_ns(),
+      std::printf("C %lld %lld %llu %.4f %.4f %lld\n", (long long)sb::node::now_ns(),
                   (long long)s->stamp_ns, (unsigned long long)s->seq, s->linear_mps,
-                  s->angular_radps);
+                  s->angular_radps, (long long)s->capture_stamp_ns);
     }
   }
 

@@ -11,6 +11,16 @@ namespace {
 namespace bd = ball_detector;
 namespace mc = motion_controller;
 
+// The controller's clock is simulated time moved on by 1 s: the first frame is exposed at
+// simulated time 0, and a capture stamp of 0 means "never set" to the controller.
+constexpr std::int64_t kControllerClockOffsetNs = 1'000'000'000;
+
+mc::TrackSample on_controller_clock(mc::TrackSample s) {
+  s.capture_stamp_ns += kControllerClockOffsetNs;
+  s.last_accepted_stamp_ns += kControllerClockOffsetNs;
+  return s;
+}
+
 tracker::Detection to_tracker(const bd::StereoDetection& d, int width_px) {
   tracker::Detection t;
   t.found = d.status == bd::DetectionStatus::kFound;
@@ -61,6 +71,9 @@ Result<std::unique_ptr<SimLoop>> SimLoop::create(const LoopConfig& config) {
     return Error{"controller rate " + std::to_string(config.controller_rate_hz) +
                  " Hz is out of range [1, 1000]"};
   if (!(config.seconds > 0.0)) return Error{"run length must be positive seconds"};
+  if (config.control_latency_ns < 0 || config.control_latency_ns > 1'000'000'000)
+    return Error{"control latency " + std::to_string(config.control_latency_ns) +
+                 " ns is out of range [0, 1 s]"};
   std::unique_ptr<SimLoop> loop(new SimLoop(config));
   if (auto e = loop->pipeline_.set_calibration(loop->sim_.calibration()))
     return Error{"calibration of the simulated rig: " + *e};
@@ -83,18 +96,32 @@ std::optional<simulator::VelocityCommand> SimLoop::scripted_command(std::int64_t
   return simulator::VelocityCommand{c->linear_mps, c->angular_radps, t_ns};
 }
 
-void SimLoop::run_controller_ticks(std::int64_t until_ns) {
-  // A tick at the frame's own time does not see that frame yet: processing takes time.
-  while (next_tick_ns_ <= until_ns) {
-    const std::int64_t tick = next_tick_ns_;
-    const mc::Command c = controller_.step(tick);
-    // Move the world to the tick first, so the command acts from the tick time on.
-    sim_.advance(std::nullopt, tick);
-    sim_.advance(simulator::VelocityCommand{c.linear_mps, c.angular_radps, tick}, tick);
-    last_command_ = c;
-    last_command_ns_ = tick;
-    next_tick_ns_ += tick_period_ns_;
+void SimLoop::run_controller_until(std::int64_t until_ns) {
+  // A command at the frame's own time does not see that frame yet: processing takes time.
+  while (true) {
+    const std::int64_t minimum_rate_ns =
+        last_command_ns_ < 0 ? 0 : last_command_ns_ + tick_period_ns_;
+    const bool track_first =
+        !pending_tracks_.empty() && pending_tracks_.front().arrival_ns <= minimum_rate_ns;
+    if (track_first && pending_tracks_.front().arrival_ns <= until_ns) {
+      const PendingTrack p = pending_tracks_.front();
+      pending_tracks_.pop_front();
+      const auto response = controller_.on_track(p.sample, p.arrival_ns + kControllerClockOffsetNs);
+      if (response.command) apply(*response.command, p.arrival_ns);
+    } else if (!track_first && minimum_rate_ns <= until_ns) {
+      apply(controller_.step(minimum_rate_ns + kControllerClockOffsetNs), minimum_rate_ns);
+    } else {
+      return;
+    }
   }
+}
+
+void SimLoop::apply(const mc::Command& c, std::int64_t at_ns) {
+  // Move the world to the command's time first, so the command acts from then on.
+  sim_.advance(std::nullopt, at_ns);
+  sim_.advance(simulator::VelocityCommand{c.linear_mps, c.angular_radps, at_ns}, at_ns);
+  last_command_ = c;
+  last_command_ns_ = at_ns;
 }
 
 LoopFrame SimLoop::step() {
@@ -103,7 +130,7 @@ LoopFrame SimLoop::step() {
   if (config_.drive == Drive::kScript) {
     command = scripted_command(t_ns);
   } else {
-    run_controller_ticks(t_ns);
+    run_controller_until(t_ns);
   }
   const simulator::SimFrame f = sim_.step(command, t_ns);
   LoopFrame out;
@@ -121,7 +148,8 @@ LoopFrame SimLoop::step() {
   out.track = tracker_.step(to_tracker(out.detection, f.left.cols), f.sim_time_ns);
   last_track_ = to_tracked_ball(out.track, f.sim_time_ns);
   if (config_.drive == Drive::kController) {
-    controller_.on_track(to_controller(out.track, f.sim_time_ns), f.sim_time_ns);
+    pending_tracks_.push_back({on_controller_clock(to_controller(out.track, f.sim_time_ns)),
+                               f.sim_time_ns + config_.control_latency_ns});
   }
   out.truth = f.truth;
   out.left_raw = f.left;

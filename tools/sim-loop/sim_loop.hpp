@@ -3,11 +3,13 @@
 // frames, the ball detector pipeline (rectification included) detects, the tracker core
 // decides (its track fed back to the detector as a position prior for the next frame, as the
 // ball_detector node does with ball/track), and either the scenario's script or the motion
-// controller core (at its own rate, its commands applied to the simulated base at the tick
-// times) drives the robot.
+// controller core drives the robot: event-driven as the node, each track answered when it
+// reaches the controller (control_latency_ns after its frame), and at least
+// controller_rate_hz without tracks; every command acts on the simulated base from its time on.
 // No DDS, no wall clock in the loop (only the detector timing figures read clocks).
 
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 
@@ -36,9 +38,12 @@ struct LoopConfig {
   ball_detector::BallDetectorParams detector;
   tracker::TrackerParams tracker;
   motion_controller::MotionControllerParams controller;
-  double controller_rate_hz = 20.0;  ///< motion controller ticks per simulated second, Hz
-  Drive drive = Drive::kScript;      ///< scenario script, or the motion controller core
-  double seconds = 10.0;             ///< simulated seconds to run
+  double controller_rate_hz = 20.0;  ///< minimum motion controller command rate, Hz
+  /// Time from a frame's exposure to its track reaching the controller (detection, tracking,
+  /// transport), simulated ns: the one-host p50 of `stereoball bench latency` rounded up.
+  std::int64_t control_latency_ns = 10'000'000;
+  Drive drive = Drive::kScript;  ///< scenario script, or the motion controller core
+  double seconds = 10.0;         ///< simulated seconds to run
 };
 
 /// What happened at one camera frame.
@@ -47,9 +52,9 @@ struct LoopFrame {
   simulator::Vec3d ball_velocity_mps;        ///< true ball velocity, world frame, m/s
   ball_detector::StereoDetection detection;  ///< the detector pipeline's output
   tracker::Track track;                      ///< the tracker's output for this detection
-  /// Latest controller command before this frame (Drive::kController, after the first tick).
+  /// Latest controller command before this frame (Drive::kController, after the first one).
   std::optional<motion_controller::Command> command;
-  std::int64_t command_stamp_ns = -1;  ///< tick time of command, simulated ns (-1 if none)
+  std::int64_t command_stamp_ns = -1;  ///< issue time of command, simulated ns (-1 if none)
   double detector_cpu_ms = 0.0;        ///< detector thread CPU time for this stereo frame, ms
   double detector_wall_ms = 0.0;       ///< detector wall time for this stereo frame, ms
   cv::Mat left_raw, right_raw;  ///< the rendered frames (shared, not copied: valid until next step)
@@ -65,12 +70,17 @@ class SimLoop {
   std::int64_t frame_count() const { return frame_count_; }
   /// Frames stepped so far.
   std::int64_t frames_done() const { return next_frame_; }
-  /// Runs the controller ticks due up to the next frame, renders and processes that frame.
+  /// Issues the controller commands due up to the next frame, renders and processes that frame.
   LoopFrame step();
 
  private:
+  struct PendingTrack {
+    motion_controller::TrackSample sample;
+    std::int64_t arrival_ns = 0;  // when it reaches the controller, simulated ns
+  };
   explicit SimLoop(const LoopConfig& config);
-  void run_controller_ticks(std::int64_t until_ns);
+  void run_controller_until(std::int64_t until_ns);
+  void apply(const motion_controller::Command& c, std::int64_t at_ns);
   std::optional<simulator::VelocityCommand> scripted_command(std::int64_t t_ns) const;
 
   LoopConfig config_;
@@ -82,7 +92,7 @@ class SimLoop {
   std::int64_t tick_period_ns_ = 0;
   std::int64_t frame_count_ = 0;
   std::int64_t next_frame_ = 0;
-  std::int64_t next_tick_ns_ = 0;
+  std::deque<PendingTrack> pending_tracks_;  // in arrival order
   std::optional<motion_controller::Command> last_command_;
   std::int64_t last_command_ns_ = -1;
   std::optional<ball_detector::TrackedBall> last_track_;  // fed back as the detector's prior

@@ -1,4 +1,5 @@
-// Tests of the offline closed loop: controller ticks at its own rate, who drives the robot,
+// Tests of the offline closed loop: event-driven controller after the control latency, its
+// minimum rate, who drives the robot,
 // configuration errors, and the nearest-rank percentile.
 
 #include <gtest/gtest.h>
@@ -26,21 +27,41 @@ LoopConfig config_for(const std::string& scenario, Drive drive, double seconds) 
   return config;
 }
 
-TEST(SimLoop, GivenControllerDrive_ThenCommandsComeFromTicksAtTheControllerRate) {
-  // Given the controller at 20 Hz and the camera at 30 Hz on one simulated second
+TEST(SimLoop, GivenControllerDrive_ThenEachTrackIsAnsweredAfterTheControlLatency) {
+  // Given the camera at 30 Hz, a 20 Hz minimum rate and 12 ms from exposure to controller
   LoopConfig config = config_for("no_ball", Drive::kController, 1.0);
   config.controller_rate_hz = 20.0;
+  config.control_latency_ns = 12'000'000;
   auto run = run_all(config);
   ASSERT_TRUE(run.ok()) << run.error();
   ASSERT_EQ(run->frames.size(), 30u);
-  // Then every frame carries the latest tick before (or at) its time: a multiple of 50 ms,
-  // less than 50 ms old
+  // Then from the second frame on, the command in force is the answer to the previous frame's
+  // track: issued 12 ms after that frame's exposure (tracks every 33 ms leave the minimum-rate
+  // timer nothing to do)
+  for (std::size_t i = 1; i < run->frames.size(); ++i) {
+    const auto& f = run->frames[i];
+    ASSERT_TRUE(f.command.has_value()) << i;
+    const auto previous_ns =
+        static_cast<std::int64_t>(std::llround(run->frames[i - 1].truth.sim_time_s * 1e9));
+    EXPECT_EQ(f.command_stamp_ns, previous_ns + 12'000'000) << i;
+  }
+}
+
+TEST(SimLoop, GivenControllerDriveAndNoTracksYet_ThenTheMinimumRateCommandsFirst) {
+  // Given a latency longer than a frame period and a fast minimum rate (100 Hz)
+  LoopConfig config = config_for("no_ball", Drive::kController, 0.2);
+  config.controller_rate_hz = 100.0;
+  config.control_latency_ns = 40'000'000;
+  auto run = run_all(config);
+  ASSERT_TRUE(run.ok()) << run.error();
+  // Then before the first track arrives (40 ms) commands come every 10 ms from time 0, and no
+  // command is ever more than 10 ms older than the frame
   for (const auto& f : run->frames) {
     ASSERT_TRUE(f.command.has_value());
     const auto frame_ns = static_cast<std::int64_t>(std::llround(f.truth.sim_time_s * 1e9));
-    EXPECT_EQ(f.command_stamp_ns % 50'000'000, 0) << f.command_stamp_ns;
     EXPECT_LE(f.command_stamp_ns, frame_ns);
-    EXPECT_GT(f.command_stamp_ns, frame_ns - 50'000'000);
+    EXPECT_GT(f.command_stamp_ns, frame_ns - 10'000'001) << frame_ns;
+    if (frame_ns < 40'000'000) EXPECT_EQ(f.command_stamp_ns % 10'000'000, 0) << frame_ns;
   }
 }
 

@@ -14,6 +14,7 @@
 #include "common/dds/qos.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/serialized.hpp"
+#include "common/dds/shared_memory.hpp"
 #include "common/dds/topic.hpp"
 #include "common/dds/waitset.hpp"
 #include "common/dds/writer.hpp"
@@ -106,6 +107,8 @@ DomainParticipant::DomainParticipant(const ParticipantOptions& options) : option
     throw Error("domain id " + std::to_string(options.domain_id) + " (allowed 0..232)",
                 DDS_RETCODE_BAD_PARAMETER);
   }
+  // Before Cyclone reads its configuration: never wait for a RouDi daemon that is not there.
+  ensure_shared_memory_usable();
   participant_ = Entity(check(
       dds_create_participant(static_cast<dds_domainid_t>(options.domain_id), nullptr, nullptr),
       "dds_create_participant"));

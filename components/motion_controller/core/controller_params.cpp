@@ -47,6 +47,8 @@ std::optional<std::string> MotionControllerParams::validate() const {
            check_range<std::int64_t>("max_step_ns", max_step_ns, 1'000'000, 10'000'000'000, " ns"),
            check_range<std::int64_t>("track_velocity_window_ns", track_velocity_window_ns, 0,
                                      10'000'000'000, " ns"),
+           check_range<std::int64_t>("future_stamp_tolerance_ns", future_stamp_tolerance_ns, 0,
+                                     10'000'000'000, " ns"),
        }) {
     if (r) return r;
   }

@@ -60,6 +60,9 @@ struct MotionControllerParams {
   /// range rates average the robot's own motion over this span before the last accepted
   /// position, so that same average (not the present velocity) is removed from them.
   std::int64_t track_velocity_window_ns = 500'000'000;
+  /// A track's capture stamp may lead the receiver's clock by this much (clock offset between
+  /// hosts); a later stamp is rejected as lying in the future, ns.
+  std::int64_t future_stamp_tolerance_ns = 100'000'000;
 
   /// Empty when valid; otherwise names the bad field and its allowed range.
   std::optional<std::string> validate() const;

@@ -19,7 +19,32 @@ MotionController::MotionController(const MotionControllerParams& params)
       angular_({params.max_angular_radps, -params.max_angular_radps,
                 params.max_angular_accel_radps2, params.max_angular_jerk_radps3}) {}
 
-void MotionController::on_track(const TrackSample& sample, std::int64_t now_ns) {
+StampCheck MotionController::check_stamp(std::int64_t capture_stamp_ns, std::int64_t now_ns) const {
+  if (capture_stamp_ns <= 0) return StampCheck::kZero;
+  if (capture_stamp_ns > now_ns + params_.future_stamp_tolerance_ns) return StampCheck::kFuture;
+  if (!track_) return StampCheck::kNew;
+  if (capture_stamp_ns == track_->capture_stamp_ns) return StampCheck::kRepeated;
+  // After the input went stale the old stream is over (a source restarted, a clock was set):
+  // a new stream may start earlier. While it is live, an earlier frame would steer backwards.
+  if (capture_stamp_ns < track_->capture_stamp_ns && !input_stale(now_ns)) {
+    return StampCheck::kBackwards;
+  }
+  return StampCheck::kNew;
+}
+
+MotionController::TrackResponse MotionController::on_track(const TrackSample& sample,
+                                                           std::int64_t now_ns) {
+  TrackResponse response;
+  response.check = check_stamp(sample.capture_stamp_ns, now_ns);
+  if (response.check != StampCheck::kNew) return response;
+  store(sample, now_ns);
+  Command c = step(now_ns);
+  c.capture_stamp_ns = sample.capture_stamp_ns;
+  response.command = c;
+  return response;
+}
+
+void MotionController::store(const TrackSample& sample, std::int64_t now_ns) {
   const bool was_searching = track_ && track_->state == TrackState::kSearching;
   if (sample.state == TrackState::kSearching && !was_searching) {
     search_started_ns_ = now_ns;

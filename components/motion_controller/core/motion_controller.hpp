@@ -1,7 +1,8 @@
 #pragma once
 // The motion controller: follows the ball (centre it, keep the target
 // distance), searches toward the side it was last seen, and stops on start-up,
-// stale input and emergency stop. Pure: time is an argument.
+// stale input and emergency stop. Event-driven: each new track is answered at once; a
+// timer only keeps a minimum rate. Pure: time is an argument.
 
 #include <cstdint>
 #include <optional>
@@ -19,12 +20,26 @@ class MotionController {
   /// params must be valid (MotionControllerParams::validate() returned nullopt).
   explicit MotionController(const MotionControllerParams& params);
 
-  /// Stores the latest track sample, received at now_ns (receiver clock, ns).
-  void on_track(const TrackSample& sample, std::int64_t now_ns);
+  /// What a track sample received at now_ns (receiver clock, ns) led to.
+  struct TrackResponse {
+    StampCheck check = StampCheck::kNew;
+    /// The command answering the sample (its capture_stamp_ns set); only for StampCheck::kNew.
+    std::optional<Command> command;
+  };
+  /// Checks the sample's capture stamp; a new one is stored and answered at once with the
+  /// command for now_ns. A sample with a bad or repeated stamp changes nothing.
+  TrackResponse on_track(const TrackSample& sample, std::int64_t now_ns);
   /// Engages (latches) or clears the emergency stop.
   void on_estop(bool engaged);
-  /// The command for the control tick at now_ns (receiver clock, ns).
+  /// The command at now_ns (receiver clock, ns) without a new track: minimum-rate timer,
+  /// stale input, emergency stop. Its capture_stamp_ns is 0.
   Command step(std::int64_t now_ns);
+  /// True when a timer that checks every check_period_ns must command at now_ns so that no two
+  /// commands lie more than period_ns apart (also before the first command).
+  bool minimum_rate_due(std::int64_t now_ns, std::int64_t period_ns,
+                        std::int64_t check_period_ns) const {
+    return !last_step_ns_ || now_ns - *last_step_ns_ >= period_ns - check_period_ns;
+  }
 
   /// True while the emergency stop is latched.
   bool estop_engaged() const { return estop_; }
@@ -41,6 +56,8 @@ class MotionController {
     Mode mode = Mode::kIdle;
   };
 
+  StampCheck check_stamp(std::int64_t capture_stamp_ns, std::int64_t now_ns) const;
+  void store(const TrackSample& sample, std::int64_t now_ns);
   Target following_target(const TrackSample& t) const;
   Target searching_target(std::int64_t now_ns) const;
   Command hard_stop(Mode mode);

@@ -51,10 +51,16 @@ class Harness {
     now_ += kTickNs;
     return c_.step(now_);
   }
+  // A fresh frame every tick: the sample is moved to the tick time, keeping how long before
+  // its capture the last accepted position was.
   Command tick(const TrackSample& t) {
     now_ += kTickNs;
-    c_.on_track(t, now_);
-    return c_.step(now_);
+    TrackSample fresh = t;
+    fresh.last_accepted_stamp_ns = now_ - (t.capture_stamp_ns - t.last_accepted_stamp_ns);
+    fresh.capture_stamp_ns = now_;
+    const auto response = c_.on_track(fresh, now_);
+    EXPECT_TRUE(response.command.has_value());
+    return response.command.value_or(Command{});
   }
   Command run(const TrackSample& t, int ticks) {
     Command c;
@@ -266,10 +272,10 @@ TEST(MotionController, GivenTrackAge_ThenInputStaleExactlyAfterTheTimeout) {
   MotionControllerParams p;
   MotionController mc(p);
   EXPECT_FALSE(mc.input_stale(10'000'000'000));  // no track yet: waiting, not stale
-  mc.on_track(following(0.0, 2.0, kT0), 1'000'000'000);
-  EXPECT_FALSE(mc.input_stale(1'000'000'000 + p.stale_timeout_ns));
-  EXPECT_TRUE(mc.input_stale(1'000'000'001 + p.stale_timeout_ns));
-  EXPECT_EQ(mc.step(1'000'000'001 + p.stale_timeout_ns).mode, Mode::kStale);
+  mc.on_track(following(0.0, 2.0, kT0), kT0);
+  EXPECT_FALSE(mc.input_stale(kT0 + p.stale_timeout_ns));
+  EXPECT_TRUE(mc.input_stale(kT0 + 1 + p.stale_timeout_ns));
+  EXPECT_EQ(mc.step(kT0 + 1 + p.stale_timeout_ns).mode, Mode::kStale);
 }
 
 TEST(MotionController, GivenEmergencyStop_ThenZeroLatchedUntilCleared) {
@@ -384,8 +390,9 @@ TEST(PolarRates, GivenPointAtOriginOrNaN_ThenZero) {
 }
 
 // A unicycle robot, a still ball, a 30 Hz camera whose track velocity is a least-squares fit
-// of camera-frame positions over the last 0.5 s (as the tracker does), the controller at
-// 20 Hz. Returns the ball's bearing from the robot (rad) every 10 ms after start_s.
+// of camera-frame positions over the last 0.5 s (as the tracker does), the controller
+// answering each track at once (at least at 20 Hz). Returns the ball's bearing from the robot (rad)
+// every 10 ms after start_s.
 std::vector<double> bearings_with_fitted_velocity(const MotionControllerParams& p, double ball_x,
                                                   double ball_y, double seconds, double start_s) {
   MotionController c(p);
@@ -419,9 +426,10 @@ std::vector<double> bearings_with_fitted_velocity(const MotionControllerParams& 
       const PolarRates rates = polar_rates(right, fwd, vx, vz);
       track.bearing_rate_radps = rates.bearing_radps;
       track.distance_rate_mps = rates.range_mps;
-      c.on_track(track, now);
-    }
-    if (ms % 50 == 0) {
+      // Answered at once, as the node does with each new track.
+      const auto response = c.on_track(track, now);
+      if (response.command) v = response.command->linear_mps, w = response.command->angular_radps;
+    } else if (c.minimum_rate_due(now, 50'000'000, 1'000'000)) {
       const Command cmd = c.step(now);
       v = cmd.linear_mps, w = cmd.angular_radps;
     }
@@ -454,6 +462,132 @@ TEST(MotionController,
   // Then the robot has centred the ball and stays centred (no limit cycle), well inside 5 deg
   ASSERT_FALSE(late.empty());
   EXPECT_LT(max_abs(late), 1.0 * M_PI / 180) << "largest bearing in the last 6 s";
+}
+
+// Event-driven control and the stamps it answers.
+
+TEST(MotionControllerEvents, GivenNewTracks_ThenEachAnsweredOnceWithItsCaptureStamp) {
+  // Given a controller and frames whose stamps need all 64 bits (a double would round them)
+  MotionController mc(centred());
+  const std::int64_t stamp = 1'733'123'456'789'012'345;
+  std::int64_t now = stamp + 4'000'000;
+  for (int i = 0; i < 5; ++i, now += 33'000'000) {
+    const std::int64_t capture = stamp + i * 33'000'000;
+    // When each new track arrives
+    const auto r = mc.on_track(following(0.2, 2.0, capture), now);
+    // Then it is answered at once by one command carrying exactly its capture stamp
+    ASSERT_EQ(r.check, StampCheck::kNew) << i;
+    ASSERT_TRUE(r.command.has_value()) << i;
+    EXPECT_EQ(r.command->capture_stamp_ns, capture) << i;
+    EXPECT_EQ(r.command->mode, Mode::kFollowing) << i;
+    // And the same track delivered again is not answered a second time
+    const auto again = mc.on_track(following(0.2, 2.0, capture), now + 1'000'000);
+    EXPECT_EQ(again.check, StampCheck::kRepeated) << i;
+    EXPECT_FALSE(again.command.has_value()) << i;
+  }
+  // And timer commands answer no track
+  EXPECT_EQ(mc.step(now).capture_stamp_ns, 0);
+}
+
+TEST(MotionControllerEvents, GivenBadStamps_ThenRejectedAndNothingBuiltOnThem) {
+  // Given a controller following a ball straight ahead
+  MotionController mc(centred());
+  const std::int64_t now = kT0 + 100'000'000;
+  ASSERT_TRUE(mc.on_track(following(0.0, 2.0, kT0), now).command);
+  const double angular_before = mc.step(now + 1'000'000).angular_radps;
+  // When samples with a far-right ball arrive with bad stamps
+  const std::int64_t later = now + 10'000'000;
+  const struct {
+    std::int64_t stamp;
+    StampCheck check;
+  } bad[] = {{0, StampCheck::kZero},
+             {-5, StampCheck::kZero},
+             {later + 100'000'001, StampCheck::kFuture},
+             {kT0 - 1, StampCheck::kBackwards}};
+  for (const auto& b : bad) {
+    const auto r = mc.on_track(following(0.5, 2.0, b.stamp), later);
+    // Then each is named, none is answered
+    EXPECT_EQ(r.check, b.check) << b.stamp;
+    EXPECT_FALSE(r.command.has_value()) << b.stamp;
+  }
+  // And the next command still steers on the last good track (straight on), not the bad ones
+  const Command c = mc.step(later + 1'000'000);
+  EXPECT_EQ(c.mode, Mode::kFollowing);
+  EXPECT_EQ(c.angular_radps, angular_before);
+  // And a stamp just inside the tolerance is accepted
+  EXPECT_EQ(mc.on_track(following(0.0, 2.0, later + 100'000'000), later).check, StampCheck::kNew);
+}
+
+TEST(MotionControllerEvents, GivenInputWentStale_ThenAnEarlierStreamMayStartAgain) {
+  // Given a track, then silence beyond the stale timeout (the source restarted)
+  MotionController mc(centred());
+  ASSERT_TRUE(mc.on_track(following(0.0, 2.0, kT0), kT0).command);
+  const std::int64_t later = kT0 + 400'000'000;
+  ASSERT_EQ(mc.step(later).mode, Mode::kStale);
+  // When the new stream's stamps lie before the old ones (a clock set back)
+  const auto r = mc.on_track(following(0.0, 2.0, kT0 - 1'000'000'000), later);
+  // Then it is accepted: the old stream is over, it cannot steer any more
+  EXPECT_EQ(r.check, StampCheck::kNew);
+  ASSERT_TRUE(r.command.has_value());
+  EXPECT_EQ(r.command->mode, Mode::kFollowing);
+}
+
+TEST(MotionControllerEvents, GivenNoTracks_ThenTheTimerKeepsTheMinimumRate) {
+  // Given a controller checked every 5 ms for a 20 Hz minimum rate, without any track
+  MotionController mc(centred());
+  constexpr std::int64_t kPeriod = 50'000'000, kCheck = 5'000'000;
+  std::vector<std::int64_t> issued;
+  // When the timer runs for 2 s
+  for (std::int64_t now = kT0; now < kT0 + 2'000'000'000; now += kCheck) {
+    if (mc.minimum_rate_due(now, kPeriod, kCheck)) {
+      mc.step(now);
+      issued.push_back(now);
+    }
+  }
+  // Then no two commands are further apart than the period, and there are about 20 per second
+  ASSERT_GE(issued.size(), 40u);
+  for (size_t i = 1; i < issued.size(); ++i) EXPECT_LE(issued[i] - issued[i - 1], kPeriod) << i;
+  EXPECT_LE(issued.size(), 45u);
+}
+
+TEST(MotionControllerEvents, GivenTracksFasterThanTheMinimumRate_ThenTheTimerAddsNothing) {
+  // Given a track every 35 ms and a 20 Hz minimum rate checked every 5 ms
+  MotionController mc(centred());
+  constexpr std::int64_t kPeriod = 50'000'000, kCheck = 5'000'000;
+  int timer_commands = 0, track_commands = 0;
+  for (std::int64_t ms = 0; ms < 2000; ms += 5) {
+    const std::int64_t now = kT0 + ms * 1'000'000;
+    if (ms % 35 == 0) track_commands += mc.on_track(following(0.1, 2.0, now), now).command ? 1 : 0;
+    if (mc.minimum_rate_due(now, kPeriod, kCheck)) {
+      mc.step(now);
+      ++timer_commands;
+    }
+  }
+  // Then every command answers a track: the timer never finds a 45 ms gap
+  EXPECT_EQ(track_commands, 58);
+  EXPECT_EQ(timer_commands, 0);
+}
+
+TEST(MotionControllerEvents, GivenTracksAtIrregularTimes_ThenAccelerationLimitsHold) {
+  // Given the shipped limits and tracks arriving 10 to 45 ms apart, the ball hopping sides
+  const MotionControllerParams p;
+  MotionController mc(p);
+  std::int64_t now = kT0;
+  double v_prev = 0.0, w_prev = 0.0;
+  for (int i = 0; i < 300; ++i) {
+    const std::int64_t dt_ns = 10'000'000 + (i * 7919 % 36) * 1'000'000;
+    now += dt_ns;
+    const double bearing = (i / 25) % 2 == 0 ? 0.4 : -0.4;
+    const auto r = mc.on_track(following(bearing, 6.0, now), now);
+    ASSERT_TRUE(r.command.has_value());
+    // Then the velocity never changes faster than the acceleration limits over the real step
+    const double dt_s = static_cast<double>(dt_ns) * 1e-9;
+    EXPECT_LE(std::abs(r.command->linear_mps - v_prev) / dt_s, p.max_linear_accel_mps2 + 1e-6) << i;
+    EXPECT_LE(std::abs(r.command->angular_radps - w_prev) / dt_s, p.max_angular_accel_radps2 + 1e-6)
+        << i;
+    v_prev = r.command->linear_mps;
+    w_prev = r.command->angular_radps;
+  }
 }
 
 TEST(MotionControllerNames, GivenModes_ThenStableNames) {

@@ -36,4 +36,20 @@ std::string_view to_string(Mode m) {
   return "unknown";
 }
 
+std::string_view to_string(StampCheck c) {
+  switch (c) {
+    case StampCheck::kNew:
+      return "new";
+    case StampCheck::kRepeated:
+      return "repeated (same frame as the last track)";
+    case StampCheck::kZero:
+      return "zero (never set)";
+    case StampCheck::kFuture:
+      return "in the future";
+    case StampCheck::kBackwards:
+      return "going backwards";
+  }
+  return "unknown";
+}
+
 }  // namespace stereoball::motion_controller

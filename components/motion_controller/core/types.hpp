@@ -43,6 +43,18 @@ struct Command {
   double linear_mps = 0.0;     ///< forward speed, m/s
   double angular_radps = 0.0;  ///< yaw rate, rad/s, positive = counter-clockwise (turn left)
   Mode mode = Mode::kWaiting;
+  /// Capture stamp of the ball/track sample this command answered, ns since epoch; 0 for a
+  /// command of the minimum-rate timer, a stale-input stop or an emergency stop.
+  std::int64_t capture_stamp_ns = 0;
+};
+
+/// Verdict on the capture stamp of an arriving track sample.
+enum class StampCheck {
+  kNew,        ///< later than every stamp before it: stored and answered with a command
+  kRepeated,   ///< the same stamp as the last stored sample: no new frame, nothing to answer
+  kZero,       ///< zero or negative: the source never set it
+  kFuture,     ///< later than the receiver's clock plus future_stamp_tolerance_ns
+  kBackwards,  ///< earlier than the last stored sample's stamp while that stream is live
 };
 
 /// Rates of change, as seen by the camera, of a point's bearing and horizontal range.
@@ -57,5 +69,7 @@ PolarRates polar_rates(double x_m, double z_m, double vx_mps, double vz_mps);
 
 /// Lower-case name of a mode, e.g. "searching".
 std::string_view to_string(Mode m);
+/// What a stamp verdict means, e.g. "zero (never set)".
+std::string_view to_string(StampCheck c);
 
 }  // namespace stereoball::motion_controller

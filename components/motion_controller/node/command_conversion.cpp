@@ -53,6 +53,7 @@ void to_message(const Command& command, std::uint64_t seq, std::int64_t stamp_ns
   static char kSource[] = "motion_controller";
   out.seq = seq;
   out.stamp_ns = stamp_ns;
+  out.capture_stamp_ns = command.capture_stamp_ns;
   out.linear_mps = command.linear_mps;
   out.angular_radps = command.angular_radps;
   out.source = kSource;

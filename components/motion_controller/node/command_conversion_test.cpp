@@ -77,5 +77,22 @@ TEST(CommandConversion, GivenCommand_ThenMessageCarriesItWithSource) {
   EXPECT_STREQ(m.source, "motion_controller");
 }
 
+TEST(CommandConversion, GivenExposureStamps_ThenTrackToCommandKeepsThemUnchanged) {
+  // Given a track of a frame whose stamp needs all 64 bits
+  const std::int64_t stamp = 1'733'123'456'789'012'345;
+  stereoball_msg_BallTrack m{};
+  m.capture_stamp_ns = stamp;
+  m.last_accepted_stamp_ns = stamp - 1;
+  // Then the core sample and the command answering it carry it unchanged
+  const TrackSample t = to_sample(m);
+  EXPECT_EQ(t.capture_stamp_ns, stamp);
+  EXPECT_EQ(t.last_accepted_stamp_ns, stamp - 1);
+  Command c;
+  c.capture_stamp_ns = t.capture_stamp_ns;
+  stereoball_msg_VelocityCommand out{};
+  to_message(c, 1, stamp + 8'000'000, out);
+  EXPECT_EQ(out.capture_stamp_ns, stamp);
+}
+
 }  // namespace
 }  // namespace stereoball::motion_controller

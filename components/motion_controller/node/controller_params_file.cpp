@@ -32,6 +32,8 @@ Result<MotionControllerNodeParams> read_controller_params(params::ParamsFile& fi
   file.read("max_step_ns", p.max_step_ns, std::int64_t{1'000'000}, std::int64_t{10'000'000'000});
   file.read("track_velocity_window_ns", p.track_velocity_window_ns, std::int64_t{0},
             std::int64_t{10'000'000'000});
+  file.read("future_stamp_tolerance_ns", p.future_stamp_tolerance_ns, std::int64_t{0},
+            std::int64_t{10'000'000'000});
   if (auto e = p.validate()) file.fail(file.name() + ": " + *e);
   if (auto e = file.finish()) return Error{*e};
   return n;

@@ -1,5 +1,5 @@
 // motion_controller: turns ball/track into cmd/velocity (follow, search, stop)
-// at a fixed rate. Runs until SIGINT/SIGTERM.
+// as each new track arrives (and at a minimum rate). Runs until SIGINT/SIGTERM.
 
 #include <CLI/CLI.hpp>
 
@@ -15,10 +15,12 @@ int main(int argc, char** argv) {
   namespace sb = stereoball;
   sb::node::block_termination_signals();
   CLI::App app{
-      "motion_controller: subscribes ball/track and cmd/estop, publishes cmd/velocity at a\n"
-      "fixed rate (rate_hz, default 20 Hz): follows the ball at the target distance, rotates\n"
-      "toward the last-seen side while searching, and commands zero on start-up, stale\n"
-      "ball/track (stale_timeout_ns) and a latched emergency stop."};
+      "motion_controller: subscribes ball/track and cmd/estop, publishes cmd/velocity: one\n"
+      "command per new track as soon as it arrives (carrying its capture_stamp_ns), and at\n"
+      "least rate_hz (default 20 Hz) without tracks: follows the ball at the target distance,\n"
+      "rotates toward the last-seen side while searching, and commands zero on start-up, stale\n"
+      "ball/track (stale_timeout_ns) and a latched emergency stop. Tracks with a zero, future\n"
+      "or backwards capture stamp are logged and never acted on."};
   sb::node::CommonOptions common;
   sb::node::add_common_flags(app, common, "motion_controller.yaml");
   CLI11_PARSE(app, argc, argv);

@@ -1,6 +1,7 @@
 #pragma once
-// The motion_controller process: ball/track and cmd/estop in, cmd/velocity
-// out at a fixed rate, also when the inputs stop.
+// The motion_controller process: ball/track and cmd/estop in, cmd/velocity out: one command
+// per new track as soon as it arrives, at least rate_hz also when the inputs stop, and at once
+// on stale input or emergency stop.
 
 #include <cstdint>
 
@@ -12,7 +13,7 @@
 
 namespace stereoball::motion_controller {
 
-/// Wires the controller core to its topics and the control timer on a runner.
+/// Wires the controller core to its topics and the minimum-rate timer on a runner.
 class MotionControllerNode {
  public:
   /// Creates readers/writers on runner's participant and registers callbacks and the timer.
@@ -21,15 +22,19 @@ class MotionControllerNode {
  private:
   void on_tracks();
   void on_estop();
-  void tick(std::int64_t now_ns);
+  void publish(const Command& c, std::int64_t now_ns);
+  void report_bad_stamp(const stereoball_msg_BallTrack& msg, StampCheck check, std::int64_t now_ns);
 
   node::Runner& runner_;
   MotionController controller_;
+  std::int64_t period_ns_;  // longest gap between two commands (1 / rate_hz)
   dds::DataReader<stereoball_msg_BallTrack> tracks_;
   dds::DataReader<stereoball_msg_EmergencyStop> estop_;
   dds::DataWriter<stereoball_msg_VelocityCommand> commands_;
   std::uint64_t seq_ = 0;
   Mode last_mode_ = Mode::kWaiting;
+  std::uint64_t bad_stamps_in_a_row_ = 0;
+  StampCheck last_bad_check_ = StampCheck::kNew;
 };
 
 }  // namespace stereoball::motion_controller

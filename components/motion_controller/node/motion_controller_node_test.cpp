@@ -26,6 +26,7 @@ struct Cmd {
   double linear_mps;
   double angular_radps;
   std::chrono::steady_clock::time_point received;
+  std::int64_t capture_stamp_ns;
 };
 
 stereoball_msg_BallTrack track(stereoball_msg_TrackState state, double bearing_rad,
@@ -78,8 +79,27 @@ class MotionControllerNodeTest : public ::testing::Test {
 
   void collect(std::vector<Cmd>& got) {
     for (auto& s : commands_->take()) {
-      got.push_back({s->linear_mps, s->angular_radps, std::chrono::steady_clock::now()});
+      got.push_back(
+          {s->linear_mps, s->angular_radps, std::chrono::steady_clock::now(), s->capture_stamp_ns});
     }
+  }
+
+  // Publishes t stamped capture_stamp_ns, then collects commands until one answers it (true)
+  // or the deadline passes (false).
+  bool send_and_wait_for_answer(stereoball_msg_BallTrack t, std::int64_t capture_stamp_ns,
+                                std::vector<Cmd>& got, std::chrono::milliseconds deadline) {
+    t.capture_stamp_ns = t.last_accepted_stamp_ns = capture_stamp_ns;
+    t.frame_seq = ++seq_;
+    tracks_->write(t);
+    const auto end = std::chrono::steady_clock::now() + deadline;
+    while (std::chrono::steady_clock::now() < end) {
+      collect(got);
+      for (const auto& c : got) {
+        if (c.capture_stamp_ns == capture_stamp_ns) return true;
+      }
+      std::this_thread::sleep_for(2ms);
+    }
+    return false;
   }
 
   void send_estop(bool engaged) {
@@ -158,6 +178,61 @@ TEST_F(MotionControllerNodeTest, GivenSearchingAfterLeftExit_ThenRotatesLeftInPl
   ASSERT_FALSE(cmds.empty());
   EXPECT_NEAR(cmds.back().angular_radps, 0.8, 1e-9);
   EXPECT_EQ(cmds.back().linear_mps, 0.0);
+}
+
+std::size_t answers_to(const std::vector<Cmd>& cmds, std::int64_t capture_stamp_ns) {
+  return static_cast<std::size_t>(std::count_if(cmds.begin(), cmds.end(), [&](const Cmd& c) {
+    return c.capture_stamp_ns == capture_stamp_ns;
+  }));
+}
+
+TEST_F(MotionControllerNodeTest, GivenNewTracks_ThenEachAnsweredByExactlyOneCommand) {
+  // Given a following track, sent 8 times with new capture stamps and once more repeated
+  const auto t = track(stereoball_msg_TRACK_FOLLOWING, 0.1, 2.0, stereoball_msg_SIDE_RIGHT);
+  std::vector<Cmd> got;
+  std::vector<std::int64_t> stamps;
+  for (int i = 0; i < 8; ++i) {
+    stamps.push_back(sb::node::now_ns());
+    // When each arrives, Then a command answers it (generous deadline: the host is shared)
+    ASSERT_TRUE(send_and_wait_for_answer(t, stamps.back(), got, 5s)) << i << node_->output();
+  }
+  send_and_wait_for_answer(t, stamps.back(), got, 300ms);  // the last frame once more
+  collect(got);
+  // Then every track got exactly one command carrying its capture stamp unchanged, the
+  // repeated one none more, and every other command comes from the timer (stamp 0)
+  for (const auto stamp : stamps) EXPECT_EQ(answers_to(got, stamp), 1u) << stamp;
+  for (const auto& c : got) {
+    const bool known = c.capture_stamp_ns == 0 ||
+                       std::find(stamps.begin(), stamps.end(), c.capture_stamp_ns) != stamps.end();
+    EXPECT_TRUE(known) << c.capture_stamp_ns;
+  }
+}
+
+TEST_F(MotionControllerNodeTest, GivenBadCaptureStamps_ThenNoCommandAndAClearLogLine) {
+  const auto t = track(stereoball_msg_TRACK_FOLLOWING, 0.1, 2.0, stereoball_msg_SIDE_RIGHT);
+  std::vector<Cmd> got;
+  std::vector<std::int64_t> rejected;
+  const std::pair<const char*, std::int64_t> cases[] = {
+      {"going backwards", -1'000'000}, {"in the future", 10'000'000'000}, {"zero (never set)", 0}};
+  for (const auto& [reason, offset_ns] : cases) {
+    // Given a good track that was answered (the input is live: an earlier stream would
+    // otherwise be a restart)
+    const std::int64_t good = sb::node::now_ns();
+    ASSERT_TRUE(send_and_wait_for_answer(t, good, got, 5s)) << node_->output();
+    // When a track arrives stamped before it, 10 s in the future, or zero
+    stereoball_msg_BallTrack bad = t;
+    bad.capture_stamp_ns = bad.last_accepted_stamp_ns = offset_ns == 0 ? 0 : good + offset_ns;
+    bad.frame_seq = ++seq_;
+    if (offset_ns != 0) rejected.push_back(bad.capture_stamp_ns);
+    tracks_->write(bad);
+    // Then the node says what was wrong (generous deadline: the host is shared)
+    EXPECT_TRUE(node_->wait_for_output(reason, 5s)) << reason << node_->output();
+  }
+  EXPECT_NE(node_->output().find("no command built on it"), std::string::npos);
+  // And no command answered a rejected track (zero-stamped commands are the timer's)
+  std::this_thread::sleep_for(100ms);
+  collect(got);
+  for (const auto stamp : rejected) EXPECT_EQ(answers_to(got, stamp), 0u) << stamp;
 }
 
 TEST_F(MotionControllerNodeTest, GivenSigterm_ThenExitsZero) {

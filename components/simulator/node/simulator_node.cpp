@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/util/clock_stamp.hpp"
 #include "simulator/node/msg_conversion.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
@@ -42,7 +43,17 @@ void SimulatorNode::on_commands() {
   }
 }
 
-void SimulatorNode::tick(int64_t now_ns) {
+int64_t SimulatorNode::exposure_stamp_ns(int64_t sim_time_ns, int64_t now_monotonic_ns,
+                                         int64_t now_epoch_ns) const {
+  // The simulated exposure happens on the frame grid of this run of the scenario, mapped to
+  // the wall clock by the rate; never later than now (a late timer renders a past instant).
+  const int64_t exposure_monotonic = std::min<int64_t>(
+      now_monotonic_ns,
+      run_start_mono_ns_ + std::llround(static_cast<double>(sim_time_ns) / options_.rate));
+  return monotonic_to_epoch_ns(exposure_monotonic, now_monotonic_ns, now_epoch_ns);
+}
+
+void SimulatorNode::tick(int64_t /*now_ns*/) {
   // Simulated time follows the wall clock (x rate) on the frame grid; if rendering falls
   // behind, frames are skipped (and counted) rather than letting simulated time lag.
   const int64_t mono = node::monotonic_ns();
@@ -58,28 +69,29 @@ void SimulatorNode::tick(int64_t now_ns) {
     runner_.health().count("scenario_restarts");
   }
   if (index > frame_index_) runner_.health().drop(frame_topic_, index - frame_index_);
+  const int64_t stamp_ns = exposure_stamp_ns(index * period, mono, node::now_ns());
   const SimFrame f = sim_->step(std::nullopt, index * period);
   runner_.health().set_counter("render_us",
                                static_cast<uint64_t>((node::monotonic_ns() - mono) / 1000));
   sim_now_ns_ = f.sim_time_ns;
   frame_index_ = index + 1;
-  publish_frame(f, now_ns);
-  stereoball_msg_GroundTruth truth = ground_truth_to_msg(f.truth, now_ns, scenario_.name);
+  publish_frame(f, stamp_ns);
+  stereoball_msg_GroundTruth truth = ground_truth_to_msg(f.truth, stamp_ns, scenario_.name);
   truth.frame_seq = total_frames_;
-  truth_.write(truth, now_ns);
+  truth_.write(truth, stamp_ns);
   runner_.health().count(std::string(topics::kGroundTruth.spec.name));
   runner_.health().set_counter("frames", ++total_frames_);
 }
 
-void SimulatorNode::publish_frame(const SimFrame& f, int64_t now_ns) {
-  stereoball_msg_StereoFrame frame = frame_to_msg(f, now_ns, frame_source_);
+void SimulatorNode::publish_frame(const SimFrame& f, int64_t stamp_ns) {
+  stereoball_msg_StereoFrame frame = frame_to_msg(f, stamp_ns, frame_source_);
   if (encoders_[0]) {
     if (!encode_eyes(f)) return;
     frame = encoded_frame_to_msg(f, options_.output.frame_encoding, encoders_[0]->bytes(),
-                                 encoders_[1]->bytes(), now_ns, frame_source_);
+                                 encoders_[1]->bytes(), stamp_ns, frame_source_);
   }
   frame.seq = total_frames_;
-  frames_.write(frame, now_ns);
+  frames_.write(frame, stamp_ns);
   runner_.health().count(frame_topic_);
 }
 

@@ -33,7 +33,11 @@ class SimulatorNode {
  private:
   void on_commands();
   void tick(int64_t now_ns);
-  void publish_frame(const SimFrame& f, int64_t now_ns);
+  // Epoch stamp of the simulated exposure at sim_time_ns of the current run (both clocks read
+  // at one instant given).
+  int64_t exposure_stamp_ns(int64_t sim_time_ns, int64_t now_monotonic_ns,
+                            int64_t now_epoch_ns) const;
+  void publish_frame(const SimFrame& f, int64_t stamp_ns);
   bool encode_eyes(const SimFrame& f);  // into encoders_; false (health error) on failure
 
   node::Runner& runner_;

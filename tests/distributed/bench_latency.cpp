@@ -1,0 +1,315 @@
+// stereoball bench latency: the whole system as separate processes (simulator, ball_detector,
+// tracker, motion_controller), measured from each frame's exposure to the velocity command that
+// answered it, stage by stage, for raw and JPEG frames at 30 and 60 Hz; on one host and, with
+// --two-hosts, across two network namespaces (robot: simulator + motion_controller;
+// workstation: ball_detector + tracker). Prints figures, --json FILE writes them; asserts
+// nothing about them.
+
+#include <signal.h>
+#include <unistd.h>
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/dds/participant.hpp"
+#include "common/dds/shared_memory.hpp"
+#include "common/node/node_runner.hpp"
+#include "latency_figures.hpp"
+#include "two_host_system.hpp"
+
+namespace sb = stereoball;
+namespace sd = stereoball::distributed;
+using namespace std::chrono_literals;
+
+namespace {
+
+struct Options {
+  double seconds = 20, warmup_s = 6;
+  int runs = 1, domain = 0;
+  std::vector<std::string> encodings{"raw", "jpeg"};
+  std::vector<int> rates_hz{30, 60};
+  bool one_host = true, two_hosts = false, shared_memory = false;
+  std::string scenario = "ball_rolling_across", json_path, one_host_cyclonedds;
+};
+
+// One measured configuration.
+struct Case {
+  std::string setup, encoding;
+  int rate_hz = 30;
+  std::string key() const { return encoding + "_" + std::to_string(rate_hz) + "hz"; }
+};
+
+struct Result {
+  sd::LatencyFigures figures;
+  sd::CoreLoad load;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// config/simulator.yaml with frame_rate_hz set to rate_hz; "" if the key is not there.
+std::string simulator_config(const std::string& dir, int rate_hz) {
+  std::string yaml = read_text(sb::testing::source_path("config/simulator.yaml"));
+  const std::string key = "frame_rate_hz:";
+  const auto at = yaml.find(key);
+  if (at == std::string::npos) return "";
+  const auto end = yaml.find_first_of(" #\n", yaml.find_first_not_of(' ', at + key.size()));
+  yaml.replace(at, end - at, key + " " + std::to_string(rate_hz) + ".0");
+  const std::string path = dir + "/simulator.yaml";
+  std::ofstream(path) << yaml;
+  return path;
+}
+
+std::string node_yaml(const std::string& program, const std::vector<std::string>& args) {
+  std::string out = "  - name: " + program + "\n    program: " + program + "\n    args: [";
+  for (std::size_t i = 0; i < args.size(); ++i) out += (i ? ", \"" : "\"") + args[i] + "\"";
+  return out + "]\n";
+}
+
+// A launch profile (Cyclone configuration file cyclonedds) with the simulator at the case's
+// rate and encoding (plus, for one host, the vision nodes); returns its path.
+std::string write_profile(const std::string& dir, const Case& c, const Options& o,
+                          const std::string& cyclonedds, bool with_vision) {
+  const std::string sim_config = simulator_config(dir, c.rate_hz);
+  if (sim_config.empty()) return "";
+  std::string yaml = "description: \"bench latency " + c.setup + " " + c.key() + "\"\n";
+  yaml += "cyclonedds: \"" + cyclonedds + "\"\nnodes:\n";
+  yaml += node_yaml("simulator", {"--config", sim_config, "--scenario", o.scenario, "--loop",
+                                  "--frame-encoding", c.encoding});
+  if (with_vision) {
+    for (const char* node : {"ball_detector", "tracker"}) {
+      yaml += node_yaml(
+          node, {"--config", sb::testing::source_path(std::string("config/") + node + ".yaml")});
+    }
+  }
+  yaml += node_yaml("motion_controller",
+                    {"--config", sb::testing::source_path("config/motion_controller.yaml")});
+  const std::string path = dir + "/profile.yaml";
+  std::ofstream(path) << yaml;
+  return path;
+}
+
+// Waits through the warm-up, measures for o.seconds, and returns [from, to) of exposures
+// plus the CPU samples around it; then waits a little so the last frames' commands arrive.
+struct Window {
+  std::int64_t from_ns = 0, to_ns = 0;
+  sd::CpuSample start, end;
+};
+Window measure(const Options& o, const std::vector<int>& pids) {
+  std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(o.warmup_s * 1e3)));
+  Window w;
+  w.from_ns = sb::node::now_ns();
+  w.start = sd::cpu_sample(pids);
+  std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(o.seconds * 1e3)));
+  w.to_ns = sb::node::now_ns();
+  w.end = sd::cpu_sample(pids);
+  std::this_thread::sleep_for(700ms);
+  return w;
+}
+
+std::optional<Result> run_one_host(const Case& c, const Options& o, const std::string& partition) {
+  const std::string dir = sb::testing::temp_dir();
+  std::string config = o.one_host_cyclonedds;
+  if (config.empty()) {
+    config = sb::testing::source_path(o.shared_memory ? "config/cyclonedds/shm.xml"
+                                                      : "config/cyclonedds/loopback.xml");
+  }
+  const std::string uri = "file://" + config;
+  const std::string profile = write_profile(dir, c, o, config, true);
+  if (profile.empty()) return std::nullopt;
+  const std::vector<std::string> env{"CYCLONEDDS_URI=" + uri};
+  const std::vector<std::string> common{"--domain", std::to_string(o.domain), "--partition",
+                                        partition};
+  std::vector<std::string> obs{sb::testing::bin("sb_netns_observer"), "--topics", "detection",
+                               "track", "cmd"};
+  obs.insert(obs.end(), common.begin(), common.end());
+  sd::GentleProcess observer(sb::testing::Process::start(obs, env));
+  if (!observer.get().wait_for_output("# observing", 20s)) {
+    std::fprintf(stderr, "bench latency: observer did not start: %s\n",
+                 observer.get().output().c_str());
+    return std::nullopt;
+  }
+  std::vector<std::string> launch{sb::testing::bin("stereoball-launch"), profile, "--log",
+                                  dir + "/launch.log"};
+  launch.insert(launch.end(), common.begin(), common.end());
+  std::optional<sd::GentleProcess> launcher(std::in_place,
+                                            sb::testing::Process::start(launch, env));
+  const Window w = measure(o, {launcher->get().pid(), observer.get().pid()});
+  launcher.reset();  // stops the nodes before the observer
+  const auto log = sd::parse_observer_log(observer.get().output());
+  Result r{sd::latency_figures(log, log, w.from_ns, w.to_ns, c.rate_hz),
+           sd::core_load(w.start, w.end)};
+  if (r.figures.end_to_end.n == 0) {
+    std::fprintf(stderr, "bench latency: no command answered a track; launcher log:\n%s\n",
+                 read_text(dir + "/launch.log").c_str());
+    return std::nullopt;
+  }
+  return r;
+}
+
+std::optional<Result> run_two_hosts(const Case& c, const Options& o, const std::string& partition) {
+  const std::string dir = sb::testing::temp_dir();
+  const std::string lan = sb::testing::source_path("config/cyclonedds/lan.xml");
+  sd::SystemOptions so;
+  so.domain = o.domain;
+  so.partition = partition;
+  so.robot_profile = write_profile(dir, c, o, lan, false);
+  if (so.robot_profile.empty()) return std::nullopt;
+  so.robot_observer_topics = {"track", "cmd"};
+  so.workstation_observer_topics = {"detection"};
+  sd::TwoHostSystem system(so);
+  if (auto e = system.start()) {
+    std::fprintf(stderr, "bench latency: %s\n", e->c_str());
+    return std::nullopt;
+  }
+  std::vector<int> pids = system.hosts().pids(system.hosts().robot());
+  const auto ws = system.hosts().pids(system.hosts().workstation());
+  pids.insert(pids.end(), ws.begin(), ws.end());
+  const Window w = measure(o, pids);
+  Result r{sd::latency_figures(system.workstation_log(), system.robot_log(), w.from_ns, w.to_ns,
+                               c.rate_hz),
+           sd::core_load(w.start, w.end)};
+  if (r.figures.end_to_end.n == 0) {
+    std::fprintf(stderr, "bench latency: no command answered a track:\n%s\n",
+                 system.diagnostics().c_str());
+    return std::nullopt;
+  }
+  return r;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// Every number of the per-run JSON objects replaced by its median over the runs.
+nlohmann::json median_of(const std::vector<nlohmann::json>& runs) {
+  nlohmann::json out = runs.front();
+  for (auto it = out.begin(); it != out.end(); ++it) {
+    if (it->is_object()) {
+      std::vector<nlohmann::json> parts;
+      for (const auto& r : runs) parts.push_back(r.at(it.key()));
+      *it = median_of(parts);
+    } else if (it->is_number()) {
+      std::vector<double> values;
+      for (const auto& r : runs) values.push_back(r.at(it.key()).get<double>());
+      *it = median(values);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "stereoball bench latency: exposure -> velocity command of the whole system (separate\n"
+      "processes), per stage: capture -> frame received, detection, track, command, and end to\n"
+      "end; raw and JPEG frames, 30 and 60 Hz; on one host (loopback Cyclone configuration)\n"
+      "and with --two-hosts between two network namespaces (root, iproute2). Figures are\n"
+      "printed per run and as medians over --runs."};
+  Options o;
+  o.domain = sb::dds::domain_from_env(0);
+  app.add_option("--seconds", o.seconds, "measured seconds per case and run")
+      ->check(CLI::Range(1.0, 3600.0))
+      ->capture_default_str();
+  app.add_option("--warmup", o.warmup_s, "seconds before measuring (start-up, calibration)")
+      ->check(CLI::Range(1.0, 120.0))
+      ->capture_default_str();
+  app.add_option("--runs", o.runs, "runs of every case; medians are reported")
+      ->check(CLI::Range(1, 20))
+      ->capture_default_str();
+  app.add_option("--encoding", o.encodings, "frame encodings")
+      ->check(CLI::IsMember({"raw", "jpeg"}))
+      ->capture_default_str();
+  app.add_option("--rate", o.rates_hz, "camera frame rates, Hz")
+      ->check(CLI::Range(1, 120))
+      ->capture_default_str();
+  app.add_flag("--two-hosts", o.two_hosts, "also between two network namespaces (root)");
+  app.add_flag("!--no-one-host", o.one_host, "skip the one-host setup");
+  app.add_option("--scenario", o.scenario, "simulator scenario (looped)")->capture_default_str();
+  app.add_option("--cyclonedds", o.one_host_cyclonedds,
+                 "Cyclone configuration file for the one-host setup (default: loopback.xml)")
+      ->check(CLI::ExistingFile);
+  app.add_flag("--shared-memory", o.shared_memory,
+               "one host: Cyclone over iceoryx shared memory (config/cyclonedds/shm.xml; starts "
+               "iox-roudi with config/iceoryx/roudi.toml unless one runs); setup one_host_shm");
+  app.add_option("--json", o.json_path, "also write the figures to this file");
+  app.add_option("--domain", o.domain, "DDS domain")->check(CLI::Range(0, 232));
+  CLI11_PARSE(app, argc, argv);
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+
+  std::vector<Case> cases;
+  for (const bool two : {false, true}) {
+    if (two ? !o.two_hosts : !o.one_host) continue;
+    for (const auto& e : o.encodings) {
+      for (const int r : o.rates_hz) {
+        cases.push_back({two ? "two_hosts" : o.shared_memory ? "one_host_shm" : "one_host", e, r});
+      }
+    }
+  }
+  // RouDi for the shared-memory runs; our nodes fall back to the network without it.
+  std::optional<sd::GentleProcess> roudi;
+  if (o.shared_memory && o.one_host && !sb::dds::roudi_running()) {
+    roudi.emplace(sb::testing::Process::start(
+        {"/usr/bin/iox-roudi", "-c", sb::testing::source_path("config/iceoryx/roudi.toml")}));
+    if (!roudi->get().wait_for_output("RouDi is ready", 20s)) {
+      std::fprintf(stderr, "bench latency: iox-roudi (package iceoryx) did not start: %s\n",
+                   roudi->get().output().c_str());
+      return 1;
+    }
+  }
+  nlohmann::json json = nlohmann::json::object();
+  int failures = 0;
+  for (const Case& c : cases) {
+    std::vector<nlohmann::json> runs;
+    for (int run = 0; run < o.runs; ++run) {
+      const std::string partition = "sblatency." + std::to_string(::getpid()) + "." + c.setup +
+                                    "." + c.key() + "." + std::to_string(run);
+      const auto r =
+          c.setup == "two_hosts" ? run_two_hosts(c, o, partition) : run_one_host(c, o, partition);
+      if (!r) {
+        ++failures;
+        continue;
+      }
+      char title[160];
+      std::snprintf(title, sizeof title, "%s %s %d Hz, 640x480, %s, run %d/%d (%.0f s)",
+                    c.setup.c_str(), c.encoding.c_str(), c.rate_hz, o.scenario.c_str(), run + 1,
+                    o.runs, o.seconds);
+      std::fputs(sd::to_text(title, r->figures, r->load).c_str(), stdout);
+      runs.push_back(sd::to_json(r->figures, r->load));
+    }
+    if (runs.empty()) continue;
+    nlohmann::json figures = median_of(runs);
+    std::printf("%s %s: median of %zu run(s): end to end p50 %.2f p90 %.2f p99 %.2f max %.2f ms\n",
+                c.setup.c_str(), c.key().c_str(), runs.size(),
+                figures["end_to_end_ms"]["p50"].get<double>(),
+                figures["end_to_end_ms"]["p90"].get<double>(),
+                figures["end_to_end_ms"]["p99"].get<double>(),
+                figures["end_to_end_ms"]["max"].get<double>());
+    figures["runs"] = runs;
+    json[c.setup][c.key()] = figures;
+  }
+  if (!o.json_path.empty()) {
+    std::ofstream out(o.json_path);
+    out << json.dump(2) << "\n";
+    if (!out) {
+      std::fprintf(stderr, "bench latency: cannot write %s\n", o.json_path.c_str());
+      return 1;
+    }
+  }
+  return failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,211 @@
+#include "latency_figures.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "two_host_system.hpp"
+
+namespace stereoball::distributed {
+namespace {
+
+double ms(std::int64_t ns) {
+  return static_cast<double>(ns) / 1e6;
+}
+
+template <typename T>
+std::map<std::int64_t, const T*> by_capture(const std::vector<T>& samples, std::int64_t from_ns,
+                                            std::int64_t to_ns) {
+  std::map<std::int64_t, const T*> out;
+  for (const auto& s : samples) {
+    if (s.capture_ns >= from_ns && s.capture_ns < to_ns) out.emplace(s.capture_ns, &s);
+  }
+  return out;
+}
+
+// Frames missing between consecutive detections: a gap of k periods hides k - 1 frames.
+void count_frames(const std::map<std::int64_t, const DetectionRx*>& detections,
+                  double frame_rate_hz, LatencyFigures& f) {
+  if (detections.empty()) return;
+  const double period_ns = 1e9 / frame_rate_hz;
+  const auto span = static_cast<double>(detections.rbegin()->first - detections.begin()->first);
+  f.frames_expected = static_cast<std::size_t>(std::llround(span / period_ns)) + 1;
+  f.frames_lost = f.frames_expected - std::min(f.frames_expected, detections.size());
+}
+
+std::vector<int> children_of(int pid) {
+  std::vector<int> out;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator("/proc", ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.empty() || !std::all_of(name.begin(), name.end(), ::isdigit)) continue;
+    std::ifstream in(e.path() / "stat");
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    const auto paren = text.rfind(')');
+    if (paren == std::string::npos) continue;
+    std::istringstream rest(text.substr(paren + 2));
+    std::string state;
+    int ppid = 0;
+    if (rest >> state >> ppid && ppid == pid) out.push_back(std::stoi(name));
+  }
+  return out;
+}
+
+unsigned long long process_ticks(int pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const auto paren = text.rfind(')');
+  if (paren == std::string::npos) return 0;
+  std::istringstream rest(text.substr(paren + 2));
+  std::string field;
+  unsigned long long utime = 0, stime = 0;
+  for (int i = 3; i <= 13 && rest >> field; ++i) {
+  }
+  rest >> utime >> stime;  // fields 14 and 15
+  return utime + stime;
+}
+
+nlohmann::json quantiles_json(const Quantiles& q) {
+  return {{"p50", q.p50}, {"p90", q.p90}, {"p99", q.p99}, {"max", q.max}, {"n", q.n}};
+}
+
+}  // namespace
+
+Quantiles quantiles(const std::vector<double>& values_ms) {
+  Quantiles q;
+  q.n = values_ms.size();
+  if (values_ms.empty()) return q;
+  q.p50 = percentile(values_ms, 50);
+  q.p90 = percentile(values_ms, 90);
+  q.p99 = percentile(values_ms, 99);
+  q.max = percentile(values_ms, 100);
+  return q;
+}
+
+LatencyFigures latency_figures(const ObserverLog& detection_log, const ObserverLog& control_log,
+                               std::int64_t from_ns, std::int64_t to_ns, double frame_rate_hz) {
+  const auto detections = by_capture(detection_log.detections, from_ns, to_ns);
+  const auto tracks = by_capture(control_log.tracks, from_ns, to_ns);
+  std::map<std::int64_t, const CommandRx*> commands;
+  for (const auto& c : control_log.commands) {
+    if (c.capture_ns != 0) commands.emplace(c.capture_ns, &c);
+  }
+  std::vector<double> received, detection, track, command, end_to_end;
+  LatencyFigures f;
+  for (const auto& [capture, d] : detections) {
+    const double taken_ms = ms(d->publish_ns - capture) - d->processing_ms;
+    received.push_back(taken_ms);
+    detection.push_back(d->processing_ms);
+    const auto t = tracks.find(capture);
+    if (t == tracks.end()) continue;
+    track.push_back(ms(t->second->publish_ns - d->publish_ns));
+    const auto c = commands.find(capture);
+    if (c == commands.end()) {
+      ++f.tracks_unanswered;
+      continue;
+    }
+    command.push_back(ms(c->second->stamp_ns - t->second->publish_ns));
+    end_to_end.push_back(ms(c->second->stamp_ns - capture));
+  }
+  f.frame_received = quantiles(received);
+  f.detection = quantiles(detection);
+  f.track = quantiles(track);
+  f.command = quantiles(command);
+  f.end_to_end = quantiles(end_to_end);
+  count_frames(detections, frame_rate_hz, f);
+  return f;
+}
+
+CpuSample cpu_sample(const std::vector<int>& pids) {
+  CpuSample s;
+  s.wall_ns = static_cast<std::int64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                            std::chrono::steady_clock::now().time_since_epoch())
+                                            .count());
+  std::ifstream stat("/proc/stat");
+  std::string cpu;
+  unsigned long long v[8] = {};
+  if (stat >> cpu && cpu == "cpu") {
+    for (auto& x : v) stat >> x;
+    // user nice system idle iowait irq softirq steal
+    s.host_total_ticks = v[0] + v[1] + v[2] + v[3] + v[4] + v[5] + v[6] + v[7];
+    s.host_busy_ticks = s.host_total_ticks - v[3] - v[4];
+  }
+  std::set<int> all;
+  std::vector<int> todo = pids;
+  while (!todo.empty()) {
+    const int pid = todo.back();
+    todo.pop_back();
+    if (!all.insert(pid).second) continue;
+    for (int child : children_of(pid)) todo.push_back(child);
+  }
+  for (int pid : all) s.process_ticks += process_ticks(pid);
+  return s;
+}
+
+CoreLoad core_load(const CpuSample& start, const CpuSample& end) {
+  CoreLoad l;
+  l.cores = static_cast<int>(sysconf(_SC_NPROCESSORS_ONLN));
+  std::ifstream in("/proc/loadavg");
+  in >> l.load_average_1m;
+  const double total = static_cast<double>(end.host_total_ticks - start.host_total_ticks);
+  if (total > 0) {
+    l.host_busy_pct =
+        100.0 * static_cast<double>(end.host_busy_ticks - start.host_busy_ticks) / total;
+  }
+  const double wall_s = static_cast<double>(end.wall_ns - start.wall_ns) * 1e-9;
+  const double ticks_per_s = static_cast<double>(sysconf(_SC_CLK_TCK));
+  if (wall_s > 0 && end.process_ticks >= start.process_ticks) {
+    l.our_processes_pct =
+        100.0 * static_cast<double>(end.process_ticks - start.process_ticks) / ticks_per_s / wall_s;
+  }
+  return l;
+}
+
+nlohmann::json to_json(const LatencyFigures& f, const CoreLoad& load) {
+  return {{"frame_received_ms", quantiles_json(f.frame_received)},
+          {"detection_ms", quantiles_json(f.detection)},
+          {"track_ms", quantiles_json(f.track)},
+          {"command_ms", quantiles_json(f.command)},
+          {"end_to_end_ms", quantiles_json(f.end_to_end)},
+          {"frames_expected", f.frames_expected},
+          {"frames_lost", f.frames_lost},
+          {"tracks_unanswered", f.tracks_unanswered},
+          {"load",
+           {{"cores", load.cores},
+            {"load_average_1m", load.load_average_1m},
+            {"host_busy_pct", load.host_busy_pct},
+            {"our_processes_pct_of_one_core", load.our_processes_pct}}}};
+}
+
+std::string to_text(const std::string& title, const LatencyFigures& f, const CoreLoad& load) {
+  std::string out = title + "\n";
+  char line[200];
+  const std::pair<const char*, const Quantiles*> rows[] = {
+      {"capture -> frame received", &f.frame_received},
+      {"detection", &f.detection},
+      {"track", &f.track},
+      {"command", &f.command},
+      {"end to end (capture -> command)", &f.end_to_end}};
+  for (const auto& [name, q] : rows) {
+    std::snprintf(line, sizeof line,
+                  "  %-33s n=%-5zu p50 %6.2f  p90 %6.2f  p99 %6.2f  max %6.2f ms\n", name, q->n,
+                  q->p50, q->p90, q->p99, q->max);
+    out += line;
+  }
+  std::snprintf(line, sizeof line,
+                "  frames lost %zu of %zu, tracks without a command %zu; load: %d cores %.0f%% "
+                "busy (everyone), ours %.0f%% of one core, load average %.2f\n",
+                f.frames_lost, f.frames_expected, f.tracks_unanswered, load.cores,
+                load.host_busy_pct, load.our_processes_pct, load.load_average_1m);
+  out += line;
+  return out;
+}
+
+}  // namespace stereoball::distributed

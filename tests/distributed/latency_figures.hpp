@@ -1,0 +1,66 @@
+#pragma once
+// Capture-to-command figures of one run, from what observers printed (observer_log.hpp): per
+// frame, the stages between the frame's exposure (StereoFrame.stamp_ns, carried unchanged as
+// capture_stamp_ns) and the velocity command that answered its track, plus lost frames and the
+// load on the host's cores. Shared by `stereoball bench latency` and its test.
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "observer_log.hpp"
+
+namespace stereoball::distributed {
+
+/// p50/p90/p99/max (linear interpolation) of a set of durations, ms; n = how many.
+struct Quantiles {
+  double p50 = 0, p90 = 0, p99 = 0, max = 0;
+  std::size_t n = 0;
+};
+Quantiles quantiles(const std::vector<double>& values_ms);
+
+/// The stages of one run. Each frame counts from its exposure; all stamps share one clock.
+struct LatencyFigures {
+  Quantiles frame_received;  ///< exposure -> the detector took the frame (publish - processing)
+  Quantiles detection;       ///< detector took the frame -> ball/detection published
+  Quantiles track;           ///< ball/detection published -> ball/track published
+  Quantiles command;         ///< ball/track published -> cmd/velocity answering it issued
+  Quantiles end_to_end;      ///< exposure -> cmd/velocity answering the frame's track issued
+  std::size_t frames_expected = 0;    ///< frame periods between the first and last detection
+  std::size_t frames_lost = 0;        ///< of those, frames that never got a detection
+  std::size_t tracks_unanswered = 0;  ///< tracks no command carried the capture stamp of
+};
+
+/// Figures of the frames exposed in [from_ns, to_ns): detections from detection_log, tracks and
+/// commands from control_log (the two may be one observer's log).
+LatencyFigures latency_figures(const ObserverLog& detection_log, const ObserverLog& control_log,
+                               std::int64_t from_ns, std::int64_t to_ns, double frame_rate_hz);
+
+/// The host's load over a run: load average, share of all cores busy, our processes' CPU.
+struct CoreLoad {
+  int cores = 0;
+  double load_average_1m = 0;    ///< at the end of the run
+  double host_busy_pct = 0;      ///< all cores, everyone's work, % of their time
+  double our_processes_pct = 0;  ///< the system under test (+ observers), % of one core
+};
+
+/// CPU time counters to take at the start and end of a run (/proc).
+struct CpuSample {
+  std::int64_t wall_ns = 0;
+  unsigned long long host_busy_ticks = 0, host_total_ticks = 0, process_ticks = 0;
+};
+/// Reads /proc/stat and /proc/PID/stat of pids (and of their children, recursively).
+CpuSample cpu_sample(const std::vector<int>& pids);
+/// The load between two samples.
+CoreLoad core_load(const CpuSample& start, const CpuSample& end);
+
+/// {"frame_received_ms": {...}, ..., "end_to_end_ms": {"p50", "p90", "p99", "max", "n"},
+///  "frames_expected", "frames_lost", "tracks_unanswered"} plus "load" when given.
+nlohmann::json to_json(const LatencyFigures& f, const CoreLoad& load);
+
+/// One printed block: a line per stage, then loss and load.
+std::string to_text(const std::string& title, const LatencyFigures& f, const CoreLoad& load);
+
+}  // namespace stereoball::distributed

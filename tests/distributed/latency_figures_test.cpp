@@ -1,0 +1,81 @@
+// The latency figures of stereoball bench latency, on observer logs written by hand.
+
+#include "latency_figures.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace stereoball::distributed {
+namespace {
+
+constexpr std::int64_t kT0 = 1'733'000'000'000'000'000;
+constexpr std::int64_t kPeriod = 33'333'333;  // 30 Hz
+constexpr std::int64_t kMs = 1'000'000;
+
+// Frame i exposed at kT0 + i * kPeriod: taken by the detector 3 ms later, detection published
+// after 4 ms of processing, track 1 ms later, command 0.5 ms after that.
+void add_frame(ObserverLog& log, int i) {
+  const std::int64_t capture = kT0 + i * kPeriod;
+  log.detections.push_back(
+      {capture + 8 * kMs, capture, capture + 7 * kMs, static_cast<std::uint64_t>(i), 0, 4.0});
+  log.tracks.push_back(
+      {capture + 9 * kMs, capture, capture + 8 * kMs, static_cast<std::uint64_t>(i), 1, 1.0, 0.0});
+  log.commands.push_back({capture + 9 * kMs, capture + 8 * kMs + kMs / 2,
+                          static_cast<std::uint64_t>(2 * i), 0.1, 0.0, capture});
+  // A minimum-rate command in between answers no track
+  log.commands.push_back(
+      {capture + 20 * kMs, capture + 20 * kMs, static_cast<std::uint64_t>(2 * i + 1), 0.1, 0.0, 0});
+}
+
+TEST(LatencyFigures, GivenFramesThroughEveryStage_ThenEachStageAndEndToEnd) {
+  // Given 30 frames, frames 10 and 11 lost before detection
+  ObserverLog log;
+  for (int i = 0; i < 30; ++i) {
+    if (i != 10 && i != 11) add_frame(log, i);
+  }
+  // When the figures of all of them are taken
+  const LatencyFigures f = latency_figures(log, log, kT0, kT0 + 30 * kPeriod, 30.0);
+  // Then every stage has its duration and the end to end is their sum, from the exposure
+  EXPECT_NEAR(f.frame_received.p50, 3.0, 1e-9);
+  EXPECT_NEAR(f.detection.p99, 4.0, 1e-9);
+  EXPECT_NEAR(f.track.max, 1.0, 1e-9);
+  EXPECT_NEAR(f.command.p90, 0.5, 1e-9);
+  EXPECT_NEAR(f.end_to_end.p50, 8.5, 1e-9);
+  EXPECT_EQ(f.end_to_end.n, 28u);
+  // And the two lost frames are counted, timer commands are not answers
+  EXPECT_EQ(f.frames_expected, 30u);
+  EXPECT_EQ(f.frames_lost, 2u);
+  EXPECT_EQ(f.tracks_unanswered, 0u);
+}
+
+TEST(LatencyFigures, GivenWindowAndAnUnansweredTrack_ThenOnlyWindowFramesAndTheMissingAnswer) {
+  // Given 10 frames, the command of frame 5 missing
+  ObserverLog log;
+  for (int i = 0; i < 10; ++i) add_frame(log, i);
+  log.commands.erase(log.commands.begin() + 10);
+  // When only frames 2..7 are in the window
+  const LatencyFigures f = latency_figures(log, log, kT0 + 2 * kPeriod, kT0 + 8 * kPeriod, 30.0);
+  // Then six frames count, one track went unanswered
+  EXPECT_EQ(f.detection.n, 6u);
+  EXPECT_EQ(f.end_to_end.n, 5u);
+  EXPECT_EQ(f.tracks_unanswered, 1u);
+  EXPECT_EQ(f.frames_lost, 0u);
+}
+
+TEST(LatencyFigures, GivenFigures_ThenJsonHasEveryQuantileFinite) {
+  ObserverLog log;
+  for (int i = 0; i < 5; ++i) add_frame(log, i);
+  const auto j = to_json(latency_figures(log, log, kT0, kT0 + 5 * kPeriod, 30.0), CoreLoad{});
+  for (const char* stage :
+       {"frame_received_ms", "detection_ms", "track_ms", "command_ms", "end_to_end_ms"}) {
+    for (const char* q : {"p50", "p90", "p99", "max"}) {
+      ASSERT_TRUE(j.at(stage).at(q).is_number()) << stage << q;
+      EXPECT_TRUE(std::isfinite(j.at(stage).at(q).get<double>())) << stage << q;
+    }
+  }
+  EXPECT_NEAR(j["end_to_end_ms"]["max"].get<double>(), 8.5, 1e-9);
+}
+
+}  // namespace
+}  // namespace stereoball::distributed
