@@ -13,7 +13,7 @@ PACKAGES=(
   cyclonedds-dev cyclonedds-tools
   libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev libv4l-dev
   nlohmann-json3-dev zlib1g-dev libjpeg-dev libgtest-dev libgmock-dev
-  iproute2
+  iproute2 libsodium-dev
 )
 
 as_root() {

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <climits>
 
+#include "common/dds/auth_session.hpp"
 #include "common/util/log.hpp"
 
 namespace stereoball::node {
@@ -47,7 +48,7 @@ Runner::Runner(std::string component, const CommonOptions& options)
   log::parse_level(options.log_level, level);
   log::init(component_, level);
   participant_ = std::make_unique<dds::DomainParticipant>(
-      dds::ParticipantOptions{options.domain_id, options.partition});
+      dds::ParticipantOptions{options.domain_id, options.partition, options.key_file});
   waitset_ = std::make_unique<dds::WaitSet>(*participant_);
   wake_ = std::make_unique<dds::GuardCondition>(*participant_);
   waitset_->attach(wake_->handle(), -1);
@@ -118,6 +119,10 @@ void Runner::run_due_timers() {
 }
 
 void Runner::publish_heartbeat(int64_t now) {
+  // Samples dropped by authentication (forged, replayed, unsigned...) are counted per topic.
+  for (const auto& [name, value] : participant_->auth().counters())
+    health_.set_counter(name, value);
+  health_.set_counter("auth_keyed", participant_->auth().keyed() ? 1 : 0);
   const Health::Snapshot snap = health_.snapshot(now);
   std::vector<std::string> names;
   std::vector<stereoball_msg_TopicRate> rates;

@@ -18,10 +18,9 @@ MotionControllerNode::MotionControllerNode(node::Runner& runner,
     : runner_(runner),
       controller_(params.controller),
       tracks_(runner.participant(), topics::kBallTrack),
-      estop_(runner.participant(), topics::kEmergencyStop),
+      estop_(runner, [this](const node::EstopState& s) { on_estop(s); }),
       commands_(runner.participant(), topics::kVelocityCommand) {
   runner_.on_data(tracks_.handle(), [this] { on_tracks(); });
-  runner_.on_data(estop_.handle(), [this] { on_estop(); });
   const auto period_ns = static_cast<std::int64_t>(1e9 / params.rate_hz);
   runner_.every(period_ns, [this](std::int64_t now_ns) { tick(now_ns); });
   // Safety stops go out when they happen, not at the next regular tick (up to a period later).
@@ -39,21 +38,10 @@ void MotionControllerNode::on_tracks() {
   }
 }
 
-void MotionControllerNode::on_estop() {
-  for (auto& s : estop_.take()) {
-    if (s->engaged != controller_.estop_engaged()) {
-      const char* reason = s->reason ? s->reason : "";
-      if (s->engaged) {
-        log::warn("emergency stop engaged: ", reason);
-      } else {
-        log::info("emergency stop cleared: ", reason);
-      }
-    }
-    const bool newly_engaged = s->engaged && !controller_.estop_engaged();
-    controller_.on_estop(s->engaged);
-    runner_.health().count(std::string(topics::kEmergencyStop.spec.name));
-    if (newly_engaged) tick(node::now_ns());
-  }
+void MotionControllerNode::on_estop(const node::EstopState& state) {
+  // The holder logged the change; a new stop goes out at once, not at the next tick.
+  controller_.on_estop(state.engaged);
+  if (state.engaged) tick(node::now_ns());
 }
 
 void MotionControllerNode::tick(std::int64_t now_ns) {
