@@ -153,6 +153,8 @@ int run_replay(const sb::dds::DomainParticipant& p, double capture_s, double dur
       for (const auto& s : captured[i]) {
         writers[i]->write(s.cdr);
         ++sent;
+        // Spaced out, so keep-last-1 readers check each one instead of only the last.
+        std::this_thread::sleep_for(2ms);
       }
     }
     // Once inside the freshness window, then again after it.

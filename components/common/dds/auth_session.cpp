@@ -3,11 +3,11 @@
 #include <dds/ddsi/ddsi_cdrstream.h>
 #include <sys/stat.h>
 
-#include <chrono>
 #include <cstring>
 #include <stdexcept>
 
 #include "common/auth/key_file.hpp"
+#include "common/util/clock.hpp"
 #include "common/util/log.hpp"
 
 namespace stereoball::dds {
@@ -16,16 +16,9 @@ namespace {
 constexpr int64_t kReloadCheckPeriodNs = 1'000'000'000;
 constexpr uint32_t kXcdr1 = 1;
 
-int64_t wall_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
+using util::wall_ns;
 int64_t mono_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return util::monotonic_ns();
 }
 
 int64_t mtime_ns(const std::string& path) {

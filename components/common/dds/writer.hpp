@@ -55,6 +55,13 @@ class DataWriter {
   void forward(const T& sample) requires Authenticated<T> {
     check(dds_write(writer_.handle(), &sample), "dds_write");
   }
+  /// The copy of sample that write() would send: tag filled (link, stamp, key id, MAC). With
+  /// forward() the same signed sample can be sent more than once (tests of the wire format).
+  T signed_copy(const T& sample) requires Authenticated<T> {
+    T copy = sample;  // shallow: strings and sequences still point at the caller's buffers
+    auth_->sign(topic_.spec(), link_, copy.auth, &copy);
+    return copy;
+  }
   /// Blocks until every matched reader acknowledged what was written, or timeout_ns.
   bool wait_for_acks(int64_t timeout_ns) const {
     return dds_wait_for_acks(writer_.handle(), timeout_ns) == DDS_RETCODE_OK;
@@ -67,12 +74,6 @@ class DataWriter {
   const topics::TopicSpec& spec() const { return topic_.spec(); }
 
  private:
-  T signed_copy(const T& sample) {
-    T copy = sample;  // shallow: strings and sequences still point at the caller's buffers
-    auth_->sign(topic_.spec(), link_, copy.auth, &copy);
-    return copy;
-  }
-
   Topic<T> topic_;
   Entity writer_;
   AuthSession* auth_;

@@ -9,20 +9,17 @@
 #include <climits>
 
 #include "common/dds/auth_session.hpp"
+#include "common/util/clock.hpp"
 #include "common/util/log.hpp"
 
 namespace stereoball::node {
 
 int64_t now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
+  return util::wall_ns();
 }
 
 int64_t monotonic_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return util::monotonic_ns();
 }
 
 namespace {
