@@ -14,6 +14,7 @@ BUILD_PACKAGES=(
   build-essential cmake pkg-config linux-libc-dev
   cyclonedds-dev cyclonedds-tools
   libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev zlib1g-dev libjpeg-dev
+  libsodium-dev
   # Small, header-only at configure time: the test targets are declared in every build,
   # even when only the demo's programs are compiled.
   libgtest-dev libgmock-dev nlohmann-json3-dev

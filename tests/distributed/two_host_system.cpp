@@ -45,7 +45,19 @@ std::optional<std::string> TwoHostSystem::start() {
     unavailable_ = true;
     return "cannot create two network namespaces joined by veth: " + *e;
   }
+  if (options_.rogue_host) {
+    if (auto e = hosts_.add_rogue()) {
+      unavailable_ = true;
+      return "cannot create the third (rogue) namespace: " + *e;
+    }
+  }
   dir_ = testing::temp_dir();
+  // Across hosts every node needs the deployment key (keyless processes stay on loopback).
+  key_file_ = dir_ + "/deployment.key";
+  auto [code, output] = testing::run({testing::bin("stereoball-keys"), "init", "--file", key_file_},
+                                     milliseconds(20'000));
+  if (code != 0) return "stereoball-keys init failed: " + output;
+  hosts_.set_key_file(key_file_);
   const std::string domain = std::to_string(options_.domain);
   auto observer = [&](const Host& host, const std::vector<std::string>& topics) {
     std::vector<std::string> argv{testing::bin("sb_netns_observer"),
@@ -83,6 +95,24 @@ std::optional<std::string> TwoHostSystem::start() {
   launch(hosts_.workstation(), options_.workstation_profile, "workstation.log");
   launch(hosts_.robot(), options_.robot_profile, "robot.log");
   return std::nullopt;
+}
+
+std::pair<int, std::string> TwoHostSystem::run_tool(const Host& host,
+                                                    const std::vector<std::string>& argv,
+                                                    const std::string& key_file) const {
+  std::vector<std::string> full = hosts_.command(host, {"/usr/bin/env"}, lan_config_uri());
+  full.push_back("STEREOBALL_KEY_FILE=" + key_file);  // the last assignment wins
+  full.insert(full.end(), argv.begin(), argv.end());
+  return testing::run(full, milliseconds(30'000));
+}
+
+testing::Process& TwoHostSystem::start_in(const Host& host, const std::vector<std::string>& argv,
+                                          const std::string& key_file) {
+  std::vector<std::string> full = hosts_.command(host, {"/usr/bin/env"}, lan_config_uri());
+  full.push_back("STEREOBALL_KEY_FILE=" + key_file);
+  full.insert(full.end(), argv.begin(), argv.end());
+  processes_.push_back(std::make_unique<GentleProcess>(testing::Process::start(full)));
+  return processes_.back()->get();
 }
 
 ObserverLog TwoHostSystem::robot_log() const {

@@ -35,6 +35,7 @@ struct SystemOptions {
   std::string workstation_profile = "workstation";
   std::vector<std::string> robot_observer_topics{"truth", "track", "cmd"};
   std::vector<std::string> workstation_observer_topics{};  ///< empty: no observer there
+  bool rogue_host = false;  ///< also create the third, "rogue" namespace (TwoHosts::add_rogue)
 };
 
 /// Robot and workstation profiles running in two namespaces, plus observers. Stops
@@ -56,11 +57,20 @@ class TwoHostSystem {
   std::vector<std::string> programs(const Host& host) const;
   /// Whether namespaces could not be created (then start() returned the reason).
   bool unavailable() const { return unavailable_; }
+  /// The deployment key file both hosts use (made by start()).
+  const std::string& key_file() const { return key_file_; }
+  /// Runs a StereoBall tool in host's namespace with the LAN configuration, to completion.
+  std::pair<int, std::string> run_tool(const Host& host, const std::vector<std::string>& argv,
+                                       const std::string& key_file) const;
+  /// Starts a program in host's namespace with the LAN configuration (stopped with the rest).
+  testing::Process& start_in(const Host& host, const std::vector<std::string>& argv,
+                             const std::string& key_file);
 
  private:
   SystemOptions options_;
   TwoHosts hosts_;
   std::string dir_;
+  std::string key_file_;
   bool unavailable_ = false;
   // Declared after hosts_: destroyed first, so nodes stop before the namespaces go.
   std::vector<std::unique_ptr<GentleProcess>> processes_;

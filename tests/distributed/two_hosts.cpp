@@ -43,12 +43,18 @@ TwoHosts::TwoHosts() : ip_path_(find_ip_program()) {
   const std::string net = "10." + std::to_string(a) + "." + std::to_string(b) + ".";
   robot_ = {"sbrobot" + tag, "vr" + tag, net + "1", net + "2"};
   workstation_ = {"sbws" + tag, "vw" + tag, net + "2", net + "1"};
+  const std::string rogue_net =
+      "172." + std::to_string(16 + (pid + n) % 16) + "." + std::to_string(b) + ".";
+  rogue_ = {"sbrogue" + tag, "vq" + tag, rogue_net + "2", rogue_net + "1"};
+  robot_rogue_side_ = {robot_.netns, "vp" + tag, rogue_net + "1", rogue_net + "2"};
 }
 
 TwoHosts::~TwoHosts() {
   // Processes first (so nothing keeps using the link), then the namespaces (and the veth).
+  if (rogue_created_) kill_all(rogue_);
   if (robot_created_) kill_all(robot_);
   if (workstation_created_) kill_all(workstation_);
+  if (rogue_created_) ip({"netns", "delete", rogue_.netns});
   if (robot_created_) ip({"netns", "delete", robot_.netns});
   if (workstation_created_) ip({"netns", "delete", workstation_.netns});
 }
@@ -76,6 +82,8 @@ void TwoHosts::remove_abandoned() const {
       rest = name.substr(7);
     } else if (name.rfind("sbws", 0) == 0) {
       rest = name.substr(4);
+    } else if (name.rfind("sbrogue", 0) == 0) {
+      rest = name.substr(7);
     } else {
       continue;
     }
@@ -110,6 +118,21 @@ std::optional<std::string> TwoHosts::setup() {
   return std::nullopt;
 }
 
+std::optional<std::string> TwoHosts::add_rogue() {
+  if (auto e = ip({"netns", "add", rogue_.netns})) return e;
+  rogue_created_ = true;
+  if (auto e = ip({"link", "add", rogue_.iface, "netns", rogue_.netns, "type", "veth", "peer",
+                   "name", robot_rogue_side_.iface, "netns", robot_.netns})) {
+    return e;
+  }
+  for (const Host* h : {&rogue_, &robot_rogue_side_}) {
+    if (auto e = ip({"-n", h->netns, "addr", "add", h->address + "/24", "dev", h->iface})) return e;
+    if (auto e = ip({"-n", h->netns, "link", "set", "lo", "up"})) return e;
+    if (auto e = ip({"-n", h->netns, "link", "set", h->iface, "up"})) return e;
+  }
+  return std::nullopt;
+}
+
 std::vector<std::string> TwoHosts::command(const Host& host, const std::vector<std::string>& argv,
                                            const std::string& cyclonedds_uri) const {
   std::vector<std::string> out{ip_path_,
@@ -121,6 +144,7 @@ std::vector<std::string> TwoHosts::command(const Host& host, const std::vector<s
                                "CYCLONEDDS_URI",
                                "STEREOBALL_IFACE=" + host.iface,
                                "STEREOBALL_PEER=" + host.peer_address};
+  if (!key_file_.empty()) out.push_back("STEREOBALL_KEY_FILE=" + key_file_);
   if (!cyclonedds_uri.empty()) out.push_back("CYCLONEDDS_URI=" + cyclonedds_uri);
   out.insert(out.end(), argv.begin(), argv.end());
   return out;

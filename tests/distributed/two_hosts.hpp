@@ -27,11 +27,18 @@ class TwoHosts {
 
   /// Creates the namespaces and the link; an error (the reason, for GTEST_SKIP) if impossible.
   std::optional<std::string> setup();
+  /// Adds a third namespace, "rogue", with its own veth link to the robot namespace (another
+  /// subnet; the robot's Cyclone interface and peer list do not name it). After setup().
+  std::optional<std::string> add_rogue();
   const Host& robot() const { return robot_; }
   const Host& workstation() const { return workstation_; }
+  const Host& rogue() const { return rogue_; }
+  /// Deployment key file every command() passes as STEREOBALL_KEY_FILE ("" = none).
+  void set_key_file(const std::string& path) { key_file_ = path; }
 
   /// argv that runs program in host's namespace with the LAN Cyclone configuration:
-  /// ip netns exec NS env -u CYCLONEDDS_URI STEREOBALL_IFACE=.. STEREOBALL_PEER=.. [extra] argv...
+  /// ip netns exec NS env -u CYCLONEDDS_URI STEREOBALL_IFACE=.. STEREOBALL_PEER=..
+  /// [STEREOBALL_KEY_FILE=..] [extra] argv...
   /// (CYCLONEDDS_URI is removed so the launcher's profile choice, or cyclonedds_uri, applies).
   std::vector<std::string> command(const Host& host, const std::vector<std::string>& argv,
                                    const std::string& cyclonedds_uri = "") const;
@@ -52,9 +59,11 @@ class TwoHosts {
   void remove_abandoned() const;
 
   std::string ip_path_;
-  Host robot_, workstation_;
+  Host robot_, workstation_, rogue_, robot_rogue_side_;
+  std::string key_file_;
   bool robot_created_ = false;
   bool workstation_created_ = false;
+  bool rogue_created_ = false;
 };
 
 /// Path of the `ip` program (iproute2), or "" if none is installed.

@@ -45,7 +45,12 @@ struct Echo {
     runner.on_data(reader.handle(), [this, &runner, delay_ms] {
       for (auto& sample : reader.take()) {
         if (delay_ms) std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
-        writer.write(*sample);
+        // An echo: authenticated samples go back with their tag, exactly as they came.
+        if constexpr (sb::dds::Authenticated<T>) {
+          writer.forward(*sample);
+        } else {
+          writer.write(*sample);
+        }
         runner.health().count(std::string(this->reader.spec().name));
       }
     });

@@ -20,7 +20,7 @@ struct Subcommand {
   std::string_view summary;
 };
 
-constexpr std::array<Subcommand, 14> kKnown = {{
+constexpr std::array<Subcommand, 15> kKnown = {{
     {"demo", "run the whole system on the simulator and write a report"},
     {"launch", "start and supervise a deploy/ profile"},
     {"topic", "list, echo and measure topics (list | echo | hz)"},
@@ -32,7 +32,8 @@ constexpr std::array<Subcommand, 14> kKnown = {{
     {"play", "play an MCAP file back into the system"},
     {"info", "summarise an MCAP file"},
     {"cameras", "list V4L2 cameras"},
-    {"estop", "engage or release the emergency stop"},
+    {"estop", "engage, release (with confirmation) or show the emergency stop"},
+    {"keys", "deployment keys: init | show | rotate"},
     {"version", "print the version"},
     {"help", "this list"},
 }};

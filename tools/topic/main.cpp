@@ -88,7 +88,7 @@ int echo_topic(const sb::node::CommonOptions& options, const std::string& name, 
                  name.c_str());
     return 2;
   }
-  sb::dds::DomainParticipant participant({options.domain_id, options.partition});
+  sb::dds::DomainParticipant participant({options.domain_id, options.partition, options.key_file});
   int rc = 2;
   sb::topics::for_each([&](const auto& topic) {
     if (topic.spec.name == name) rc = echo_typed(participant, topic, count, timeout_s);
@@ -141,7 +141,7 @@ int hz_topic(const sb::node::CommonOptions& options, const std::string& name, si
                  name.c_str());
     return 2;
   }
-  sb::dds::DomainParticipant participant({options.domain_id, options.partition});
+  sb::dds::DomainParticipant participant({options.domain_id, options.partition, options.key_file});
   // A deeper history than the table's so bursts are measured, not collapsed.
   sb::topics::QosSpec qos = spec->qos;
   qos.history_depth = 64;

@@ -6,9 +6,12 @@
 #include <unistd.h>
 #include <chrono>
 #include <cstdlib>
+#include <map>
+#include <mutex>
 #include <string>
 #include <thread>
 
+#include "common/dds/auth_session.hpp"
 #include "common/dds/error.hpp"
 #include "common/dds/participant.hpp"
 #include "common/dds/qos.hpp"
@@ -18,6 +21,7 @@
 #include "common/dds/topic.hpp"
 #include "common/dds/waitset.hpp"
 #include "common/dds/writer.hpp"
+#include "common/util/log.hpp"
 
 namespace stereoball::dds {
 
@@ -102,6 +106,57 @@ topics::QosSpec actual_qos(EntityHandle entity) {
 
 // ---- participant and topics --------------------------------------------------------------
 
+namespace {
+
+// Keyless processes get this configuration whatever CYCLONEDDS_URI says: nothing they send or
+// accept can leave or enter the host (same settings as config/cyclonedds/loopback.xml).
+constexpr const char* kLoopbackOnlyXml =
+    "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>"
+    "<NetworkInterface name=\"lo\" multicast=\"false\"/></Interfaces>"
+    "<AllowMulticast>false</AllowMulticast><MaxMessageSize>65500B</MaxMessageSize></General>"
+    "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
+    "<MaxAutoParticipantIndex>60</MaxAutoParticipantIndex>"
+    "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
+    "<Internal><SocketReceiveBufferSize min=\"default\" max=\"16MB\"/>"
+    "<SocketSendBufferSize min=\"default\" max=\"4MB\"/></Internal></Domain></CycloneDDS>";
+
+// An explicitly created domain lives until deleted, so the keyless participants of a process
+// share one per domain id and the last to go deletes it.
+std::shared_ptr<Entity> loopback_only_domain(int domain_id) {
+  static std::mutex mutex;
+  static std::map<int, std::weak_ptr<Entity>> domains;
+  std::lock_guard lock(mutex);
+  if (auto domain = domains[domain_id].lock()) return domain;
+  const dds_entity_t handle = dds_create_domain(domain_id, kLoopbackOnlyXml);
+  if (handle == DDS_RETCODE_PRECONDITION_NOT_MET) {
+    throw Error("domain " + std::to_string(domain_id) +
+                    " already runs in this process with a deployment key; a keyless "
+                    "participant cannot join it",
+                handle);
+  }
+  auto domain = std::make_shared<Entity>(check(handle, "dds_create_domain(loopback only)"));
+  domains[domain_id] = domain;
+  return domain;
+}
+
+void warn_keyless_once() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    log::warn(
+        "UNAUTHENTICATED: no deployment key (set STEREOBALL_KEY_FILE or --key-file; "
+        "'stereoball keys init' makes one). Confined to the loopback interface: anything on "
+        "this host can command the robot.");
+  });
+}
+
+}  // namespace
+
+std::string resolve_key_file(const std::optional<std::string>& key_file) {
+  if (key_file) return *key_file;
+  const char* env = std::getenv("STEREOBALL_KEY_FILE");
+  return env ? env : "";
+}
+
 DomainParticipant::DomainParticipant(const ParticipantOptions& options) : options_(options) {
   if (options.domain_id < 0 || options.domain_id > 232) {
     throw Error("domain id " + std::to_string(options.domain_id) + " (allowed 0..232)",
@@ -109,6 +164,12 @@ DomainParticipant::DomainParticipant(const ParticipantOptions& options) : option
   }
   // Before Cyclone reads its configuration: never wait for a RouDi daemon that is not there.
   ensure_shared_memory_usable();
+  // Throws std::runtime_error naming the key file and its problem (mode, syntax...).
+  auth_ = std::make_shared<AuthSession>(resolve_key_file(options.key_file));
+  if (!auth_->keyed()) {
+    warn_keyless_once();
+    loopback_domain_ = loopback_only_domain(options.domain_id);
+  }
   participant_ = Entity(check(
       dds_create_participant(static_cast<dds_domainid_t>(options.domain_id), nullptr, nullptr),
       "dds_create_participant"));

@@ -2,6 +2,8 @@
 // DomainParticipant: the process's membership of a DDS domain, with the
 // publisher and subscriber (in the chosen partition) every writer and reader uses.
 
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "common/dds/entity.hpp"
@@ -12,7 +14,11 @@ namespace stereoball::dds {
 struct ParticipantOptions {
   int domain_id = 0;      ///< 0..232
   std::string partition;  ///< "" = default partition
+  /// Deployment key file; nullopt = $STEREOBALL_KEY_FILE; "" = keyless (loopback only).
+  std::optional<std::string> key_file;
 };
+
+class AuthSession;
 
 class DomainParticipant {
  public:
@@ -21,13 +27,20 @@ class DomainParticipant {
   EntityHandle publisher() const { return publisher_.handle(); }
   EntityHandle subscriber() const { return subscriber_.handle(); }
   const ParticipantOptions& options() const { return options_; }
+  /// Signing and checking of authenticated topics (shared by every reader and writer).
+  AuthSession& auth() const { return *auth_; }
 
  private:
   ParticipantOptions options_;
+  std::shared_ptr<AuthSession> auth_;
+  std::shared_ptr<Entity> loopback_domain_;  // keyless only; outlives participant_
   Entity participant_;
   Entity publisher_;
   Entity subscriber_;
 };
+
+/// The key file a participant uses: explicit, else $STEREOBALL_KEY_FILE, else "" (keyless).
+std::string resolve_key_file(const std::optional<std::string>& key_file);
 
 /// Domain id from the STEREOBALL_DOMAIN environment variable, or fallback.
 int domain_from_env(int fallback = 0);

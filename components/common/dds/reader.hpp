@@ -110,7 +110,9 @@ class DataReader {
              const topics::QosSpec& qos)
       : desc_(def.spec.descriptor),
         topic_(participant, def),
-        reader_(create_reader(participant, topic_.handle(), qos)) {}
+        reader_(create_reader(participant, topic_.handle(), qos)),
+        auth_(&participant.auth()),
+        guard_(participant.auth().make_guard(def.spec)) {}
 
   /// Takes up to max samples with valid data, as owned values (oldest first).
   std::vector<Owned<T>> take(size_t max = 16) {
@@ -121,7 +123,8 @@ class DataReader {
       dds_sample_info_t info;
       const int n = check(dds_take(reader_.handle(), &buffer, &info, 1, 1), "dds_take");
       if (n == 0) break;
-      if (info.valid_data) {
+      // Authenticated topics: forged, replayed or unsigned samples are dropped (and counted).
+      if (info.valid_data && authentic(sample)) {
         sample.set_source_stamp_ns(info.source_timestamp);
         out.push_back(std::move(sample));
       }
@@ -136,7 +139,9 @@ class DataReader {
     return std::move(samples.back());
   }
   /// Takes up to max samples on loan (zero allocation; give them back by destroying the result).
-  LoanedSamples<T> take_loaned(size_t max = LoanedSamples<T>::kMax) {
+  LoanedSamples<T> take_loaned(size_t max = LoanedSamples<T>::kMax) requires(
+      !Authenticated<T>)  // loans are not checked: authenticated topics use take()
+  {
     return LoanedSamples<T>(reader_.handle(), max);
   }
   uint32_t matched_writers() const { return dds::matched_writers(reader_.handle()); }
@@ -147,9 +152,20 @@ class DataReader {
   const topics::TopicSpec& spec() const { return topic_.spec(); }
 
  private:
+  bool authentic(Owned<T>& sample) {
+    if constexpr (Authenticated<T>) {
+      return auth_->verify(topic_.spec(), guard_, sample.get()->auth, sample.get()) ==
+             auth::Verdict::kAccepted;
+    } else {
+      return true;
+    }
+  }
+
   const dds_topic_descriptor_t* desc_;
   Topic<T> topic_;
   Entity reader_;
+  AuthSession* auth_;
+  auth::ReplayGuard guard_;
 };
 
 }  // namespace stereoball::dds

@@ -38,7 +38,13 @@ void add_common_flags(CLI::App& app, CommonOptions& options, const std::string& 
   app.add_option("--domain", options.domain_id, "DDS domain id (default: $STEREOBALL_DOMAIN or 0)")
       ->check(CLI::Range(0, 232))
       ->capture_default_str();
-  app.add_option("--partition", options.partition, "DDS partition (default: none)");
+  if (const char* partition = std::getenv("STEREOBALL_PARTITION")) options.partition = partition;
+  app.add_option("--partition", options.partition,
+                 "DDS partition (default: $STEREOBALL_PARTITION or none)");
+  options.key_file = dds::resolve_key_file(std::nullopt);
+  app.add_option("--key-file", options.key_file,
+                 "deployment key file (default: $STEREOBALL_KEY_FILE; none = unauthenticated, "
+                 "loopback only)");
   app.add_option("--log-level", options.log_level, "debug, info, warn or error")
       ->check(CLI::IsMember({"debug", "info", "warn", "error"}))
       ->capture_default_str();

@@ -1,5 +1,5 @@
 #pragma once
-// Flags every node and tool shares: --config, --domain, --partition, --log-level.
+// Flags every node and tool shares: --config, --domain, --partition, --log-level, --key-file.
 
 #include <CLI/CLI.hpp>
 
@@ -13,6 +13,7 @@ struct CommonOptions {
   int domain_id = 0;          ///< DDS domain (default: $STEREOBALL_DOMAIN or 0)
   std::string partition;      ///< DDS partition ("" = default)
   std::string log_level = "info";
+  std::string key_file;  ///< deployment keys ("" = keyless, loopback only)
 };
 
 /// Adds the shared flags to app; with_config=false for tools that have no params file.

@@ -8,20 +8,18 @@
 #include <chrono>
 #include <climits>
 
+#include "common/dds/auth_session.hpp"
+#include "common/util/clock.hpp"
 #include "common/util/log.hpp"
 
 namespace stereoball::node {
 
 int64_t now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
+  return util::wall_ns();
 }
 
 int64_t monotonic_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return util::monotonic_ns();
 }
 
 namespace {
@@ -51,7 +49,7 @@ Runner::Runner(std::string component, const CommonOptions& options)
     log::info("parameters from ", options.config_path, " (", options.config_origin, ")");
   }
   participant_ = std::make_unique<dds::DomainParticipant>(
-      dds::ParticipantOptions{options.domain_id, options.partition});
+      dds::ParticipantOptions{options.domain_id, options.partition, options.key_file});
   waitset_ = std::make_unique<dds::WaitSet>(*participant_);
   wake_ = std::make_unique<dds::GuardCondition>(*participant_);
   waitset_->attach(wake_->handle(), -1);
@@ -122,6 +120,10 @@ void Runner::run_due_timers() {
 }
 
 void Runner::publish_heartbeat(int64_t now) {
+  // Samples dropped by authentication (forged, replayed, unsigned...) are counted per topic.
+  for (const auto& [name, value] : participant_->auth().counters())
+    health_.set_counter(name, value);
+  health_.set_counter("auth_keyed", participant_->auth().keyed() ? 1 : 0);
   const Health::Snapshot snap = health_.snapshot(now);
   std::vector<std::string> names;
   std::vector<stereoball_msg_TopicRate> rates;

@@ -22,10 +22,9 @@ MotionControllerNode::MotionControllerNode(node::Runner& runner,
       controller_(params.controller),
       period_ns_(static_cast<std::int64_t>(1e9 / params.rate_hz)),
       tracks_(runner.participant(), topics::kBallTrack),
-      estop_(runner.participant(), topics::kEmergencyStop),
+      estop_(runner, [this](const node::EstopState& s) { on_estop(s); }),
       commands_(runner.participant(), topics::kVelocityCommand) {
   runner_.on_data(tracks_.handle(), [this] { on_tracks(); });
-  runner_.on_data(estop_.handle(), [this] { on_estop(); });
   // Tracks are answered when they arrive; this timer only keeps the minimum rate and sends the
   // stale stop when it happens, not up to a period later.
   runner_.every(kCheckPeriodNs, [this](std::int64_t now_ns) {
@@ -70,23 +69,13 @@ void MotionControllerNode::report_bad_stamp(const stereoball_msg_BallTrack& msg,
   if (bad_stamps_in_a_row_++ % kBadStampLogEvery == 0) log::warn(what);
 }
 
-void MotionControllerNode::on_estop() {
-  for (auto& s : estop_.take()) {
-    if (s->engaged != controller_.estop_engaged()) {
-      const char* reason = s->reason ? s->reason : "";
-      if (s->engaged) {
-        log::warn("emergency stop engaged: ", reason);
-      } else {
-        log::info("emergency stop cleared: ", reason);
-      }
-    }
-    const bool newly_engaged = s->engaged && !controller_.estop_engaged();
-    controller_.on_estop(s->engaged);
-    runner_.health().count(std::string(topics::kEmergencyStop.spec.name));
-    if (newly_engaged) {
-      const std::int64_t now = node::now_ns();
-      publish(controller_.step(now), now);
-    }
+void MotionControllerNode::on_estop(const node::EstopState& state) {
+  // The holder logged the change; a new stop goes out at once, not at the next check.
+  const bool newly_engaged = state.engaged && !controller_.estop_engaged();
+  controller_.on_estop(state.engaged);
+  if (newly_engaged) {
+    const std::int64_t now = node::now_ns();
+    publish(controller_.step(now), now);
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
+#include "common/node/estop_holder.hpp"
 #include "common/node/node_runner.hpp"
 #include "motion_controller/core/motion_controller.hpp"
 #include "motion_controller/node/controller_params_file.hpp"
@@ -21,7 +22,7 @@ class MotionControllerNode {
 
  private:
   void on_tracks();
-  void on_estop();
+  void on_estop(const node::EstopState& state);
   void publish(const Command& c, std::int64_t now_ns);
   void report_bad_stamp(const stereoball_msg_BallTrack& msg, StampCheck check, std::int64_t now_ns);
 
@@ -29,7 +30,7 @@ class MotionControllerNode {
   MotionController controller_;
   std::int64_t period_ns_;  // longest gap between two commands (1 / rate_hz)
   dds::DataReader<stereoball_msg_BallTrack> tracks_;
-  dds::DataReader<stereoball_msg_EmergencyStop> estop_;
+  node::EstopHolder estop_;  // authenticated, held and re-published
   dds::DataWriter<stereoball_msg_VelocityCommand> commands_;
   std::uint64_t seq_ = 0;
   Mode last_mode_ = Mode::kWaiting;

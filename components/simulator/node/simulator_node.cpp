@@ -22,25 +22,29 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       frames_(runner.participant(), topics::kStereoFrame),
       truth_(runner.participant(), topics::kGroundTruth),
       calibration_(runner.participant(), topics::kStereoCalibration),
-      commands_(runner.participant(), topics::kVelocityCommand) {
+      base_(runner, base::VelocityGateParams{params.robot.command_timeout_ns},
+            [this](const base::BaseCommand& c) { on_command(c); }) {
   if (options_.output.compressed()) {
     for (auto& e : encoders_) e.emplace(options_.output);
   }
   // Transient-local: written once, every late joiner still receives it.
   calibration_.write(
       stereo::calibration_to_message(published_, node::now_ns(), options_.calibration_source));
-  runner_.on_data(commands_.handle(), [this] { on_commands(); });
   const auto period_ns =
       static_cast<int64_t>(std::llround(1e9 / (params_.frame_rate_hz * options_.rate)));
   runner_.every(period_ns, [this](int64_t now) { tick(now); });
   runner_.health().set_state(true, "running scenario " + scenario_.name);
 }
 
-void SimulatorNode::on_commands() {
-  for (auto& s : commands_.take()) {
-    sim_->advance(command_from_msg(*s, node::now_ns(), sim_now_ns_, options_.rate), sim_now_ns_);
-    runner_.health().count(std::string(topics::kVelocityCommand.spec.name));
-  }
+void SimulatorNode::on_command(const base::BaseCommand& command) {
+  // The gate's output, not the raw command: zero while the e-stop is engaged.
+  stereoball_msg_VelocityCommand gated{};
+  gated.stamp_ns = command.stamp_ns;
+  gated.linear_mps = command.output.velocity.linear_mps;
+  gated.angular_radps = command.output.velocity.angular_radps;
+  sim_->advance(command_from_msg(gated, node::now_ns(), sim_now_ns_, options_.rate), sim_now_ns_);
+  runner_.health().set_state(true, "running scenario " + scenario_.name + ", base " +
+                                       std::string(base::to_string(command.output.state)));
 }
 
 int64_t SimulatorNode::exposure_stamp_ns(int64_t sim_time_ns, int64_t now_monotonic_ns,

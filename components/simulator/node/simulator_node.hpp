@@ -1,12 +1,14 @@
 #pragma once
 // The simulator process: renders the scenario at frame_rate_hz x rate, publishes stereo/frame,
-// sim/ground_truth and (once, latched) stereo/calibration; drives the base from cmd/velocity.
+// sim/ground_truth and (once, latched) stereo/calibration; drives the base from cmd/velocity
+// through the base's own gate (base/node/base_link.hpp): the e-stop and stale commands stop it.
 
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 
+#include "base/node/base_link.hpp"
 #include "camera_server/core/frame_codec.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
@@ -31,7 +33,7 @@ class SimulatorNode {
                 const stereo::StereoCalibration& published, const SimulatorNodeOptions& options);
 
  private:
-  void on_commands();
+  void on_command(const base::BaseCommand& command);
   void tick(int64_t now_ns);
   // Epoch stamp of the simulated exposure at sim_time_ns of the current run (both clocks read
   // at one instant given).
@@ -51,7 +53,7 @@ class SimulatorNode {
   dds::DataWriter<stereoball_msg_StereoFrame> frames_;
   dds::DataWriter<stereoball_msg_GroundTruth> truth_;
   dds::DataWriter<stereoball_msg_StereoCalibration> calibration_;
-  dds::DataReader<stereoball_msg_VelocityCommand> commands_;
+  base::BaseLink base_;  // authenticated commands, the e-stop, the base's own gate
   std::string frame_topic_{topics::kStereoFrame.spec.name};
   int64_t run_start_mono_ns_ = -1;
   int64_t frame_index_ = 0;  // next frame on the grid of the current run of the scenario

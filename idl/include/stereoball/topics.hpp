@@ -21,6 +21,13 @@ struct QosSpec {
   int64_t deadline_ns = 0;    ///< 0 = no deadline
 };
 
+/// Message authentication of a topic (components/common/auth): samples carry an AuthTag.
+enum class Auth {
+  kNone,    ///< not authenticated (frames, ground truth, health)
+  kStream,  ///< per writer increasing stamps within a freshness window (commands, results)
+  kLatest,  ///< latched state: the newest authenticated stamp wins, any age (e-stop, calibration)
+};
+
 /// Untyped description of a topic (for tools that handle any topic).
 struct TopicSpec {
   std::string_view name;       ///< DDS topic name, e.g. "stereo/frame"
@@ -28,6 +35,7 @@ struct TopicSpec {
   const dds_topic_descriptor_t* descriptor;
   QosSpec qos;
   std::string_view description;
+  Auth auth = Auth::kNone;
 };
 
 /// A topic bound to its generated C type at compile time.
@@ -52,32 +60,39 @@ inline constexpr Topic<stereoball_msg_StereoCalibration> kStereoCalibration{
      "stereoball::msg::StereoCalibration",
      &stereoball_msg_StereoCalibration_desc,
      {Reliability::kReliable, Durability::kTransientLocal, 1, 0},
-     "stereo calibration (latched)"}};
+     "stereo calibration (latched)",
+     Auth::kLatest}};
 inline constexpr Topic<stereoball_msg_BallDetection> kBallDetection{
     {"ball/detection",
      "stereoball::msg::BallDetection",
      &stereoball_msg_BallDetection_desc,
      {Reliability::kReliable, Durability::kVolatile, 8, 0},
-     "ball detection per stereo frame"}};
+     "ball detection per stereo frame",
+     Auth::kStream}};
 inline constexpr Topic<stereoball_msg_BallTrack> kBallTrack{
     {"ball/track",
      "stereoball::msg::BallTrack",
      &stereoball_msg_BallTrack_desc,
      {Reliability::kReliable, Durability::kVolatile, 8, 0},
-     "tracker state per detection"}};
+     "tracker state per detection",
+     Auth::kStream}};
 // Commands: reliable with a deadline; the base stops when they go stale.
 inline constexpr Topic<stereoball_msg_VelocityCommand> kVelocityCommand{
     {"cmd/velocity",
      "stereoball::msg::VelocityCommand",
      &stereoball_msg_VelocityCommand_desc,
      {Reliability::kReliable, Durability::kVolatile, 1, 200 * kMs},
-     "velocity command for the base"}};
+     "velocity command for the base",
+     Auth::kStream}};
+// E-stop: transient-local with a history of 8, so a reader that joins late keeps every
+// holder's latched state and the newest (by authenticated stamp) wins.
 inline constexpr Topic<stereoball_msg_EmergencyStop> kEmergencyStop{
     {"cmd/estop",
      "stereoball::msg::EmergencyStop",
      &stereoball_msg_EmergencyStop_desc,
-     {Reliability::kReliable, Durability::kTransientLocal, 1, 0},
-     "emergency stop (latched)"}};
+     {Reliability::kReliable, Durability::kTransientLocal, 8, 0},
+     "emergency stop (latched; every node that obeys it re-publishes the newest)",
+     Auth::kLatest}};
 inline constexpr Topic<stereoball_msg_GroundTruth> kGroundTruth{
     {"sim/ground_truth",
      "stereoball::msg::GroundTruth",

@@ -1,0 +1,50 @@
+#include "base/core/velocity_gate.hpp"
+
+#include <cmath>
+
+namespace stereoball::base {
+
+std::optional<std::string> VelocityGateParams::validate() const {
+  if (command_timeout_ns <= 0 || command_timeout_ns > 10'000'000'000) {
+    return "command_timeout_ns must be in (0, 1e10]";
+  }
+  return std::nullopt;
+}
+
+std::string_view to_string(GateState state) {
+  switch (state) {
+    case GateState::kDriving:
+      return "driving";
+    case GateState::kEmergencyStop:
+      return "emergency_stop";
+    case GateState::kStale:
+      return "stale";
+    case GateState::kNoCommand:
+      return "no_command";
+  }
+  return "?";
+}
+
+VelocityGate::VelocityGate(const VelocityGateParams& params) : params_(params) {}
+
+void VelocityGate::on_command(const Velocity& command, int64_t received_ns) {
+  if (estop_) return;
+  command_ = Velocity{std::isfinite(command.linear_mps) ? command.linear_mps : 0.0,
+                      std::isfinite(command.angular_radps) ? command.angular_radps : 0.0};
+  received_ns_ = received_ns;
+}
+
+void VelocityGate::set_estop(bool engaged) {
+  // A command from before the stop must never resume motion after its release.
+  if (engaged != estop_) command_.reset();
+  estop_ = engaged;
+}
+
+GateOutput VelocityGate::step(int64_t now_ns) const {
+  if (estop_) return {{}, GateState::kEmergencyStop};
+  if (!command_) return {{}, GateState::kNoCommand};
+  if (now_ns - received_ns_ > params_.command_timeout_ns) return {{}, GateState::kStale};
+  return {*command_, GateState::kDriving};
+}
+
+}  // namespace stereoball::base

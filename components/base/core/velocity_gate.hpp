@@ -1,0 +1,56 @@
+#pragma once
+// VelocityGate: what a robot base applies, decided by the base itself: the last command while
+// it is fresh and the emergency stop is released, zero otherwise. Pure (time is an argument).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace stereoball::base {
+
+struct VelocityGateParams {
+  int64_t command_timeout_ns = 300'000'000;  ///< a command older than this stops the base, ns
+  /// Empty, or the bad field and its allowed range.
+  std::optional<std::string> validate() const;
+};
+
+/// Velocity of a differential-drive base.
+struct Velocity {
+  double linear_mps = 0.0;     ///< forward, m/s
+  double angular_radps = 0.0;  ///< yaw rate, rad/s, positive = turn left
+};
+
+enum class GateState {
+  kDriving,        ///< applying the last command
+  kEmergencyStop,  ///< e-stop engaged: zero, commands ignored
+  kStale,          ///< the last command is older than the timeout: zero
+  kNoCommand,      ///< nothing received since start or since the e-stop was released: zero
+};
+std::string_view to_string(GateState state);
+
+struct GateOutput {
+  Velocity velocity;  ///< what the base may apply now
+  GateState state = GateState::kNoCommand;
+};
+
+class VelocityGate {
+ public:
+  explicit VelocityGate(const VelocityGateParams& params);
+  /// A command received at received_ns (non-finite values count as zero). Ignored while the
+  /// e-stop is engaged.
+  void on_command(const Velocity& command, int64_t received_ns);
+  /// Engages or releases the stop. Releasing needs a new command before the base moves again.
+  void set_estop(bool engaged);
+  bool estop_engaged() const { return estop_; }
+  /// What the base may apply at now_ns.
+  GateOutput step(int64_t now_ns) const;
+
+ private:
+  VelocityGateParams params_;
+  bool estop_ = false;
+  std::optional<Velocity> command_;
+  int64_t received_ns_ = 0;
+};
+
+}  // namespace stereoball::base

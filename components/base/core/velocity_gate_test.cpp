@@ -1,0 +1,59 @@
+// The base's gate: e-stop and staleness decided by the base, whatever the commands say.
+#include "base/core/velocity_gate.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+namespace sb = stereoball::base;
+
+namespace {
+constexpr int64_t kMs = 1'000'000;
+constexpr int64_t kT0 = 1'000'000 * kMs;
+}  // namespace
+
+TEST(VelocityGate, DrivesOnlyWhileTheCommandIsFresh) {
+  sb::VelocityGate gate({300 * kMs});
+  EXPECT_EQ(gate.step(kT0).state, sb::GateState::kNoCommand);
+  gate.on_command({0.5, 0.2}, kT0);
+  auto out = gate.step(kT0 + 300 * kMs);  // exactly the timeout: still fresh
+  EXPECT_EQ(out.state, sb::GateState::kDriving);
+  EXPECT_DOUBLE_EQ(out.velocity.linear_mps, 0.5);
+  EXPECT_DOUBLE_EQ(out.velocity.angular_radps, 0.2);
+  out = gate.step(kT0 + 300 * kMs + 1);
+  EXPECT_EQ(out.state, sb::GateState::kStale);
+  EXPECT_EQ(out.velocity.linear_mps, 0.0);
+}
+
+TEST(VelocityGate, EstopStopsAndIgnoresCommandsUntilReleasedAndCommandedAgain) {
+  sb::VelocityGate gate({300 * kMs});
+  gate.on_command({0.5, 0.0}, kT0);
+  // When the stop is engaged, then the output is zero and new commands are ignored
+  gate.set_estop(true);
+  EXPECT_EQ(gate.step(kT0).state, sb::GateState::kEmergencyStop);
+  gate.on_command({1.0, 1.0}, kT0 + kMs);
+  const auto stopped = gate.step(kT0 + kMs);
+  EXPECT_EQ(stopped.state, sb::GateState::kEmergencyStop);
+  EXPECT_EQ(stopped.velocity.linear_mps, 0.0);
+  EXPECT_EQ(stopped.velocity.angular_radps, 0.0);
+  // When released, then the command from before the stop does not resume motion
+  gate.set_estop(false);
+  EXPECT_EQ(gate.step(kT0 + 2 * kMs).state, sb::GateState::kNoCommand);
+  gate.on_command({0.3, 0.0}, kT0 + 3 * kMs);
+  EXPECT_EQ(gate.step(kT0 + 3 * kMs).state, sb::GateState::kDriving);
+}
+
+TEST(VelocityGate, NonFiniteCommandsCountAsZero) {
+  sb::VelocityGate gate({300 * kMs});
+  gate.on_command(
+      {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}, kT0);
+  const auto out = gate.step(kT0);
+  EXPECT_EQ(out.velocity.linear_mps, 0.0);
+  EXPECT_EQ(out.velocity.angular_radps, 0.0);
+}
+
+TEST(VelocityGate, ParamsValidateNamesTheField) {
+  EXPECT_FALSE(sb::VelocityGateParams{}.validate());
+  EXPECT_NE(sb::VelocityGateParams{0}.validate().value_or("").find("command_timeout_ns"),
+            std::string::npos);
+}
