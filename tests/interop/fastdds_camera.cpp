@@ -13,6 +13,8 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -169,6 +171,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   msg::StereoCalibration calibration_msg = to_message(*calibration, "fastdds:" + calibration_path);
+  // A keyless deployment (loopback only) checks no MAC, but the latched calibration still goes
+  // by "newest stamp per writer wins": key 0 (unsigned), this writer's id and its time.
+  calibration_msg.auth().key_id(0);
+  calibration_msg.auth().link_id(static_cast<uint64_t>(getpid()) << 32 | 0x5bu);
+  calibration_msg.auth().stamp_ns(now_ns());
   calibration_writer->write(&calibration_msg);
 
   const auto period = std::chrono::duration<double>(1.0 / rate_hz);
