@@ -13,6 +13,7 @@ PACKAGES=(
   cyclonedds-dev cyclonedds-tools
   libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev libv4l-dev
   nlohmann-json3-dev zlib1g-dev libjpeg-dev libgtest-dev libgmock-dev
+  libwebsocketpp-dev libasio-dev
   iproute2
 )
 
@@ -31,6 +32,8 @@ install_missing() {
   if [ "${1:-}" = test ]; then
     command -v node >/dev/null || missing+=(nodejs)
     command -v npm >/dev/null || missing+=(npm)
+    # A real browser loads the viewer page in the viewer tests.
+    command -v chromium >/dev/null || missing+=(chromium)
   fi
   if [ ${#missing[@]} -gt 0 ]; then
     echo "run.sh: installing ${missing[*]}"
