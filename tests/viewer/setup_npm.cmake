@@ -12,14 +12,5 @@ foreach(f package.json package-lock.json foxglove_client.mjs browser_check.mjs d
   configure_file(${SRC_DIR}/${f} ${WORK_DIR}/${f} COPYONLY)
 endforeach()
 configure_file(${VALIDATOR} ${WORK_DIR}/validate.mjs COPYONLY)
-if(NOT EXISTS ${WORK_DIR}/node_modules/@foxglove/ws-protocol/package.json)
-  execute_process(COMMAND ${NPM} ci --offline --no-audit --no-fund WORKING_DIRECTORY ${WORK_DIR}
-                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
-  if(NOT rc EQUAL 0)
-    execute_process(COMMAND ${NPM} ci --no-audit --no-fund WORKING_DIRECTORY ${WORK_DIR}
-                    RESULT_VARIABLE rc)
-  endif()
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "npm ci failed in ${WORK_DIR} (no network and no npm cache?)")
-  endif()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/../../cmake/NpmCi.cmake)
+sb_npm_ci(${WORK_DIR} @foxglove/ws-protocol)
