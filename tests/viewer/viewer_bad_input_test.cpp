@@ -19,28 +19,13 @@ namespace {
 
 using namespace std::chrono_literals;
 
-int tcp_connect(int port) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  timeval tv{10, 0};
-  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    close(fd);
-    return -1;
-  }
-  return fd;
-}
-
 void send_all(int fd, const std::string& bytes) {
   ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
 }
 
 // Opens a WebSocket (optionally asking for a subprotocol); -1 unless the server said 101.
 int ws_connect(int port, const std::string& subprotocol = "") {
-  const int fd = tcp_connect(port);
+  const int fd = tcp_connect(port, 10);
   if (fd < 0) return -1;
   send_all(fd,
            "GET / HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
@@ -129,7 +114,7 @@ TEST(ViewerBadInput, MalformedFramesAndBytesCloseOnlyThatConnection) {
   };
   for (const auto& c : cases) {
     // Given a connection (WebSocket, or raw TCP for non-HTTP bytes)
-    const int fd = c.handshake ? ws_connect(viewer.port) : tcp_connect(viewer.port);
+    const int fd = c.handshake ? ws_connect(viewer.port) : tcp_connect(viewer.port, 10);
     ASSERT_GE(fd, 0) << c.what;
     // When it sends the bad bytes
     send_all(fd, c.bytes);

@@ -48,6 +48,8 @@ class KnownScene {
   std::thread thread_;
 };
 
+/// A TCP connection to 127.0.0.1:port with a receive timeout; -1 when refused.
+int tcp_connect(int port, int timeout_s);
 /// Body of GET path on 127.0.0.1:port ("" when the request failed).
 std::string http_get(int port, const std::string& path);
 /// One counter of /stats, -1 when unavailable.
