@@ -18,6 +18,8 @@ BUILD_PACKAGES=(
   # Small, header-only at configure time: the test targets are declared in every build,
   # even when only the demo's programs are compiled.
   libgtest-dev libgmock-dev nlohmann-json3-dev
+  # stereoball view: WebSocket + HTTP server (header-only).
+  libwebsocketpp-dev libasio-dev
 )
 # What only running the test suite needs: network namespaces (iproute2), Fast DDS + fastddsgen
 # for the interop test, dpkg-dev + file for the package test.
@@ -43,6 +45,8 @@ install_missing() {
   if [ "${1:-}" = test ]; then
     command -v node >/dev/null || missing+=(nodejs)
     command -v npm >/dev/null || missing+=(npm)
+    # A real browser loads the viewer page in the viewer tests.
+    command -v chromium >/dev/null || missing+=(chromium)
   fi
   if [ ${#missing[@]} -gt 0 ]; then
     echo "run.sh: installing ${missing[*]}"

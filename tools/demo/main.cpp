@@ -24,6 +24,7 @@
 #include "metrics.hpp"
 #include "plot.hpp"
 #include "supervisor.hpp"
+#include "viewer_process.hpp"
 
 namespace sb = stereoball;
 namespace fs = std::filesystem;
@@ -197,6 +198,15 @@ int main(int argc, char** argv) {
   app.add_option("--rate", rate, "simulation speed (1 = real time)")
       ->check(CLI::Range(0.1, 10.0))
       ->capture_default_str();
+  bool view = false;
+  int view_port = 8765;
+  std::string view_bind = "127.0.0.1";
+  app.add_flag("--view", view, "open the live viewer (stereoball view) on the demo");
+  app.add_option("--view-port", view_port, "viewer port")
+      ->check(CLI::Range(0, 65535))
+      ->capture_default_str();
+  app.add_option("--view-bind", view_bind, "viewer address (0.0.0.0 = reachable from the LAN)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (scenarios.empty()) scenarios = {"ball_rolling_away", "ball_leaves_right", "no_ball"};
   sb::log::init("demo");
@@ -235,6 +245,20 @@ int main(int argc, char** argv) {
   const bool tty = isatty(STDOUT_FILENO);
   std::vector<sb::demo::ScenarioMetrics> results;
   bool nodes_ok = true;
+  std::unique_ptr<sb::demo::ViewerProcess> viewer;
+  if (view) {
+    // One viewer for every scenario: its partition pattern matches each scenario's partition.
+    viewer = std::make_unique<sb::demo::ViewerProcess>(
+        fs::read_symlink("/proc/self/exe").parent_path().string(), domain,
+        "demo." + std::to_string(getpid()) + ".*", view_bind, view_port, log_path.string());
+    if (!viewer->running()) {
+      std::fprintf(stderr, "stereoball demo: %s\n", viewer->error().c_str());
+      return 2;
+    }
+    std::printf("viewer: http://%s:%d/ (open it in a browser; Foxglove: ws://%s:%d/)\n",
+                view_bind.c_str(), view_port, view_bind.c_str(), view_port);
+    std::fflush(stdout);
+  }
 
   for (const auto& scenario : scenarios) {
     if (g_stop) break;

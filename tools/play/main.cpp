@@ -20,6 +20,7 @@
 #include "recorder/core/selection.hpp"
 #include "recorder/io/file_io.hpp"
 #include "stereoball/topics.hpp"
+#include "viewer/core/foxglove_schemas.hpp"
 
 namespace sb = stereoball;
 namespace rec = stereoball::recorder;
@@ -90,6 +91,14 @@ int main(int argc, char** argv) {
       if (!only.empty() && std::find(only.begin(), only.end(), channel.topic) == only.end())
         continue;
       const auto* spec = sb::topics::find(channel.topic);
+      const auto schema = summary.schemas.find(channel.schema_id);
+      if (schema != summary.schemas.end() &&
+          sb::viewer::foxglove::is_foxglove_schema(schema->second.name)) {
+        // Derived for people to watch (stereoball record --derived): never fed back to nodes.
+        std::printf("ignoring %s (derived %s channel)\n", channel.topic.c_str(),
+                    schema->second.name.c_str());
+        continue;
+      }
       if (spec == nullptr || channel.message_encoding != "cdr") {
         std::fprintf(stderr, "stereoball play: skipping '%s' (not a topic of the table)\n",
                      channel.topic.c_str());

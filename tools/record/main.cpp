@@ -20,6 +20,7 @@
 #include "recorder/io/recording.hpp"
 #include "stereoball/idl_text.hpp"
 #include "stereoball/topics.hpp"
+#include "viewer/recording/derived_recording.hpp"
 
 namespace sb = stereoball;
 namespace rec = stereoball::recorder;
@@ -40,6 +41,9 @@ struct Options {
   std::string compression = "zstd";
   int zstd_level = 1;
   bool quiet = false;
+  bool derived = false;
+  bool no_derived = false;
+  double derived_image_hz = 10;
 };
 
 std::string default_output() {
@@ -111,6 +115,14 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--zstd-level", o.zstd_level, "zstd level 1..19")->capture_default_str();
   app.add_flag("-q,--quiet", o.quiet, "no live progress");
+  app.add_flag("--derived", o.derived,
+               "also record the derived Foxglove channels (view/*: images with detections drawn, "
+               "3D scene); on by default with --all");
+  app.add_flag("--no-derived", o.no_derived, "do not record the derived channels");
+  app.add_option("--derived-image-hz", o.derived_image_hz,
+                 "images per second in the derived image channels")
+      ->check(CLI::Range(0.1, 120.0))
+      ->capture_default_str();
   sb::node::add_common_flags(app, common, "", false);
   CLI11_PARSE(app, argc, argv);
 
@@ -139,6 +151,15 @@ int main(int argc, char** argv) {
     const auto* spec = sb::topics::find(name);
     specs.push_back(spec);
     topics.push_back({name, std::string(spec->type_name), std::string(sb::idl_text())});
+  }
+  const bool derived = (o.all || o.derived) && !o.no_derived;
+  sb::viewer::DeriverParams derive;
+  derive.image_rate_hz = o.derived_image_hz;
+  if (derived) {
+    for (auto& t : sb::viewer::derived_recorded_topics()) {
+      selected->push_back(t.topic);
+      topics.push_back(std::move(t));
+    }
   }
 
   try {
@@ -171,12 +192,19 @@ int main(int argc, char** argv) {
         }
       });
     }
+    std::unique_ptr<sb::viewer::DerivedRecording> derived_recording;
+    if (derived) {
+      std::printf("  view/* (derived: images, detections, 3D scene for Foxglove)\n");
+      derived_recording = std::make_unique<sb::viewer::DerivedRecording>(
+          sb::dds::ParticipantOptions{common.domain_id, common.partition}, derive, **recording,
+          specs.size());
+    }
     std::fflush(stdout);
     const int64_t start = sb::node::monotonic_ns();
     bool failed = false;
     // Samples DDS lost before we could take them (history overwritten, rejected): reported
     // beside the queue drops so no loss is silent.
-    std::vector<uint64_t> lost(specs.size(), 0);
+    std::vector<uint64_t> lost(selected->size(), 0);  // derived channels: always 0
     auto update_lost = [&] {
       for (size_t i = 0; i < readers.size(); ++i) {
         lost[i] += sb::dds::take_lost_count(readers[i]->handle());
@@ -199,6 +227,7 @@ int main(int argc, char** argv) {
     }
     runner.run();
     update_lost();
+    if (derived_recording) derived_recording->stop();
     readers.clear();
     const auto err = (*recording)->stop();
     const auto counters = (*recording)->counters();

@@ -1,0 +1,68 @@
+#pragma once
+// Flow control between the viewer and its clients, so a slow or stuck client costs only its
+// own frames: a rate limit for encoding, and per-client decisions to send, drop or disconnect.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace stereoball::viewer {
+
+/// Passes at most one event per min_interval_ns (frame-rate decimation, time as an argument).
+class RateLimiter {
+ public:
+  /// max_rate_hz <= 0 passes everything.
+  explicit RateLimiter(double max_rate_hz);
+  /// True when an event at now_ns may pass (and records it as the last one passed).
+  bool admit(int64_t now_ns);
+
+ private:
+  int64_t min_interval_ns_;
+  std::optional<int64_t> last_ns_;
+};
+
+/// Limits of one client's outgoing queue.
+struct FlowParams {
+  uint32_t max_frames_in_flight = 2;            ///< images sent but not yet drawn (browser acks)
+  uint64_t drop_images_above_bytes = 1u << 20;  ///< queued bytes above which images are dropped
+  uint64_t disconnect_above_bytes = 16u << 20;  ///< queued bytes above which the client is cut off
+  int64_t stall_timeout_ns = 5'000'000'000;     ///< over the drop limit this long: cut off
+  /// nullopt when valid, else a message naming the bad field and its allowed range.
+  std::optional<std::string> validate() const;
+};
+
+enum class Decision { kSend, kDrop, kDisconnect };
+
+/// Per-client send policy. Images are the only messages worth dropping (a newer one follows);
+/// everything else is small and is sent unless the client is so far behind that it is cut off.
+class ClientFlow {
+ public:
+  /// acks: the client acknowledges each image it has drawn (the page does; Foxglove does not).
+  ClientFlow(const FlowParams& params, bool acks);
+  /// Whether to send an image now, given the bytes still queued for this client.
+  Decision offer_image(uint64_t queued_bytes, int64_t now_ns);
+  /// Whether to send a scene (state replaced by the next one) now: with acks, only when the
+  /// previous scene was acknowledged, so scenes never queue up in a slow page.
+  Decision offer_scene(uint64_t queued_bytes, int64_t now_ns);
+  /// Whether to send any other message now.
+  Decision offer_message(uint64_t queued_bytes, int64_t now_ns);
+  /// The client drew an image (frees one slot in flight).
+  void on_ack();
+  /// The client took in the last scene.
+  void on_scene_ack() { scene_in_flight_ = false; }
+  uint64_t sent_images() const { return sent_images_; }
+  uint64_t dropped_images() const { return dropped_images_; }
+  uint32_t in_flight() const { return in_flight_; }
+
+ private:
+  bool stalled(uint64_t queued_bytes, int64_t now_ns);
+  FlowParams params_;
+  bool acks_;
+  uint32_t in_flight_ = 0;
+  bool scene_in_flight_ = false;
+  uint64_t sent_images_ = 0;
+  uint64_t dropped_images_ = 0;
+  std::optional<int64_t> over_limit_since_ns_;
+};
+
+}  // namespace stereoball::viewer

@@ -1,0 +1,97 @@
+#include "viewer/core/flow.hpp"
+
+#include <gtest/gtest.h>
+
+namespace stereoball::viewer {
+namespace {
+
+constexpr int64_t kMs = 1'000'000;
+
+TEST(RateLimiter, PassesAtMostTheRateAndKeepsARateSourceAtTheLimit) {
+  // Given a 10 Hz limit and events every 33 ms (30 Hz)
+  RateLimiter limiter(10);
+  int passed = 0;
+  for (int i = 0; i < 90; ++i) passed += limiter.admit(i * 33 * kMs);
+  // Then about a third pass (3 s of events at 10 Hz)
+  EXPECT_GE(passed, 28);
+  EXPECT_LE(passed, 31);
+  // And a source exactly at the limit, with jitter, loses nothing
+  RateLimiter exact(10);
+  int exact_passed = 0;
+  for (int i = 0; i < 50; ++i) exact_passed += exact.admit(i * 100 * kMs + (i % 2 ? 3 : -3) * kMs);
+  EXPECT_EQ(exact_passed, 50);
+}
+
+TEST(RateLimiter, ZeroRatePassesEverything) {
+  RateLimiter limiter(0);
+  for (int i = 0; i < 10; ++i) EXPECT_TRUE(limiter.admit(5));
+}
+
+TEST(ClientFlow, BrowserGetsAtMostFramesInFlightUntilItAcks) {
+  // Given a browser that acknowledges drawn frames, two frames may be in flight
+  FlowParams p;
+  p.max_frames_in_flight = 2;
+  ClientFlow flow(p, /*acks=*/true);
+  EXPECT_EQ(flow.offer_image(0, 0), Decision::kSend);
+  EXPECT_EQ(flow.offer_image(0, 1), Decision::kSend);
+  // When a third arrives before any ack, it is dropped, not queued
+  EXPECT_EQ(flow.offer_image(0, 2), Decision::kDrop);
+  EXPECT_EQ(flow.dropped_images(), 1u);
+  // Then one ack frees one slot
+  flow.on_ack();
+  EXPECT_EQ(flow.offer_image(0, 3), Decision::kSend);
+  EXPECT_EQ(flow.sent_images(), 3u);
+}
+
+TEST(ClientFlow, PageGetsTheNextSceneOnlyAfterAcknowledgingTheLast) {
+  ClientFlow page(FlowParams{}, /*acks=*/true);
+  EXPECT_EQ(page.offer_scene(0, 0), Decision::kSend);
+  EXPECT_EQ(page.offer_scene(0, 1), Decision::kDrop);
+  page.on_scene_ack();
+  EXPECT_EQ(page.offer_scene(0, 2), Decision::kSend);
+  // A client without acks gets every scene while it keeps up
+  ClientFlow foxglove(FlowParams{}, /*acks=*/false);
+  EXPECT_EQ(foxglove.offer_scene(0, 0), Decision::kSend);
+  EXPECT_EQ(foxglove.offer_scene(0, 1), Decision::kSend);
+}
+
+TEST(ClientFlow, ClientWithoutAcksIsThrottledByQueuedBytes) {
+  FlowParams p;
+  ClientFlow flow(p, /*acks=*/false);
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(flow.offer_image(0, i), Decision::kSend);
+  EXPECT_EQ(flow.offer_image(p.drop_images_above_bytes + 1, 20), Decision::kDrop);
+  // Small messages still go while images are being dropped
+  EXPECT_EQ(flow.offer_message(p.drop_images_above_bytes + 1, 21), Decision::kSend);
+}
+
+TEST(ClientFlow, ClientThatNeverReadsIsCutOffAfterTheStallTimeout) {
+  FlowParams p;
+  p.stall_timeout_ns = 1000 * kMs;
+  ClientFlow flow(p, false);
+  const uint64_t backlog = p.drop_images_above_bytes + 10;
+  EXPECT_EQ(flow.offer_image(backlog, 0), Decision::kDrop);
+  EXPECT_EQ(flow.offer_image(backlog, 999 * kMs), Decision::kDrop);
+  EXPECT_EQ(flow.offer_image(backlog, 1000 * kMs), Decision::kDisconnect);
+}
+
+TEST(ClientFlow, DrainingResetsTheStallClockAndAHugeBacklogCutsAtOnce) {
+  FlowParams p;
+  p.stall_timeout_ns = 1000 * kMs;
+  ClientFlow flow(p, false);
+  const uint64_t backlog = p.drop_images_above_bytes + 10;
+  EXPECT_EQ(flow.offer_image(backlog, 0), Decision::kDrop);
+  EXPECT_EQ(flow.offer_message(0, 900 * kMs), Decision::kSend);  // it read everything
+  EXPECT_EQ(flow.offer_image(backlog, 1500 * kMs), Decision::kDrop);
+  EXPECT_EQ(flow.offer_message(p.disconnect_above_bytes + 1, 1501 * kMs), Decision::kDisconnect);
+}
+
+TEST(FlowParams, ValidateNamesTheBadField) {
+  FlowParams p;
+  EXPECT_FALSE(p.validate());
+  p.disconnect_above_bytes = p.drop_images_above_bytes;
+  ASSERT_TRUE(p.validate());
+  EXPECT_NE(p.validate()->find("disconnect_above_bytes"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace stereoball::viewer

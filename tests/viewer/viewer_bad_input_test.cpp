@@ -1,0 +1,176 @@
+// Bad input at `stereoball view`'s boundary: a busy port or a bad address, malformed
+// WebSocket frames and non-HTTP bytes, oversized messages, and a client that never reads.
+// The viewer must name the problem, drop the offender and keep serving everyone else.
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+
+#include "viewer_test_support.hpp"
+
+namespace stereoball::testing {
+namespace {
+
+using namespace std::chrono_literals;
+
+void send_all(int fd, const std::string& bytes) {
+  ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
+}
+
+// Opens a WebSocket (optionally asking for a subprotocol); -1 unless the server said 101.
+int ws_connect(int port, const std::string& subprotocol = "") {
+  const int fd = tcp_connect(port, 10);
+  if (fd < 0) return -1;
+  send_all(fd,
+           "GET / HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+           "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n" +
+               (subprotocol.empty() ? "" : "Sec-WebSocket-Protocol: " + subprotocol + "\r\n") +
+               "\r\n");
+  std::string head;
+  char c;
+  while (head.find("\r\n\r\n") == std::string::npos && recv(fd, &c, 1, 0) == 1) head += c;
+  if (head.rfind("HTTP/1.1 101", 0) != 0) {
+    close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+// A client frame: FIN + opcode, masked (mask 0 keeps the payload readable), any length.
+std::string client_frame(uint8_t opcode, const std::string& payload, bool masked = true) {
+  std::string f(1, static_cast<char>(0x80 | opcode));
+  const uint8_t mask_bit = masked ? 0x80 : 0;
+  if (payload.size() < 126) {
+    f += static_cast<char>(mask_bit | payload.size());
+  } else {
+    f += static_cast<char>(mask_bit | 127);
+    for (int i = 7; i >= 0; --i)
+      f += static_cast<char>((uint64_t{payload.size()} >> (8 * i)) & 0xff);
+  }
+  if (masked) f += std::string(4, '\0');
+  return f + payload;
+}
+
+// True when the server closed the connection within the socket timeout (data before the
+// close is read and discarded).
+bool closed_by_server(int fd) {
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = recv(fd, buf, sizeof buf, 0);
+    if (n == 0 || (n < 0 && errno == ECONNRESET)) return true;
+    if (n < 0) return false;  // timeout: still open
+  }
+}
+
+TEST(ViewerBadInput, BusyPortAndBadAddressAreNamed) {
+  // Given a port someone else listens on
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  ASSERT_EQ(listen(fd, 1), 0);
+  socklen_t len = sizeof addr;
+  getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+  const std::string port = std::to_string(ntohs(addr.sin_port));
+  // When the viewer is asked to use it, it exits with one clear line
+  auto [rc, out] =
+      run({bin("stereoball-view"), "--port", port, "--partition", unique_partition()}, 30s);
+  EXPECT_EQ(rc, 1) << out;
+  EXPECT_NE(out.find("cannot listen on 127.0.0.1:" + port + ": Address already in use"),
+            std::string::npos)
+      << out;
+  close(fd);
+  // And an address that is not one is named too
+  std::tie(rc, out) = run({bin("stereoball-view"), "--bind", "robot.local", "--port", "0"}, 30s);
+  EXPECT_EQ(rc, 1) << out;
+  EXPECT_NE(out.find("'robot.local' is not an IP address"), std::string::npos) << out;
+}
+
+TEST(ViewerBadInput, MalformedFramesAndBytesCloseOnlyThatConnection) {
+  const std::string partition = unique_partition();
+  auto viewer = start_viewer(partition);
+  ASSERT_GT(viewer.port, 0) << viewer.process.output();
+  struct Case {
+    const char* what;
+    std::string bytes;
+    bool handshake;
+  };
+  const std::vector<Case> cases = {
+      {"reserved opcode", client_frame(0x3, "x"), true},
+      {"unmasked client frame", client_frame(0x1, "ack", false), true},
+      {"invalid UTF-8 text", client_frame(0x1, "\xff\xfe\xfd"), true},
+      {"message over 64 KB", client_frame(0x1, std::string(100'000, 'a')), true},
+      {"TLS hello on the plain port",
+       std::string("\x16\x03\x01\x02\x00\x01\x00\x01\xfc", 9) + std::string(200, '\x07') +
+           "\r\n\r\n",
+       false},
+  };
+  for (const auto& c : cases) {
+    // Given a connection (WebSocket, or raw TCP for non-HTTP bytes)
+    const int fd = c.handshake ? ws_connect(viewer.port) : tcp_connect(viewer.port, 10);
+    ASSERT_GE(fd, 0) << c.what;
+    // When it sends the bad bytes
+    send_all(fd, c.bytes);
+    // Then the server closes it, and still serves new clients
+    EXPECT_TRUE(closed_by_server(fd)) << c.what;
+    close(fd);
+    EXPECT_GE(stat(viewer.port, "connections"), 0) << "after " << c.what;
+    const int again = ws_connect(viewer.port, "foxglove.websocket.v1");
+    EXPECT_GE(again, 0) << "after " << c.what;
+    if (again >= 0) close(again);
+  }
+  EXPECT_TRUE(viewer.process.running());
+}
+
+TEST(ViewerBadInput, ClientThatNeverReadsIsDroppedWhileOthersKeepReceiving) {
+  // Given a viewer that cuts stalled clients after 1 s, and big (noise) frames at 30 Hz
+  const std::string partition = unique_partition();
+  auto viewer = start_viewer(partition, {"--client-stall-s", "1"});
+  ASSERT_GT(viewer.port, 0) << viewer.process.output();
+  KnownScene scene(partition, 30, /*noise_frames=*/true);
+  const std::string subscribe = client_frame(
+      0x1, R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":1},{"id":2,"channelId":2}]})");
+  // And a Foxglove client that reads everything
+  const int reader = ws_connect(viewer.port, "foxglove.websocket.v1");
+  ASSERT_GE(reader, 0);
+  send_all(reader, subscribe);
+  std::atomic<uint64_t> received{0};
+  std::atomic<bool> stop{false};
+  std::thread drain([&] {
+    char buf[65536];
+    while (!stop) {
+      const ssize_t n = recv(reader, buf, sizeof buf, 0);
+      if (n <= 0) break;
+      received += static_cast<uint64_t>(n);
+    }
+  });
+  // When another client subscribes to both eyes and never reads
+  const int stuck = ws_connect(viewer.port, "foxglove.websocket.v1");
+  ASSERT_GE(stuck, 0);
+  int small = 4096;
+  setsockopt(stuck, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
+  send_all(stuck, subscribe);
+  // Then the viewer cuts it off
+  EXPECT_TRUE(eventually([&] { return stat(viewer.port, "disconnected_slow") >= 1; }, 60s))
+      << http_get(viewer.port, "/stats");
+  // And the reading client still gets images afterwards
+  const uint64_t before = received;
+  EXPECT_TRUE(eventually([&] { return received > before + 100'000; }, 20s))
+      << http_get(viewer.port, "/stats");
+  EXPECT_EQ(stat(viewer.port, "foxglove_clients"), 1);
+  stop = true;
+  shutdown(reader, SHUT_RDWR);
+  drain.join();
+  close(reader);
+  close(stuck);
+}
+
+}  // namespace
+}  // namespace stereoball::testing

@@ -1,0 +1,64 @@
+#pragma once
+// Shared by the viewer's integration tests: start `stereoball view` on this test's domain and
+// partition, publish a known scene, talk HTTP, run the npm clients.
+
+#include <atomic>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "process.hpp"
+
+namespace stereoball::testing {
+
+/// A running viewer and the port it bound.
+struct RunningViewer {
+  Process process;
+  int port = 0;
+};
+
+/// Starts stereoball-view on port 0 (any free port) with extra args; port 0 in the result
+/// when it did not report its address in time.
+RunningViewer start_viewer(const std::string& partition,
+                           const std::vector<std::string>& extra = {});
+
+/// What KnownScene publishes, for the assertions.
+struct SceneValues {
+  uint32_t width_px = 320, height_px = 240;
+  int64_t capture_stamp_ns = 1'700'000'000'123'456'789;
+  float left_x = 100.5f, left_y = 80.25f, left_r = 12.0f;
+  float right_x = 90.5f, right_r = 11.5f;
+  double track_position[3] = {0.25, 0.1, 1.5};
+  double distance_m = 1.52;
+  double truth_ball_world[3] = {2.0, -0.5, 0.1};
+  double robot_xy[2] = {0.5, -0.25};
+};
+
+/// Publishes frames (noise or smooth), detections, tracks and ground truth at rate_hz on its
+/// own thread until destroyed.
+class KnownScene {
+ public:
+  KnownScene(const std::string& partition, double rate_hz, bool noise_frames = false);
+  ~KnownScene();
+  const SceneValues& values() const { return values_; }
+
+ private:
+  SceneValues values_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+/// A TCP connection to 127.0.0.1:port with a receive timeout; -1 when refused.
+int tcp_connect(int port, int timeout_s);
+/// Body of GET path on 127.0.0.1:port ("" when the request failed).
+std::string http_get(int port, const std::string& path);
+/// One counter of /stats, -1 when unavailable.
+long stat(int port, const std::string& name);
+
+/// Folder with the tests' npm packages and scripts (SB_VIEWER_NPM_DIR), "" when unset or
+/// not installed.
+std::string npm_dir();
+/// Path of node, "" when not installed.
+std::string node_binary();
+
+}  // namespace stereoball::testing

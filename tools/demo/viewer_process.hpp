@@ -1,0 +1,28 @@
+#pragma once
+// `stereoball demo --view`: the viewer (stereoball-view) as a child process for the whole
+// demo, subscribed to every scenario's partition, stopped when the demo ends.
+
+#include <sys/types.h>
+
+#include <string>
+
+namespace stereoball::demo {
+
+class ViewerProcess {
+ public:
+  /// Starts bin_dir/stereoball-view on domain, partition pattern, bind address and port;
+  /// its output goes to log_path. error() says why when it could not start.
+  ViewerProcess(const std::string& bin_dir, int domain, const std::string& partition,
+                const std::string& bind, int port, const std::string& log_path);
+  ~ViewerProcess();
+  ViewerProcess(const ViewerProcess&) = delete;
+  ViewerProcess& operator=(const ViewerProcess&) = delete;
+  bool running() const { return pid_ > 0; }
+  const std::string& error() const { return error_; }
+
+ private:
+  pid_t pid_ = -1;
+  std::string error_;
+};
+
+}  // namespace stereoball::demo

@@ -1,0 +1,150 @@
+// stereoball view [--domain N] [--port P] [--bind ADDR]
+// An ordinary DDS subscriber that shows what the robot sees: a web page (served by this
+// process, nothing from the internet) with both eyes, the detections drawn on them, the
+// track state and register, a top view, commands and e-stop over time and every node's
+// health; and, on the same port, the Foxglove WebSocket protocol (foxglove.websocket.v1).
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <mutex>
+
+#include "common/dds/reader.hpp"
+#include "common/node/common_flags.hpp"
+#include "common/node/node_runner.hpp"
+#include "frame_pump.hpp"
+#include "stereoball/topics.hpp"
+#include "view_server.hpp"
+#include "viewer/bridge/derived_channels.hpp"
+
+namespace sb = stereoball;
+
+namespace {
+
+struct Options {
+  sb::view::ServerParams server;
+  sb::viewer::DeriverParams derive;
+  double image_rate_hz = 30;
+};
+
+// Every non-image input: converted under one lock, derived messages handed to the server.
+template <typename T, typename F>
+void subscribe(sb::node::Runner& runner, std::vector<std::shared_ptr<void>>& keep,
+               const sb::topics::Topic<T>& topic, F on_sample) {
+  auto reader = std::make_shared<sb::dds::DataReader<T>>(runner.participant(), topic);
+  keep.push_back(reader);
+  runner.on_data(reader->handle(), [reader, on_sample, &runner, name = topic.spec.name] {
+    for (auto& s : reader->take(64)) {
+      runner.health().count(std::string(name).c_str());
+      on_sample(*s);
+    }
+  });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  sb::node::block_termination_signals();
+  CLI::App app{
+      "stereoball view: a live viewer in the browser (both eyes with detections, track state, "
+      "top view, commands, node health) and a Foxglove WebSocket server (connect Foxglove to "
+      "ws://ADDR:PORT), on one port. Only subscribes: nothing on the robot waits for it."};
+  Options o;
+  sb::node::CommonOptions common;
+  app.add_option("-p,--port", o.server.port, "TCP port (0 = any free port)")->capture_default_str();
+  app.add_option("-b,--bind", o.server.bind_address,
+                 "address to listen on (0.0.0.0 = every interface, for other machines)")
+      ->capture_default_str();
+  app.add_option("--image-hz", o.image_rate_hz, "images per second sent at most")
+      ->check(CLI::Range(1.0, 120.0))
+      ->capture_default_str();
+  app.add_option("--jpeg-quality", o.derive.encoder.jpeg_quality, "JPEG quality 1..100")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  app.add_option("--max-width", o.derive.encoder.max_width_px,
+                 "scale wider images down to this width (0 = never)")
+      ->capture_default_str();
+  double stall_s = 5;
+  app.add_option("--client-stall-s", stall_s,
+                 "cut off a client whose backlog stays over the image drop limit this long")
+      ->check(CLI::Range(0.1, 600.0))
+      ->capture_default_str();
+  sb::node::add_common_flags(app, common, "", false);
+  CLI11_PARSE(app, argc, argv);
+  o.server.flow.stall_timeout_ns = static_cast<int64_t>(stall_s * 1e9);
+  if (auto bad = o.derive.validate()) {
+    std::fprintf(stderr, "stereoball view: %s\n", bad->c_str());
+    return 2;
+  }
+  try {
+    sb::node::Runner runner("viewer", common);
+    std::mutex mutex;
+    sb::viewer::Deriver deriver(o.derive);
+    sb::view::ViewServer server(
+        o.server,
+        [&](int64_t now_ns) {
+          std::lock_guard lock(mutex);
+          return deriver.scene().to_json(now_ns).dump();
+        },
+        [&] {
+          std::lock_guard lock(mutex);
+          return sb::viewer::foxglove::plot_json(deriver.scene());
+        });
+    auto url = server.start();
+    if (!url) {
+      std::fprintf(stderr, "stereoball view: %s\n", url.error().c_str());
+      return 1;
+    }
+    std::string ws = *url;
+    ws.replace(0, 4, "ws");
+    std::printf("viewer: %s (Foxglove: %s, domain %d%s%s)\n", url->c_str(), ws.c_str(),
+                common.domain_id, common.partition.empty() ? "" : ", partition ",
+                common.partition.c_str());
+    std::fflush(stdout);
+
+    std::vector<std::shared_ptr<void>> readers;
+    const auto now = [] { return sb::node::monotonic_ns(); };
+    auto forward = [&](auto make) {
+      std::vector<sb::viewer::DerivedMessage> out;
+      {
+        std::lock_guard lock(mutex);
+        out = make();
+      }
+      server.publish_derived(std::move(out));
+    };
+    subscribe(runner, readers, sb::topics::kBallDetection,
+              [&](const auto& m) { forward([&] { return deriver.on_detection(m); }); });
+    subscribe(runner, readers, sb::topics::kBallTrack,
+              [&](const auto& m) { forward([&] { return deriver.on_track(m, now()); }); });
+    subscribe(runner, readers, sb::topics::kGroundTruth,
+              [&](const auto& m) { forward([&] { return deriver.on_truth(m, now()); }); });
+    subscribe(runner, readers, sb::topics::kVelocityCommand, [&](const auto& m) {
+      std::lock_guard lock(mutex);
+      deriver.on_command(m);
+    });
+    subscribe(runner, readers, sb::topics::kEmergencyStop, [&](const auto& m) {
+      std::lock_guard lock(mutex);
+      deriver.on_estop(m);
+    });
+    subscribe(runner, readers, sb::topics::kComponentStatus, [&](const auto& m) {
+      std::lock_guard lock(mutex);
+      deriver.on_health(m);
+    });
+
+    sb::view::FramePump pump(runner.participant(), o.derive.encoder, o.image_rate_hz, server);
+    pump.start();
+    runner.every(1'000'000'000, [&](int64_t) {
+      const auto s = server.stats();
+      runner.health().set_state(true, std::to_string(s.browsers) + " browser(s), " +
+                                          std::to_string(s.foxglove_clients) +
+                                          " Foxglove client(s)");
+    });
+    const int rc = runner.run();
+    pump.stop();
+    server.stop();
+    return rc;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "stereoball view: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,70 @@
+#pragma once
+// The viewer's web server (on WsTransport: websocketpp + asio, one thread): serves the page at /,
+// its live stream to browsers over WebSocket, and the Foxglove WebSocket protocol to clients
+// that ask for subprotocol foxglove.websocket.v1, all on one port. Every client has its own
+// flow control (viewer/core/flow.hpp), so a slow client loses only its own frames and a stuck
+// one is cut off; nothing here ever waits for a client.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/util/result.hpp"
+#include "viewer/bridge/derived_channels.hpp"
+#include "viewer/core/flow.hpp"
+
+namespace stereoball::view {
+
+/// Server settings.
+struct ServerParams {
+  std::string bind_address = "127.0.0.1";
+  uint16_t port = 8765;
+  viewer::FlowParams flow;
+  double scene_rate_hz = 15;  ///< scene JSON pushed to browsers at most this often
+};
+
+/// Counters since start (for /stats, the tests and the benchmark).
+struct ServerStats {
+  uint64_t browsers = 0;           ///< connected now
+  uint64_t foxglove_clients = 0;   ///< connected now
+  uint64_t connections = 0;        ///< accepted since start
+  uint64_t disconnected_slow = 0;  ///< cut off because they did not read
+  uint64_t images_sent = 0;
+  uint64_t images_dropped = 0;
+  uint64_t bad_client_messages = 0;
+};
+
+class ViewServer {
+ public:
+  /// scene_json(now) returns the page's scene (called on the server thread, at most
+  /// scene_rate_hz); plot_json() the Foxglove plot sample.
+  ViewServer(const ServerParams& params, std::function<std::string(int64_t)> scene_json,
+             std::function<std::string()> plot_json);
+  ~ViewServer();
+  ViewServer(const ViewServer&) = delete;
+  ViewServer& operator=(const ViewServer&) = delete;
+
+  /// Binds and starts the server thread; error names the address and the reason.
+  Result<std::string> start();
+  /// Stops accepting, closes every connection, joins the thread.
+  void stop();
+
+  /// Hands an encoded pair to every client that can take it (thread-safe, never blocks).
+  void publish_pair(std::shared_ptr<const viewer::PairJpeg> pair);
+  /// Hands derived Foxglove messages to their subscribers (thread-safe, never blocks).
+  void publish_derived(std::vector<viewer::DerivedMessage> messages);
+  /// True while at least one client wants images (the frame reader exists only then).
+  bool images_wanted() const { return images_wanted_.load(); }
+  ServerStats stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::atomic<bool> images_wanted_{false};
+};
+
+}  // namespace stereoball::view
