@@ -11,7 +11,7 @@ cd "$(dirname "$(readlink -f "$0")")"
 PACKAGES=(
   build-essential cmake pkg-config git
   cyclonedds-dev cyclonedds-tools
-  libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev libv4l-dev
+  libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev libv4l-dev
   nlohmann-json3-dev zlib1g-dev libjpeg-dev libgtest-dev libgmock-dev
   iproute2
 )

@@ -14,7 +14,7 @@ std::optional<std::string> validate_image(const cv::Mat& image) {
 }
 
 std::vector<std::string> detector_names() {
-  return {"p2p", "cht", "gradient", "opencv", "opencv-alt"};
+  return {"p2p", "cht", "gradient", "opencv", "opencv-alt", "edcircles"};
 }
 
 std::unique_ptr<CircleDetector> make_detector(const std::string& method, const DetectorOptions& o,
@@ -70,8 +70,17 @@ std::unique_ptr<CircleDetector> make_detector(const std::string& method, const D
     if (auto e = p.validate()) return fail(method + ": " + *e);
     return std::make_unique<OpenCvHoughDetector>(p);
   }
+  if (method == "edcircles") {
+    EdCirclesParams p;
+    p.max_circles = o.max_circles;
+    p.min_radius_px = o.min_radius_px;
+    p.max_radius_px = o.max_radius_px;
+    p.min_separation_px = o.min_separation_px;
+    if (auto e = p.validate()) return fail("edcircles: " + *e);
+    return std::make_unique<EdCirclesDetector>(p);
+  }
   return fail("unknown method '" + method +
-              "' (expected p2p, cht, gradient, opencv or opencv-alt)");
+              "' (expected p2p, cht, gradient, opencv, opencv-alt or edcircles)");
 }
 
 }  // namespace stereoball::ball_detector
