@@ -56,7 +56,7 @@ double RealScore::f1() const {
 }
 
 RealScore score_setting(const Setting& setting, const std::vector<LabelledImage>& images,
-                        bd::LabelSplit split, int repeats, double min_iou) {
+                        bd::LabelSplit split, int repeats, double min_iou, bool explain) {
   RealScore s;
   for (const auto& img : images) {
     if (img.split != split) continue;
@@ -71,6 +71,13 @@ RealScore score_setting(const Setting& setting, const std::vector<LabelledImage>
     }
     s.image_ms.push_back(median(ms));
     const auto m = bd::match_circles(found, img.truth, min_iou);
+    if (explain && (m.false_negatives > 0 || m.false_positives > 0)) {
+      std::printf("  %s %s: tp %d fp %d fn %d |", setting.label.c_str(), img.name.c_str(),
+                  m.true_positives, m.false_positives, m.false_negatives);
+      for (const auto& c : found)
+        std::printf(" found(%.1f,%.1f,%.1f,%.2f)", c.x_px, c.y_px, c.radius_px, c.score);
+      std::printf("\n");
+    }
     s.tp += m.true_positives;
     s.fp += m.false_positives;
     s.fn += m.false_negatives;
@@ -102,7 +109,7 @@ std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
     const Setting* best = nullptr;
     RealScore best_tune;
     for (const auto& setting : family.settings) {
-      const RealScore s = score_setting(setting, images, bd::LabelSplit::tune, 1, min_iou);
+      const RealScore s = score_setting(setting, images, bd::LabelSplit::tune, 1, min_iou, false);
       if (verbose)
         std::printf("  tune %-22s %-34s F1 %.3f ms %.2f\n", family.name.c_str(),
                     setting.label.c_str(), s.f1(), median(s.image_ms));
@@ -115,7 +122,8 @@ std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
       }
     }
     if (!best) continue;
-    const RealScore r = score_setting(*best, images, bd::LabelSplit::report, repeats, min_iou);
+    const RealScore r =
+        score_setting(*best, images, bd::LabelSplit::report, repeats, min_iou, verbose);
     const auto sc = bd::detection_scores(r.tp, r.fp, r.fn);
     std::printf("%-22s %-34s %7.3f | %6.3f %6.3f %6.3f %8.3f %8.2f\n", family.name.c_str(),
                 best->label.c_str(), best_tune.f1(), sc.precision, sc.recall, sc.f1,

@@ -49,9 +49,10 @@ struct RealScore {
   double f1() const;
 };
 
-/// Runs a setting on the images of one split; each image timed `repeats` times.
+/// Runs a setting on the images of one split; each image timed `repeats` times. explain: print
+/// what was found on every image with a miss or a false positive.
 RealScore score_setting(const Setting& setting, const std::vector<LabelledImage>& images,
-                        ball_detector::LabelSplit split, int repeats, double min_iou);
+                        ball_detector::LabelSplit split, int repeats, double min_iou, bool explain);
 
 /// One family's chosen setting and its report-split figures.
 struct RealRow {
