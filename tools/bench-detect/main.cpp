@@ -151,21 +151,21 @@ std::vector<stereoball::bench_detect::Family> real_families() {
   using stereoball::bench_detect::Family;
   std::vector<Family> f;
   Family p2p{"p2p", {}};
-  const std::vector<std::vector<int>> k_sets = {{5}, {3, 5, 8}, {5, 8, 15}, {3, 5, 8, 15}};
+  const std::vector<std::vector<int>> k_sets = {{5}, {5, 8, 15}, {3, 5, 8, 15}};
   for (const auto& ks : k_sets)
-    for (double score : {0.45, 0.55, 0.65})
-      for (double clutter : {0.0, 0.1}) {
-        p2p.settings.push_back(
-            {cv::format("k=%s min_score=%.2f clutter=%.1f", k_list(ks).c_str(), score, clutter),
-             [ks, score, clutter](cv::Size s) {
-               auto p = p2p_params(s, ks);
-               p.min_score = score;
-               p.refine_params.clutter_ring_per_radius = clutter;
-               p.max_circles = kRealMaxCircles;
-               p.max_peaks_examined = 2 * kRealMaxCircles;
-               return std::make_unique<bd::PixelToPixelDetector>(p);
-             }});
-      }
+    for (double score : {0.35, 0.45, 0.55})
+      for (double clutter : {0.0, 0.1})
+        for (int peaks : {kRealMaxCircles / 2, 2 * kRealMaxCircles})
+          p2p.settings.push_back({cv::format("k=%s score>=%.2f clutter=%.1f peaks=%d",
+                                             k_list(ks).c_str(), score, clutter, peaks),
+                                  [ks, score, clutter, peaks](cv::Size s) {
+                                    auto p = p2p_params(s, ks);
+                                    p.min_score = score;
+                                    p.refine_params.clutter_ring_per_radius = clutter;
+                                    p.max_circles = kRealMaxCircles;
+                                    p.max_peaks_examined = peaks;
+                                    return std::make_unique<bd::PixelToPixelDetector>(p);
+                                  }});
   f.push_back(p2p);
   Family paper{"p2p paper rule", {}};
   for (const auto& ks : k_sets)
