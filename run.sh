@@ -13,8 +13,8 @@ cd "$(dirname "$(readlink -f "$0")")"
 BUILD_PACKAGES=(
   build-essential cmake pkg-config linux-libc-dev
   cyclonedds-dev cyclonedds-tools
-  libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev zlib1g-dev libjpeg-dev
-  libsodium-dev
+  libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev
+  zlib1g-dev libjpeg-dev libsodium-dev
   # Small, header-only at configure time: the test targets are declared in every build,
   # even when only the demo's programs are compiled.
   libgtest-dev libgmock-dev nlohmann-json3-dev

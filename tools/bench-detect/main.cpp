@@ -1,11 +1,13 @@
-// stereoball bench detect: deterministic synthetic suite (accuracy + timing) and real images
-// (timing only) for Pixel-to-Pixel and the baselines, all in one run, one core.
+// stereoball bench detect: deterministic synthetic suite (accuracy + timing), real images
+// (timing), and labelled real photographs (accuracy + timing, settings tuned on one split and
+// reported on the other) for Pixel-to-Pixel and the baselines, all in one run, one core.
 
 #include "ball_detector/core/baselines.hpp"
 #include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/evaluation.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/synthetic.hpp"
+#include "real_photos.hpp"
 
 #include "common/util/bench_clock.hpp"
 
@@ -125,7 +127,103 @@ std::vector<Method> make_methods(bool with_cht, double cht_step_px) {
                    p.min_separation_px = min_sep(s);
                    return std::make_unique<bd::OpenCvHoughDetector>(p);
                  }});
+  m.push_back({"edcircles", [](cv::Size s) {
+                 bd::EdCirclesParams p;
+                 p.min_radius_px = min_radius(s);
+                 p.max_radius_px = max_radius(s);
+                 p.min_separation_px = min_sep(s);
+                 return std::make_unique<bd::EdCirclesDetector>(p);
+               }});
   return m;
+}
+
+// The real-photograph families: each method with the settings tried on the tune split. Radii
+// and separation follow the image size as in the synthetic suite; up to 40 circles an image.
+constexpr int kRealMaxCircles = 40;
+
+std::string k_list(const std::vector<int>& ks) {
+  std::string out;
+  for (int k : ks) out += (out.empty() ? "" : ",") + std::to_string(k);
+  return out;
+}
+
+std::vector<stereoball::bench_detect::Family> real_families() {
+  using stereoball::bench_detect::Family;
+  std::vector<Family> f;
+  Family p2p{"p2p", {}};
+  const std::vector<std::vector<int>> k_sets = {{5}, {5, 8, 15}, {3, 5, 8, 15}};
+  for (const auto& ks : k_sets)
+    for (double score : {0.35, 0.45, 0.55})
+      for (double clutter : {0.0, 0.1})
+        for (int peaks : {kRealMaxCircles / 2, 2 * kRealMaxCircles})
+          p2p.settings.push_back({cv::format("k=%s score>=%.2f clutter=%.1f peaks=%d",
+                                             k_list(ks).c_str(), score, clutter, peaks),
+                                  [ks, score, clutter, peaks](cv::Size s) {
+                                    auto p = p2p_params(s, ks);
+                                    p.min_score = score;
+                                    p.refine_params.clutter_ring_per_radius = clutter;
+                                    p.max_circles = kRealMaxCircles;
+                                    p.max_peaks_examined = peaks;
+                                    return std::make_unique<bd::PixelToPixelDetector>(p);
+                                  }});
+  f.push_back(p2p);
+  Family paper{"p2p paper rule", {}};
+  for (const auto& ks : k_sets)
+    paper.settings.push_back({"k=" + k_list(ks), [ks](cv::Size s) {
+                                auto p = p2p_params(s, ks);
+                                p.isolate_arc = false;
+                                p.max_circles = kRealMaxCircles;
+                                p.max_peaks_examined = 2 * kRealMaxCircles;
+                                return std::make_unique<bd::PixelToPixelDetector>(p);
+                              }});
+  f.push_back(paper);
+  Family hough{"HOUGH_GRADIENT", {}};
+  for (double p1 : {100.0, 200.0})
+    for (double p2 : {20.0, 30.0, 45.0, 60.0})
+      hough.settings.push_back({cv::format("p1=%g p2=%g blur 5", p1, p2), [p1, p2](cv::Size s) {
+                                  bd::OpenCvHoughParams p;
+                                  p.param1 = p1;
+                                  p.param2 = p2;
+                                  p.blur_ksize = 5;
+                                  p.min_radius_px = min_radius(s);
+                                  p.max_radius_px = max_radius(s);
+                                  p.min_separation_px = min_sep(s);
+                                  p.max_circles = kRealMaxCircles;
+                                  return std::make_unique<bd::OpenCvHoughDetector>(p);
+                                }});
+  f.push_back(hough);
+  Family alt{"HOUGH_GRADIENT_ALT", {}};
+  for (double p1 : {150.0, 300.0})
+    for (double p2 : {0.6, 0.75, 0.85, 0.9})
+      alt.settings.push_back({cv::format("dp=1.5 p1=%g p2=%g", p1, p2), [p1, p2](cv::Size s) {
+                                bd::OpenCvHoughParams p;
+                                p.alt = true;
+                                p.dp = 1.5;
+                                p.param1 = p1;
+                                p.param2 = p2;
+                                p.min_radius_px = min_radius(s);
+                                p.max_radius_px = max_radius(s);
+                                p.min_separation_px = min_sep(s);
+                                p.max_circles = kRealMaxCircles;
+                                return std::make_unique<bd::OpenCvHoughDetector>(p);
+                              }});
+  f.push_back(alt);
+  Family ed{"EDCircles", {}};
+  for (int g : {10, 20, 30, 40})
+    for (double ratio : {0.8, 0.9})
+      ed.settings.push_back(
+          {cv::format("grad=%d axis_ratio=%.1f", g, ratio), [g, ratio](cv::Size s) {
+             bd::EdCirclesParams p;
+             p.gradient_threshold = g;
+             p.min_axis_ratio = ratio;
+             p.min_radius_px = min_radius(s);
+             p.max_radius_px = max_radius(s);
+             p.min_separation_px = min_sep(s);
+             p.max_circles = kRealMaxCircles;
+             return std::make_unique<bd::EdCirclesDetector>(p);
+           }});
+  f.push_back(ed);
+  return f;
 }
 
 using stereoball::bench::thread_cpu_ms;
@@ -266,6 +364,10 @@ int main(int argc, char** argv) {
   double min_iou = 0.8;
   std::string explain;
   std::vector<std::string> only;
+  std::string labels_dir = SB_DEFAULT_LABELS_DIR;
+  std::string project_root = SB_PROJECT_ROOT;
+  int real_repeats = 3;
+  bool no_synthetic = false, verbose_tuning = false;
   app.add_option("--per-kind", per_kind, "Synthetic scenes per kind and size (10 kinds)")
       ->capture_default_str()
       ->check(CLI::Range(1, 200));
@@ -285,9 +387,35 @@ int main(int argc, char** argv) {
   app.add_option("--only", only,
                  "Run only the methods whose label starts with this (repeatable; for profiling: "
                  "ratios need the methods side by side in one run)");
+  app.add_option("--labels-dir", labels_dir, "Folder of *.circles label files (real photographs)")
+      ->capture_default_str();
+  app.add_option("--project-root", project_root, "Label files name images relative to this")
+      ->capture_default_str();
+  app.add_option("--real-repeats", real_repeats, "Timed runs per labelled photograph (median)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 50));
+  app.add_flag("--no-synthetic", no_synthetic,
+               "Only the labelled real photographs (skip the synthetic suite and timing images)");
+  app.add_flag("--verbose-tuning", verbose_tuning, "Print every setting's tune-split F1 and time");
   CLI11_PARSE(app, argc, argv);
   cv::setNumThreads(1);
 
+  const auto labelled = stereoball::bench_detect::load_labelled_images(labels_dir, project_root);
+  if (const auto* e = std::get_if<std::string>(&labelled)) {
+    std::fprintf(stderr, "stereoball-bench-detect: %s\n", e->c_str());
+    return 1;
+  }
+  auto families = real_families();
+  if (!only.empty())
+    std::erase_if(families, [&](const stereoball::bench_detect::Family& f) {
+      return std::none_of(only.begin(), only.end(),
+                          [&](const std::string& p) { return f.name.rfind(p, 0) == 0; });
+    });
+  if (no_synthetic) {
+    stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
+                                                   min_iou, verbose_tuning);
+    return 0;
+  }
   const std::vector<cv::Size> sizes = {{352, 288}, {640, 480}};
   std::vector<std::string> real_names;
   const auto real = load_real_images(real_dir, real_names);
@@ -409,5 +537,7 @@ int main(int argc, char** argv) {
     std::printf("%-18s voters %8.0f  increments %9.0f  peak/mean %8.1f\n", label.c_str(),
                 median(voters[label]), median(increments[label]), median(ratio[label]));
   k_selection_table();
+  stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
+                                                 min_iou, verbose_tuning);
   return 0;
 }

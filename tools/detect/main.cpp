@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
   std::string debug_dir;
   int threads = 1;
   std::vector<std::string> images;
-  app.add_option("--method", method, "Detector: p2p, cht, gradient, opencv, opencv-alt")
+  app.add_option("--method", method, "Detector: p2p, cht, gradient, opencv, opencv-alt, edcircles")
       ->capture_default_str()
       ->check(CLI::IsMember(bd::detector_names()));
   app.add_option("--k", ks,

@@ -1,6 +1,6 @@
 #pragma once
 // Baselines behind the CircleDetector interface, for comparison with Pixel-to-Pixel:
-// classic 3D CHT, gradient-direction line voting, OpenCV HoughCircles.
+// classic 3D CHT, gradient-direction line voting, OpenCV HoughCircles, EDCircles.
 
 #include "ball_detector/core/circle.hpp"
 #include "ball_detector/core/circle_fit.hpp"
@@ -105,6 +105,38 @@ class OpenCvHoughDetector final : public CircleDetector {
 
  private:
   OpenCvHoughParams params_;
+};
+
+/// Parameters of the EDCircles baseline (cv::ximgproc::EdgeDrawing, OpenCV contrib).
+struct EdCirclesParams {
+  int gradient_threshold = 20;      ///< Edge Drawing's gradient threshold (its default 20), >= 1
+  int anchor_threshold = 0;         ///< anchor threshold (its default 0), >= 0
+  double sigma = 1.0;               ///< Gaussian pre-blur sigma (its default 1), > 0
+  bool parameter_free = false;      ///< EDPF: thresholds from the image (Helmholtz principle)
+  double min_axis_ratio = 0.9;      ///< an ellipse counts as a circle above this minor/major
+  double min_radius_px = 4.0;       ///< smallest radius kept, pixels
+  double max_radius_px = 120.0;     ///< largest radius kept, pixels
+  double min_separation_px = 10.0;  ///< closest two centres, pixels (the stronger is kept)
+  int max_circles = 5;              ///< most circles returned
+
+  /// Names the first bad field and its allowed range, or nullopt.
+  std::optional<std::string> validate() const;
+};
+
+/// EDCircles (Akinlar & Topal 2013): Edge Drawing's one-pixel edge chains, arcs fitted to
+/// them, joined into circles and ellipses and validated by the number of false alarms.
+/// Near-circular ellipses become circles (mean of the semi-axes); score = minor/major.
+class EdCirclesDetector final : public CircleDetector {
+ public:
+  explicit EdCirclesDetector(const EdCirclesParams& params);
+  ~EdCirclesDetector() override;
+  std::vector<Circle> detect(const cv::Mat& bgr_or_grey) override;
+  std::string name() const override { return "edcircles"; }
+
+ private:
+  struct Impl;
+  EdCirclesParams params_;
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace stereoball::ball_detector

@@ -5,6 +5,7 @@
 #include "ball_detector/core/synthetic.hpp"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
 
@@ -62,6 +63,29 @@ TEST(Cht, GivenBadParamsThenValidateNamesThem) {
   o.alt = true;
   o.param2 = 5.0;
   EXPECT_NE(o.validate().value_or("").find("param2"), std::string::npos);
+}
+
+TEST(EdCircles, GivenAFlatEllipseAndACircleThenOnlyTheCircleIsReported) {
+  cv::Mat img(240, 320, CV_8UC3, cv::Scalar(40, 40, 40));
+  cv::circle(img, {90, 120}, 40, cv::Scalar(200, 200, 200), cv::FILLED, cv::LINE_AA);
+  cv::ellipse(img, {{230.f, 120.f}, {120.f, 50.f}, 0.f}, cv::Scalar(200, 200, 200), cv::FILLED,
+              cv::LINE_AA);
+  EdCirclesParams p;
+  p.max_radius_px = 100;
+  const auto found = EdCirclesDetector(p).detect(img);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_NEAR(found[0].x_px, 90.0, 1.5);
+  EXPECT_NEAR(found[0].radius_px, 40.0, 2.0);
+}
+
+TEST(EdCircles, GivenBadParamsThenValidateNamesThem) {
+  EdCirclesParams p;
+  EXPECT_FALSE(p.validate().has_value());
+  p.min_axis_ratio = 1.5;
+  EXPECT_NE(p.validate().value_or("").find("min_axis_ratio"), std::string::npos);
+  p = EdCirclesParams{};
+  p.gradient_threshold = 0;
+  EXPECT_NE(p.validate().value_or("").find("gradient_threshold"), std::string::npos);
 }
 
 }  // namespace

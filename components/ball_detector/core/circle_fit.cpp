@@ -309,9 +309,25 @@ double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& 
                      std::vector<cv::Point2d>& pts) {
   const OutlineStretch stretch = outline_stretch(edges, c, params);
   const Circle round = round_circle(c, stretch);
-  gather_outline_points(edges, round, stretch, scoring_band_px(round, params),
-                        params.min_radial_cos, pts);
-  return angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch);
+  const double band = scoring_band_px(round, params);
+  gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
+  const double coverage =
+      angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch);
+  if (params.clutter_ring_per_radius <= 0.0 || coverage <= 0.0) return coverage;
+  // Texture covers any circle drawn through it about as well as the outline does: subtract
+  // the coverage of the same circle grown and shrunk by a few pixels.
+  const double step = std::max(2.0, params.clutter_ring_per_radius * round.radius_px);
+  double clutter = 0.0;
+  std::vector<cv::Point2d> ring_pts;
+  for (double d : {-step, step}) {
+    Circle ring = round;
+    ring.radius_px += d;
+    if (ring.radius_px < 2.0) continue;
+    gather_outline_points(edges, ring, stretch, band, params.min_radial_cos, ring_pts);
+    clutter = std::max(clutter, angular_coverage_in_frame(ring, ring_pts, edges.frame_px,
+                                                          params.min_inside_fraction, stretch));
+  }
+  return std::max(0.0, coverage - clutter);
 }
 
 }  // namespace

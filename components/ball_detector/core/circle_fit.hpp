@@ -27,6 +27,10 @@ struct RefineParams {
   double band_per_radius = 0.025;
   double min_radial_cos = 0.85;  ///< min |cos| between edge gradient and the radius, [0, 1]
   int iterations = 3;            ///< gather + fit rounds
+  /// Addition: when > 0, the score is the outline's coverage minus the larger coverage of the
+  /// circles this fraction of the radius (at least 2 px) larger and smaller, so that dense
+  /// texture, which covers every circle through it, does not score as an outline. 0 = off.
+  double clutter_ring_per_radius = 0.0;
   /// A circle cut by the image border scores 0 unless this fraction of it is inside, [0, 1].
   double min_inside_fraction = 0.5;
   /// Addition: the (rectified, undistorted) camera of the whole image, when known. A sphere off

@@ -95,5 +95,26 @@ TEST(CoverageInFrame, GivenCircleCutByTheBorderThenVisiblePartDecides) {
   EXPECT_EQ(angular_coverage_in_frame(mostly_out, right_half, frame, 0.5), 0.0);
 }
 
+TEST(ClutterRings, GivenDenseTextureThenACircleThroughItScoresLowOnlyWithTheRings) {
+  cv::Mat texture(200, 200, CV_8UC1);
+  cv::RNG rng(3);
+  rng.fill(texture, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(texture, texture, cv::Size(0, 0), 0.8);
+  cv::Mat ball(200, 200, CV_8UC1, cv::Scalar(60));
+  cv::circle(ball, {100, 100}, 40, cv::Scalar(180), cv::FILLED, cv::LINE_AA);
+  EdgeParams ep;
+  ep.max_high_threshold = 60.0;  // keep the texture's edges
+  EdgeMap noise_edges, ball_edges;
+  compute_edge_map(texture, ep, noise_edges);
+  compute_edge_map(ball, EdgeParams{}, ball_edges);
+  const Circle c{100.0, 100.0, 40.0, 0.0};
+  RefineParams plain, rings;
+  rings.clutter_ring_per_radius = 0.1;
+  const double texture_plain = score_circle(noise_edges, c, plain);
+  EXPECT_GT(texture_plain, 0.3) << "texture covers many of the circle's sectors";
+  EXPECT_LT(score_circle(noise_edges, c, rings), 0.5 * texture_plain);
+  EXPECT_GT(score_circle(ball_edges, c, rings), 0.9);  // a clean outline keeps its score
+}
+
 }  // namespace
 }  // namespace stereoball::ball_detector

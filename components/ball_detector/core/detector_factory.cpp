@@ -3,6 +3,19 @@
 #include "ball_detector/core/p2p_detector.hpp"
 
 namespace stereoball::ball_detector {
+namespace {
+
+// The options every method's params share.
+template <class Params>
+Params with_common_options(Params p, const DetectorOptions& o) {
+  p.max_circles = o.max_circles;
+  p.min_radius_px = o.min_radius_px;
+  p.max_radius_px = o.max_radius_px;
+  p.min_separation_px = o.min_separation_px;
+  return p;
+}
+
+}  // namespace
 
 std::optional<std::string> validate_image(const cv::Mat& image) {
   if (image.empty()) return std::string("image is empty");
@@ -14,7 +27,7 @@ std::optional<std::string> validate_image(const cv::Mat& image) {
 }
 
 std::vector<std::string> detector_names() {
-  return {"p2p", "cht", "gradient", "opencv", "opencv-alt"};
+  return {"p2p", "cht", "gradient", "opencv", "opencv-alt", "edcircles"};
 }
 
 std::unique_ptr<CircleDetector> make_detector(const std::string& method, const DetectorOptions& o,
@@ -24,32 +37,20 @@ std::unique_ptr<CircleDetector> make_detector(const std::string& method, const D
     return nullptr;
   };
   if (method == "p2p") {
-    PixelToPixelParams p;
+    auto p = with_common_options(PixelToPixelParams{}, o);
     p.k_values = o.k_values;
-    p.max_circles = o.max_circles;
-    p.min_radius_px = o.min_radius_px;
-    p.max_radius_px = o.max_radius_px;
-    p.min_separation_px = o.min_separation_px;
     p.min_score = o.min_score;
     if (auto e = p.validate()) return fail("p2p: " + *e);
     return std::make_unique<PixelToPixelDetector>(p);
   }
   if (method == "gradient") {
-    GradientVotingParams p;
-    p.max_circles = o.max_circles;
-    p.min_radius_px = o.min_radius_px;
-    p.max_radius_px = o.max_radius_px;
-    p.min_separation_px = o.min_separation_px;
+    auto p = with_common_options(GradientVotingParams{}, o);
     p.min_score = o.min_score;
     if (auto e = p.validate()) return fail("gradient: " + *e);
     return std::make_unique<GradientVotingDetector>(p);
   }
   if (method == "cht") {
-    ChtParams p;
-    p.max_circles = o.max_circles;
-    p.min_radius_px = o.min_radius_px;
-    p.max_radius_px = o.max_radius_px;
-    p.min_separation_px = o.min_separation_px;
+    auto p = with_common_options(ChtParams{}, o);
     p.min_score = o.min_score;
     if (auto e = p.validate()) return fail("cht: " + *e);
     return std::make_unique<ChtDetector>(p);
@@ -70,8 +71,13 @@ std::unique_ptr<CircleDetector> make_detector(const std::string& method, const D
     if (auto e = p.validate()) return fail(method + ": " + *e);
     return std::make_unique<OpenCvHoughDetector>(p);
   }
+  if (method == "edcircles") {
+    const auto p = with_common_options(EdCirclesParams{}, o);
+    if (auto e = p.validate()) return fail("edcircles: " + *e);
+    return std::make_unique<EdCirclesDetector>(p);
+  }
   return fail("unknown method '" + method +
-              "' (expected p2p, cht, gradient, opencv or opencv-alt)");
+              "' (expected p2p, cht, gradient, opencv, opencv-alt or edcircles)");
 }
 
 }  // namespace stereoball::ball_detector

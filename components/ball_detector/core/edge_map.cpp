@@ -1,5 +1,7 @@
 #include "ball_detector/core/edge_map.hpp"
 
+#include "ball_detector/core/cpu_dispatch.hpp"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -228,22 +230,78 @@ int thin_staircase(cv::Mat& binary) {
 
 namespace {
 
-void sobel(EdgeMap& out) {
+void grey_sobel(const cv::Mat& grey, cv::Mat& dx, cv::Mat& dy) {
   // A crop's Sobel reads the parent image's pixels around it (its border is not replicated),
   // which cv::spatialGradient does not; on a whole image both are equal, and spatialGradient
   // makes dx and dy in one pass, about a quarter faster.
-  if (!out.grey.isSubmatrix()) {
-    cv::spatialGradient(out.grey, out.dx, out.dy, 3, cv::BORDER_REPLICATE);
+  if (!grey.isSubmatrix()) {
+    cv::spatialGradient(grey, dx, dy, 3, cv::BORDER_REPLICATE);
     return;
   }
-  cv::Sobel(out.grey, out.dx, CV_16S, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
-  cv::Sobel(out.grey, out.dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  cv::Sobel(grey, dx, CV_16S, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  cv::Sobel(grey, dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+}
+
+// Keeps, per pixel, the (dx, dy) of the channel with the largest |dx| + |dy|.
+SB_AVX2_CLONE void strongest_channel_row(const std::array<const short*, 3>& gx,
+                                         const std::array<const short*, 3>& gy, short* dx,
+                                         short* dy, int n) {
+  for (int x = 0; x < n; ++x) {
+    short bx = gx[0][x], by = gy[0][x];
+    int best = std::abs(bx) + std::abs(by);
+    for (int c = 1; c < 3; ++c) {
+      const int m = std::abs(gx[c][x]) + std::abs(gy[c][x]);
+      const bool take = m > best;
+      best = take ? m : best;
+      bx = take ? gx[c][x] : bx;
+      by = take ? gy[c][x] : by;
+    }
+    dx[x] = bx;
+    dy[x] = by;
+  }
+}
+
+void colour_sobel(EdgeMap& out) {
+  const cv::Mat& bgr = out.colour;
+  // A crop: split it with one pixel of its parent around it, so its Sobel reads the parent's
+  // pixels as the grey path does, then keep the interior.
+  cv::Size whole;
+  cv::Point at;
+  bgr.locateROI(whole, at);
+  const int left = std::min(1, at.x), top = std::min(1, at.y);
+  const int right = std::min(1, whole.width - at.x - bgr.cols);
+  const int bottom = std::min(1, whole.height - at.y - bgr.rows);
+  cv::Mat padded = bgr;
+  if (left || top || right || bottom) padded.adjustROI(top, bottom, left, right);
+  std::array<cv::Mat, 3> planes;
+  cv::split(padded, planes.data());
+  const cv::Rect inner(left, top, bgr.cols, bgr.rows);
+  for (int c = 0; c < 3; ++c)
+    cv::spatialGradient(planes[c], out.channel_dx[c], out.channel_dy[c], 3, cv::BORDER_REPLICATE);
+  out.dx.create(bgr.size(), CV_16S);
+  out.dy.create(bgr.size(), CV_16S);
+  for (int y = 0; y < bgr.rows; ++y) {
+    std::array<const short*, 3> gx, gy;
+    for (int c = 0; c < 3; ++c) {
+      gx[c] = out.channel_dx[c].ptr<short>(y + inner.y) + inner.x;
+      gy[c] = out.channel_dy[c].ptr<short>(y + inner.y) + inner.x;
+    }
+    strongest_channel_row(gx, gy, out.dx.ptr<short>(y), out.dy.ptr<short>(y), bgr.cols);
+  }
+}
+
+void sobel(EdgeMap& out) {
+  if (!out.colour.empty())
+    colour_sobel(out);
+  else
+    grey_sobel(out.grey, out.dx, out.dy);
 }
 
 void blur_and_sobel(EdgeMap& out) {
   cv::Mat smooth;
-  cv::GaussianBlur(out.grey, smooth, cv::Size(5, 5), 1.2, 1.2, cv::BORDER_REPLICATE);
-  out.grey = smooth;
+  cv::Mat& source = out.colour.empty() ? out.grey : out.colour;
+  cv::GaussianBlur(source, smooth, cv::Size(5, 5), 1.2, 1.2, cv::BORDER_REPLICATE);
+  source = smooth;
   sobel(out);
 }
 
@@ -267,11 +325,25 @@ cv::Rect2d frame_of(const cv::Mat& image) {
   return cv::Rect2d(-offset.x, -offset.y, whole.width, whole.height);
 }
 
+// Sets the image the gradient is taken of: the colour image, or grey.
+void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
+  out.frame_px = frame_of(image);
+  if (params.colour && image.type() == CV_8UC3) {
+    out.colour = image;
+    out.grey.release();
+  } else if (params.colour && image.type() == CV_8UC4) {
+    cv::cvtColor(image, out.colour, cv::COLOR_BGRA2BGR);
+    out.grey.release();
+  } else {
+    out.colour.release();
+    out.grey = to_grey(image);
+  }
+}
+
 }  // namespace
 
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
-  out.frame_px = frame_of(image);
-  out.grey = to_grey(image);
+  set_source(image, params, out);
   sobel(out);
   CannyThresholds t = canny_thresholds(out.dx, out.dy, params);
   out.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
@@ -285,8 +357,7 @@ void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& o
 
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, const CannyThresholds& fixed,
                       bool denoise, EdgeMap& out) {
-  out.frame_px = frame_of(image);
-  out.grey = to_grey(image);
+  set_source(image, params, out);
   out.denoised = denoise;
   if (out.denoised) {
     blur_and_sobel(out);

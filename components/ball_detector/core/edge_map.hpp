@@ -1,6 +1,7 @@
 #pragma once
-// Step 1 of Pixel-to-Pixel: a thin binary edge map (grey, Canny with image-derived
-// thresholds, removal of staircase pixels) plus a bit-packed copy for fast window counts.
+// Step 1 of Pixel-to-Pixel: a thin binary edge map (colour or grey gradient, Canny with
+// image-derived thresholds, removal of staircase pixels) plus a bit-packed copy for fast window
+// counts.
 
 #include "ball_detector/core/canny.hpp"
 
@@ -27,6 +28,11 @@ struct EdgeParams {
   double denoise_median =
       20.0;          ///< Gaussian pre-blur when median |dx|+|dy| exceeds this (0 = never)
   bool thin = true;  ///< remove staircase pixels so edges are one pixel thick
+  /// Colour images: at each pixel the Sobel gradient of the channel (B, G or R) that changes
+  /// most, so an outline is found wherever the ball differs from its background in any
+  /// channel, also where grey levels are equal (a red ball on a green floor of equal
+  /// brightness). false = the grey image's gradient (the paper). Grey input: grey either way.
+  bool colour = true;
 
   /// Names the first bad field and its allowed range, or nullopt.
   std::optional<std::string> validate() const;
@@ -67,7 +73,8 @@ class BitImage {
 
 /// The edge map of one image and the by-products other steps reuse.
 struct EdgeMap {
-  cv::Mat grey;                  ///< CV_8U grey image
+  cv::Mat grey;                  ///< CV_8U image the gradient came from (grey input or colour off)
+  cv::Mat colour;                ///< CV_8UC3 image the gradient came from (colour on), else empty
   cv::Mat dx, dy;                ///< CV_16S Sobel derivatives
   cv::Mat edges;                 ///< CV_8U, 255 on edge pixels, thin
   BitImage bits;                 ///< packed copy of edges
@@ -80,6 +87,7 @@ struct EdgeMap {
   /// cv::Mat ROI view), its parent image (from cv::Mat::locateROI).
   cv::Rect2d frame_px;
   CannyWorkspace canny_work;  ///< scratch of the Canny step, reused image after image
+  std::array<cv::Mat, 3> channel_dx, channel_dy;  ///< per-channel gradients (colour), reused
 };
 
 /// Converts a CV_8UC1/3/4 image to CV_8U grey (no copy for grey input).

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <string>
 
 #include "stereo/core/sphere_outline.hpp"
 
@@ -125,13 +126,66 @@ TEST(PixelToPixel, GivenGreyAndBgrVersionsOfOneImageThenResultsAgree) {
   const auto scene = make_scene(SceneKind::kPlain, {352, 288}, 9);
   cv::Mat grey;
   cv::cvtColor(scene.image, grey, cv::COLOR_BGR2GRAY);
-  PixelToPixelDetector det(multi_k());
+  auto params = multi_k();
+  params.edge.colour = false;  // the grey gradient of a BGR image is the grey image's
+  PixelToPixelDetector det(params);
   const auto a = det.detect(scene.image);
   const auto b = det.detect(grey);
   ASSERT_FALSE(a.empty());
   ASSERT_FALSE(b.empty());
   EXPECT_NEAR(a[0].x_px, b[0].x_px, 1e-9);
   EXPECT_NEAR(a[0].y_px, b[0].y_px, 1e-9);
+  PixelToPixelDetector colour(multi_k());  // default: colour gradient, same ball
+  const auto c = colour.detect(scene.image);
+  ASSERT_FALSE(c.empty());
+  EXPECT_NEAR(c[0].x_px, b[0].x_px, 0.5);
+  EXPECT_NEAR(c[0].y_px, b[0].y_px, 0.5);
+}
+
+// A ball on a floor that differ in the given BGR colours, with mild sensor noise.
+cv::Mat ball_on_floor(cv::Scalar floor, cv::Scalar ball) {
+  cv::Mat img(240, 320, CV_8UC3, floor);
+  cv::circle(img, {150, 110}, 40, ball, cv::FILLED, cv::LINE_AA);
+  cv::Mat noise(img.size(), CV_16SC3);
+  cv::RNG rng(7);
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
+  cv::Mat noisy;
+  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
+  return noisy;
+}
+
+void expect_ball_found(const cv::Mat& img, const std::string& what) {
+  PixelToPixelParams p;
+  p.k_values = {5, 8};
+  PixelToPixelDetector det(p);
+  const auto found = det.detect(img);
+  ASSERT_FALSE(found.empty()) << what;
+  EXPECT_NEAR(found[0].x_px, 150.0, 1.0) << what;
+  EXPECT_NEAR(found[0].y_px, 110.0, 1.0) << what;
+  EXPECT_NEAR(found[0].radius_px, 40.0, 1.0) << what;
+}
+
+TEST(ColourEdges, GivenABallDifferingFromTheFloorInOneChannelOnlyThenItIsFound) {
+  const cv::Scalar floor(90, 110, 100);
+  for (int c = 0; c < 3; ++c) {
+    cv::Scalar ball = floor;
+    ball[c] += 50.0;
+    expect_ball_found(ball_on_floor(floor, ball), std::string("channel ") + "BGR"[c]);
+  }
+}
+
+TEST(ColourEdges, GivenABallOfAnotherHueAtEqualBrightnessThenColourFindsItAndGreyCannot) {
+  // Grey = 0.299 R + 0.587 G + 0.114 B: red ball 100.55, green floor 100.5.
+  const cv::Mat img = ball_on_floor(cv::Scalar(82, 130, 50), cv::Scalar(100, 50, 200));
+  cv::Mat grey;
+  cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY);
+  ASSERT_NEAR(cv::mean(grey(cv::Rect(0, 0, 60, 60)))[0],
+              cv::mean(grey(cv::Rect(135, 95, 30, 30)))[0], 1.5);
+  expect_ball_found(img, "hue");
+  PixelToPixelParams grey_params;
+  grey_params.k_values = {5, 8};
+  grey_params.edge.colour = false;
+  EXPECT_TRUE(PixelToPixelDetector(grey_params).detect(img).empty());
 }
 
 TEST(PixelToPixel, GivenDiagnosticsThenVotesAreCountedAndThePeakIsSharp) {

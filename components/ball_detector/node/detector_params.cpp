@@ -16,13 +16,16 @@ const char* to_string(DetectorInput input) {
       return "green";
     case DetectorInput::kBlue:
       return "blue";
+    case DetectorInput::kColour:
+      return "colour";
   }
   return "grey";
 }
 
 std::optional<DetectorInput> parse_detector_input(const std::string& text) {
-  for (DetectorInput i : {DetectorInput::kGrey, DetectorInput::kSaturation, DetectorInput::kValue,
-                          DetectorInput::kRed, DetectorInput::kGreen, DetectorInput::kBlue}) {
+  for (DetectorInput i :
+       {DetectorInput::kGrey, DetectorInput::kSaturation, DetectorInput::kValue,
+        DetectorInput::kRed, DetectorInput::kGreen, DetectorInput::kBlue, DetectorInput::kColour}) {
     if (text == to_string(i)) return i;
   }
   return std::nullopt;

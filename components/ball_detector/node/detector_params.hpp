@@ -19,9 +19,13 @@ enum class DetectorInput {
   kRed,         ///< red channel: an orange/red ball with white patches looks uniform
   kGreen,       ///< green channel
   kBlue,        ///< blue channel
+  /// All three channels: edges from the channel that changes most at each pixel (core
+  /// EdgeParams::colour), so no channel has to be chosen for the ball's colour.
+  kColour,
 };
 
-/// Name used in the config file ("grey", "saturation", "value", "red", "green", "blue").
+/// Name used in the config file ("grey", "saturation", "value", "red", "green", "blue",
+/// "colour").
 const char* to_string(DetectorInput input);
 
 /// The input named by text, or nullopt.

@@ -48,7 +48,8 @@ Result<BallDetectorParams> read_detector_params(params::ParamsFile& file) {
             std::int64_t{10'000'000'000});
   file.read("track_prior.min_inside_fraction", p.prior_min_inside_fraction, 0.0, 1.0);
   std::string input = to_string(p.input);
-  file.read_choice("input", input, {"grey", "saturation", "value", "red", "green", "blue"});
+  file.read_choice("input", input,
+                   {"grey", "saturation", "value", "red", "green", "blue", "colour"});
   if (auto parsed = parse_detector_input(input)) p.input = *parsed;
   read_p2p(file, p.p2p);
   file.read("p2p.perspective_outline", p.perspective_outline);

@@ -107,7 +107,7 @@ TEST(DetectorParams, GivenDefaults_ThenValid) {
 }
 
 TEST(DetectorInput, GivenEveryName_ThenRoundTrips) {
-  for (const char* name : {"grey", "saturation", "value", "red", "green", "blue"}) {
+  for (const char* name : {"grey", "saturation", "value", "red", "green", "blue", "colour"}) {
     const auto input = sb::ball_detector::parse_detector_input(name);
     ASSERT_TRUE(input.has_value()) << name;
     EXPECT_STREQ(to_string(*input), name);

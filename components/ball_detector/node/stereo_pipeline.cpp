@@ -176,9 +176,9 @@ std::optional<std::string> StereoPipeline::check_input(const cv::Mat& left,
 }
 
 const cv::Mat& StereoPipeline::detector_channel(const cv::Mat& raw, cv::Mat& grey) const {
-  // One channel first: the detector needs one, and remapping one channel is cheaper.
+  // One channel first (remapping one channel is cheaper), unless edges come from colour.
   const cv::Mat* src = &raw;
-  if (raw.channels() == 3) {
+  if (raw.channels() == 3 && params_.input != DetectorInput::kColour) {
     switch (params_.input) {
       case DetectorInput::kGrey:
         cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY);
@@ -197,6 +197,8 @@ const cv::Mat& StereoPipeline::detector_channel(const cv::Mat& raw, cv::Mat& gre
         break;
       case DetectorInput::kBlue:
         cv::extractChannel(raw, grey, 0);
+        break;
+      case DetectorInput::kColour:
         break;
     }
     src = &grey;

@@ -1,0 +1,139 @@
+#include "real_photos.hpp"
+
+#include "ball_detector/core/evaluation.hpp"
+#include "common/util/bench_clock.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace stereoball::bench_detect {
+namespace bd = ball_detector;
+namespace fs = std::filesystem;
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+}  // namespace
+
+std::variant<std::vector<LabelledImage>, std::string> load_labelled_images(
+    const fs::path& dir, const fs::path& project_root) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return "no label folder '" + dir.string() + "'";
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".circles") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  if (files.empty()) return "no *.circles file in '" + dir.string() + "'";
+  std::vector<LabelledImage> out;
+  for (const auto& f : files) {
+    std::ifstream in(f);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in) return "cannot read '" + f.string() + "'";
+    auto parsed = bd::parse_circle_labels(text.str(), f.string());
+    if (auto* e = std::get_if<std::string>(&parsed)) return *e;
+    auto& labels = std::get<bd::CircleLabels>(parsed);
+    const fs::path image_path = project_root / labels.image_path;
+    cv::Mat image = cv::imread(image_path.string(), cv::IMREAD_COLOR);
+    if (image.empty()) return f.string() + ": cannot read image '" + image_path.string() + "'";
+    out.push_back({f.stem().string(), image, std::move(labels.circles), labels.split});
+  }
+  return out;
+}
+
+double RealScore::f1() const {
+  return bd::detection_scores(tp, fp, fn).f1;
+}
+
+RealScore score_setting(const Setting& setting, const std::vector<LabelledImage>& images,
+                        bd::LabelSplit split, int repeats, double min_iou, bool explain) {
+  RealScore s;
+  for (const auto& img : images) {
+    if (img.split != split) continue;
+    auto det = setting.make(img.image.size());
+    det->detect(img.image);  // warm-up: first-call allocations
+    std::vector<double> ms;
+    std::vector<bd::Circle> found;
+    for (int r = 0; r < repeats; ++r) {
+      const double t0 = bench::thread_cpu_ms();
+      found = det->detect(img.image);
+      ms.push_back(bench::thread_cpu_ms() - t0);
+    }
+    s.image_ms.push_back(median(ms));
+    const auto m = bd::match_circles(found, img.truth, min_iou);
+    if (explain && (m.false_negatives > 0 || m.false_positives > 0)) {
+      std::printf("  %s %s: tp %d fp %d fn %d |", setting.label.c_str(), img.name.c_str(),
+                  m.true_positives, m.false_positives, m.false_negatives);
+      for (const auto& c : found)
+        std::printf(" found(%.1f,%.1f,%.1f,%.2f)", c.x_px, c.y_px, c.radius_px, c.score);
+      std::printf("\n");
+    }
+    s.tp += m.true_positives;
+    s.fp += m.false_positives;
+    s.fn += m.false_negatives;
+    s.errors_px.insert(s.errors_px.end(), m.centre_errors_px.begin(), m.centre_errors_px.end());
+  }
+  return s;
+}
+
+std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
+                                          const std::vector<LabelledImage>& images, int repeats,
+                                          double min_iou, bool verbose) {
+  auto count = [&](bd::LabelSplit split, bool circles) {
+    size_t n = 0;
+    for (const auto& i : images)
+      if (i.split == split) n += circles ? i.truth.size() : 1;
+    return n;
+  };
+  std::printf(
+      "\nReal photographs (tests/data/circles): settings chosen on the tune split (%zu images, "
+      "%zu circles), reported on the report split (%zu images, %zu circles), never tuned on; "
+      "IoU >= %.2f; ms = median over images of the median of %d runs, thread CPU, 1 thread, "
+      "edges included.\n",
+      count(bd::LabelSplit::tune, false), count(bd::LabelSplit::tune, true),
+      count(bd::LabelSplit::report, false), count(bd::LabelSplit::report, true), min_iou, repeats);
+  std::printf("%-22s %-34s %7s | %6s %6s %6s %8s %8s\n", "method", "best setting on tune", "tuneF1",
+              "P", "R", "F1", "err_px", "ms/img");
+  std::vector<RealRow> rows;
+  for (const auto& family : families) {
+    const Setting* best = nullptr;
+    RealScore best_tune;
+    for (const auto& setting : family.settings) {
+      const RealScore s = score_setting(setting, images, bd::LabelSplit::tune, 1, min_iou, false);
+      if (verbose)
+        std::printf("  tune %-22s %-34s F1 %.3f ms %.2f\n", family.name.c_str(),
+                    setting.label.c_str(), s.f1(), median(s.image_ms));
+      const bool better =
+          !best || s.f1() > best_tune.f1() + 1e-9 ||
+          (s.f1() > best_tune.f1() - 1e-9 && median(s.image_ms) < median(best_tune.image_ms));
+      if (better) {
+        best = &setting;
+        best_tune = s;
+      }
+    }
+    if (!best) continue;
+    const RealScore r =
+        score_setting(*best, images, bd::LabelSplit::report, repeats, min_iou, verbose);
+    const auto sc = bd::detection_scores(r.tp, r.fp, r.fn);
+    std::printf("%-22s %-34s %7.3f | %6.3f %6.3f %6.3f %8.3f %8.2f\n", family.name.c_str(),
+                best->label.c_str(), best_tune.f1(), sc.precision, sc.recall, sc.f1,
+                median(r.errors_px), median(r.image_ms));
+    rows.push_back({family.name, best->label, best_tune.f1(), sc.f1, median(r.image_ms)});
+  }
+  for (size_t i = 1; i < rows.size() && rows.front().report_ms > 0.0; ++i)
+    std::printf("time %s / %s on the report split: %.2f\n", rows.front().family.c_str(),
+                rows[i].family.c_str(), rows.front().report_ms / std::max(1e-9, rows[i].report_ms));
+  return rows;
+}
+
+}  // namespace stereoball::bench_detect

@@ -1,0 +1,73 @@
+#pragma once
+// The real-photograph part of stereoball bench detect: labelled photographs (tests/data/circles),
+// every method's settings chosen on the tune split, reported on the report split.
+
+#include "ball_detector/core/circle.hpp"
+#include "ball_detector/core/circle_labels.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace stereoball::bench_detect {
+
+/// One photograph and its labelled circles.
+struct LabelledImage {
+  std::string name;  ///< label file stem
+  cv::Mat image;     ///< BGR
+  std::vector<ball_detector::Circle> truth;
+  ball_detector::LabelSplit split = ball_detector::LabelSplit::tune;
+};
+
+/// Reads every *.circles file of dir (images relative to project_root); the first error
+/// (unreadable file, malformed line, unreadable image) names the file.
+std::variant<std::vector<LabelledImage>, std::string> load_labelled_images(
+    const std::filesystem::path& dir, const std::filesystem::path& project_root);
+
+/// One setting of one method.
+struct Setting {
+  std::string label;
+  std::function<std::unique_ptr<ball_detector::CircleDetector>(cv::Size)> make;
+};
+
+/// A method and the settings tried for it on the tune split.
+struct Family {
+  std::string name;
+  std::vector<Setting> settings;
+};
+
+/// Counts, centre errors and per-image median times of one setting on a set of images.
+struct RealScore {
+  int tp = 0, fp = 0, fn = 0;
+  std::vector<double> errors_px;
+  std::vector<double> image_ms;  ///< one median per image
+  double f1() const;
+};
+
+/// Runs a setting on the images of one split; each image timed `repeats` times. explain: print
+/// what was found on every image with a miss or a false positive.
+RealScore score_setting(const Setting& setting, const std::vector<LabelledImage>& images,
+                        ball_detector::LabelSplit split, int repeats, double min_iou, bool explain);
+
+/// One family's chosen setting and its report-split figures.
+struct RealRow {
+  std::string family;
+  std::string setting;
+  double tune_f1 = 0.0;
+  double report_f1 = 0.0;
+  double report_ms = 0.0;  ///< median per image
+};
+
+/// Chooses each family's best setting on the tune split (F1, then time) and prints it with its
+/// report-split figures, one row per family, then the time ratios of the first family (the
+/// detector under test) to the others.
+std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
+                                          const std::vector<LabelledImage>& images, int repeats,
+                                          double min_iou, bool verbose);
+
+}  // namespace stereoball::bench_detect
