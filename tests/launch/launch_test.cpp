@@ -62,6 +62,8 @@ TEST(Profile, BadProfilesNameTheProblem) {
       {"nodes:\n  - name: a\n", "key 'program': missing"},
       {"description: none\n", "key 'nodes': missing or empty"},
       {"nodes: [\n", "not valid YAML"},
+      {"description: a\nnodes:\n  - name: a\n    program: x\ndescription: b\n",
+       "key 'description' appears twice (lines 1 and 5)"},
   };
   for (const auto& c : cases) {
     auto p = sb::launch::load_profile(write_profile(dir, c.body), SB_SOURCE_DIR);

@@ -81,7 +81,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"name: t\nlighting:\n  - {t_s: 2}\n  - {t_s: 1}\n", "lighting[1].t_s"},
         BadCase{"name: t\nkicks:\n  - {t_s: 1}\n", "kicks"},
         BadCase{"name: t\nseed: -3\n", "'seed'"}, BadCase{"name: [t\n", "not valid YAML"},
-        BadCase{"- 1\n- 2\n", "expected a mapping"}));
+        BadCase{"- 1\n- 2\n", "expected a mapping"},
+        BadCase{"name: t\nball:\n  x_m: 1\n  x_m: 2\n", "key 'ball.x_m' appears twice (lines 3 and 4)"}));
 
 TEST(ScenarioFile, MissingFileIsAClearError) {
   // Given a name with no file
