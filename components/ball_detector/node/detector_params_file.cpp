@@ -55,6 +55,8 @@ Result<BallDetectorParams> read_detector_params(params::ParamsFile& file) {
   file.read("floor.camera_height_m", p.floor_camera_height_m, 0.0, 10.0);
   file.read("floor.camera_pitch_rad", p.floor_camera_pitch_rad, -1.57, 1.57);
   file.read("floor.tolerance_m", p.floor_tolerance_m, 0.0, 10.0);
+  file.read("image_limit.max_width_px", p.max_image_width_px, 16, 16384);
+  file.read("image_limit.max_height_px", p.max_image_height_px, 16, 16384);
   if (auto e = p.validate()) file.fail(file.name() + ": " + *e);
   if (auto e = file.finish()) return Error{*e};
   return p;
