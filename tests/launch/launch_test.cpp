@@ -107,6 +107,105 @@ TEST(Supervisor, RestartsACrashedNodeAndStopsAllCleanly) {
   }
 }
 
+// Given two supervised nodes, when one is stopped from outside with SIGTERM (it exits 0), then
+// it is restarted all the same: only the launcher decides that a node stays down.
+TEST(Supervisor, RestartsANodeThatExitsCleanlyWhenNotStoppedByTheLauncher) {
+  const std::string dir = sb::testing::temp_dir();
+  auto profile = sb::launch::load_profile(write_profile(dir, kTwoPeers), SB_SOURCE_DIR);
+  ASSERT_TRUE(profile) << profile.error();
+  std::vector<std::string> events;
+  sb::launch::Supervisor supervisor(*profile, options(dir),
+                                    [&](const std::string& e) { events.push_back(e); });
+  ASSERT_TRUE(supervisor.start_all(sb::node::monotonic_ns()));
+  std::this_thread::sleep_for(500ms);
+  const pid_t first_pid = supervisor.states()[0].pid;
+  supervisor.signal_node("first", SIGTERM);
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        supervisor.poll(sb::node::monotonic_ns());
+        return supervisor.states()[0].pid > 0 && supervisor.states()[0].pid != first_pid;
+      },
+      10s))
+      << "not restarted";
+  EXPECT_EQ(supervisor.states()[0].last_exit_code, 0);
+  bool logged = false;
+  for (const auto& e : events)
+    logged |= e.find("first: exited with code 0, restarting in 500 ms") != std::string::npos;
+  EXPECT_TRUE(logged);
+  std::this_thread::sleep_for(300ms);  // let the new node install its signal handlers
+  EXPECT_TRUE(supervisor.stop_all());
+}
+
+// Given a node that exits at once every time, then it is restarted with a doubling back-off
+// until the limit, then left down with a log line saying so.
+TEST(Supervisor, GivesUpAfterTheRestartLimitWithDoublingBackoff) {
+  const std::string dir = sb::testing::temp_dir();
+  auto profile =
+      sb::launch::load_profile(write_profile(dir,
+                                             "nodes:\n  - name: broken\n    program: sb_test_peer\n"
+                                             "    args: [\"--config\", \"/no/such/file.yaml\"]\n"),
+                               SB_SOURCE_DIR);
+  ASSERT_TRUE(profile) << profile.error();
+  auto o = options(dir);
+  o.max_restarts = 3;
+  o.restart_backoff_ns = 20'000'000;
+  std::vector<std::string> events;
+  sb::launch::Supervisor supervisor(*profile, o,
+                                    [&](const std::string& e) { events.push_back(e); });
+  ASSERT_TRUE(supervisor.start_all(sb::node::monotonic_ns()));
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        supervisor.poll(sb::node::monotonic_ns());
+        return supervisor.states()[0].given_up;
+      },
+      20s));
+  EXPECT_EQ(supervisor.states()[0].restarts, 3);
+  std::string all;
+  for (const auto& e : events) all += e + "\n";
+  for (const char* delay : {"restarting in 20 ms", "restarting in 40 ms", "restarting in 80 ms",
+                            "gave up after 3 restarts in a row"}) {
+    EXPECT_NE(all.find(delay), std::string::npos) << all;
+  }
+}
+
+bool process_gone(pid_t pid) {
+  // A killed node reparented to a PID 1 that does not reap stays a zombie: that is gone too.
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(stat)), {});
+  const auto close = text.rfind(')');
+  return text.empty() || (close != std::string::npos && text.size() > close + 2 &&
+                          (text[close + 2] == 'Z' || text[close + 2] == 'X'));
+}
+
+std::vector<pid_t> started_pids(const std::string& output) {
+  std::vector<pid_t> pids;
+  for (size_t at = output.find("started (pid "); at != std::string::npos;
+       at = output.find("started (pid ", at + 1)) {
+    pids.push_back(static_cast<pid_t>(std::stol(output.substr(at + 13))));
+  }
+  return pids;
+}
+
+// Given `stereoball launch` running two nodes, when the launcher is killed with SIGKILL (no
+// chance to clean up), then both nodes die too.
+TEST(LaunchCommand, SigkillOfTheLauncherTakesItsNodesDown) {
+  const std::string dir = sb::testing::temp_dir();
+  auto launch = sb::testing::Process::start(
+      {sb::testing::bin("stereoball-launch"), write_profile(dir, kTwoPeers), "--log",
+       dir + "/nodes.log", "--domain", std::to_string(sb::testing::test_domain()), "--partition",
+       sb::testing::unique_partition()});
+  ASSERT_TRUE(launch.wait_for_output("second: started", 10s)) << launch.output();
+  const auto pids = started_pids(launch.output());
+  ASSERT_EQ(pids.size(), 2u) << launch.output();
+  for (pid_t pid : pids) ASSERT_FALSE(process_gone(pid));
+  launch.signal(SIGKILL);
+  ASSERT_TRUE(launch.wait_for_exit(10s).has_value());
+  for (pid_t pid : pids) {
+    EXPECT_TRUE(sb::testing::eventually([&] { return process_gone(pid); }, 10s))
+        << "node " << pid << " outlived its launcher";
+  }
+}
+
 // Given `stereoball launch` running a profile, when it gets SIGTERM, then it exits 0 and
 // takes its nodes down with it.
 TEST(LaunchCommand, SigtermStopsEveryNode) {
