@@ -14,6 +14,7 @@ PACKAGES=(
   libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev libv4l-dev
   nlohmann-json3-dev zlib1g-dev libjpeg-dev libgtest-dev libgmock-dev
   iproute2
+  clang libclang-rt-14-dev
 )
 
 as_root() {
