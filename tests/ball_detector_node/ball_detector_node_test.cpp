@@ -17,6 +17,7 @@
 #include "ball_detector/node/sim_frames.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
+#include "crafted_images.hpp"
 #include "process.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
@@ -265,15 +266,7 @@ TEST_F(BallDetectorNodeTest, GivenNoCalibration_ThenNoCalibrationUntilItArrives)
 // then each gets a BAD_FRAME detection naming the problem, the node keeps running, counts
 // them in its heartbeat, and answers the next good frame correctly.
 TEST_F(BallDetectorNodeTest, GivenMalformedFrames_ThenBadFrameAndNextGoodFrameAnswered) {
-  publish_calibration();
-  std::optional<Detection> first;
-  sb::testing::eventually(
-      [&] {
-        first = send(good_frame());
-        return first->msg.status != stereoball_msg_DETECTION_NO_CALIBRATION;
-      },
-      10s);
-  expect_ball(*first);
+  calibrate_and_find_ball();
 
   const cv::Mat small(240, 320, CV_8UC3, cv::Scalar::all(80));
   Detection d = send(Frame::raw(small, small));
@@ -298,27 +291,6 @@ TEST_F(BallDetectorNodeTest, GivenMalformedFrames_ThenBadFrameAndNextGoodFrameAn
   EXPECT_TRUE(node_->wait_for_output("bad frame", 1s)) << node_->output();
 }
 
-// Rewrites the frame size in a baseline JPEG's SOF0 marker or a PNG's IHDR (the crafted
-// headers of issue 22: a small stream claiming 20000x20000).
-void claim_size(std::vector<uint8_t>& bytes, int w, int h) {
-  if (bytes[0] == 0x89) {  // PNG: IHDR width and height, big-endian (CRC left stale)
-    for (int i = 0; i < 4; ++i) {
-      bytes[16 + i] = static_cast<uint8_t>(w >> (24 - 8 * i));
-      bytes[20 + i] = static_cast<uint8_t>(h >> (24 - 8 * i));
-    }
-    return;
-  }
-  for (size_t i = 2; i + 9 < bytes.size(); ++i) {
-    if (bytes[i] == 0xFF && bytes[i + 1] == 0xC0) {
-      bytes[i + 5] = static_cast<uint8_t>(h >> 8);
-      bytes[i + 6] = static_cast<uint8_t>(h);
-      bytes[i + 7] = static_cast<uint8_t>(w >> 8);
-      bytes[i + 8] = static_cast<uint8_t>(w);
-      return;
-    }
-  }
-}
-
 // Given a calibrated node, when compressed frames arrive whose headers claim 20000x20000 (the
 // sample's size fields say 640x480), or a JPEG cut short, then each is a BAD_FRAME naming the
 // problem, answered at once without decoding the claimed image, and the next frame is fine.
@@ -334,10 +306,10 @@ TEST_F(BallDetectorNodeTest, GivenHostileCompressedFrames_ThenBadFrameFastAndMem
   cases.push_back({"jpeg claiming 20000x20000",
                    Frame::jpeg(scene().frame.left, scene().frame.right),
                    "left jpeg header says 20000x20000 but the calibration is for 640x480"});
-  claim_size(cases.back().frame.left, 20000, 20000);
+  sb::testing::claim_image_size(cases.back().frame.left, 20000, 20000);
   cases.push_back({"png claiming 20000x20000", Frame::png(scene().frame.left, scene().frame.right),
                    "left png header says 20000x20000 but the calibration is for 640x480"});
-  claim_size(cases.back().frame.left, 20000, 20000);
+  sb::testing::claim_image_size(cases.back().frame.left, 20000, 20000);
   cases.push_back({"truncated jpeg", Frame::jpeg(scene().frame.left, scene().frame.right),
                    "right jpeg data is corrupt: Premature end of JPEG file"});
   cases.back().frame.msg.right.data._length =

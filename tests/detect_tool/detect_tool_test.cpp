@@ -11,6 +11,7 @@
 #include <fstream>
 #include <vector>
 
+#include "crafted_images.hpp"
 #include "process.hpp"
 
 namespace sb = stereoball;
@@ -24,26 +25,6 @@ std::vector<uint8_t> encode(const char* ext) {
   std::vector<uint8_t> bytes;
   cv::imencode(ext, img, bytes);
   return bytes;
-}
-
-// Rewrites the size in a baseline JPEG's SOF0 marker or a PNG's IHDR chunk.
-void claim_size(std::vector<uint8_t>& bytes, int w, int h) {
-  if (bytes[0] == 0x89) {
-    for (int i = 0; i < 4; ++i) {
-      bytes[16 + i] = static_cast<uint8_t>(w >> (24 - 8 * i));
-      bytes[20 + i] = static_cast<uint8_t>(h >> (24 - 8 * i));
-    }
-    return;
-  }
-  for (size_t i = 2; i + 9 < bytes.size(); ++i) {
-    if (bytes[i] == 0xFF && bytes[i + 1] == 0xC0) {
-      bytes[i + 5] = static_cast<uint8_t>(h >> 8);
-      bytes[i + 6] = static_cast<uint8_t>(h);
-      bytes[i + 7] = static_cast<uint8_t>(w >> 8);
-      bytes[i + 8] = static_cast<uint8_t>(w);
-      return;
-    }
-  }
 }
 
 std::string write(const std::string& dir, const std::string& name,
@@ -88,9 +69,9 @@ TEST(DetectTool, GivenAGoodImageThenTheBallIsFound) {
 TEST(DetectTool, GivenHeadersClaiming20000x20000ThenItFailsFastNamingTheLimit) {
   const auto dir = sb::testing::temp_dir();
   auto jpeg = encode(".jpg");
-  claim_size(jpeg, 20000, 20000);
+  sb::testing::claim_image_size(jpeg, 20000, 20000);
   auto png = encode(".png");
-  claim_size(png, 20000, 20000);
+  sb::testing::claim_image_size(png, 20000, 20000);
   for (const auto& [name, bytes] : {std::pair{"huge.jpg", jpeg}, std::pair{"huge.png", png}}) {
     const DetectRun r = detect({write(dir, name, bytes)});
     std::printf("[figure] stereoball detect %s (%zu bytes): exit %d in %.1f ms\n", name,

@@ -33,6 +33,16 @@ nodes:
     args: ["echo", "ball/detection", "--config", "{root}/tests/foundation/test_peer.yaml"]
 )";
 
+// Polls the supervisor until its first node runs again under another pid than old_pid.
+bool first_node_restarted(sb::launch::Supervisor& supervisor, pid_t old_pid) {
+  return sb::testing::eventually(
+      [&] {
+        supervisor.poll(sb::node::monotonic_ns());
+        return supervisor.states()[0].pid > 0 && supervisor.states()[0].pid != old_pid;
+      },
+      10s);
+}
+
 sb::launch::SupervisorOptions options(const std::string& dir) {
   sb::launch::SupervisorOptions o;
   o.bin_dir = sb::testing::bin("").substr(0, sb::testing::bin("").size() - 1);
@@ -89,13 +99,7 @@ TEST(Supervisor, RestartsACrashedNodeAndStopsAllCleanly) {
   const pid_t first_pid = supervisor.states()[0].pid;
   ASSERT_GT(first_pid, 0);
   supervisor.signal_node("first", SIGKILL);
-  ASSERT_TRUE(sb::testing::eventually(
-      [&] {
-        supervisor.poll(sb::node::monotonic_ns());
-        return supervisor.states()[0].pid > 0 && supervisor.states()[0].pid != first_pid;
-      },
-      5s))
-      << "not restarted";
+  ASSERT_TRUE(first_node_restarted(supervisor, first_pid)) << "not restarted";
   EXPECT_EQ(supervisor.states()[0].restarts, 1);
   EXPECT_EQ(supervisor.states()[0].last_exit_code, 128 + SIGKILL);
   EXPECT_EQ(supervisor.states()[1].restarts, 0);
@@ -120,13 +124,7 @@ TEST(Supervisor, RestartsANodeThatExitsCleanlyWhenNotStoppedByTheLauncher) {
   std::this_thread::sleep_for(500ms);
   const pid_t first_pid = supervisor.states()[0].pid;
   supervisor.signal_node("first", SIGTERM);
-  ASSERT_TRUE(sb::testing::eventually(
-      [&] {
-        supervisor.poll(sb::node::monotonic_ns());
-        return supervisor.states()[0].pid > 0 && supervisor.states()[0].pid != first_pid;
-      },
-      10s))
-      << "not restarted";
+  ASSERT_TRUE(first_node_restarted(supervisor, first_pid)) << "not restarted";
   EXPECT_EQ(supervisor.states()[0].last_exit_code, 0);
   bool logged = false;
   for (const auto& e : events)

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <vector>
 
+#include "crafted_images.hpp"
+
 namespace stereoball::stereo {
 namespace {
 
@@ -24,27 +26,6 @@ std::vector<std::uint8_t> encode(const cv::Mat& img, const char* ext) {
   std::vector<std::uint8_t> bytes;
   EXPECT_TRUE(cv::imencode(ext, img, bytes));
   return bytes;
-}
-
-// Rewrites the frame size in a baseline JPEG's SOF0 marker (what a crafted header does).
-void patch_jpeg_size(std::vector<std::uint8_t>& jpeg, int w, int h) {
-  for (std::size_t i = 2; i + 9 < jpeg.size(); ++i) {
-    if (jpeg[i] == 0xFF && jpeg[i + 1] == 0xC0) {
-      jpeg[i + 5] = static_cast<std::uint8_t>(h >> 8);
-      jpeg[i + 6] = static_cast<std::uint8_t>(h);
-      jpeg[i + 7] = static_cast<std::uint8_t>(w >> 8);
-      jpeg[i + 8] = static_cast<std::uint8_t>(w);
-      return;
-    }
-  }
-  FAIL() << "no SOF0 marker";
-}
-
-void patch_png_size(std::vector<std::uint8_t>& png, std::uint32_t w, std::uint32_t h) {
-  for (int i = 0; i < 4; ++i) {
-    png[16 + i] = static_cast<std::uint8_t>(w >> (24 - 8 * i));
-    png[20 + i] = static_cast<std::uint8_t>(h >> (24 - 8 * i));
-  }
 }
 
 TEST(ImageDecode, GivenJpegAndPngWhenDecodedThenPixelsEqualOpenCvsDecoder) {
@@ -78,9 +59,9 @@ TEST(ImageDecode, GivenAGreyJpegWhenDecodedThenItComesOutAsBgr) {
 // The attack of issue 22: a small file whose header claims 20000x20000.
 TEST(ImageDecode, GivenHeadersClaimingAHugeImageWhenReadThenTheLimitCheckRefusesThem) {
   auto jpeg = encode(test_image(64, 48), ".jpg");
-  patch_jpeg_size(jpeg, 20000, 20000);
+  ASSERT_TRUE(stereoball::testing::claim_image_size(jpeg, 20000, 20000));
   auto png = encode(test_image(64, 48), ".png");
-  patch_png_size(png, 20000, 20000);
+  ASSERT_TRUE(stereoball::testing::claim_image_size(png, 20000, 20000));
   for (const auto* bytes : {&jpeg, &png}) {
     const auto header = read_image_header(*bytes);
     ASSERT_TRUE(header) << header.error();
