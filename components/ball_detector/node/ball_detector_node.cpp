@@ -118,7 +118,7 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
       det.status = DetectionStatus::kBadFrame;
       det.reason = *e;
     } else {
-      det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns));
+      det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns), frame.stamp_ns);
     }
   }
   ++processed_;

@@ -56,6 +56,7 @@ std::optional<std::string> BallDetectorParams::validate() const {
       max_image_height_px > 16384)
     return std::string("max_image_width_px and max_image_height_px must be in [16, 16384] px");
   if (auto e = detector_params().validate()) return "p2p." + *e;
+  if (auto e = appearance.validate()) return e;
   return std::nullopt;
 }
 

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "ball_detector/core/appearance_model.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 
 namespace stereoball::ball_detector {
@@ -74,6 +75,9 @@ struct BallDetectorParams {
   /// rectified camera, from stereo/calibration); false = as circles (the paper).
   bool perspective_outline = true;
   PixelToPixelParams p2p = pipeline_p2p_defaults();  ///< detector on each rectified eye
+  /// Addition: the followed ball's colour, learnt while the tracker follows it, ranks the left
+  /// candidates and rejects round things of another colour; forgotten after a long loss.
+  AppearanceParams appearance;
   /// Largest image a calibration (and so every frame) may have, px, [16, 16384] per side: a
   /// larger stereo/calibration is refused before its rectification tables are allocated.
   int max_image_width_px = 1920;
