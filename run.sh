@@ -26,6 +26,7 @@ BUILD_PACKAGES=(
 TEST_PACKAGES=(
   iproute2
   fastddsgen libfastrtps-dev libfastcdr-dev dpkg-dev file
+  clang libclang-rt-14-dev
 )
 
 as_root() {

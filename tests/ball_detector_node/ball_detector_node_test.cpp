@@ -17,6 +17,7 @@
 #include "ball_detector/node/sim_frames.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
+#include "crafted_images.hpp"
 #include "process.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
@@ -70,6 +71,15 @@ struct Frame {
     f.encoding = "png";
     cv::imencode(".png", l, f.left);
     cv::imencode(".png", r, f.right);
+    set(f.msg.left, f.left, l.cols, l.rows, 0);
+    set(f.msg.right, f.right, r.cols, r.rows, 0);
+    return f;
+  }
+  static Frame jpeg(const cv::Mat& l, const cv::Mat& r) {
+    Frame f;
+    f.encoding = "jpeg";
+    cv::imencode(".jpg", l, f.left);
+    cv::imencode(".jpg", r, f.right);
     set(f.msg.left, f.left, l.cols, l.rows, 0);
     set(f.msg.right, f.right, r.cols, r.rows, 0);
     return f;
@@ -137,6 +147,21 @@ class BallDetectorNodeTest : public ::testing::Test {
   }
 
   Frame good_frame() const { return Frame::raw(scene().frame.left, scene().frame.right); }
+
+  // Publishes the calibration and waits until a good frame is answered with the ball.
+  void calibrate_and_find_ball() {
+    publish_calibration();
+    std::optional<Detection> first;
+    sb::testing::eventually(
+        [&] {
+          first = send(good_frame());
+          return first->msg.status != stereoball_msg_DETECTION_NO_CALIBRATION;
+        },
+        10s);
+    expect_ball(*first);
+  }
+
+  long peak_rss_kb() const { return sb::testing::memory_kb(node_->pid(), "VmHWM").value_or(-1); }
 
   // Checks a detection against the rendered ground truth.
   static void expect_ball(const Detection& d) {
@@ -241,15 +266,7 @@ TEST_F(BallDetectorNodeTest, GivenNoCalibration_ThenNoCalibrationUntilItArrives)
 // then each gets a BAD_FRAME detection naming the problem, the node keeps running, counts
 // them in its heartbeat, and answers the next good frame correctly.
 TEST_F(BallDetectorNodeTest, GivenMalformedFrames_ThenBadFrameAndNextGoodFrameAnswered) {
-  publish_calibration();
-  std::optional<Detection> first;
-  sb::testing::eventually(
-      [&] {
-        first = send(good_frame());
-        return first->msg.status != stereoball_msg_DETECTION_NO_CALIBRATION;
-      },
-      10s);
-  expect_ball(*first);
+  calibrate_and_find_ball();
 
   const cv::Mat small(240, 320, CV_8UC3, cv::Scalar::all(80));
   Detection d = send(Frame::raw(small, small));
@@ -272,6 +289,80 @@ TEST_F(BallDetectorNodeTest, GivenMalformedFrames_ThenBadFrameAndNextGoodFrameAn
   expect_ball(send(good_frame()));
   EXPECT_TRUE(heartbeat_counter_at_least("bad_frames", 3)) << node_->output();
   EXPECT_TRUE(node_->wait_for_output("bad frame", 1s)) << node_->output();
+}
+
+// Given a calibrated node, when compressed frames arrive whose headers claim 20000x20000 (the
+// sample's size fields say 640x480), or a JPEG cut short, then each is a BAD_FRAME naming the
+// problem, answered at once without decoding the claimed image, and the next frame is fine.
+TEST_F(BallDetectorNodeTest, GivenHostileCompressedFrames_ThenBadFrameFastAndMemoryBounded) {
+  calibrate_and_find_ball();
+  const long rss_before_kb = peak_rss_kb();
+  struct Case {
+    std::string name;
+    Frame frame;
+    std::string reason;
+  };
+  std::vector<Case> cases;
+  cases.push_back({"jpeg claiming 20000x20000",
+                   Frame::jpeg(scene().frame.left, scene().frame.right),
+                   "left jpeg header says 20000x20000 but the calibration is for 640x480"});
+  sb::testing::claim_image_size(cases.back().frame.left, 20000, 20000);
+  cases.push_back({"png claiming 20000x20000", Frame::png(scene().frame.left, scene().frame.right),
+                   "left png header says 20000x20000 but the calibration is for 640x480"});
+  sb::testing::claim_image_size(cases.back().frame.left, 20000, 20000);
+  cases.push_back({"truncated jpeg", Frame::jpeg(scene().frame.left, scene().frame.right),
+                   "right jpeg data is corrupt: Premature end of JPEG file"});
+  cases.back().frame.msg.right.data._length =
+      static_cast<uint32_t>(cases.back().frame.right.size() / 2);
+  for (auto& c : cases) {
+    const auto sent = std::chrono::steady_clock::now();
+    const Detection d = send(std::move(c.frame));
+    const double round_trip_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sent).count();
+    EXPECT_EQ(d.msg.status, stereoball_msg_DETECTION_BAD_FRAME) << c.name;
+    EXPECT_NE(d.reason.find(c.reason), std::string::npos) << c.name << ": " << d.reason;
+    // Figures for the report; the bound only catches a return of the 6-9 s full decode.
+    std::printf("[figure] %s: processing %.2f ms, round trip %.1f ms\n", c.name.c_str(),
+                d.msg.processing_ms, round_trip_ms);
+    EXPECT_LT(d.msg.processing_ms, 2000.0f) << c.name;
+  }
+  const long rss_after_kb = peak_rss_kb();
+  std::printf("[figure] ball_detector peak RSS %ld kB before, %ld kB after the hostile frames\n",
+              rss_before_kb, rss_after_kb);
+  EXPECT_LT(rss_after_kb - rss_before_kb, 100'000) << "a 20000x20000 BGR image is 1.2 GB";
+  expect_ball(send(good_frame()));
+}
+
+// Given a node calibrated for the 640x480 frames it receives, when a calibration of another
+// size arrives, then it is refused and detection goes on with the good one; when one of
+// 16384x16384 arrives, it is refused by the size limit without building its tables.
+TEST_F(BallDetectorNodeTest, GivenCalibrationsThatDoNotFitTheFrames_ThenTheGoodOneIsKept) {
+  calibrate_and_find_ball();
+  const long rss_before_kb = peak_rss_kb();
+  auto other = sb::stereo::calibration_to_message(scene().calib, 2, calib_source_);
+  other.width_px = 1280;
+  other.height_px = 960;
+  calibration_->write(other);
+  ASSERT_TRUE(node_->wait_for_output("it is for 1280x960 images but the frames are 640x480", 5s))
+      << node_->output();
+  expect_ball(send(good_frame()));
+
+  auto huge = sb::stereo::calibration_to_message(scene().calib, 3, calib_source_);
+  huge.width_px = huge.height_px = 16384;
+  const auto sent = std::chrono::steady_clock::now();
+  calibration_->write(huge);
+  ASSERT_TRUE(node_->wait_for_output("16384x16384 is outside the limit 1x1 .. 1920x1080", 5s))
+      << node_->output();
+  const double refused_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sent).count();
+  const long rss_after_kb = peak_rss_kb();
+  std::printf(
+      "[figure] 16384x16384 calibration refused within %.1f ms (incl. log polling); "
+      "peak RSS %ld kB -> %ld kB\n",
+      refused_ms, rss_before_kb, rss_after_kb);
+  EXPECT_LT(rss_after_kb - rss_before_kb, 100'000);
+  expect_ball(send(good_frame()));
+  EXPECT_TRUE(heartbeat_counter_at_least("bad_calibrations", 2)) << node_->output();
 }
 
 // Given a calibrated node, when the pair arrives PNG-encoded, then the same ball is found.

@@ -33,6 +33,16 @@ nodes:
     args: ["echo", "ball/detection", "--config", "{root}/tests/foundation/test_peer.yaml"]
 )";
 
+// Polls the supervisor until its first node runs again under another pid than old_pid.
+bool first_node_restarted(sb::launch::Supervisor& supervisor, pid_t old_pid) {
+  return sb::testing::eventually(
+      [&] {
+        supervisor.poll(sb::node::monotonic_ns());
+        return supervisor.states()[0].pid > 0 && supervisor.states()[0].pid != old_pid;
+      },
+      10s);
+}
+
 sb::launch::SupervisorOptions options(const std::string& dir) {
   sb::launch::SupervisorOptions o;
   o.bin_dir = sb::testing::bin("").substr(0, sb::testing::bin("").size() - 1);
@@ -62,6 +72,8 @@ TEST(Profile, BadProfilesNameTheProblem) {
       {"nodes:\n  - name: a\n", "key 'program': missing"},
       {"description: none\n", "key 'nodes': missing or empty"},
       {"nodes: [\n", "not valid YAML"},
+      {"description: a\nnodes:\n  - name: a\n    program: x\ndescription: b\n",
+       "key 'description' appears twice (lines 1 and 5)"},
   };
   for (const auto& c : cases) {
     auto p = sb::launch::load_profile(write_profile(dir, c.body), SB_SOURCE_DIR);
@@ -87,13 +99,7 @@ TEST(Supervisor, RestartsACrashedNodeAndStopsAllCleanly) {
   const pid_t first_pid = supervisor.states()[0].pid;
   ASSERT_GT(first_pid, 0);
   supervisor.signal_node("first", SIGKILL);
-  ASSERT_TRUE(sb::testing::eventually(
-      [&] {
-        supervisor.poll(sb::node::monotonic_ns());
-        return supervisor.states()[0].pid > 0 && supervisor.states()[0].pid != first_pid;
-      },
-      5s))
-      << "not restarted";
+  ASSERT_TRUE(first_node_restarted(supervisor, first_pid)) << "not restarted";
   EXPECT_EQ(supervisor.states()[0].restarts, 1);
   EXPECT_EQ(supervisor.states()[0].last_exit_code, 128 + SIGKILL);
   EXPECT_EQ(supervisor.states()[1].restarts, 0);
@@ -102,6 +108,99 @@ TEST(Supervisor, RestartsACrashedNodeAndStopsAllCleanly) {
   for (const auto& st : supervisor.states()) {
     EXPECT_EQ(st.pid, -1);
     EXPECT_EQ(st.last_exit_code, 0) << st.name;
+  }
+}
+
+// Given two supervised nodes, when one is stopped from outside with SIGTERM (it exits 0), then
+// it is restarted all the same: only the launcher decides that a node stays down.
+TEST(Supervisor, RestartsANodeThatExitsCleanlyWhenNotStoppedByTheLauncher) {
+  const std::string dir = sb::testing::temp_dir();
+  auto profile = sb::launch::load_profile(write_profile(dir, kTwoPeers), SB_SOURCE_DIR);
+  ASSERT_TRUE(profile) << profile.error();
+  std::vector<std::string> events;
+  sb::launch::Supervisor supervisor(*profile, options(dir),
+                                    [&](const std::string& e) { events.push_back(e); });
+  ASSERT_TRUE(supervisor.start_all(sb::node::monotonic_ns()));
+  std::this_thread::sleep_for(500ms);
+  const pid_t first_pid = supervisor.states()[0].pid;
+  supervisor.signal_node("first", SIGTERM);
+  ASSERT_TRUE(first_node_restarted(supervisor, first_pid)) << "not restarted";
+  EXPECT_EQ(supervisor.states()[0].last_exit_code, 0);
+  bool logged = false;
+  for (const auto& e : events)
+    logged |= e.find("first: exited with code 0, restarting in 500 ms") != std::string::npos;
+  EXPECT_TRUE(logged);
+  std::this_thread::sleep_for(300ms);  // let the new node install its signal handlers
+  EXPECT_TRUE(supervisor.stop_all());
+}
+
+// Given a node that exits at once every time, then it is restarted with a doubling back-off
+// until the limit, then left down with a log line saying so.
+TEST(Supervisor, GivesUpAfterTheRestartLimitWithDoublingBackoff) {
+  const std::string dir = sb::testing::temp_dir();
+  auto profile =
+      sb::launch::load_profile(write_profile(dir,
+                                             "nodes:\n  - name: broken\n    program: sb_test_peer\n"
+                                             "    args: [\"--config\", \"/no/such/file.yaml\"]\n"),
+                               SB_SOURCE_DIR);
+  ASSERT_TRUE(profile) << profile.error();
+  auto o = options(dir);
+  o.max_restarts = 3;
+  o.restart_backoff_ns = 20'000'000;
+  std::vector<std::string> events;
+  sb::launch::Supervisor supervisor(*profile, o,
+                                    [&](const std::string& e) { events.push_back(e); });
+  ASSERT_TRUE(supervisor.start_all(sb::node::monotonic_ns()));
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        supervisor.poll(sb::node::monotonic_ns());
+        return supervisor.states()[0].given_up;
+      },
+      20s));
+  EXPECT_EQ(supervisor.states()[0].restarts, 3);
+  std::string all;
+  for (const auto& e : events) all += e + "\n";
+  for (const char* delay : {"restarting in 20 ms", "restarting in 40 ms", "restarting in 80 ms",
+                            "gave up after 3 restarts in a row"}) {
+    EXPECT_NE(all.find(delay), std::string::npos) << all;
+  }
+}
+
+bool process_gone(pid_t pid) {
+  // A killed node reparented to a PID 1 that does not reap stays a zombie: that is gone too.
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(stat)), {});
+  const auto close = text.rfind(')');
+  return text.empty() || (close != std::string::npos && text.size() > close + 2 &&
+                          (text[close + 2] == 'Z' || text[close + 2] == 'X'));
+}
+
+std::vector<pid_t> started_pids(const std::string& output) {
+  std::vector<pid_t> pids;
+  for (size_t at = output.find("started (pid "); at != std::string::npos;
+       at = output.find("started (pid ", at + 1)) {
+    pids.push_back(static_cast<pid_t>(std::stol(output.substr(at + 13))));
+  }
+  return pids;
+}
+
+// Given `stereoball launch` running two nodes, when the launcher is killed with SIGKILL (no
+// chance to clean up), then both nodes die too.
+TEST(LaunchCommand, SigkillOfTheLauncherTakesItsNodesDown) {
+  const std::string dir = sb::testing::temp_dir();
+  auto launch = sb::testing::Process::start(
+      {sb::testing::bin("stereoball-launch"), write_profile(dir, kTwoPeers), "--log",
+       dir + "/nodes.log", "--domain", std::to_string(sb::testing::test_domain()), "--partition",
+       sb::testing::unique_partition()});
+  ASSERT_TRUE(launch.wait_for_output("second: started", 10s)) << launch.output();
+  const auto pids = started_pids(launch.output());
+  ASSERT_EQ(pids.size(), 2u) << launch.output();
+  for (pid_t pid : pids) ASSERT_FALSE(process_gone(pid));
+  launch.signal(SIGKILL);
+  ASSERT_TRUE(launch.wait_for_exit(10s).has_value());
+  for (pid_t pid : pids) {
+    EXPECT_TRUE(sb::testing::eventually([&] { return process_gone(pid); }, 10s))
+        << "node " << pid << " outlived its launcher";
   }
 }
 

@@ -145,6 +145,15 @@ bool eventually(const std::function<bool()>& pred, std::chrono::milliseconds tim
   }
 }
 
+std::optional<long> memory_kb(pid_t pid, const std::string& field) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
+  }
+  return std::nullopt;
+}
+
 std::string temp_dir() {
   char tmpl[] = "/tmp/sb-test-XXXXXX";
   const char* dir = mkdtemp(tmpl);

@@ -55,6 +55,9 @@ int test_domain();
 std::string unique_partition();
 /// Polls pred every 10 ms until true or timeout; returns pred's last value.
 bool eventually(const std::function<bool()>& pred, std::chrono::milliseconds timeout);
+/// A memory figure of a running process from /proc/PID/status in kB, e.g. "VmHWM" (peak
+/// resident set) or "VmRSS"; nullopt when the process or the field is gone.
+std::optional<long> memory_kb(pid_t pid, const std::string& field);
 /// A fresh empty temporary directory.
 std::string temp_dir();
 

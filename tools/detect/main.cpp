@@ -16,7 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "stereo/image/image_file.hpp"
+
 namespace bd = stereoball::ball_detector;
+namespace sb = stereoball;
 namespace fs = std::filesystem;
 
 namespace {
@@ -79,6 +82,9 @@ int main(int argc, char** argv) {
   bool json = false;
   std::string debug_dir;
   int threads = 1;
+  // Larger images are refused from their header, before decoding: a small file can claim
+  // 20000x20000 (1.2 GB of pixels). 4096x4096 leaves room above any camera StereoBall runs.
+  int max_width_px = 4096, max_height_px = 4096;
   std::vector<std::string> images;
   app.add_option("--method", method, "Detector: p2p, cht, gradient, opencv, opencv-alt, edcircles")
       ->capture_default_str()
@@ -112,6 +118,12 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "OpenCV worker threads (1 = one core, as on the robot)")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
+  app.add_option("--max-width", max_width_px, "Refuse wider images (from the header), pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 65535));
+  app.add_option("--max-height", max_height_px, "Refuse taller images (from the header), pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 65535));
   app.add_option("IMAGE", images, "Image files (png, jpg, ...)")->required();
   CLI11_PARSE(app, argc, argv);
 
@@ -135,18 +147,13 @@ int main(int argc, char** argv) {
   }
   int failures = 0;
   for (const auto& path : images) {
-    cv::Mat image;
-    try {
-      image = cv::imread(path, cv::IMREAD_COLOR);
-    } catch (const cv::Exception&) {
-      image.release();
-    }
-    if (image.empty()) {
-      std::cerr << "stereoball-detect: cannot read image '" << path
-                << "' (missing, unreadable or not an image)\n";
+    auto read = sb::stereo::read_image_file(path, {max_width_px, max_height_px});
+    if (!read) {
+      std::cerr << "stereoball-detect: " << read.error() << "\n";
       ++failures;
       continue;
     }
+    const cv::Mat image = std::move(*read);
     if (const auto bad = bd::validate_image(image)) {
       std::cerr << "stereoball-detect: '" << path << "': " << *bad << "\n";
       ++failures;

@@ -27,5 +27,10 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::fputs(stereoball::recorder::format_file_info(*info, path).c_str(), stdout);
+  if (info->nothing_readable()) {
+    std::fprintf(stderr, "stereoball info: %s: no message could be read (see the notes above)\n",
+                 path.c_str());
+    return 1;
+  }
   return 0;
 }

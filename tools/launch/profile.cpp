@@ -6,6 +6,8 @@
 #include <optional>
 #include <set>
 
+#include "common/params/yaml_load.hpp"
+
 namespace stereoball::launch {
 namespace fs = std::filesystem;
 
@@ -56,12 +58,9 @@ Result<Profile> load_profile(const std::string& name_or_path, const std::string&
     }
     return Error{"profile '" + name_or_path + "' not found (known:" + known + ")"};
   }
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path.string());
-  } catch (const YAML::Exception& e) {
-    return Error{path.string() + ": not valid YAML: " + e.what()};
-  }
+  auto parsed = params::load_yaml_file(path.string());
+  if (!parsed) return Error{parsed.error()};
+  const YAML::Node& root = *parsed;
   if (!root.IsMap()) return Error{path.string() + ": expected a mapping"};
   Profile profile;
   profile.name = path.stem().string();

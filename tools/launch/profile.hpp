@@ -16,7 +16,7 @@ struct NodeSpec {
   std::string name;               ///< unique within the profile, e.g. "tracker"
   std::string program;            ///< program in build/bin, e.g. "tracker"
   std::vector<std::string> args;  ///< arguments (paths relative to the project root)
-  bool restart = true;            ///< restart when it exits with an error or crashes
+  bool restart = true;            ///< restart whenever it exits unless the launcher stopped it
   bool optional = false;          ///< skip (with a note) if the program is not built
 };
 

@@ -2,10 +2,13 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <string_view>
 #include <thread>
@@ -31,6 +34,7 @@ Supervisor::Supervisor(Profile profile, SupervisorOptions options, EventSink eve
   log_fd_ = ::open(options_.log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   for (const auto& node : profile_.nodes) states_.push_back(NodeState{node.name});
   restart_due_ns_.assign(states_.size(), 0);
+  started_ns_.assign(states_.size(), 0);
 }
 
 Supervisor::~Supervisor() {
@@ -59,8 +63,13 @@ pid_t Supervisor::spawn(const NodeSpec& spec) {
   c_args.push_back(nullptr);
   for (auto& e : env) c_env.push_back(e.data());
   c_env.push_back(nullptr);
+  const pid_t supervisor_pid = getpid();
   const pid_t pid = fork();
   if (pid == 0) {
+    // The node goes down with the supervisor however it dies (even SIGKILL); the check after
+    // covers a supervisor that died before prctl ran.
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != supervisor_pid) _exit(0);
     if (log_fd_ >= 0) {
       dup2(log_fd_, STDOUT_FILENO);
       dup2(log_fd_, STDERR_FILENO);
@@ -80,7 +89,6 @@ pid_t Supervisor::spawn(const NodeSpec& spec) {
 }
 
 Result<bool> Supervisor::start_all(int64_t now_ns) {
-  (void)now_ns;
   for (size_t i = 0; i < profile_.nodes.size(); ++i) {
     const auto& spec = profile_.nodes[i];
     const std::string program = options_.bin_dir + "/" + spec.program;
@@ -94,9 +102,39 @@ Result<bool> Supervisor::start_all(int64_t now_ns) {
                    " not found (build first: bash run.sh build)"};
     }
     states_[i].pid = spawn(spec);
+    started_ns_[i] = now_ns;
     events_(spec.name + ": started (pid " + std::to_string(states_[i].pid) + ")");
   }
   return true;
+}
+
+void Supervisor::on_exit(size_t i, int status, int64_t now_ns) {
+  auto& st = states_[i];
+  st.pid = -1;
+  st.last_exit_code = decode_status(status);
+  // Any exit here is unexpected, a clean one too: only stop_all() stops nodes.
+  std::string how = "exited with code " + std::to_string(st.last_exit_code);
+  if (WIFSIGNALED(status)) how += " (" + std::string(strsignal(WTERMSIG(status))) + ")";
+  if (!profile_.nodes[i].restart) {
+    events_(st.name + ": " + how + "; not restarted (restart: false)");
+    st.given_up = true;
+    return;
+  }
+  if (now_ns - started_ns_[i] >= options_.stable_after_ns) st.restarts_in_row = 0;
+  if (st.restarts_in_row >= options_.max_restarts) {
+    st.given_up = true;
+    events_(st.name + ": " + how + ", gave up after " + std::to_string(st.restarts_in_row) +
+            " restarts in a row");
+    return;
+  }
+  // Back-off doubles so a node that cannot start does not spin.
+  int64_t delay_ns = options_.restart_backoff_ns;
+  for (int k = 0; k < st.restarts_in_row && delay_ns < options_.max_backoff_ns; ++k) delay_ns *= 2;
+  delay_ns = std::min(delay_ns, options_.max_backoff_ns);
+  restart_due_ns_[i] = now_ns + delay_ns;
+  events_(st.name + ": " + how + ", restarting in " + std::to_string(delay_ns / 1'000'000) +
+          " ms (restart " + std::to_string(st.restarts_in_row + 1) + " of at most " +
+          std::to_string(options_.max_restarts) + " in a row)");
 }
 
 void Supervisor::poll(int64_t now_ns) {
@@ -104,30 +142,13 @@ void Supervisor::poll(int64_t now_ns) {
     auto& st = states_[i];
     if (st.pid > 0) {
       int status = 0;
-      if (waitpid(st.pid, &status, WNOHANG) != st.pid) continue;
-      st.pid = -1;
-      st.last_exit_code = decode_status(status);
-      const bool failed = st.last_exit_code != 0;
-      if (!profile_.nodes[i].restart || !failed) {
-        events_(st.name + ": exited with code " + std::to_string(st.last_exit_code));
-        st.given_up = failed;
-        continue;
-      }
-      if (st.restarts >= options_.max_restarts) {
-        st.given_up = true;
-        events_(st.name + ": exited with code " + std::to_string(st.last_exit_code) +
-                ", gave up after " + std::to_string(st.restarts) + " restarts");
-        continue;
-      }
-      // Back-off doubles from 0.5 s so a node that cannot start does not spin.
-      const int64_t delay_ns = 500'000'000LL << std::min(st.restarts, 4);
-      restart_due_ns_[i] = now_ns + delay_ns;
-      events_(st.name + ": exited with code " + std::to_string(st.last_exit_code) +
-              ", restarting in " + std::to_string(delay_ns / 1'000'000) + " ms");
+      if (waitpid(st.pid, &status, WNOHANG) == st.pid) on_exit(i, status, now_ns);
     } else if (restart_due_ns_[i] > 0 && now_ns >= restart_due_ns_[i]) {
       restart_due_ns_[i] = 0;
       ++st.restarts;
+      ++st.restarts_in_row;
       st.pid = spawn(profile_.nodes[i]);
+      started_ns_[i] = now_ns;
       events_(st.name + ": restarted (pid " + std::to_string(st.pid) + ")");
     }
   }

@@ -131,6 +131,8 @@ int main(int argc, char** argv) {
     uint64_t total = 0;
     for (const auto& [id, n] : published) total += n;
     std::printf("published %llu messages\n", static_cast<unsigned long long>(total));
+    if (total == 0 && !runner.stopping())
+      return fail(path + ": no message could be read or none matched the selection");
     return 0;
   } catch (const std::exception& e) {
     return fail(e.what());

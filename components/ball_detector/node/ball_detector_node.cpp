@@ -34,26 +34,45 @@ void BallDetectorNode::on_calibration() {
   auto sample = calibration_.take_latest();
   if (!sample) return;
   runner_.health().count(kCalibrationTopic);
-  const char* source = (*sample)->source ? (*sample)->source : "";
-  auto calib = stereo::calibration_from_message(**sample);
-  std::optional<std::string> problem;
-  if (!calib) {
-    problem = calib.error();
-  } else {
-    problem = pipeline_.set_calibration(*calib);
+  const std::string source = (*sample)->source ? (*sample)->source : "";
+  auto calib = stereo::calibration_from_message(**sample, params_.max_image_size());
+  if (!calib) return reject_calibration(source, calib.error());
+  const auto decision = gate_.offer(calib->image_size);
+  if (!decision.use) {
+    pending_calibration_ = CalibrationFrom{std::move(*calib), source};
+    return reject_calibration(source, decision.reason);
   }
-  if (problem) {
-    runner_.health().error("bad_calibration", "stereo/calibration from '" + std::string(source) +
-                                                  "' rejected: " + *problem);
-    runner_.health().set_counter("bad_calibrations", ++bad_calibrations_);
-    log::warn("stereo/calibration from '", source, "' rejected: ", *problem,
-              pipeline_.has_calibration() ? " (keeping the previous one)" : "");
-    return;
-  }
+  apply_calibration(CalibrationFrom{std::move(*calib), source});
+}
+
+void BallDetectorNode::apply_calibration(const CalibrationFrom& calibration) {
+  if (auto problem = pipeline_.set_calibration(calibration.calib))
+    return reject_calibration(calibration.source, *problem);
+  gate_.applied(calibration.calib.image_size);
+  pending_calibration_.reset();
   const cv::Size s = pipeline_.image_size();
-  log::info("calibration from '", source, "': ", s.width, "x", s.height, " px, rms ",
-            (*sample)->rms_px, " px; rectification tables built");
+  log::info("calibration from '", calibration.source, "': ", s.width, "x", s.height, " px, rms ",
+            calibration.calib.rms_px, " px; rectification tables built");
   runner_.health().set_state(true, "detecting");
+}
+
+void BallDetectorNode::reject_calibration(const std::string& source, const std::string& problem) {
+  runner_.health().error("bad_calibration",
+                         "stereo/calibration from '" + source + "' rejected: " + problem);
+  runner_.health().set_counter("bad_calibrations", ++bad_calibrations_);
+  log::warn("stereo/calibration from '", source, "' rejected: ", problem,
+            pipeline_.has_calibration() ? " (keeping the previous one)" : "");
+}
+
+void BallDetectorNode::check_frame_size(const stereoball_msg_StereoFrame& frame) {
+  constexpr std::uint32_t kMaxSide = 1u << 30;  // keeps the cast to int exact
+  const cv::Size size(static_cast<int>(std::min(frame.left.width_px, kMaxSide)),
+                      static_cast<int>(std::min(frame.left.height_px, kMaxSide)));
+  if (gate_.frame(size) && pending_calibration_) {
+    log::info("frames are now ", size.width, "x", size.height,
+              ": switching to the calibration held back");
+    apply_calibration(*pending_calibration_);
+  }
 }
 
 void BallDetectorNode::check_input(std::int64_t now_ns) {
@@ -76,6 +95,7 @@ void BallDetectorNode::on_frames() {
   last_frame_ns_ = node::now_ns();
   const stereoball_msg_StereoFrame& frame = loaned[*latest];
   count_skipped(frame.seq, valid - 1);
+  check_frame_size(frame);
   process(frame);
 }
 

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "ball_detector/node/calibration_gate.hpp"
 #include "ball_detector/node/frame_input.hpp"
 #include "ball_detector/node/stereo_pipeline.hpp"
 #include "common/dds/reader.hpp"
@@ -22,7 +23,15 @@ class BallDetectorNode {
   BallDetectorNode(node::Runner& runner, const BallDetectorParams& params);
 
  private:
+  // A validated calibration and who published it.
+  struct CalibrationFrom {
+    stereo::StereoCalibration calib;
+    std::string source;
+  };
   void on_calibration();
+  void apply_calibration(const CalibrationFrom& calibration);
+  void reject_calibration(const std::string& source, const std::string& problem);
+  void check_frame_size(const stereoball_msg_StereoFrame& frame);
   void check_input(std::int64_t now_ns);
   void on_frames();
   void process(const stereoball_msg_StereoFrame& frame);
@@ -34,6 +43,8 @@ class BallDetectorNode {
 
   node::Runner& runner_;
   StereoPipeline pipeline_;
+  CalibrationGate gate_;
+  std::optional<CalibrationFrom> pending_calibration_;  // held back until frames fit it
   FrameDecoder decoder_;
   dds::DataReader<stereoball_msg_StereoFrame> frames_;
   dds::DataReader<stereoball_msg_StereoCalibration> calibration_;

@@ -55,6 +55,9 @@ std::optional<std::string> BallDetectorParams::validate() const {
     return std::string("floor_camera_pitch_rad must be in [-1.57, 1.57] radians");
   if (!(floor_tolerance_m >= 0.0 && floor_tolerance_m <= 10.0))
     return std::string("floor_tolerance_m must be in [0, 10] metres (0 = off)");
+  if (max_image_width_px < 16 || max_image_width_px > 16384 || max_image_height_px < 16 ||
+      max_image_height_px > 16384)
+    return std::string("max_image_width_px and max_image_height_px must be in [16, 16384] px");
   if (auto e = detector_params().validate()) return "p2p." + *e;
   if (auto e = appearance.validate()) return e;
   return std::nullopt;

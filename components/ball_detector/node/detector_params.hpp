@@ -2,6 +2,8 @@
 // Parameters of the stereo ball detection pipeline (rectify, Pixel-to-Pixel on both eyes,
 // epipolar pairing, triangulation, size check).
 
+#include <opencv2/core.hpp>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -80,6 +82,13 @@ struct BallDetectorParams {
   /// Addition: the followed ball's colour, learnt while the tracker follows it, ranks the left
   /// candidates and rejects round things of another colour; forgotten after a long loss.
   AppearanceParams appearance;
+  /// Largest image a calibration (and so every frame) may have, px, [16, 16384] per side: a
+  /// larger stereo/calibration is refused before its rectification tables are allocated.
+  int max_image_width_px = 1920;
+  int max_image_height_px = 1080;  ///< see max_image_width_px
+
+  /// max_image_width_px x max_image_height_px.
+  cv::Size max_image_size() const { return {max_image_width_px, max_image_height_px}; }
 
   /// Names the first bad field and its allowed range, or nullopt.
   std::optional<std::string> validate() const;

@@ -62,6 +62,8 @@ Result<BallDetectorParams> read_detector_params(params::ParamsFile& file) {
   file.read("appearance.frames_to_learn", p.appearance.frames_to_learn, 1, 1000);
   file.read("appearance.forget_after_ns", p.appearance.forget_after_ns, std::int64_t{0},
             std::int64_t{3'600'000'000'000});
+  file.read("image_limit.max_width_px", p.max_image_width_px, 16, 16384);
+  file.read("image_limit.max_height_px", p.max_image_height_px, 16, 16384);
   if (auto e = p.validate()) file.fail(file.name() + ": " + *e);
   if (auto e = file.finish()) return Error{*e};
   return p;

@@ -1,8 +1,10 @@
 #include "ball_detector/node/frame_input.hpp"
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <cstring>
+#include <span>
+#include <string_view>
+
+#include "stereo/image/image_decode.hpp"
 
 namespace stereoball::ball_detector {
 namespace {
@@ -72,21 +74,22 @@ std::optional<std::string> FrameDecoder::decode_eye(const char* eye,
   if (auto e = check_size(eye, image.width_px, image.height_px, expected)) return e;
   if (image.data._length == 0 || image.data._buffer == nullptr)
     return std::string(eye) + " " + name + " data is empty";
-  const cv::Mat bytes(1, static_cast<int>(image.data._length), CV_8U, image.data._buffer);
-  try {
-    cv::imdecode(bytes, cv::IMREAD_COLOR, &buffer);
-  } catch (const cv::Exception&) {
-    buffer.release();
-  }
-  if (buffer.empty())
-    return std::string(eye) + " " + name + " data could not be decoded (" +
-           std::to_string(image.data._length) + " bytes)";
-  if (buffer.size() != expected)
-    return std::string(eye) + " " + name + " decodes to " +
-           dims(static_cast<std::uint64_t>(buffer.cols), static_cast<std::uint64_t>(buffer.rows)) +
+  const std::span<const std::uint8_t> bytes(image.data._buffer, image.data._length);
+  // The header is read and checked before anything is decoded: the size fields of the
+  // sample are only claims, the header decides how much memory decoding takes.
+  const auto header = stereo::read_image_header(bytes);
+  if (!header) return std::string(eye) + " " + name + " data: " + header.error();
+  if (std::string_view(stereo::codec_name(header->codec)) != name)
+    return std::string(eye) + " image is " + stereo::codec_name(header->codec) + " data in a " +
+           name + " frame";
+  if (cv::Size(header->width_px, header->height_px) != expected)
+    return std::string(eye) + " " + name + " header says " +
+           dims(static_cast<std::uint64_t>(header->width_px),
+                static_cast<std::uint64_t>(header->height_px)) +
            " but the calibration is for " +
            dims(static_cast<std::uint64_t>(expected.width),
                 static_cast<std::uint64_t>(expected.height));
+  if (auto e = stereo::decode_bgr(bytes, *header, buffer)) return std::string(eye) + " " + *e;
   out = buffer;
   return std::nullopt;
 }

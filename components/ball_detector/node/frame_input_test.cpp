@@ -147,16 +147,36 @@ TEST(FrameDecoder, GivenGarbageJpeg_ThenErrorNotCrash) {
   FrameBuilder f;
   f.encoded("jpg", img, img);
   std::fill(f.right.begin(), f.right.end(), uint8_t{0x5a});
-  EXPECT_NE(decode_error(f).find("could not be decoded"), std::string::npos) << decode_error(f);
+  EXPECT_NE(decode_error(f).find("right jpeg data: not a jpeg or png image"), std::string::npos)
+      << decode_error(f);
   f.msg.right.data._length = 0;
   EXPECT_NE(decode_error(f).find("empty"), std::string::npos) << decode_error(f);
 }
 
-TEST(FrameDecoder, GivenPngOfOtherSize_ThenErrorNamesDecodedSize) {
+TEST(FrameDecoder, GivenPngOfOtherSize_ThenTheHeaderSizeIsRefusedBeforeDecoding) {
   const cv::Mat big(96, 128, CV_8UC3, cv::Scalar::all(1));
   FrameBuilder f;
   f.encoded("png", big, big);
-  f.msg.left.width_px = f.msg.right.width_px = 64;  // header claims the right size
+  f.msg.left.width_px = f.msg.right.width_px = 64;  // the sample claims the right size
   f.msg.left.height_px = f.msg.right.height_px = 48;
-  EXPECT_NE(decode_error(f).find("decodes to 128x96"), std::string::npos) << decode_error(f);
+  EXPECT_EQ(decode_error(f), "left png header says 128x96 but the calibration is for 64x48");
+}
+
+// Issue 22: a truncated JPEG was processed as a valid frame (libjpeg only warns about it).
+TEST(FrameDecoder, GivenATruncatedJpeg_ThenItIsABadFrameNotAnImage) {
+  const cv::Mat img = gradient(CV_8UC3);
+  FrameBuilder f;
+  f.encoded("jpg", img, img);
+  f.msg.left.data._length = static_cast<uint32_t>(f.left.size() * 2 / 3);
+  EXPECT_NE(decode_error(f).find("left jpeg data is corrupt: Premature end of JPEG file"),
+            std::string::npos)
+      << decode_error(f);
+}
+
+TEST(FrameDecoder, GivenPngBytesInAJpegFrame_ThenTheMismatchIsNamed) {
+  const cv::Mat img = gradient(CV_8UC3);
+  FrameBuilder f;
+  f.encoded("png", img, img);
+  f.encoding = "jpeg";
+  EXPECT_EQ(decode_error(f), "left image is png data in a jpeg frame");
 }

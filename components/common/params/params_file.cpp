@@ -1,7 +1,8 @@
 #include "common/params/params_file.hpp"
 
+#include "common/params/yaml_load.hpp"
+
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
@@ -43,23 +44,17 @@ std::string number_text(T value) {
 }  // namespace
 
 Result<ParamsFile> ParamsFile::load(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return Error{path + ": cannot read file"};
-  std::stringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return Error{path + ": cannot read file"};
-  return parse(text.str(), path);
+  return from_yaml(load_yaml_file(path), path);
 }
 
 Result<ParamsFile> ParamsFile::parse(const std::string& text, const std::string& name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    return Error{name + ": not valid YAML: " + e.what()};
-  }
-  if (!root.IsMap()) return Error{name + ": expected a mapping of parameters at the top level"};
-  return ParamsFile(root, name);
+  return from_yaml(parse_yaml(text, name), name);
+}
+
+Result<ParamsFile> ParamsFile::from_yaml(Result<YAML::Node> root, const std::string& name) {
+  if (!root) return Error{root.error()};
+  if (!root->IsMap()) return Error{name + ": expected a mapping of parameters at the top level"};
+  return ParamsFile(*root, name);
 }
 
 std::optional<YAML::Node> ParamsFile::lookup(std::string_view key) {

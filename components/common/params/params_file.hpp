@@ -47,6 +47,7 @@ class ParamsFile {
 
  private:
   ParamsFile(YAML::Node root, std::string name) : root_(std::move(root)), name_(std::move(name)) {}
+  static Result<ParamsFile> from_yaml(Result<YAML::Node> root, const std::string& name);
   std::optional<YAML::Node> lookup(std::string_view key);
   std::optional<YAML::Node> scalar(std::string_view key);
   void key_error(std::string_view key, const std::string& what);

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/params/yaml_load.hpp"
+
 namespace stereoball::params {
 namespace {
 
@@ -111,6 +113,43 @@ TEST(ParamsFile, GivenFileOnDiskWhenLoadedThenSameAsParsed) {
   file->read("gain", gain, 0, 10);
   EXPECT_DOUBLE_EQ(gain, 2.5);
   std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace stereoball::params
+
+namespace stereoball::params {
+namespace {
+
+// yaml-cpp keeps the first of two equal keys; the loader must refuse the file instead.
+TEST(ParamsFile, GivenADuplicatedKeyWhenParsedThenTheErrorNamesFileKeyAndBothLines) {
+  Demo demo;
+  const auto error =
+      load_demo("gain: 2.5\nnested:\n  count: 7\n  count: 9\nenabled: true\nmode: b\n"
+                "xyz: [1, 2, 3]\n",
+                demo);
+  ASSERT_TRUE(error);
+  EXPECT_EQ(*error, "demo.yaml: key 'nested.count' appears twice (lines 3 and 4)");
+}
+
+TEST(ParamsFile, GivenADuplicatedTopLevelKeyInAFileWhenLoadedThenItIsRefused) {
+  const auto path = std::filesystem::temp_directory_path() / "sb_duplicate_key.yaml";
+  std::ofstream(path) << kGood << "gain: 3.5\n";
+  const auto file = ParamsFile::load(path.string());
+  ASSERT_FALSE(file);
+  EXPECT_EQ(file.error(), path.string() + ": key 'gain' appears twice (lines 1 and 7)");
+  std::filesystem::remove(path);
+}
+
+TEST(YamlLoad, GivenEqualKeysInDifferentMappingsWhenCheckedThenNothingIsReported) {
+  const auto root = parse_yaml("a: {x: 1}\nb: {x: 2}\nlist:\n  - {x: 1}\n  - {x: 2}\n", "t");
+  ASSERT_TRUE(root) << root.error();
+}
+
+TEST(YamlLoad, GivenADuplicateInsideAListItemWhenCheckedThenThePathHasTheIndex) {
+  const auto root = parse_yaml("list:\n  - {x: 1}\n  - x: 1\n    x: 2\n", "t");
+  ASSERT_FALSE(root);
+  EXPECT_EQ(root.error(), "t: key 'list[1].x' appears twice (lines 3 and 4)");
 }
 
 }  // namespace

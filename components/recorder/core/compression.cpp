@@ -35,11 +35,18 @@ size_t zstd_bound(size_t n) {
 }
 
 Status zstd_decompress(std::span<const uint8_t> input, uint64_t expected_size,
-                       std::vector<uint8_t>& out) {
-  // Guards against a corrupt size field asking for an absurd allocation.
-  constexpr uint64_t kMaxChunkBytes = uint64_t{4} << 30;
-  if (expected_size > kMaxChunkBytes) {
-    return "chunk uncompressed size " + std::to_string(expected_size) + " is implausible";
+                       std::vector<uint8_t>& out, uint64_t max_bytes) {
+  // The chunk header's size is only a claim: check it against the limit and against the zstd
+  // frame's own record of its content before allocating for it.
+  if (expected_size > max_bytes) {
+    return "chunk claims " + std::to_string(expected_size) +
+           " bytes uncompressed, more than the reader's limit of " + std::to_string(max_bytes);
+  }
+  const unsigned long long frame_size = ZSTD_getFrameContentSize(input.data(), input.size());
+  if (frame_size == ZSTD_CONTENTSIZE_ERROR) return std::string("not a zstd frame");
+  if (frame_size != ZSTD_CONTENTSIZE_UNKNOWN && frame_size != expected_size) {
+    return "zstd frame holds " + std::to_string(frame_size) + " bytes, chunk header says " +
+           std::to_string(expected_size);
   }
   out.resize(expected_size);
   const size_t n = ZSTD_decompress(out.data(), out.size(), input.data(), input.size());

@@ -31,8 +31,9 @@ class ZstdCompressor {
 size_t zstd_bound(size_t n);
 
 /// Decompresses a chunk's records into out (resized to expected_size); error when the stream is
-/// corrupt or does not produce exactly expected_size bytes.
+/// corrupt or does not produce exactly expected_size bytes. Nothing is allocated when
+/// expected_size exceeds max_bytes or differs from the size the zstd frame header records.
 Status zstd_decompress(std::span<const uint8_t> input, uint64_t expected_size,
-                       std::vector<uint8_t>& out);
+                       std::vector<uint8_t>& out, uint64_t max_bytes);
 
 }  // namespace stereoball::recorder

@@ -45,6 +45,7 @@ Result<FileInfo> collect_file_info(Source& source) {
   info.complete = summary.complete;
   info.indexed = summary.indexed;
   info.chunks = summary.statistics.chunk_count;
+  info.listed_messages = summary.listed_messages;
   info.notes = reader.notes();
   return info;
 }
@@ -86,8 +87,10 @@ std::string format_file_info(const FileInfo& info, const std::string& path) {
     out += line;
   };
   add("file:      %s (%s)\n", path.c_str(), human_bytes(info.file_bytes).c_str());
-  add("complete:  %s\n", info.complete ? "yes (closed properly: footer and summary present)"
-                                       : "NO (no footer: recording was interrupted)");
+  add("complete:  %s\n", !info.complete ? "NO (no footer: recording was interrupted)"
+                         : info.messages < info.listed_messages
+                             ? "NO (closed properly, but not every message listed could be read)"
+                             : "yes (closed properly: footer and summary present)");
   add("read:      %s\n", info.indexed ? "indexed (summary)" : "linear scan");
   add("library:   %s\n", info.library.c_str());
   if (info.messages > 0) {
@@ -98,6 +101,9 @@ std::string format_file_info(const FileInfo& info, const std::string& path) {
     add("duration:  (no messages)\n");
   }
   add("messages:  %" PRIu64 " in %" PRIu64 " chunks\n", info.messages, info.chunks);
+  if (info.messages < info.listed_messages)
+    add("unread:    %" PRIu64 " of the %" PRIu64 " messages the summary lists\n",
+        info.listed_messages - info.messages, info.listed_messages);
   add("topics:    %zu\n", info.topics.size());
   size_t topic_w = 5, type_w = 4;
   for (const auto& t : info.topics) {

@@ -27,14 +27,21 @@ struct TopicInfo {
 struct FileInfo {
   uint64_t file_bytes = 0;
   std::string library;
-  bool complete = false;  ///< footer present (recording was closed properly)
-  bool indexed = false;   ///< read through the summary
-  uint64_t messages = 0;
+  bool complete = false;         ///< footer present (recording was closed properly)
+  bool indexed = false;          ///< read through the summary
+  uint64_t messages = 0;         ///< messages read
+  uint64_t listed_messages = 0;  ///< messages the file's summary lists (0 without a summary)
   uint64_t chunks = 0;
   uint64_t start_ns = 0;  ///< earliest log time
   uint64_t end_ns = 0;    ///< latest log time
   std::vector<TopicInfo> topics;
   std::vector<std::string> notes;
+
+  /// True when the file holds or lists something but not one message could be read: the
+  /// tools then fail instead of reporting an empty recording.
+  bool nothing_readable() const {
+    return messages == 0 && (listed_messages > 0 || chunks > 0 || !notes.empty());
+  }
 };
 
 /// Opens source and reads every message to build the figures; error for non-MCAP input.

@@ -24,7 +24,7 @@ std::string at(uint64_t offset) {
 }
 
 // Reads one record (prefix and content) at offset; content is resized to the record length.
-Status read_record(Source& source, uint64_t offset, uint8_t& opcode,
+Status read_record(Source& source, uint64_t offset, uint64_t max_bytes, uint8_t& opcode,
                    std::vector<uint8_t>& content) {
   const uint64_t size = source.size();
   if (offset > size || size - offset < kRecordPrefixBytes) {
@@ -37,6 +37,10 @@ Status read_record(Source& source, uint64_t offset, uint8_t& opcode,
     return "truncated " + opcode_name(prefix[0]) + " record at " + at(offset) + ": needs " +
            std::to_string(length) + " bytes, " +
            std::to_string(size - offset - kRecordPrefixBytes) + " left";
+  }
+  if (length > max_bytes) {
+    return opcode_name(prefix[0]) + " record at " + at(offset) + " has " + std::to_string(length) +
+           " bytes, more than the reader's limit of " + std::to_string(max_bytes);
   }
   opcode = prefix[0];
   content.resize(length);
@@ -53,7 +57,7 @@ void count_message(StatisticsRecord& s, const MessageView& m) {
 
 }  // namespace
 
-McapReader::McapReader(Source& source) : source_(source) {}
+McapReader::McapReader(Source& source, ReaderLimits limits) : source_(source), limits_(limits) {}
 
 void McapReader::note(std::string text) {
   if (std::find(notes_.begin(), notes_.end(), text) == notes_.end()) {
@@ -74,7 +78,7 @@ Status McapReader::read_header() {
     return "not an MCAP file: first record is " + opcode_name(first) + ", expected Header";
   }
   uint8_t opcode = 0;
-  if (auto err = read_record(source_, magic.size(), opcode, record_)) {
+  if (auto err = read_record(source_, magic.size(), limits_.max_record_bytes, opcode, record_)) {
     return "MCAP file truncated inside its Header record: " + *err;
   }
   auto header = parse_header(record_);
@@ -85,7 +89,7 @@ Status McapReader::read_header() {
 
 Status McapReader::open() {
   if (auto err = read_header()) return err;
-  summary_.indexed = try_read_summary();
+  summary_.indexed = try_read_summary() && chunk_indexes_valid();
   if (!summary_.indexed) {
     summary_.schemas.clear();
     summary_.channels.clear();
@@ -126,6 +130,10 @@ bool McapReader::try_read_summary() {
     return false;
   }
   // Summary, summary offsets and the footer up to (not including) its CRC field.
+  if (footer_pos - footer.summary_start > limits_.max_record_bytes) {
+    note(std::string("summary is larger than the reader's limit; ") + kLinearNote);
+    return false;
+  }
   std::vector<uint8_t> region(footer_pos + kRecordPrefixBytes + 16 - footer.summary_start);
   if (source_.read(footer.summary_start, region)) {
     note(std::string("summary could not be read; ") + kLinearNote);
@@ -156,9 +164,10 @@ bool McapReader::try_read_summary() {
                                    ok = false;
                                  break;
                                case Opcode::kStatistics:
-                                 if (auto s = parse_statistics(r.content))
+                                 if (auto s = parse_statistics(r.content)) {
                                    summary_.statistics = *s;
-                                 else
+                                   summary_.listed_messages = s->message_count;
+                                 } else
                                    ok = false;
                                  has_statistics = true;
                                  break;
@@ -187,12 +196,33 @@ bool McapReader::try_read_summary() {
   return true;
 }
 
+bool McapReader::chunk_indexes_valid() {
+  const uint64_t size = source_.size();
+  std::array<uint8_t, kRecordPrefixBytes> prefix{};
+  for (const auto& index : chunk_indexes_) {
+    const uint64_t at_offset = index.chunk_start_offset;
+    const bool fits = at_offset >= kMagic.size() && at_offset <= size &&
+                      size - at_offset >= kRecordPrefixBytes &&
+                      index.chunk_length <= size - at_offset;
+    const bool is_chunk = fits && !source_.read(at_offset, prefix) &&
+                          prefix[0] == static_cast<uint8_t>(Opcode::kChunk) &&
+                          kRecordPrefixBytes + load_u64(prefix.data() + 1) == index.chunk_length;
+    if (!is_chunk) {
+      note("chunk index points to " + at(at_offset) + ", which holds no chunk of " +
+           std::to_string(index.chunk_length) + " bytes; indexes ignored, " + kLinearNote);
+      return false;
+    }
+  }
+  return true;
+}
+
 Status McapReader::scan_linear(const MessageFn* f) {
   const uint64_t size = source_.size();
   counted_ = {};
   Crc32 data_crc;
   data_crc.update(kMagic);
   uint64_t pos = kMagic.size();
+  bool crc_skipped = false;
   std::array<uint8_t, kRecordPrefixBytes> prefix{};
   while (true) {
     if (pos == size) {
@@ -217,12 +247,20 @@ Status McapReader::scan_linear(const MessageFn* f) {
       note("corrupt record at " + at(pos) + " (opcode 0x00); stopped there");
       break;
     }
+    if (length > limits_.max_record_bytes) {
+      note(opcode_name(opcode) + " record at " + at(pos) + " has " + std::to_string(length) +
+           " bytes, more than the reader's limit of " + std::to_string(limits_.max_record_bytes) +
+           "; skipped");
+      crc_skipped = true;  // the data CRC cannot be checked without reading every byte
+      pos += kRecordPrefixBytes + length;
+      continue;
+    }
     record_.resize(length);
     if (auto err = source_.read(pos + kRecordPrefixBytes, record_)) return err;
     if (opcode == static_cast<uint8_t>(Opcode::kDataEnd)) {
       ByteReader r(record_);
       const auto stored = r.u32();
-      if (stored && *stored != 0 && *stored != data_crc.value()) {
+      if (!crc_skipped && stored && *stored != 0 && *stored != data_crc.value()) {
         note("data section CRC mismatch (stored " + hex32(*stored) + ", computed " +
              hex32(data_crc.value()) + ")");
       }
@@ -281,7 +319,8 @@ McapReader::Visit McapReader::handle_record(uint64_t offset, const RecordView& r
 bool McapReader::load_chunk(uint64_t offset, const ChunkView& chunk) {
   const std::string where = "chunk at " + at(offset) + ": ";
   if (chunk.compression == "zstd") {
-    if (auto err = zstd_decompress(chunk.records, chunk.uncompressed_size, decompressed_)) {
+    if (auto err = zstd_decompress(chunk.records, chunk.uncompressed_size, decompressed_,
+                                   limits_.max_record_bytes)) {
       note(where + *err + "; its messages skipped");
       return false;
     }
@@ -329,7 +368,8 @@ Status McapReader::for_each_message(const MessageFn& f) {
   if (!summary_.indexed) return scan_linear(&f);
   uint8_t opcode = 0;
   for (const auto& index : chunk_indexes_) {
-    if (auto err = read_record(source_, index.chunk_start_offset, opcode, record_)) {
+    if (auto err = read_record(source_, index.chunk_start_offset, limits_.max_record_bytes, opcode,
+                               record_)) {
       note("chunk index points to an unreadable chunk: " + *err + "; skipped");
       continue;
     }
@@ -352,7 +392,9 @@ Status McapReader::check_message_indexes() {
   uint8_t opcode = 0;
   for (const auto& index : chunk_indexes_) {
     const std::string where = "chunk at " + at(index.chunk_start_offset) + ": ";
-    if (auto err = read_record(source_, index.chunk_start_offset, opcode, record_)) return err;
+    if (auto err = read_record(source_, index.chunk_start_offset, limits_.max_record_bytes, opcode,
+                               record_))
+      return err;
     auto chunk = parse_chunk(record_);
     if (!chunk || !load_chunk(index.chunk_start_offset, *chunk)) return where + "unreadable";
     std::map<uint16_t, Entries> actual;
@@ -368,7 +410,8 @@ Status McapReader::check_message_indexes() {
              std::to_string(index.message_index_offsets.size()) + " message indexes";
     }
     for (const auto& [channel, offset] : index.message_index_offsets) {
-      if (auto err = read_record(source_, offset, opcode, record_)) return where + *err;
+      if (auto err = read_record(source_, offset, limits_.max_record_bytes, opcode, record_))
+        return where + *err;
       auto mi = parse_message_index(record_);
       if (opcode != static_cast<uint8_t>(Opcode::kMessageIndex) || !mi ||
           mi->channel_id != channel) {

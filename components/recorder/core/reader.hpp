@@ -20,16 +20,25 @@ struct FileSummary {
   HeaderRecord header;
   std::map<uint16_t, SchemaRecord> schemas;
   std::map<uint16_t, ChannelRecord> channels;
-  StatisticsRecord statistics;  ///< from the file's summary, or counted by the linear scan
-  bool complete = false;        ///< footer and trailing magic present
-  bool indexed = false;         ///< messages are read through the summary's chunk indexes
+  StatisticsRecord statistics;   ///< from the file's summary, or counted by the linear scan
+  bool complete = false;         ///< footer and trailing magic present
+  bool indexed = false;          ///< messages are read through the summary's chunk indexes
+  uint64_t listed_messages = 0;  ///< message count of the file's Statistics record (0 = none)
+};
+
+/// Memory the reader may spend on one record: every size a file states is checked against the
+/// file's own size and these limits before anything is allocated for it.
+struct ReaderLimits {
+  /// Largest chunk (uncompressed) or other record read into memory; larger ones are skipped
+  /// with a note. The recorder writes 4 MiB chunks (one bigger only for a bigger message).
+  uint64_t max_record_bytes = uint64_t{64} << 20;
 };
 
 /// Reads one MCAP file from a Source. Not thread-safe.
 class McapReader {
  public:
   /// Reads from source, which must outlive the reader.
-  explicit McapReader(Source& source);
+  explicit McapReader(Source& source, ReaderLimits limits = {});
 
   /// Checks magic and header, then loads the summary or scans linearly; fails only when the
   /// input is not an MCAP file at all (bad magic, no header).
@@ -52,6 +61,8 @@ class McapReader {
   enum class Visit { kContinue, kStop, kCorrupt };
   Status read_header();
   bool try_read_summary();
+  // True when every chunk index points at a Chunk record of its stated length in the file.
+  bool chunk_indexes_valid();
   Status scan_linear(const MessageFn* f);
   // Decompresses and CRC-checks a chunk at file offset; false when it was skipped (noted).
   bool load_chunk(uint64_t offset, const ChunkView& chunk);
@@ -61,6 +72,7 @@ class McapReader {
   void note(std::string text);
 
   Source& source_;
+  ReaderLimits limits_;
   FileSummary summary_;
   std::vector<ChunkIndexRecord> chunk_indexes_;
   std::vector<uint8_t> record_;        // content of the record being read from the source

@@ -246,6 +246,63 @@ TEST(RecordPlay, GivenARateAndAStartOffsetWhenPlayedThenGapsScaleAndTheStartIsSk
               median_gap_error_ms(times, got, 2.0));
 }
 
+// A closed recording of ball/track samples (payloads are not valid CDR: they are never
+// published, every chunk's size claim is rewritten to 3 GiB so none can be read).
+std::string unreadable_recording(const std::string& dir) {
+  rec::WriterParams params;
+  params.chunk_size_bytes = 2048;
+  rec::MemorySink sink;
+  rec::McapWriter writer(params);
+  EXPECT_EQ(writer.open(sink), std::nullopt);
+  const auto schema = writer.add_schema("stereoball::msg::BallTrack", "omgidl", "struct X {};");
+  const auto channel = writer.add_channel(schema.value(), "ball/track", "cdr").value();
+  const std::vector<uint8_t> payload(300, 7);
+  for (uint32_t i = 0; i < 40; ++i) {
+    EXPECT_EQ(writer.write({channel, i, 1'000'000'000ull + i * 1'000'000ull, 0, payload}),
+              std::nullopt);
+  }
+  EXPECT_EQ(writer.close(), std::nullopt);
+  std::vector<uint8_t> bytes = sink.bytes();
+  rec::MemorySource source(bytes);
+  rec::McapReader reader(source);
+  EXPECT_EQ(reader.open(), std::nullopt);
+  const auto indexes = reader.chunk_indexes();
+  for (const auto& index : indexes) {
+    const uint64_t field = index.chunk_start_offset + rec::kRecordPrefixBytes + 16;
+    for (int b = 0; b < 8; ++b)
+      bytes[field + b] = static_cast<uint8_t>((uint64_t{3} << 30) >> (8 * b));
+  }
+  const std::string path = dir + "/unreadable.mcap";
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  return path;
+}
+
+// Issue 22: info and play said "complete: yes" and exited 0 with 0 messages readable.
+TEST(RecordPlay, GivenAFileOfWhichNothingCanBeReadWhenToolsRunThenTheyFailClearly) {
+  const auto dir = sb::testing::temp_dir();
+  const std::string path = unreadable_recording(dir);
+  const auto started = std::chrono::steady_clock::now();
+  auto [code, out] = sb::testing::run({sb::testing::bin("stereoball-info"), path}, 10s);
+  const double info_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  std::printf(
+      "[figure] stereoball info on chunks claiming 3 GiB: %.1f ms (process start "
+      "included)\n",
+      info_ms);
+  EXPECT_EQ(code, 1) << out;
+  EXPECT_NE(out.find("no message could be read"), std::string::npos) << out;
+  EXPECT_NE(out.find("more than the reader's limit"), std::string::npos) << out;
+  EXPECT_EQ(out.find("complete:  yes"), std::string::npos) << out;
+  std::tie(code, out) =
+      sb::testing::run(args({sb::testing::bin("stereoball-play"), path, "--wait", "0"},
+                            sb::testing::unique_partition()),
+                       20s);
+  EXPECT_EQ(code, 1) << out;
+  EXPECT_NE(out.find("no message could be read"), std::string::npos) << out;
+}
+
 TEST(RecordPlay, GivenBadInputsWhenToolsRunThenOneClearErrorAndNonZeroExit) {
   const auto dir = sb::testing::temp_dir();
   std::ofstream(dir + "/text.mcap") << "just some text\n";

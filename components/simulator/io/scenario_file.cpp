@@ -6,6 +6,8 @@
 #include <set>
 #include <sstream>
 
+#include "common/params/yaml_load.hpp"
+
 namespace stereoball::simulator {
 namespace {
 
@@ -252,12 +254,9 @@ void read_lists(MapReader& top, Scenario& s, Err& err) {
 }  // namespace
 
 Result<Scenario> parse_scenario(const std::string& text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    return Error{source + ": not valid YAML: " + e.what()};
-  }
+  auto parsed = params::parse_yaml(text, source);
+  if (!parsed) return Error{parsed.error()};
+  const YAML::Node& root = *parsed;
   Scenario s;
   Err err;
   MapReader top(root, "", err);

@@ -54,11 +54,14 @@ stereoball_msg_StereoCalibration calibration_to_message(const StereoCalibration&
 }
 
 ::stereoball::Result<StereoCalibration> calibration_from_message(
-    const stereoball_msg_StereoCalibration& msg) {
+    const stereoball_msg_StereoCalibration& msg, cv::Size max_size) {
   using ::stereoball::Error;
-  if (msg.width_px == 0 || msg.height_px == 0 || msg.width_px > 16384 || msg.height_px > 16384)
+  if (msg.width_px == 0 || msg.height_px == 0 ||
+      msg.width_px > static_cast<std::uint32_t>(std::max(max_size.width, 0)) ||
+      msg.height_px > static_cast<std::uint32_t>(std::max(max_size.height, 0)))
     return Error{"image size " + std::to_string(msg.width_px) + "x" +
-                 std::to_string(msg.height_px) + " must be in [1, 16384] per side"};
+                 std::to_string(msg.height_px) + " is outside the limit 1x1 .. " +
+                 std::to_string(max_size.width) + "x" + std::to_string(max_size.height)};
   if (!is_valid_distortion_size(msg.d1._length))
     return Error{distortion_error("d1", msg.d1._length)};
   if (!is_valid_distortion_size(msg.d2._length))

@@ -35,6 +35,8 @@ Track Tracker::step(const Detection& detection, std::int64_t now_ns) {
   Decision decision;
   if (!detection.found) {
     decision = {Verdict::kNoDetection, "detector found no ball", -1.0};
+  } else if (!in_range(detection.position_m)) {
+    decision = {Verdict::kRejected, out_of_range_text(detection.position_m), -1.0};
   } else if (state_ == TrackState::kIdle) {
     decision = decide_startup(detection, now_ns);
   } else {
@@ -46,6 +48,17 @@ Track Tracker::step(const Detection& detection, std::int64_t now_ns) {
     miss(now_ns);
   }
   return make_track(decision);
+}
+
+bool Tracker::in_range(const Eigen::Vector3d& position_m) const {
+  return position_m.allFinite() && position_m.norm() <= params_.max_range_m;
+}
+
+std::string Tracker::out_of_range_text(const Eigen::Vector3d& position_m) const {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "position %.3g m from the camera is beyond max_range_m %.3g m",
+                position_m.norm(), params_.max_range_m);
+  return buf;
 }
 
 Tracker::Decision Tracker::decide_startup(const Detection& d, std::int64_t now_ns) {

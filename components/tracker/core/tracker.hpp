@@ -41,6 +41,8 @@ class Tracker {
     double ssd = -1.0;
   };
 
+  bool in_range(const Eigen::Vector3d& position_m) const;
+  std::string out_of_range_text(const Eigen::Vector3d& position_m) const;
   Decision decide_startup(const Detection& d, std::int64_t now_ns);
   Decision decide_tracking(const Detection& d, std::int64_t now_ns);
   void accept(const Detection& d, std::int64_t now_ns);

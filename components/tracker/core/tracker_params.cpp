@@ -30,6 +30,7 @@ std::optional<std::string> TrackerParams::validate() const {
            check_range("sigma_floor_fraction", sigma_floor_fraction, 0.0, 1.0, ""),
            check_range("max_static_spread_m", max_static_spread_m, 0.001, 10.0, " m"),
            check_range("line_tolerance_m", line_tolerance_m, 0.001, 10.0, " m"),
+           check_range("max_range_m", max_range_m, 0.1, 1000.0, " m"),
            check_range("max_ball_speed_mps", max_ball_speed_mps, 0.0, 100.0, " m/s"),
            check_range("jump_margin_m", jump_margin_m, 0.0, 10.0, " m"),
            check_range<std::int64_t>("register_max_age_ns", register_max_age_ns, 1, kHour, " ns"),

@@ -29,6 +29,9 @@ struct TrackerParams {
   double max_static_spread_m = 0.15;
   /// Max distance of a position to the best-fit line, and max RMS line residual, metres.
   double line_tolerance_m = 0.05;
+  /// Detections farther than this from the camera are refused before they reach the register
+  /// (no stereo rig here measures a ball beyond it; a forged one must not drive the robot), m.
+  double max_range_m = 20.0;
   /// Max plausible ball speed relative to the camera (gates position jumps), m/s.
   double max_ball_speed_mps = 5.0;
   /// Jump allowed on top of max_ball_speed_mps * dt (detector noise), metres.

@@ -72,6 +72,30 @@ TEST(Tracker, GivenStillBall_ThenFiveCollectedAndTheSixthStartsFollowing) {
   EXPECT_EQ(t.last_accepted_stamp_ns, s.now_ns());
 }
 
+// Issue 22: a detection 1000 km away started the robot driving toward it.
+TEST(Tracker, GivenPositionsBeyondMaxRange_ThenRefusedAndNeverFollowed) {
+  Script s;
+  const Eigen::Vector3d far_away(1e5, 0.1, 1e6);
+  for (int i = 0; i < 10; ++i) {
+    const Track t = s.see(far_away, kRed);
+    EXPECT_EQ(t.verdict, Verdict::kRejected);
+    EXPECT_EQ(t.state, TrackState::kIdle);
+    EXPECT_EQ(t.reason, "position 1e+06 m from the camera is beyond max_range_m 20 m");
+  }
+  // A ball just inside the range starts the normal start-up.
+  EXPECT_EQ(s.see({0.0, 0.1, 19.9}, kRed).verdict, Verdict::kStartupCollecting);
+}
+
+TEST(Tracker, GivenFollowing_WhenAPositionBeyondMaxRangeArrives_ThenItIsNotAccepted) {
+  TrackerParams p;
+  p.max_range_m = 5.0;
+  Script s(p);
+  ASSERT_EQ(s.start_following({0.0, 0.1, 1.5}, kRed).state, TrackState::kFollowing);
+  const Track t = s.see({0.0, 0.1, 5.5}, kRed);
+  EXPECT_EQ(t.verdict, Verdict::kRejected);
+  EXPECT_NE(t.reason.find("beyond max_range_m 5 m"), std::string::npos) << t.reason;
+}
+
 TEST(Tracker, GivenStartupWithInconsistentPositions_ThenStaysIdle) {
   Script s;
   const double xs[6] = {-1.0, 0.8, 0.1, -0.4, 1.2, 0.0};

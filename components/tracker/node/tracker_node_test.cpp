@@ -167,6 +167,22 @@ TEST_F(TrackerNodeTest, GivenMalformedDetection_ThenNodeKeepsAnswering) {
   EXPECT_TRUE(tracker_->running());
 }
 
+// Issue 22: detections at (1e5, y, 1e6) m were accepted and the robot drove toward them.
+TEST_F(TrackerNodeTest, GivenDetectionsBeyondMaxRange_ThenRefusedAndNeverFollowed) {
+  for (int i = 0; i < 8; ++i) {
+    const auto sent = std::chrono::steady_clock::now();
+    const auto tr = ball(1e5, 0.1, 1e6, 220, 40, 30);
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sent).count();
+    if (i == 0) std::printf("[figure] far detection answered in %.1f ms (round trip)\n", ms);
+    ASSERT_EQ(tr.verdict, stereoball_msg_VERDICT_REJECTED) << reason_;
+    ASSERT_EQ(tr.state, stereoball_msg_TRACK_IDLE);
+    ASSERT_FALSE(tr.position_valid);
+  }
+  EXPECT_NE(reason_.find("beyond max_range_m 20 m"), std::string::npos) << reason_;
+  EXPECT_EQ(ball(0.0, 0.0, 1.0, 200, 200, 0).verdict, stereoball_msg_VERDICT_STARTUP_COLLECTING);
+}
+
 TEST_F(TrackerNodeTest, GivenSigterm_ThenExitsZero) {
   tracker_->signal(SIGTERM);
   EXPECT_EQ(tracker_->wait_for_exit(5s), 0) << tracker_->output();

@@ -11,6 +11,7 @@ Result<TrackerParams> read_tracker_params(params::ParamsFile& file) {
   file.read("reacquire_positions", p.reacquire_positions, 2, 50);
   file.read("sigma_floor_m", p.sigma_floor_m, 0.0, 10.0);
   file.read("sigma_floor_fraction", p.sigma_floor_fraction, 0.0, 1.0);
+  file.read("max_range_m", p.max_range_m, 0.1, 1000.0);
   file.read("max_static_spread_m", p.max_static_spread_m, 0.001, 10.0);
   file.read("line_tolerance_m", p.line_tolerance_m, 0.001, 10.0);
   file.read("max_ball_speed_mps", p.max_ball_speed_mps, 0.0, 100.0);

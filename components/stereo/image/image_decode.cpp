@@ -1,0 +1,195 @@
+#include "stereo/image/image_decode.hpp"
+
+#include <jpeglib.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <array>
+#include <csetjmp>
+#include <cstdio>
+
+namespace stereoball::stereo {
+namespace {
+
+constexpr std::array<std::uint8_t, 8> kPngMagic = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+// The IEND chunk every complete PNG ends with: length 0, type, CRC.
+constexpr std::array<std::uint8_t, 12> kPngEnd = {0,   0,   0,    0,    'I',  'E',
+                                                  'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+// A progressive JPEG may hold any number of scans, each costing a pass over the image; real
+// encoders write about ten. The cap keeps a crafted stream from costing seconds.
+constexpr int kMaxJpegScans = 64;
+
+std::string dims(int w, int h) {
+  return std::to_string(w) + "x" + std::to_string(h);
+}
+
+std::uint32_t load_be32(const std::uint8_t* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
+         std::uint32_t{p[3]};
+}
+
+// libjpeg reports errors through callbacks; this one jumps back with the message, and also
+// turns warnings (corrupt or truncated data that libjpeg would paper over) into errors.
+struct JpegErrors {
+  jpeg_error_mgr mgr{};
+  jpeg_progress_mgr progress{};
+  std::jmp_buf jump{};
+  std::array<char, JMSG_LENGTH_MAX> message{};
+};
+
+[[noreturn]] void jpeg_fail(j_common_ptr cinfo) {
+  auto* errors = reinterpret_cast<JpegErrors*>(cinfo->err);
+  (*cinfo->err->format_message)(cinfo, errors->message.data());
+  std::longjmp(errors->jump, 1);
+}
+
+void jpeg_message(j_common_ptr cinfo, int level) {
+  if (level < 0) jpeg_fail(cinfo);  // a warning: the data is corrupt or truncated
+}
+
+void jpeg_scan_limit(j_common_ptr cinfo) {
+  auto* d = reinterpret_cast<j_decompress_ptr>(cinfo);
+  if (d->is_decompressor && d->input_scan_number > kMaxJpegScans) {
+    auto* errors = reinterpret_cast<JpegErrors*>(cinfo->err);
+    std::snprintf(errors->message.data(), errors->message.size(), "more than %d scans",
+                  kMaxJpegScans);
+    std::longjmp(errors->jump, 1);
+  }
+}
+
+// Owns a decompressor reading from memory with the error handling above.
+class JpegDecompressor {
+ public:
+  JpegDecompressor() {
+    info_.err = jpeg_std_error(&errors_.mgr);
+    errors_.mgr.error_exit = jpeg_fail;
+    errors_.mgr.emit_message = jpeg_message;
+    errors_.progress.progress_monitor = jpeg_scan_limit;
+    jpeg_create_decompress(&info_);
+    info_.progress = &errors_.progress;
+  }
+  /// Reads the header of bytes; may longjmp to errors().jump, so call it after setjmp.
+  void read_header(std::span<const std::uint8_t> bytes) {
+    jpeg_mem_src(&info_, bytes.data(), static_cast<unsigned long>(bytes.size()));
+    jpeg_read_header(&info_, TRUE);
+  }
+  ~JpegDecompressor() { jpeg_destroy_decompress(&info_); }
+  JpegDecompressor(const JpegDecompressor&) = delete;
+  JpegDecompressor& operator=(const JpegDecompressor&) = delete;
+
+  jpeg_decompress_struct& info() { return info_; }
+  JpegErrors& errors() { return errors_; }
+
+ private:
+  jpeg_decompress_struct info_{};
+  JpegErrors errors_;
+};
+
+Result<ImageHeader> read_jpeg_header(std::span<const std::uint8_t> bytes) {
+  JpegDecompressor jpeg;
+  if (setjmp(jpeg.errors().jump)) {
+    return Error{std::string("jpeg header is corrupt: ") + jpeg.errors().message.data()};
+  }
+  jpeg.read_header(bytes);
+  return ImageHeader{ImageCodec::kJpeg, static_cast<int>(jpeg.info().image_width),
+                     static_cast<int>(jpeg.info().image_height)};
+}
+
+Result<ImageHeader> read_png_header(std::span<const std::uint8_t> bytes) {
+  // Signature, then the IHDR chunk: length 13, "IHDR", width, height (big-endian, 1..2^31-1).
+  constexpr std::size_t kIhdrEnd = 8 + 8 + 13;
+  if (bytes.size() < kIhdrEnd) return Error{"png header is truncated"};
+  const std::uint8_t* chunk = bytes.data() + 8;
+  if (load_be32(chunk) != 13 || !std::equal(chunk + 4, chunk + 8, "IHDR"))
+    return Error{"png header is corrupt: the first chunk is not IHDR"};
+  const std::uint32_t w = load_be32(chunk + 8), h = load_be32(chunk + 12);
+  if (w == 0 || h == 0 || w > 0x7FFFFFFFu || h > 0x7FFFFFFFu)
+    return Error{"png header is corrupt: size " + std::to_string(w) + "x" + std::to_string(h)};
+  return ImageHeader{ImageCodec::kPng, static_cast<int>(w), static_cast<int>(h)};
+}
+
+std::optional<std::string> decode_jpeg(std::span<const std::uint8_t> bytes,
+                                       const ImageHeader& header, cv::Mat& out) {
+  JpegDecompressor jpeg;
+  auto& info = jpeg.info();
+  if (setjmp(jpeg.errors().jump)) {
+    out.release();
+    return std::string("jpeg data is corrupt: ") + jpeg.errors().message.data();
+  }
+  jpeg.read_header(bytes);
+  if (static_cast<int>(info.image_width) != header.width_px ||
+      static_cast<int>(info.image_height) != header.height_px)
+    return std::string("jpeg header changed between reads");
+  info.out_color_space = JCS_EXT_BGR;  // libjpeg-turbo writes OpenCV's channel order directly
+  jpeg_start_decompress(&info);
+  out.create(header.height_px, header.width_px, CV_8UC3);
+  while (info.output_scanline < info.output_height) {
+    JSAMPROW row = out.ptr<std::uint8_t>(static_cast<int>(info.output_scanline));
+    jpeg_read_scanlines(&info, &row, 1);
+  }
+  jpeg_finish_decompress(&info);
+  return std::nullopt;
+}
+
+std::optional<std::string> decode_png(std::span<const std::uint8_t> bytes,
+                                      const ImageHeader& header, cv::Mat& out) {
+  if (bytes.size() < kPngMagic.size() + kPngEnd.size() ||
+      !std::equal(kPngEnd.begin(), kPngEnd.end(), bytes.end() - kPngEnd.size())) {
+    out.release();
+    return std::string("png data is truncated (no IEND chunk at the end)");
+  }
+  const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U,
+                    const_cast<std::uint8_t*>(bytes.data()));
+  try {
+    cv::imdecode(raw, cv::IMREAD_COLOR, &out);
+  } catch (const cv::Exception&) {
+    out.release();
+  }
+  if (out.empty()) return std::string("png data is corrupt (libpng could not decode it)");
+  if (out.cols != header.width_px || out.rows != header.height_px) {
+    out.release();
+    return std::string("png header changed between reads");
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+const char* codec_name(ImageCodec codec) {
+  return codec == ImageCodec::kJpeg ? "jpeg" : "png";
+}
+
+std::optional<ImageCodec> sniff_codec(std::span<const std::uint8_t> bytes) {
+  if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF)
+    return ImageCodec::kJpeg;
+  if (bytes.size() >= kPngMagic.size() &&
+      std::equal(kPngMagic.begin(), kPngMagic.end(), bytes.begin()))
+    return ImageCodec::kPng;
+  return std::nullopt;
+}
+
+Result<ImageHeader> read_image_header(std::span<const std::uint8_t> bytes) {
+  const auto codec = sniff_codec(bytes);
+  if (!codec) return Error{"not a jpeg or png image (" + std::to_string(bytes.size()) + " bytes)"};
+  // libjpeg and OpenCV take the length as unsigned long / int.
+  if (bytes.size() > static_cast<std::size_t>(INT32_MAX))
+    return Error{"image stream is larger than 2 GiB"};
+  return *codec == ImageCodec::kJpeg ? read_jpeg_header(bytes) : read_png_header(bytes);
+}
+
+std::optional<std::string> check_within(const ImageHeader& header, cv::Size max_size) {
+  if (header.width_px <= max_size.width && header.height_px <= max_size.height) return std::nullopt;
+  return std::string(codec_name(header.codec)) + " header says " +
+         dims(header.width_px, header.height_px) + ", larger than the limit " +
+         dims(max_size.width, max_size.height);
+}
+
+std::optional<std::string> decode_bgr(std::span<const std::uint8_t> bytes,
+                                      const ImageHeader& header, cv::Mat& out) {
+  if (bytes.size() > static_cast<std::size_t>(INT32_MAX))
+    return std::string("image stream is larger than 2 GiB");
+  return header.codec == ImageCodec::kJpeg ? decode_jpeg(bytes, header, out)
+                                           : decode_png(bytes, header, out);
+}
+
+}  // namespace stereoball::stereo
