@@ -138,6 +138,8 @@ StereoPipeline::StereoPipeline(const BallDetectorParams& params)
 
 std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
   if (auto e = stereo::validate_calibration(calib)) return e;
+  if (auto swapped = stereo::check_camera_order(calib))
+    return *swapped + "; " + kHowToSwapCameras + " and calibrate again";
   auto rectifier = stereo::Rectifier::create(calib);
   if (!rectifier) return rectifier.error();
   auto triangulator = stereo::Triangulator::create(calib);

@@ -32,6 +32,11 @@ void value(const cv::Mat& bgr, cv::Mat& out);
 std::optional<FloorModel> floor_model(const BallDetectorParams& params,
                                       const stereo::StereoCalibration& calib);
 
+/// What a user does about cameras in the wrong order (they are swapped at the source).
+inline constexpr const char* kHowToSwapCameras =
+    "swap the cameras at the source (camera_server: left_device and right_device, file source: "
+    "left_glob and right_glob)";
+
 /// Outcome of one stereo frame (mirrors the ball/detection statuses).
 enum class DetectionStatus {
   kFound,
@@ -86,6 +91,8 @@ class StereoPipeline {
   std::optional<std::string> set_calibration(const stereo::StereoCalibration& calib);
   /// Whether a calibration has been set.
   bool has_calibration() const { return rectifier_.has_value(); }
+  /// The calibration's rectifier, nullopt without calibration.
+  const std::optional<stereo::Rectifier>& rectifier() const { return rectifier_; }
   /// Image size frames must have, or 0x0 without calibration.
   cv::Size image_size() const;
 
