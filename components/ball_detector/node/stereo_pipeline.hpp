@@ -55,6 +55,12 @@ const char* to_string(DetectionStatus status);
 /// and a look at the rest of the scene), frames.
 constexpr int kFullSearchEveryFrames = 15;
 
+/// When the whole-frame search pairs nothing, each eye is searched again in radius bands this
+/// ratio wide (largest / smallest radius), each band with its own accumulator peaks: in real
+/// clutter (chessboard squares, knuckles, hair) small structures fill every examined peak of
+/// the one whole-range accumulator and a large ball outline is never scored.
+constexpr double kRadiusBandRatio = 2.5;
+
 /// Side of the colour block around the left centre, pixels (paper: 21x21, k = 10).
 constexpr int kPatchSide = 21;
 /// Bytes of the colour block (R, G, B per pixel, row-major).
@@ -123,6 +129,10 @@ class StereoPipeline {
   PairingResult search_whole_frame(const PairingContext& ctx, const cv::Mat& left_channel,
                                    const cv::Mat& right_channel, bool rectified,
                                    const std::optional<PositionPrior>& prior);
+  PairingResult search_radius_bands(const PairingContext& ctx, const cv::Mat& right_channel,
+                                    bool rectified, const std::optional<PositionPrior>& prior);
+  std::vector<Circle> detect_in_bands(PixelToPixelDetector& detector, const cv::Mat& image,
+                                      const EdgeThresholds& thresholds) const;
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified, bool near_prior);
