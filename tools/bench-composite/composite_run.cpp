@@ -48,8 +48,10 @@ SuiteResult run_suite(const std::vector<Background>& backgrounds,
   SuiteResult out;
   for (std::size_t i = 0; i < backgrounds.size(); ++i) {
     const Background& bg = backgrounds[i];
+    // Each composited pair is a still of its own: a fresh pipeline (no history) per frame.
+    const auto calib = rectified_rig_calibration(bg);
     ball_detector::StereoPipeline pipeline(params);
-    if (pipeline.set_calibration(rectified_rig_calibration(bg))) continue;
+    if (pipeline.set_calibration(calib)) continue;
     ++out.frames_without_ball;
     const auto empty = pipeline.step(bg.left, bg.right, true);
     if (empty.status == ball_detector::DetectionStatus::kFound) {
@@ -61,6 +63,8 @@ SuiteResult run_suite(const std::vector<Background>& backgrounds,
                     options.max_depth_m, options.seed + static_cast<unsigned>(i));
     for (const Ball& ball : balls) {
       const auto [left, right] = composite(bg, ball);
+      pipeline = ball_detector::StereoPipeline(params);
+      pipeline.set_calibration(calib);
       const auto start = std::chrono::steady_clock::now();
       const auto det = pipeline.step(left, right, true);
       BallOutcome o{bg.name, ball};

@@ -240,7 +240,9 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   }
   // Nothing paired over the whole frame: both eyes again, radius band by radius band. Costs
   // time only on frames without a pair.
-  if (whole_frame && pairing->status != PairingStatus::kFound) {
+  if (pairing->status == PairingStatus::kFound) frames_without_pair_ = 0;
+  if (whole_frame && pairing->status != PairingStatus::kFound &&
+      frames_without_pair_++ % kBandSearchEveryFrames == 0) {
     auto whole_left = left_candidates_, whole_right = right_candidates_;
     PairingResult banded = search_radius_bands(ctx, right_channel, rectified, prior);
     if (banded.status == PairingStatus::kFound) {
