@@ -3,17 +3,26 @@
 #   bash run.sh demo [demo args...]   install what is missing, build, run the whole system
 #                                     on the built-in simulator (stereoball demo)
 #   bash run.sh test                  install what is missing, build, run the test suite (ctest)
-#   bash run.sh build                 install what is missing and build only
+#   bash run.sh build                 install what is missing and build everything (no run)
 # Builds go to build/, programs to build/bin/.
 set -euo pipefail
 cd "$(dirname "$(readlink -f "$0")")"
 
-PACKAGES=(
-  build-essential cmake pkg-config git
+# What the programs are built from (every one is used by the build; V4L2 comes from the
+# kernel headers in linux-libc-dev, idlc from cyclonedds-tools).
+BUILD_PACKAGES=(
+  build-essential cmake pkg-config linux-libc-dev
   cyclonedds-dev cyclonedds-tools
-  libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev libv4l-dev
-  nlohmann-json3-dev zlib1g-dev libjpeg-dev libgtest-dev libgmock-dev
+  libopencv-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev zlib1g-dev libjpeg-dev
+  # Small, header-only at configure time: the test targets are declared in every build,
+  # even when only the demo's programs are compiled.
+  libgtest-dev libgmock-dev nlohmann-json3-dev
+)
+# What only running the test suite needs: network namespaces (iproute2), Fast DDS + fastddsgen
+# for the interop test, dpkg-dev + file for the package test.
+TEST_PACKAGES=(
   iproute2
+  fastddsgen libfastrtps-dev libfastcdr-dev dpkg-dev file
 )
 
 as_root() {
@@ -23,8 +32,10 @@ as_root() {
 }
 
 install_missing() {
+  local wanted=("${BUILD_PACKAGES[@]}")
+  [ "${1:-}" = test ] && wanted+=("${TEST_PACKAGES[@]}")
   local missing=()
-  for pkg in "${PACKAGES[@]}"; do
+  for pkg in "${wanted[@]}"; do
     dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
   done
   # Node.js runs the independent MCAP validator in the tests; any installed node/npm will do.
@@ -39,29 +50,35 @@ install_missing() {
   fi
 }
 
+# build TARGET: configure and build TARGET (all, or demo_programs for the demo alone).
 build() {
-  local werror=OFF
+  local werror=OFF launcher=()
   [ "${CI:-}" = true ] && werror=ON
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSB_WERROR="$werror" -DSB_ONLY= >/dev/null
-  cmake --build build -j"$(nproc)"
+  # ccache, where the machine has it, makes rebuilds after a fresh clone cheap (not required).
+  command -v ccache >/dev/null &&
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSB_WERROR="$werror" -DSB_ONLY= \
+    "${launcher[@]}" >/dev/null
+  echo "run.sh: building $1 on $(nproc) cores into build/ (progress below)"
+  cmake --build build -j"$(nproc)" --target "$1"
 }
 
 case "${1:-}" in
   demo)
     install_missing demo
-    build
+    build demo_programs
     shift
     exec build/bin/stereoball demo "$@"
     ;;
   test)
     install_missing test
-    build
+    build all
     cd build
     exec ctest --output-on-failure -j"$(nproc)" --timeout 900
     ;;
   build)
-    install_missing build
-    build
+    install_missing test
+    build all
     ;;
   *)
     echo "usage: bash run.sh demo|test|build" >&2

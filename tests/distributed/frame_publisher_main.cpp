@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   sb::node::block_termination_signals();
   CLI::App app{"sb_frame_publisher: publish rendered stereo frames (raw or compressed) at a rate"};
   sb::node::CommonOptions common;
-  sb::node::add_common_flags(app, common, sb::node::default_config_path("simulator.yaml"));
+  sb::node::add_common_flags(app, common, "simulator.yaml");
   std::string encoding = "bgr8", scenario_name = "ball_rolling_away";
   int quality = 90, distinct = 10;
   double rate_hz = 30, duration_s = 10;

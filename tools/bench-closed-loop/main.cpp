@@ -15,9 +15,11 @@
 #include <string>
 #include <vector>
 
+#include "common/util/install_layout.hpp"
 #include "closed_loop_run.hpp"
 #include "loop_cli.hpp"
 #include "report.hpp"
+#include "simulator/core/randomize.hpp"
 
 namespace bc = stereoball::bench_closed_loop;
 namespace sl = stereoball::sim_loop;
@@ -39,7 +41,7 @@ int fail(const std::string& message) {
 }
 
 void add_options(CLI::App& app, Options& o) {
-  o.loop.config_dir = SB_DEFAULT_CONFIG_DIR;
+  o.loop.config_dir = stereoball::paths::shipped_config_dir();
   sl::add_loop_options(app, o.loop);
   app.add_option("--seeds", o.seeds, "runs per scenario; run i uses the scenario's seed + i")
       ->check(CLI::Range(1, 100))
@@ -69,6 +71,24 @@ bc::AcceptanceParams acceptance_params(const sl::LoopConfig& base, const Options
   p.reacquire_limit_s = o.reacquire_limit_s;
   p.frame_period_s = 1.0 / base.sim.frame_rate_hz;
   return p;
+}
+
+// The randomised scenes' runs grouped by each category's values, one table per category.
+void print_categories(const std::vector<stereoball::simulator::RandomScene>& scenes,
+                      const std::vector<bc::JudgedRun>& runs, const bc::AcceptanceParams& params) {
+  namespace sim = stereoball::simulator;
+  std::map<std::string, const sim::SceneLabels*> labels;
+  for (const auto& s : scenes) labels[s.scenario.name] = &s.labels;
+  std::vector<const bc::JudgedRun*> all;
+  for (const auto& r : runs) all.push_back(&r);
+  const bc::Summary total = bc::summarize("TOTAL", all, params);
+  for (std::size_t c = 0; c < sim::kCategoryNames.size(); ++c) {
+    std::map<std::string, std::vector<const bc::JudgedRun*>> groups;
+    for (const auto& r : runs) groups[sim::category_value(*labels.at(r.scenario), c)].push_back(&r);
+    std::vector<bc::Summary> rows;
+    for (const auto& [value, group] : groups) rows.push_back(bc::summarize(value, group, params));
+    bc::print_table(stdout, rows, total, sim::kCategoryNames[c]);
+  }
 }
 
 }  // namespace
@@ -110,10 +130,10 @@ int main(int argc, char** argv) {
       scenarios.size(), o.seeds, base.sim.frame_rate_hz, base.controller_rate_hz,
       base.controller.target_distance_m, o.loop.plain ? ", plain room and one-colour ball" : "");
   std::vector<bc::JudgedRun> runs;
-  for (const auto& scenario : scenarios) {
+  for (std::size_t si = 0; si < scenarios.size(); ++si) {
+    const auto& scenario = scenarios[si];
     for (int i = 0; i < o.seeds; ++i) {
-      sl::LoopConfig config = base;
-      config.scenario = scenario;
+      sl::LoopConfig config = sl::config_for(*selected, si);
       config.scenario.seed = scenario.seed + static_cast<std::uint64_t>(i);
       config.seconds = sl::run_seconds(o.loop, scenario);
       const auto t0 = std::chrono::steady_clock::now();
@@ -147,6 +167,7 @@ int main(int argc, char** argv) {
   const bc::Summary total = bc::summarize("TOTAL", all, params);
   bc::print_report(stdout, summaries, total, params);
   bc::print_details(stdout, summaries, runs);
+  if (!selected->random.empty()) print_categories(selected->random, runs, params);
   if (json_out.is_open()) {
     json_out << bc::to_json(runs, summaries, total, params).dump(2) << "\n";
     if (!json_out) return fail("writing --json file " + o.json_path + " failed");

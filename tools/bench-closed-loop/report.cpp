@@ -230,17 +230,22 @@ Summary summarize(const std::string& name, const std::vector<const JudgedRun*>& 
   return s;
 }
 
+void print_table(std::FILE* out, const std::vector<Summary>& rows, const Summary& total,
+                 const char* first_column) {
+  std::fprintf(out, "\n%-24s %4s %-11s | %-37s | %-28s | %s\n", "", "", "  detector",
+               "(a) kept in tolerance while reachable", "(b) ball leaves the view", "(c) no ball");
+  std::fprintf(out, "%-24s %4s %5s %5s | %7s %5s %5s %5s %5s %5s | %4s %5s %5s %5s %5s | %5s %5s\n",
+               first_column, "runs", "det%", "acc%", "reach s", "kept%", "dist%", "bear%", "foll%",
+               "worst", "runs", "right", "reacq", "pass%", "med s", "max s", "pass");
+  for (const auto& s : rows) print_row(out, s);
+  print_row(out, total);
+}
+
 void print_report(std::FILE* out, const std::vector<Summary>& scenarios, const Summary& total,
                   const AcceptanceParams& params) {
   std::fprintf(out, "\nDefinitions\n");
   for (const auto& d : definitions(params)) std::fprintf(out, "  %s\n", d.c_str());
-  std::fprintf(out, "\n%-24s %4s %-11s | %-37s | %-28s | %s\n", "", "", "  detector",
-               "(a) kept in tolerance while reachable", "(b) ball leaves the view", "(c) no ball");
-  std::fprintf(out, "%-24s %4s %5s %5s | %7s %5s %5s %5s %5s %5s | %4s %5s %5s %5s %5s | %5s %5s\n",
-               "scenario", "runs", "det%", "acc%", "reach s", "kept%", "dist%", "bear%", "foll%",
-               "worst", "runs", "right", "reacq", "pass%", "med s", "max s", "pass");
-  for (const auto& s : scenarios) print_row(out, s);
-  print_row(out, total);
+  print_table(out, scenarios, total, "scenario");
   std::fprintf(out, "\n");
   print_verdicts(out, total, params);
 }

@@ -46,6 +46,9 @@ Summary summarize(const std::string& name, const std::vector<const JudgedRun*>& 
 /// Prints the definitions, the table (one row per scenario, then TOTAL) and the verdicts.
 void print_report(std::FILE* out, const std::vector<Summary>& scenarios, const Summary& total,
                   const AcceptanceParams& params);
+/// Prints the table alone: one row per summary, then total; first_column heads the names.
+void print_table(std::FILE* out, const std::vector<Summary>& rows, const Summary& total,
+                 const char* first_column);
 /// Prints where the reachable time is lost and every leave event.
 void print_details(std::FILE* out, const std::vector<Summary>& scenarios,
                    const std::vector<JudgedRun>& runs);

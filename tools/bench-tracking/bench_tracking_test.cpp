@@ -131,3 +131,38 @@ TEST(BenchTrackingTool, UnwritableCsvOrBadFrameRangeIsOneClearErrorAtOnce) {
   EXPECT_EQ(code2, 2);
   EXPECT_NE(out2.find("--png-frames"), std::string::npos) << out2;
 }
+
+TEST(BenchTrackingTool, RandomisedSceneIsReportedPerSceneCategoryAndInTotal) {
+  // Given one randomised scene of one simulated second
+  const auto [code, out] = st::run({st::bin("stereoball-bench-tracking"), "--randomize", "1",
+                                    "--seed", "3", "--seconds", "1", "--drive", "controller"},
+                                   100s);
+  ASSERT_EQ(code, 0) << out;
+  // Then the scene has its row, every category its table, and the total counts 30 frames at most
+  EXPECT_FALSE(row(out, "rand3_0").empty()) << out;
+  for (const char* c : {"by ball_colour", "by pattern", "by floor", "by contrast", "by distractors",
+                        "by leave_view"})
+    EXPECT_NE(out.find(c), std::string::npos) << c << "\n" << out;
+  const auto total = row(out, "TOTAL");
+  ASSERT_EQ(total.size(), 6u) << out;
+  EXPECT_EQ(total[0], 1.0);
+  EXPECT_LE(total[1] + total[4], 30.0);
+  for (size_t i : {2u, 3u, 5u}) {
+    EXPECT_GE(total[i], 0.0);
+    EXPECT_LE(total[i], 100.0);
+  }
+}
+
+TEST(BenchTrackingTool, BadRangeFileOrScenarioWithRandomizeIsOneClearError) {
+  const std::string path = ::testing::TempDir() + "bad_ranges.yaml";
+  std::ofstream(path) << "duration_s: 10\n";
+  const auto [code, out] =
+      st::run({st::bin("stereoball-bench-tracking"), "--randomize", "2", "--ranges", path}, 30s);
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(out.find(path), std::string::npos) << out;
+  EXPECT_NE(out.find("ball.diameter_m"), std::string::npos) << out;
+  const auto [code2, out2] = st::run(
+      {st::bin("stereoball-bench-tracking"), "--randomize", "2", "--scenario", "no_ball"}, 30s);
+  EXPECT_EQ(code2, 2);
+  EXPECT_NE(out2.find("--randomize and --scenario"), std::string::npos) << out2;
+}

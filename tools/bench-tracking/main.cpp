@@ -16,18 +16,20 @@
 #include <string>
 #include <vector>
 
+#include "common/util/install_layout.hpp"
 #include "loop_cli.hpp"
 #include "loop_config.hpp"
+#include "scene_report.hpp"
 #include "tracking_run.hpp"
 
 namespace bt = stereoball::bench_tracking;
 namespace sl = stereoball::sim_loop;
+using stereoball::bench_tracking::print_scene_report;
 
 namespace {
 
 struct Options {
   sl::LoopCli loop;
-  std::optional<std::uint64_t> seed;
   std::string drive = "script";
   int threads = 1;
   std::string frames_csv;
@@ -186,9 +188,8 @@ int main(int argc, char** argv) {
       "with no ball, track acceptance and 3D error with the ball visible, detector time.\n"
       "No DDS; figures only, no pass/fail."};
   Options o;
-  o.loop.config_dir = SB_DEFAULT_CONFIG_DIR;
+  o.loop.config_dir = stereoball::paths::shipped_config_dir();
   sl::add_loop_options(app, o.loop);
-  app.add_option("--seed", o.seed, "override every scenario's seed (sensor noise)");
   app.add_option("--drive", o.drive,
                  "who drives the robot: script (the scenario's commands) or controller (the "
                  "motion controller core on the tracker's output)")
@@ -216,18 +217,18 @@ int main(int argc, char** argv) {
     csv = std::fopen(o.frames_csv.c_str(), "w");
     if (!csv) return fail("cannot write '" + o.frames_csv + "': " + std::strerror(errno));
   }
-  bt::RunConfig base = selected->base;
-  base.drive = o.drive == "controller" ? bt::Drive::kController : bt::Drive::kScript;
+  const bt::Drive drive = o.drive == "controller" ? bt::Drive::kController : bt::Drive::kScript;
+  const bt::RunConfig& base = selected->base;
 
   std::printf("stereoball-bench-tracking: %zu scenario(s), %dx%d at %.1f Hz, drive %s%s\n",
               selected->scenarios.size(), base.sim.width_px, base.sim.height_px,
               base.sim.frame_rate_hz, o.drive.c_str(),
               o.loop.plain ? ", plain room and one-colour ball" : "");
   std::vector<bt::RunResult> runs;
-  for (const auto& scenario : selected->scenarios) {
-    bt::RunConfig config = base;
-    config.scenario = scenario;
-    if (o.seed) config.scenario.seed = *o.seed;
+  for (std::size_t si = 0; si < selected->scenarios.size(); ++si) {
+    const auto& scenario = selected->scenarios[si];
+    bt::RunConfig config = sl::config_for(*selected, si);
+    config.drive = drive;
     config.seconds = sl::run_seconds(o.loop, scenario);
     std::string png_error;
     auto dump = [&](std::int64_t i, const sl::LoopFrame& f) {
@@ -245,6 +246,7 @@ int main(int argc, char** argv) {
                  out.result.frames.size());
     runs.push_back(std::move(out.result));
   }
+  if (!selected->random.empty()) print_scene_report(stdout, runs, selected->random);
   print_absent(runs);
   print_visible(runs);
   print_error(runs);

@@ -12,6 +12,7 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
   FrameRecord r;
   r.ball_present = g.ball_present;
   r.ball_visible = g.ball_present && g.ball_visible_left && g.ball_visible_right;
+  r.ball_fully_visible = g.ball_present && g.ball_fully_visible_left && g.ball_fully_visible_right;
   r.raw_found = d.status == bd::DetectionStatus::kFound;
   r.accepted = tracker::is_accepted(track.verdict);
   r.stamp_ns = static_cast<std::int64_t>(std::llround(g.sim_time_s * 1e9));
@@ -22,6 +23,7 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
   r.track_state = std::string(tracker::to_string(track.state));
   r.found_left_x_px = d.left.x_px, r.found_left_y_px = d.left.y_px;
   r.found_radius_px = d.left.radius_px;
+  r.no_ball_in_view = !r.ball_present;
   if (!r.ball_present) return r;
   r.true_left_x_px = g.ball_left_px.x, r.true_left_y_px = g.ball_left_px.y;
   const auto& c = g.ball_camera_m;
@@ -39,6 +41,7 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
     }
   }
   r.accepted_on_ball = r.accepted && r.raw_on_ball;
+  r.no_ball_in_view = !g.ball_visible_left && !g.ball_visible_right && !r.raw_on_ball;
   return r;
 }
 

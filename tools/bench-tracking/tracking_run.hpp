@@ -18,9 +18,13 @@ using sim_loop::Drive;
 
 /// Per-frame outcome (kept so figures can be aggregated over scenarios).
 struct FrameRecord {
-  bool ball_present = false;  ///< scenario has a ball
-  bool ball_visible = false;  ///< ball centre visible in both eyes (ground truth)
-  bool raw_found = false;     ///< detector returned a stereo pair
+  bool ball_present = false;        ///< scenario has a ball
+  bool ball_visible = false;        ///< ball centre visible in both eyes (ground truth)
+  bool ball_fully_visible = false;  ///< the whole ball in view in both eyes (ground truth)
+  /// No ball in view: none in the scene, or its centre out of (or hidden in) both eyes and the
+  /// detection, if any, not of it (a ball half out of the view may rightly be found)
+  bool no_ball_in_view = false;
+  bool raw_found = false;  ///< detector returned a stereo pair
   /// ... whose centre is within one ball radius of the truth (judged visible or not)
   bool raw_on_ball = false;
   bool accepted = false;          ///< tracker accepted this frame's detection

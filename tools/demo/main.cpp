@@ -18,7 +18,9 @@
 
 #include "common/dds/reader.hpp"
 #include "common/node/node_runner.hpp"
+#include "common/util/install_layout.hpp"
 #include "common/util/log.hpp"
+#include "installed_profile.hpp"
 #include "metrics.hpp"
 #include "plot.hpp"
 #include "supervisor.hpp"
@@ -198,15 +200,15 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (scenarios.empty()) scenarios = {"ball_rolling_away", "ball_leaves_right", "no_ball"};
   sb::log::init("demo");
-  const fs::path root = SB_SOURCE_ROOT;
+  const fs::path scenarios_dir = sb::paths::shipped_config_path("scenarios");
   for (const auto& s : scenarios) {
-    if (!fs::exists(root / "config" / "scenarios" / (s + ".yaml"))) {
+    if (!fs::exists(scenarios_dir / (s + ".yaml"))) {
       std::fprintf(stderr, "stereoball demo: unknown scenario '%s' (see config/scenarios/)\n",
                    s.c_str());
       return 2;
     }
   }
-  auto profile = sb::launch::load_profile("all-in-one", root.string());
+  auto profile = sb::launch::load_profile_for_this_program("all-in-one");
   if (!profile) {
     std::fprintf(stderr, "stereoball demo: %s\n", profile.error().c_str());
     return 2;
@@ -221,7 +223,7 @@ int main(int argc, char** argv) {
   double target_m = 1.0;
   try {
     target_m = find_target_distance(
-        YAML::LoadFile((root / "config" / "motion_controller.yaml").string()), 1.0);
+        YAML::LoadFile(sb::paths::shipped_config_path("motion_controller.yaml")), 1.0);
   } catch (const std::exception&) {
   }
   if (!profile->cyclonedds_config.empty() && !std::getenv("CYCLONEDDS_URI")) {

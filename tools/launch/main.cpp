@@ -14,6 +14,7 @@
 
 #include "common/node/node_runner.hpp"
 #include "common/util/log.hpp"
+#include "installed_profile.hpp"
 #include "supervisor.hpp"
 
 namespace sb = stereoball;
@@ -43,8 +44,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   sb::log::init("launch");
 
-  const fs::path root = SB_SOURCE_ROOT;
-  auto profile = sb::launch::load_profile(profile_name, root.string());
+  auto profile = sb::launch::load_profile_for_this_program(profile_name);
   if (!profile) {
     std::fprintf(stderr, "stereoball launch: %s\n", profile.error().c_str());
     return 2;

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <optional>
 #include <set>
 
 namespace stereoball::launch {
@@ -41,7 +42,8 @@ Result<NodeSpec> parse_node(const YAML::Node& node, const std::string& where) {
 }
 }  // namespace
 
-Result<Profile> load_profile(const std::string& name_or_path, const std::string& root_dir) {
+Result<Profile> load_profile(const std::string& name_or_path, const std::string& root_dir,
+                             const ConfigLookup& lookup) {
   fs::path path = name_or_path;
   if (!fs::exists(path)) path = fs::path(root_dir) / "deploy" / (name_or_path + ".yaml");
   if (!fs::exists(path)) {
@@ -89,6 +91,31 @@ Result<Profile> load_profile(const std::string& name_or_path, const std::string&
   }
   if (profile.nodes.empty()) return Error{path.string() + ": key 'nodes': missing or empty"};
   expand_root(profile, root_dir);
+  if (!lookup) {
+    return expand_config(std::move(profile), [&](std::string_view name) -> Result<std::string> {
+      return (fs::path(root_dir) / "config" / name).string();
+    });
+  }
+  auto expanded = expand_config(std::move(profile), lookup);
+  if (!expanded) return Error{path.string() + ": " + expanded.error()};
+  return expanded;
+}
+
+Result<Profile> expand_config(Profile profile, const ConfigLookup& lookup) {
+  constexpr std::string_view kPrefix = "{config}/";
+  auto expand = [&](std::string& s) -> std::optional<std::string> {
+    if (s.rfind(kPrefix, 0) != 0) return std::nullopt;
+    auto found = lookup(std::string_view(s).substr(kPrefix.size()));
+    if (!found) return found.error();
+    s = *found;
+    return std::nullopt;
+  };
+  if (auto e = expand(profile.cyclonedds_config)) return Error{"cyclonedds: " + *e};
+  for (auto& node : profile.nodes) {
+    for (auto& arg : node.args) {
+      if (auto e = expand(arg)) return Error{"node '" + node.name + "': " + *e};
+    }
+  }
   return profile;
 }
 

@@ -1,6 +1,7 @@
 #include "loop_cli.hpp"
 
 #include "loop_config.hpp"
+#include "simulator/io/randomize_file.hpp"
 
 namespace stereoball::sim_loop {
 
@@ -17,12 +18,47 @@ void add_loop_options(CLI::App& app, LoopCli& o) {
                  "folder with simulator.yaml, ball_detector.yaml, tracker.yaml, "
                  "motion_controller.yaml and scenarios/")
       ->capture_default_str();
+  app.add_option("--randomize", o.randomize,
+                 "run N randomised scenes (ranges from --ranges) instead of the scenario files; "
+                 "the detector gets only each scene's ball diameter")
+      ->check(CLI::Range(1, 100000));
+  app.add_option("--seed", o.seed,
+                 "with --randomize: the scene set (default 1); otherwise: override every "
+                 "scenario's seed (sensor noise)");
+  app.add_option("--ranges", o.ranges,
+                 "with --randomize: range file (default CONFIG_DIR/randomize.yaml)");
 }
+
+LoopConfig config_for(const LoopSelection& selection, std::size_t i) {
+  LoopConfig c = selection.base;
+  c.scenario = selection.scenarios.at(i);
+  if (i < selection.random.size()) c.detector.ball_diameter_m = selection.random[i].ball_diameter_m;
+  return c;
+}
+
+namespace {
+
+Result<LoopSelection> select_random(const LoopCli& o, LoopSelection out) {
+  if (!o.scenarios.empty()) return Error{"--randomize and --scenario exclude each other"};
+  auto ranges = simulator::load_randomize_ranges(o.ranges.empty() ? o.config_dir + "/randomize.yaml"
+                                                                  : o.ranges);
+  if (!ranges) return Error{ranges.error()};
+  out.random = simulator::draw_scenes(ranges.value(), o.seed.value_or(1), o.randomize);
+  for (auto& scene : out.random) {
+    if (o.plain) make_plain(scene.scenario);
+    out.scenarios.push_back(scene.scenario);
+  }
+  return out;
+}
+
+}  // namespace
 
 Result<LoopSelection> select_runs(const LoopCli& o) {
   auto loaded = load_loop_config(o.config_dir);
   if (!loaded) return Error{loaded.error()};
-  LoopSelection out{loaded.value(), {}};
+  LoopSelection out{loaded.value(), {}, {}};
+  if (o.randomize > 0) return select_random(o, std::move(out));
+  if (!o.ranges.empty()) return Error{"--ranges needs --randomize N"};
   const std::string dir = o.config_dir + "/scenarios";
   std::vector<std::string> names = o.scenarios;
   if (names.empty()) names = scenario_names(dir);
@@ -30,6 +66,7 @@ Result<LoopSelection> select_runs(const LoopCli& o) {
   for (const auto& name : names) {
     auto s = load_scenario(name, dir, o.plain);
     if (!s) return Error{s.error()};
+    if (o.seed) s->seed = *o.seed;
     out.scenarios.push_back(s.value());
   }
   return out;

@@ -115,7 +115,7 @@ LoopFrame SimLoop::step() {
           ? bd::prior_from_track(*last_track_, f.sim_time_ns, config_.detector.track_prior_gate_m,
                                  config_.detector.track_prior_max_age_ns)
           : std::nullopt;
-  out.detection = pipeline_.step(f.left, f.right, false, prior);
+  out.detection = pipeline_.step(f.left, f.right, false, prior, f.sim_time_ns);
   out.detector_cpu_ms = bench::thread_cpu_ms() - c0;
   out.detector_wall_ms = bench::wall_ms() - w0;
   out.track = tracker_.step(to_tracker(out.detection, f.left.cols), f.sim_time_ns);

@@ -13,8 +13,11 @@
 #include <optional>
 #include <string>
 
+#include "common/util/install_layout.hpp"
+#include "simulator/core/randomize.hpp"
 #include "simulator/core/simulator.hpp"
 #include "simulator/io/ground_truth_csv.hpp"
+#include "simulator/io/randomize_file.hpp"
 #include "simulator/io/scenario_file.hpp"
 #include "simulator/io/sim_params_file.hpp"
 #include "stereo/io/calibration_file.hpp"
@@ -25,13 +28,16 @@ namespace {
 
 struct Options {
   std::string scenario = "ball_still";
-  std::string config = std::string(SB_DEFAULT_CONFIG_DIR) + "/simulator.yaml";
-  std::string scenarios_dir = std::string(SB_DEFAULT_CONFIG_DIR) + "/scenarios";
+  std::string config = stereoball::paths::shipped_config_path("simulator.yaml");
+  std::string scenarios_dir = stereoball::paths::shipped_config_path("scenarios");
   double duration_s = -1.0;
   std::string png_dir;
   std::string drive = "none";
   int every = 1;
   std::optional<int> width_px, height_px;
+  int randomize = 0;
+  std::uint64_t seed = 1;
+  std::string ranges = stereoball::paths::shipped_config_path("randomize.yaml");
 };
 
 // Simple pursuit on the ground truth: turn toward the ball, keep about 1 m from it.
@@ -65,6 +71,60 @@ std::string frame_name(const std::string& dir, const char* eye, uint64_t seq) {
   return (std::filesystem::path(dir) / buf).string();
 }
 
+int run_scenario(const Options& o, const sim::SimParams& params, const sim::Scenario& scenario,
+                 const std::string& png_dir) {
+  if (auto e = sim::Simulator::check(params, scenario)) return fail(*e);
+
+  std::ofstream csv;
+  if (!png_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(png_dir, ec);
+    if (ec) return fail("--png-dir " + png_dir + ": " + ec.message());
+    csv.open(std::filesystem::path(png_dir) / "ground_truth.csv");
+    if (!csv) return fail("--png-dir " + png_dir + ": cannot write ground_truth.csv");
+    csv << sim::ground_truth_csv_header() << "\n";
+  }
+
+  sim::Simulator simulator(params, scenario);
+  if (!png_dir.empty()) {
+    const auto path = (std::filesystem::path(png_dir) / "calibration.yaml").string();
+    stereoball::stereo::CalibrationFileInfo info;
+    info.note = "true calibration of the simulated rig (stereoball-sim)";
+    if (auto e = stereoball::stereo::save_calibration(path, simulator.calibration(), info)) {
+      return fail(*e);
+    }
+  }
+  const double duration_s = o.duration_s > 0 ? o.duration_s : scenario.duration_s;
+  const int64_t period_ns = simulator.frame_period_ns();
+  const auto frames = static_cast<int64_t>(std::floor(duration_s * 1e9 / period_ns)) + 1;
+  std::optional<sim::GroundTruth> last;
+  int visible = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (int64_t i = 0; i < frames; ++i) {
+    const int64_t t_ns = i * period_ns;
+    const sim::SimFrame f = simulator.step(command_for(o, scenario, last, t_ns), t_ns);
+    last = f.truth;
+    visible += f.truth.ball_visible_left ? 1 : 0;
+    if (png_dir.empty()) continue;
+    csv << sim::ground_truth_csv_row(f.truth) << "\n";
+    if (i % o.every != 0) continue;
+    if (!cv::imwrite(frame_name(png_dir, "left", f.seq), f.left) ||
+        !cv::imwrite(frame_name(png_dir, "right", f.seq), f.right)) {
+      return fail("--png-dir " + png_dir + ": cannot write PNG files");
+    }
+  }
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto& r = simulator.world().robot();
+  std::printf(
+      "scenario %s: %lld frames (%dx%d, %.1f s simulated) in %.2f s wall; ball visible (left) in "
+      "%d frames; robot at (%.2f, %.2f) m, yaw %.2f rad%s%s\n",
+      scenario.name.c_str(), static_cast<long long>(frames), params.width_px, params.height_px,
+      duration_s, wall_s, visible, r.x_m, r.y_m, r.yaw_rad, png_dir.empty() ? "" : "; wrote ",
+      png_dir.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,6 +152,12 @@ int main(int argc, char** argv) {
   app.add_option("--every", o.every, "write only every Nth frame as PNG")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--randomize", o.randomize,
+                 "run N randomised scenes (ranges from --ranges) instead of --scenario; with "
+                 "--png-dir each scene goes to its own subfolder")
+      ->check(CLI::Range(1, 100000));
+  app.add_option("--seed", o.seed, "with --randomize: which scene set")->capture_default_str();
+  app.add_option("--ranges", o.ranges, "with --randomize: range file")->capture_default_str();
   app.add_option("--width", o.width_px, "override image width, pixels");
   app.add_option("--height", o.height_px, "override image height, pixels");
   CLI11_PARSE(app, argc, argv);
@@ -100,56 +166,23 @@ int main(int argc, char** argv) {
   if (!params) return fail(params.error());
   if (o.width_px) params->width_px = *o.width_px;
   if (o.height_px) params->height_px = *o.height_px;
-  auto scenario = sim::load_scenario_by_name(o.scenario, o.scenarios_dir);
-  if (!scenario) return fail(scenario.error());
-  if (auto e = sim::Simulator::check(*params, *scenario)) return fail(*e);
-
-  std::ofstream csv;
-  if (!o.png_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.png_dir, ec);
-    if (ec) return fail("--png-dir " + o.png_dir + ": " + ec.message());
-    csv.open(std::filesystem::path(o.png_dir) / "ground_truth.csv");
-    if (!csv) return fail("--png-dir " + o.png_dir + ": cannot write ground_truth.csv");
-    csv << sim::ground_truth_csv_header() << "\n";
+  if (o.randomize == 0) {
+    auto scenario = sim::load_scenario_by_name(o.scenario, o.scenarios_dir);
+    if (!scenario) return fail(scenario.error());
+    return run_scenario(o, *params, *scenario, o.png_dir);
   }
-
-  sim::Simulator simulator(*params, *scenario);
-  if (!o.png_dir.empty()) {
-    const auto path = (std::filesystem::path(o.png_dir) / "calibration.yaml").string();
-    stereoball::stereo::CalibrationFileInfo info;
-    info.note = "true calibration of the simulated rig (stereoball-sim)";
-    if (auto e = stereoball::stereo::save_calibration(path, simulator.calibration(), info)) {
-      return fail(*e);
-    }
+  auto ranges = sim::load_randomize_ranges(o.ranges);
+  if (!ranges) return fail(ranges.error());
+  for (const sim::RandomScene& scene : sim::draw_scenes(*ranges, o.seed, o.randomize)) {
+    const auto& l = scene.labels;
+    std::printf(
+        "%s: ball %.3f m %s %s, floor %s, contrast %s (dE %.0f), distractors %s, leave %s\n",
+        scene.scenario.name.c_str(), scene.ball_diameter_m, l.ball_colour.c_str(),
+        l.pattern.c_str(), l.floor.c_str(), l.contrast.c_str(), l.contrast_delta_e,
+        l.distractors.c_str(), l.leave_view.c_str());
+    const std::string dir =
+        o.png_dir.empty() ? "" : (std::filesystem::path(o.png_dir) / scene.scenario.name).string();
+    if (const int rc = run_scenario(o, *params, scene.scenario, dir)) return rc;
   }
-  const double duration_s = o.duration_s > 0 ? o.duration_s : scenario->duration_s;
-  const int64_t period_ns = simulator.frame_period_ns();
-  const auto frames = static_cast<int64_t>(std::floor(duration_s * 1e9 / period_ns)) + 1;
-  std::optional<sim::GroundTruth> last;
-  int visible = 0;
-  const auto start = std::chrono::steady_clock::now();
-  for (int64_t i = 0; i < frames; ++i) {
-    const int64_t t_ns = i * period_ns;
-    const sim::SimFrame f = simulator.step(command_for(o, *scenario, last, t_ns), t_ns);
-    last = f.truth;
-    visible += f.truth.ball_visible_left ? 1 : 0;
-    if (o.png_dir.empty()) continue;
-    csv << sim::ground_truth_csv_row(f.truth) << "\n";
-    if (i % o.every != 0) continue;
-    if (!cv::imwrite(frame_name(o.png_dir, "left", f.seq), f.left) ||
-        !cv::imwrite(frame_name(o.png_dir, "right", f.seq), f.right)) {
-      return fail("--png-dir " + o.png_dir + ": cannot write PNG files");
-    }
-  }
-  const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const auto& r = simulator.world().robot();
-  std::printf(
-      "scenario %s: %lld frames (%dx%d, %.1f s simulated) in %.2f s wall; ball visible (left) in "
-      "%d frames; robot at (%.2f, %.2f) m, yaw %.2f rad%s%s\n",
-      scenario->name.c_str(), static_cast<long long>(frames), params->width_px, params->height_px,
-      duration_s, wall_s, visible, r.x_m, r.y_m, r.yaw_rad, o.png_dir.empty() ? "" : "; wrote ",
-      o.png_dir.c_str());
   return 0;
 }

@@ -37,10 +37,18 @@ constexpr std::array<Subcommand, 14> kKnown = {{
     {"help", "this list"},
 }};
 
-fs::path self_dir() {
+// Where the subcommand programs live: beside this one in a build tree, in
+// <prefix>/libexec/stereoball when installed (they are not commands of their own on PATH).
+#ifndef SB_PROGRAMS_REL
+#define SB_PROGRAMS_REL "../libexec/stereoball"
+#endif
+
+fs::path programs_dir() {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::path(".") : exe.parent_path();
+  const fs::path self = ec ? fs::path(".") : exe.parent_path();
+  const fs::path installed = self / SB_PROGRAMS_REL;
+  return fs::is_directory(installed, ec) ? fs::weakly_canonical(installed, ec) : self;
 }
 
 void print_usage(const fs::path& dir) {
@@ -71,7 +79,7 @@ void print_usage(const fs::path& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const fs::path dir = self_dir();
+  const fs::path dir = programs_dir();
   if (argc < 2 || std::string_view(argv[1]) == "help" || std::string_view(argv[1]) == "--help" ||
       std::string_view(argv[1]) == "-h") {
     print_usage(dir);

@@ -100,7 +100,7 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
       det.reason = *e;
     } else {
       check_eye_order(left, right, frame.rectified);
-      det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns));
+      det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns), frame.stamp_ns);
     }
   }
   ++processed_;

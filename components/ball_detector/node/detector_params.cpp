@@ -53,6 +53,7 @@ std::optional<std::string> BallDetectorParams::validate() const {
   if (!(floor_tolerance_m >= 0.0 && floor_tolerance_m <= 10.0))
     return std::string("floor_tolerance_m must be in [0, 10] metres (0 = off)");
   if (auto e = detector_params().validate()) return "p2p." + *e;
+  if (auto e = appearance.validate()) return e;
   return std::nullopt;
 }
 

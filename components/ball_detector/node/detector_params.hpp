@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "ball_detector/core/appearance_model.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 
 namespace stereoball::ball_detector {
@@ -72,6 +73,9 @@ struct BallDetectorParams {
   /// rectified camera, from stereo/calibration); false = as circles (the paper).
   bool perspective_outline = true;
   PixelToPixelParams p2p = pipeline_p2p_defaults();  ///< detector on each rectified eye
+  /// Addition: the followed ball's colour, learnt while the tracker follows it, ranks the left
+  /// candidates and rejects round things of another colour; forgotten after a long loss.
+  AppearanceParams appearance;
 
   /// Names the first bad field and its allowed range, or nullopt.
   std::optional<std::string> validate() const;

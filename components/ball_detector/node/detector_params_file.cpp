@@ -55,6 +55,12 @@ Result<BallDetectorParams> read_detector_params(params::ParamsFile& file) {
   file.read("floor.camera_height_m", p.floor_camera_height_m, 0.0, 10.0);
   file.read("floor.camera_pitch_rad", p.floor_camera_pitch_rad, -1.57, 1.57);
   file.read("floor.tolerance_m", p.floor_tolerance_m, 0.0, 10.0);
+  file.read("appearance.enabled", p.appearance.enabled);
+  file.read("appearance.min_similarity", p.appearance.min_similarity, 0.0, 1.0);
+  file.read("appearance.learn_rate", p.appearance.learn_rate, 0.001, 1.0);
+  file.read("appearance.frames_to_learn", p.appearance.frames_to_learn, 1, 1000);
+  file.read("appearance.forget_after_ns", p.appearance.forget_after_ns, std::int64_t{0},
+            std::int64_t{3'600'000'000'000});
   if (auto e = p.validate()) file.fail(file.name() + ": " + *e);
   if (auto e = file.finish()) return Error{*e};
   return p;

@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
       "rejects pairs whose size does not fit the ball diameter, and publishes one\n"
       "ball/detection per frame (best pair or the reason there is none)."};
   sb::node::CommonOptions common;
-  sb::node::add_common_flags(app, common, sb::node::default_config_path("ball_detector.yaml"));
+  sb::node::add_common_flags(app, common, "ball_detector.yaml");
   CLI11_PARSE(app, argc, argv);
 
   auto params = sb::ball_detector::load_detector_params(common.config_path);

@@ -10,6 +10,10 @@ namespace stereoball::ball_detector {
 namespace {
 
 constexpr int kPatchHalf = kPatchSide / 2;
+// Where a circle's colour is sampled: rings at these fractions of its radius, kColourAngles
+// points each, and the centre (inside the ball, clear of its outline and the background).
+constexpr double kColourRings[] = {0.2, 0.4, 0.55, 0.7};
+constexpr int kColourAngles = 12;
 
 std::optional<std::string> check_pixels(const char* eye, const cv::Mat& m) {
   if (m.empty()) return std::string(eye) + " image is empty";
@@ -128,7 +132,8 @@ StereoPipeline::StereoPipeline(const BallDetectorParams& params)
       left_detector_(params.detector_params()),
       right_detector_(params.detector_params()),
       epipolar_(stereo::EpipolarParams{params.epipolar_tolerance_px}),
-      size_{params.ball_diameter_m, params.size_max_relative_error} {
+      size_{params.ball_diameter_m, params.size_max_relative_error},
+      appearance_(params.appearance) {
   patch_rays_.resize(kPatchSide * kPatchSide);
   patch_raw_px_.reserve(kPatchSide * kPatchSide);
   patch_map_.create(kPatchSide, kPatchSide, CV_32FC2);
@@ -211,10 +216,15 @@ void StereoPipeline::rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool
 }
 
 StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, bool rectified,
-                                     const std::optional<PositionPrior>& prior) {
+                                     const std::optional<PositionPrior>& prior,
+                                     std::int64_t stamp_ns) {
   StereoDetection out;
   left_candidates_.clear();
   right_candidates_.clear();
+  appearance_.tick(stamp_ns);
+  frame_left_ = &left;
+  frame_rectified_ = rectified;
+  rejected_by_colour_ = 0;
   if (!rectifier_) {
     out.status = DetectionStatus::kNoCalibration;
     out.reason = "no stereo calibration received yet";
@@ -238,8 +248,8 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior);
     whole_frame = true;
   }
-  // Nothing paired over the whole frame: both eyes again, radius band by radius band. Costs
-  // time only on frames without a pair.
+  // Nothing paired over the whole frame: the left eye again radius band by radius band, each
+  // circle's right box with its own radii (kBandSearchEveryFrames: costly, so not every frame).
   if (pairing->status == PairingStatus::kFound) frames_without_pair_ = 0;
   if (whole_frame && pairing->status != PairingStatus::kFound &&
       frames_without_pair_++ % kBandSearchEveryFrames == 0) {
@@ -268,9 +278,20 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   out.candidates_right = static_cast<int>(right_candidates_.size());
 
   fill_result(*pairing, out);
+  out.rejected_by_colour = rejected_by_colour_;
   if (params_.right_eye_partner_boxes && left_candidates_.empty())
-    out.reason = "no circle in the left eye (the right eye is searched only near left circles)";
-  if (out.status == DetectionStatus::kFound) cut_patch(left, rectified, out);
+    out.reason =
+        rejected_by_colour_ > 0
+            ? "every left circle differs in colour from the followed ball"
+            : "no circle in the left eye (the right eye is searched only near left circles)";
+  if (out.status == DetectionStatus::kFound) {
+    cut_patch(left, rectified, out);
+    // Where the following tracker expects the ball: this is the ball it follows.
+    if (prior && cv::norm(out.position_m - prior->position_m) <= prior->gate_m) {
+      if (auto h = colour_of(out.left)) appearance_.learn(*h, stamp_ns);
+    }
+  }
+  frame_left_ = nullptr;
   return out;
 }
 
@@ -389,6 +410,7 @@ PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
 
 PairingResult StereoPipeline::pair_with_predicted_partners(
     const PairingContext& ctx, const std::optional<PositionPrior>& prior) {
+  rejected_by_colour_ += apply_appearance();
   PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
   if (!params_.predicted_partner || pairing.status == PairingStatus::kFound) return pairing;
   // The left circle passed its own border rule; the right eye sees the ball shifted by the
@@ -513,6 +535,19 @@ void StereoPipeline::fill_result(const PairingResult& pairing, StereoDetection& 
   }
 }
 
+void StereoPipeline::raw_left_px(const std::vector<cv::Point2d>& rectified_px,
+                                 std::vector<cv::Point2d>& raw_px) {
+  patch_rays_.resize(rectified_px.size());
+  for (std::size_t i = 0; i < rectified_px.size(); ++i) {
+    const cv::Vec3d ray =
+        patch_ray_from_pixel_ * cv::Vec3d(rectified_px[i].x, rectified_px[i].y, 1.0);
+    patch_rays_[i] = {ray[0], ray[1], ray[2]};
+  }
+  const stereo::StereoCalibration& calib = rectifier_->calibration();
+  cv::projectPoints(patch_rays_, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(calib.k1),
+                    cv::Mat(calib.d1, true), raw_px);
+}
+
 void StereoPipeline::cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out) {
   const cv::Size size = left_raw.size();
   const int cx = static_cast<int>(std::lround(out.left.x_px));
@@ -527,16 +562,11 @@ void StereoPipeline::cut_patch(const cv::Mat& left_raw, bool rectified, StereoDe
   }
   // Only 441 rectified pixels are needed: map them through the lens model instead of
   // rectifying the whole colour image.
-  for (int r = 0; r < kPatchSide; ++r) {
-    for (int c = 0; c < kPatchSide; ++c) {
-      const cv::Vec3d ray = patch_ray_from_pixel_ * cv::Vec3d(clamp_x(cx - kPatchHalf + c),
-                                                              clamp_y(cy - kPatchHalf + r), 1.0);
-      patch_rays_[static_cast<std::size_t>(r * kPatchSide + c)] = {ray[0], ray[1], ray[2]};
-    }
-  }
-  const stereo::StereoCalibration& calib = rectifier_->calibration();
-  cv::projectPoints(patch_rays_, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(calib.k1),
-                    cv::Mat(calib.d1, true), patch_raw_px_);
+  colour_rect_px_.clear();
+  for (int r = 0; r < kPatchSide; ++r)
+    for (int c = 0; c < kPatchSide; ++c)
+      colour_rect_px_.emplace_back(clamp_x(cx - kPatchHalf + c), clamp_y(cy - kPatchHalf + r));
+  raw_left_px(colour_rect_px_, patch_raw_px_);
   for (int r = 0; r < kPatchSide; ++r)
     for (int c = 0; c < kPatchSide; ++c) {
       const cv::Point2d& p = patch_raw_px_[static_cast<std::size_t>(r * kPatchSide + c)];
@@ -547,6 +577,51 @@ void StereoPipeline::cut_patch(const cv::Mat& left_raw, bool rectified, StereoDe
   for (int r = 0; r < kPatchSide; ++r)
     for (int c = 0; c < kPatchSide; ++c, dst += 3) put_rgb(patch_bgr_, c, r, dst);
   out.patch_valid = true;
+}
+
+std::optional<ColourHistogram> StereoPipeline::colour_of(const Circle& left) {
+  if (!frame_left_ || frame_left_->channels() != 3) return std::nullopt;
+  const cv::Mat& image = *frame_left_;
+  colour_rect_px_.clear();
+  colour_rect_px_.emplace_back(left.x_px, left.y_px);
+  for (const double f : kColourRings)
+    for (int a = 0; a < kColourAngles; ++a) {
+      const double t = 2.0 * CV_PI * (a + 0.5 * f) / kColourAngles;
+      colour_rect_px_.emplace_back(left.x_px + f * left.radius_px * std::cos(t),
+                                   left.y_px + f * left.radius_px * std::sin(t));
+    }
+  if (frame_rectified_) {
+    colour_raw_px_ = colour_rect_px_;
+  } else {
+    raw_left_px(colour_rect_px_, colour_raw_px_);
+  }
+  colour_px_.clear();
+  for (const cv::Point2d& p : colour_raw_px_) {
+    const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+    // A ball cut by the border is sampled where it is in view.
+    if (x >= 0 && y >= 0 && x < image.cols && y < image.rows)
+      colour_px_.push_back(image.at<cv::Vec3b>(y, x));
+  }
+  return ColourHistogram::of(colour_px_, appearance_.params().min_pixels);
+}
+
+int StereoPipeline::apply_appearance() {
+  if (!appearance_.ready()) return 0;
+  int rejected = 0;
+  for (auto it = left_candidates_.begin(); it != left_candidates_.end();) {
+    const auto h = colour_of(*it);
+    if (appearance_.rejects(h)) {
+      it = left_candidates_.erase(it);
+      ++rejected;
+      continue;
+    }
+    // Rank: a closer colour keeps more of its outline score (a perfect match all of it).
+    if (h) it->score *= 0.5 + 0.5 * appearance_.similarity(*h).value_or(1.0);
+    ++it;
+  }
+  std::stable_sort(left_candidates_.begin(), left_candidates_.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  return rejected;
 }
 
 }  // namespace stereoball::ball_detector

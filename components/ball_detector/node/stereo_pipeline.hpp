@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "ball_detector/core/appearance_model.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/node/detector_params.hpp"
 #include "ball_detector/node/pairing.hpp"
@@ -87,6 +88,7 @@ struct StereoDetection {
   double depth_from_size_m = 0.0;  ///< depth implied by the radii, metres (0 if unknown)
   int candidates_left = 0;         ///< circles found in the left eye
   int candidates_right = 0;        ///< circles found in the right eye
+  int rejected_by_colour = 0;      ///< left circles the followed ball's appearance rejected
   bool patch_valid = false;        ///< patch_rgb holds the block around the left centre
   std::array<std::uint8_t, kPatchBytes> patch_rgb{};  ///< 21x21 R,G,B row-major, borders clamped
 };
@@ -110,9 +112,14 @@ class StereoPipeline {
   /// Processes one pair of CV_8UC3 (BGR) or CV_8UC1 frames of the calibration's size;
   /// rectified = true skips the LUT (the source already rectified). Wrong input gives
   /// kBadFrame / kNoCalibration with the reason, never an exception. prior: where the tracker
-  /// expects the ball (see pair_candidates).
+  /// expects the ball (see pair_candidates); a pair found there teaches the appearance model
+  /// the followed ball's colour (BGR frames only). stamp_ns: capture time, the model's clock.
   StereoDetection step(const cv::Mat& left, const cv::Mat& right, bool rectified,
-                       const std::optional<PositionPrior>& prior = std::nullopt);
+                       const std::optional<PositionPrior>& prior = std::nullopt,
+                       std::int64_t stamp_ns = 0);
+
+  /// The followed ball's learnt appearance (for tests and diagnostics).
+  const AppearanceModel& appearance() const { return appearance_; }
 
   /// Rectified detector-input images of the last processed frame (for debugging and tests);
   /// with right_eye_partner_boxes the right one holds only the searched boxes (zero elsewhere).
@@ -146,6 +153,9 @@ class StereoPipeline {
                                              const std::optional<PositionPrior>& prior);
   void fill_result(const PairingResult& pairing, StereoDetection& out) const;
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
+  void raw_left_px(const std::vector<cv::Point2d>& rectified_px, std::vector<cv::Point2d>& raw_px);
+  std::optional<ColourHistogram> colour_of(const Circle& left);
+  int apply_appearance();
 
   BallDetectorParams params_;
   PixelToPixelDetector left_detector_;
@@ -164,6 +174,12 @@ class StereoPipeline {
   cv::Rect right_edges_box_;                       // the box of the right detector's last edge map
   std::optional<EdgeThresholds> left_thresholds_;  // of the last whole left frame
   std::optional<FloorModel> floor_;                // none when the floor check is off
+  AppearanceModel appearance_;
+  const cv::Mat* frame_left_ = nullptr;  // the raw left frame of the step in progress
+  bool frame_rectified_ = false;
+  int rejected_by_colour_ = 0;
+  std::vector<cv::Point2d> colour_rect_px_, colour_raw_px_;
+  std::vector<cv::Vec3b> colour_px_;
   int frames_since_full_search_ = 0;
   int frames_without_pair_ = 0;  // consecutive whole-frame searches that paired nothing
 };

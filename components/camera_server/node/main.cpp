@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
       "frames by capture stamp and publishes stereo/frame; publishes the calibration file on "
       "stereo/calibration (transient-local). Parameters: components/camera_server/README.md."};
   sb::node::CommonOptions common;
-  sb::node::add_common_flags(app, common, sb::node::default_config_path("camera_server.yaml"));
+  sb::node::add_common_flags(app, common, "camera_server.yaml");
   const sb::camera_server::FrameCodecFlags codec_flags(app);
   CLI11_PARSE(app, argc, argv);
   sb::log::Level level = sb::log::Level::kInfo;

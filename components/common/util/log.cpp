@@ -46,18 +46,30 @@ bool parse_level(std::string_view text, Level& out) {
   return true;
 }
 
+std::string format_line(Level level, std::string_view component, std::string_view text,
+                        std::chrono::system_clock::time_point when) {
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(when.time_since_epoch());
+  const auto secs = static_cast<std::time_t>(ms.count() / 1000);
+  std::tm tm{};
+  gmtime_r(&secs, &tm);
+  // ISO 8601 in UTC, so lines from hosts in other time zones (or across midnight) sort and
+  // compare without guessing the date.
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S", &tm);
+  char line_head[64];
+  std::snprintf(line_head, sizeof line_head, "%s.%03dZ %s ", stamp,
+                static_cast<int>(ms.count() % 1000), level_name(level));
+  std::string line = line_head;
+  line.append(component).append(": ").append(text);
+  return line;
+}
+
 void write(Level level, std::string_view text) {
   if (level < g_min_level) return;
   const auto now = std::chrono::system_clock::now();
-  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch());
-  const std::time_t secs = static_cast<std::time_t>(ms.count() / 1000);
-  std::tm tm{};
-  gmtime_r(&secs, &tm);
-  char stamp[32];
-  std::strftime(stamp, sizeof stamp, "%H:%M:%S", &tm);
   std::lock_guard lock(g_mutex);
-  std::fprintf(stderr, "%s.%03d %s %s: %.*s\n", stamp, static_cast<int>(ms.count() % 1000),
-               level_name(level), g_component.c_str(), static_cast<int>(text.size()), text.data());
+  const std::string line = format_line(level, g_component, text, now);
+  std::fprintf(stderr, "%s\n", line.c_str());
   std::fflush(stderr);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Minimal thread-safe logging to stderr: "2026-11-21T22:40:01.123Z INFO  tracker: text".
 
+#include <chrono>
 #include <cstdint>
 #include <sstream>
 #include <string>
@@ -15,6 +16,9 @@ void init(std::string_view component, Level min_level = Level::kInfo);
 /// Parses "debug|info|warn|error"; nullopt-like false on bad input.
 bool parse_level(std::string_view text, Level& out);
 void write(Level level, std::string_view text);
+/// One log line (no newline): ISO 8601 UTC time with milliseconds, level, component, text.
+std::string format_line(Level level, std::string_view component, std::string_view text,
+                        std::chrono::system_clock::time_point when);
 
 template <typename... Args>
 std::string concat(const Args&... args) {

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
       "toward the last-seen side while searching, and commands zero on start-up, stale\n"
       "ball/track (stale_timeout_ns) and a latched emergency stop."};
   sb::node::CommonOptions common;
-  sb::node::add_common_flags(app, common, sb::node::default_config_path("motion_controller.yaml"));
+  sb::node::add_common_flags(app, common, "motion_controller.yaml");
   CLI11_PARSE(app, argc, argv);
 
   auto params = sb::motion_controller::load_controller_params(common.config_path);

@@ -2,6 +2,7 @@
 // with --frame-encoding jpeg|png, the encode time and bytes of a compressed pair (the node's
 // encoder).
 
+#include "common/util/install_layout.hpp"
 #include "common/util/bench_clock.hpp"
 
 #include <CLI/CLI.hpp>
@@ -20,6 +21,7 @@
 #include "simulator/io/sim_params_file.hpp"
 
 namespace sim = stereoball::simulator;
+namespace paths = stereoball::paths;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -51,7 +53,7 @@ int main(int argc, char** argv) {
       "stereoball-sim-bench: time the simulator per stereo pair (both eyes) on one core.\n"
       "Reports render-only time and the full step (render + sensor noise + ground truth)."};
   std::string scenario_name = "ball_rolling_across";
-  std::string config = std::string(SB_DEFAULT_CONFIG_DIR) + "/simulator.yaml";
+  std::string config = paths::shipped_config_path("simulator.yaml");
   int frames = 300, width = 0, height = 0, blur = 0;
   app.add_option("--scenario", scenario_name, "scenario name or path")->capture_default_str();
   app.add_option("--config", config, "simulator params file")->capture_default_str();
@@ -77,7 +79,7 @@ int main(int argc, char** argv) {
   if (height > 0) params->height_px = height;
   if (blur > 0) params->sensor.motion_blur_subframes = blur;
   auto scenario =
-      sim::load_scenario_by_name(scenario_name, std::string(SB_DEFAULT_CONFIG_DIR) + "/scenarios");
+      sim::load_scenario_by_name(scenario_name, paths::shipped_config_path("scenarios"));
   if (!scenario)
     return std::fprintf(stderr, "stereoball-sim-bench: %s\n", scenario.error().c_str()), 2;
   if (auto e = sim::Simulator::check(*params, *scenario)) {

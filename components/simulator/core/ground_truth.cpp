@@ -25,6 +25,27 @@ Vec3d camera_centre_world(const StereoRig& rig, Eye eye, const RobotState& robot
   return Vec3d{robot.x_m, robot.y_m, 0.0} + Mat3::rot_z(robot.yaw_rad) * rig.pose(eye).position_m;
 }
 
+// Whether the disc of radius_px around px lies inside the w x h image.
+bool disc_inside(const Point2& px, double radius_px, int w, int h) {
+  return px.x - radius_px >= 0.0 && px.y - radius_px >= 0.0 && px.x + radius_px <= w - 1.0 &&
+         px.y + radius_px <= h - 1.0;
+}
+
+// Whether the lines of sight from camera to four points just inside the ball's rim are clear.
+bool rim_unblocked(const std::vector<SolidBox>& occluders, const Vec3d& camera, const Vec3d& ball,
+                   double radius_m) {
+  const Vec3d u = (ball - camera).normalized();
+  Vec3d side{-u.y, u.x, 0.0};  // horizontal, across the line of sight
+  if (side.norm() < 1e-9) side = {1.0, 0.0, 0.0};
+  side = side.normalized();
+  const Vec3d up{u.y * side.z - u.z * side.y, u.z * side.x - u.x * side.z,
+                 u.x * side.y - u.y * side.x};
+  const double r = 0.95 * radius_m;
+  for (const Vec3d& e : {side, side * -1.0, up, up * -1.0})
+    if (segment_blocked(occluders, camera, ball + e * r)) return false;
+  return true;
+}
+
 }  // namespace
 
 bool segment_blocked(const std::vector<SolidBox>& boxes, const Vec3d& a, const Vec3d& b) {
@@ -84,6 +105,20 @@ GroundTruth make_ground_truth(const StereoRig& rig, const RobotState& robot, con
   g.ball_visible_right =
       rect[2] > 1e-3 && visible(rig, Eye::kRight, right, g.ball_right_px) &&
       !segment_blocked(occluders, camera_centre_world(rig, Eye::kRight, robot), ball.position_m);
+  const double z = rect[2];
+  if (z > ball.radius_m) {
+    const int w = rig.width_px(), h = rig.height_px();
+    const double radius_px =
+        1.1 * c.p1(0, 0) * ball.radius_m / std::sqrt(z * z - ball.radius_m * ball.radius_m);
+    g.ball_fully_visible_left =
+        g.ball_visible_left && disc_inside(g.ball_left_px, radius_px, w, h) &&
+        rim_unblocked(occluders, camera_centre_world(rig, Eye::kLeft, robot), ball.position_m,
+                      ball.radius_m);
+    g.ball_fully_visible_right =
+        g.ball_visible_right && disc_inside(g.ball_right_px, radius_px, w, h) &&
+        rim_unblocked(occluders, camera_centre_world(rig, Eye::kRight, robot), ball.position_m,
+                      ball.radius_m);
+  }
   return g;
 }
 

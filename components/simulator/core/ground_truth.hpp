@@ -21,6 +21,10 @@ struct GroundTruth {
   Vec3d ball_camera_m;  ///< ball centre, left rectified camera frame (x right, y down, z fwd)
   bool ball_visible_left = false;  ///< centre in front of the camera and inside the image
   bool ball_visible_right = false;
+  /// The whole ball in view: its rectified outline (10 % slack) inside the image and the lines
+  /// of sight to its centre and four rim points unblocked (centre visibility is the fields above).
+  bool ball_fully_visible_left = false;
+  bool ball_fully_visible_right = false;
   Point2 ball_left_px;   ///< projected centre, rectified left image, pixels
   Point2 ball_right_px;  ///< projected centre, rectified right image, pixels
   RobotState robot;      ///< pose and actual velocity

@@ -31,6 +31,26 @@ struct PatchDirs {
 };
 const PatchDirs kPatches;
 
+// A value in [0, 1) that looks random per integer cell (floor planks and carpet fibres).
+inline float cell_noise(int ix, int iy) {
+  uint32_t h = static_cast<uint32_t>(ix) * 0x8da6b343u ^ static_cast<uint32_t>(iy) * 0xd8163841u;
+  h ^= h >> 13;
+  h *= 0x85ebca6bu;
+  h ^= h >> 16;
+  return static_cast<float>(h & 0xffffu) * (1.0f / 65536.0f);
+}
+
+inline Vec3f mix(const Vec3f& a, const Vec3f& b, float t) {
+  return a * (1.0f - t) + b * t;
+}
+
+constexpr float kPi = 3.14159265f;
+constexpr int kBallPanels = 6;   // longitudinal panels of a panelled ball
+constexpr int kBallStripes = 6;  // latitude bands of a striped ball
+constexpr float kCarpetCellM = 0.01f;
+constexpr float kPlankLengthTiles = 3.0f;  // plank length in tile_m
+constexpr float kPlanksPerTile = 4.0f;     // plank width = tile_m / 4
+
 inline void put(uint8_t* px, const Vec3f& albedo, float light) {
   const float b = albedo.x * light + 0.5f, g = albedo.y * light + 0.5f, r = albedo.z * light + 0.5f;
   px[0] = static_cast<uint8_t>(std::min(b, 255.0f));
@@ -52,8 +72,10 @@ Renderer::Renderer(const StereoRig& rig, const Scenario& scenario, double left_g
   const BallSpec ball = scenario.ball.value_or(BallSpec{});
   ball_a_ = rgb_to_vec(ball.color_a);
   ball_b_ = rgb_to_vec(ball.color_b);
+  ball_pattern_ = ball.pattern;
   cand_boxes_.reserve(boxes_.size());
   cand_discs_.reserve(discs_.size());
+  cand_spheres_.reserve(spheres_.size());
   frame_.cones.resize(bounds_.size());
 }
 
@@ -114,6 +136,11 @@ void Renderer::build_scene(const Scenario& s) {
                       rgb_to_vec(p.color), rgb_to_vec(p.rim_color),
                       static_cast<float>(p.radius_m * p.radius_m),
                       static_cast<float>(inner * inner)});
+    bounds_.push_back({p.center_m, p.radius_m * 1.01});
+  }
+  for (const SphereSpec& p : s.spheres) {
+    const auto r = static_cast<float>(p.radius_m);
+    spheres_.push_back({p.center_m.cast<float>(), rgb_to_vec(p.color), r, r * r});
     bounds_.push_back({p.center_m, p.radius_m * 1.01});
   }
 }
@@ -198,6 +225,11 @@ void Renderer::cull(const Tile& tile) {
   for (size_t i = 0; i < discs_.size(); ++i) {
     if (hits(tile, f.cones[boxes_.size() + i])) cand_discs_.push_back(static_cast<uint16_t>(i));
   }
+  cand_spheres_.clear();
+  for (size_t i = 0; i < spheres_.size(); ++i) {
+    if (hits(tile, f.cones[boxes_.size() + discs_.size() + i]))
+      cand_spheres_.push_back(static_cast<uint16_t>(i));
+  }
   cand_ball_ = f.ball && hits(tile, f.ball_cone);
   cand_shadow_ = f.ball && hits(tile, f.shadow_cone);
 }
@@ -215,14 +247,11 @@ void Renderer::render(Eye eye, const RobotState& robot, const BallState& ball,
 
 void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out) {
   const FrameSetup& f = frame_;
-  enum Hit { kFloor, kCeiling, kWall, kBox, kDisc, kBall };
+  enum Hit { kFloor, kCeiling, kWall, kBox, kDisc, kSphere, kBall };
   const float xmin = static_cast<float>(room_.x_min_m), xmax = static_cast<float>(room_.x_max_m);
   const float ymin = static_cast<float>(room_.y_min_m), ymax = static_cast<float>(room_.y_max_m);
   const float zmax = static_cast<float>(room_.height_m);
-  const float inv_tile = static_cast<float>(1.0 / room_.tile_m);
-  const float grout = static_cast<float>(room_.grout_m / room_.tile_m);
-  const Vec3f floor_a = rgb_to_vec(room_.floor_a), floor_b = rgb_to_vec(room_.floor_b);
-  const Vec3f grout_c = rgb_to_vec(room_.grout), wall_c = rgb_to_vec(room_.wall);
+  const Vec3f wall_c = rgb_to_vec(room_.wall);
   const Vec3f base_c = rgb_to_vec(room_.baseboard), ceil_c = rgb_to_vec(room_.ceiling);
   const Vec3f o = f.o;
   const Vec3f oc = o - f.ball_c;
@@ -267,6 +296,15 @@ void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out)
         const Vec3f q = o + d * td - c.c;
         if (q.dot(q) < c.r2) t = td, hit = kDisc, which = di;
       }
+      for (uint16_t si : cand_spheres_) {
+        const Sphere& sp = spheres_[si];
+        const Vec3f so = o - sp.c;
+        const float b = so.dot(d);
+        const float disc = b * b - (so.dot(so) - sp.r2);
+        if (disc < 0.0f) continue;
+        const float ts = -b - std::sqrt(disc);
+        if (ts > 0.0f && ts < t) t = ts, hit = kSphere, which = si;
+      }
       if (cand_ball_) {
         const float b = oc.dot(d);
         const float disc = b * b - oc2;
@@ -278,16 +316,7 @@ void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out)
       const Vec3f p = o + d * t;
       switch (hit) {
         case kFloor: {
-          Vec3f alb = floor_a;
-          if (!room_.plain) {
-            const float fu = p.x * inv_tile, fv = p.y * inv_tile;
-            const float iu = std::floor(fu), iv = std::floor(fv);
-            if (fu - iu < grout || fv - iv < grout) {
-              alb = grout_c;
-            } else if ((static_cast<int>(iu) + static_cast<int>(iv)) & 1) {
-              alb = floor_b;
-            }
-          }
+          const Vec3f alb = floor_albedo(p.x, p.y);
           float light = f.diff_floor;
           if (cand_shadow_) {
             const Vec3f q = f.ball_c - p;
@@ -317,20 +346,76 @@ void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out)
           put(px, q.dot(q) > c.inner_r2 ? c.rim : c.albedo, light * f.scale);
           break;
         }
+        case kSphere: {
+          const Sphere& sp = spheres_[which];
+          const Vec3f n = (p - sp.c) * (1.0f / sp.r);
+          put(px, sp.albedo, (f.ambient + f.sun * std::max(0.0f, n.dot(f.light))) * f.scale);
+          break;
+        }
         case kBall: {
           const Vec3f n = (p - f.ball_c) * (1.0f / f.ball_r);
           const float* m = f.ball_rt;
           const Vec3f nb{m[0] * n.x + m[1] * n.y + m[2] * n.z, m[3] * n.x + m[4] * n.y + m[5] * n.z,
                          m[6] * n.x + m[7] * n.y + m[8] * n.z};
-          bool patch = false;
-          for (const Vec3f& pd : kPatches.d) patch = patch || nb.dot(pd) > kPatchCos;
           const float light = f.ambient + f.sun * std::max(0.0f, n.dot(f.light));
-          put(px, patch ? ball_b_ : ball_a_, light * f.scale);
+          put(px, ball_albedo(nb), light * f.scale);
           break;
         }
       }
     }
   }
+}
+
+Vec3f Renderer::floor_albedo(float x_m, float y_m) const {
+  const Vec3f a = rgb_to_vec(room_.floor_a), b = rgb_to_vec(room_.floor_b);
+  if (room_.plain) return a;
+  const float tile = static_cast<float>(room_.tile_m), grout = static_cast<float>(room_.grout_m);
+  switch (room_.floor_pattern) {
+    case FloorPattern::kTiles: {
+      const float fu = x_m / tile, fv = y_m / tile;
+      const float iu = std::floor(fu), iv = std::floor(fv);
+      const float g = grout / tile;
+      if (fu - iu < g || fv - iv < g) return rgb_to_vec(room_.grout);
+      return ((static_cast<int>(iu) + static_cast<int>(iv)) & 1) ? b : a;
+    }
+    case FloorPattern::kPlanks: {
+      const float width = tile / kPlanksPerTile, length = tile * kPlankLengthTiles;
+      const float fv = y_m / width, iv = std::floor(fv);
+      const int row = static_cast<int>(iv);
+      // Each row's plank ends are shifted by its own fraction of a plank length.
+      const float fu = x_m / length + cell_noise(row, 7), iu = std::floor(fu);
+      if ((fv - iv) * width < grout || (fu - iu) * length < grout) return rgb_to_vec(room_.grout);
+      return mix(a, b, cell_noise(static_cast<int>(iu), row));
+    }
+    case FloorPattern::kCarpet: {
+      const int ix = static_cast<int>(std::floor(x_m / kCarpetCellM));
+      const int iy = static_cast<int>(std::floor(y_m / kCarpetCellM));
+      return mix(a, b, cell_noise(ix, iy));
+    }
+  }
+  return a;
+}
+
+const Vec3f& Renderer::ball_albedo(const Vec3f& nb) const {
+  switch (ball_pattern_) {
+    case BallPattern::kSolid:
+      return ball_a_;
+    case BallPattern::kPanels: {
+      const int sector =
+          static_cast<int>((std::atan2(nb.y, nb.x) + kPi) * (kBallPanels / (2.0f * kPi)));
+      return (sector & 1) ? ball_b_ : ball_a_;
+    }
+    case BallPattern::kStripes: {
+      const int band = static_cast<int>((std::clamp(nb.z, -1.0f, 0.9999f) + 1.0f) * 0.5f *
+                                        static_cast<float>(kBallStripes));
+      return (band & 1) ? ball_b_ : ball_a_;
+    }
+    case BallPattern::kFootball:
+      break;
+  }
+  for (const Vec3f& pd : kPatches.d)
+    if (nb.dot(pd) > kPatchCos) return ball_b_;
+  return ball_a_;
 }
 
 }  // namespace stereoball::simulator

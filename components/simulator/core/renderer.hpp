@@ -47,6 +47,10 @@ class Renderer {
     Vec3f c, n, albedo, rim;
     float r2, inner_r2;
   };
+  struct Sphere {
+    Vec3f c, albedo;
+    float r, r2;
+  };
   struct Bound {
     Vec3d centre_m;
     double radius_m;
@@ -66,7 +70,7 @@ class Renderer {
     Vec3f ball_c;
     float ball_r = 0.0f, ball_r2 = 0.0f;
     float ball_rt[9] = {};       // ball-from-world rotation for the texture
-    std::vector<ObjCone> cones;  // boxes then discs
+    std::vector<ObjCone> cones;  // boxes, discs, then spheres
     ObjCone ball_cone, shadow_cone;
   };
 
@@ -80,6 +84,8 @@ class Renderer {
   void build_scene(const Scenario& s);
   void cull(const Tile& tile);
   void render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out);
+  Vec3f floor_albedo(float x_m, float y_m) const;
+  const Vec3f& ball_albedo(const Vec3f& n_ball) const;
 
   int width_, height_;
   EyeTables eyes_[2];
@@ -87,11 +93,13 @@ class Renderer {
   Vec3d sun_dir_;  // world, pointing toward the light
   std::vector<Box> boxes_;
   std::vector<Disc> discs_;
-  std::vector<Bound> bounds_;  // boxes then discs
+  std::vector<Sphere> spheres_;
+  std::vector<Bound> bounds_;  // boxes, discs, then spheres
   Vec3f ball_a_, ball_b_;
+  BallPattern ball_pattern_ = BallPattern::kFootball;
   FrameSetup frame_;
   // Per-tile scratch, sized once.
-  std::vector<uint16_t> cand_boxes_, cand_discs_;
+  std::vector<uint16_t> cand_boxes_, cand_discs_, cand_spheres_;
   bool cand_ball_ = false, cand_shadow_ = false;
 };
 

@@ -192,3 +192,146 @@ TEST(Renderer, BoxHidesTheBallBehindIt) {
 
 }  // namespace
 }  // namespace stereoball::simulator
+
+namespace stereoball::simulator {
+namespace {
+
+// Pixels of the left image (raw) inside radius_px of the ball's projected centre that are
+// closer to colour a than to colour b, and the other way round.
+std::pair<int, int> ball_colour_counts(const cv::Mat& img, const cv::Point2d& c, double radius_px,
+                                       const Rgb& a, const Rgb& b) {
+  int na = 0, nb = 0;
+  auto dist = [](const cv::Vec3b& p, const Rgb& q) {
+    // Hue direction only: shading scales all three channels.
+    const cv::Vec3d v(p[2], p[1], p[0]), w(q.r, q.g, q.b);
+    return 1.0 - v.dot(w) / (cv::norm(v) * cv::norm(w) + 1e-9);
+  };
+  for (int y = static_cast<int>(c.y - radius_px); y <= c.y + radius_px; ++y)
+    for (int x = static_cast<int>(c.x - radius_px); x <= c.x + radius_px; ++x) {
+      if (x < 0 || y < 0 || x >= img.cols || y >= img.rows) continue;
+      if (std::hypot(x - c.x, y - c.y) > radius_px) continue;
+      const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+      (dist(p, a) < dist(p, b) ? na : nb)++;
+    }
+  return {na, nb};
+}
+
+class BallPatterns : public ::testing::TestWithParam<BallPattern> {};
+
+TEST_P(BallPatterns, OneColourBallShowsOnlyColourA_TwoColourPatternsShowBoth) {
+  // Given a red/blue ball of the pattern, 1.5 m ahead of the rig, lit evenly
+  const SimParams params;
+  const StereoRig rig(params);
+  Scenario s = plain_scene(1.5, 0.0);
+  s.ball->color_a = {220, 30, 30};
+  s.ball->color_b = {30, 30, 220};
+  s.ball->pattern = GetParam();
+  Renderer r(rig, s, 1.0, 1.0);
+  const BallState ball = ball_at(s);
+  const GroundTruth g = make_ground_truth(rig, RobotState{}, ball, 0, 0);
+  cv::Mat left;
+  r.render(Eye::kLeft, RobotState{}, ball, s.lighting[0], left);
+  const cv::Mat rect = rectify(left, rig.calibration(), true);
+  const double radius_px = 0.8 * rig.calibration().p1(0, 0) * ball.radius_m / g.ball_camera_m.z;
+  const auto [na, nb] = ball_colour_counts(rect, {g.ball_left_px.x, g.ball_left_px.y}, radius_px,
+                                           s.ball->color_a, s.ball->color_b);
+  // Then a solid ball has no second colour, the others show both in a good share
+  if (GetParam() == BallPattern::kSolid) {
+    EXPECT_EQ(nb, 0);
+    EXPECT_GT(na, 500);
+  } else {
+    EXPECT_GT(na, (na + nb) / 5) << na << " / " << nb;
+    EXPECT_GT(nb, (na + nb) / 10) << na << " / " << nb;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(All, BallPatterns,
+                         ::testing::Values(BallPattern::kSolid, BallPattern::kPanels,
+                                           BallPattern::kStripes, BallPattern::kFootball));
+
+// Standard deviation of the grey level in the rectified left image's lower middle (floor).
+double floor_texture(const Scenario& s) {
+  const SimParams params;
+  const StereoRig rig(params);
+  Renderer r(rig, s, 1.0, 1.0);
+  cv::Mat left, grey;
+  r.render(Eye::kLeft, RobotState{}, BallState{}, s.lighting[0], left);
+  cv::cvtColor(left(cv::Rect(200, 380, 240, 90)), grey, cv::COLOR_BGR2GRAY);
+  cv::Scalar mean, sd;
+  cv::meanStdDev(grey, mean, sd);
+  return sd[0];
+}
+
+TEST(Renderer, FloorPatternsAreTexturedAndPlainIsNot) {
+  // Given the same two floor colours with each pattern
+  Scenario s = plain_scene(1.5, 0.0);
+  s.ball.reset();
+  s.room.plain = false;
+  s.room.floor_a = {150, 120, 90};
+  s.room.floor_b = {90, 70, 50};
+  s.room.tile_m = 0.6;
+  const double plain = [&] {
+    Scenario p = s;
+    p.room.plain = true;
+    return floor_texture(p);
+  }();
+  EXPECT_LT(plain, 2.0);
+  // Then each pattern varies the floor's grey level
+  for (FloorPattern f : {FloorPattern::kTiles, FloorPattern::kPlanks, FloorPattern::kCarpet}) {
+    s.room.floor_pattern = f;
+    EXPECT_GT(floor_texture(s), 5.0) << static_cast<int>(f);
+  }
+}
+
+TEST(Renderer, DistractorSphereIsDrawnInItsColourAndHidesTheWall) {
+  // Given a blue sphere 2 m ahead on the floor and no ball
+  const SimParams params;
+  const StereoRig rig(params);
+  Scenario s = plain_scene(1.5, 0.0);
+  s.ball.reset();
+  s.spheres.push_back({{2.0, 0.0, 0.12}, 0.12, {30, 40, 220}});
+  ASSERT_FALSE(s.validate().has_value());
+  Renderer r(rig, s, 1.0, 1.0);
+  cv::Mat left;
+  r.render(Eye::kLeft, RobotState{}, BallState{}, s.lighting[0], left);
+  // Then its projected centre is blue
+  BallState at;
+  at.present = true;
+  at.radius_m = 0.12;
+  at.position_m = {2.0, 0.0, 0.12};
+  const GroundTruth g = make_ground_truth(rig, RobotState{}, at, 0, 0);
+  const cv::Vec3b p =
+      rectify(left, rig.calibration(), true)
+          .at<cv::Vec3b>(static_cast<int>(g.ball_left_px.y), static_cast<int>(g.ball_left_px.x));
+  EXPECT_GT(p[0], 2 * p[2]) << p;
+}
+
+TEST(GroundTruth, FullyVisibleOnlyWhenTheWholeBallIsInViewAndUnblocked) {
+  const SimParams params;
+  const StereoRig rig(params);
+  BallState ball;
+  ball.present = true;
+  ball.radius_m = 0.11;
+  // A ball 2 m ahead is fully visible
+  ball.position_m = {2.0, 0.0, 0.11};
+  GroundTruth g = make_ground_truth(rig, RobotState{}, ball, 0, 0);
+  EXPECT_TRUE(g.ball_fully_visible_left && g.ball_fully_visible_right);
+  // Its centre in view but its outline across the left border: visible, not fully
+  ball.position_m = {1.0, 0.0, 0.11};
+  for (double y = 0.3; y < 1.0; y += 0.01) {
+    ball.position_m.y = y;
+    g = make_ground_truth(rig, RobotState{}, ball, 0, 0);
+    if (g.ball_left_px.x < 0.5 * 0.11 * rig.calibration().p1(0, 0)) break;
+  }
+  EXPECT_TRUE(g.ball_visible_left);
+  EXPECT_FALSE(g.ball_fully_visible_left);
+  // A box hiding part of the ball (not its centre): visible, not fully
+  ball.position_m = {2.0, 0.0, 0.11};
+  const std::vector<SolidBox> half{{{1.0, 0.06, 0.0}, {1.1, 0.5, 0.5}, {}}};
+  g = make_ground_truth(rig, RobotState{}, ball, 0, 0, half);
+  EXPECT_TRUE(g.ball_visible_left);
+  EXPECT_FALSE(g.ball_fully_visible_left);
+}
+
+}  // namespace
+}  // namespace stereoball::simulator

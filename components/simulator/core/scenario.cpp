@@ -97,6 +97,16 @@ std::optional<std::string> check_clutter(const Scenario& s) {
     if (auto e = check_rgb(n + ".color", p.color)) return e;
     if (auto e = check_rgb(n + ".rim_color", p.rim_color)) return e;
   }
+  for (size_t i = 0; i < s.spheres.size(); ++i) {
+    const SphereSpec& p = s.spheres[i];
+    const std::string n = idx("spheres", i);
+    if (auto e = check(n + ".radius_m", p.radius_m, 0.01, 2)) return e;
+    if (!inside_room(s.room, p.center_m.x, p.center_m.y, p.radius_m))
+      return n + ".center_m is not inside the room";
+    if (auto e = check(n + ".center_m.z", p.center_m.z, p.radius_m, s.room.height_m - p.radius_m))
+      return e;
+    if (auto e = check_rgb(n + ".color", p.color)) return e;
+  }
   return std::nullopt;
 }
 
@@ -142,6 +152,9 @@ std::optional<std::string> Scenario::validate() const {
   if (auto e = check_room(room)) return e;
   if (!inside_room(room, robot_x_m, robot_y_m, 0.0)) return "robot.x_m/y_m is not inside the room";
   if (auto e = check("robot.yaw_rad", robot_yaw_rad, -10, 10)) return e;
+  if (robot_max_angular_radps) {
+    if (auto e = check("robot.max_angular_radps", *robot_max_angular_radps, 0.01, 20)) return e;
+  }
   if (ball) {
     if (auto e = check_ball(*this)) return e;
   }

@@ -15,6 +15,13 @@ struct Rgb {
   double r = 0.0, g = 0.0, b = 0.0;
 };
 
+/// Floor texture (RoomSpec::plain overrides it with floor_a only).
+enum class FloorPattern {
+  kTiles,   ///< square tiles of tile_m, floor_a / floor_b checkered, grout lines
+  kPlanks,  ///< wooden planks tile_m / 4 wide along x, staggered ends, per-plank shade
+  kCarpet   ///< fine noise around floor_a (1 cm cells), floor_b mixed in
+};
+
 /// Axis-aligned room: floor z = 0, ceiling z = height_m, four walls.
 struct RoomSpec {
   double x_min_m = -2.0, x_max_m = 6.0;  ///< wall positions along x, metres
@@ -27,6 +34,7 @@ struct RoomSpec {
   Rgb baseboard{90, 80, 75};   ///< 10 cm strip at the bottom of every wall
   Rgb ceiling{215, 215, 215};  ///< ceiling colour
   bool plain = false;          ///< untextured floor (floor_a only) and no baseboard
+  FloorPattern floor_pattern = FloorPattern::kTiles;
 };
 
 /// A box standing on the floor, axis-aligned.
@@ -59,6 +67,21 @@ struct PlateSpec {
   Rgb rim_color{250, 250, 250};
 };
 
+/// A static one-colour sphere (a distractor: another ball, a round thing on a box).
+struct SphereSpec {
+  Vec3d center_m{2.0, 0.5, 0.1};  ///< world metres (on the floor: z = radius)
+  double radius_m = 0.1;
+  Rgb color{40, 90, 200};
+};
+
+/// How the ball's two colours are laid out on it.
+enum class BallPattern {
+  kFootball,  ///< color_b patches around the 12 icosahedron vertices
+  kSolid,     ///< color_a only
+  kPanels,    ///< six longitudinal panels, alternating color_a / color_b (a beach ball)
+  kStripes    ///< latitude bands, alternating color_a / color_b
+};
+
 /// The ball at scenario start.
 struct BallSpec {
   double x_m = 1.5, y_m = 0.0;        ///< on the floor, metres
@@ -66,6 +89,7 @@ struct BallSpec {
   double radius_m = 0.11;
   Rgb color_a{230, 110, 20};   ///< main colour
   Rgb color_b{245, 245, 245};  ///< patch colour
+  BallPattern pattern = BallPattern::kFootball;
 };
 
 /// Sets the ball velocity at a time (a kick).
@@ -96,10 +120,13 @@ struct Scenario {
   double duration_s = 10.0;
   RoomSpec room;
   double robot_x_m = 0.0, robot_y_m = 0.0, robot_yaw_rad = 0.0;  ///< start pose
+  /// A slower base than the simulator params' robot.max_angular_radps (never faster), rad/s.
+  std::optional<double> robot_max_angular_radps;
   std::optional<BallSpec> ball;
   std::vector<BoxSpec> boxes;
   std::vector<DoorFrameSpec> door_frames;
   std::vector<PlateSpec> plates;
+  std::vector<SphereSpec> spheres;
   std::vector<KickSpec> kicks;
   double sun_azimuth_rad = 2.4;    ///< direction the light comes from, CCW from +x (behind-left)
   double sun_elevation_rad = 1.0;  ///< above the horizon, radians

@@ -1,14 +1,26 @@
 #include "simulator/core/simulator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace stereoball::simulator {
+namespace {
+
+// The scenario may stand for a slower base than the configured one (never a faster one).
+SimParams with_scenario_base(SimParams params, const Scenario& scenario) {
+  if (scenario.robot_max_angular_radps)
+    params.robot.max_angular_radps =
+        std::min(params.robot.max_angular_radps, *scenario.robot_max_angular_radps);
+  return params;
+}
+
+}  // namespace
 
 Simulator::Simulator(const SimParams& params, const Scenario& scenario)
     : params_(params),
       scenario_(scenario),
       rig_(params),
-      world_(params, scenario_),
+      world_(with_scenario_base(params, scenario), scenario_),
       renderer_(rig_, scenario_, params.left.gain, params.right.gain),
       sensor_(params.sensor.noise_sigma_dn, scenario.seed),
       occluders_(solid_boxes(scenario)) {}

@@ -88,6 +88,24 @@ class MapReader {
 
 using Err = std::optional<std::string>;
 
+// An optional key naming one of choices; out keeps its value when the key is absent.
+template <typename E>
+void opt_choice(MapReader& m, const std::string& k, E& out,
+                const std::vector<std::pair<std::string, E>>& choices) {
+  if (!m.child(k).IsDefined()) return;
+  std::string name;
+  m.opt(k, name);
+  std::string expected;
+  for (const auto& [text, value] : choices) {
+    if (text == name) {
+      out = value;
+      return;
+    }
+    expected += (expected.empty() ? "" : ", ") + text;
+  }
+  m.fail_key(m.key(k), "expected one of " + expected);
+}
+
 void read_room(MapReader& top, RoomSpec& r, Err& err) {
   const YAML::Node n = top.child("room");
   if (!n.IsDefined()) return;
@@ -106,6 +124,10 @@ void read_room(MapReader& top, RoomSpec& r, Err& err) {
   m.opt("baseboard", r.baseboard);
   m.opt("ceiling", r.ceiling);
   m.opt("plain", r.plain);
+  opt_choice(m, "floor_pattern", r.floor_pattern,
+             {{"tiles", FloorPattern::kTiles},
+              {"planks", FloorPattern::kPlanks},
+              {"carpet", FloorPattern::kCarpet}});
   m.finish();
 }
 
@@ -116,6 +138,11 @@ void read_robot(MapReader& top, Scenario& s, Err& err) {
   m.opt("x_m", s.robot_x_m);
   m.opt("y_m", s.robot_y_m);
   m.opt("yaw_rad", s.robot_yaw_rad);
+  if (m.child("max_angular_radps").IsDefined()) {
+    double max_angular = 0.0;
+    m.opt("max_angular_radps", max_angular);
+    s.robot_max_angular_radps = max_angular;
+  }
   m.finish();
 }
 
@@ -131,6 +158,11 @@ void read_ball(MapReader& top, Scenario& s, Err& err) {
   m.opt("radius_m", b.radius_m);
   m.opt("color_a", b.color_a);
   m.opt("color_b", b.color_b);
+  opt_choice(m, "pattern", b.pattern,
+             {{"football", BallPattern::kFootball},
+              {"solid", BallPattern::kSolid},
+              {"panels", BallPattern::kPanels},
+              {"stripes", BallPattern::kStripes}});
   m.finish();
   s.ball = b;
 }
@@ -193,6 +225,11 @@ void read_lists(MapReader& top, Scenario& s, Err& err) {
     m.opt("rim_m", p.rim_m);
     m.opt("color", p.color);
     m.opt("rim_color", p.rim_color);
+  });
+  read_list(top, "spheres", s.spheres, err, [](MapReader& m, SphereSpec& p) {
+    m.opt("center_m", p.center_m);
+    m.opt("radius_m", p.radius_m);
+    m.opt("color", p.color);
   });
   read_list(top, "kicks", s.kicks, err, [](MapReader& m, KickSpec& k) {
     m.opt("t_s", k.t_s);

@@ -80,8 +80,28 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"name: t\ndoor_frames:\n  - {along: z}\n", "door_frames[0].along"},
         BadCase{"name: t\nlighting:\n  - {t_s: 2}\n  - {t_s: 1}\n", "lighting[1].t_s"},
         BadCase{"name: t\nkicks:\n  - {t_s: 1}\n", "kicks"},
+        BadCase{"name: t\nball: {pattern: dots}\n", "ball.pattern"},
+        BadCase{"name: t\nroom: {floor_pattern: marble}\n", "room.floor_pattern"},
+        BadCase{"name: t\nrobot: {max_angular_radps: 0}\n", "robot.max_angular_radps"},
+        BadCase{"name: t\nspheres:\n  - {center_m: [2, 0, 0.01], radius_m: 0.1}\n",
+                "spheres[0].center_m.z"},
         BadCase{"name: t\nseed: -3\n", "'seed'"}, BadCase{"name: [t\n", "not valid YAML"},
         BadCase{"- 1\n- 2\n", "expected a mapping"}));
+
+TEST(ScenarioFile, RandomisedWorldKeysAreRead) {
+  const auto s = parse_scenario(
+      "name: t\nroom: {floor_pattern: planks}\nrobot: {max_angular_radps: 0.4}\n"
+      "ball: {pattern: stripes}\nspheres:\n  - {center_m: [2, 1, 0.1], radius_m: 0.1, color: [1, "
+      "2, 3]}\n",
+      "ok.yaml");
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_EQ(s->room.floor_pattern, FloorPattern::kPlanks);
+  EXPECT_EQ(s->ball->pattern, BallPattern::kStripes);
+  ASSERT_TRUE(s->robot_max_angular_radps.has_value());
+  EXPECT_DOUBLE_EQ(*s->robot_max_angular_radps, 0.4);
+  ASSERT_EQ(s->spheres.size(), 1u);
+  EXPECT_DOUBLE_EQ(s->spheres[0].color.b, 3.0);
+}
 
 TEST(ScenarioFile, MissingFileIsAClearError) {
   // Given a name with no file

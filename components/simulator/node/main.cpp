@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
       "and stereo/calibration (latched: the rig's true calibration, or --calibration FILE);\n"
       "drives the base from cmd/velocity (stale commands stop it)."};
   sb::node::CommonOptions common;
-  sb::node::add_common_flags(app, common, sb::node::default_config_path("simulator.yaml"));
+  sb::node::add_common_flags(app, common, "simulator.yaml");
   std::string scenario_name = "ball_rolling_away";
   std::string scenarios_dir = sb::node::default_config_path("scenarios");
   std::string calibration_path;

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
       "statistics of the last five 3D positions, and publishes ball/track (state idle /\n"
       "following / searching, accepted position and velocity, last-seen side, verdict)."};
   sb::node::CommonOptions common;
-  sb::node::add_common_flags(app, common, sb::node::default_config_path("tracker.yaml"));
+  sb::node::add_common_flags(app, common, "tracker.yaml");
   CLI11_PARSE(app, argc, argv);
 
   auto params = sb::tracker::load_tracker_params(common.config_path);
