@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <sys/wait.h>
 
@@ -95,6 +96,61 @@ TEST_F(CalibrateToolTest, GivenGlobsWithABoardlessPairWhenCalibratedThenPairSkip
       << r.out;
   EXPECT_NE(r.out.find("pairs used:                 8"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(dir_ / "c.yaml"));
+}
+
+// Links the 13 sample pairs into dir as left/rightNN.jpg.
+void link_samples(const fs::path& dir) {
+  for (int i : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14}) {
+    std::string n = std::to_string(i);
+    if (i < 10) n.insert(0, 1, '0');
+    n.append(".jpg");
+    fs::create_symlink(kData + "/left" + n, dir / ("left" + n));
+    fs::create_symlink(kData + "/right" + n, dir / ("right" + n));
+  }
+}
+
+TEST_F(CalibrateToolTest, GivenRightViewsTakenAfterTheBoardMovedWhenCalibratedThenThoseDropped) {
+  // Given the sample pairs where two right shots show the board 3 px lower (an unsynchronised
+  // rig: the board moved between the left and the right shot)
+  link_samples(dir_);
+  for (const char* id : {"04", "11"}) {
+    const fs::path right = dir_ / ("right" + std::string(id) + ".jpg");
+    const cv::Mat image = cv::imread(right.string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(image.empty());
+    cv::Mat moved;
+    cv::warpAffine(image, moved, cv::Matx23d(1, 0, 0, 0, 1, 3), image.size(), cv::INTER_LINEAR,
+                   cv::BORDER_REPLICATE);
+    fs::remove(right);
+    ASSERT_TRUE(cv::imwrite((dir_ / ("right" + std::string(id) + ".png")).string(), moved));
+  }
+  // When calibrated
+  const ToolRun r = run("--left-glob '" + (dir_ / "left*").string() + "' --right-glob '" +
+                        (dir_ / "right*").string() + "' -o " + (dir_ / "c.yaml").string());
+  // Then both are dropped with the reason, the rest is used, and the figures before and after
+  // are printed
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("dropped 2 inconsistent pair(s)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("drop left04.jpg + right04.png: stereo error"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("drop left11.jpg + right11.png: stereo error"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("with every pair:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("pairs used:                 11"), std::string::npos) << r.out;
+  const auto calib = stereoball::stereo::load_calibration((dir_ / "c.yaml").string());
+  ASSERT_TRUE(calib.ok()) << calib.error();
+  EXPECT_LT(calib->rms_px, 0.3);
+}
+
+TEST_F(CalibrateToolTest, GivenSwappedCamerasWhenCalibratedThenFailsSayingHowToFix) {
+  // Given the sample pairs with the left and right globs exchanged
+  link_samples(dir_);
+  // When calibrated
+  const ToolRun r = run("--left-glob '" + (dir_ / "right*").string() + "' --right-glob '" +
+                        (dir_ / "left*").string() + "' -o " + (dir_ / "c.yaml").string());
+  // Then it fails with one line naming the negative baseline and the fix, and writes nothing
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("negative baseline"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("swap --left-glob and --right-glob"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  EXPECT_FALSE(fs::exists(dir_ / "c.yaml"));
 }
 
 TEST_F(CalibrateToolTest, GivenTooFewBoardsWhenCalibratedThenOneLineErrorAndNoFile) {

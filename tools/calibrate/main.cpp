@@ -34,6 +34,8 @@ struct Options {
   double square_mm = 25.0;
   int min_pairs = 6;
   double alpha = 0.0;
+  double outlier_ratio = 3.0;
+  double outlier_min_px = 0.3;
   int subpix_window_px = 11;
   std::string output;
   std::string save_rectified_dir;
@@ -121,12 +123,24 @@ std::vector<PairCorners> detect_all(const PairList& pairs, const BoardCalibratio
 
 void print_report(const BoardCalibrationResult& r, double square_mm) {
   const auto& c = r.calibration;
+  if (!r.dropped.empty()) {
+    std::printf("dropped %zu inconsistent pair(s) (each against the calibration of the rest):\n",
+                r.dropped.size());
+    for (const auto& d : r.dropped)
+      std::printf("  drop %s: %s\n", d.name.c_str(), d.reason.c_str());
+    std::printf(
+        "with every pair:            RMS %.4f px, rectified row error mean %.4f px, "
+        "max %.4f px\n",
+        r.all_pairs_rms_px, r.all_pairs_mean_row_error_px, r.all_pairs_max_row_error_px);
+  } else {
+    std::printf("dropped pairs:              none (every pair agrees with the rest)\n");
+  }
   std::printf("pairs used:                 %zu\n", r.pair_names.size());
   std::printf("RMS reprojection error:     %.4f px (stereo), left %.4f px, right %.4f px\n",
               c.rms_px, r.left_rms_px, r.right_rms_px);
   std::printf(
       "rectified row error:        mean %.4f px, max %.4f px (|y_left - y_right| of "
-      "matched corners)\n",
+      "matched corners of the pairs used)\n",
       r.mean_rectified_row_error_px, r.max_rectified_row_error_px);
   std::printf("rectified focal length:     %.2f px\n", stereoball::stereo::focal_px(c));
   std::printf("baseline:                   %.4f m (square size %.3g mm)\n",
@@ -169,6 +183,8 @@ int run(const Options& o) {
   params.min_pairs = o.min_pairs;
   params.subpix_window_px = o.subpix_window_px;
   params.rectify.alpha = o.alpha;
+  params.outlier_ratio = o.outlier_ratio;
+  params.outlier_min_px = o.outlier_min_px;
   if (auto error = params.validate()) return fail(*error);
   const auto pairs = collect_pairs(o);
   if (!pairs) return fail(pairs.error());
@@ -184,6 +200,14 @@ int run(const Options& o) {
   const auto result = stereoball::stereo::calibrate_stereo(corners, *size, params);
   if (!result) return fail(result.error());
   print_report(result.value(), o.square_mm);
+  if (auto swapped = stereoball::stereo::check_camera_order(result->calibration)) {
+    return fail(*swapped + ": swap " +
+                (o.pairs_list.empty()
+                     ? std::string("--left-glob and --right-glob")
+                     : std::string("the left and right file of each pair in ") + o.pairs_list) +
+                " (and the cameras' left/right devices if the images came from camera_server) and "
+                "calibrate again; nothing written");
+  }
   stereoball::stereo::CalibrationFileInfo info;
   info.mean_rectified_row_error_px = result->mean_rectified_row_error_px;
   info.square_size_m = params.square_m;
@@ -230,6 +254,14 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--alpha", o.alpha,
                  "rectification zoom: 0 keeps only valid pixels, 1 keeps all source pixels")
+      ->capture_default_str();
+  app.add_option("--outlier-ratio", o.outlier_ratio,
+                 "drop a pair whose stereo error against the calibration of the other pairs is "
+                 "above this many times their median (and above --outlier-min-px): unsynchronised "
+                 "cameras let the board move between the two shots; 0 keeps every pair")
+      ->capture_default_str();
+  app.add_option("--outlier-min-px", o.outlier_min_px,
+                 "a pair is never dropped for an error below this, pixels")
       ->capture_default_str();
   app.add_option("--subpix-window", o.subpix_window_px, "cornerSubPix window size, pixels")
       ->capture_default_str();

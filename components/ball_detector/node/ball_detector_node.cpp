@@ -50,6 +50,7 @@ void BallDetectorNode::apply_calibration(const CalibrationFrom& calibration) {
     return reject_calibration(calibration.source, *problem);
   gate_.applied(calibration.calib.image_size);
   pending_calibration_.reset();
+  eye_order_.reset();
   const cv::Size s = pipeline_.image_size();
   log::info("calibration from '", calibration.source, "': ", s.width, "x", s.height, " px, rms ",
             calibration.calib.rms_px, " px; rectification tables built");
@@ -118,6 +119,7 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
       det.status = DetectionStatus::kBadFrame;
       det.reason = *e;
     } else {
+      check_eye_order(left, right, frame.rectified);
       det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns), frame.stamp_ns);
     }
   }
@@ -125,6 +127,15 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
   if (det.status == DetectionStatus::kFound) ++found_;
   report_problem(det, frame.seq, node::now_ns());
   publish(det, frame, start_ns);
+}
+
+void BallDetectorNode::check_eye_order(const cv::Mat& left, const cv::Mat& right, bool rectified) {
+  const auto evidence = eye_order_.step(*pipeline_.rectifier(), left, right, rectified);
+  if (!evidence) return;
+  if (auto text = stereo::describe_swapped_eyes(*evidence, kHowToSwapCameras)) {
+    log::error(*text);
+    runner_.health().error("eyes_swapped", *text);
+  }
 }
 
 std::optional<PositionPrior> BallDetectorNode::prior_for(std::int64_t frame_stamp_ns) {

@@ -13,6 +13,7 @@
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
 #include "common/util/log.hpp"
+#include "stereo/core/eye_order.hpp"
 
 namespace stereoball::ball_detector {
 
@@ -35,6 +36,7 @@ class BallDetectorNode {
   void check_input(std::int64_t now_ns);
   void on_frames();
   void process(const stereoball_msg_StereoFrame& frame);
+  void check_eye_order(const cv::Mat& left, const cv::Mat& right, bool rectified);
   std::optional<PositionPrior> prior_for(std::int64_t frame_stamp_ns);
   void count_skipped(std::uint64_t seq, std::uint64_t batch_skipped);
   void report_problem(const StereoDetection& det, std::uint64_t seq, std::int64_t now_ns);
@@ -45,6 +47,9 @@ class BallDetectorNode {
   StereoPipeline pipeline_;
   CalibrationGate gate_;
   std::optional<CalibrationFrom> pending_calibration_;  // held back until frames fit it
+  // First frames of each calibration: are the cameras swapped? (3 looks, 30 frames apart: each
+  // costs a few hundred ms on a loaded machine, so not every 100 frames as camera_server does)
+  stereo::EyeOrderWatch eye_order_{3, 30};
   FrameDecoder decoder_;
   dds::DataReader<stereoball_msg_StereoFrame> frames_;
   dds::DataReader<stereoball_msg_StereoCalibration> calibration_;

@@ -143,6 +143,8 @@ StereoPipeline::StereoPipeline(const BallDetectorParams& params)
 
 std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
   if (auto e = stereo::validate_calibration(calib)) return e;
+  if (auto swapped = stereo::check_camera_order(calib))
+    return *swapped + "; " + kHowToSwapCameras + " and calibrate again";
   auto rectifier = stereo::Rectifier::create(calib);
   if (!rectifier) return rectifier.error();
   auto triangulator = stereo::Triangulator::create(calib);
@@ -243,7 +245,25 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   const bool periodic_full = window_usable && frames_since_full_search_ >= kFullSearchEveryFrames;
   if (window_usable && !periodic_full)
     pairing = search_near_prior(ctx, left_channel, right_channel, rectified, *prior);
-  if (!pairing) pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior);
+  bool whole_frame = false;
+  if (!pairing) {
+    pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior);
+    whole_frame = true;
+  }
+  // Nothing paired over the whole frame: the left eye again radius band by radius band, each
+  // circle's right box with its own radii (kBandSearchEveryFrames: costly, so not every frame).
+  if (pairing->status == PairingStatus::kFound) frames_without_pair_ = 0;
+  if (whole_frame && pairing->status != PairingStatus::kFound &&
+      frames_without_pair_++ % kBandSearchEveryFrames == 0) {
+    auto whole_left = left_candidates_, whole_right = right_candidates_;
+    PairingResult banded = search_radius_bands(ctx, right_channel, rectified, prior);
+    if (banded.status == PairingStatus::kFound) {
+      pairing = std::move(banded);
+    } else {  // the report stays the whole frame's
+      left_candidates_ = std::move(whole_left);
+      right_candidates_ = std::move(whole_right);
+    }
+  }
   // The periodic whole-frame search is there to find the ball elsewhere, not to lose it where
   // the track expects it: the window search is scored with the prior's radii and its relaxed
   // border rule, which the whole frame is not (a dim or cut ball can fail there alone).
@@ -329,6 +349,65 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
     right_edges_box_ = cv::Rect(cv::Point(0, 0), rect_right_.size());
   }
   return pair_with_predicted_partners(ctx, prior);
+}
+
+std::vector<Circle> StereoPipeline::detect_in_bands(PixelToPixelDetector& detector,
+                                                    const cv::Mat& image,
+                                                    const EdgeThresholds& thresholds) const {
+  std::vector<Circle> found;
+  // Up to a third of the image height: an outline larger than that is the largest structure in
+  // view and wins the whole-range accumulator already, while in a band of its own clutter
+  // scatters enough edge points along a 200 px circle to pass min_score (phantom pairs).
+  const double top = std::min(params_.p2p.max_radius_px, image.rows / 3.0);
+  for (double low = params_.p2p.min_radius_px; low < top; low *= kRadiusBandRatio) {
+    // Bands overlap by 10 %: a circle on a boundary is whole in one of them.
+    const SearchHints hints{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}};
+    for (const Circle& c : detector.detect(image, thresholds, hints)) found.push_back(c);
+  }
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  // Neighbouring bands find the same circle: keep the best of each place and size.
+  std::vector<Circle> kept;
+  for (const Circle& c : found) {
+    const bool seen = std::any_of(kept.begin(), kept.end(), [&](const Circle& k) {
+      return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) < params_.p2p.min_separation_px &&
+             std::abs(k.radius_px - c.radius_px) < 0.2 * std::max(k.radius_px, c.radius_px);
+    });
+    if (!seen) kept.push_back(c);
+  }
+  return kept;
+}
+
+PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
+                                                  const cv::Mat& right_channel, bool rectified,
+                                                  const std::optional<PositionPrior>& prior) {
+  // rect_left_ still holds the whole rectified left eye of search_whole_frame.
+  const EdgeThresholds thresholds = *left_thresholds_;
+  left_candidates_ = detect_in_bands(left_detector_, rect_left_, thresholds);
+  // Each left circle's partner box with only the radii its partner can have: one box searched
+  // for the union of every candidate's radii is crowded out by clutter just like the left eye.
+  const cv::Size size = rectifier_->calibration().image_size;
+  rect_right_.create(size, right_channel.type());
+  rect_right_.setTo(0);
+  right_candidates_.clear();
+  for (const Circle& left : left_candidates_) {
+    const cv::Rect box = partner_search_box(ctx, left, size, window_margin_px());
+    if (box.width < 8 || box.height < 8) continue;
+    if (rectified) {
+      right_channel(box).copyTo(rect_right_(box));
+    } else {
+      rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, box, rect_right_);
+    }
+    right_edges_box_ = box;
+    const SearchHints hints{partner_radius_range(ctx, {left})};
+    for (Circle c : right_detector_.detect(rect_right_(box), thresholds, hints)) {
+      c.x_px += box.x;
+      c.y_px += box.y;
+      right_candidates_.push_back(c);
+    }
+  }
+  PairingResult pairing = pair_with_predicted_partners(ctx, prior);
+  return pairing;
 }
 
 PairingResult StereoPipeline::pair_with_predicted_partners(

@@ -33,6 +33,11 @@ void value(const cv::Mat& bgr, cv::Mat& out);
 std::optional<FloorModel> floor_model(const BallDetectorParams& params,
                                       const stereo::StereoCalibration& calib);
 
+/// What a user does about cameras in the wrong order (they are swapped at the source).
+inline constexpr const char* kHowToSwapCameras =
+    "swap the cameras at the source (camera_server: left_device and right_device, file source: "
+    "left_glob and right_glob)";
+
 /// Outcome of one stereo frame (mirrors the ball/detection statuses).
 enum class DetectionStatus {
   kFound,
@@ -50,6 +55,17 @@ const char* to_string(DetectionStatus status);
 /// With a prior, the whole frame is still searched at least this often (fresh edge thresholds,
 /// and a look at the rest of the scene), frames.
 constexpr int kFullSearchEveryFrames = 15;
+
+/// When the whole-frame search pairs nothing, each eye is searched again in radius bands this
+/// ratio wide (largest / smallest radius), each band with its own accumulator peaks: in real
+/// clutter (chessboard squares, knuckles, hair) small structures fill every examined peak of
+/// the one whole-range accumulator and a large ball outline is never scored.
+constexpr double kRadiusBandRatio = 2.5;
+/// The band search costs about 45 ms of CPU on a 640x480 frame; frames after frames without a
+/// pair get it on the first of them and then every this many (at 30 Hz a ball coming into
+/// view is looked for band by band within 0.17 s; in the simulator's no_ball scene every frame
+/// would cost 52 ms instead of 5-8).
+constexpr int kBandSearchEveryFrames = 5;
 
 /// Side of the colour block around the left centre, pixels (paper: 21x21, k = 10).
 constexpr int kPatchSide = 21;
@@ -88,6 +104,8 @@ class StereoPipeline {
   std::optional<std::string> set_calibration(const stereo::StereoCalibration& calib);
   /// Whether a calibration has been set.
   bool has_calibration() const { return rectifier_.has_value(); }
+  /// The calibration's rectifier, nullopt without calibration.
+  const std::optional<stereo::Rectifier>& rectifier() const { return rectifier_; }
   /// Image size frames must have, or 0x0 without calibration.
   cv::Size image_size() const;
 
@@ -123,6 +141,10 @@ class StereoPipeline {
   PairingResult search_whole_frame(const PairingContext& ctx, const cv::Mat& left_channel,
                                    const cv::Mat& right_channel, bool rectified,
                                    const std::optional<PositionPrior>& prior);
+  PairingResult search_radius_bands(const PairingContext& ctx, const cv::Mat& right_channel,
+                                    bool rectified, const std::optional<PositionPrior>& prior);
+  std::vector<Circle> detect_in_bands(PixelToPixelDetector& detector, const cv::Mat& image,
+                                      const EdgeThresholds& thresholds) const;
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified, bool near_prior);
@@ -159,6 +181,7 @@ class StereoPipeline {
   std::vector<cv::Point2d> colour_rect_px_, colour_raw_px_;
   std::vector<cv::Vec3b> colour_px_;
   int frames_since_full_search_ = 0;
+  int frames_without_pair_ = 0;  // consecutive whole-frame searches that paired nothing
 };
 
 }  // namespace stereoball::ball_detector

@@ -66,6 +66,21 @@ TEST(StereoPipeline, GivenInvalidCalibration_ThenRejectedAndStillUncalibrated) {
   EXPECT_FALSE(pipeline.has_calibration());
 }
 
+TEST(StereoPipeline, GivenCalibrationOfSwappedCameras_ThenRejectedSayingHowToFix) {
+  // Given a working calibration and the same rig with its cameras exchanged
+  const Rendered r = render(plain_scene(1.5, 0.0));
+  StereoPipeline pipeline({});
+  ASSERT_EQ(pipeline.set_calibration(r.calib), std::nullopt);
+  // When the swapped one arrives, Then it is rejected with the reason and the fix, and the
+  // previous calibration stays in use
+  const auto problem = pipeline.set_calibration(sb::stereo::swapped_cameras(r.calib));
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_NE(problem->find("negative baseline"), std::string::npos) << *problem;
+  EXPECT_NE(problem->find("left_device and right_device"), std::string::npos) << *problem;
+  EXPECT_GT(pipeline.rectifier()->calibration().p2(0, 3) * r.calib.p2(0, 3), 0.0);
+  EXPECT_EQ(pipeline.step(r.frame.left, r.frame.right, false).status, DetectionStatus::kFound);
+}
+
 TEST(StereoPipeline, GivenWrongSizeOrType_ThenBadFrameNamingTheProblem) {
   const Rendered r = render(plain_scene(1.5, 0.0));
   StereoPipeline pipeline({});

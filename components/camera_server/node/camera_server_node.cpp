@@ -3,11 +3,17 @@
 #include "camera_server/io/v4l2_device.hpp"
 #include "camera_server/node/frame_message.hpp"
 #include "common/util/log.hpp"
+#include "stereo/core/eye_order.hpp"
 #include "stereo/io/calibration_file.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
 namespace stereoball::camera_server {
 namespace {
+
+// The fix for cameras in the wrong order, in this node's terms.
+constexpr const char* kHowToSwap =
+    "swap left_device and right_device in the camera_server config (file source: left_glob and "
+    "right_glob)";
 
 std::string size_text(cv::Size s) {
   return std::to_string(s.width) + "x" + std::to_string(s.height);
@@ -75,12 +81,15 @@ std::optional<std::string> CameraServerNode::open_calibration(cv::Size capture_s
            " images but the capture size is " + size_text(capture_size) +
            "; recalibrate at this size or change width_px/height_px";
   }
-  calibration_.emplace(std::move(calib).value());
-  if (params_.rectify) {
-    auto r = stereo::Rectifier::create(*calibration_);
-    if (!r) return params_.calibration_file + ": " + r.error();
-    rectifier_.emplace(std::move(r).value());
+  if (auto swapped = stereo::check_camera_order(*calib)) {
+    return "calibration " + params_.calibration_file + ": " + *swapped + "; " + kHowToSwap +
+           " and calibrate again (stereoball calibrate)";
   }
+  calibration_.emplace(std::move(calib).value());
+  // Also without `rectify`: the eye-order check of the first frames rectifies them.
+  auto r = stereo::Rectifier::create(*calibration_);
+  if (!r) return params_.calibration_file + ": " + r.error();
+  rectifier_.emplace(std::move(r).value());
   return std::nullopt;
 }
 
@@ -169,7 +178,7 @@ void CameraServerNode::update_capture_health() {
 // nullptr when rectification failed (counted in health).
 const FrameView* CameraServerNode::rectify(const FrameView& view, FrameView& storage) {
   const cv::Mat l = image_of(view.left, view.encoding), r = image_of(view.right, view.encoding);
-  if (!rectifier_ || l.empty()) return &view;
+  if (!params_.rectify || !rectifier_ || l.empty()) return &view;
   if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1])) {
     runner_.health().error("rectify", *e);
     return nullptr;
@@ -199,7 +208,19 @@ const FrameView* CameraServerNode::compress(const FrameView& view, FrameView& st
   return &storage;
 }
 
+void CameraServerNode::check_eye_order(const FrameView& view) {
+  if (!rectifier_) return;
+  const auto evidence = eye_order_.step(*rectifier_, image_of(view.left, view.encoding),
+                                        image_of(view.right, view.encoding), false);
+  if (!evidence) return;
+  if (auto text = stereo::describe_swapped_eyes(*evidence, std::string(kHowToSwap))) {
+    log::error(*text);
+    runner_.health().error("eyes_swapped", *text);
+  }
+}
+
 void CameraServerNode::publish(const FrameView& view) {
+  check_eye_order(view);
   FrameView rectified, compressed;
   const FrameView* out = rectify(view, rectified);
   if (out != nullptr) out = compress(*out, compressed);

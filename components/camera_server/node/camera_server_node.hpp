@@ -15,6 +15,7 @@
 #include "camera_server/io/stereo_capture.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
+#include "stereo/core/eye_order.hpp"
 #include "stereo/core/rectifier.hpp"
 
 namespace stereoball::camera_server {
@@ -38,6 +39,7 @@ class CameraServerNode {
   void publish_file_pair(int64_t now_ns);
   void capture_loop();
   void publish(const FrameView& view);
+  void check_eye_order(const FrameView& view);
   const FrameView* rectify(const FrameView& view, FrameView& storage);
   const FrameView* compress(const FrameView& view, FrameView& storage);
   void update_capture_health();
@@ -51,7 +53,8 @@ class CameraServerNode {
   std::unique_ptr<StereoCapture> capture_;
   FrameBuilder builder_;
   std::optional<stereo::StereoCalibration> calibration_;
-  std::optional<stereo::Rectifier> rectifier_;
+  std::optional<stereo::Rectifier> rectifier_;  // with a calibration (rectify, eye order)
+  stereo::EyeOrderWatch eye_order_;             // first frames: are the cameras swapped?
   cv::Mat rectified_[2];
   std::optional<FrameCompressor> compressor_;  // frame_encoding jpeg/png
   uint64_t file_seq_ = 0;

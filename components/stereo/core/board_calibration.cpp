@@ -1,5 +1,6 @@
 #include "stereo/core/board_calibration.hpp"
 
+#include "stereo/core/pair_error.hpp"
 #include "stereo/core/rectifier.hpp"
 
 #include <opencv2/calib3d.hpp>
@@ -7,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace stereoball::stereo {
 namespace {
@@ -44,6 +46,13 @@ std::optional<std::string> BoardCalibrationParams::validate() const {
   }
   if (min_pairs < 3 || min_pairs > 1000) {
     return "min_pairs: must be in [3, 1000], got " + std::to_string(min_pairs);
+  }
+  if (!std::isfinite(outlier_ratio) || outlier_ratio < 0.0 || outlier_ratio > 100.0) {
+    return "outlier_ratio: must be 0 (keep every pair) or in (0, 100], got " +
+           std::to_string(outlier_ratio);
+  }
+  if (!std::isfinite(outlier_min_px) || outlier_min_px < 0.0 || outlier_min_px > 100.0) {
+    return "outlier_min_px: must be in [0, 100] pixels, got " + std::to_string(outlier_min_px);
   }
   if (subpix_window_px < 3 || subpix_window_px > 51) {
     return "subpix_window_px: must be in [3, 51], got " + std::to_string(subpix_window_px);
@@ -104,28 +113,18 @@ std::pair<double, double> rectified_row_error_px(const StereoCalibration& calib,
   return {n ? sum / static_cast<double>(n) : 0.0, max};
 }
 
-Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& pairs,
-                                                cv::Size image_size,
-                                                const BoardCalibrationParams& params) {
-  if (auto error = params.validate()) return Error{*error};
-  if (image_size.width <= 0 || image_size.height <= 0) return Error{"image_size: must be > 0"};
-  const std::size_t expected = static_cast<std::size_t>(params.inner_corners.area());
-  std::vector<std::vector<cv::Point3f>> object;
+namespace {
+
+// One calibration of exactly these pairs (no dropping); row errors not yet filled in.
+BoardCalibrationResult calibrate_pairs(const std::vector<PairCorners>& pairs, cv::Size image_size,
+                                       const BoardCalibrationParams& params) {
+  const std::vector<std::vector<cv::Point3f>> object(pairs.size(), board_points_m(params));
   std::vector<std::vector<cv::Point2f>> left, right;
   BoardCalibrationResult out;
   for (const PairCorners& p : pairs) {
-    if (p.left_px.size() != expected || p.right_px.size() != expected) {
-      return Error{"pair " + p.name + ": expected " + std::to_string(expected) +
-                   " corners per eye"};
-    }
-    object.push_back(board_points(params));
     left.push_back(p.left_px);
     right.push_back(p.right_px);
     out.pair_names.push_back(p.name);
-  }
-  if (static_cast<int>(pairs.size()) < params.min_pairs) {
-    return Error{"only " + std::to_string(pairs.size()) + " usable pairs, need at least " +
-                 std::to_string(params.min_pairs) + " (min_pairs)"};
   }
   // Each camera alone first: a well-conditioned start for the joint refinement.
   cv::Mat k1, d1, k2, d2, rvecs, tvecs;
@@ -150,9 +149,91 @@ Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& 
     const double el = per_view.at<double>(i, 0), er = per_view.at<double>(i, 1);
     c.per_pair_rms_px.push_back(std::sqrt(0.5 * (el * el + er * er)));
   }
-  if (auto error = validate_calibration(c)) return Error{"calibration result invalid: " + *error};
+  return out;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+std::string fixed2(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f", v);
+  return buf;
+}
+
+// Tries to drop the pair that fits the current calibration worst: it goes when the other
+// pairs, calibrated without it, cannot explain it either (error far above their own).
+std::optional<DroppedPair> drop_worst_pair(std::vector<PairCorners>& kept,
+                                           BoardCalibrationResult& current, cv::Size image_size,
+                                           const BoardCalibrationParams& params) {
+  const auto& errors = current.calibration.per_pair_rms_px;
+  const auto worst =
+      static_cast<std::size_t>(std::max_element(errors.begin(), errors.end()) - errors.begin());
+  std::vector<PairCorners> rest = kept;
+  rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(worst));
+  BoardCalibrationResult without = calibrate_pairs(rest, image_size, params);
+  const PairError e = stereo_pair_error(without.calibration, board_points_m(params),
+                                        kept[worst].left_px, kept[worst].right_px);
+  const double rest_median = median(without.calibration.per_pair_rms_px);
+  const double limit = std::max(params.outlier_ratio * rest_median, params.outlier_min_px);
+  if (!(e.rms_px > limit)) return std::nullopt;
+  DroppedPair d{kept[worst].name, e.rms_px, rest_median, e.mean_row_error_px, ""};
+  d.reason = "stereo error " + fixed2(e.rms_px) + " px against the other pairs' calibration (" +
+             "their median " + fixed2(rest_median) + " px, limit " + fixed2(limit) + " px; left " +
+             fixed2(e.left_rms_px) + " px, right " + fixed2(e.right_rms_px) +
+             " px, rectified row error " + fixed2(e.mean_row_error_px) +
+             " px): the board moved between the two shots or a corner is wrong";
+  kept = std::move(rest);
+  current = std::move(without);
+  return d;
+}
+
+}  // namespace
+
+std::vector<cv::Point3f> board_points_m(const BoardCalibrationParams& params) {
+  return board_points(params);
+}
+
+Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& pairs,
+                                                cv::Size image_size,
+                                                const BoardCalibrationParams& params) {
+  if (auto error = params.validate()) return Error{*error};
+  if (image_size.width <= 0 || image_size.height <= 0) return Error{"image_size: must be > 0"};
+  const std::size_t expected = static_cast<std::size_t>(params.inner_corners.area());
+  for (const PairCorners& p : pairs) {
+    if (p.left_px.size() != expected || p.right_px.size() != expected) {
+      return Error{"pair " + p.name + ": expected " + std::to_string(expected) +
+                   " corners per eye"};
+    }
+  }
+  if (static_cast<int>(pairs.size()) < params.min_pairs) {
+    return Error{"only " + std::to_string(pairs.size()) + " usable pairs, need at least " +
+                 std::to_string(params.min_pairs) + " (min_pairs)"};
+  }
+  BoardCalibrationResult out = calibrate_pairs(pairs, image_size, params);
+  if (auto error = validate_calibration(out.calibration))
+    return Error{"calibration result invalid: " + *error};
+  const double all_rms = out.calibration.rms_px;
+  const auto [all_mean_row, all_max_row] = rectified_row_error_px(out.calibration, pairs);
+  std::vector<PairCorners> kept = pairs;
+  std::vector<DroppedPair> dropped;
+  while (params.outlier_ratio > 0.0 && static_cast<int>(kept.size()) > params.min_pairs) {
+    auto d = drop_worst_pair(kept, out, image_size, params);
+    if (!d) break;
+    dropped.push_back(std::move(*d));
+  }
+  out.dropped = std::move(dropped);
+  out.all_pairs_rms_px = all_rms;
+  out.all_pairs_mean_row_error_px = all_mean_row;
+  out.all_pairs_max_row_error_px = all_max_row;
+  if (auto error = validate_calibration(out.calibration))
+    return Error{"calibration result invalid: " + *error};
   std::tie(out.mean_rectified_row_error_px, out.max_rectified_row_error_px) =
-      rectified_row_error_px(c, pairs);
+      rectified_row_error_px(out.calibration, kept);
   return out;
 }
 

@@ -21,6 +21,12 @@ struct BoardCalibrationParams {
   int min_pairs = 6;             ///< fewest usable pairs; fewer is an error
   int subpix_window_px = 11;     ///< half-size of the cornerSubPix search window is this / 2
   RectifyOptions rectify;        ///< how the rectified views are chosen
+  /// A pair is dropped as inconsistent (e.g. the board moved between an unsynchronised left
+  /// and right shot) when its stereo error against the calibration of the other pairs exceeds
+  /// both outlier_ratio times their median per-pair error and outlier_min_px; one pair at a
+  /// time, worst first, never below min_pairs. outlier_ratio = 0 keeps every pair.
+  double outlier_ratio = 3.0;
+  double outlier_min_px = 0.3;  ///< see outlier_ratio, pixels
   /// Validates ranges; names the bad field and its allowed range, nullopt if OK.
   std::optional<std::string> validate() const;
 };
@@ -32,6 +38,15 @@ struct PairCorners {
   std::vector<cv::Point2f> right_px;  ///< right corners
 };
 
+/// A pair left out of the calibration, and why.
+struct DroppedPair {
+  std::string name;           ///< PairCorners::name
+  double error_px = 0;        ///< its stereo RMS against the calibration of the pairs kept
+  double rest_median_px = 0;  ///< median per-pair RMS of the pairs kept, pixels
+  double row_error_px = 0;    ///< its mean rectified |y_l - y_r| under that calibration
+  std::string reason;         ///< one line for reports
+};
+
 /// Everything a calibration run produces.
 struct BoardCalibrationResult {
   StereoCalibration calibration;           ///< rms_px and per_pair_rms_px filled in
@@ -40,6 +55,10 @@ struct BoardCalibrationResult {
   double right_rms_px = 0;                 ///< right-only calibration RMS, pixels
   double mean_rectified_row_error_px = 0;  ///< mean |y_l - y_r| of matched corners, pixels
   double max_rectified_row_error_px = 0;   ///< largest |y_l - y_r| of matched corners, pixels
+  std::vector<DroppedPair> dropped;        ///< inconsistent pairs left out, in dropping order
+  double all_pairs_rms_px = 0;             ///< stereo RMS with every pair (before dropping)
+  double all_pairs_mean_row_error_px = 0;  ///< mean row error with every pair, pixels
+  double all_pairs_max_row_error_px = 0;   ///< max row error with every pair, pixels
 };
 
 /// Finds the inner chessboard corners with sub-pixel refinement in a grey or BGR image;
@@ -52,7 +71,12 @@ std::optional<std::vector<cv::Point2f>> find_board_corners(const cv::Mat& image,
 bool align_corner_order(const std::vector<cv::Point2f>& left_px,
                         std::vector<cv::Point2f>& right_px);
 
-/// Calibrates the rig from the corners of several pairs of image_size images.
+/// The board's corners in its own frame (z = 0), metres, in findChessboardCorners order.
+std::vector<cv::Point3f> board_points_m(const BoardCalibrationParams& params);
+
+/// Calibrates the rig from the corners of several pairs of image_size images, dropping the
+/// pairs that disagree with the rest (see BoardCalibrationParams::outlier_ratio); the
+/// rectified row errors are those of the pairs kept.
 Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& pairs,
                                                 cv::Size image_size,
                                                 const BoardCalibrationParams& params);

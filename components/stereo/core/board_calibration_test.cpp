@@ -3,11 +3,14 @@
 
 #include "stereo/core/board_calibration.hpp"
 
+#include "stereo/core/pair_error.hpp"
 #include "stereo/core/rectifier.hpp"
 
 #include <gtest/gtest.h>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <cstdio>
 #include <string>
 
 namespace stereoball::stereo {
@@ -58,6 +61,107 @@ TEST(RealCalibration, GivenOpenCvSamplePairsWhenCalibratedThenRmsAndRowErrorTarg
   EXPECT_GT(cv::norm(c.t), 0.01);
   EXPECT_LT(cv::norm(c.t), 0.5);
   EXPECT_EQ(validate_calibration(c), std::nullopt);
+}
+
+const BoardCalibrationResult& sample_calibration() {
+  static const BoardCalibrationResult result =
+      calibrate_stereo(sample_corners(), cv::Size(640, 480), BoardCalibrationParams{}).value();
+  return result;
+}
+
+// An unsynchronised rig: the right shot of a pair is taken after the board moved by move_m
+// (right camera frame). Made from the real corners: the right board pose is fitted, moved and
+// reprojected, and the real residual of each corner (its noise) is added back.
+PairCorners desynchronise(const PairCorners& pair, const cv::Vec3d& move_m) {
+  const StereoCalibration& c = sample_calibration().calibration;
+  const auto board = board_points_m(BoardCalibrationParams{});
+  cv::Vec3d rvec, tvec;
+  cv::solvePnP(board, pair.right_px, cv::Mat(c.k2), cv::Mat(c.d2, true), rvec, tvec);
+  std::vector<cv::Point2f> fitted, moved;
+  cv::projectPoints(board, rvec, tvec, cv::Mat(c.k2), cv::Mat(c.d2, true), fitted);
+  cv::projectPoints(board, rvec, tvec + move_m, cv::Mat(c.k2), cv::Mat(c.d2, true), moved);
+  PairCorners out = pair;
+  out.name += " (moved)";
+  for (std::size_t i = 0; i < moved.size(); ++i)
+    out.right_px[i] = moved[i] + (pair.right_px[i] - fitted[i]);
+  return out;
+}
+
+TEST(RealCalibration, GivenConsistentSamplePairsWhenCalibratedThenNoPairDropped) {
+  // Given the real pairs (a synchronised rig), When calibrated with outlier dropping on
+  const BoardCalibrationResult& r = sample_calibration();
+  // Then every pair is kept and the figures are those of all pairs (0.215 px before dropping
+  // existed)
+  EXPECT_TRUE(r.dropped.empty()) << r.dropped.front().reason;
+  EXPECT_EQ(r.pair_names.size(), sample_corners().size());
+  EXPECT_DOUBLE_EQ(r.calibration.rms_px, r.all_pairs_rms_px);
+  EXPECT_LT(r.calibration.rms_px, 0.22);
+}
+
+TEST(RealCalibration, GivenPairWhenErrorMeasuredAgainstCalibrationThenSmallUnlessBoardMoved) {
+  // Given the calibration of the real pairs and one of its pairs
+  const StereoCalibration& c = sample_calibration().calibration;
+  const PairCorners& pair = sample_corners()[4];
+  const auto board = board_points_m(BoardCalibrationParams{});
+  // When its error is measured as it is and with the board moved 3 mm along x (depth
+  // changes) or y (rows change) in the right view
+  const PairError same = stereo_pair_error(c, board, pair.left_px, pair.right_px);
+  const PairCorners along_x = desynchronise(pair, {0.003, 0, 0});
+  const PairCorners along_y = desynchronise(pair, {0, 0.003, 0});
+  const PairError ex = stereo_pair_error(c, board, along_x.left_px, along_x.right_px);
+  const PairError ey = stereo_pair_error(c, board, along_y.left_px, along_y.right_px);
+  // Then the real pair fits as well as it did in the calibration, the moved ones do not
+  EXPECT_LT(same.rms_px, 0.4);
+  EXPECT_LT(same.mean_row_error_px, 0.3);
+  EXPECT_GT(ex.rms_px, 3 * same.rms_px);
+  EXPECT_GT(ey.rms_px, 3 * same.rms_px);
+  EXPECT_GT(ey.mean_row_error_px, 1.0);  // a vertical move shows in the rows
+  EXPECT_LT(ex.mean_row_error_px, 0.5);  // a horizontal one only in depth
+}
+
+TEST(RealCalibration, GivenUnsynchronisedPairsWhenCalibratedThenMovedPairsDroppedAndTargetsMet) {
+  // Given the real pairs with the board moved by a few mm in four right views
+  std::vector<PairCorners> pairs = sample_corners();
+  ASSERT_GE(pairs.size(), 12u);
+  const std::vector<std::pair<std::size_t, cv::Vec3d>> moves = {
+      {1, {0.004, 0, 0}}, {5, {0, 0.003, 0}}, {8, {0.002, -0.002, 0.004}}, {11, {-0.003, 0, 0}}};
+  for (const auto& [i, m] : moves) pairs[i] = desynchronise(pairs[i], m);
+  // When calibrated
+  const auto result = calibrate_stereo(pairs, cv::Size(640, 480), BoardCalibrationParams{});
+  // Then exactly the moved pairs are dropped, each with its reason, and the calibration of
+  // the rest meets the targets where the one of every pair did not
+  ASSERT_TRUE(result.ok()) << result.error();
+  const BoardCalibrationResult& r = result.value();
+  std::vector<std::string> dropped;
+  for (const DroppedPair& d : r.dropped) {
+    dropped.push_back(d.name);
+    EXPECT_NE(d.reason.find("board moved"), std::string::npos) << d.reason;
+    EXPECT_GT(d.error_px, 3 * d.rest_median_px);
+  }
+  std::sort(dropped.begin(), dropped.end());
+  std::vector<std::string> moved;
+  for (const auto& [i, m] : moves) moved.push_back(pairs[i].name);
+  std::sort(moved.begin(), moved.end());
+  EXPECT_EQ(dropped, moved);
+  std::printf(
+      "desynchronised OpenCV pairs: RMS %.3f -> %.3f px, row error mean %.3f -> %.3f px, "
+      "max %.3f -> %.3f px\n",
+      r.all_pairs_rms_px, r.calibration.rms_px, r.all_pairs_mean_row_error_px,
+      r.mean_rectified_row_error_px, r.all_pairs_max_row_error_px, r.max_rectified_row_error_px);
+  EXPECT_GT(r.all_pairs_rms_px, 0.5);
+  EXPECT_LT(r.calibration.rms_px, 0.25);
+  EXPECT_LT(r.mean_rectified_row_error_px, 0.2);
+}
+
+TEST(RealCalibration, GivenOutlierRatioZeroWhenCalibratedThenEveryPairKept) {
+  std::vector<PairCorners> pairs = sample_corners();
+  pairs[2] = desynchronise(pairs[2], {0, 0.004, 0});
+  BoardCalibrationParams params;
+  params.outlier_ratio = 0.0;
+  const auto result = calibrate_stereo(pairs, cv::Size(640, 480), params);
+  ASSERT_TRUE(result.ok()) << result.error();
+  EXPECT_TRUE(result->dropped.empty());
+  EXPECT_EQ(result->pair_names.size(), pairs.size());
 }
 
 TEST(RealCalibration, GivenCalibrationWhenRealPairLutRectifiedThenBoardCornersShareRows) {
@@ -118,6 +222,12 @@ TEST(BoardCalibrationParams, GivenBadValuesWhenValidatedThenFieldNamed) {
   p = {};
   p.inner_corners = {1, 6};
   EXPECT_EQ(p.validate()->rfind("inner_corners", 0), 0u);
+  p = {};
+  p.outlier_ratio = -1;
+  EXPECT_EQ(p.validate()->rfind("outlier_ratio", 0), 0u);
+  p = {};
+  p.outlier_min_px = std::nan("");
+  EXPECT_EQ(p.validate()->rfind("outlier_min_px", 0), 0u);
 }
 
 }  // namespace

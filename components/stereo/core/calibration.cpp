@@ -3,6 +3,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include <cmath>
+#include <cstdio>
 
 namespace stereoball::stereo {
 namespace {
@@ -113,6 +114,23 @@ std::optional<std::string> check_image_size(const StereoCalibration& calib, cv::
            text(calib.image_size);
   }
   return std::nullopt;
+}
+
+std::optional<std::string> check_camera_order(const StereoCalibration& calib) {
+  const double b = baseline_m(calib);
+  if (b > 0.0) return std::nullopt;
+  char text[64];
+  std::snprintf(text, sizeof text, "%.4f", b);
+  return std::string("negative baseline (") + text +
+         " m): the camera given as right is to the left of the one given as left, so every "
+         "disparity comes out negative and no ball can be located; the two cameras are swapped";
+}
+
+StereoCalibration swapped_cameras(const StereoCalibration& calib, const RectifyOptions& options) {
+  // x_r = R x_l + T  <=>  x_l = R^T x_r - R^T T.
+  const cv::Matx33d rt = calib.r.t();
+  return make_calibration({calib.k2, calib.d2}, {calib.k1, calib.d1}, rt, -(rt * calib.t),
+                          calib.image_size, options);
 }
 
 double focal_px(const StereoCalibration& calib) {

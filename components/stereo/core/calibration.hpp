@@ -65,6 +65,17 @@ double focal_px(const StereoCalibration& calib);
 /// Baseline between the rectified cameras, metres (-p2(0,3) / p2(0,0)).
 double baseline_m(const StereoCalibration& calib);
 
+/// Whether the camera called right really is to the right of the one called left: a negative
+/// baseline (swapped cameras) makes every disparity negative, so nothing in front of the rig
+/// triangulates. Returns a message saying so (without the fix, which depends on the program),
+/// nullopt for a rig in the right order.
+std::optional<std::string> check_camera_order(const StereoCalibration& calib);
+
+/// The same rig with its eyes exchanged (what a rig with swapped cameras calibrates to), with
+/// the rectification rebuilt with options.
+StereoCalibration swapped_cameras(const StereoCalibration& calib,
+                                  const RectifyOptions& options = {});
+
 /// Distortion vector lengths OpenCV accepts: 0 (none), 4, 5, 8, 12 or 14.
 bool is_valid_distortion_size(std::size_t n);
 

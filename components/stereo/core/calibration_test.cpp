@@ -55,6 +55,22 @@ TEST(ValidateCalibration, GivenBrokenFieldsWhenValidatedThenErrorNamesField) {
   expect_field([](StereoCalibration& c) { c.q(3, 2) = 0; }, "Q");
 }
 
+TEST(CheckCameraOrder, GivenRigInOrderWhenCheckedThenAcceptedAndSwappedRigNamed) {
+  // Given the synthetic rig (right camera 12 cm to the right) and the same rig swapped
+  const StereoCalibration good = default_synthetic_rig().calibration();
+  const StereoCalibration swapped = swapped_cameras(good);
+  // When checked, Then only the swapped one is reported, as a negative baseline
+  EXPECT_EQ(check_camera_order(good), std::nullopt);
+  ASSERT_TRUE(check_camera_order(swapped).has_value());
+  EXPECT_NE(check_camera_order(swapped)->find("negative baseline (-0.12"), std::string::npos)
+      << *check_camera_order(swapped);
+  EXPECT_NE(check_camera_order(swapped)->find("swapped"), std::string::npos);
+  // and it is still a valid calibration (the order is a separate check), of the same length
+  EXPECT_EQ(validate_calibration(swapped), std::nullopt);
+  EXPECT_NEAR(baseline_m(swapped), -baseline_m(good), 1e-3);
+  EXPECT_NEAR(baseline_m(swapped_cameras(swapped)), baseline_m(good), 1e-9);
+}
+
 TEST(CheckImageSize, GivenFramesOfOtherSizeWhenCheckedThenErrorNamesEyeAndSizes) {
   const StereoCalibration c = default_synthetic_rig().calibration();
   EXPECT_EQ(check_image_size(c, {640, 480}, {640, 480}), std::nullopt);
