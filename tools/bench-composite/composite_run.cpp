@@ -67,7 +67,9 @@ SuiteResult run_suite(const std::vector<Background>& backgrounds,
       pipeline.set_calibration(calib);
       const auto start = std::chrono::steady_clock::now();
       const auto det = pipeline.step(left, right, true);
-      BallOutcome o{bg.name, ball};
+      BallOutcome o;
+      o.background = bg.name;
+      o.ball = ball;
       o.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                  .count();
       o.found = det.status == ball_detector::DetectionStatus::kFound;

@@ -61,7 +61,9 @@ TEST(SimLoop, GivenControllerDriveAndNoTracksYet_ThenTheMinimumRateCommandsFirst
     const auto frame_ns = static_cast<std::int64_t>(std::llround(f.truth.sim_time_s * 1e9));
     EXPECT_LE(f.command_stamp_ns, frame_ns);
     EXPECT_GT(f.command_stamp_ns, frame_ns - 10'000'001) << frame_ns;
-    if (frame_ns < 40'000'000) EXPECT_EQ(f.command_stamp_ns % 10'000'000, 0) << frame_ns;
+    if (frame_ns < 40'000'000) {
+      EXPECT_EQ(f.command_stamp_ns % 10'000'000, 0) << frame_ns;
+    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "common/dds/entity.hpp"
 
@@ -12,6 +13,13 @@ namespace stereoball::dds {
 
 /// Domain id and partition a process joins.
 struct ParticipantOptions {
+  ParticipantOptions() = default;
+  // A constructor, not aggregate initialisation: {domain, partition} stays valid (and free of
+  // missing-initializer warnings) as members are added.
+  ParticipantOptions(int domain, std::string partition_name = {},  // NOLINT(google-explicit-constructor)
+                     std::optional<std::string> key = std::nullopt)
+      : domain_id(domain), partition(std::move(partition_name)), key_file(std::move(key)) {}
+
   int domain_id = 0;      ///< 0..232
   std::string partition;  ///< "" = default partition
   /// Deployment key file; nullopt = $STEREOBALL_KEY_FILE; "" = keyless (loopback only).
