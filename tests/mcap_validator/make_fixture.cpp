@@ -145,6 +145,14 @@ std::vector<double> ramp(size_t n, double start) {
   return v;
 }
 
+// The AuthTag every authenticated topic ends with (idl/stereoball.idl).
+void auth(Sample& s, int k) {
+  s.nested("auth", [&](Sample& a) {
+    a.u32("key_id", 1 + k).u64("link_id", 0x0123456789abcdefull + k).i64("stamp_ns", 77 + k);
+    a.octet_array("mac", pattern(32, k + 50));
+  });
+}
+
 void eye(Sample& s, int k, uint32_t w, uint32_t h) {
   s.i64("capture_stamp_ns", 1'700'000'000'000'000'000 + k)
       .u32("width_px", w)
@@ -169,6 +177,7 @@ void calibration(Sample& s, int k) {
   s.f64_array("r", ramp(9, 0)).f64_array("t", ramp(3, -0.06)).f64_array("r1", ramp(9, 1));
   s.f64_array("r2", ramp(9, 2)).f64_array("p1", ramp(12, 3)).f64_array("p2", ramp(12, 4));
   s.f64_array("q", ramp(16, 5)).f64("rms_px", 0.375).str("source", "calib_" + std::to_string(k));
+  auth(s, k);
 }
 
 void circle(Sample& s, float base) {
@@ -185,6 +194,7 @@ void detection(Sample& s, int k) {
   s.f32("processing_ms", 2.5f)
       .boolean("patch_valid", true)
       .octet_array("patch_rgb", pattern(1323, k));
+  auth(s, k);
 }
 
 void track(Sample& s, int k) {
@@ -194,15 +204,19 @@ void track(Sample& s, int k) {
   s.f64_array("position_m", {0.5, 0.0, 2.0}).f64_array("velocity_mps", {-0.25, 0, 0.125});
   s.f64("bearing_rad", 0.244978663126864).f64("distance_m", 2.0615528128088303);
   s.enumeration("last_seen_side", 2).f64("ssd", -1.0).i64("last_accepted_stamp_ns", 44 + k);
+  auth(s, k);
 }
 
 void velocity(Sample& s, int k) {
   s.u64("seq", 300 + k).i64("stamp_ns", 1'700'000'000'123'456'789 + k);
+  s.i64("capture_stamp_ns", 1'700'000'000'100'000'000 + k);
   s.f64("linear_mps", 0.5 * k).f64("angular_radps", -0.125).str("source", "motion_controller");
+  auth(s, k);
 }
 
 void estop(Sample& s, int k) {
   s.i64("stamp_ns", 99 + k).boolean("engaged", k == 1).str("reason", k == 1 ? "button" : "");
+  auth(s, k);
 }
 
 void ground_truth(Sample& s, int k) {

@@ -16,7 +16,8 @@ struct ParticipantOptions {
   ParticipantOptions() = default;
   // A constructor, not aggregate initialisation: {domain, partition} stays valid (and free of
   // missing-initializer warnings) as members are added.
-  ParticipantOptions(int domain, std::string partition_name = {},  // NOLINT(google-explicit-constructor)
+  ParticipantOptions(int domain,
+                     std::string partition_name = {},  // NOLINT(google-explicit-constructor)
                      std::optional<std::string> key = std::nullopt)
       : domain_id(domain), partition(std::move(partition_name)), key_file(std::move(key)) {}
 

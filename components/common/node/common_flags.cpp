@@ -23,14 +23,16 @@ void add_common_flags(CLI::App& app, CommonOptions& options, const std::string& 
                        "the source tree, first found");
     // Resolved once the command line is parsed, so --help works without any file.
     app.parse_complete_callback([&options, config_name] {
-      // An absolute default (test programs) is used as given, like --config.
-      if (options.config_path.empty() && std::filesystem::path(config_name).is_absolute()) {
-        options.config_path = config_name;
+      // A path given with --config (or an absolute default, for test programs) is used as
+      // given: the params loader names it if it cannot be read.
+      if (!options.config_path.empty() || std::filesystem::path(config_name).is_absolute()) {
+        if (options.config_path.empty()) options.config_path = config_name;
+        options.config_origin = "--config";
+        return;
       }
-      auto found = options.config_path.empty()
-                       ? paths::find_config(config_name, paths::default_roots())
-                       : paths::check_explicit(options.config_path);
-      if (!found) throw CLI::ValidationError("--config", found.error());
+      auto found = paths::find_config(config_name, paths::default_roots());
+      // Exit status 2, as for every other configuration error of a node.
+      if (!found) throw CLI::Error("ConfigError", "--config: " + found.error(), 2);
       options.config_path = found->path.string();
       options.config_origin = found->origin;
     });

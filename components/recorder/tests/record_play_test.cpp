@@ -131,20 +131,32 @@ TEST(RecordPlay, GivenAKilledRecorderWhenInspectedThenInfoSaysIncompleteAndMessa
 
 // Hand-made CDR of a VelocityCommand (XCDR1 little endian).
 std::vector<uint8_t> command_cdr(uint64_t seq) {
-  std::vector<uint8_t> b = {0x00, 0x01, 0x00, 0x00};
-  auto put = [&](const void* p, size_t n) {
+  std::vector<uint8_t> b = {0x00, 0x01, 0x00, 0x00};  // XCDR1 little endian
+  // XCDR1 aligns each primitive to its size, counted from the end of the 4-byte header.
+  auto put = [&](const void* p, size_t n, size_t align) {
+    while ((b.size() - 4) % align != 0) b.push_back(0);
     const auto* c = static_cast<const uint8_t*>(p);
     b.insert(b.end(), c, c + n);
   };
-  const int64_t stamp = 42;
+  const int64_t stamp = 42, capture_stamp = 40;
   const double lin = 0.5, ang = -0.25;
   const uint32_t len = 5;
-  put(&seq, 8);
-  put(&stamp, 8);
-  put(&lin, 8);
-  put(&ang, 8);
-  put(&len, 4);
-  put("play", 5);
+  put(&seq, 8, 8);
+  put(&stamp, 8, 8);
+  put(&capture_stamp, 8, 8);
+  put(&lin, 8, 8);
+  put(&ang, 8, 8);
+  put(&len, 4, 4);
+  put("play", 5, 1);
+  // AuthTag of an unsigned (keyless) sample: key_id 0, link id, stamp, zero MAC.
+  const uint32_t key_id = 0;
+  const uint64_t link_id = 7;
+  const int64_t auth_stamp = 1'700'000'000'000'000'000 + static_cast<int64_t>(seq);
+  const uint8_t mac[32] = {};
+  put(&key_id, 4, 4);
+  put(&link_id, 8, 8);
+  put(&auth_stamp, 8, 8);
+  put(mac, sizeof mac, 1);
   return b;
 }
 
