@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "common/util/install_layout.hpp"
 #include "closed_loop_run.hpp"
+#include "common/util/install_layout.hpp"
 #include "loop_cli.hpp"
 #include "report.hpp"
 #include "simulator/core/randomize.hpp"

@@ -124,10 +124,10 @@ namespace {
 // yaml-cpp keeps the first of two equal keys; the loader must refuse the file instead.
 TEST(ParamsFile, GivenADuplicatedKeyWhenParsedThenTheErrorNamesFileKeyAndBothLines) {
   Demo demo;
-  const auto error =
-      load_demo("gain: 2.5\nnested:\n  count: 7\n  count: 9\nenabled: true\nmode: b\n"
-                "xyz: [1, 2, 3]\n",
-                demo);
+  const auto error = load_demo(
+      "gain: 2.5\nnested:\n  count: 7\n  count: 9\nenabled: true\nmode: b\n"
+      "xyz: [1, 2, 3]\n",
+      demo);
   ASSERT_TRUE(error);
   EXPECT_EQ(*error, "demo.yaml: key 'nested.count' appears twice (lines 3 and 4)");
 }

@@ -2,8 +2,8 @@
 // with --frame-encoding jpeg|png, the encode time and bytes of a compressed pair (the node's
 // encoder).
 
-#include "common/util/install_layout.hpp"
 #include "common/util/bench_clock.hpp"
+#include "common/util/install_layout.hpp"
 
 #include <CLI/CLI.hpp>
 

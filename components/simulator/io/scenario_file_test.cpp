@@ -87,7 +87,8 @@ INSTANTIATE_TEST_SUITE_P(
                 "spheres[0].center_m.z"},
         BadCase{"name: t\nseed: -3\n", "'seed'"}, BadCase{"name: [t\n", "not valid YAML"},
         BadCase{"- 1\n- 2\n", "expected a mapping"},
-        BadCase{"name: t\nball:\n  x_m: 1\n  x_m: 2\n", "key 'ball.x_m' appears twice (lines 3 and 4)"}));
+        BadCase{"name: t\nball:\n  x_m: 1\n  x_m: 2\n",
+                "key 'ball.x_m' appears twice (lines 3 and 4)"}));
 
 TEST(ScenarioFile, RandomisedWorldKeysAreRead) {
   const auto s = parse_scenario(
