@@ -1,5 +1,6 @@
 #pragma once
-// A value or an error message: how expected failures travel (no exceptions).
+// How expected failures travel (no exceptions): Result<T> carries a value or an Error, Status
+// carries success or an Error. Both are truthy on success and give the message with error().
 
 #include <optional>
 #include <string>
@@ -33,6 +34,21 @@ class Result {
 
  private:
   std::variant<T, Error> v_;
+};
+
+/// Success or an Error, for operations that return no value: `return {};` succeeds,
+/// `return Error{"what was wrong"};` fails.
+class Status {
+ public:
+  Status() = default;
+  Status(Error error) : error_(std::move(error.message)) {}  // NOLINT(google-explicit-constructor)
+
+  bool ok() const { return !error_.has_value(); }
+  explicit operator bool() const { return ok(); }
+  const std::string& error() const { return *error_; }
+
+ private:
+  std::optional<std::string> error_;
 };
 
 }  // namespace stereoball
