@@ -34,7 +34,7 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       published_(published),
       frame_source_("simulator:" + scenario.name),
       // Before the writers exist, so a subscriber's first frames are not delayed by it.
-      lead_ns_(measure_render_lead_ns(params, scenario, frame_period_wall_ns(params, options))),
+      lead_ns_(measure_render_lead_ns(params, scenario, options)),
       frames_(runner.participant(), topics::kStereoFrame),
       truth_(runner.participant(), topics::kGroundTruth),
       calibration_(runner.participant(), topics::kStereoCalibration),
@@ -74,17 +74,25 @@ int64_t SimulatorNode::frame_period_wall_ns(const SimParams& params,
 }
 
 int64_t SimulatorNode::measure_render_lead_ns(const SimParams& params, const Scenario& scenario,
-                                              int64_t period_ns) {
-  // Render a few frames of a scratch copy of the scenario: the lead is what rendering takes
-  // here (the slowest of them, plus a margin for the loop's timer), never a whole period.
+                                              const SimulatorNodeOptions& options) {
+  // Render (and encode) a few frames of a scratch copy of the scenario: the lead is what that
+  // takes here (the slowest of them, plus a margin for the loop's timer), never a period.
   Simulator scratch(params, scenario);
+  std::optional<camera_server::EyeEncoder> encoder;
+  if (options.output.compressed()) encoder.emplace(options.output);
   int64_t slowest = 0;
   for (int i = 1; i <= 3; ++i) {
     const int64_t start = node::monotonic_ns();
-    scratch.step(std::nullopt, i * scratch.frame_period_ns(), run_on_two_threads);
+    const SimFrame f =
+        scratch.step(std::nullopt, i * scratch.frame_period_ns(), run_on_two_threads);
+    if (encoder) {
+      (void)encoder->encode(f.left);  // errors show on the real frames
+      (void)encoder->encode(f.right);
+    }
     slowest = std::max(slowest, node::monotonic_ns() - start);
   }
   constexpr int64_t kMarginNs = 2'000'000;
+  const int64_t period_ns = frame_period_wall_ns(params, options);
   return std::clamp<int64_t>(slowest * 5 / 4 + kMarginNs, kMarginNs, period_ns - kMarginNs / 2);
 }
 
@@ -111,11 +119,15 @@ void SimulatorNode::tick(int64_t /*now_ns*/) {
                                static_cast<uint64_t>((node::monotonic_ns() - mono) / 1000));
   sim_now_ns_ = f.sim_time_ns;
   frame_index_ = index + 1;
+  // Encoding and the message are the camera's work before the release, too.
   const int64_t exposure = exposure_monotonic_ns(index * period);
+  const int64_t stamp_ns = monotonic_to_epoch_ns(exposure, node::monotonic_ns(), node::now_ns());
+  if (encoders_[0] && !encode_eyes(f)) return;
+  stereoball_msg_StereoFrame frame = frame_message(f, stamp_ns);
   if (!wait_until(exposure)) return;
   if (node::monotonic_ns() > exposure + kLateNs) runner_.health().count("late_frames");
-  const int64_t stamp_ns = monotonic_to_epoch_ns(exposure, node::monotonic_ns(), node::now_ns());
-  publish_frame(f, stamp_ns);
+  frames_.write(frame, stamp_ns);
+  runner_.health().count(frame_topic_);
   stereoball_msg_GroundTruth truth = ground_truth_to_msg(f.truth, stamp_ns, scenario_.name);
   truth.frame_seq = total_frames_;
   truth_.write(truth, stamp_ns);
@@ -133,16 +145,13 @@ bool SimulatorNode::wait_until(int64_t due_monotonic_ns) const {
   return false;
 }
 
-void SimulatorNode::publish_frame(const SimFrame& f, int64_t stamp_ns) {
-  stereoball_msg_StereoFrame frame = frame_to_msg(f, stamp_ns, frame_source_);
-  if (encoders_[0]) {
-    if (!encode_eyes(f)) return;
-    frame = encoded_frame_to_msg(f, options_.output.frame_encoding, encoders_[0]->bytes(),
-                                 encoders_[1]->bytes(), stamp_ns, frame_source_);
-  }
+stereoball_msg_StereoFrame SimulatorNode::frame_message(const SimFrame& f, int64_t stamp_ns) const {
+  stereoball_msg_StereoFrame frame =
+      encoders_[0] ? encoded_frame_to_msg(f, options_.output.frame_encoding, encoders_[0]->bytes(),
+                                          encoders_[1]->bytes(), stamp_ns, frame_source_)
+                   : frame_to_msg(f, stamp_ns, frame_source_);
   frame.seq = total_frames_;
-  frames_.write(frame, stamp_ns);
-  runner_.health().count(frame_topic_);
+  return frame;
 }
 
 bool SimulatorNode::encode_eyes(const SimFrame& f) {

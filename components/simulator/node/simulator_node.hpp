@@ -37,13 +37,15 @@ class SimulatorNode {
   void tick(int64_t now_ns);
   // Monotonic time of the simulated exposure at sim_time_ns of the current run.
   int64_t exposure_monotonic_ns(int64_t sim_time_ns) const;
-  // How far ahead of its exposure a frame is rendered: this machine's render time + margin.
+  // How far ahead of its exposure a frame is rendered: this machine's render (+ encode) time
+  // plus a margin.
   static int64_t measure_render_lead_ns(const SimParams& params, const Scenario& scenario,
-                                        int64_t period_ns);
+                                        const SimulatorNodeOptions& options);
   static int64_t frame_period_wall_ns(const SimParams& params, const SimulatorNodeOptions& options);
   // Sleeps until the monotonic time; false if the runner is stopping.
   bool wait_until(int64_t due_monotonic_ns) const;
-  void publish_frame(const SimFrame& f, int64_t stamp_ns);
+  // The frame's message (raw eyes, or the encoders' bytes after encode_eyes).
+  stereoball_msg_StereoFrame frame_message(const SimFrame& f, int64_t stamp_ns) const;
   bool encode_eyes(const SimFrame& f);  // into encoders_; false (health error) on failure
 
   node::Runner& runner_;
