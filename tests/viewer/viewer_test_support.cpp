@@ -212,7 +212,7 @@ PageReader::PageReader(int port, bool acks) : ack_(acks) {
   setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
   thread_ = std::thread([this] {
     std::vector<uint8_t> payload;
-    for (uint8_t h[2]; read_exact(fd_, h, 2, stop_);) {
+    for (uint8_t h[2]; !stop_ && read_exact(fd_, h, 2, stop_);) {
       uint64_t len = h[1] & 0x7f;
       if (len == 126 || len == 127) {
         uint8_t ext[8];
