@@ -82,7 +82,10 @@ struct Viewer {
 };
 
 std::optional<Viewer> start_viewer(const Options& o, const std::string& partition,
-                                   const std::string& log) {
+                                   const std::string& log_prefix) {
+  // A log of its own: the address found in it must be this viewer's.
+  static int started = 0;
+  const std::string log = log_prefix + "-" + std::to_string(++started) + ".log";
   std::vector<std::string> argv = {bench::sibling_program("stereoball-view"),
                                    "--port",
                                    "0",
@@ -122,9 +125,14 @@ class Measurer {
     std::vector<std::unique_ptr<bench::WsClient>> clients;
     std::unique_ptr<bench::Browser> browser;
     if (viewer) {
-      for (int i = 0; i < c.clients; ++i)
+      for (int i = 0; i < c.clients; ++i) {
         clients.push_back(
             std::make_unique<bench::WsClient>(viewer->port, bench::WsClient::Kind::kPage));
+        if (!clients.back()->connected()) {
+          std::printf("  client %d could not connect to port %d\n", i + 1, viewer->port);
+          return std::nullopt;
+        }
+      }
       if (c.browser) {
         browser = std::make_unique<bench::Browser>(
             "http://127.0.0.1:" + std::to_string(viewer->port) + "/");
@@ -217,7 +225,8 @@ int run_cases(const Options& o, const bench::Source& source, const std::string& 
       if (c.viewer && !viewer) {
         viewer = start_viewer(o, source.partition(), log);
         if (!viewer) {
-          std::fprintf(stderr, "bench viewer: the viewer did not start (see %s)\n", log.c_str());
+          std::fprintf(stderr, "bench viewer: the viewer did not start (see %s-*.log)\n",
+                       log.c_str());
           return 1;
         }
         std::this_thread::sleep_for(3s);  // discovery settles
@@ -294,7 +303,7 @@ size_t open_fds(pid_t pid) {
 int run_soak(const Options& o, const bench::Source& source, const std::string& log) {
   const auto viewer = start_viewer(o, source.partition(), log);
   if (!viewer) {
-    std::fprintf(stderr, "bench viewer: the viewer did not start (see %s)\n", log.c_str());
+    std::fprintf(stderr, "bench viewer: the viewer did not start (see %s-*.log)\n", log.c_str());
     return 1;
   }
   const int n = o.clients.empty() ? 10 : o.clients.front();
@@ -332,7 +341,7 @@ int run_soak(const Options& o, const bench::Source& source, const std::string& l
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / 60;
     const auto r = bench::rss_mb(vp);
     if (!r) {
-      std::printf("the viewer exited during the soak (see %s)\n", log.c_str());
+      std::printf("the viewer exited during the soak (see %s-1.log)\n", log.c_str());
       stop = true;
       for (auto& t : threads) t.join();
       return 1;
@@ -401,7 +410,7 @@ int main(int argc, char** argv) {
   if (o.clients.empty() && o.soak_s == 0) o.clients = {0, 1, 2, 5};
   const std::string work = "/tmp/stereoball-bench-viewer-" + std::to_string(getpid());
   std::filesystem::create_directories(work);
-  const std::string log = work + "/viewer.log";
+  const std::string log = work + "/viewer";
   // The demo and the viewer use the single-host DDS configuration, as `stereoball demo` does.
   if (!std::getenv("CYCLONEDDS_URI")) {
     const auto xml = sb::paths::shipped_config_path("cyclonedds/loopback.xml");
