@@ -18,8 +18,8 @@ BUILD_PACKAGES=(
   # Small, header-only at configure time: the test targets are declared in every build,
   # even when only the demo's programs are compiled.
   libgtest-dev libgmock-dev nlohmann-json3-dev
-  # stereoball view: WebSocket + HTTP server (header-only).
-  libwebsocketpp-dev libasio-dev
+  # stereoball view: WebSocket + HTTP server (header-only), TurboJPEG for the eyes.
+  libwebsocketpp-dev libasio-dev libturbojpeg0-dev
 )
 # What only running the test suite needs: network namespaces (iproute2), Fast DDS + fastddsgen
 # for the interop test, dpkg-dev + file for the package test.

@@ -19,44 +19,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-void send_all(int fd, const std::string& bytes) {
-  ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
-}
-
-// Opens a WebSocket (optionally asking for a subprotocol); -1 unless the server said 101.
-int ws_connect(int port, const std::string& subprotocol = "") {
-  const int fd = tcp_connect(port, 10);
-  if (fd < 0) return -1;
-  send_all(fd,
-           "GET / HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-           "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n" +
-               (subprotocol.empty() ? "" : "Sec-WebSocket-Protocol: " + subprotocol + "\r\n") +
-               "\r\n");
-  std::string head;
-  char c;
-  while (head.find("\r\n\r\n") == std::string::npos && recv(fd, &c, 1, 0) == 1) head += c;
-  if (head.rfind("HTTP/1.1 101", 0) != 0) {
-    close(fd);
-    return -1;
-  }
-  return fd;
-}
-
-// A client frame: FIN + opcode, masked (mask 0 keeps the payload readable), any length.
-std::string client_frame(uint8_t opcode, const std::string& payload, bool masked = true) {
-  std::string f(1, static_cast<char>(0x80 | opcode));
-  const uint8_t mask_bit = masked ? 0x80 : 0;
-  if (payload.size() < 126) {
-    f += static_cast<char>(mask_bit | payload.size());
-  } else {
-    f += static_cast<char>(mask_bit | 127);
-    for (int i = 7; i >= 0; --i)
-      f += static_cast<char>((uint64_t{payload.size()} >> (8 * i)) & 0xff);
-  }
-  if (masked) f += std::string(4, '\0');
-  return f + payload;
-}
-
 // True when the server closed the connection within the socket timeout (data before the
 // close is read and discarded).
 bool closed_by_server(int fd) {

@@ -5,6 +5,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -63,6 +64,7 @@ KnownScene::KnownScene(const std::string& partition, double rate_hz, bool noise_
         eye->data._length = static_cast<uint32_t>(bytes->size());
       }
       frames.write(f);
+      ++frames_published_;
       stereoball_msg_BallDetection d{};
       d.frame_seq = seq;
       d.capture_stamp_ns = v.capture_stamp_ns;
@@ -117,6 +119,16 @@ int tcp_connect(int port, int timeout_s) {
   return fd;
 }
 
+bool http_response_complete(const std::string& response) {
+  const auto head_end = response.find("\r\n\r\n");
+  if (head_end == std::string::npos) return false;
+  std::smatch m;
+  const std::string head = response.substr(0, head_end);
+  if (!std::regex_search(head, m, std::regex("Content-Length: *(\\d+)", std::regex::icase)))
+    return false;
+  return response.size() - head_end - 4 >= std::stoul(m[1]);
+}
+
 std::string http_get(int port, const std::string& path) {
   const int fd = tcp_connect(port, 5);
   if (fd < 0) return "";
@@ -124,7 +136,9 @@ std::string http_get(int port, const std::string& path) {
   const std::string request = "GET " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
   if (send(fd, request.data(), request.size(), MSG_NOSIGNAL) > 0) {
     char buf[4096];
-    for (ssize_t n; (n = recv(fd, buf, sizeof buf, 0)) > 0;) response.append(buf, n);
+    // The server keeps the connection open: stop at the end of the body (Content-Length).
+    for (ssize_t n; !http_response_complete(response) && (n = recv(fd, buf, sizeof buf, 0)) > 0;)
+      response.append(buf, n);
   }
   close(fd);
   const auto body = response.find("\r\n\r\n");
@@ -136,6 +150,94 @@ long stat(int port, const std::string& name) {
   const std::string body = http_get(port, "/stats");
   if (!std::regex_search(body, m, std::regex("\"" + name + "\":(\\d+)"))) return -1;
   return std::stol(m[1]);
+}
+
+void send_all(int fd, const std::string& bytes) {
+  ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
+}
+
+int ws_connect(int port, const std::string& subprotocol) {
+  const int fd = tcp_connect(port, 10);
+  if (fd < 0) return -1;
+  send_all(fd,
+           "GET / HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+           "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n" +
+               (subprotocol.empty() ? "" : "Sec-WebSocket-Protocol: " + subprotocol + "\r\n") +
+               "\r\n");
+  std::string head;
+  char c;
+  while (head.find("\r\n\r\n") == std::string::npos && recv(fd, &c, 1, 0) == 1) head += c;
+  if (head.rfind("HTTP/1.1 101", 0) != 0) {
+    close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+std::string client_frame(uint8_t opcode, const std::string& payload, bool masked) {
+  std::string f(1, static_cast<char>(0x80 | opcode));
+  const uint8_t mask_bit = masked ? 0x80 : 0;
+  if (payload.size() < 126) {
+    f += static_cast<char>(mask_bit | payload.size());
+  } else {
+    f += static_cast<char>(mask_bit | 127);
+    for (int i = 7; i >= 0; --i)
+      f += static_cast<char>((uint64_t{payload.size()} >> (8 * i)) & 0xff);
+  }
+  if (masked) f += std::string(4, '\0');
+  return f + payload;
+}
+
+namespace {
+
+// Reads n bytes, retrying on the socket's receive timeout until stop; false when closed.
+bool read_exact(int fd, void* out, size_t n, const std::atomic<bool>& stop) {
+  auto* p = static_cast<uint8_t*>(out);
+  while (n > 0) {
+    const ssize_t r = recv(fd, p, n, 0);
+    if (r < 0 && (errno == EAGAIN || errno == EWOULDBLOCK) && !stop) continue;
+    if (r <= 0) return false;
+    p += r;
+    n -= static_cast<size_t>(r);
+  }
+  return true;
+}
+
+}  // namespace
+
+PageReader::PageReader(int port, bool acks) : ack_(acks) {
+  fd_ = ws_connect(port);
+  if (fd_ < 0) return;
+  timeval tv{0, 200'000};
+  setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  thread_ = std::thread([this] {
+    std::vector<uint8_t> payload;
+    for (uint8_t h[2]; !stop_ && read_exact(fd_, h, 2, stop_);) {
+      uint64_t len = h[1] & 0x7f;
+      if (len == 126 || len == 127) {
+        uint8_t ext[8];
+        const size_t n = len == 126 ? 2 : 8;
+        if (!read_exact(fd_, ext, n, stop_)) return;
+        len = 0;
+        for (size_t i = 0; i < n; ++i) len = (len << 8) | ext[i];
+      }
+      payload.resize(len);
+      if (len > 0 && !read_exact(fd_, payload.data(), len, stop_)) return;
+      if ((h[0] & 0x0f) != 0x2) continue;  // scenes are text
+      ++pairs_;
+      if (ack_) ack();
+    }
+  });
+}
+
+PageReader::~PageReader() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+  if (fd_ >= 0) close(fd_);
+}
+
+void PageReader::ack() {
+  send_all(fd_, client_frame(0x1, "ack"));
 }
 
 std::string npm_dir() {

@@ -41,19 +41,49 @@ class KnownScene {
   KnownScene(const std::string& partition, double rate_hz, bool noise_frames = false);
   ~KnownScene();
   const SceneValues& values() const { return values_; }
+  /// Stereo frames written so far.
+  uint64_t frames_published() const { return frames_published_.load(); }
 
  private:
   SceneValues values_;
   std::atomic<bool> stop_{false};
+  std::atomic<uint64_t> frames_published_{0};
   std::thread thread_;
 };
 
 /// A TCP connection to 127.0.0.1:port with a receive timeout; -1 when refused.
 int tcp_connect(int port, int timeout_s);
+/// True when response holds its head and the whole body its Content-Length announces.
+bool http_response_complete(const std::string& response);
 /// Body of GET path on 127.0.0.1:port ("" when the request failed).
 std::string http_get(int port, const std::string& path);
 /// One counter of /stats, -1 when unavailable.
 long stat(int port, const std::string& name);
+
+void send_all(int fd, const std::string& bytes);
+/// Opens a WebSocket (optionally asking for a subprotocol); -1 unless the server said 101.
+int ws_connect(int port, const std::string& subprotocol = "");
+/// A client frame: FIN + opcode, masked (mask 0 keeps the payload readable), any length.
+std::string client_frame(uint8_t opcode, const std::string& payload, bool masked = true);
+
+/// A WebSocket client that reads like the page: counts image pairs (binary messages) and,
+/// when acking, acknowledges each one as drawn.
+class PageReader {
+ public:
+  PageReader(int port, bool acks);
+  ~PageReader();
+  bool connected() const { return fd_ >= 0; }
+  uint64_t pairs() const { return pairs_.load(); }
+  /// Sends one acknowledgement (for a reader that does not ack by itself).
+  void ack();
+
+ private:
+  int fd_ = -1;
+  bool ack_;
+  std::atomic<bool> stop_{false};
+  std::atomic<uint64_t> pairs_{0};
+  std::thread thread_;
+};
 
 /// Folder with the tests' npm packages and scripts (SB_VIEWER_NPM_DIR), "" when unset or
 /// not installed.

@@ -1,188 +1,381 @@
-// stereoball bench viewer: what `stereoball view` costs. Publishes a synthetic 640x480 stereo
-// pair (moving texture) with detections and tracks at 30 Hz, starts stereoball-view, and
-// prints (1) the viewer's CPU and the frame topic's reader count with no client, (2) CPU,
-// image rate and capture-to-client latency with 1, 2 and 4 page-like clients (they read every
-// message and acknowledge each pair, as the page does), (3) the viewer's resident memory while
-// 10 clients connect and disconnect in a loop.
+// stereoball bench viewer: what `stereoball view` costs, on the demo (default) or a synthetic
+// 640x480 stereo stream. Per case (no viewer; viewer with 0, 1, 2, 5 page-like WebSocket
+// clients; one headless Chromium showing the page), repeated --repeats times in rounds: the
+// viewer's CPU (% of one core, median), the robot processes' CPU, images per client,
+// capture -> client latency p50/p90 and the viewer's resident memory. --soak S instead
+// connects and disconnects --clients clients in a loop for S seconds and prints the viewer's
+// memory every minute and its slope.
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <map>
 #include <memory>
+#include <optional>
 #include <regex>
-#include <sstream>
 #include <thread>
 #include <vector>
 
+#include "browser.hpp"
 #include "common/dds/participant.hpp"
-#include "common/dds/writer.hpp"
-#include "stereoball/topics.hpp"
+#include "common/util/install_layout.hpp"
+#include "processes.hpp"
+#include "source.hpp"
 #include "ws_client.hpp"
 
-extern char** environ;
 namespace sb = stereoball;
+namespace bench = stereoball::bench;
 using namespace std::chrono_literals;
 
 namespace {
 
 struct Options {
+  std::string source = "demo";
+  std::string scenario = "ball_rolling_away";
   int width = 640, height = 480;
   double rate_hz = 30;
   double phase_s = 10;
-  double loop_s = 60;
+  int repeats = 3;
+  std::vector<int> clients;
+  bool browser = true;
+  double soak_s = 0;
+  std::vector<std::string> viewer_args;
   int domain = sb::dds::domain_from_env(0);
 };
 
-int64_t wall_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-// CPU seconds (user + system) of a process so far.
-double cpu_s(pid_t pid) {
-  std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
-  std::string line;
-  std::getline(f, line);
-  std::istringstream rest(line.substr(line.rfind(')') + 2));
-  std::string field;
-  std::vector<std::string> fields;
-  while (rest >> field) fields.push_back(field);
-  if (fields.size() < 13) return 0;
-  return (std::stod(fields[11]) + std::stod(fields[12])) / sysconf(_SC_CLK_TCK);
-}
-
-// Resident memory of a process, MB.
-double rss_mb(pid_t pid) {
-  std::ifstream f("/proc/" + std::to_string(pid) + "/status");
-  for (std::string line; std::getline(f, line);)
-    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  return 0;
-}
-
-// The camera and the rest of the pipeline, as far as the viewer can tell.
-class Publisher {
- public:
-  Publisher(const Options& o, const std::string& partition) {
-    thread_ = std::thread([this, o, partition] {
-      sb::dds::DomainParticipant p({o.domain, partition});
-      frames_ = std::make_unique<sb::dds::DataWriter<stereoball_msg_StereoFrame>>(
-          p, sb::topics::kStereoFrame);
-      sb::dds::DataWriter<stereoball_msg_BallDetection> detections(p, sb::topics::kBallDetection);
-      sb::dds::DataWriter<stereoball_msg_BallTrack> tracks(p, sb::topics::kBallTrack);
-      // A texture wider than the image, shifted a little every frame: JPEG sizes are those of
-      // a moving scene, at the cost of one copy per frame.
-      const int margin = 256;
-      const int wide = o.width + margin;
-      std::vector<uint8_t> texture(static_cast<size_t>(wide) * o.height * 3);
-      for (int y = 0; y < o.height; ++y)
-        for (int x = 0; x < wide; ++x) {
-          uint8_t* px = &texture[(static_cast<size_t>(y) * wide + x) * 3];
-          const double v = std::sin(x * 0.05) * std::cos(y * 0.07);
-          px[0] = static_cast<uint8_t>(128 + 100 * v);
-          px[1] = static_cast<uint8_t>((x ^ y) & 0xff);
-          px[2] = static_cast<uint8_t>(128 - 100 * v);
-        }
-      std::vector<uint8_t> image(static_cast<size_t>(o.width) * o.height * 3);
-      char source[] = "bench", encoding[] = "bgr8", reason[] = "bench";
-      const auto period = std::chrono::nanoseconds(static_cast<int64_t>(1e9 / o.rate_hz));
-      auto next = std::chrono::steady_clock::now();
-      for (uint64_t seq = 0; !stop_; ++seq) {
-        const size_t shift = (seq * 3) % margin;
-        for (int y = 0; y < o.height; ++y)
-          std::memcpy(&image[static_cast<size_t>(y) * o.width * 3],
-                      &texture[(static_cast<size_t>(y) * wide + shift) * 3],
-                      static_cast<size_t>(o.width) * 3);
-        stereoball_msg_StereoFrame f{};
-        f.seq = seq;
-        f.stamp_ns = wall_ns();
-        f.source = source;
-        f.encoding = encoding;
-        for (auto* eye : {&f.left, &f.right}) {
-          eye->capture_stamp_ns = f.stamp_ns;
-          eye->width_px = static_cast<uint32_t>(o.width);
-          eye->height_px = static_cast<uint32_t>(o.height);
-          eye->step_bytes = static_cast<uint32_t>(o.width * 3);
-          eye->data._buffer = image.data();
-          eye->data._length = static_cast<uint32_t>(image.size());
-        }
-        frames_->write(f);
-        stereoball_msg_BallDetection d{};
-        d.frame_seq = seq;
-        d.capture_stamp_ns = f.stamp_ns;
-        d.reason = reason;
-        d.left = {320, 240, 20, 0.9f};
-        detections.write(d);
-        stereoball_msg_BallTrack t{};
-        t.frame_seq = seq;
-        t.capture_stamp_ns = f.stamp_ns;
-        t.reason = reason;
-        tracks.write(t);
-        next += period;
-        std::this_thread::sleep_until(next);
-      }
-      frames_.reset();
-    });
-  }
-  ~Publisher() {
-    stop_ = true;
-    thread_.join();
-  }
-  /// Readers of stereo/frame matched with the camera's writer right now.
-  uint32_t frame_readers() const { return frames_ ? frames_->matched_readers() : 0; }
-
- private:
-  std::atomic<bool> stop_{false};
-  std::unique_ptr<sb::dds::DataWriter<stereoball_msg_StereoFrame>> frames_;
-  std::thread thread_;
-};
-
-pid_t start_viewer(const Options& o, const std::string& partition, const std::string& log,
-                   int& port) {
-  const std::string bin =
-      std::filesystem::read_symlink("/proc/self/exe").parent_path().string() + "/stereoball-view";
-  std::vector<std::string> args = {
-      bin, "--port", "0", "--domain", std::to_string(o.domain), "--partition", partition};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  pid_t pid = -1;
-  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) return -1;
-  posix_spawn_file_actions_destroy(&actions);
-  for (int i = 0; i < 300 && port == 0; ++i) {
-    std::this_thread::sleep_for(100ms);
-    std::ifstream f(log);
-    std::stringstream text;
-    text << f.rdbuf();
-    std::smatch m;
-    const std::string s = text.str();
-    if (std::regex_search(s, m, std::regex("viewer: http://127\\.0\\.0\\.1:(\\d+)/")))
-      port = std::stoi(m[1]);
-  }
-  return pid;
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
-  return v[static_cast<size_t>(q * (v.size() - 1))];
+  return v[static_cast<size_t>(std::lround(q * static_cast<double>(v.size() - 1)))];
+}
+
+double sum_cpu_seconds(const std::vector<pid_t>& pids) {
+  double total = 0;
+  for (pid_t p : pids) total += bench::cpu_seconds(p).value_or(0);
+  return total;
+}
+
+long stats_counter(int port, const std::string& name) {
+  std::smatch m;
+  const std::string body = bench::http_get(port, "/stats");
+  if (!std::regex_search(body, m, std::regex("\"" + name + "\":(\\d+)"))) return -1;
+  return std::stol(m[1]);
+}
+
+// A running stereoball-view and its port.
+struct Viewer {
+  std::unique_ptr<bench::Child> child;
+  int port = 0;
+};
+
+std::optional<Viewer> start_viewer(const Options& o, const std::string& partition,
+                                   const std::string& log_prefix) {
+  // A log of its own: the address found in it must be this viewer's.
+  static int started = 0;
+  const std::string log = log_prefix + "-" + std::to_string(++started) + ".log";
+  std::vector<std::string> argv = {bench::sibling_program("stereoball-view"),
+                                   "--port",
+                                   "0",
+                                   "--domain",
+                                   std::to_string(o.domain),
+                                   "--partition",
+                                   partition};
+  argv.insert(argv.end(), o.viewer_args.begin(), o.viewer_args.end());
+  Viewer v{std::make_unique<bench::Child>(argv, log), 0};
+  const auto port = v.child->wait_for_log(std::regex(R"(viewer: http://127\.0\.0\.1:(\d+)/)"), 60);
+  if (!port) return std::nullopt;
+  v.port = std::stoi(*port);
+  return v;
+}
+
+// One measured case: what is connected while the viewer's and the robot's CPU are sampled.
+struct Case {
+  std::string name;
+  bool viewer = true;
+  int clients = 0;
+  bool browser = false;
+};
+
+struct Sample {
+  double viewer_cpu = NAN, robot_cpu = NAN, images_per_client_s = NAN, rss_mb = NAN;
+  double frames_hz = NAN, encoded_per_s = NAN;
+  std::vector<double> latencies_ms;
+};
+
+class Measurer {
+ public:
+  Measurer(const Options& o, const bench::Source& source, bench::FrameRate& frames)
+      : o_(o), source_(source), frames_(frames) {}
+
+  // Connects what the case needs, waits for it to settle, samples for phase_s.
+  std::optional<Sample> run(const Case& c, const Viewer* viewer) {
+    std::vector<std::unique_ptr<bench::WsClient>> clients;
+    std::unique_ptr<bench::Browser> browser;
+    if (viewer) {
+      for (int i = 0; i < c.clients; ++i) {
+        clients.push_back(
+            std::make_unique<bench::WsClient>(viewer->port, bench::WsClient::Kind::kPage));
+        if (!clients.back()->connected()) {
+          std::printf("  client %d could not connect to port %d\n", i + 1, viewer->port);
+          return std::nullopt;
+        }
+      }
+      if (c.browser) {
+        browser = std::make_unique<bench::Browser>(
+            "http://127.0.0.1:" + std::to_string(viewer->port) + "/");
+        if (!browser->error().empty()) {
+          std::printf("  browser: %s\n", browser->error().c_str());
+          return std::nullopt;
+        }
+      }
+    }
+    std::this_thread::sleep_for(2s);  // frame reader created, first frames encoded
+    const auto robot = source_.robot_processes();
+    const pid_t vp = viewer ? viewer->child->pid() : -1;
+    const double viewer0 = viewer ? bench::cpu_seconds(vp).value_or(NAN) : NAN;
+    const double robot0 = sum_cpu_seconds(robot);
+    const long encoded0 = viewer ? stats_counter(viewer->port, "pairs_encoded") : 0;
+    uint64_t images0 = 0;
+    for (auto& cl : clients) images0 += cl->images();
+    std::vector<size_t> lat0;
+    for (auto& cl : clients) lat0.push_back(cl->latencies_ms().size());
+    frames_.restart();
+    const auto t0 = std::chrono::steady_clock::now();
+    std::this_thread::sleep_for(std::chrono::duration<double>(o_.phase_s));
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    Sample s;
+    if (viewer) s.viewer_cpu = (bench::cpu_seconds(vp).value_or(NAN) - viewer0) / wall * 100;
+    if (!robot.empty()) s.robot_cpu = (sum_cpu_seconds(robot) - robot0) / wall * 100;
+    s.frames_hz = frames_.rate_hz();
+    if (viewer) {
+      s.rss_mb = bench::rss_mb(vp).value_or(NAN);
+      s.encoded_per_s = (stats_counter(viewer->port, "pairs_encoded") - encoded0) / wall;
+    }
+    uint64_t images = 0;
+    for (size_t i = 0; i < clients.size(); ++i) {
+      images += clients[i]->images();
+      const auto l = clients[i]->latencies_ms();
+      s.latencies_ms.insert(s.latencies_ms.end(), l.begin() + static_cast<long>(lat0[i]), l.end());
+    }
+    if (!clients.empty()) s.images_per_client_s = (images - images0) / wall / clients.size();
+    if (browser) {
+      const auto r = browser->finish();
+      if (!r) {
+        std::printf("  browser: %s\n", browser->error().c_str());
+        return std::nullopt;
+      }
+      s.images_per_client_s = r->images / wall;
+      s.latencies_ms = r->latencies_ms;
+    }
+    return s;
+  }
+
+ private:
+  const Options& o_;
+  const bench::Source& source_;
+  bench::FrameRate& frames_;
+};
+
+std::string fmt(double v, const char* f = "%.1f") {
+  if (std::isnan(v)) return "–";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::vector<double> field(const std::vector<Sample>& v, double Sample::*f) {
+  std::vector<double> out;
+  for (const auto& s : v)
+    if (!std::isnan(s.*f)) out.push_back(s.*f);
+  return out;
+}
+
+int run_cases(const Options& o, const bench::Source& source, const std::string& log) {
+  bench::FrameRate frames(o.domain, source.partition());
+  std::vector<Case> cases = {{"no viewer", false, 0, false}};
+  for (int n : o.clients)
+    cases.push_back({std::to_string(n) + " client" + (n == 1 ? "" : "s"), true, n, false});
+  if (o.browser) {
+    if (auto why = bench::Browser::unavailable()) {
+      std::printf("(no Chromium case: %s)\n", why->c_str());
+    } else {
+      cases.push_back({"1 Chromium", true, 0, true});
+    }
+  }
+  std::map<std::string, std::vector<Sample>> results;
+  Measurer measurer(o, source, frames);
+  const double load_start = bench::load_average();
+  for (int round = 1; round <= o.repeats; ++round) {
+    std::optional<Viewer> viewer;
+    for (const auto& c : cases) {
+      if (c.viewer && !viewer) {
+        viewer = start_viewer(o, source.partition(), log);
+        if (!viewer) {
+          std::fprintf(stderr, "bench viewer: the viewer did not start (see %s-*.log)\n",
+                       log.c_str());
+          return 1;
+        }
+        std::this_thread::sleep_for(3s);  // discovery settles
+      }
+      const auto s = measurer.run(c, viewer ? &*viewer : nullptr);
+      if (!s) continue;
+      std::printf(
+          "round %d, %-10s: viewer CPU %5s %%, robot CPU %5s %%, %5s frames/s, %5s pairs "
+          "encoded/s, %5s images/s per client, latency p50 %5s ms, viewer RSS %5s MB\n",
+          round, c.name.c_str(), fmt(s->viewer_cpu).c_str(), fmt(s->robot_cpu).c_str(),
+          fmt(s->frames_hz).c_str(), fmt(s->encoded_per_s).c_str(),
+          fmt(s->images_per_client_s).c_str(), fmt(percentile(s->latencies_ms, 0.5)).c_str(),
+          fmt(s->rss_mb).c_str());
+      std::fflush(stdout);
+      results[c.name].push_back(*s);
+    }
+  }
+  const double load_end = bench::load_average();
+  std::printf(
+      "\n%s, %.0f s per case, median of %d rounds; load average %.1f at start, %.1f at end "
+      "(%ld cores)\n\n",
+      source.describe().c_str(), o.phase_s, o.repeats, load_start, load_end,
+      sysconf(_SC_NPROCESSORS_ONLN));
+  std::printf(
+      "| case | viewer CPU, %% of one core (runs) | robot CPU %% | frames/s | pairs encoded/s | "
+      "images/s per client | capture→client p50 / p90 ms | viewer RSS MB |\n"
+      "|---|---|---|---|---|---|---|---|\n");
+  for (const auto& c : cases) {
+    const auto& v = results[c.name];
+    if (v.empty()) continue;
+    std::string runs;
+    for (double x : field(v, &Sample::viewer_cpu)) runs += (runs.empty() ? "" : ", ") + fmt(x);
+    std::vector<double> lat;
+    for (const auto& s : v) lat.insert(lat.end(), s.latencies_ms.begin(), s.latencies_ms.end());
+    std::printf("| %s | %s%s | %s | %s | %s | %s | %s | %s |\n", c.name.c_str(),
+                fmt(median(field(v, &Sample::viewer_cpu))).c_str(),
+                runs.empty() ? "" : (" (" + runs + ")").c_str(),
+                fmt(median(field(v, &Sample::robot_cpu))).c_str(),
+                fmt(median(field(v, &Sample::frames_hz))).c_str(),
+                fmt(median(field(v, &Sample::encoded_per_s))).c_str(),
+                fmt(median(field(v, &Sample::images_per_client_s))).c_str(),
+                lat.empty() ? "–"
+                            : (fmt(percentile(lat, 0.5), "%.0f") + " / " +
+                               fmt(percentile(lat, 0.9), "%.0f"))
+                                  .c_str(),
+                fmt(median(field(v, &Sample::rss_mb))).c_str());
+  }
+  return 0;
+}
+
+// Least-squares slope of y over x.
+double slope(const std::vector<std::pair<double, double>>& xy) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(xy.size());
+  for (auto [x, y] : xy) {
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  const double d = n * sxx - sx * sx;
+  return d > 0 ? (n * sxy - sx * sy) / d : NAN;
+}
+
+size_t open_fds(pid_t pid) {
+  std::error_code ec;
+  size_t n = 0;
+  for (auto it = std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec);
+       !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
+    ++n;
+  return n;
+}
+
+int run_soak(const Options& o, const bench::Source& source, const std::string& log) {
+  const auto viewer = start_viewer(o, source.partition(), log);
+  if (!viewer) {
+    std::fprintf(stderr, "bench viewer: the viewer did not start (see %s-*.log)\n", log.c_str());
+    return 1;
+  }
+  const int n = o.clients.empty() ? 10 : o.clients.front();
+  const pid_t vp = viewer->child->pid();
+  std::printf(
+      "%s; %d clients (page and Foxglove alternately, each connected 0.5-2 s, every third "
+      "dropped without a close frame) for %.0f s; load average %.1f\n",
+      source.describe().c_str(), n, o.soak_s, bench::load_average());
+  std::atomic<bool> stop{false};
+  std::atomic<uint64_t> sessions{0}, failed{0};
+  std::vector<std::thread> threads;
+  for (int i = 0; i < n; ++i) {
+    threads.emplace_back([&, i] {
+      for (uint64_t round = 0; !stop; ++round) {
+        const auto kind =
+            (round + i) % 2 ? bench::WsClient::Kind::kFoxglove : bench::WsClient::Kind::kPage;
+        {
+          bench::WsClient client(viewer->port, kind);
+          if (!client.connected()) ++failed;
+          client.set_clean_close(round % 3 != 0);
+          const int hold_ms = 500 + static_cast<int>((round * 7919 + i * 104729) % 1500);
+          for (int t = 0; t < hold_ms && !stop; t += 50) std::this_thread::sleep_for(50ms);
+        }
+        ++sessions;
+        std::this_thread::sleep_for(100ms);
+      }
+    });
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::pair<double, double>> rss;  // (minutes, MB)
+  const size_t fds0 = open_fds(vp);
+  double next_print_min = 0;
+  for (;;) {
+    const double min =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / 60;
+    const auto r = bench::rss_mb(vp);
+    if (!r) {
+      std::printf("the viewer exited during the soak (see %s-1.log)\n", log.c_str());
+      stop = true;
+      for (auto& t : threads) t.join();
+      return 1;
+    }
+    rss.emplace_back(min, *r);
+    if (min >= next_print_min) {
+      std::printf("  %5.1f min: viewer RSS %6.1f MB, %llu sessions, %zu open fds, load %.1f\n", min,
+                  *r, static_cast<unsigned long long>(sessions.load()), open_fds(vp),
+                  bench::load_average());
+      std::fflush(stdout);
+      next_print_min += 1;
+    }
+    if (min * 60 >= o.soak_s) break;
+    std::this_thread::sleep_for(1s);
+  }
+  stop = true;
+  for (auto& t : threads) t.join();
+  std::this_thread::sleep_for(2s);  // the last closes reach the viewer
+  const double end_mb = bench::rss_mb(vp).value_or(NAN);
+  std::vector<std::pair<double, double>> after_first;
+  for (const auto& p : rss)
+    if (p.first >= 1) after_first.push_back(p);
+  std::printf(
+      "  end: viewer RSS %.1f MB (start %.1f, max %.1f), %llu sessions (%llu refused), viewer "
+      "counted %ld connections, %ld clients connected now, open fds %zu -> %zu\n"
+      "  RSS slope %.3f MB/min over the whole run, %.3f MB/min after the first minute\n",
+      end_mb, rss.front().second,
+      std::max_element(rss.begin(), rss.end(), [](auto& a, auto& b) { return a.second < b.second; })
+          ->second,
+      static_cast<unsigned long long>(sessions.load()),
+      static_cast<unsigned long long>(failed.load()), stats_counter(viewer->port, "connections"),
+      stats_counter(viewer->port, "browsers") + stats_counter(viewer->port, "foxglove_clients"),
+      fds0, open_fds(vp), slope(rss), after_first.size() > 2 ? slope(after_first) : NAN);
+  return 0;
 }
 
 }  // namespace
@@ -190,88 +383,51 @@ double percentile(std::vector<double> v, double q) {
 int main(int argc, char** argv) {
   CLI::App app{"stereoball bench viewer: CPU, latency and memory of stereoball view"};
   Options o;
-  app.add_option("--width", o.width)->capture_default_str();
-  app.add_option("--height", o.height)->capture_default_str();
-  app.add_option("--rate", o.rate_hz, "frames per second")->capture_default_str();
-  app.add_option("--phase-s", o.phase_s, "seconds per measurement")->capture_default_str();
-  app.add_option("--loop-s", o.loop_s, "seconds of the connect/disconnect loop")
+  app.add_option("--source", o.source, "what the viewer watches: demo or synthetic")
+      ->check(CLI::IsMember({"demo", "synthetic"}))
       ->capture_default_str();
-  app.add_option("--domain", o.domain)->capture_default_str();
+  app.add_option("--scenario", o.scenario, "demo scenario")->capture_default_str();
+  app.add_option("--width", o.width, "synthetic image width")->check(CLI::Range(16, 4096));
+  app.add_option("--height", o.height, "synthetic image height")->check(CLI::Range(16, 4096));
+  app.add_option("--rate", o.rate_hz, "synthetic frames per second")->check(CLI::Range(1.0, 240.0));
+  app.add_option("--phase-s", o.phase_s, "seconds per measurement")
+      ->check(CLI::Range(1.0, 600.0))
+      ->capture_default_str();
+  app.add_option("--repeats", o.repeats, "rounds (the figures are medians)")
+      ->check(CLI::Range(1, 20))
+      ->capture_default_str();
+  app.add_option("--clients", o.clients,
+                 "client counts measured (default 0 1 2 5); with --soak, clients in the loop "
+                 "(default 10)")
+      ->check(CLI::Range(0, 100));
+  app.add_flag("!--no-browser", o.browser, "skip the headless Chromium case");
+  app.add_option("--soak", o.soak_s, "seconds of clients connecting and disconnecting instead")
+      ->check(CLI::Range(10.0, 86400.0));
+  app.add_option("--viewer-arg", o.viewer_args, "extra argument for stereoball view (repeatable)")
+      ->allow_extra_args(false);
+  app.add_option("--domain", o.domain)->check(CLI::Range(0, 232))->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  const std::string partition = "bench.viewer." + std::to_string(getpid());
-  const std::string log = "/tmp/stereoball-bench-viewer-" + std::to_string(getpid()) + ".log";
-  Publisher publisher(o, partition);
-  int port = 0;
-  const pid_t viewer = start_viewer(o, partition, log, port);
-  if (viewer < 0 || port == 0) {
-    std::fprintf(stderr, "bench viewer: the viewer did not start (see %s)\n", log.c_str());
-    if (viewer > 0) kill(viewer, SIGTERM);
-    return 1;
+  if (o.clients.empty() && o.soak_s == 0) o.clients = {0, 1, 2, 5};
+  const std::string work = "/tmp/stereoball-bench-viewer-" + std::to_string(getpid());
+  std::filesystem::create_directories(work);
+  const std::string log = work + "/viewer";
+  // The demo and the viewer use the single-host DDS configuration, as `stereoball demo` does.
+  if (!std::getenv("CYCLONEDDS_URI")) {
+    const auto xml = sb::paths::shipped_config_path("cyclonedds/loopback.xml");
+    if (std::filesystem::exists(xml))
+      setenv("CYCLONEDDS_URI", ("file://" + std::filesystem::absolute(xml).string()).c_str(), 1);
   }
-  std::printf("stereo/frame %dx%d bgr8 at %.0f Hz, viewer pid %d on port %d\n", o.width, o.height,
-              o.rate_hz, viewer, port);
-  auto measure = [&](int clients) {
-    std::vector<std::unique_ptr<sb::bench::PageClient>> page;
-    for (int i = 0; i < clients; ++i) page.push_back(std::make_unique<sb::bench::PageClient>(port));
-    std::this_thread::sleep_for(2s);  // reader created, first frames encoded
-    const double cpu0 = cpu_s(viewer);
-    uint64_t images0 = 0;
-    for (auto& p : page) images0 += p->images();
-    const auto t0 = std::chrono::steady_clock::now();
-    std::this_thread::sleep_for(std::chrono::duration<double>(o.phase_s));
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const double cpu = (cpu_s(viewer) - cpu0) / wall * 100;
-    uint64_t images = 0;
-    std::vector<double> lat;
-    for (auto& p : page) {
-      images += p->images();
-      auto l = p->latencies_ms();
-      lat.insert(lat.end(), l.begin(), l.end());
+  std::unique_ptr<bench::Source> source;
+  if (o.source == "demo") {
+    std::string error;
+    source = bench::start_demo(o.domain, o.scenario, work, error);
+    if (!source) {
+      std::fprintf(stderr, "bench viewer: %s\n", error.c_str());
+      return 1;
     }
-    const uint32_t readers = publisher.frame_readers();
-    if (clients == 0) {
-      std::printf("  0 clients: viewer CPU %5.1f %% of one core, stereo/frame readers %u\n", cpu,
-                  readers);
-    } else {
-      std::printf(
-          "  %d client(s): viewer CPU %5.1f %% of one core, %.1f images/s per client, latency "
-          "capture->client p50 %.1f ms p95 %.1f ms, stereo/frame readers %u\n",
-          clients, cpu, (images - images0) / wall / clients, percentile(lat, 0.5),
-          percentile(lat, 0.95), readers);
-    }
-    page.clear();
-    std::this_thread::sleep_for(1s);
-  };
-  std::printf("CPU and latency (%.0f s each):\n", o.phase_s);
-  for (int clients : {0, 1, 2, 4, 0}) measure(clients);
-  std::printf("10 clients connecting and disconnecting for %.0f s:\n", o.loop_s);
-  const auto loop_end = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.loop_s);
-  std::vector<double> rss;
-  int rounds = 0;
-  while (std::chrono::steady_clock::now() < loop_end) {
-    {
-      std::vector<std::unique_ptr<sb::bench::PageClient>> page;
-      for (int i = 0; i < 10; ++i) page.push_back(std::make_unique<sb::bench::PageClient>(port));
-      std::this_thread::sleep_for(1s);
-    }
-    ++rounds;
-    std::this_thread::sleep_for(200ms);
-    rss.push_back(rss_mb(viewer));
+  } else {
+    source = bench::start_synthetic(o.domain, o.width, o.height, o.rate_hz);
   }
-  if (!rss.empty()) {
-    const size_t tenth = std::max<size_t>(1, rss.size() / 10);
-    double first = 0, last = 0;
-    for (size_t i = 0; i < tenth; ++i) {
-      first += rss[i] / tenth;
-      last += rss[rss.size() - 1 - i] / tenth;
-    }
-    std::printf(
-        "  %d rounds (%d connections): viewer RSS %.1f MB over the first tenth, %.1f MB "
-        "over the last tenth, max %.1f MB\n",
-        rounds, rounds * 10, first, last, *std::max_element(rss.begin(), rss.end()));
-  }
-  kill(viewer, SIGTERM);
-  waitpid(viewer, nullptr, 0);
-  return 0;
+  std::printf("logs in %s\n", work.c_str());
+  return o.soak_s > 0 ? run_soak(o, *source, log) : run_cases(o, *source, log);
 }

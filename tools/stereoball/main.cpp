@@ -20,9 +20,11 @@ struct Subcommand {
   std::string_view summary;
 };
 
-constexpr std::array<Subcommand, 15> kKnown = {{
+constexpr std::array<Subcommand, 17> kKnown = {{
     {"demo", "run the whole system on the simulator and write a report"},
     {"launch", "start and supervise a deploy/ profile"},
+    {"view", "live viewer in the browser and Foxglove WebSocket server, one port"},
+    {"foxglove", "the same as view (Foxglove: connect to ws://HOST:PORT/)"},
     {"topic", "list, echo and measure topics (list | echo | hz)"},
     {"detect", "detect circles in image files"},
     {"bench", "benchmarks (detect | tracking | closed-loop | ...)"},
@@ -56,8 +58,9 @@ void print_usage(const fs::path& dir) {
   std::printf("usage: stereoball <command> [args...]\n\ncommands:\n");
   for (const auto& sub : kKnown) {
     // bench has only nested programs (stereoball-bench-detect, ...).
+    const std::string program(sub.name == "foxglove" ? "view" : sub.name);
     const bool present = sub.name == "help" || sub.name == "version" || sub.name == "bench" ||
-                         fs::exists(dir / ("stereoball-" + std::string(sub.name)));
+                         fs::exists(dir / ("stereoball-" + program));
     std::printf("  %-10s %.*s%s\n", std::string(sub.name).c_str(),
                 static_cast<int>(sub.summary.size()), sub.summary.data(),
                 present ? "" : "  (not built)");
@@ -86,7 +89,8 @@ int main(int argc, char** argv) {
     print_usage(dir);
     return argc < 2 ? 1 : 0;
   }
-  const std::string command = argv[1];
+  // `stereoball foxglove` is `stereoball view`: one process serves the page and Foxglove.
+  const std::string command = std::string_view(argv[1]) == "foxglove" ? "view" : argv[1];
   if (command == "version" || command == "--version") {
     std::printf("stereoball %s\n", SB_VERSION);
     return 0;

@@ -57,6 +57,9 @@ void FramePump::run() {
     }
     try {
       if (!sub) sub = std::make_unique<Subscription>(participant_);
+      // Skip frames rather than queue them: a frame is taken (and deserialised and encoded)
+      // only when some client would send it now; meanwhile keep-last-1 holds just the newest.
+      if (!server_.wait_until_ready_for_image(100'000'000)) continue;
       sub->waitset.wait(100'000'000);
       auto loaned = sub->reader.take_loaned();
       const auto newest = loaned.latest_valid();

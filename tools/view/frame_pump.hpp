@@ -2,7 +2,9 @@
 // Takes stereo frames only while some client wants images: the frame reader is created when
 // the first such client arrives and deleted when the last one leaves, so with no viewer
 // open the camera has no extra reader to send to. Frames are taken newest-first (keep-last-1,
-// loaned, never copied), decimated to max_rate_hz, JPEG-encoded and handed to the server.
+// loaned, never copied) only when some client would send one now (so the encoder runs at the
+// rate the fastest client drains, at most max_rate_hz), JPEG-encoded once and handed to the
+// server for every client.
 
 #include <atomic>
 #include <cstdint>

@@ -1,5 +1,6 @@
 #include "view_server.hpp"
 
+#include <chrono>
 #include <cstring>
 #include <map>
 
@@ -67,15 +68,15 @@ struct ViewServer::Impl {
   ServerParams params;
   std::function<std::string(int64_t)> scene_json;
   std::function<std::string()> plot_json;
-  std::atomic<bool>* images_wanted = nullptr;
+  ViewServer* owner = nullptr;
   std::unique_ptr<WsTransport> transport;
   std::map<uint64_t, Client> clients;  // touched on the transport thread only
   std::vector<fg::Channel> channels = advertised_channels();
   std::vector<uint32_t> channel_ids;
   std::string session_id = std::to_string(node::now_ns());
   std::atomic<int> pairs_pending{0};
-  std::atomic<uint64_t> connections{0}, disconnected_slow{0}, images_sent{0}, images_dropped{0},
-      bad_client_messages{0}, browsers{0}, foxglove_clients{0};
+  std::atomic<uint64_t> connections{0}, disconnected_slow{0}, pairs_encoded{0}, images_sent{0},
+      images_dropped{0}, bad_client_messages{0}, browsers{0}, foxglove_clients{0};
 
   bool wants_images(const Client& c) const {
     return c.kind == Kind::kBrowser ||
@@ -92,7 +93,21 @@ struct ViewServer::Impl {
     }
     browsers = b;
     foxglove_clients = f;
-    images_wanted->store(wanted);
+    owner->images_wanted_.store(wanted);
+    update_ready();
+  }
+
+  // Whether some client would take an image now; wakes the frame pump when one would.
+  void update_ready() {
+    bool ready = false;
+    for (const auto& [id, c] : clients)
+      ready |= !c.cut && wants_images(c) && c.flow.ready_for_image(transport->queued_bytes(id));
+    {
+      std::lock_guard lock(owner->ready_mutex_);
+      if (owner->ready_for_image_ == ready) return;
+      owner->ready_for_image_ = ready;
+    }
+    if (ready) owner->ready_changed_.notify_all();
   }
 
   void cut_off(uint64_t id, Client& c) {
@@ -163,6 +178,7 @@ struct ViewServer::Impl {
     if (c.kind == Kind::kBrowser) {
       if (text && payload == "ack") {
         c.flow.on_ack();
+        update_ready();
       } else if (text && payload == "scene-ack") {
         c.flow.on_scene_ack();
       } else {
@@ -186,15 +202,15 @@ struct ViewServer::Impl {
 
   std::string stats_json() const {
     char buf[400];
-    std::snprintf(buf, sizeof buf,
-                  "{\"browsers\":%llu,\"foxglove_clients\":%llu,\"connections\":%llu,"
-                  "\"disconnected_slow\":%llu,\"images_sent\":%llu,\"images_dropped\":%llu,"
-                  "\"bad_client_messages\":%llu}\n",
-                  (unsigned long long)browsers.load(), (unsigned long long)foxglove_clients.load(),
-                  (unsigned long long)connections.load(),
-                  (unsigned long long)disconnected_slow.load(),
-                  (unsigned long long)images_sent.load(), (unsigned long long)images_dropped.load(),
-                  (unsigned long long)bad_client_messages.load());
+    std::snprintf(
+        buf, sizeof buf,
+        "{\"browsers\":%llu,\"foxglove_clients\":%llu,\"connections\":%llu,"
+        "\"disconnected_slow\":%llu,\"pairs_encoded\":%llu,\"images_sent\":%llu,"
+        "\"images_dropped\":%llu,\"bad_client_messages\":%llu}\n",
+        (unsigned long long)browsers.load(), (unsigned long long)foxglove_clients.load(),
+        (unsigned long long)connections.load(), (unsigned long long)disconnected_slow.load(),
+        (unsigned long long)pairs_encoded.load(), (unsigned long long)images_sent.load(),
+        (unsigned long long)images_dropped.load(), (unsigned long long)bad_client_messages.load());
     return buf;
   }
 
@@ -240,6 +256,7 @@ struct ViewServer::Impl {
         transport->send(id, frame.data(), frame.size(), true);
       }
     }
+    update_ready();
   }
 
   void deliver_derived(const std::vector<viewer::DerivedMessage>& messages) {
@@ -255,6 +272,7 @@ struct ViewServer::Impl {
   }
 
   void push_scene() {
+    update_ready();  // a Foxglove client's backlog drains without telling anyone
     const int64_t now = node::now_ns();
     std::string scene, plot;
     for (auto& [id, c] : clients) {
@@ -282,7 +300,7 @@ ViewServer::ViewServer(const ServerParams& params, std::function<std::string(int
   impl_->params = params;
   impl_->scene_json = std::move(scene_json);
   impl_->plot_json = std::move(plot_json);
-  impl_->images_wanted = &images_wanted_;
+  impl_->owner = this;
   for (const auto& c : impl_->channels) impl_->channel_ids.push_back(c.id);
   Impl* impl = impl_.get();
   WsTransport::Handlers handlers{
@@ -316,8 +334,15 @@ void ViewServer::stop() {
   impl_->transport->stop();
 }
 
+bool ViewServer::wait_until_ready_for_image(int64_t timeout_ns) {
+  std::unique_lock lock(ready_mutex_);
+  return ready_changed_.wait_for(lock, std::chrono::nanoseconds(timeout_ns),
+                                 [this] { return ready_for_image_; });
+}
+
 void ViewServer::publish_pair(std::shared_ptr<const viewer::PairJpeg> pair) {
   Impl* impl = impl_.get();
+  ++impl->pairs_encoded;
   // At most two pairs wait for the server thread; beyond that a pair is not queued at all
   // (a newer one follows), so a busy server never piles up images.
   if (impl->pairs_pending.fetch_add(1) >= 2) {
@@ -338,9 +363,9 @@ void ViewServer::publish_derived(std::vector<viewer::DerivedMessage> messages) {
 }
 
 ServerStats ViewServer::stats() const {
-  return {impl_->browsers,           impl_->foxglove_clients, impl_->connections,
-          impl_->disconnected_slow,  impl_->images_sent,      impl_->images_dropped,
-          impl_->bad_client_messages};
+  return {impl_->browsers,          impl_->foxglove_clients,   impl_->connections,
+          impl_->disconnected_slow, impl_->pairs_encoded,      impl_->images_sent,
+          impl_->images_dropped,    impl_->bad_client_messages};
 }
 
 }  // namespace stereoball::view

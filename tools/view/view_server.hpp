@@ -6,9 +6,11 @@
 // one is cut off; nothing here ever waits for a client.
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -33,7 +35,8 @@ struct ServerStats {
   uint64_t foxglove_clients = 0;   ///< connected now
   uint64_t connections = 0;        ///< accepted since start
   uint64_t disconnected_slow = 0;  ///< cut off because they did not read
-  uint64_t images_sent = 0;
+  uint64_t pairs_encoded = 0;      ///< stereo pairs JPEG-encoded (once each, for every client)
+  uint64_t images_sent = 0;        ///< pairs sent, summed over clients
   uint64_t images_dropped = 0;
   uint64_t bad_client_messages = 0;
 };
@@ -59,12 +62,19 @@ class ViewServer {
   void publish_derived(std::vector<viewer::DerivedMessage> messages);
   /// True while at least one client wants images (the frame reader exists only then).
   bool images_wanted() const { return images_wanted_.load(); }
+  /// Waits up to timeout_ns until some client would take an image now (a free slot, backlog
+  /// under the drop limit); true when one would. The frame pump encodes only then, so frames
+  /// nobody can take are skipped, never encoded and queued.
+  bool wait_until_ready_for_image(int64_t timeout_ns);
   ServerStats stats() const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::atomic<bool> images_wanted_{false};
+  std::mutex ready_mutex_;
+  std::condition_variable ready_changed_;
+  bool ready_for_image_ = false;  // under ready_mutex_
 };
 
 }  // namespace stereoball::view

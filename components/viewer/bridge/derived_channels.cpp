@@ -7,7 +7,7 @@ namespace stereoball::viewer {
 using foxglove::DerivedChannel;
 using foxglove::Eye;
 
-Result<PairJpeg> encode_pair(const EyeEncoder& encoder, const stereoball_msg_StereoFrame& frame) {
+Result<PairJpeg> encode_pair(EyeEncoder& encoder, const stereoball_msg_StereoFrame& frame) {
   auto left = encoder.encode(frame.left, frame.encoding);
   if (!left) return Error{"left eye: " + left.error()};
   auto right = encoder.encode(frame.right, frame.encoding);

@@ -25,7 +25,7 @@ struct PairJpeg {
 };
 
 /// Both eyes of frame as JPEGs; error names the eye and the problem.
-Result<PairJpeg> encode_pair(const EyeEncoder& encoder, const stereoball_msg_StereoFrame& frame);
+Result<PairJpeg> encode_pair(EyeEncoder& encoder, const stereoball_msg_StereoFrame& frame);
 
 /// One derived message: channel, CDR payload, stamp (ns since epoch).
 struct DerivedMessage {

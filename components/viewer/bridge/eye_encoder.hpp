@@ -1,8 +1,13 @@
 #pragma once
 // One eye of a StereoFrame as a JPEG for people to look at: raw encodings are encoded at the
-// chosen quality (and optionally scaled down), JPEG eyes pass through unchanged.
+// chosen quality (and optionally scaled down), JPEG eyes pass through unchanged. Encoding uses
+// libjpeg-turbo's TurboJPEG API (BGR in directly, 4:2:0 chroma as usual for viewing, the fast
+// integer DCT, no allocation per frame): the viewer's main cost.
+
+#include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,12 +33,19 @@ struct EyeJpeg {
 
 class EyeEncoder {
  public:
-  explicit EyeEncoder(const EyeEncoderParams& params) : params_(params) {}
-  /// JPEG of image (encoding as in StereoFrame.encoding); error names the problem.
-  Result<EyeJpeg> encode(const stereoball_msg_EyeImage& image, const char* encoding) const;
+  explicit EyeEncoder(const EyeEncoderParams& params);
+  ~EyeEncoder();
+  EyeEncoder(EyeEncoder&&) noexcept;
+  EyeEncoder& operator=(EyeEncoder&&) noexcept;
+  /// JPEG of image (encoding as in StereoFrame.encoding); error names the problem. Reuses the
+  /// encoder's compressor and scratch buffer from call to call: one encoder per thread.
+  Result<EyeJpeg> encode(const stereoball_msg_EyeImage& image, const char* encoding);
 
  private:
+  Result<EyeJpeg> compress(const cv::Mat& shown);
   EyeEncoderParams params_;
+  void* compressor_ = nullptr;          // TurboJPEG handle (tjhandle), created on first use
+  std::vector<unsigned char> scratch_;  // worst-case output size of the last image shape
 };
 
 }  // namespace stereoball::viewer

@@ -36,11 +36,14 @@ bool ClientFlow::stalled(uint64_t queued_bytes, int64_t now_ns) {
   return now_ns - *over_limit_since_ns_ >= params_.stall_timeout_ns;
 }
 
+bool ClientFlow::ready_for_image(uint64_t queued_bytes) const {
+  return queued_bytes <= params_.drop_images_above_bytes &&
+         !(acks_ && in_flight_ >= params_.max_frames_in_flight);
+}
+
 Decision ClientFlow::offer_image(uint64_t queued_bytes, int64_t now_ns) {
   if (stalled(queued_bytes, now_ns)) return Decision::kDisconnect;
-  const bool behind = queued_bytes > params_.drop_images_above_bytes ||
-                      (acks_ && in_flight_ >= params_.max_frames_in_flight);
-  if (behind) {
+  if (!ready_for_image(queued_bytes)) {
     ++dropped_images_;
     return Decision::kDrop;
   }

@@ -41,6 +41,9 @@ class ClientFlow {
   ClientFlow(const FlowParams& params, bool acks);
   /// Whether to send an image now, given the bytes still queued for this client.
   Decision offer_image(uint64_t queued_bytes, int64_t now_ns);
+  /// True when offer_image would send now (a free slot, backlog under the drop limit): the
+  /// viewer encodes a frame only while some client would take it.
+  bool ready_for_image(uint64_t queued_bytes) const;
   /// Whether to send a scene (state replaced by the next one) now: with acks, only when the
   /// previous scene was acknowledged, so scenes never queue up in a slow page.
   Decision offer_scene(uint64_t queued_bytes, int64_t now_ns);

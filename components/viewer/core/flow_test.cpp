@@ -43,6 +43,24 @@ TEST(ClientFlow, BrowserGetsAtMostFramesInFlightUntilItAcks) {
   EXPECT_EQ(flow.sent_images(), 3u);
 }
 
+TEST(ClientFlow, ReadyForImageSaysWhatTheNextOfferWouldDo) {
+  // Given a page with one frame in flight of at most two
+  FlowParams p;
+  p.max_frames_in_flight = 2;
+  ClientFlow page(p, /*acks=*/true);
+  ASSERT_EQ(page.offer_image(0, 0), Decision::kSend);
+  EXPECT_TRUE(page.ready_for_image(0));
+  // When the second is in flight, it is not ready (nothing would be sent), until an ack
+  ASSERT_EQ(page.offer_image(0, 1), Decision::kSend);
+  EXPECT_FALSE(page.ready_for_image(0));
+  page.on_ack();
+  EXPECT_TRUE(page.ready_for_image(0));
+  // And a backlog over the drop limit makes any client not ready
+  ClientFlow foxglove(p, /*acks=*/false);
+  EXPECT_TRUE(foxglove.ready_for_image(p.drop_images_above_bytes));
+  EXPECT_FALSE(foxglove.ready_for_image(p.drop_images_above_bytes + 1));
+}
+
 TEST(ClientFlow, PageGetsTheNextSceneOnlyAfterAcknowledgingTheLast) {
   ClientFlow page(FlowParams{}, /*acks=*/true);
   EXPECT_EQ(page.offer_scene(0, 0), Decision::kSend);

@@ -1,0 +1,40 @@
+#pragma once
+// One headless Chromium showing the viewer page, for the benchmark (browser_client.mjs run
+// by node): starts it, waits until the page draws images, and reads back the page's own
+// capture -> drawn latencies.
+
+#include <sys/types.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace stereoball::bench {
+
+struct BrowserResult {
+  uint64_t images = 0;
+  std::vector<double> latencies_ms;
+};
+
+class Browser {
+ public:
+  /// Why a browser cannot run here (no node or chromium), or nullopt.
+  static std::optional<std::string> unavailable();
+  /// Starts Chromium on url and waits (up to 120 s) until the page draws images.
+  explicit Browser(const std::string& url);
+  ~Browser();
+  Browser(const Browser&) = delete;
+  Browser& operator=(const Browser&) = delete;
+  /// "" when the page is live, else what went wrong.
+  const std::string& error() const { return error_; }
+  /// Images and latencies since the page went live; ends the browser.
+  std::optional<BrowserResult> finish();
+
+ private:
+  std::optional<std::string> read_line(double timeout_s);
+  pid_t pid_ = -1;
+  int to_node_ = -1, from_node_ = -1;
+  std::string buffered_, error_;
+};
+
+}  // namespace stereoball::bench
