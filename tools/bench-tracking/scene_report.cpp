@@ -20,6 +20,28 @@ void print_row(std::FILE* out, const std::string& name, const SceneFigures& f) {
                f.no_ball, pct(f.false_accepted, f.no_ball));
 }
 
+// Fully visible frames not accepted on the ball, by where the chain lost them.
+void print_miss_causes(std::FILE* out, const std::vector<RunResult>& runs) {
+  std::map<std::string, std::map<std::string, long>> by_scene;  // scene -> cause -> frames
+  std::map<std::string, long> total;
+  for (const RunResult& r : runs)
+    for (const FrameRecord& f : r.frames) {
+      if (f.miss_cause.empty()) continue;
+      ++by_scene[r.scenario][f.miss_cause];
+      ++total[f.miss_cause];
+    }
+  std::fprintf(out,
+               "\nMisses by cause (fully visible frames not accepted on the ball; "
+               "tracking_run.hpp FrameRecord::miss_cause)\n");
+  auto print = [&](const std::string& name, const std::map<std::string, long>& causes) {
+    std::fprintf(out, "%-22s", name.c_str());
+    for (const auto& [cause, n] : causes) std::fprintf(out, " %s=%ld", cause.c_str(), n);
+    std::fprintf(out, "\n");
+  };
+  for (const auto& [scene, causes] : by_scene) print(scene, causes);
+  print("all scenes", total);
+}
+
 }  // namespace
 
 SceneFigures add_up(const std::vector<const RunResult*>& runs) {
@@ -72,6 +94,7 @@ void print_scene_report(std::FILE* out, const std::vector<RunResult>& runs,
   print_header(out, "");
   print_row(out, "TOTAL", add_up(all));
   std::fprintf(out, "(targets: detect >= 95 %% in every category, false acc < 1 %%)\n");
+  print_miss_causes(out, runs);
 }
 
 }  // namespace stereoball::bench_tracking

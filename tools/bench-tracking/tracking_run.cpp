@@ -1,6 +1,10 @@
 #include "tracking_run.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "ball_detector/core/circle_fit.hpp"
+#include "stereo/core/sphere_outline.hpp"
 
 namespace stereoball::bench_tracking {
 namespace {
@@ -45,6 +49,53 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
   return r;
 }
 
+// A candidate that is the ball's outline: centre and radius close to the true ones.
+bool on_outline(const bd::Circle& c, double x_px, double y_px, double r_px) {
+  return std::hypot(c.x_px - x_px, c.y_px - y_px) <= std::max(3.0, 0.2 * r_px) &&
+         std::abs(c.radius_px - r_px) <= 0.25 * r_px;
+}
+
+bool any_on_outline(const std::vector<bd::Circle>& cs, double x_px, double y_px, double r_px) {
+  return std::any_of(cs.begin(), cs.end(),
+                     [&](const bd::Circle& c) { return on_outline(c, x_px, y_px, r_px); });
+}
+
+// Where the chain lost a fully visible ball (FrameRecord::miss_cause).
+void diagnose_miss(const bd::StereoPipeline& pipeline, const bd::BallDetectorParams& params,
+                   const simulator::GroundTruth& g, const bd::StereoDetection& d, FrameRecord& r) {
+  if (!r.ball_fully_visible || r.accepted_on_ball) return;
+  if (r.raw_on_ball) {
+    r.miss_cause = "tracker";
+    return;
+  }
+  const auto camera = pipeline.left_camera();
+  if (!camera) return;
+  const auto& c = g.ball_camera_m;
+  const auto outline = stereo::sphere_outline(*camera, cv::Vec3d(c.x, c.y, c.z), g.ball_radius_m);
+  if (!outline) return;
+  const double r_px = outline->mean_radius_px();
+  r.true_radius_px = r_px;
+  const cv::Point2d centre = outline->centre_px;
+  // The true outline against the edges the left detector saw last (whole eye or a crop).
+  const bd::EdgeMap& edges = pipeline.left_edges();
+  bd::RefineParams scoring = params.detector_params().refine_params;
+  if (params.perspective_outline) scoring.camera = camera;
+  const bd::Circle truth{centre.x + edges.frame_px.x, centre.y + edges.frame_px.y, r_px, 0.0};
+  r.truth_coverage = edges.edges.empty() ? -1.0 : bd::score_circle(edges, truth, scoring);
+  const bool left_ok = any_on_outline(pipeline.left_candidates(), centre.x, centre.y, r_px);
+  const double right_x = centre.x + (g.ball_right_px.x - g.ball_left_px.x);
+  const bool right_ok = any_on_outline(pipeline.right_candidates(), right_x, centre.y, r_px);
+  if (!left_ok) {
+    r.miss_cause = r.truth_coverage < params.p2p.min_score ? "left_edges" : "left_peaks";
+  } else if (!right_ok) {
+    r.miss_cause = "right_search";
+  } else if (d.status != bd::DetectionStatus::kFound) {
+    r.miss_cause = std::string("pair_") + bd::to_string(d.status);
+  } else {
+    r.miss_cause = "pair_other";
+  }
+}
+
 }  // namespace
 
 RunOutcome run_scenario(const RunConfig& config, const FrameSink& on_frame) {
@@ -60,6 +111,7 @@ RunOutcome run_scenario(const RunConfig& config, const FrameSink& on_frame) {
     const sim_loop::LoopFrame f = (*loop)->step();
     if (on_frame) on_frame(index, f);
     FrameRecord r = judge(f.truth, f.detection, f.track);
+    diagnose_miss((*loop)->pipeline(), config.detector, f.truth, f.detection, r);
     r.cpu_ms = f.detector_cpu_ms;
     r.wall_ms = f.detector_wall_ms;
     out.result.frames.push_back(r);

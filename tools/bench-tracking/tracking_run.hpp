@@ -44,6 +44,15 @@ struct FrameRecord {
   std::string verdict;           ///< the tracker's verdict name
   std::string verdict_reason;    ///< the tracker's reason for it
   std::string track_state;       ///< the tracker's state after the frame
+  /// Why a frame with the whole ball in view was not accepted on the ball (empty otherwise):
+  /// left_edges (the true outline's coverage on the left edge map below the detector's
+  /// min_score), left_peaks (covered, yet no left candidate on it: not among the examined
+  /// peaks, refined elsewhere, or dropped for its colour), right_search (a left
+  /// candidate on the ball, none in the right eye), pair_<status> (both eyes had it, the
+  /// pairing checks said status), pair_other (another pair won), tracker (found, not accepted).
+  std::string miss_cause;
+  double true_radius_px = 0;   ///< mean radius of the true left outline, px
+  double truth_coverage = -1;  ///< the detector's score of the true left outline (-1 unknown)
 };
 
 /// All frames of one scenario run.

@@ -72,6 +72,8 @@ class SimLoop {
   std::int64_t frames_done() const { return next_frame_; }
   /// Issues the controller commands due up to the next frame, renders and processes that frame.
   LoopFrame step();
+  /// The detector pipeline (its last frame's candidates and edges, for diagnostics).
+  const ball_detector::StereoPipeline& pipeline() const { return pipeline_; }
 
  private:
   struct PendingTrack {

@@ -76,6 +76,13 @@ double ColourHistogram::similarity(const ColourHistogram& other) const {
   return std::min(bc, 1.0);
 }
 
+double ColourHistogram::contained_in(const ColourHistogram& model) const {
+  double inside = 0.0;
+  for (std::size_t i = 0; i < bins_.size(); ++i)
+    inside += bins_[i] * std::min(1.0, model.bins_[i] / kSupportWeight);
+  return std::min(inside, 1.0);
+}
+
 void ColourHistogram::blend(const ColourHistogram& other, double w) {
   for (std::size_t i = 0; i < bins_.size(); ++i)
     bins_[i] = (1.0 - w) * bins_[i] + w * other.bins_[i];
@@ -107,9 +114,14 @@ std::optional<double> AppearanceModel::similarity(const ColourHistogram& candida
   return model_.similarity(candidate);
 }
 
+std::optional<double> AppearanceModel::containment(const ColourHistogram& candidate) const {
+  if (!ready()) return std::nullopt;
+  return candidate.contained_in(model_);
+}
+
 bool AppearanceModel::rejects(const std::optional<ColourHistogram>& candidate) const {
   if (!candidate) return false;
-  const auto s = similarity(*candidate);
+  const auto s = containment(*candidate);
   return s && *s < params_.min_similarity;
 }
 

@@ -18,8 +18,8 @@ namespace stereoball::ball_detector {
 /// Settings of the appearance model.
 struct AppearanceParams {
   bool enabled = true;
-  /// Candidates whose histogram matches the learnt one less than this (Bhattacharyya
-  /// coefficient, 0 = disjoint colours, 1 = the same) are rejected.
+  /// Candidates whose colours lie in the learnt ones less than this (ColourHistogram::
+  /// contained_in: 0 = none of its colours seen on the ball, 1 = all of them) are rejected.
   double min_similarity = 0.5;
   double learn_rate = 0.2;  ///< weight of each new sample in the running histogram
   int frames_to_learn = 3;  ///< samples before the model ranks and rejects anything
@@ -46,6 +46,14 @@ class ColourHistogram {
 
   /// Bhattacharyya coefficient sum(sqrt(p_i q_i)) in [0, 1].
   double similarity(const ColourHistogram& other) const;
+  /// How much of this histogram lies in colours model holds, [0, 1]: the sum over bins of this
+  /// bin's weight times min(1, model's weight / kSupportWeight). Unlike similarity, it does
+  /// not change with the proportions of the colours: a ball with panels or stripes of two
+  /// colours shows them in other proportions as it rolls (or a part of it in shadow), and
+  /// still lies wholly in the colours learnt from it.
+  double contained_in(const ColourHistogram& model) const;
+  /// A bin holding at least this weight counts as a colour of the model in contained_in.
+  static constexpr double kSupportWeight = 0.04;
   /// this = (1 - w) this + w other.
   void blend(const ColourHistogram& other, double w);
   /// Weight of bin i (sums to 1).
@@ -68,7 +76,10 @@ class AppearanceModel {
   bool ready() const;
   /// Similarity of a candidate's histogram to the ball's, nullopt unless ready().
   std::optional<double> similarity(const ColourHistogram& candidate) const;
-  /// True if ready() and the candidate matches less than min_similarity (no histogram: false).
+  /// How much of the candidate lies in the ball's colours (contained_in), nullopt unless ready().
+  std::optional<double> containment(const ColourHistogram& candidate) const;
+  /// True if ready() and the candidate's containment is below min_similarity (no histogram:
+  /// false).
   bool rejects(const std::optional<ColourHistogram>& candidate) const;
   /// Samples learnt since the last forget.
   int samples() const { return samples_; }

@@ -68,6 +68,32 @@ TEST(AppearanceModel, RejectsABallOfAnotherColour) {
   EXPECT_FALSE(m.rejects(ColourHistogram::of({cv::Vec3b(200, 90, 30)}, 12)));
 }
 
+// Pixels of a two-colour ball (panels or stripes) showing fraction_first of its first colour.
+std::vector<cv::Vec3b> two_colour_ball(cv::Vec3d first, cv::Vec3d second, double fraction_first,
+                                       std::uint32_t seed) {
+  auto a = shaded_ball(first, seed), b = shaded_ball(second, seed + 1000);
+  const auto n_first = static_cast<std::size_t>(fraction_first * 200.0);
+  std::vector<cv::Vec3b> px(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(n_first));
+  px.insert(px.end(), b.begin(), b.begin() + static_cast<std::ptrdiff_t>(200 - n_first));
+  return px;
+}
+
+TEST(AppearanceModel, KeepsATwoColourBallWhateverPartOfItFacesTheCamera) {
+  // Given the model of a pink ball with pale green panels, learnt while mostly pink showed
+  const cv::Vec3d pink{180, 90, 230}, pale_green{170, 240, 180};
+  AppearanceModel m{AppearanceParams{}};
+  for (int i = 0; i < 3; ++i)
+    m.learn(hist(two_colour_ball(pink, pale_green, 0.8, i)), i * kFrameNs);
+  // When it has rolled to show mostly its panels, the proportions are reversed
+  const auto rolled = hist(two_colour_ball(pink, pale_green, 0.15, 40));
+  // Then it is still the followed ball (the proportions moved the Bhattacharyya coefficient,
+  // not the colours), while a blue ball of the same shading is rejected
+  EXPECT_LT(*m.similarity(rolled), *m.similarity(hist(two_colour_ball(pink, pale_green, 0.8, 41))));
+  EXPECT_FALSE(m.rejects(rolled));
+  EXPECT_GT(*m.containment(rolled), 0.9);
+  EXPECT_TRUE(m.rejects(hist(shaded_ball(kBlue, 42))));
+}
+
 TEST(AppearanceModel, NothingIsRankedOrRejectedBeforeLearning) {
   AppearanceModel m{AppearanceParams{}};
   m.learn(hist(shaded_ball(kOrange, 1)), 0);

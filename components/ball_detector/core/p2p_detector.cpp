@@ -76,6 +76,21 @@ class VoterRows {
   std::vector<float> prefix_max_, suffix_min_;
 };
 
+constexpr int kOrientationBins = 8;
+constexpr int kOrientationSlackBins = 2;
+
+// Orientation of a gradient modulo 180 degrees in 8 bins of 22.5 degrees, without atan2:
+// tan(22.5) and tan(67.5) split each quadrant.
+int orientation_bin(int gx, int gy) {
+  if (gy < 0 || (gy == 0 && gx < 0)) {
+    gx = -gx;
+    gy = -gy;
+  }
+  const float ax = static_cast<float>(gx < 0 ? -gx : gx), fy = static_cast<float>(gy);
+  const int b = fy < 0.41421356f * ax ? 0 : fy < ax ? 1 : fy < 2.41421356f * ax ? 2 : 3;
+  return gx >= 0 ? b : 7 - b;
+}
+
 bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_sep) {
   return std::none_of(kept.begin(), kept.end(), [&](const Circle& k) {
     return fast_hypot(k.x_px - c.x_px, k.y_px - c.y_px) < min_sep;
@@ -149,7 +164,10 @@ void PixelToPixelDetector::vote(int k) {
           line = vote_line_of_rows(window_bits, k);
         } else if (count > n && count <= isolate_max_points) {
           // Addition: judge the arc through O alone when other edges share the window.
-          if (connected_rows(window_bits, k, mask, n) != n) continue;
+          if (connected_rows(window_bits, k, mask, n) != n &&
+              !(params_.isolate_by_orientation &&
+                isolate_along_orientation(x, y, k, window_bits, mask)))
+            continue;
           line = vote_line_of_rows(std::span<const std::uint64_t>(mask.data(), n), k);
         } else {
           continue;
@@ -165,6 +183,31 @@ void PixelToPixelDetector::vote(int k) {
       }
     }
   }
+}
+
+bool PixelToPixelDetector::isolate_along_orientation(int x, int y, int k,
+                                                     std::span<const std::uint64_t> window,
+                                                     std::span<std::uint64_t> mask) const {
+  const int n = 2 * k + 1;
+  const int bin = orientation_bin(edges_.dx.at<short>(y, x), edges_.dy.at<short>(y, x));
+  std::array<std::uint64_t, 2 * kMaxK + 1> aligned{};
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    const short* gx = edges_.dx.ptr<short>(y - k + i) + (x - k);
+    const short* gy = edges_.dy.ptr<short>(y - k + i) + (x - k);
+    std::uint64_t kept = 0;
+    for (std::uint64_t bits = window[static_cast<std::size_t>(i)]; bits; bits &= bits - 1) {
+      const int j = std::countr_zero(bits);
+      const int d = (orientation_bin(gx[j], gy[j]) - bin + kOrientationBins) % kOrientationBins;
+      if (d <= kOrientationSlackBins || d >= kOrientationBins - kOrientationSlackBins)
+        kept |= std::uint64_t{1} << j;
+    }
+    aligned[static_cast<std::size_t>(i)] = kept;
+    count += std::popcount(kept);
+  }
+  if (count < n) return false;
+  return connected_rows(std::span<const std::uint64_t>(aligned.data(), static_cast<std::size_t>(n)),
+                        k, mask, n) == n;
 }
 
 void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {

@@ -7,7 +7,9 @@
 #include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/voting.hpp"
 
+#include <array>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,12 @@ struct PixelToPixelParams {
   /// denser windows are texture, where the flood fill costs time and rarely isolates an arc
   /// (addition), [1, 64].
   double isolate_max_points_factor = 3.0;
+  /// Addition (with isolate_arc): when the arc through O is still joined by another edge (a
+  /// panel or stripe boundary of a two-colour ball meeting its outline, a floor seam touching
+  /// it), it is isolated once more among the edge points whose gradient direction lies within
+  /// about 35 degrees of O's (8 orientation bins, O's and its two neighbours): a boundary
+  /// meeting the outline at a large angle is cut off there, a smooth arc is not.
+  bool isolate_by_orientation = true;
   bool refine = true;          ///< sub-pixel least-squares refinement (addition)
   RefineParams refine_params;  ///< refinement and scoring options
 
@@ -102,6 +110,8 @@ class PixelToPixelDetector final : public CircleDetector {
 
  private:
   void vote(int k);
+  bool isolate_along_orientation(int x, int y, int k, std::span<const std::uint64_t> window,
+                                 std::span<std::uint64_t> mask) const;
   std::vector<Circle> detect_on_edges();
   void start(const std::optional<SearchHints>& hints);
   std::vector<Circle> circles_from_peaks();

@@ -48,6 +48,38 @@ TEST(PixelToPixel, GivenTwoColourBallsThenTheCentreIsStillFound) {
   EXPECT_GE(hits, 5);
 }
 
+// A striped ball: a disc whose stripe boundaries (another colour) end on its outline, meeting
+// it at right angles, every 12 px along it.
+cv::Mat striped_ball(cv::Point centre, int radius) {
+  cv::Mat image(240, 320, CV_8UC3, cv::Scalar(60, 60, 60));
+  cv::circle(image, centre, radius, cv::Scalar(30, 90, 220), cv::FILLED, cv::LINE_AA);
+  cv::Mat stripes(image.size(), CV_8UC1, cv::Scalar(0));
+  for (int x = centre.x - radius; x < centre.x + radius; x += 12)
+    cv::rectangle(stripes, cv::Rect(x, 0, 6, image.rows), cv::Scalar(255), cv::FILLED);
+  cv::Mat disc(image.size(), CV_8UC1, cv::Scalar(0));
+  cv::circle(disc, centre, radius, cv::Scalar(255), cv::FILLED);
+  image.setTo(cv::Scalar(230, 230, 120), stripes & disc);
+  return image;
+}
+
+TEST(PixelToPixel, GivenStripesEndingOnTheOutlineThenOrientationIsolationKeepsItsArcsVoting) {
+  const cv::Mat image = striped_ball({160, 120}, 60);
+  PixelToPixelParams with;
+  with.k_values = {5};
+  PixelToPixelParams without = with;
+  without.isolate_by_orientation = false;
+  PixelToPixelDetector on(with), off(without);
+  const auto found_on = on.detect(image);
+  off.detect(image);
+  // The outline's windows where a stripe boundary joins it fail the count rule, also after
+  // plain arc isolation (the boundary is connected to the arc); cut at the orientation change,
+  // the arc votes: more voters, and the ball is the best circle.
+  EXPECT_GT(on.voters().size(), off.voters().size() + 5);
+  ASSERT_FALSE(found_on.empty());
+  EXPECT_LT(std::hypot(found_on[0].x_px - 160.0, found_on[0].y_px - 120.0), 1.5);
+  EXPECT_NEAR(found_on[0].radius_px, 60.0, 2.0);
+}
+
 TEST(PixelToPixel, GivenSeveralBallsThenEachIsReturnedSortedByScore) {
   PixelToPixelDetector det(multi_k());
   const auto scene = make_scene(SceneKind::kMultiple, {640, 480}, 3);

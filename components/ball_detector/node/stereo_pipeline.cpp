@@ -165,6 +165,16 @@ std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoC
   return std::nullopt;
 }
 
+std::optional<stereo::PinholeCamera> StereoPipeline::left_camera() const {
+  if (!triangulator_) return std::nullopt;
+  return stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_left_px()};
+}
+
+std::optional<stereo::PinholeCamera> StereoPipeline::right_camera() const {
+  if (!triangulator_) return std::nullopt;
+  return stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()};
+}
+
 cv::Size StereoPipeline::image_size() const {
   return rectifier_ ? rectifier_->calibration().image_size : cv::Size();
 }
@@ -617,8 +627,8 @@ int StereoPipeline::apply_appearance() {
       ++rejected;
       continue;
     }
-    // Rank: a closer colour keeps more of its outline score (a perfect match all of it).
-    if (h) it->score *= 0.5 + 0.5 * appearance_.similarity(*h).value_or(1.0);
+    // Rank: a circle more of whose colours are the ball's keeps more of its outline score.
+    if (h) it->score *= 0.5 + 0.5 * appearance_.containment(*h).value_or(1.0);
     ++it;
   }
   std::stable_sort(left_candidates_.begin(), left_candidates_.end(),

@@ -128,6 +128,12 @@ class StereoPipeline {
   /// Candidates of the last processed frame, rectified pixels, best first.
   const std::vector<Circle>& left_candidates() const { return left_candidates_; }
   const std::vector<Circle>& right_candidates() const { return right_candidates_; }
+  /// The left detector's last edge map (the whole eye, or the crop last searched: see its
+  /// frame_px), for diagnostics.
+  const EdgeMap& left_edges() const { return left_detector_.edge_map(); }
+  /// The rectified cameras of the calibration in use (nullopt without one).
+  std::optional<stereo::PinholeCamera> left_camera() const;
+  std::optional<stereo::PinholeCamera> right_camera() const;
 
  private:
   std::optional<std::string> check_input(const cv::Mat& left, const cv::Mat& right) const;
