@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -38,6 +39,8 @@ struct Options {
   std::vector<int> rates_hz{30, 60};
   bool one_host = true, two_hosts = false, shared_memory = false;
   std::string scenario = "ball_rolling_across", json_path, one_host_cyclonedds;
+  std::string source = "simulator";  // or "files": camera_server plays frames rendered first
+  double file_seconds = 3;           // simulated seconds rendered to files (looped)
 };
 
 // One measured configuration.
@@ -59,17 +62,65 @@ std::string read_text(const std::string& path) {
   return text.str();
 }
 
-// config/simulator.yaml with frame_rate_hz set to rate_hz; "" if the key is not there.
-std::string simulator_config(const std::string& dir, int rate_hz) {
-  std::string yaml = read_text(sb::testing::source_path("config/simulator.yaml"));
-  const std::string key = "frame_rate_hz:";
+// Sets the value of a top-level key of a shipped YAML text; false if the key is not there.
+bool set_value(std::string& yaml, const std::string& name, const std::string& value) {
+  const std::string key = "\n" + name + ":";
   const auto at = yaml.find(key);
-  if (at == std::string::npos) return "";
-  const auto end = yaml.find_first_of(" #\n", yaml.find_first_not_of(' ', at + key.size()));
-  yaml.replace(at, end - at, key + " " + std::to_string(rate_hz) + ".0");
-  const std::string path = dir + "/simulator.yaml";
-  std::ofstream(path) << yaml;
+  if (at == std::string::npos) return false;
+  const auto from = yaml.find_first_not_of(' ', at + key.size());
+  const auto end = yaml.find_first_of(" #\n", from);
+  yaml.replace(at + 1, end - at - 1, name + ": " + value);
+  return true;
+}
+
+// A shipped config file with some top-level values replaced, written to dir; "" if a key is
+// missing.
+std::string edited_config(const std::string& dir, const std::string& shipped,
+                          const std::vector<std::pair<std::string, std::string>>& values) {
+  std::string yaml = "\n" + read_text(sb::testing::source_path("config/" + shipped));
+  for (const auto& [name, value] : values) {
+    if (!set_value(yaml, name, value)) {
+      std::fprintf(stderr, "bench latency: no key %s in config/%s\n", name.c_str(),
+                   shipped.c_str());
+      return "";
+    }
+  }
+  const std::string path = dir + "/" + shipped;
+  std::ofstream(path) << yaml.substr(1);
   return path;
+}
+
+// config/simulator.yaml with frame_rate_hz set to rate_hz.
+std::string simulator_config(const std::string& dir, int rate_hz) {
+  return edited_config(dir, "simulator.yaml", {{"frame_rate_hz", std::to_string(rate_hz) + ".0"}});
+}
+
+// The file source: o.file_seconds of the scenario rendered once per rate by stereoball-sim
+// (raw frames, the rig's true calibration) and a camera_server config playing them at rate_hz
+// in the case's encoding; "" on failure.
+std::string camera_files_config(const std::string& dir, const Case& c, const Options& o) {
+  static std::map<int, std::string> rendered;  // rate -> folder, kept for the whole run
+  std::string& frames = rendered[c.rate_hz];
+  if (frames.empty()) {
+    const std::string folder = sb::testing::temp_dir() + "/frames";
+    const auto [code, output] =
+        sb::testing::run({sb::testing::bin("stereoball-sim"), "--config",
+                          simulator_config(dir, c.rate_hz), "--scenario", o.scenario, "--duration",
+                          std::to_string(o.file_seconds), "--png-dir", folder},
+                         120s);
+    if (code != 0) {
+      std::fprintf(stderr, "bench latency: stereoball-sim failed: %s\n", output.c_str());
+      return "";
+    }
+    frames = folder;
+  }
+  return edited_config(dir, "camera_server_files.yaml",
+                       {{"left_glob", "\"" + frames + "/left_*.png\""},
+                        {"right_glob", "\"" + frames + "/right_*.png\""},
+                        {"file_encoding", "bgr8"},
+                        {"frame_encoding", c.encoding},
+                        {"rate_hz", std::to_string(c.rate_hz) + ".0"},
+                        {"calibration_file", "\"" + frames + "/calibration.yaml\""}});
 }
 
 std::string node_yaml(const std::string& program, const std::vector<std::string>& args) {
@@ -82,12 +133,18 @@ std::string node_yaml(const std::string& program, const std::vector<std::string>
 // rate and encoding (plus, for one host, the vision nodes); returns its path.
 std::string write_profile(const std::string& dir, const Case& c, const Options& o,
                           const std::string& cyclonedds, bool with_vision) {
-  const std::string sim_config = simulator_config(dir, c.rate_hz);
-  if (sim_config.empty()) return "";
   std::string yaml = "description: \"bench latency " + c.setup + " " + c.key() + "\"\n";
   yaml += "cyclonedds: \"" + cyclonedds + "\"\nnodes:\n";
-  yaml += node_yaml("simulator", {"--config", sim_config, "--scenario", o.scenario, "--loop",
-                                  "--frame-encoding", c.encoding});
+  if (o.source == "files") {
+    const std::string camera_config = camera_files_config(dir, c, o);
+    if (camera_config.empty()) return "";
+    yaml += node_yaml("camera_server", {"--config", camera_config});
+  } else {
+    const std::string sim_config = simulator_config(dir, c.rate_hz);
+    if (sim_config.empty()) return "";
+    yaml += node_yaml("simulator", {"--config", sim_config, "--scenario", o.scenario, "--loop",
+                                    "--frame-encoding", c.encoding});
+  }
   if (with_vision) {
     for (const char* node : {"ball_detector", "tracker"}) {
       yaml += node_yaml(
@@ -241,6 +298,15 @@ int main(int argc, char** argv) {
   app.add_flag("--two-hosts", o.two_hosts, "also between two network namespaces (root)");
   app.add_flag("!--no-one-host", o.one_host, "skip the one-host setup");
   app.add_option("--scenario", o.scenario, "simulator scenario (looped)")->capture_default_str();
+  app.add_option("--source", o.source,
+                 "simulator (renders live, frames released at their exposure) or files "
+                 "(camera_server plays --file-seconds of the scenario rendered first; stamp = "
+                 "publish time); setups one_host_files / two_hosts_files")
+      ->check(CLI::IsMember({"simulator", "files"}))
+      ->capture_default_str();
+  app.add_option("--file-seconds", o.file_seconds, "with --source files: seconds rendered")
+      ->check(CLI::Range(1.0, 30.0))
+      ->capture_default_str();
   app.add_option("--cyclonedds", o.one_host_cyclonedds,
                  "Cyclone configuration file for the one-host setup (default: loopback.xml)")
       ->check(CLI::ExistingFile);
@@ -257,7 +323,9 @@ int main(int argc, char** argv) {
     if (two ? !o.two_hosts : !o.one_host) continue;
     for (const auto& e : o.encodings) {
       for (const int r : o.rates_hz) {
-        cases.push_back({two ? "two_hosts" : o.shared_memory ? "one_host_shm" : "one_host", e, r});
+        std::string setup = two ? "two_hosts" : o.shared_memory ? "one_host_shm" : "one_host";
+        if (o.source == "files") setup += "_files";
+        cases.push_back({setup, e, r});
       }
     }
   }
@@ -279,8 +347,8 @@ int main(int argc, char** argv) {
     for (int run = 0; run < o.runs; ++run) {
       const std::string partition = "sblatency." + std::to_string(::getpid()) + "." + c.setup +
                                     "." + c.key() + "." + std::to_string(run);
-      const auto r =
-          c.setup == "two_hosts" ? run_two_hosts(c, o, partition) : run_one_host(c, o, partition);
+      const auto r = c.setup.rfind("two_hosts", 0) == 0 ? run_two_hosts(c, o, partition)
+                                                        : run_one_host(c, o, partition);
       if (!r) {
         ++failures;
         continue;

@@ -13,6 +13,7 @@
 #include <ctime>
 
 #include "camera_server/core/device_errors.hpp"
+#include "common/util/clock_stamp.hpp"
 
 namespace stereoball::camera_server {
 namespace {
@@ -43,7 +44,7 @@ int64_t to_epoch_ns(const v4l2_buffer& b) {
                     static_cast<int64_t>(b.timestamp.tv_usec) * 1000;
   const uint32_t kind = b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK;
   if (kind == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC && t > 0) {
-    return t + (clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC));
+    return monotonic_to_epoch_ns(t, clock_ns(CLOCK_MONOTONIC), clock_ns(CLOCK_REALTIME));
   }
   return clock_ns(CLOCK_REALTIME);
 }

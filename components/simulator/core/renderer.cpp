@@ -73,10 +73,12 @@ Renderer::Renderer(const StereoRig& rig, const Scenario& scenario, double left_g
   ball_a_ = rgb_to_vec(ball.color_a);
   ball_b_ = rgb_to_vec(ball.color_b);
   ball_pattern_ = ball.pattern;
-  cand_boxes_.reserve(boxes_.size());
-  cand_discs_.reserve(discs_.size());
-  cand_spheres_.reserve(spheres_.size());
-  frame_.cones.resize(bounds_.size());
+  for (EyeWork& w : work_) {
+    w.cand_boxes.reserve(boxes_.size());
+    w.cand_discs.reserve(discs_.size());
+    w.cand_spheres.reserve(spheres_.size());
+    w.frame.cones.resize(bounds_.size());
+  }
 }
 
 void Renderer::build_eye(Eye eye, const StereoRig& rig, double gain) {
@@ -172,8 +174,7 @@ bool Renderer::hits(const Tile& t, const ObjCone& k) {
 }
 
 void Renderer::setup_frame(const EyeTables& eye, const RobotState& robot, const BallState& ball,
-                           const LightKey& light) {
-  FrameSetup& f = frame_;
+                           const LightKey& light, FrameSetup& f) const {
   const double c = std::cos(robot.yaw_rad), s = std::sin(robot.yaw_rad);
   f.c = static_cast<float>(c);
   f.s = static_cast<float>(s);
@@ -215,38 +216,40 @@ void Renderer::setup_frame(const EyeTables& eye, const RobotState& robot, const 
   }
 }
 
-void Renderer::cull(const Tile& tile) {
-  const FrameSetup& f = frame_;
-  cand_boxes_.clear();
-  cand_discs_.clear();
+void Renderer::cull(const Tile& tile, EyeWork& w) const {
+  const FrameSetup& f = w.frame;
+  w.cand_boxes.clear();
+  w.cand_discs.clear();
   for (size_t i = 0; i < boxes_.size(); ++i) {
-    if (hits(tile, f.cones[i])) cand_boxes_.push_back(static_cast<uint16_t>(i));
+    if (hits(tile, f.cones[i])) w.cand_boxes.push_back(static_cast<uint16_t>(i));
   }
   for (size_t i = 0; i < discs_.size(); ++i) {
-    if (hits(tile, f.cones[boxes_.size() + i])) cand_discs_.push_back(static_cast<uint16_t>(i));
+    if (hits(tile, f.cones[boxes_.size() + i])) w.cand_discs.push_back(static_cast<uint16_t>(i));
   }
-  cand_spheres_.clear();
+  w.cand_spheres.clear();
   for (size_t i = 0; i < spheres_.size(); ++i) {
     if (hits(tile, f.cones[boxes_.size() + discs_.size() + i]))
-      cand_spheres_.push_back(static_cast<uint16_t>(i));
+      w.cand_spheres.push_back(static_cast<uint16_t>(i));
   }
-  cand_ball_ = f.ball && hits(tile, f.ball_cone);
-  cand_shadow_ = f.ball && hits(tile, f.shadow_cone);
+  w.cand_ball = f.ball && hits(tile, f.ball_cone);
+  w.cand_shadow = f.ball && hits(tile, f.shadow_cone);
 }
 
 void Renderer::render(Eye eye, const RobotState& robot, const BallState& ball,
                       const LightKey& light, cv::Mat& out) {
   out.create(height_, width_, CV_8UC3);
   const EyeTables& t = eyes_[static_cast<int>(eye)];
-  setup_frame(t, robot, ball, light);
+  EyeWork& w = work_[static_cast<int>(eye)];
+  setup_frame(t, robot, ball, light, w.frame);
   for (const Tile& tile : t.tiles) {
-    cull(tile);
-    render_tile(t, tile, out);
+    cull(tile, w);
+    render_tile(t, w, tile, out);
   }
 }
 
-void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out) {
-  const FrameSetup& f = frame_;
+void Renderer::render_tile(const EyeTables& eye, const EyeWork& w, const Tile& tile,
+                           cv::Mat& out) const {
+  const FrameSetup& f = w.frame;
   enum Hit { kFloor, kCeiling, kWall, kBox, kDisc, kSphere, kBall };
   const float xmin = static_cast<float>(room_.x_min_m), xmax = static_cast<float>(room_.x_max_m);
   const float ymin = static_cast<float>(room_.y_min_m), ymax = static_cast<float>(room_.y_max_m);
@@ -272,7 +275,7 @@ void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out)
       const float tz = ((d.z > 0 ? zmax : 0.0f) - o.z) * iz;
       if (tz < t) t = tz, hit = d.z > 0 ? kCeiling : kFloor;
       int axis = 0;
-      for (uint16_t bi : cand_boxes_) {
+      for (uint16_t bi : w.cand_boxes) {
         const Box& b = boxes_[bi];
         const float x0 = (b.lo.x - o.x) * ix, x1 = (b.hi.x - o.x) * ix;
         const float y0 = (b.lo.y - o.y) * iy, y1 = (b.hi.y - o.y) * iy;
@@ -287,7 +290,7 @@ void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out)
           axis = tn == nx ? 0 : tn == ny ? 1 : 2;
         }
       }
-      for (uint16_t di : cand_discs_) {
+      for (uint16_t di : w.cand_discs) {
         const Disc& c = discs_[di];
         const float den = d.dot(c.n);
         if (std::abs(den) < 1e-6f) continue;
@@ -296,7 +299,7 @@ void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out)
         const Vec3f q = o + d * td - c.c;
         if (q.dot(q) < c.r2) t = td, hit = kDisc, which = di;
       }
-      for (uint16_t si : cand_spheres_) {
+      for (uint16_t si : w.cand_spheres) {
         const Sphere& sp = spheres_[si];
         const Vec3f so = o - sp.c;
         const float b = so.dot(d);
@@ -305,7 +308,7 @@ void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out)
         const float ts = -b - std::sqrt(disc);
         if (ts > 0.0f && ts < t) t = ts, hit = kSphere, which = si;
       }
-      if (cand_ball_) {
+      if (w.cand_ball) {
         const float b = oc.dot(d);
         const float disc = b * b - oc2;
         if (disc >= 0.0f) {
@@ -318,7 +321,7 @@ void Renderer::render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out)
         case kFloor: {
           const Vec3f alb = floor_albedo(p.x, p.y);
           float light = f.diff_floor;
-          if (cand_shadow_) {
+          if (w.cand_shadow) {
             const Vec3f q = f.ball_c - p;
             const float proj = q.dot(f.light);
             if (proj > 0.0f && q.dot(q) - proj * proj < f.ball_r2) light = f.ambient;

@@ -21,7 +21,8 @@ class Renderer {
   Renderer(const StereoRig& rig, const Scenario& scenario, double left_gain, double right_gain);
 
   /// Renders one eye for the robot pose, ball and lighting into out (CV_8UC3, reallocated
-  /// only if its size or type differ). No noise: see Sensor.
+  /// only if its size or type differ). No noise: see Sensor. The left and the right eye may
+  /// render at the same time on two threads; one eye must not render twice at once.
   void render(Eye eye, const RobotState& robot, const BallState& ball, const LightKey& light,
               cv::Mat& out);
 
@@ -74,16 +75,24 @@ class Renderer {
     ObjCone ball_cone, shadow_cone;
   };
 
+  // Per-frame state and per-tile scratch of one eye: the two eyes never share any, so both
+  // can render at once (on two threads of the caller).
+  struct EyeWork {
+    FrameSetup frame;
+    std::vector<uint16_t> cand_boxes, cand_discs, cand_spheres;
+    bool cand_ball = false, cand_shadow = false;
+  };
+
   static ObjCone make_cone(const Vec3d& centre_m, double radius_m, const Vec3d& o_world, double c,
                            double s);
   static bool hits(const Tile& t, const ObjCone& k);
   void setup_frame(const EyeTables& eye, const RobotState& robot, const BallState& ball,
-                   const LightKey& light);
+                   const LightKey& light, FrameSetup& f) const;
 
   void build_eye(Eye eye, const StereoRig& rig, double gain);
   void build_scene(const Scenario& s);
-  void cull(const Tile& tile);
-  void render_tile(const EyeTables& eye, const Tile& tile, cv::Mat& out);
+  void cull(const Tile& tile, EyeWork& w) const;
+  void render_tile(const EyeTables& eye, const EyeWork& w, const Tile& tile, cv::Mat& out) const;
   Vec3f floor_albedo(float x_m, float y_m) const;
   const Vec3f& ball_albedo(const Vec3f& n_ball) const;
 
@@ -97,10 +106,7 @@ class Renderer {
   std::vector<Bound> bounds_;  // boxes, discs, then spheres
   Vec3f ball_a_, ball_b_;
   BallPattern ball_pattern_ = BallPattern::kFootball;
-  FrameSetup frame_;
-  // Per-tile scratch, sized once.
-  std::vector<uint16_t> cand_boxes_, cand_discs_, cand_spheres_;
-  bool cand_ball_ = false, cand_shadow_ = false;
+  EyeWork work_[2];  // left, right
 };
 
 }  // namespace stereoball::simulator

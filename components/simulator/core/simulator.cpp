@@ -40,14 +40,21 @@ void Simulator::advance(const std::optional<VelocityCommand>& command, int64_t s
   world_.advance_to(sim_time_ns);
 }
 
-SimFrame Simulator::step(const std::optional<VelocityCommand>& command, int64_t sim_time_ns) {
+void run_in_turn(const std::function<void()>& a, const std::function<void()>& b) {
+  a();
+  b();
+}
+
+SimFrame Simulator::step(const std::optional<VelocityCommand>& command, int64_t sim_time_ns,
+                         const RunBoth& run_both) {
   if (command) world_.set_command(*command);
   SimFrame f;
   f.seq = seq_++;
   f.sim_time_ns = std::max(sim_time_ns, world_.time_ns());
-  render_eye(Eye::kLeft, f.sim_time_ns, f.left);
-  render_eye(Eye::kRight, f.sim_time_ns, f.right);
-  world_.advance_to(f.sim_time_ns);
+  run_both([&] { render_eye(Eye::kLeft, world_, f.sim_time_ns, f.left); },
+           [&] { render_eye(Eye::kRight, world_, f.sim_time_ns, f.right); });
+  // The world takes the same steps as the eyes' copies did (physics steps end at each time).
+  for (int64_t ts : exposure_times(f.sim_time_ns)) world_.advance_to(ts);
   sensor_.apply(f.left);
   sensor_.apply(f.right);
   f.truth =
@@ -55,30 +62,32 @@ SimFrame Simulator::step(const std::optional<VelocityCommand>& command, int64_t 
   return f;
 }
 
-void Simulator::render_eye(Eye eye, int64_t t_ns, cv::Mat& out) {
-  const int n = params_.sensor.motion_blur_subframes;
-  if (n <= 1) {
-    world_.advance_to(t_ns);
-    const LightKey light = lighting_at(scenario_, world_.time_ns() * 1e-9);
-    renderer_.render(eye, world_.robot(), world_.ball(), light, out);
-    return;
-  }
-  // Motion blur: average n renders spread over the shutter interval ending at t_ns. The world
-  // only moves forward, so both eyes see the same sub-times only if the left eye re-simulates;
-  // instead we snapshot the world and replay it per eye.
-  const World start = world_;
+std::vector<int64_t> Simulator::exposure_times(int64_t t_ns) const {
+  // Motion blur: n renders spread over the shutter interval ending at t_ns.
+  const int n = std::max(1, params_.sensor.motion_blur_subframes);
+  if (n == 1) return {t_ns};
   const int64_t shutter_ns = static_cast<int64_t>(std::llround(params_.sensor.shutter_s * 1e9));
-  acc_.create(rig_.height_px(), rig_.width_px(), CV_32FC3);
-  acc_.setTo(0);
-  for (int i = 0; i < n; ++i) {
-    const int64_t ts = t_ns - shutter_ns + shutter_ns * (i + 1) / n;
-    world_.advance_to(ts);
-    const LightKey light = lighting_at(scenario_, world_.time_ns() * 1e-9);
-    renderer_.render(eye, world_.robot(), world_.ball(), light, sub_);
-    cv::add(acc_, sub_, acc_, cv::noArray(), CV_32F);
+  std::vector<int64_t> times;
+  for (int i = 0; i < n; ++i) times.push_back(t_ns - shutter_ns + shutter_ns * (i + 1) / n);
+  return times;
+}
+
+void Simulator::render_eye(Eye eye, World world, int64_t t_ns, cv::Mat& out) {
+  const std::vector<int64_t> times = exposure_times(t_ns);
+  const auto render_at = [&](int64_t ts, cv::Mat& into) {
+    world.advance_to(ts);
+    const LightKey light = lighting_at(scenario_, world.time_ns() * 1e-9);
+    renderer_.render(eye, world.robot(), world.ball(), light, into);
+  };
+  if (times.size() == 1) return render_at(times[0], out);
+  const int e = static_cast<int>(eye);
+  acc_[e].create(rig_.height_px(), rig_.width_px(), CV_32FC3);
+  acc_[e].setTo(0);
+  for (int64_t ts : times) {
+    render_at(ts, sub_[e]);
+    cv::add(acc_[e], sub_[e], acc_[e], cv::noArray(), CV_32F);
   }
-  acc_.convertTo(out, CV_8U, 1.0 / n);
-  if (eye == Eye::kLeft) world_ = start;  // the right eye replays the same interval
+  acc_[e].convertTo(out, CV_8U, 1.0 / static_cast<double>(times.size()));
 }
 
 }  // namespace stereoball::simulator

@@ -4,8 +4,10 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "simulator/core/ground_truth.hpp"
 #include "simulator/core/renderer.hpp"
@@ -26,6 +28,13 @@ struct SimFrame {
   GroundTruth truth;
 };
 
+/// Runs two pieces of work and returns when both are done: one after the other (the default),
+/// or on two threads when the caller has them (the simulator node renders the eyes at once).
+using RunBoth = std::function<void(const std::function<void()>&, const std::function<void()>&)>;
+
+/// Runs a, then b.
+void run_in_turn(const std::function<void()>& a, const std::function<void()>& b);
+
 /// Steps a scenario: step(command, t) advances the world to t and renders a frame there.
 class Simulator {
  public:
@@ -36,8 +45,9 @@ class Simulator {
   static std::optional<std::string> check(const SimParams& params, const Scenario& scenario);
 
   /// Applies a new command (if any), advances to sim_time_ns (ns since scenario start,
-  /// non-decreasing) and renders both eyes.
-  SimFrame step(const std::optional<VelocityCommand>& command, int64_t sim_time_ns);
+  /// non-decreasing) and renders both eyes through run_both (the frame is the same either way).
+  SimFrame step(const std::optional<VelocityCommand>& command, int64_t sim_time_ns,
+                const RunBoth& run_both = run_in_turn);
 
   /// Advances the world without rendering (e.g. to skip ahead).
   void advance(const std::optional<VelocityCommand>& command, int64_t sim_time_ns);
@@ -54,7 +64,11 @@ class Simulator {
   int64_t frame_period_ns() const;
 
  private:
-  void render_eye(Eye eye, int64_t t_ns, cv::Mat& out);
+  // Renders one eye at t_ns from a copy of the world at the start of the step (motion blur
+  // replays the shutter interval on that copy), so the eyes share no state.
+  void render_eye(Eye eye, World world, int64_t t_ns, cv::Mat& out);
+  // The instants rendered for a frame ending at t_ns: t_ns, or the motion-blur sub-frames.
+  std::vector<int64_t> exposure_times(int64_t t_ns) const;
 
   SimParams params_;
   Scenario scenario_;
@@ -64,7 +78,7 @@ class Simulator {
   Sensor sensor_;
   std::vector<SolidBox> occluders_;
   uint64_t seq_ = 0;
-  cv::Mat sub_, acc_;
+  cv::Mat sub_[2], acc_[2];  // per eye
 };
 
 }  // namespace stereoball::simulator

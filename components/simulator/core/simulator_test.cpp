@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
+#include <thread>
+
 namespace stereoball::simulator {
 namespace {
 
@@ -48,6 +50,36 @@ TEST(Simulator, SameSeedGivesByteIdenticalFrames) {
     ASSERT_TRUE(same(fa.left, fb.left)) << "frame " << i;
     ASSERT_TRUE(same(fa.right, fb.right)) << "frame " << i;
     EXPECT_EQ(fa.truth.robot.x_m, fb.truth.robot.x_m);
+  }
+}
+
+TEST(Simulator, EyesRenderedAtOnceGiveTheSameFramesAsInTurn) {
+  // Given two simulators of one scene, sharp and with motion blur; one renders its eyes in
+  // turn, the other on two threads (as the simulator node does)
+  const auto on_two_threads = [](const std::function<void()>& a, const std::function<void()>& b) {
+    std::thread left(a);
+    b();
+    left.join();
+  };
+  for (int blur : {1, 3}) {
+    SimParams p = small_params();
+    p.sensor.motion_blur_subframes = blur;
+    const Scenario s = rolling_scene(7);
+    Simulator in_turn(p, s), at_once(p, s);
+    // When both step through the same frames and commands
+    for (int i = 0; i < 5; ++i) {
+      const int64_t t = (i + 1) * in_turn.frame_period_ns();
+      const VelocityCommand cmd{0.3, -0.4, t};
+      const SimFrame a = in_turn.step(cmd, t);
+      const SimFrame b = at_once.step(cmd, t, on_two_threads);
+      // Then each eye and the ground truth are identical
+      ASSERT_TRUE(same(a.left, b.left)) << "blur " << blur << " frame " << i;
+      ASSERT_TRUE(same(a.right, b.right)) << "blur " << blur << " frame " << i;
+      EXPECT_EQ(a.truth.robot.x_m, b.truth.robot.x_m);
+      EXPECT_EQ(a.truth.ball_world_m.y, b.truth.ball_world_m.y);
+      // And each eye shows its own view (the threads did not render one eye twice)
+      EXPECT_FALSE(same(b.left, b.right));
+    }
   }
 }
 

@@ -1,13 +1,27 @@
 #include "simulator/node/simulator_node.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <future>
+#include <thread>
 
 #include "common/util/clock_stamp.hpp"
+#include "common/util/log.hpp"
 #include "simulator/node/msg_conversion.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
 namespace stereoball::simulator {
+namespace {
+
+// The eyes render at once: the left on a second thread, the right on this one.
+void run_on_two_threads(const std::function<void()>& left, const std::function<void()>& right) {
+  auto done = std::async(std::launch::async, left);
+  right();
+  done.get();  // rethrows what the left eye threw
+}
+
+}  // namespace
 
 SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
                              const Scenario& scenario, const stereo::StereoCalibration& published,
@@ -19,6 +33,8 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       sim_(std::make_unique<Simulator>(params, scenario)),
       published_(published),
       frame_source_("simulator:" + scenario.name),
+      // Before the writers exist, so a subscriber's first frames are not delayed by it.
+      lead_ns_(measure_render_lead_ns(params, scenario, options)),
       frames_(runner.participant(), topics::kStereoFrame),
       truth_(runner.participant(), topics::kGroundTruth),
       calibration_(runner.participant(), topics::kStereoCalibration),
@@ -30,9 +46,8 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
   // Transient-local: written once, every late joiner still receives it.
   calibration_.write(
       stereo::calibration_to_message(published_, node::now_ns(), options_.calibration_source));
-  const auto period_ns =
-      static_cast<int64_t>(std::llround(1e9 / (params_.frame_rate_hz * options_.rate)));
-  runner_.every(period_ns, [this](int64_t now) { tick(now); });
+  log::info("frames rendered ", lead_ns_ / 1000, " us ahead of their exposure (render time here)");
+  runner_.every(frame_period_wall_ns(params_, options_), [this](int64_t now) { tick(now); });
   runner_.health().set_state(true, "running scenario " + scenario_.name);
 }
 
@@ -47,39 +62,72 @@ void SimulatorNode::on_command(const base::BaseCommand& command) {
                                        std::string(base::to_string(command.output.state)));
 }
 
-int64_t SimulatorNode::exposure_stamp_ns(int64_t sim_time_ns, int64_t now_monotonic_ns,
-                                         int64_t now_epoch_ns) const {
+int64_t SimulatorNode::exposure_monotonic_ns(int64_t sim_time_ns) const {
   // The simulated exposure happens on the frame grid of this run of the scenario, mapped to
-  // the wall clock by the rate; never later than now (a late timer renders a past instant).
-  const int64_t exposure_monotonic = std::min<int64_t>(
-      now_monotonic_ns,
-      run_start_mono_ns_ + std::llround(static_cast<double>(sim_time_ns) / options_.rate));
-  return monotonic_to_epoch_ns(exposure_monotonic, now_monotonic_ns, now_epoch_ns);
+  // the monotonic clock by the rate.
+  return run_start_mono_ns_ + std::llround(static_cast<double>(sim_time_ns) / options_.rate);
+}
+
+int64_t SimulatorNode::frame_period_wall_ns(const SimParams& params,
+                                            const SimulatorNodeOptions& options) {
+  return static_cast<int64_t>(std::llround(1e9 / (params.frame_rate_hz * options.rate)));
+}
+
+int64_t SimulatorNode::measure_render_lead_ns(const SimParams& params, const Scenario& scenario,
+                                              const SimulatorNodeOptions& options) {
+  // Render (and encode) a few frames of a scratch copy of the scenario: the lead is what that
+  // takes here (the slowest of them, plus a margin for the loop's timer), never a period.
+  Simulator scratch(params, scenario);
+  std::optional<camera_server::EyeEncoder> encoder;
+  if (options.output.compressed()) encoder.emplace(options.output);
+  int64_t slowest = 0;
+  for (int i = 1; i <= 3; ++i) {
+    const int64_t start = node::monotonic_ns();
+    const SimFrame f =
+        scratch.step(std::nullopt, i * scratch.frame_period_ns(), run_on_two_threads);
+    if (encoder) {
+      (void)encoder->encode(f.left);  // errors show on the real frames
+      (void)encoder->encode(f.right);
+    }
+    slowest = std::max(slowest, node::monotonic_ns() - start);
+  }
+  constexpr int64_t kMarginNs = 2'000'000;
+  const int64_t period_ns = frame_period_wall_ns(params, options);
+  return std::clamp<int64_t>(slowest * 5 / 4 + kMarginNs, kMarginNs, period_ns - kMarginNs / 2);
 }
 
 void SimulatorNode::tick(int64_t /*now_ns*/) {
-  // Simulated time follows the wall clock (x rate) on the frame grid; if rendering falls
-  // behind, frames are skipped (and counted) rather than letting simulated time lag.
+  // A camera's frame exists once its exposure ends; the simulator renders it ahead by the
+  // lead (on the timer's tick) and releases it at that instant, so its render time is not
+  // part of the robot's latency. Simulated time follows the wall clock (x rate) on the
+  // frame grid; a frame whose exposure has passed before rendering starts is skipped.
   const int64_t mono = node::monotonic_ns();
-  if (run_start_mono_ns_ < 0) run_start_mono_ns_ = mono;
+  if (run_start_mono_ns_ < 0) run_start_mono_ns_ = mono + lead_ns_;
   const int64_t period = sim_->frame_period_ns();
   const auto sim_elapsed = static_cast<double>(mono - run_start_mono_ns_) * options_.rate;
-  int64_t index = std::max<int64_t>(frame_index_, std::llround(sim_elapsed / period));
+  int64_t index = std::max<int64_t>(frame_index_, std::ceil(sim_elapsed / period));
   if (options_.loop && index * period > static_cast<int64_t>(scenario_.duration_s * 1e9)) {
     sim_ = std::make_unique<Simulator>(params_, scenario_);
-    run_start_mono_ns_ = mono;
+    run_start_mono_ns_ = mono + lead_ns_;
     index = frame_index_ = 0;
     sim_now_ns_ = 0;
     runner_.health().count("scenario_restarts");
   }
   if (index > frame_index_) runner_.health().drop(frame_topic_, index - frame_index_);
-  const int64_t stamp_ns = exposure_stamp_ns(index * period, mono, node::now_ns());
-  const SimFrame f = sim_->step(std::nullopt, index * period);
+  const SimFrame f = sim_->step(std::nullopt, index * period, run_on_two_threads);
   runner_.health().set_counter("render_us",
                                static_cast<uint64_t>((node::monotonic_ns() - mono) / 1000));
   sim_now_ns_ = f.sim_time_ns;
   frame_index_ = index + 1;
-  publish_frame(f, stamp_ns);
+  // Encoding and the message are the camera's work before the release, too.
+  const int64_t exposure = exposure_monotonic_ns(index * period);
+  const int64_t stamp_ns = monotonic_to_epoch_ns(exposure, node::monotonic_ns(), node::now_ns());
+  if (encoders_[0] && !encode_eyes(f)) return;
+  stereoball_msg_StereoFrame frame = frame_message(f, stamp_ns);
+  if (!wait_until(exposure)) return;
+  if (node::monotonic_ns() > exposure + kLateNs) runner_.health().count("late_frames");
+  frames_.write(frame, stamp_ns);
+  runner_.health().count(frame_topic_);
   stereoball_msg_GroundTruth truth = ground_truth_to_msg(f.truth, stamp_ns, scenario_.name);
   truth.frame_seq = total_frames_;
   truth_.write(truth, stamp_ns);
@@ -87,16 +135,23 @@ void SimulatorNode::tick(int64_t /*now_ns*/) {
   runner_.health().set_counter("frames", ++total_frames_);
 }
 
-void SimulatorNode::publish_frame(const SimFrame& f, int64_t stamp_ns) {
-  stereoball_msg_StereoFrame frame = frame_to_msg(f, stamp_ns, frame_source_);
-  if (encoders_[0]) {
-    if (!encode_eyes(f)) return;
-    frame = encoded_frame_to_msg(f, options_.output.frame_encoding, encoders_[0]->bytes(),
-                                 encoders_[1]->bytes(), stamp_ns, frame_source_);
+bool SimulatorNode::wait_until(int64_t due_monotonic_ns) const {
+  // At most the lead (a few ms): commands received meanwhile are handled right after.
+  while (!runner_.stopping()) {
+    const int64_t left = due_monotonic_ns - node::monotonic_ns();
+    if (left <= 0) return true;
+    std::this_thread::sleep_for(std::chrono::nanoseconds(left));
   }
+  return false;
+}
+
+stereoball_msg_StereoFrame SimulatorNode::frame_message(const SimFrame& f, int64_t stamp_ns) const {
+  stereoball_msg_StereoFrame frame =
+      encoders_[0] ? encoded_frame_to_msg(f, options_.output.frame_encoding, encoders_[0]->bytes(),
+                                          encoders_[1]->bytes(), stamp_ns, frame_source_)
+                   : frame_to_msg(f, stamp_ns, frame_source_);
   frame.seq = total_frames_;
-  frames_.write(frame, stamp_ns);
-  runner_.health().count(frame_topic_);
+  return frame;
 }
 
 bool SimulatorNode::encode_eyes(const SimFrame& f) {

@@ -35,11 +35,17 @@ class SimulatorNode {
  private:
   void on_command(const base::BaseCommand& command);
   void tick(int64_t now_ns);
-  // Epoch stamp of the simulated exposure at sim_time_ns of the current run (both clocks read
-  // at one instant given).
-  int64_t exposure_stamp_ns(int64_t sim_time_ns, int64_t now_monotonic_ns,
-                            int64_t now_epoch_ns) const;
-  void publish_frame(const SimFrame& f, int64_t stamp_ns);
+  // Monotonic time of the simulated exposure at sim_time_ns of the current run.
+  int64_t exposure_monotonic_ns(int64_t sim_time_ns) const;
+  // How far ahead of its exposure a frame is rendered: this machine's render (+ encode) time
+  // plus a margin.
+  static int64_t measure_render_lead_ns(const SimParams& params, const Scenario& scenario,
+                                        const SimulatorNodeOptions& options);
+  static int64_t frame_period_wall_ns(const SimParams& params, const SimulatorNodeOptions& options);
+  // Sleeps until the monotonic time; false if the runner is stopping.
+  bool wait_until(int64_t due_monotonic_ns) const;
+  // The frame's message (raw eyes, or the encoders' bytes after encode_eyes).
+  stereoball_msg_StereoFrame frame_message(const SimFrame& f, int64_t stamp_ns) const;
   bool encode_eyes(const SimFrame& f);  // into encoders_; false (health error) on failure
 
   node::Runner& runner_;
@@ -49,12 +55,14 @@ class SimulatorNode {
   std::unique_ptr<Simulator> sim_;
   stereo::StereoCalibration published_;
   std::string frame_source_;
+  int64_t lead_ns_;  // frames are rendered this long before their exposure instant
   std::optional<camera_server::EyeEncoder> encoders_[2];  // left, right (jpeg/png only)
   dds::DataWriter<stereoball_msg_StereoFrame> frames_;
   dds::DataWriter<stereoball_msg_GroundTruth> truth_;
   dds::DataWriter<stereoball_msg_StereoCalibration> calibration_;
   base::BaseLink base_;  // authenticated commands, the e-stop, the base's own gate
   std::string frame_topic_{topics::kStereoFrame.spec.name};
+  static constexpr int64_t kLateNs = 1'000'000;  // released later than this: counted late
   int64_t run_start_mono_ns_ = -1;
   int64_t frame_index_ = 0;  // next frame on the grid of the current run of the scenario
   int64_t sim_now_ns_ = 0;
