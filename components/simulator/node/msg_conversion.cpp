@@ -79,7 +79,13 @@ stereoball_msg_GroundTruth ground_truth_to_msg(const GroundTruth& g, int64_t sta
 
 VelocityCommand command_from_msg(const stereoball_msg_VelocityCommand& msg, int64_t now_wall_ns,
                                  int64_t now_sim_ns, double rate) {
-  const int64_t age_ns = std::max<int64_t>(0, now_wall_ns - msg.stamp_ns);
+  // Saturating: any stamp (garbage included, found by fuzzing) gives an age in [0, 60 s]. A
+  // command that old is stale and the base's gate has dropped it before this point anyway.
+  constexpr int64_t kMaxAgeNs = 60'000'000'000;
+  int64_t age_ns = 0;
+  if (__builtin_sub_overflow(now_wall_ns, msg.stamp_ns, &age_ns))
+    age_ns = msg.stamp_ns < 0 ? kMaxAgeNs : 0;  // far in the past, or far in the future
+  age_ns = std::clamp<int64_t>(age_ns, 0, kMaxAgeNs);
   const auto sim_age_ns = static_cast<int64_t>(std::llround(static_cast<double>(age_ns) * rate));
   const double v = std::isfinite(msg.linear_mps) ? msg.linear_mps : 0.0;
   const double w = std::isfinite(msg.angular_radps) ? msg.angular_radps : 0.0;

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 namespace stereoball::simulator {
 namespace {
 
@@ -73,6 +76,20 @@ TEST(MsgConversion, CommandAgeIsScaledIntoSimulatedTime) {
   const VelocityCommand f = command_from_msg(msg, 1'100'000'000, 5'000'000'000, 0.5);
   EXPECT_EQ(f.stamp_ns, 5'000'000'000);
   EXPECT_EQ(f.linear_mps, 0.0);
+}
+
+TEST(MsgConversion, ExtremeCommandStampsSaturateInsteadOfOverflowing) {
+  // Given stamps at both ends of int64 (the fuzzer's INT64_MIN overflowed the age)
+  stereoball_msg_VelocityCommand msg{};
+  for (const int64_t stamp : {std::numeric_limits<int64_t>::min(), int64_t{0}}) {
+    msg.stamp_ns = stamp;
+    // When converted
+    const VelocityCommand c = command_from_msg(msg, 4'075'323'971'113'178'978, 5'000'000'000, 1.0);
+    // Then the age is capped at 60 s of simulated time
+    EXPECT_EQ(c.stamp_ns, 5'000'000'000 - 60'000'000'000) << stamp;
+  }
+  msg.stamp_ns = std::numeric_limits<int64_t>::max();
+  EXPECT_EQ(command_from_msg(msg, -5, 7, 1.0).stamp_ns, 7);  // from the future: brand new
 }
 
 }  // namespace

@@ -12,12 +12,35 @@ std::string shape_text(const cv::Mat& m) {
   return std::to_string(m.rows) + "x" + std::to_string(m.cols);
 }
 
+// An opencv-matrix node's header checked before OpenCV reads it: OpenCV allocates rows x cols
+// as the header says (a garbled "rows" became 2^31 rows, 48 GB, found by fuzzing), so both must
+// be small integers matching the data list.
+std::optional<std::string> check_matrix_header(const cv::FileNode& node, const char* name) {
+  constexpr int kMaxSide = 16;  // the largest calibration matrix is 4x4, distortion 1x14
+  if (!node.isMap()) return std::string(name) + ": not a matrix";
+  const cv::FileNode rows = node["rows"], cols = node["cols"], data = node["data"];
+  if (!rows.isInt() || !cols.isInt() || !data.isSeq()) {
+    return std::string(name) + ": not a matrix (needs integer rows, cols and a data list)";
+  }
+  const int r = static_cast<int>(rows), c = static_cast<int>(cols);
+  if (r < 1 || c < 1 || r > kMaxSide || c > kMaxSide) {
+    return std::string(name) + ": " + std::to_string(r) + "x" + std::to_string(c) +
+           " is not a calibration matrix size (1-" + std::to_string(kMaxSide) + " per side)";
+  }
+  if (data.size() != static_cast<std::size_t>(r) * static_cast<std::size_t>(c)) {
+    return std::string(name) + ": data has " + std::to_string(data.size()) + " values for " +
+           std::to_string(r) + "x" + std::to_string(c);
+  }
+  return std::nullopt;
+}
+
 // Reads a matrix node of exactly rows x cols into out; error names the field.
 template <int M, int N>
 std::optional<std::string> read_matx(const cv::FileStorage& fs, const char* name,
                                      cv::Matx<double, M, N>& out) {
   const cv::FileNode node = fs[name];
   if (node.empty() || node.isNone()) return std::string(name) + ": missing";
+  if (auto e = check_matrix_header(node, name)) return e;
   cv::Mat m;
   try {
     node >> m;
@@ -39,6 +62,7 @@ std::optional<std::string> read_distortion(const cv::FileStorage& fs, const char
                                            std::vector<double>& out) {
   const cv::FileNode node = fs[name];
   if (node.empty() || node.isNone()) return std::string(name) + ": missing";
+  if (auto e = check_matrix_header(node, name)) return e;
   cv::Mat m;
   try {
     node >> m;

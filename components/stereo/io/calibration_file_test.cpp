@@ -120,6 +120,28 @@ TEST_F(CalibrationFileTest, GivenMissingImageSizeOrNonMatrixWhenParsedThenFieldN
   EXPECT_NE(scalar_r.error().find("R:"), std::string::npos) << scalar_r.error();
 }
 
+TEST_F(CalibrationFileTest, GivenGarbledOrHugeMatrixHeaderWhenParsedThenRefusedBeforeAllocating) {
+  // Given R2 headers that OpenCV would size its allocation from (the fuzzer's "rows:&3" asked
+  // for 2^31 rows), a huge declared size, and a data list shorter than the header says
+  const std::string data = "   dt: d\n   data: [ 1., 0., 0., 0., 1., 0., 0., 0., 1. ]";
+  const auto garbled =
+      parse_calibration(edited_yaml("R2", "R2: !!opencv-matrix\n   rows:&3\n   cols: 3\n" + data));
+  const auto huge = parse_calibration(
+      edited_yaml("R2", "R2: !!opencv-matrix\n   rows: 100000\n   cols: 100000\n" + data));
+  const auto short_data =
+      parse_calibration(edited_yaml("R2", "R2: !!opencv-matrix\n   rows: 3\n   cols: 4\n" + data));
+  // Then each is refused with R2 named, and the good file still loads
+  for (const auto* r : {&garbled, &huge, &short_data}) {
+    ASSERT_FALSE(r->ok());
+    EXPECT_NE(r->error().find("R2:"), std::string::npos) << r->error();
+  }
+  EXPECT_NE(huge.error().find("100000x100000 is not a calibration matrix size"), std::string::npos)
+      << huge.error();
+  EXPECT_NE(short_data.error().find("data has 9 values for 3x4"), std::string::npos)
+      << short_data.error();
+  EXPECT_TRUE(parse_calibration(calibration_to_yaml(calib_)).ok());
+}
+
 TEST_F(CalibrationFileTest, GivenInconsistentValuesWhenLoadedThenValidationNamesField) {
   // Given a well-formed file whose T is all zeros
   const std::string t =
