@@ -65,8 +65,9 @@ mc::TrackSample to_controller(const tracker::Track& t, std::int64_t stamp_ns) {
 Result<std::unique_ptr<SimLoop>> SimLoop::create(const LoopConfig& config) {
   if (auto e = simulator::Simulator::check(config.sim, config.scenario))
     return Error{"scenario " + config.scenario.name + ": " + *e};
-  if (auto e = config.tracker.validate()) return Error{"tracker parameters: " + *e};
-  if (auto e = config.controller.validate()) return Error{"motion controller parameters: " + *e};
+  if (auto st = config.tracker.validate(); !st) return Error{"tracker parameters: " + st.error()};
+  if (auto st = config.controller.validate(); !st)
+    return Error{"motion controller parameters: " + st.error()};
   if (!(config.controller_rate_hz >= 1.0 && config.controller_rate_hz <= 1000.0))
     return Error{"controller rate " + std::to_string(config.controller_rate_hz) +
                  " Hz is out of range [1, 1000]"};

@@ -10,6 +10,8 @@
 
 #include "ball_detector/core/appearance_model.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
+#include "common/params/field_table.hpp"
+#include "common/util/result.hpp"
 
 namespace stereoball::ball_detector {
 
@@ -33,68 +35,71 @@ const char* to_string(DetectorInput input);
 /// The input named by text, or nullopt.
 std::optional<DetectorInput> parse_detector_input(const std::string& text);
 
-/// The Pixel-to-Pixel settings the pipeline starts from (config/ball_detector.yaml mirrors
-/// them): the core's defaults with a Canny floor that keeps shading ramps on the ball out.
-PixelToPixelParams pipeline_p2p_defaults();
-
-/// Everything the stereo pipeline needs besides the calibration.
+/// Everything the stereo pipeline needs besides the calibration. Each configured field's key,
+/// default, range, unit and meaning: detector_fields(); the comments here say why.
 struct BallDetectorParams {
-  DetectorInput input = DetectorInput::kRed;  ///< image the detector runs on (mono8: grey)
-  double ball_diameter_m = 0.22;              ///< true ball diameter, metres, (0, 5]
-  double epipolar_tolerance_px = 2.0;     ///< largest |y_left - y_right| of a pair, px, [0, 100]
-  double size_max_relative_error = 0.15;  ///< accepted |r - r_expected| / r_expected, (0, 10]
+  BallDetectorParams();  ///< every field at its default from detector_fields()
+
+  DetectorInput input;  ///< image the detector runs on (mono8 frames: grey)
+  double ball_diameter_m;
+  double epipolar_tolerance_px;
+  double size_max_relative_error;
   /// Search the right eye only in the boxes where a size-consistent partner of a left circle
   /// can lie (rows within the epipolar tolerance, disparity from the ball size at the size
   /// tolerance); false = the whole right image.
-  bool right_eye_partner_boxes = true;
+  bool right_eye_partner_boxes;
   /// Addition: when no right circle pairs with a left one, look for the right outline the left
   /// circle's ball makes along its epipolar line (scored against the right edges, p2p.min_score
   /// to pass). For a ball cut by the border each eye sees a different part and fits a different
   /// circle, rows apart.
-  bool predicted_partner = true;
-  /// The border rule for a predicted outline: it counts when this much of it is in the right
-  /// image, [0, 1]. The outline is fixed but for its disparity, so less than a free circle needs.
-  double predicted_partner_min_inside_fraction = 0.2;
-  int max_candidates_per_eye = 5;  ///< circles kept per eye (P2P max_circles), [1, 50]
-  /// Pairs within this distance of where the following track expects the ball are preferred
-  /// to better-scoring pairs elsewhere, metres, [0, 10] (0 = off).
-  double track_prior_gate_m = 0.3;
+  bool predicted_partner;
+  /// The outline is fixed but for its disparity, so it needs less inside than a free circle.
+  double predicted_partner_min_inside_fraction;
+  int max_candidates_per_eye;  ///< P2P max_circles
+  /// Pairs near where the following track expects the ball are preferred to better-scoring
+  /// pairs elsewhere (0 = off).
+  double track_prior_gate_m;
   /// With a prior, search first only the left box where the expected ball can appear (and its
   /// right partner boxes); the whole frame only if no pair turns up within the gate there.
-  bool prior_window = true;
-  /// A track older than this (its capture stamp vs the frame's) is not used as a prior, ns.
-  std::int64_t track_prior_max_age_ns = 500'000'000;
-  /// Where the prior says the ball is, a circle cut by the image border counts when this much
-  /// of it is inside (elsewhere p2p.min_inside_fraction applies), [0, 1].
-  double prior_min_inside_fraction = 0.3;
+  bool prior_window;
+  std::int64_t track_prior_max_age_ns;  ///< against the frame's capture stamp
+  /// Where the prior says the ball is, a circle cut by the image border counts with this much
+  /// of it inside (elsewhere p2p.min_inside_fraction applies).
+  double prior_min_inside_fraction;
   /// Floor check (addition): a ball rests on the floor, its centre one radius above it. The
   /// left camera's optical centre is floor_camera_height_m above the floor and pitched down by
   /// floor_camera_pitch_rad (rotation about its x axis, before rectification); pairs whose
   /// centre is more than floor_tolerance_m from the resting height are rejected (0 = off: a
   /// bouncing ball). A pitch error of 1 degree moves a ball 5 m away by 9 cm.
-  double floor_camera_height_m = 0.30;   ///< metres, [0, 10]
-  double floor_camera_pitch_rad = 0.20;  ///< radians, [-1.57, 1.57]
-  double floor_tolerance_m = 0.10;       ///< metres, [0, 10] (0 = no floor check)
+  double floor_camera_height_m;
+  double floor_camera_pitch_rad;
+  double floor_tolerance_m;
   /// Measure circles against the ellipse a sphere images as where they are (each eye's
   /// rectified camera, from stereo/calibration); false = as circles (the paper).
-  bool perspective_outline = true;
-  PixelToPixelParams p2p = pipeline_p2p_defaults();  ///< detector on each rectified eye
+  bool perspective_outline;
+  /// Detector on each rectified eye: the keys under p2p: set some fields, the rest keep the
+  /// core's defaults.
+  PixelToPixelParams p2p;
   /// Addition: the followed ball's colour, learnt while the tracker follows it, ranks the left
   /// candidates and rejects round things of another colour; forgotten after a long loss.
   AppearanceParams appearance;
-  /// Largest image a calibration (and so every frame) may have, px, [16, 16384] per side: a
-  /// larger stereo/calibration is refused before its rectification tables are allocated.
-  int max_image_width_px = 1920;
-  int max_image_height_px = 1080;  ///< see max_image_width_px
+  /// Largest image a calibration (and so every frame) may have: a larger stereo/calibration is
+  /// refused before its rectification tables are allocated.
+  int max_image_width_px;
+  int max_image_height_px;
 
   /// max_image_width_px x max_image_height_px.
   cv::Size max_image_size() const { return {max_image_width_px, max_image_height_px}; }
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or the first field out of its range or rule broken, naming the key.
+  Status validate() const;
 
   /// The detector parameters with max_circles taken from max_candidates_per_eye.
   PixelToPixelParams detector_params() const;
 };
+
+/// One row per key of config/ball_detector.yaml: the defaults, validate(), the loader, the
+/// README table and `ball_detector --help-params` come from it.
+const params::FieldTable<BallDetectorParams>& detector_fields();
 
 }  // namespace stereoball::ball_detector

@@ -1,6 +1,6 @@
 #pragma once
-// Loads BallDetectorParams from config/ball_detector.yaml (every key required, unknown keys
-// are errors, messages name the file and key).
+// Loads BallDetectorParams from config/ball_detector.yaml through detector_fields() (every key
+// required, unknown keys are errors, messages name the file and key).
 
 #include <string>
 

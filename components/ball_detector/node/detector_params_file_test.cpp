@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/params/field_table_testing.hpp"
+
 #include <fstream>
 #include <sstream>
 
@@ -99,11 +101,11 @@ TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {
 }
 
 TEST(DetectorParams, GivenDefaults_ThenValid) {
-  EXPECT_EQ(sb::ball_detector::BallDetectorParams{}.validate(), std::nullopt);
+  EXPECT_TRUE(sb::ball_detector::BallDetectorParams{}.validate());
   sb::ball_detector::BallDetectorParams p;
   p.p2p.k_values = {};
-  ASSERT_TRUE(p.validate().has_value());
-  EXPECT_NE(p.validate()->find("p2p.k_values"), std::string::npos);
+  ASSERT_FALSE(p.validate());
+  EXPECT_NE(p.validate().error().find("p2p.k_values"), std::string::npos);
 }
 
 TEST(DetectorInput, GivenEveryName_ThenRoundTrips) {
@@ -113,4 +115,16 @@ TEST(DetectorInput, GivenEveryName_ThenRoundTrips) {
     EXPECT_STREQ(to_string(*input), name);
   }
   EXPECT_FALSE(sb::ball_detector::parse_detector_input("gray").has_value());
+}
+
+TEST(DetectorParamsFile, GivenFieldTableThenShippedFileDefaultsRoundTripAndRefusalsHold) {
+  sb::params::testing::expect_table_contract(
+      sb::ball_detector::detector_fields(),
+      std::string(SB_SOURCE_DIR) + "/config/ball_detector.yaml");
+}
+
+TEST(DetectorParamsFile, GivenReadmeThenItsParameterTableIsTheGeneratedOne) {
+  sb::params::testing::expect_readme_table(
+      sb::ball_detector::detector_fields(),
+      std::string(SB_SOURCE_DIR) + "/components/ball_detector/node/README.md");
 }

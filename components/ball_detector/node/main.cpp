@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
       "ball/detection per frame (best pair or the reason there is none)."};
   sb::node::CommonOptions common;
   sb::node::add_common_flags(app, common, "ball_detector.yaml");
+  sb::node::add_help_params(app, sb::params::specs(sb::ball_detector::detector_fields()));
   CLI11_PARSE(app, argc, argv);
 
   auto params = sb::ball_detector::load_detector_params(common.config_path);

@@ -71,12 +71,12 @@ TEST(MapControls, GivenGainAndManualWhiteBalanceWhenMappedThenBothSetAndAutoWbOf
 TEST(CameraControls, GivenOutOfRangeValuesWhenValidatedThenFieldIsNamed) {
   CameraControls c;
   c.white_balance_temperature_k = 50;
-  ASSERT_TRUE(c.validate());
-  EXPECT_NE(c.validate()->find("white_balance_temperature_k"), std::string::npos);
+  ASSERT_FALSE(c.validate());
+  EXPECT_NE(c.validate().error().find("white_balance_temperature_k"), std::string::npos);
   c = CameraControls{};
   c.gain = -5;
-  EXPECT_NE(c.validate()->find("gain"), std::string::npos);
-  EXPECT_FALSE(CameraControls{}.validate());
+  EXPECT_NE(c.validate().error().find("gain"), std::string::npos);
+  EXPECT_TRUE(CameraControls{}.validate());
 }
 
 }  // namespace

@@ -66,14 +66,21 @@ const std::vector<std::string>& frame_encoding_choices() {
   return kChoices;
 }
 
-std::optional<std::string> FrameCodecParams::validate() const {
-  if (frame_encoding != "raw" && !compressed()) {
-    return "frame_encoding must be \"raw\", \"jpeg\" or \"png\", got \"" + frame_encoding + "\"";
-  }
-  if (jpeg_quality < 1 || jpeg_quality > 100) {
-    return "jpeg_quality must be in [1, 100], got " + std::to_string(jpeg_quality);
-  }
-  return std::nullopt;
+const params::FieldTable<FrameCodecParams>& frame_codec_fields() {
+  using params::at;
+  const FrameCodecParams defaults;
+  static const params::FieldTable<FrameCodecParams> table{{
+      params::choice("frame_encoding", at(&FrameCodecParams::frame_encoding),
+                     defaults.frame_encoding, frame_encoding_choices(),
+                     "raw (pixels) or jpeg / png: how each eye is compressed before publishing"),
+      params::number("jpeg_quality", at(&FrameCodecParams::jpeg_quality), defaults.jpeg_quality,
+                     {1, 100}, "", "JPEG quality, used with frame_encoding jpeg"),
+  }};
+  return table;
+}
+
+Status FrameCodecParams::validate() const {
+  return params::check_fields(frame_codec_fields(), *this);
 }
 
 EyeEncoder::EyeEncoder(const FrameCodecParams& params) : params_(params) {}

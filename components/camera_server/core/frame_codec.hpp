@@ -11,21 +11,28 @@
 #include <string>
 #include <vector>
 
+#include "common/params/field_table.hpp"
+#include "common/util/result.hpp"
+
 namespace stereoball::camera_server {
 
 /// The values frame_encoding accepts: "raw" (pixels as they are), "jpeg", "png".
 const std::vector<std::string>& frame_encoding_choices();
 
-/// How a publisher encodes the eyes of its stereo frames.
+/// How a publisher encodes the eyes of its stereo frames. An aggregate ({encoding, quality}):
+/// frame_codec_fields() takes its defaults from here.
 struct FrameCodecParams {
   std::string frame_encoding = "raw";  ///< "raw", "jpeg" (lossy) or "png" (lossless)
-  int jpeg_quality = 90;               ///< JPEG quality, 1 (smallest) .. 100 (closest to raw)
+  int jpeg_quality = 90;               ///< 1 (smallest) .. 100 (closest to raw)
 
-  /// Names the first bad field and its allowed values, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or the field out of its range, naming key and allowed values.
+  Status validate() const;
   /// True when the eyes are compressed ("jpeg" or "png").
   bool compressed() const { return frame_encoding == "jpeg" || frame_encoding == "png"; }
 };
+
+/// frame_encoding and jpeg_quality, as the camera_server and simulator files hold them.
+const params::FieldTable<FrameCodecParams>& frame_codec_fields();
 
 /// zlib level of PNG frames: 1 = fastest; PNG is lossless at every level, higher levels only
 /// trade encode time (several times longer) for a few percent fewer bytes.

@@ -2,59 +2,71 @@
 // Parameters of the camera server (capture, pairing, controls, file source, reopen back-off).
 
 #include <cstdint>
-#include <optional>
 #include <string>
 
 #include "camera_server/core/frame_codec.hpp"
+#include "common/params/field_table.hpp"
+#include "common/util/result.hpp"
 
 namespace stereoball::camera_server {
 
 /// Camera controls applied identically to both cameras; negative/zero values leave a control
-/// at the driver's current setting.
+/// at the driver's current setting. Defaults, ranges, units: camera_controls_fields().
 struct CameraControls {
-  bool auto_exposure = true;                ///< true: camera picks exposure; false: exposure_us
-  int32_t exposure_us = 0;                  ///< manual exposure time, microseconds (0 = leave)
-  int32_t gain = -1;                        ///< sensor gain, driver units (-1 = leave)
-  bool auto_white_balance = true;           ///< true: camera picks white balance
-  int32_t white_balance_temperature_k = 0;  ///< manual colour temperature, kelvin (0 = leave)
+  CameraControls();         ///< every field at its default from camera_controls_fields()
+  bool auto_exposure;       ///< true: camera picks exposure; false: exposure_us
+  int32_t exposure_us;      ///< manual exposure time (0 = leave)
+  int32_t gain;             ///< sensor gain, driver units (-1 = leave)
+  bool auto_white_balance;  ///< true: camera picks white balance
+  int32_t white_balance_temperature_k;  ///< manual colour temperature (0 = leave)
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or the first field out of its range, naming key and range.
+  Status validate() const;
 };
 
-/// Everything the camera server needs; defaults fit a USB stereo pair at 640x480, 30 Hz.
-struct CameraServerParams {
-  std::string source = "v4l2";               ///< "v4l2" (two cameras) or "files"
-  std::string left_device = "/dev/video0";   ///< left camera device node
-  std::string right_device = "/dev/video1";  ///< right camera device node
-  uint32_t width_px = 640;                   ///< capture width, pixels
-  uint32_t height_px = 480;                  ///< capture height, pixels
-  double rate_hz = 30.0;                     ///< capture (or file playback) rate, frames per second
-  std::string pixel_format = "any";          ///< "yuyv", "mjpeg" or "any" (YUYV preferred)
-  int64_t max_skew_ns = 0;    ///< largest stamp difference of a pair, ns (0 = half a period)
-  uint32_t buffer_count = 4;  ///< mmap buffers per camera
-  std::string publish_encoding =
-      "bgr8";                     ///< "bgr8" (converted) or "native" (yuyv/jpeg as captured)
-  FrameCodecParams output;        ///< frame_encoding (raw|jpeg|png) and jpeg_quality
-  CameraControls controls;        ///< applied to both cameras
-  double reopen_initial_s = 0.5;  ///< first wait before reopening a lost camera, seconds
-  double reopen_max_s = 8.0;      ///< longest wait between reopen attempts, seconds
-  double reopen_factor = 2.0;     ///< wait multiplier after each failed attempt
-  double stall_timeout_s = 2.0;   ///< a streaming camera silent this long is reopened, s
-  std::string left_glob;          ///< file source: glob of left images
-  std::string right_glob;         ///< file source: glob of right images
-  std::string pairs_dir;          ///< file source: folder of left*/right* pairs
-  std::string file_encoding = "as_read";  ///< file source: "as_read", "bgr8" or "mono8"
-  bool loop = true;                       ///< file source: start again after the last pair
-  std::string calibration_file;           ///< stereo calibration to publish (empty = none)
-  bool rectify = false;                   ///< publish rectified images (needs calibration_file)
+/// The controls.* keys of the camera_server file.
+const params::FieldTable<CameraControls>& camera_controls_fields();
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+/// Everything the camera server needs; defaults fit a USB stereo pair at 640x480, 30 Hz. Each
+/// field's key, default, range, unit and meaning: camera_server_fields().
+struct CameraServerParams {
+  CameraServerParams();  ///< every field at its default from camera_server_fields()
+  std::string source;
+  std::string left_device;
+  std::string right_device;
+  uint32_t width_px;
+  uint32_t height_px;
+  double rate_hz;
+  std::string pixel_format;
+  int64_t max_skew_ns;
+  uint32_t buffer_count;
+  std::string publish_encoding;
+  FrameCodecParams output;  ///< frame_encoding (raw|jpeg|png) and jpeg_quality
+  CameraControls controls;  ///< applied to both cameras
+  double reopen_initial_s;
+  double reopen_max_s;
+  double reopen_factor;
+  double stall_timeout_s;
+  std::string left_glob;
+  std::string right_glob;
+  std::string pairs_dir;
+  std::string file_encoding;
+  bool loop;
+  std::string calibration_file;
+  bool rectify;
+
+  /// Success, or the first field out of its range or rule broken, naming the key.
+  Status validate() const;
   /// Pairing skew actually used, ns: max_skew_ns or half a frame period.
   int64_t effective_skew_ns() const;
   /// Frame period, ns.
   int64_t period_ns() const;
 };
+
+/// One row per parameter of config/camera_server*.yaml: the capture shape (source, width_px,
+/// height_px, rate_hz) is required, every other key optional (a file source needs no camera
+/// settings and the reverse). Drives the defaults, validate(), the loader, the README table
+/// and `camera_server --help-params`.
+const params::FieldTable<CameraServerParams>& camera_server_fields();
 
 }  // namespace stereoball::camera_server

@@ -8,13 +8,13 @@
 namespace stereoball::camera_server {
 namespace {
 
-bool names(const std::optional<std::string>& e, const char* field) {
-  return e && e->find(field) != std::string::npos;
+bool names(const Status& st, const char* field) {
+  return !st && st.error().find(field) != std::string::npos;
 }
 
 TEST(CameraServerParams, GivenDefaultsWhenValidatedThenValidAndSkewIsHalfPeriod) {
   CameraServerParams p;
-  EXPECT_FALSE(p.validate()) << *p.validate();
+  EXPECT_TRUE(p.validate()) << p.validate().error();
   EXPECT_EQ(p.period_ns(), 33'333'333);
   EXPECT_EQ(p.effective_skew_ns(), 16'666'666);
   p.max_skew_ns = 5'000'000;
@@ -57,7 +57,7 @@ TEST(CameraServerParams, GivenFileSourceWhenInputsAmbiguousOrMissingThenError) {
   p.left_glob = "a/left*.jpg";
   EXPECT_TRUE(names(p.validate(), "right_glob"));
   p.right_glob = "a/right*.jpg";
-  EXPECT_FALSE(p.validate());
+  EXPECT_TRUE(p.validate());
   p.pairs_dir = "a";
   EXPECT_TRUE(names(p.validate(), "exactly one"));
 }

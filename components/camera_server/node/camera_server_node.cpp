@@ -37,7 +37,7 @@ CameraServerNode::~CameraServerNode() {
 
 Result<std::unique_ptr<CameraServerNode>> CameraServerNode::create(const CameraServerParams& params,
                                                                    node::Runner& runner) {
-  if (auto e = params.validate()) return Error{*e};
+  if (auto st = params.validate(); !st) return Error{st.error()};
   std::unique_ptr<CameraServerNode> node(new CameraServerNode(params, runner));
   if (auto e = node->open_source()) return Error{*e};
   node->start();

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
       "stereo/calibration (transient-local). Parameters: components/camera_server/README.md."};
   sb::node::CommonOptions common;
   sb::node::add_common_flags(app, common, "camera_server.yaml");
+  sb::node::add_help_params(app, sb::params::specs(sb::camera_server::camera_server_fields()));
   const sb::camera_server::FrameCodecFlags codec_flags(app);
   CLI11_PARSE(app, argc, argv);
   sb::log::Level level = sb::log::Level::kInfo;

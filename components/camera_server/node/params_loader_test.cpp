@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/params/field_table_testing.hpp"
+
 namespace stereoball::camera_server {
 namespace {
 
@@ -85,6 +87,16 @@ TEST(CameraServerParamsFile, GivenFrameEncodingKeysWhenParsedThenReadOrNamedWith
                                            "c.yaml");
   ASSERT_FALSE(native.ok());
   EXPECT_TRUE(has(native.error(), "publish_encoding")) << native.error();
+}
+
+TEST(CameraServerParamsFile, GivenFieldTableThenShippedFileDefaultsRoundTripAndRefusalsHold) {
+  params::testing::expect_table_contract(camera_server_fields(),
+                                         SB_SOURCE_DIR "/config/camera_server.yaml");
+}
+
+TEST(CameraServerParamsFile, GivenReadmeThenItsParameterTableIsTheGeneratedOne) {
+  params::testing::expect_readme_table(camera_server_fields(),
+                                       SB_SOURCE_DIR "/components/camera_server/README.md");
 }
 
 }  // namespace

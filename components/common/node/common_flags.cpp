@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 
 #include "common/dds/participant.hpp"
 #include "common/util/install_layout.hpp"
@@ -50,6 +51,18 @@ void add_common_flags(CLI::App& app, CommonOptions& options, const std::string& 
   app.add_option("--log-level", options.log_level, "debug, info, warn or error")
       ->check(CLI::IsMember({"debug", "info", "warn", "error"}))
       ->capture_default_str();
+}
+
+void add_help_params(CLI::App& app, const std::vector<params::FieldSpec>& specs) {
+  // Option callbacks run before the parse-complete callback that searches for --config.
+  app.add_flag_callback(
+      "--help-params",
+      [table = params::markdown_table(specs)] {
+        std::cout << table;
+        throw CLI::Success();
+      },
+      "print every parameter of the config file (key, default, allowed, unit, description) "
+      "and exit");
 }
 
 }  // namespace stereoball::node

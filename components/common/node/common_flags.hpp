@@ -4,6 +4,9 @@
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
+
+#include "common/params/field_table.hpp"
 
 namespace stereoball::node {
 
@@ -23,6 +26,10 @@ struct CommonOptions {
 /// what was tried.
 void add_common_flags(CLI::App& app, CommonOptions& options, const std::string& config_name,
                       bool with_config = true);
+
+/// Adds --help-params: prints the node's parameter table (key, default, allowed values, unit,
+/// description; the markdown of the component README) and exits 0, without reading any file.
+void add_help_params(CLI::App& app, const std::vector<params::FieldSpec>& specs);
 
 /// Path of a shipped config file or folder by the search order of install_layout.hpp; if
 /// nothing is found, the path the source tree would have (so the caller's open fails with it).

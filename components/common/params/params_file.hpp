@@ -40,6 +40,8 @@ class ParamsFile {
 
   /// Records an error found by the caller (e.g. Params::validate()).
   void fail(const std::string& message);
+  /// True once any read or fail() has recorded an error (unknown keys are found by finish()).
+  bool failed() const { return error_.has_value(); }
   /// The first error, or an unknown-key error; nullopt if everything was fine.
   std::optional<std::string> finish() const;
   const std::string& name() const { return name_; }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/params/field_table_testing.hpp"
+
 #include <fstream>
 #include <sstream>
 
@@ -66,6 +68,16 @@ TEST(ControllerParamsFile, GivenUnknownOrMissingKey_ThenErrorNamesKey) {
   const auto range = parse(replaced(shipped_config(), "rate_hz: 20.0", "rate_hz: 0"));
   ASSERT_FALSE(range.ok());
   EXPECT_NE(range.error().find("rate_hz"), std::string::npos) << range.error();
+}
+
+TEST(ControllerParamsFile, GivenFieldTableThenShippedFileDefaultsRoundTripAndRefusalsHold) {
+  params::testing::expect_table_contract(
+      node_params_fields(), std::string(SB_SOURCE_DIR) + "/config/motion_controller.yaml");
+}
+
+TEST(ControllerParamsFile, GivenReadmeThenItsParameterTableIsTheGeneratedOne) {
+  params::testing::expect_readme_table(
+      node_params_fields(), std::string(SB_SOURCE_DIR) + "/components/motion_controller/README.md");
 }
 
 }  // namespace

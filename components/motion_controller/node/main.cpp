@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
       "or backwards capture stamp are logged and never acted on."};
   sb::node::CommonOptions common;
   sb::node::add_common_flags(app, common, "motion_controller.yaml");
+  sb::node::add_help_params(app, sb::params::specs(sb::motion_controller::node_params_fields()));
   CLI11_PARSE(app, argc, argv);
 
   auto params = sb::motion_controller::load_controller_params(common.config_path);

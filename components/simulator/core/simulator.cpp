@@ -26,7 +26,7 @@ Simulator::Simulator(const SimParams& params, const Scenario& scenario)
       occluders_(solid_boxes(scenario)) {}
 
 std::optional<std::string> Simulator::check(const SimParams& params, const Scenario& scenario) {
-  if (auto e = params.validate()) return "simulator params: " + *e;
+  if (auto st = params.validate(); !st) return "simulator params: " + st.error();
   if (auto e = scenario.validate()) return "scenario '" + scenario.name + "': " + *e;
   return std::nullopt;
 }

@@ -1,18 +1,15 @@
 #pragma once
-// config/simulator.yaml -> SimParams, through the common params loader (every key required).
+// config/simulator.yaml -> SimParams + how frames are published, through one field table
+// (every key required).
 
 #include <string>
 
 #include "camera_server/core/frame_codec.hpp"
-#include "common/params/params_file.hpp"
+#include "common/params/field_table.hpp"
 #include "common/util/result.hpp"
 #include "simulator/core/sim_params.hpp"
 
 namespace stereoball::simulator {
-
-/// Reads every SimParams key from an already opened params file (keys as in simulator.yaml);
-/// problems are recorded in file (see ParamsFile::finish()).
-void read_sim_params(params::ParamsFile& file, SimParams& p);
 
 /// Everything in config/simulator.yaml: the simulated hardware and how its frames are published.
 struct SimulatorConfig {
@@ -20,7 +17,10 @@ struct SimulatorConfig {
   camera_server::FrameCodecParams output;  ///< frame_encoding (raw|jpeg|png), jpeg_quality
 };
 
-/// Loads and validates a simulator params file (every key required).
+/// Every key of config/simulator.yaml: sim_fields() plus frame_encoding and jpeg_quality.
+const params::FieldTable<SimulatorConfig>& simulator_config_fields();
+
+/// Loads and checks a simulator params file (every key required).
 Result<SimulatorConfig> load_simulator_config(const std::string& path);
 
 /// Same, the simulated hardware only (the publishing keys are still checked).

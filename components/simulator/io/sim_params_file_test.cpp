@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/params/field_table_testing.hpp"
+
 #include <fstream>
 #include <sstream>
 #include <tuple>
@@ -108,6 +110,15 @@ TEST(SimParamsFile, UnknownKeyIsNamed) {
   const auto p = load_sim_params(tmp);
   ASSERT_FALSE(p.ok());
   EXPECT_NE(p.error().find("noise_sigma"), std::string::npos) << p.error();
+}
+
+TEST(SimParamsFile, GivenFieldTableThenShippedFileDefaultsRoundTripAndRefusalsHold) {
+  params::testing::expect_table_contract(simulator_config_fields(), kPath);
+}
+
+TEST(SimParamsFile, GivenReadmeThenItsParameterTableIsTheGeneratedOne) {
+  params::testing::expect_readme_table(
+      simulator_config_fields(), std::string(SB_SOURCE_DIR) + "/components/simulator/README.md");
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
       "drives the base from cmd/velocity (stale commands stop it)."};
   sb::node::CommonOptions common;
   sb::node::add_common_flags(app, common, "simulator.yaml");
+  sb::node::add_help_params(app, sb::params::specs(sb::simulator::simulator_config_fields()));
   std::string scenario_name = "ball_rolling_away";
   std::string scenarios_dir = sb::node::default_config_path("scenarios");
   std::string calibration_path;

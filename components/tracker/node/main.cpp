@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
       "following / searching, accepted position and velocity, last-seen side, verdict)."};
   sb::node::CommonOptions common;
   sb::node::add_common_flags(app, common, "tracker.yaml");
+  sb::node::add_help_params(app, sb::params::specs(sb::tracker::tracker_fields()));
   CLI11_PARSE(app, argc, argv);
 
   auto params = sb::tracker::load_tracker_params(common.config_path);

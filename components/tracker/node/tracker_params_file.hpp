@@ -1,5 +1,5 @@
 #pragma once
-// Loads TrackerParams from the tracker's YAML file (config/tracker.yaml).
+// Loads TrackerParams from the tracker's YAML file (config/tracker.yaml) through its field table.
 
 #include <string>
 
@@ -9,9 +9,9 @@
 
 namespace stereoball::tracker {
 
-/// Reads every TrackerParams field (keys = field names) from file and validates them.
+/// Reads every field of tracker_fields() from file and checks them.
 Result<TrackerParams> read_tracker_params(params::ParamsFile& file);
-/// Loads and validates the tracker parameters at path; errors name the file and key.
+/// Loads and checks the tracker parameters at path; errors name the file and key.
 Result<TrackerParams> load_tracker_params(const std::string& path);
 
 }  // namespace stereoball::tracker

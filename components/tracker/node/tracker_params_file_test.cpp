@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/params/field_table_testing.hpp"
+
 #include <fstream>
 #include <sstream>
 
@@ -66,6 +68,16 @@ TEST(TrackerParamsFile, GivenMissingFile_ThenErrorNamesPath) {
   const auto p = load_tracker_params("/nonexistent/tracker.yaml");
   ASSERT_FALSE(p.ok());
   EXPECT_NE(p.error().find("/nonexistent/tracker.yaml"), std::string::npos) << p.error();
+}
+
+TEST(TrackerParamsFile, GivenFieldTableThenShippedFileDefaultsRoundTripAndRefusalsHold) {
+  params::testing::expect_table_contract(tracker_fields(),
+                                         std::string(SB_SOURCE_DIR) + "/config/tracker.yaml");
+}
+
+TEST(TrackerParamsFile, GivenReadmeThenItsParameterTableIsTheGeneratedOne) {
+  params::testing::expect_readme_table(
+      tracker_fields(), std::string(SB_SOURCE_DIR) + "/components/tracker/README.md");
 }
 
 }  // namespace
