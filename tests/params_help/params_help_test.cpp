@@ -10,6 +10,8 @@
 
 #include "process.hpp"
 
+namespace sb = stereoball;
+
 namespace {
 
 using namespace std::chrono_literals;

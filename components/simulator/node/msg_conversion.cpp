@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace stereoball::simulator {
 namespace {
@@ -86,10 +87,15 @@ VelocityCommand command_from_msg(const stereoball_msg_VelocityCommand& msg, int6
   if (__builtin_sub_overflow(now_wall_ns, msg.stamp_ns, &age_ns))
     age_ns = msg.stamp_ns < 0 ? kMaxAgeNs : 0;  // far in the past, or far in the future
   age_ns = std::clamp<int64_t>(age_ns, 0, kMaxAgeNs);
-  const auto sim_age_ns = static_cast<int64_t>(std::llround(static_cast<double>(age_ns) * rate));
+  // The rate and clocks are the simulator's own (validated), but the arithmetic stays total.
+  const double scale = std::isfinite(rate) && rate > 0.0 ? std::min(rate, 1e3) : 1.0;
+  const auto sim_age_ns = static_cast<int64_t>(std::llround(static_cast<double>(age_ns) * scale));
+  int64_t stamp_ns = 0;
+  if (__builtin_sub_overflow(now_sim_ns, sim_age_ns, &stamp_ns))
+    stamp_ns = std::numeric_limits<int64_t>::min();
   const double v = std::isfinite(msg.linear_mps) ? msg.linear_mps : 0.0;
   const double w = std::isfinite(msg.angular_radps) ? msg.angular_radps : 0.0;
-  return {v, w, now_sim_ns - sim_age_ns};
+  return {v, w, stamp_ns};
 }
 
 }  // namespace stereoball::simulator

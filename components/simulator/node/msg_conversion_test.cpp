@@ -90,6 +90,13 @@ TEST(MsgConversion, ExtremeCommandStampsSaturateInsteadOfOverflowing) {
   }
   msg.stamp_ns = std::numeric_limits<int64_t>::max();
   EXPECT_EQ(command_from_msg(msg, -5, 7, 1.0).stamp_ns, 7);  // from the future: brand new
+  // And a rate that is not a positive number (never configured, but the fuzzer tries) counts
+  // as real time, a huge one is capped, the simulated clock's own minimum saturates
+  msg.stamp_ns = 0;
+  EXPECT_EQ(command_from_msg(msg, 1'000, 5'000, std::nan("")).stamp_ns, 4'000);
+  EXPECT_EQ(command_from_msg(msg, 1'000, 5'000, 1e300).stamp_ns, 5'000 - 1'000'000);
+  EXPECT_EQ(command_from_msg(msg, 1'000, std::numeric_limits<int64_t>::min(), 1.0).stamp_ns,
+            std::numeric_limits<int64_t>::min());
 }
 
 }  // namespace

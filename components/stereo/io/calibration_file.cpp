@@ -44,7 +44,7 @@ std::optional<std::string> read_matx(const cv::FileStorage& fs, const char* name
   cv::Mat m;
   try {
     node >> m;
-  } catch (const cv::Exception&) {
+  } catch (const std::exception&) {  // cv::Exception or what OpenCV lets through
     return std::string(name) + ": not a matrix";
   }
   if (m.empty()) return std::string(name) + ": not a matrix";
@@ -66,7 +66,7 @@ std::optional<std::string> read_distortion(const cv::FileStorage& fs, const char
   cv::Mat m;
   try {
     node >> m;
-  } catch (const cv::Exception&) {
+  } catch (const std::exception&) {  // cv::Exception or what OpenCV lets through
     return std::string(name) + ": not a matrix";
   }
   if (m.channels() != 1 || (m.rows != 1 && m.cols != 1) || !is_valid_distortion_size(m.total())) {
@@ -121,6 +121,8 @@ CalibResult parse_storage(cv::FileStorage& fs, const std::string& origin) {
     if (auto e = read_all(fs, c)) return Error{origin + ": " + *e};
   } catch (const cv::Exception& ex) {
     return Error{origin + ": malformed calibration (" + ex.err + ")"};
+  } catch (const std::exception& ex) {
+    return Error{origin + ": malformed calibration (" + ex.what() + ")"};
   }
   return c;
 }
@@ -174,6 +176,8 @@ CalibResult load_calibration(const std::string& path) {
     }
   } catch (const cv::Exception& ex) {
     return Error{path + ": not a valid calibration file (" + ex.err + ")"};
+  } catch (const std::exception& ex) {  // OpenCV's parser also lets std::length_error out
+    return Error{path + ": not a valid calibration file (" + ex.what() + ")"};
   }
   return parse_storage(fs, path);
 }
@@ -186,6 +190,8 @@ CalibResult parse_calibration(const std::string& text) {
     }
   } catch (const cv::Exception& ex) {
     return Error{"calibration text: not valid FileStorage (" + ex.err + ")"};
+  } catch (const std::exception& ex) {  // OpenCV's parser also lets std::length_error out
+    return Error{std::string("calibration text: not valid FileStorage (") + ex.what() + ")"};
   }
   return parse_storage(fs, "calibration text");
 }
@@ -225,6 +231,8 @@ Result<std::vector<std::pair<std::string, std::string>>> load_pair_list(const st
     }
   } catch (const cv::Exception& ex) {
     return Error{path + ": malformed pair list (" + ex.err + ")"};
+  } catch (const std::exception& ex) {
+    return Error{path + ": malformed pair list (" + ex.what() + ")"};
   }
   if (names.empty()) return Error{path + ": image list is empty"};
   if (names.size() % 2 != 0) {

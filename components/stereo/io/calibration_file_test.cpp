@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 namespace stereoball::stereo {
 namespace {
@@ -140,6 +141,20 @@ TEST_F(CalibrationFileTest, GivenGarbledOrHugeMatrixHeaderWhenParsedThenRefusedB
   EXPECT_NE(short_data.error().find("data has 9 values for 3x4"), std::string::npos)
       << short_data.error();
   EXPECT_TRUE(parse_calibration(calibration_to_yaml(calib_)).ok());
+}
+
+TEST_F(CalibrationFileTest, GivenFuzzerFindingsWhenParsedThenErrorsNotCrashes) {
+  // Given the calibration inputs the fuzzer crashed on (kept in its corpus): a garbled matrix
+  // header, and text on which OpenCV's parser throws std::length_error
+  for (const char* name : {"garbled-rows-header.yaml", "length-error-from-parser.yaml"}) {
+    const std::string path = std::string(SB_SOURCE_DIR) + "/tests/fuzz/corpus/calibration/" + name;
+    std::ifstream in(path, std::ios::binary);
+    ASSERT_TRUE(in) << path;
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // When parsed, and when loaded as a file, Then each is an error (no exception escapes)
+    EXPECT_FALSE(parse_calibration(text).ok()) << name;
+    EXPECT_FALSE(load_calibration(path).ok()) << name;
+  }
 }
 
 TEST_F(CalibrationFileTest, GivenInconsistentValuesWhenLoadedThenValidationNamesField) {
