@@ -1,7 +1,10 @@
 #include "stereo/io/calibration_file.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string_view>
 
 namespace stereoball::stereo {
 namespace {
@@ -162,6 +165,40 @@ void write_all(cv::FileStorage& fs, const StereoCalibration& c, const Calibratio
   if (!info.note.empty()) fs << "note" << info.note;
 }
 
+// What OpenCV's FileStorage must not see. Its YAML reader (4.6) loops forever on text after
+// the document marker on the same line followed by a malformed value ("---a: t\nb: -\nc",
+// found by fuzzing); OpenCV writes "---" on a line of its own. A calibration is a few KiB.
+std::optional<std::string> check_before_opencv(const std::string& text) {
+  constexpr std::size_t kMaxBytes = std::size_t{1} << 20;
+  if (text.size() > kMaxBytes) return std::string("larger than 1 MiB (a calibration is a few KiB)");
+  std::size_t line = 1;
+  for (std::size_t at = 0; at < text.size(); ++line) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    const std::string_view l(text.data() + at, end - at);
+    if (l.substr(0, 3) == "---" && l.find_first_not_of(" \t\r", 3) != std::string_view::npos) {
+      return "line " + std::to_string(line) + ": text after the document marker '---'";
+    }
+    at = end + 1;
+  }
+  return std::nullopt;
+}
+
+// Parses calibration text (YAML, XML or JSON, as OpenCV writes them); origin names it in errors.
+CalibResult parse_text(const std::string& text, const std::string& origin) {
+  if (auto e = check_before_opencv(text)) return Error{origin + ": " + *e};
+  cv::FileStorage fs;
+  try {
+    if (!fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY)) {
+      return Error{origin + ": cannot be parsed as OpenCV FileStorage (YAML/XML/JSON)"};
+    }
+  } catch (const cv::Exception& ex) {
+    return Error{origin + ": not a valid calibration (" + ex.err + ")"};
+  } catch (const std::exception& ex) {  // OpenCV's parser also lets std::length_error out
+    return Error{origin + ": not a valid calibration (" + ex.what() + ")"};
+  }
+  return parse_storage(fs, origin);
+}
+
 }  // namespace
 
 CalibResult load_calibration(const std::string& path) {
@@ -169,31 +206,18 @@ CalibResult load_calibration(const std::string& path) {
   if (!std::filesystem::is_regular_file(path, ec)) {
     return Error{path + ": no such calibration file"};
   }
-  cv::FileStorage fs;
-  try {
-    if (!fs.open(path, cv::FileStorage::READ)) {
-      return Error{path + ": cannot be read as OpenCV FileStorage (YAML/XML/JSON)"};
-    }
-  } catch (const cv::Exception& ex) {
-    return Error{path + ": not a valid calibration file (" + ex.err + ")"};
-  } catch (const std::exception& ex) {  // OpenCV's parser also lets std::length_error out
-    return Error{path + ": not a valid calibration file (" + ex.what() + ")"};
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec || size > (std::uintmax_t{1} << 20)) {
+    return Error{path + ": cannot be read, or larger than 1 MiB (a calibration is a few KiB)"};
   }
-  return parse_storage(fs, path);
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in && !in.eof()) return Error{path + ": cannot be read"};
+  return parse_text(text, path);
 }
 
 CalibResult parse_calibration(const std::string& text) {
-  cv::FileStorage fs;
-  try {
-    if (!fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY)) {
-      return Error{"calibration text: cannot be parsed as OpenCV FileStorage"};
-    }
-  } catch (const cv::Exception& ex) {
-    return Error{"calibration text: not valid FileStorage (" + ex.err + ")"};
-  } catch (const std::exception& ex) {  // OpenCV's parser also lets std::length_error out
-    return Error{std::string("calibration text: not valid FileStorage (") + ex.what() + ")"};
-  }
-  return parse_storage(fs, "calibration text");
+  return parse_text(text, "calibration text");
 }
 
 std::string calibration_to_yaml(const StereoCalibration& calib, const CalibrationFileInfo& info) {

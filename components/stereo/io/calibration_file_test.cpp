@@ -143,10 +143,25 @@ TEST_F(CalibrationFileTest, GivenGarbledOrHugeMatrixHeaderWhenParsedThenRefusedB
   EXPECT_TRUE(parse_calibration(calibration_to_yaml(calib_)).ok());
 }
 
+TEST_F(CalibrationFileTest, GivenTextAfterTheDocumentMarkerWhenParsedThenRefusedWithItsLine) {
+  // Given the smallest text on which OpenCV 4.6's YAML reader loops forever (from fuzzing)
+  const auto looped = parse_calibration("%YAML:1.0\n---a: t\nb: -\nc");
+  // Then it is refused before OpenCV sees it, naming the line; "---" on its own line still loads
+  ASSERT_FALSE(looped.ok());
+  EXPECT_NE(looped.error().find("line 2: text after the document marker"), std::string::npos)
+      << looped.error();
+  EXPECT_TRUE(parse_calibration(calibration_to_yaml(calib_)).ok());
+  // And a file over 1 MiB is refused without being parsed
+  const auto big = load_calibration(write("big.yaml", std::string((1 << 20) + 1, ' ')));
+  ASSERT_FALSE(big.ok());
+  EXPECT_NE(big.error().find("larger than 1 MiB"), std::string::npos) << big.error();
+}
+
 TEST_F(CalibrationFileTest, GivenFuzzerFindingsWhenParsedThenErrorsNotCrashes) {
   // Given the calibration inputs the fuzzer crashed on (kept in its corpus): a garbled matrix
   // header, and text on which OpenCV's parser throws std::length_error
-  for (const char* name : {"garbled-rows-header.yaml", "length-error-from-parser.yaml"}) {
+  for (const char* name : {"garbled-rows-header.yaml", "length-error-from-parser.yaml",
+                           "parser-loop-after-document-marker.yaml"}) {
     const std::string path = std::string(SB_SOURCE_DIR) + "/tests/fuzz/corpus/calibration/" + name;
     std::ifstream in(path, std::ios::binary);
     ASSERT_TRUE(in) << path;
