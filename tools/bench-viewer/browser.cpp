@@ -106,8 +106,9 @@ std::optional<BrowserResult> Browser::finish() {
   if (!line) return std::nullopt;
   try {
     const auto j = nlohmann::json::parse(*line);
-    return BrowserResult{j.at("images").get<uint64_t>(),
-                         j.at("latenciesMs").get<std::vector<double>>()};
+    return BrowserResult{j.at("images").get<uint64_t>(), j.at("skipped").get<uint64_t>(),
+                         j.at("latenciesMs").get<std::vector<double>>(),
+                         j.at("stages").get<std::vector<std::vector<double>>>()};
   } catch (const std::exception&) {
     error_ = *line;
     return std::nullopt;
