@@ -47,6 +47,7 @@ struct Options {
   bool browser = true;
   double soak_s = 0;
   std::vector<std::string> viewer_args;
+  bool jpeg = false;            // synthetic frames as from JPEG cameras
   std::string baseline_viewer;  // another stereoball-view build, measured side by side
   int domain = sb::dds::domain_from_env(0);
 };
@@ -448,6 +449,7 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", o.scenario, "demo scenario")->capture_default_str();
   app.add_option("--width", o.width, "synthetic image width")->check(CLI::Range(16, 4096));
   app.add_option("--height", o.height, "synthetic image height")->check(CLI::Range(16, 4096));
+  app.add_flag("--jpeg", o.jpeg, "synthetic frames JPEG-compressed, as from JPEG cameras");
   app.add_option("--rate", o.rate_hz, "synthetic frames per second")->check(CLI::Range(1.0, 240.0));
   app.add_option("--phase-s", o.phase_s, "seconds per measurement")
       ->check(CLI::Range(1.0, 600.0))
@@ -488,7 +490,7 @@ int main(int argc, char** argv) {
       return 1;
     }
   } else {
-    source = bench::start_synthetic(o.domain, o.width, o.height, o.rate_hz);
+    source = bench::start_synthetic(o.domain, o.width, o.height, o.rate_hz, o.jpeg);
   }
   std::printf("logs in %s\n", work.c_str());
   return o.soak_s > 0 ? run_soak(o, *source, log) : run_cases(o, *source, log);
