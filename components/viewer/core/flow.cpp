@@ -1,5 +1,7 @@
 #include "viewer/core/flow.hpp"
 
+#include <algorithm>
+
 namespace stereoball::viewer {
 
 RateLimiter::RateLimiter(double max_rate_hz)
@@ -12,6 +14,12 @@ bool RateLimiter::admit(int64_t now_ns) {
   if (last_ns_ && now_ns - *last_ns_ < min_interval_ns_ - tolerance_ns) return false;
   last_ns_ = now_ns;
   return true;
+}
+
+int64_t RateLimiter::wait_ns(int64_t now_ns) const {
+  if (!last_ns_) return 0;
+  const int64_t tolerance_ns = min_interval_ns_ / 10;
+  return std::max<int64_t>(0, *last_ns_ + min_interval_ns_ - tolerance_ns - now_ns);
 }
 
 std::optional<std::string> FlowParams::validate() const {

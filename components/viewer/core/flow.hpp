@@ -15,6 +15,10 @@ class RateLimiter {
   explicit RateLimiter(double max_rate_hz);
   /// True when an event at now_ns may pass (and records it as the last one passed).
   bool admit(int64_t now_ns);
+  /// Nanoseconds from now_ns until an event may pass (0: now). A source that can wait, as the
+  /// viewer's frame reader can (keep-last-1 keeps the newest frame meanwhile), waits this long
+  /// instead of losing the event that came a little early.
+  int64_t wait_ns(int64_t now_ns) const;
 
  private:
   int64_t min_interval_ns_;

@@ -22,6 +22,20 @@ TEST(RateLimiter, PassesAtMostTheRateAndKeepsARateSourceAtTheLimit) {
   EXPECT_EQ(exact_passed, 50);
 }
 
+TEST(RateLimiter, SaysHowLongToWaitInsteadOfLosingAnEarlyEvent) {
+  // Given a 30 Hz limit that passed an event at 0
+  RateLimiter limiter(30);
+  EXPECT_EQ(limiter.wait_ns(0), 0);
+  ASSERT_TRUE(limiter.admit(0));
+  // When the next comes early (jitter at a 30 Hz source), it is told to wait, not dropped
+  const int64_t wait = limiter.wait_ns(25 * kMs);
+  EXPECT_GT(wait, 0);
+  EXPECT_FALSE(limiter.admit(25 * kMs));
+  // And after that wait it passes
+  EXPECT_EQ(limiter.wait_ns(25 * kMs + wait), 0);
+  EXPECT_TRUE(limiter.admit(25 * kMs + wait));
+}
+
 TEST(RateLimiter, ZeroRatePassesEverything) {
   RateLimiter limiter(0);
   for (int i = 0; i < 10; ++i) EXPECT_TRUE(limiter.admit(5));

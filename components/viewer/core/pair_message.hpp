@@ -5,7 +5,7 @@
 // when the viewer took and encoded the frame, so clients can split the latency by stage.
 //
 //   offset  type  field
-//        0  u32   type (1)
+//        0  u32   type (2; type 1 was a 24-byte header without sizes and stages)
 //        4  u32   bytes of the left JPEG
 //        8  f64   frame sequence number
 //       16  f64   capture time, ms since the epoch
@@ -23,7 +23,7 @@
 
 namespace stereoball::viewer {
 
-inline constexpr uint32_t kPairMessageType = 1;
+inline constexpr uint32_t kPairMessageType = 2;
 inline constexpr size_t kPairHeaderBytes = 48;
 
 /// What the header of a pair message says.
@@ -41,8 +41,8 @@ struct PairHeader {
 std::string pair_message(const PairHeader& header, std::span<const uint8_t> left_jpeg,
                          std::span<const uint8_t> right_jpeg);
 
-/// The header of a message; nullopt when it is not a pair message or is shorter than its header
-/// and left JPEG claim.
+/// The header of a message; nullopt when it is not a (type 2) pair message or is shorter than its
+/// header and left JPEG claim.
 std::optional<PairHeader> parse_pair_header(std::span<const uint8_t> message);
 
 }  // namespace stereoball::viewer

@@ -43,8 +43,8 @@ TEST(PairMessage, OtherOrTruncatedMessagesAreRefused) {
   std::string m = pair_message({}, jpeg, jpeg);
   EXPECT_FALSE(parse_pair_header(bytes(m.substr(0, kPairHeaderBytes - 1))));  // short header
   EXPECT_FALSE(parse_pair_header(bytes(m.substr(0, kPairHeaderBytes + 5))));  // left cut short
-  m[0] = 2;
-  EXPECT_FALSE(parse_pair_header(bytes(m)));  // not type 1
+  m[0] = 1;
+  EXPECT_FALSE(parse_pair_header(bytes(m)));  // the older type 1 layout
 }
 
 }  // namespace

@@ -201,14 +201,14 @@ void WsClient::on_binary(const std::vector<uint8_t>& payload) {
   if (kind_ == Kind::kPage) {
     const auto h = viewer::parse_pair_header(payload);
     if (!h) {
-      // A viewer built before the 48-byte header (a benchmark's baseline) sent type 1, the
-      // left length, seq and capture ms in 24 bytes: only the whole way is known.
+      // A viewer built before the 48-byte header (a benchmark's baseline) sent type 1: the
+      // left length, seq and capture ms in 24 bytes; only the whole way is known.
       uint32_t type = 0;
       double capture_ms = 0;
       if (payload.size() < 24) return;
       std::memcpy(&type, payload.data(), 4);
       std::memcpy(&capture_ms, payload.data() + 16, 8);
-      if (type != viewer::kPairMessageType) return;
+      if (type != 1) return;
       if (acks_) ack();
       t.capture_to_received = received - capture_ms;
       std::lock_guard lock(mutex_);
