@@ -63,8 +63,8 @@ void FramePump::run() {
       // Skip frames rather than queue them: a frame is taken (and deserialised and encoded)
       // only when some client would send it now; meanwhile keep-last-1 holds just the newest.
       if (!server_.wait_until_ready_for_image(100'000'000)) continue;
-      // At the rate limit, wait rather than drop: a frame that comes a little early (the
-      // camera's jitter) would otherwise be lost and a 30 Hz camera shown at ~22 Hz.
+      // Over the rate limit, wait rather than take a frame and drop it (keep-last-1 holds the
+      // newest meanwhile).
       if (const int64_t wait = limiter.wait_ns(node::monotonic_ns()); wait > 0) {
         std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
         continue;
