@@ -29,11 +29,10 @@ inline constexpr size_t kPairHeaderBytes = 48;
 /// What the header of a pair message says.
 struct PairHeader {
   uint64_t frame_seq = 0;
-  double capture_ms = 0;
-  uint32_t source_width_px = 0;
-  uint32_t source_height_px = 0;
-  double received_ms = 0;
-  double encoded_ms = 0;
+  /// Stamps, ms since the epoch: capture, the viewer took the frame, the viewer encoded it.
+  double capture_ms = 0, received_ms = 0, encoded_ms = 0;
+  /// Size of the eyes the detections refer to (before any scaling down).
+  uint32_t source_width_px = 0, source_height_px = 0;
   uint32_t left_bytes = 0;  ///< filled in by pair_message from the left JPEG
 };
 
