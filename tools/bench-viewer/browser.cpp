@@ -99,6 +99,12 @@ std::optional<std::string> Browser::read_line(double timeout_s) {
   }
 }
 
+bool Browser::mark() {
+  if (!error_.empty() || write(to_node_, "mark\n", 5) != 5) return false;
+  const auto line = read_line(30);
+  return line && *line == "marked";
+}
+
 std::optional<BrowserResult> Browser::finish() {
   if (!error_.empty()) return std::nullopt;
   if (write(to_node_, "report\n", 7) != 7) return std::nullopt;

@@ -29,7 +29,9 @@ class Browser {
   Browser& operator=(const Browser&) = delete;
   /// "" when the page is live, else what went wrong.
   const std::string& error() const { return error_; }
-  /// Images and latencies since the page went live; ends the browser.
+  /// Restarts the counts (the measurement starts now); false when the browser did not answer.
+  bool mark();
+  /// Images and latencies since the last mark (or since the page went live); ends the browser.
   std::optional<BrowserResult> finish();
 
  private:

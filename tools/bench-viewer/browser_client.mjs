@@ -1,9 +1,10 @@
 // The viewer page in a real headless Chromium for `stereoball bench viewer`, driven over the
 // DevTools protocol with Node's built-in WebSocket (node --experimental-websocket on Node 20).
 //   node --experimental-websocket browser_client.mjs URL CHROMIUM
-// Prints "ready" once the page draws images, then waits for a line on stdin, then prints one
-// JSON line: {"images": N, "skipped": N, "latenciesMs": [...], "stages": [[...], ...]} counted
-// since "ready" (the page's own capture -> drawn latencies and their stages, window.sbViewer).
+// Prints "ready" once the page draws images; each "mark" line on stdin restarts the counts
+// (answered "marked"); any other line prints one JSON line: {"images": N, "skipped": N,
+// "latenciesMs": [...], "stages": [[...], ...]} counted since the last mark (the page's own
+// capture -> drawn latencies and their stages, window.sbViewer).
 // Exits 1 with "error: ..." on failure.
 
 import { createInterface } from "node:readline";
@@ -22,19 +23,25 @@ async function main() {
       await sleep(300);
     }
     if (images < 5) throw new Error(`the page drew ${images} images in 90 s`);
-    // Keep every sample from here on (the page itself keeps only its last 300).
-    await page.evaluate("JSON.stringify((() => { const s = sbViewer; s.benchStart = s.images;" +
-      " s.benchLat = []; s.benchStages = [];" +
-      " s.skipped = s.skipped ?? 0; s.benchSkipped = s.skipped;" +  // a baseline page has neither
+    // Counts restart at each "mark" line and keep every sample from there (the page itself keeps
+    // only its last 300); a baseline viewer's page may have no skipped count or stages.
+    const mark = () => page.evaluate("JSON.stringify((() => { const s = sbViewer;" +
+      " s.benchStart = s.images; s.benchSkipped = s.skipped ?? 0; s.benchLat = []; s.benchStages = [];" +
       " for (const [from, to] of [['latenciesMs', 'benchLat'], ['stages', 'benchStages']]) {" +
-      "   if (!s[from]) continue;" +
-      "   const push = s[from].push.bind(s[from]); s[from].push = (v) => { s[to].push(v); return push(v); }; }" +
+      "   if (!s[from] || s[from].benchHooked) continue;" +
+      "   const push = s[from].push.bind(s[from]);" +
+      "   s[from].push = (v) => { s[to].push(v); return push(v); };" +
+      "   s[from].benchHooked = true; }" +
       " return 0; })())");
+    await mark();
     console.log("ready");
     const lines = createInterface({ input: process.stdin });
-    await new Promise((r) => { lines.once("line", r); lines.once("close", r); });
+    for await (const line of lines) {
+      if (line === "mark") { await mark(); console.log("marked"); continue; }
+      break;  // "report", or stdin closed
+    }
     const result = await page.evaluate(
-      "JSON.stringify({images: sbViewer.images - sbViewer.benchStart, skipped: sbViewer.skipped -" +
+      "JSON.stringify({images: sbViewer.images - sbViewer.benchStart, skipped: (sbViewer.skipped ?? 0) -" +
       " sbViewer.benchSkipped, latenciesMs: sbViewer.benchLat, stages: sbViewer.benchStages})");
     console.log(JSON.stringify(result));
   } finally {

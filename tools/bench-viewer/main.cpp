@@ -153,6 +153,10 @@ class Measurer {
     for (auto& cl : clients) images0 += cl->images();
     std::vector<size_t> lat0;
     for (auto& cl : clients) lat0.push_back(cl->timings().size());
+    if (browser && !browser->mark()) {
+      std::printf("  browser: did not answer\n");
+      return std::nullopt;
+    }
     frames_.restart();
     const auto t0 = std::chrono::steady_clock::now();
     std::this_thread::sleep_for(std::chrono::duration<double>(o_.phase_s));
