@@ -86,8 +86,8 @@ struct EdgeMap {
   /// The whole camera image in this map's coordinates: the map itself, or, for a crop (a
   /// cv::Mat ROI view), its parent image (from cv::Mat::locateROI).
   cv::Rect2d frame_px;
-  CannyWorkspace canny_work;  ///< scratch of the Canny step, reused image after image
-  std::array<cv::Mat, 3> channel_dx, channel_dy;  ///< per-channel gradients (colour), reused
+  CannyWorkspace canny_work;             ///< scratch of the Canny step, reused image after image
+  std::array<cv::Mat, 3> colour_planes;  ///< B, G, R planes with a border (colour), reused
 };
 
 /// Converts a CV_8UC1/3/4 image to CV_8U grey (no copy for grey input).
@@ -119,6 +119,13 @@ int thin_staircase(cv::Mat& binary);
 /// the neighbour codes come from the packed rows, several times faster on textured images.
 /// Both end as thin_staircase(binary) leaves binary.
 int thin_staircase(cv::Mat& binary, BitImage& bits);
+
+/// Per pixel of a CV_8UC3 image, the 3x3 Sobel (dx, dy) (CV_16S) of the channel (B, G or R;
+/// the first on ties) with the largest |dx| + |dy|, in one pass; borders replicated, and a crop
+/// (a cv::Mat ROI) reads its parent's pixels around it. Equal to three cv::Sobel passes and a
+/// per-pixel select. planes: scratch reused from call to call.
+void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
+                                std::array<cv::Mat, 3>& planes);
 
 /// Computes the whole edge step into out (buffers reused across calls of the same size).
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out);

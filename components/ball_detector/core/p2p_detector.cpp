@@ -231,16 +231,20 @@ void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
   start(std::nullopt);
+  edges_ready_ = false;
   if (validate_image(bgr_or_grey)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
+  edges_ready_ = true;
   return detect_on_edges();
 }
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
                                                  const EdgeThresholds& thresholds) {
   start(std::nullopt);
+  edges_ready_ = false;
   if (validate_image(bgr_or_grey)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
+  edges_ready_ = true;
   return detect_on_edges();
 }
 
@@ -248,8 +252,16 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
                                                  const EdgeThresholds& thresholds,
                                                  const SearchHints& hints) {
   start(hints);
+  edges_ready_ = false;
   if (validate_image(bgr_or_grey) || !(radii_.max_px > radii_.min_px)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
+  edges_ready_ = true;
+  return detect_on_edges();
+}
+
+std::vector<Circle> PixelToPixelDetector::redetect(const SearchHints& hints) {
+  start(hints);
+  if (!edges_ready_ || !(radii_.max_px > radii_.min_px)) return {};
   return detect_on_edges();
 }
 

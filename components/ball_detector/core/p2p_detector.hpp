@@ -95,6 +95,9 @@ class PixelToPixelDetector final : public CircleDetector {
   /// faster, and nothing of another size can win), and its border rule.
   std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
                              const SearchHints& hints);
+  /// detect() once more on the last image's edge map with other hints, without the edge step
+  /// (the same image searched radius band by radius band); empty before the first image.
+  std::vector<Circle> redetect(const SearchHints& hints);
   const DetectionDiagnostics* diagnostics() const override;
   std::string name() const override { return "p2p"; }
   /// The rectified camera of the whole image (RefineParams::camera); nullopt = circles only.
@@ -121,6 +124,7 @@ class PixelToPixelDetector final : public CircleDetector {
   double min_inside_fraction_ = 0.5;  // of the current image
   int margin_px_ = 0;                 // of the current image: accumulator padding per side
   EdgeMap edges_;
+  bool edges_ready_ = false;  // edges_ holds the last image's map (redetect may reuse it)
   cv::Mat accumulator_;
   cv::Mat smoothed_;  // box-filtered accumulator_, buffer kept across images
   std::vector<Voter> voters_;

@@ -362,8 +362,7 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
 }
 
 std::vector<Circle> StereoPipeline::detect_in_bands(PixelToPixelDetector& detector,
-                                                    const cv::Mat& image,
-                                                    const EdgeThresholds& thresholds) const {
+                                                    const cv::Mat& image) const {
   std::vector<Circle> found;
   // Up to a third of the image height: an outline larger than that is the largest structure in
   // view and wins the whole-range accumulator already, while in a band of its own clutter
@@ -372,7 +371,9 @@ std::vector<Circle> StereoPipeline::detect_in_bands(PixelToPixelDetector& detect
   for (double low = params_.p2p.min_radius_px; low < top; low *= kRadiusBandRatio) {
     // Bands overlap by 10 %: a circle on a boundary is whole in one of them.
     const SearchHints hints{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}};
-    for (const Circle& c : detector.detect(image, thresholds, hints)) found.push_back(c);
+    // The detector still holds this image's edge map, made with these very thresholds: each
+    // band votes on it again instead of redoing the edge step (same edges, a third of the cost).
+    for (const Circle& c : detector.redetect(hints)) found.push_back(c);
   }
   std::stable_sort(found.begin(), found.end(),
                    [](const Circle& a, const Circle& b) { return a.score > b.score; });
@@ -391,9 +392,10 @@ std::vector<Circle> StereoPipeline::detect_in_bands(PixelToPixelDetector& detect
 PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
                                                   const cv::Mat& right_channel, bool rectified,
                                                   const std::optional<PositionPrior>& prior) {
-  // rect_left_ still holds the whole rectified left eye of search_whole_frame.
+  // rect_left_ still holds the whole rectified left eye of search_whole_frame, and the left
+  // detector its edge map (the right eye has its own detector).
   const EdgeThresholds thresholds = *left_thresholds_;
-  left_candidates_ = detect_in_bands(left_detector_, rect_left_, thresholds);
+  left_candidates_ = detect_in_bands(left_detector_, rect_left_);
   // Each left circle's partner box with only the radii its partner can have: one box searched
   // for the union of every candidate's radii is crowded out by clutter just like the left eye.
   const cv::Size size = rectifier_->calibration().image_size;

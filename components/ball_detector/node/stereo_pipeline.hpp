@@ -149,8 +149,8 @@ class StereoPipeline {
                                    const std::optional<PositionPrior>& prior);
   PairingResult search_radius_bands(const PairingContext& ctx, const cv::Mat& right_channel,
                                     bool rectified, const std::optional<PositionPrior>& prior);
-  std::vector<Circle> detect_in_bands(PixelToPixelDetector& detector, const cv::Mat& image,
-                                      const EdgeThresholds& thresholds) const;
+  /// detector's last image (whole, its own thresholds) searched again band by band.
+  std::vector<Circle> detect_in_bands(PixelToPixelDetector& detector, const cv::Mat& image) const;
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified, bool near_prior);
