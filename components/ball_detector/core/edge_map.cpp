@@ -55,12 +55,16 @@ std::optional<std::string> EdgeParams::validate() const {
   return std::nullopt;
 }
 
-void BitImage::assign(const cv::Mat& binary) {
-  CV_Assert(binary.type() == CV_8UC1);
-  width_ = binary.cols;
-  height_ = binary.rows;
+void BitImage::reset(int width, int height) {
+  width_ = width;
+  height_ = height;
   stride_ = (width_ + 63) / 64 + 1;
   words_.assign(static_cast<size_t>(stride_) * height_, 0);
+}
+
+void BitImage::assign(const cv::Mat& binary) {
+  CV_Assert(binary.type() == CV_8UC1);
+  reset(binary.cols, binary.rows);
   for (int y = 0; y < height_; ++y) {
     const uchar* src = binary.ptr<uchar>(y);
     std::uint64_t* dst = words_.data() + static_cast<size_t>(y) * stride_;

@@ -57,6 +57,12 @@ class BitImage {
   }
   /// Whether pixel (x, y) is set; no bounds check.
   bool test(int x, int y) const { return (row(y)[x >> 6] >> (x & 63)) & 1u; }
+  /// Makes an all-clear image of that size; reuses storage when the size is unchanged.
+  void reset(int width, int height);
+  /// Sets pixel (x, y); no bounds check.
+  void set(int x, int y) {
+    words_[static_cast<size_t>(y) * stride_ + (x >> 6)] |= std::uint64_t{1} << (x & 63);
+  }
   /// Clears pixel (x, y); no bounds check.
   void clear(int x, int y) {
     words_[static_cast<size_t>(y) * stride_ + (x >> 6)] &= ~(std::uint64_t{1} << (x & 63));
