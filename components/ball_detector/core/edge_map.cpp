@@ -387,17 +387,23 @@ void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
 
 }  // namespace
 
-void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
-  set_source(image, params, out);
-  sobel(out);
-  CannyThresholds t = canny_thresholds(out.dx, out.dy, params);
-  out.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
-  if (out.denoised) {
+EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& params,
+                                       EdgeMap& work) {
+  set_source(image, params, work);
+  sobel(work);
+  CannyThresholds t = canny_thresholds(work.dx, work.dy, params);
+  work.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
+  if (work.denoised) {
     // Heavy noise: Canny alone would chain noise pixels into edges; blur once and redo.
-    blur_and_sobel(out);
-    t = canny_thresholds(out.dx, out.dy, params);
+    blur_and_sobel(work);
+    t = canny_thresholds(work.dx, work.dy, params);
   }
-  canny_and_thin(params, t, out);
+  return {t, work.denoised};
+}
+
+void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
+  const EdgeThresholds t = measure_edge_thresholds(image, params, out);
+  canny_and_thin(params, t.canny, out);
 }
 
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, const CannyThresholds& fixed,

@@ -147,6 +147,12 @@ inline EdgeThresholds thresholds_of(const EdgeMap& e) {
   return {{e.low_threshold, e.high_threshold, e.median_gradient}, e.denoised};
 }
 
+/// The thresholds and pre-blur decision compute_edge_map(image, params, work) takes, without
+/// its Canny and thinning steps (work keeps the gradients): a cheap refresh of the thresholds a
+/// caller reuses on crops.
+EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& params,
+                                       EdgeMap& work);
+
 /// Same with the thresholds and the pre-blur decision taken elsewhere (e.g. on the full image
 /// when only a crop is searched: a crop's own statistics depend on whatever it holds).
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, const CannyThresholds& fixed,
