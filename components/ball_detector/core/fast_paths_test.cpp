@@ -27,17 +27,26 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<cv::Mat> real_greys() {
+// The real sample images, read with imread flags (grey or colour).
+std::vector<cv::Mat> real_images(int flags) {
   std::vector<cv::Mat> out;
   const fs::path dir = fs::path(SB_SHARED_DATA_DIR) / "opencv-samples";
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const auto ext = e.path().extension();
     if (ext != ".png" && ext != ".jpg") continue;
-    cv::Mat m = cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE);
+    cv::Mat m = cv::imread(e.path().string(), flags);
     if (!m.empty()) out.push_back(m);
   }
   return out;
+}
+
+std::vector<cv::Mat> real_greys() {
+  return real_images(cv::IMREAD_GRAYSCALE);
+}
+
+std::vector<cv::Mat> real_colours() {
+  return real_images(cv::IMREAD_COLOR);
 }
 
 void sobel(const cv::Mat& grey, cv::Mat& dx, cv::Mat& dy) {
@@ -88,19 +97,6 @@ TEST(CannyL1, GivenCropsTinyImagesAndSwappedThresholdsThenEdgesEqualOpenCvCanny)
     // Then the edge maps are equal
     ASSERT_EQ(cv::countNonZero(ours != reference), 0) << w << "x" << h;
   }
-}
-
-std::vector<cv::Mat> real_colours() {
-  std::vector<cv::Mat> out;
-  const fs::path dir = fs::path(SB_SHARED_DATA_DIR) / "opencv-samples";
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const auto ext = e.path().extension();
-    if (ext != ".png" && ext != ".jpg") continue;
-    cv::Mat m = cv::imread(e.path().string(), cv::IMREAD_COLOR);
-    if (!m.empty()) out.push_back(m);
-  }
-  return out;
 }
 
 // The plain definition: each channel's cv::Sobel (a crop reads its parent around it), then per
