@@ -55,12 +55,16 @@ std::optional<std::string> EdgeParams::validate() const {
   return std::nullopt;
 }
 
-void BitImage::assign(const cv::Mat& binary) {
-  CV_Assert(binary.type() == CV_8UC1);
-  width_ = binary.cols;
-  height_ = binary.rows;
+void BitImage::reset(int width, int height) {
+  width_ = width;
+  height_ = height;
   stride_ = (width_ + 63) / 64 + 1;
   words_.assign(static_cast<size_t>(stride_) * height_, 0);
+}
+
+void BitImage::assign(const cv::Mat& binary) {
+  CV_Assert(binary.type() == CV_8UC1);
+  reset(binary.cols, binary.rows);
   for (int y = 0; y < height_; ++y) {
     const uchar* src = binary.ptr<uchar>(y);
     std::uint64_t* dst = words_.data() + static_cast<size_t>(y) * stride_;
@@ -242,29 +246,50 @@ void grey_sobel(const cv::Mat& grey, cv::Mat& dx, cv::Mat& dy) {
   cv::Sobel(grey, dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
 }
 
-// Keeps, per pixel, the (dx, dy) of the channel with the largest |dx| + |dy|.
-SB_AVX2_CLONE void strongest_channel_row(const std::array<const short*, 3>& gx,
-                                         const std::array<const short*, 3>& gy, short* dx,
-                                         short* dy, int n) {
+// 3x3 Sobel at column x of three rows (above, this, below), each readable at x - 1 and x + 1.
+[[gnu::always_inline]] inline void sobel_at(const std::uint8_t* __restrict up,
+                                            const std::uint8_t* __restrict mid,
+                                            const std::uint8_t* __restrict down, int x, int& gx,
+                                            int& gy, int& l1) {
+  gx = (up[x + 1] - up[x - 1]) + 2 * (mid[x + 1] - mid[x - 1]) + (down[x + 1] - down[x - 1]);
+  gy = (down[x - 1] + 2 * down[x] + down[x + 1]) - (up[x - 1] + 2 * up[x] + up[x + 1]);
+  l1 = (gx < 0 ? -gx : gx) + (gy < 0 ? -gy : gy);
+}
+
+// One output row of the strongest-channel Sobel gradient from three rows (above, this, below)
+// of the B, G and R planes; every row readable at [-1, n]. Integer arithmetic and selects only,
+// so the compiler vectorises it (and the AVX2 copy gives the same bits). Ties keep the earlier
+// channel (B, then G, then R).
+SB_AVX2_CLONE void strongest_sobel_row(
+    const std::uint8_t* __restrict b0, const std::uint8_t* __restrict b1,
+    const std::uint8_t* __restrict b2, const std::uint8_t* __restrict g0,
+    const std::uint8_t* __restrict g1, const std::uint8_t* __restrict g2,
+    const std::uint8_t* __restrict r0, const std::uint8_t* __restrict r1,
+    const std::uint8_t* __restrict r2, short* __restrict dx, short* __restrict dy, int n) {
   for (int x = 0; x < n; ++x) {
-    short bx = gx[0][x], by = gy[0][x];
-    int best = std::abs(bx) + std::abs(by);
-    for (int c = 1; c < 3; ++c) {
-      const int m = std::abs(gx[c][x]) + std::abs(gy[c][x]);
-      const bool take = m > best;
-      best = take ? m : best;
-      bx = take ? gx[c][x] : bx;
-      by = take ? gy[c][x] : by;
-    }
-    dx[x] = bx;
-    dy[x] = by;
+    int bx, by, bm, gx, gy, gm, rx, ry, rm;
+    sobel_at(b0, b1, b2, x, bx, by, bm);
+    sobel_at(g0, g1, g2, x, gx, gy, gm);
+    sobel_at(r0, r1, r2, x, rx, ry, rm);
+    const bool take_g = gm > bm;
+    int best = take_g ? gm : bm;
+    int sx = take_g ? gx : bx;
+    int sy = take_g ? gy : by;
+    const bool take_r = rm > best;
+    sx = take_r ? rx : sx;
+    sy = take_r ? ry : sy;
+    dx[x] = static_cast<short>(sx);
+    dy[x] = static_cast<short>(sy);
   }
 }
 
-void colour_sobel(EdgeMap& out) {
-  const cv::Mat& bgr = out.colour;
-  // A crop: split it with one pixel of its parent around it, so its Sobel reads the parent's
-  // pixels as the grey path does, then keep the interior.
+}  // namespace
+
+void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
+                                std::array<cv::Mat, 3>& planes) {
+  CV_Assert(bgr.type() == CV_8UC3);
+  // A crop reads one pixel of its parent around it, as cv::Sobel does on a grey crop; past the
+  // parent's border (or a whole image's) the outermost pixels repeat.
   cv::Size whole;
   cv::Point at;
   bgr.locateROI(whole, at);
@@ -273,21 +298,41 @@ void colour_sobel(EdgeMap& out) {
   const int bottom = std::min(1, whole.height - at.y - bgr.rows);
   cv::Mat padded = bgr;
   if (left || top || right || bottom) padded.adjustROI(top, bottom, left, right);
-  std::array<cv::Mat, 3> planes;
-  cv::split(padded, planes.data());
-  const cv::Rect inner(left, top, bgr.cols, bgr.rows);
-  for (int c = 0; c < 3; ++c)
-    cv::spatialGradient(planes[c], out.channel_dx[c], out.channel_dy[c], 3, cv::BORDER_REPLICATE);
-  out.dx.create(bgr.size(), CV_16S);
-  out.dy.create(bgr.size(), CV_16S);
-  for (int y = 0; y < bgr.rows; ++y) {
-    std::array<const short*, 3> gx, gy;
-    for (int c = 0; c < 3; ++c) {
-      gx[c] = out.channel_dx[c].ptr<short>(y + inner.y) + inner.x;
-      gy[c] = out.channel_dy[c].ptr<short>(y + inner.y) + inner.x;
-    }
-    strongest_channel_row(gx, gy, out.dx.ptr<short>(y), out.dy.ptr<short>(y), bgr.cols);
+  // Planes of the padded image with one more replicated pixel on every side: the row loop
+  // then reads x - 1 and x + 1 everywhere without a border case.
+  const int pw = padded.cols, ph = padded.rows;
+  std::array<cv::Mat, 3> inner;
+  for (int c = 0; c < 3; ++c) {
+    planes[c].create(ph + 2, pw + 2, CV_8UC1);
+    inner[c] = planes[c](cv::Rect(1, 1, pw, ph));
   }
+  cv::split(padded, inner.data());
+  for (int c = 0; c < 3; ++c) {
+    cv::Mat& p = planes[c];
+    for (int y = 1; y <= ph; ++y) {
+      std::uint8_t* row = p.ptr<std::uint8_t>(y);
+      row[0] = row[1];
+      row[pw + 1] = row[pw];
+    }
+    p.row(1).copyTo(p.row(0));
+    p.row(ph).copyTo(p.row(ph + 1));
+  }
+  dx.create(bgr.size(), CV_16S);
+  dy.create(bgr.size(), CV_16S);
+  for (int y = 0; y < bgr.rows; ++y) {
+    // Output row y is padded row y + top, plane row y + top + 1; its first pixel is column
+    // left + 1 of the plane.
+    const int py = y + top + 1;
+    const auto at = [&](int c, int r) { return planes[c].ptr<std::uint8_t>(py + r) + left + 1; };
+    strongest_sobel_row(at(0, -1), at(0, 0), at(0, 1), at(1, -1), at(1, 0), at(1, 1), at(2, -1),
+                        at(2, 0), at(2, 1), dx.ptr<short>(y), dy.ptr<short>(y), bgr.cols);
+  }
+}
+
+namespace {
+
+void colour_sobel(EdgeMap& out) {
+  strongest_channel_gradient(out.colour, out.dx, out.dy, out.colour_planes);
 }
 
 void sobel(EdgeMap& out) {
@@ -342,17 +387,23 @@ void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
 
 }  // namespace
 
-void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
-  set_source(image, params, out);
-  sobel(out);
-  CannyThresholds t = canny_thresholds(out.dx, out.dy, params);
-  out.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
-  if (out.denoised) {
+EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& params,
+                                       EdgeMap& work) {
+  set_source(image, params, work);
+  sobel(work);
+  CannyThresholds t = canny_thresholds(work.dx, work.dy, params);
+  work.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
+  if (work.denoised) {
     // Heavy noise: Canny alone would chain noise pixels into edges; blur once and redo.
-    blur_and_sobel(out);
-    t = canny_thresholds(out.dx, out.dy, params);
+    blur_and_sobel(work);
+    t = canny_thresholds(work.dx, work.dy, params);
   }
-  canny_and_thin(params, t, out);
+  return {t, work.denoised};
+}
+
+void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
+  const EdgeThresholds t = measure_edge_thresholds(image, params, out);
+  canny_and_thin(params, t.canny, out);
 }
 
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, const CannyThresholds& fixed,

@@ -57,6 +57,12 @@ class BitImage {
   }
   /// Whether pixel (x, y) is set; no bounds check.
   bool test(int x, int y) const { return (row(y)[x >> 6] >> (x & 63)) & 1u; }
+  /// Makes an all-clear image of that size; reuses storage when the size is unchanged.
+  void reset(int width, int height);
+  /// Sets pixel (x, y); no bounds check.
+  void set(int x, int y) {
+    words_[static_cast<size_t>(y) * stride_ + (x >> 6)] |= std::uint64_t{1} << (x & 63);
+  }
   /// Clears pixel (x, y); no bounds check.
   void clear(int x, int y) {
     words_[static_cast<size_t>(y) * stride_ + (x >> 6)] &= ~(std::uint64_t{1} << (x & 63));
@@ -86,8 +92,8 @@ struct EdgeMap {
   /// The whole camera image in this map's coordinates: the map itself, or, for a crop (a
   /// cv::Mat ROI view), its parent image (from cv::Mat::locateROI).
   cv::Rect2d frame_px;
-  CannyWorkspace canny_work;  ///< scratch of the Canny step, reused image after image
-  std::array<cv::Mat, 3> channel_dx, channel_dy;  ///< per-channel gradients (colour), reused
+  CannyWorkspace canny_work;             ///< scratch of the Canny step, reused image after image
+  std::array<cv::Mat, 3> colour_planes;  ///< B, G, R planes with a border (colour), reused
 };
 
 /// Converts a CV_8UC1/3/4 image to CV_8U grey (no copy for grey input).
@@ -120,6 +126,13 @@ int thin_staircase(cv::Mat& binary);
 /// Both end as thin_staircase(binary) leaves binary.
 int thin_staircase(cv::Mat& binary, BitImage& bits);
 
+/// Per pixel of a CV_8UC3 image, the 3x3 Sobel (dx, dy) (CV_16S) of the channel (B, G or R;
+/// the first on ties) with the largest |dx| + |dy|, in one pass; borders replicated, and a crop
+/// (a cv::Mat ROI) reads its parent's pixels around it. Equal to three cv::Sobel passes and a
+/// per-pixel select. planes: scratch reused from call to call.
+void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
+                                std::array<cv::Mat, 3>& planes);
+
 /// Computes the whole edge step into out (buffers reused across calls of the same size).
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out);
 
@@ -133,6 +146,12 @@ struct EdgeThresholds {
 inline EdgeThresholds thresholds_of(const EdgeMap& e) {
   return {{e.low_threshold, e.high_threshold, e.median_gradient}, e.denoised};
 }
+
+/// The thresholds and pre-blur decision compute_edge_map(image, params, work) takes, without
+/// its Canny and thinning steps (work keeps the gradients): a cheap refresh of the thresholds a
+/// caller reuses on crops.
+EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& params,
+                                       EdgeMap& work);
 
 /// Same with the thresholds and the pre-blur decision taken elsewhere (e.g. on the full image
 /// when only a crop is searched: a crop's own statistics depend on whatever it holds).

@@ -1,5 +1,6 @@
-// The speed-ups of the detector against plain references: canny_l1 vs cv::Canny, the packed
-// staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
+// The speed-ups of the detector against plain references: the one-pass strongest-channel
+// gradient vs three cv::Sobel passes and a select, redetect vs detect, canny_l1 vs cv::Canny, the
+// packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
 // breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
 // brute-force scan, and circles_from_votes independent of the order its voters come in.
 
@@ -26,17 +27,26 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<cv::Mat> real_greys() {
+// The real sample images, read with imread flags (grey or colour).
+std::vector<cv::Mat> real_images(int flags) {
   std::vector<cv::Mat> out;
   const fs::path dir = fs::path(SB_SHARED_DATA_DIR) / "opencv-samples";
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const auto ext = e.path().extension();
     if (ext != ".png" && ext != ".jpg") continue;
-    cv::Mat m = cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE);
+    cv::Mat m = cv::imread(e.path().string(), flags);
     if (!m.empty()) out.push_back(m);
   }
   return out;
+}
+
+std::vector<cv::Mat> real_greys() {
+  return real_images(cv::IMREAD_GRAYSCALE);
+}
+
+std::vector<cv::Mat> real_colours() {
+  return real_images(cv::IMREAD_COLOR);
 }
 
 void sobel(const cv::Mat& grey, cv::Mat& dx, cv::Mat& dy) {
@@ -87,6 +97,106 @@ TEST(CannyL1, GivenCropsTinyImagesAndSwappedThresholdsThenEdgesEqualOpenCvCanny)
     // Then the edge maps are equal
     ASSERT_EQ(cv::countNonZero(ours != reference), 0) << w << "x" << h;
   }
+}
+
+// The plain definition: each channel's cv::Sobel (a crop reads its parent around it), then per
+// pixel the channel with the largest |dx| + |dy|, the first on ties.
+void reference_strongest_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy) {
+  std::array<cv::Mat, 3> gx, gy;
+  for (int c = 0; c < 3; ++c) {
+    // A crop of one channel that still knows its parent: extract the whole channel, crop it.
+    cv::Size whole;
+    cv::Point at;
+    bgr.locateROI(whole, at);
+    cv::Mat parent = bgr;
+    parent.adjustROI(at.y, whole.height - at.y - bgr.rows, at.x, whole.width - at.x - bgr.cols);
+    cv::Mat channel;
+    cv::extractChannel(parent, channel, c);
+    sobel(channel(cv::Rect(at, bgr.size())), gx[c], gy[c]);
+  }
+  dx.create(bgr.size(), CV_16S);
+  dy.create(bgr.size(), CV_16S);
+  for (int y = 0; y < bgr.rows; ++y)
+    for (int x = 0; x < bgr.cols; ++x) {
+      int best = -1;
+      for (int c = 0; c < 3; ++c) {
+        const short a = gx[c].at<short>(y, x), b = gy[c].at<short>(y, x);
+        if (std::abs(a) + std::abs(b) > best) {
+          best = std::abs(a) + std::abs(b);
+          dx.at<short>(y, x) = a;
+          dy.at<short>(y, x) = b;
+        }
+      }
+    }
+}
+
+TEST(StrongestChannelGradient, GivenRealColourImagesAndCropsThenItEqualsThreeSobelPasses) {
+  // Given the real colour sample images, whole and cropped anywhere (borders, 1x1 included)
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u) << "expected the OpenCV sample images in " << SB_SHARED_DATA_DIR;
+  std::array<cv::Mat, 3> planes;
+  std::mt19937 rng(11);
+  int compared = 0;
+  for (const auto& bgr : images) {
+    std::vector<cv::Rect> boxes = {cv::Rect(cv::Point(0, 0), bgr.size())};
+    for (int i = 0; i < 6; ++i) {
+      const int w = 1 + static_cast<int>(rng() % 120), h = 1 + static_cast<int>(rng() % 120);
+      const int x = static_cast<int>(rng() % static_cast<unsigned>(bgr.cols - w + 1));
+      const int y = static_cast<int>(rng() % static_cast<unsigned>(bgr.rows - h + 1));
+      boxes.emplace_back(x, y, w, h);
+    }
+    boxes.emplace_back(bgr.cols - 17, bgr.rows - 9, 17, 9);  // the bottom-right corner
+    for (const cv::Rect& box : boxes) {
+      // When both compute the gradient
+      cv::Mat dx, dy, ref_dx, ref_dy;
+      strongest_channel_gradient(bgr(box), dx, dy, planes);
+      reference_strongest_gradient(bgr(box), ref_dx, ref_dy);
+      // Then every pixel agrees
+      ASSERT_EQ(cv::countNonZero(dx != ref_dx), 0) << box;
+      ASSERT_EQ(cv::countNonZero(dy != ref_dy), 0) << box;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 80);
+}
+
+TEST(Redetect, GivenBandsOfRadiiThenRedetectFindsWhatDetectWithTheSameThresholdsFinds) {
+  // Given real colour images, each detected once over the whole radius range
+  const auto images = real_colours();
+  ASSERT_FALSE(images.empty());
+  PixelToPixelDetector once(PixelToPixelParams{}), again(PixelToPixelParams{});
+  int circles = 0;
+  for (std::size_t i = 0; i < std::min<std::size_t>(images.size(), 6); ++i) {
+    const cv::Mat& bgr = images[i];
+    once.detect(bgr);
+    const EdgeThresholds thresholds = thresholds_of(once.edge_map());
+    for (const RadiusRange radii : {RadiusRange{4, 11}, RadiusRange{9, 28}, RadiusRange{25, 70}}) {
+      // When each band is searched by redetect (no edge step) and by detect with the thresholds
+      const auto reused = once.redetect(SearchHints{radii});
+      const auto fresh = again.detect(bgr, thresholds, SearchHints{radii});
+      // Then the circles are the same
+      ASSERT_EQ(reused.size(), fresh.size());
+      for (std::size_t i = 0; i < reused.size(); ++i) {
+        EXPECT_EQ(reused[i].x_px, fresh[i].x_px);
+        EXPECT_EQ(reused[i].y_px, fresh[i].y_px);
+        EXPECT_EQ(reused[i].radius_px, fresh[i].radius_px);
+        EXPECT_EQ(reused[i].score, fresh[i].score);
+      }
+      circles += static_cast<int>(reused.size());
+    }
+  }
+  EXPECT_GT(circles, 0);
+}
+
+TEST(Redetect, GivenNoImageOrAnInvalidOneThenItFindsNothing) {
+  // Given a detector that has seen no image, then an invalid one after a valid one
+  PixelToPixelDetector detector(PixelToPixelParams{});
+  EXPECT_TRUE(detector.redetect(SearchHints{}).empty());
+  const auto scene = make_scene(SceneKind::kPlain, cv::Size(320, 240), 3);
+  EXPECT_FALSE(detector.detect(scene.image).empty());
+  detector.detect(cv::Mat());
+  // Then redetect does not reuse the old edge map
+  EXPECT_TRUE(detector.redetect(SearchHints{}).empty());
 }
 
 // Both thinning passes on one binary image: the packed one must leave the same pixels, and

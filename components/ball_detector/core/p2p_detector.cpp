@@ -185,23 +185,39 @@ void PixelToPixelDetector::vote(int k) {
   }
 }
 
+void PixelToPixelDetector::build_orientation_planes() {
+  const BitImage& bits = edges_.bits;
+  const int w = bits.width(), h = bits.height();
+  for (BitImage& plane : near_orientation_) plane.reset(w, h);
+  for (int y = 0; y < h; ++y) {
+    const std::uint64_t* row = bits.row(y);
+    const short* gx = edges_.dx.ptr<short>(y);
+    const short* gy = edges_.dy.ptr<short>(y);
+    for (int wi = 0; wi * 64 < w; ++wi)
+      for (std::uint64_t word = row[wi]; word; word &= word - 1) {
+        const int x = wi * 64 + std::countr_zero(word);
+        const int bin = orientation_bin(gx[x], gy[x]);
+        for (int d = -kOrientationSlackBins; d <= kOrientationSlackBins; ++d)
+          near_orientation_[static_cast<std::size_t>((bin + d + kOrientationBins) %
+                                                     kOrientationBins)]
+              .set(x, y);
+      }
+  }
+  orientation_ready_ = true;
+}
+
 bool PixelToPixelDetector::isolate_along_orientation(int x, int y, int k,
                                                      std::span<const std::uint64_t> window,
-                                                     std::span<std::uint64_t> mask) const {
+                                                     std::span<std::uint64_t> mask) {
+  if (!orientation_ready_) build_orientation_planes();
   const int n = 2 * k + 1;
-  const int bin = orientation_bin(edges_.dx.at<short>(y, x), edges_.dy.at<short>(y, x));
+  // The window's points within the slack of O's orientation: one AND per row with O's plane.
+  const BitImage& near = near_orientation_[static_cast<std::size_t>(
+      orientation_bin(edges_.dx.at<short>(y, x), edges_.dy.at<short>(y, x)))];
   std::array<std::uint64_t, 2 * kMaxK + 1> aligned{};
   int count = 0;
   for (int i = 0; i < n; ++i) {
-    const short* gx = edges_.dx.ptr<short>(y - k + i) + (x - k);
-    const short* gy = edges_.dy.ptr<short>(y - k + i) + (x - k);
-    std::uint64_t kept = 0;
-    for (std::uint64_t bits = window[static_cast<std::size_t>(i)]; bits; bits &= bits - 1) {
-      const int j = std::countr_zero(bits);
-      const int d = (orientation_bin(gx[j], gy[j]) - bin + kOrientationBins) % kOrientationBins;
-      if (d <= kOrientationSlackBins || d >= kOrientationBins - kOrientationSlackBins)
-        kept |= std::uint64_t{1} << j;
-    }
+    const std::uint64_t kept = window[static_cast<std::size_t>(i)] & near.bits(y - k + i, x - k, n);
     aligned[static_cast<std::size_t>(i)] = kept;
     count += std::popcount(kept);
   }
@@ -231,16 +247,22 @@ void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
   start(std::nullopt);
+  edges_ready_ = false;
+  orientation_ready_ = false;  // planes of the previous edge map
   if (validate_image(bgr_or_grey)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
+  edges_ready_ = true;
   return detect_on_edges();
 }
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
                                                  const EdgeThresholds& thresholds) {
   start(std::nullopt);
+  edges_ready_ = false;
+  orientation_ready_ = false;  // planes of the previous edge map
   if (validate_image(bgr_or_grey)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
+  edges_ready_ = true;
   return detect_on_edges();
 }
 
@@ -248,8 +270,17 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
                                                  const EdgeThresholds& thresholds,
                                                  const SearchHints& hints) {
   start(hints);
+  edges_ready_ = false;
+  orientation_ready_ = false;  // planes of the previous edge map
   if (validate_image(bgr_or_grey) || !(radii_.max_px > radii_.min_px)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
+  edges_ready_ = true;
+  return detect_on_edges();
+}
+
+std::vector<Circle> PixelToPixelDetector::redetect(const SearchHints& hints) {
+  start(hints);
+  if (!edges_ready_ || !(radii_.max_px > radii_.min_px)) return {};
   return detect_on_edges();
 }
 

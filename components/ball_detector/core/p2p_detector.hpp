@@ -95,6 +95,9 @@ class PixelToPixelDetector final : public CircleDetector {
   /// faster, and nothing of another size can win), and its border rule.
   std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
                              const SearchHints& hints);
+  /// detect() once more on the last image's edge map with other hints, without the edge step
+  /// (the same image searched radius band by radius band); empty before the first image.
+  std::vector<Circle> redetect(const SearchHints& hints);
   const DetectionDiagnostics* diagnostics() const override;
   std::string name() const override { return "p2p"; }
   /// The rectified camera of the whole image (RefineParams::camera); nullopt = circles only.
@@ -111,7 +114,8 @@ class PixelToPixelDetector final : public CircleDetector {
  private:
   void vote(int k);
   bool isolate_along_orientation(int x, int y, int k, std::span<const std::uint64_t> window,
-                                 std::span<std::uint64_t> mask) const;
+                                 std::span<std::uint64_t> mask);
+  void build_orientation_planes();
   std::vector<Circle> detect_on_edges();
   void start(const std::optional<SearchHints>& hints);
   std::vector<Circle> circles_from_peaks();
@@ -121,6 +125,11 @@ class PixelToPixelDetector final : public CircleDetector {
   double min_inside_fraction_ = 0.5;  // of the current image
   int margin_px_ = 0;                 // of the current image: accumulator padding per side
   EdgeMap edges_;
+  bool edges_ready_ = false;  // edges_ holds the last image's map (redetect may reuse it)
+  // Plane b: the edge points whose orientation bin is within the slack of bin b, built once
+  // per image on the first orientation isolation (each point lies in up to (2k+1)^2 windows).
+  std::array<BitImage, 8> near_orientation_;
+  bool orientation_ready_ = false;
   cv::Mat accumulator_;
   cv::Mat smoothed_;  // box-filtered accumulator_, buffer kept across images
   std::vector<Voter> voters_;

@@ -111,10 +111,10 @@ void BallDetectorNode::count_skipped(std::uint64_t seq, std::uint64_t batch_skip
 void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
   const std::int64_t start_ns = node::monotonic_ns();
   StereoDetection det;
+  cv::Mat left, right;
   if (!pipeline_.has_calibration()) {
     det = pipeline_.step(cv::Mat(), cv::Mat(), false);  // kNoCalibration with its reason
   } else {
-    cv::Mat left, right;
     if (auto e = decoder_.decode(frame, pipeline_.image_size(), left, right)) {
       det.status = DetectionStatus::kBadFrame;
       det.reason = *e;
@@ -127,6 +127,8 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
   if (det.status == DetectionStatus::kFound) ++found_;
   report_problem(det, frame.seq, node::now_ns());
   publish(det, frame, start_ns);
+  // The answer is out: now the work that need not delay it (the periodic threshold refresh).
+  if (!left.empty()) pipeline_.finish_frame(left, frame.rectified);
 }
 
 void BallDetectorNode::check_eye_order(const cv::Mat& left, const cv::Mat& right, bool rectified) {

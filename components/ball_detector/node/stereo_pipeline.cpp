@@ -250,11 +250,15 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   const PairingContext ctx{epipolar_, *triangulator_, size_, floor_};
   const cv::Mat& left_channel = detector_channel(left, grey_left_);
   const cv::Mat& right_channel = detector_channel(right, grey_right_);
+  if (refresh_due_) refresh_thresholds(left_channel, rectified);  // finish_frame was not called
   std::optional<PairingResult> pairing;
-  const bool window_usable = prior && params_.prior_window && left_thresholds_;
-  const bool periodic_full = window_usable && frames_since_full_search_ >= kFullSearchEveryFrames;
-  if (window_usable && !periodic_full)
+  if (prior && params_.prior_window && left_thresholds_) {
     pairing = search_near_prior(ctx, left_channel, right_channel, rectified, *prior);
+    // Found where the track expects it: that is the answer (a pair elsewhere would not win over
+    // it, see pair_candidates), so the whole frame is not searched in the frame's time; only its
+    // thresholds are measured again now and then, after the answer (finish_frame).
+    if (pairing && frames_since_full_search_ >= kFullSearchEveryFrames) refresh_due_ = true;
+  }
   bool whole_frame = false;
   if (!pairing) {
     pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior);
@@ -269,18 +273,6 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     PairingResult banded = search_radius_bands(ctx, right_channel, rectified, prior);
     if (banded.status == PairingStatus::kFound) {
       pairing = std::move(banded);
-    } else {  // the report stays the whole frame's
-      left_candidates_ = std::move(whole_left);
-      right_candidates_ = std::move(whole_right);
-    }
-  }
-  // The periodic whole-frame search is there to find the ball elsewhere, not to lose it where
-  // the track expects it: the window search is scored with the prior's radii and its relaxed
-  // border rule, which the whole frame is not (a dim or cut ball can fail there alone).
-  if (periodic_full && pairing->status != PairingStatus::kFound) {
-    auto whole_left = left_candidates_, whole_right = right_candidates_;
-    if (auto near = search_near_prior(ctx, left_channel, right_channel, rectified, *prior)) {
-      pairing = std::move(near);
     } else {  // the report stays the whole frame's
       left_candidates_ = std::move(whole_left);
       right_candidates_ = std::move(whole_right);
@@ -305,6 +297,22 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   }
   frame_left_ = nullptr;
   return out;
+}
+
+void StereoPipeline::refresh_thresholds(const cv::Mat& left_channel, bool rectified) {
+  rectify_whole(left_channel, stereo::Eye::kLeft, rectified, refresh_left_);
+  left_thresholds_ =
+      measure_edge_thresholds(refresh_left_, params_.detector_params().edge, refresh_edges_);
+  frames_since_full_search_ = 0;
+  refresh_due_ = false;
+}
+
+bool StereoPipeline::finish_frame(const cv::Mat& left, bool rectified) {
+  if (!refresh_due_ || !rectifier_ || check_pixels("left", left) ||
+      stereo::check_image_size(rectifier_->calibration(), left.size(), left.size()))
+    return false;
+  refresh_thresholds(detector_channel(left, grey_left_), rectified);
+  return true;
 }
 
 std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingContext& ctx,
@@ -362,8 +370,7 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
 }
 
 std::vector<Circle> StereoPipeline::detect_in_bands(PixelToPixelDetector& detector,
-                                                    const cv::Mat& image,
-                                                    const EdgeThresholds& thresholds) const {
+                                                    const cv::Mat& image) const {
   std::vector<Circle> found;
   // Up to a third of the image height: an outline larger than that is the largest structure in
   // view and wins the whole-range accumulator already, while in a band of its own clutter
@@ -372,7 +379,9 @@ std::vector<Circle> StereoPipeline::detect_in_bands(PixelToPixelDetector& detect
   for (double low = params_.p2p.min_radius_px; low < top; low *= kRadiusBandRatio) {
     // Bands overlap by 10 %: a circle on a boundary is whole in one of them.
     const SearchHints hints{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}};
-    for (const Circle& c : detector.detect(image, thresholds, hints)) found.push_back(c);
+    // The detector still holds this image's edge map, made with these very thresholds: each
+    // band votes on it again instead of redoing the edge step (same edges, a third of the cost).
+    for (const Circle& c : detector.redetect(hints)) found.push_back(c);
   }
   std::stable_sort(found.begin(), found.end(),
                    [](const Circle& a, const Circle& b) { return a.score > b.score; });
@@ -391,9 +400,10 @@ std::vector<Circle> StereoPipeline::detect_in_bands(PixelToPixelDetector& detect
 PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
                                                   const cv::Mat& right_channel, bool rectified,
                                                   const std::optional<PositionPrior>& prior) {
-  // rect_left_ still holds the whole rectified left eye of search_whole_frame.
+  // rect_left_ still holds the whole rectified left eye of search_whole_frame, and the left
+  // detector its edge map (the right eye has its own detector).
   const EdgeThresholds thresholds = *left_thresholds_;
-  left_candidates_ = detect_in_bands(left_detector_, rect_left_, thresholds);
+  left_candidates_ = detect_in_bands(left_detector_, rect_left_);
   // Each left circle's partner box with only the radii its partner can have: one box searched
   // for the union of every candidate's radii is crowded out by clutter just like the left eye.
   const cv::Size size = rectifier_->calibration().image_size;

@@ -343,3 +343,37 @@ TEST(StereoPipeline, GivenABallOnlyTheWindowFinds_ThenThePeriodicWholeFrameSearc
     EXPECT_EQ(d.status, DetectionStatus::kFound) << "frame " << i << ": " << d.reason;
   }
 }
+
+// Given a ball found where the prior says, frame after frame: the whole frame is not searched
+// for the answer, and every kFullSearchEveryFrames frames a threshold refresh falls due, which
+// finish_frame does once (after the answer) and then has nothing to do; a frame that does not
+// fit the calibration is refused; without finish_frame the next step does it and still finds
+// the ball.
+TEST(StereoPipeline, GivenTheBallFoundAtThePrior_ThenTheThresholdRefreshWaitsForFinishFrame) {
+  const Rendered r = render(plain_scene(1.2, 0.1));
+  StereoPipeline pipe({});
+  ASSERT_EQ(pipe.set_calibration(r.calib), std::nullopt);
+  const auto a = pipe.step(r.frame.left, r.frame.right, false);
+  ASSERT_EQ(a.status, DetectionStatus::kFound) << a.reason;
+  EXPECT_FALSE(pipe.finish_frame(r.frame.left, false));  // the whole frame just measured them
+  const sb::ball_detector::PositionPrior prior{a.position_m, 0.3};
+  int refreshes = 0;
+  for (int i = 0; i < 2 * sb::ball_detector::kFullSearchEveryFrames + 1; ++i) {
+    const auto d = pipe.step(r.frame.left, r.frame.right, false, prior);
+    ASSERT_EQ(d.status, DetectionStatus::kFound) << "frame " << i << ": " << d.reason;
+    EXPECT_NEAR(d.left.x_px, a.left.x_px, 0.05);
+    // Only the prior's box was searched for the answer, also on the frames a refresh fell due.
+    EXPECT_EQ(pipe.rectified_left().at<uchar>(5, 5), 0) << "frame " << i;
+    if (pipe.finish_frame(cv::Mat(), false)) ADD_FAILURE() << "an empty frame was used";
+    if (pipe.finish_frame(r.frame.left, false)) {
+      ++refreshes;
+      EXPECT_FALSE(pipe.finish_frame(r.frame.left, false)) << "refreshed twice";
+    }
+  }
+  EXPECT_EQ(refreshes, 2);
+  // Skipping finish_frame: the next frame refreshes first and finds the ball as before.
+  for (int i = 0; i < sb::ball_detector::kFullSearchEveryFrames + 2; ++i) {
+    const auto d = pipe.step(r.frame.left, r.frame.right, false, prior);
+    ASSERT_EQ(d.status, DetectionStatus::kFound) << "frame " << i << ": " << d.reason;
+  }
+}
