@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "ball_detector/core/p2p_detector.hpp"
-#include "ball_detector/node/detector_params_file.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "camera_server/core/frame_codec.hpp"
 #include "common/node/common_flags.hpp"
 #include "simulator/core/simulator.hpp"

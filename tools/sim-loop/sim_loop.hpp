@@ -15,8 +15,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "ball_detector/node/detector_params.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/detector_params.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/util/result.hpp"
 #include "motion_controller/core/controller_params.hpp"
 #include "motion_controller/core/motion_controller.hpp"

@@ -6,9 +6,9 @@
 #include <optional>
 #include <string>
 
-#include "ball_detector/node/calibration_gate.hpp"
 #include "ball_detector/node/frame_input.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/calibration_gate.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"

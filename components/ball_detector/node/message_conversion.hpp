@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "ball_detector/node/pairing.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/pairing.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "stereoball.h"
 
 namespace stereoball::ball_detector {

@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "ball_detector/node/sim_frames.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
+#include "simulator/core/ball_scene.hpp"
 
 namespace sb = stereoball;
 using sb::ball_detector::DetectionStatus;
@@ -22,14 +22,14 @@ struct Rendered {
 
 // A one-colour ball of colour (r, g, b) 1.4 m ahead in a plain room.
 Rendered render_ball(sb::simulator::Rgb colour) {
-  sb::ball_detector::SimBallSetup setup;
+  sb::simulator::SimBallSetup setup;
   setup.ball_x_m = 1.4;
   setup.ball_y_m = 0.1;
   setup.clutter = false;
   setup.plain_room = true;
-  auto scenario = sb::ball_detector::make_sim_scenario(setup);
+  auto scenario = sb::simulator::make_sim_scenario(setup);
   scenario.ball->color_a = scenario.ball->color_b = colour;
-  sb::simulator::Simulator sim(sb::ball_detector::default_sim_params(), scenario);
+  sb::simulator::Simulator sim(sb::simulator::default_sim_params(), scenario);
   return {sim.step(std::nullopt, 0), sim.calibration()};
 }
 

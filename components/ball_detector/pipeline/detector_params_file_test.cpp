@@ -1,6 +1,6 @@
 // Loading config/ball_detector.yaml and rejecting bad files with clear messages.
 
-#include "ball_detector/node/detector_params_file.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Pairing of left/right candidates: row check, triangulation, size check, best pair.
 
-#include "ball_detector/node/pairing.hpp"
+#include "ball_detector/pipeline/pairing.hpp"
 #include "stereo/core/sphere_outline.hpp"
 
 #include <gtest/gtest.h>

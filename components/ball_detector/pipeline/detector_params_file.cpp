@@ -1,4 +1,4 @@
-#include "ball_detector/node/detector_params_file.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
 
 #include "common/params/field_table_yaml.hpp"
 

@@ -1,18 +1,18 @@
 // StereoPipeline on frames rendered by the simulator (raw, distorted, noisy) with ground truth.
 
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "ball_detector/node/sim_frames.hpp"
+#include "simulator/core/ball_scene.hpp"
 #include "stereo/core/rectifier.hpp"
 
 namespace sb = stereoball;
 using sb::ball_detector::DetectionStatus;
-using sb::ball_detector::SimBallSetup;
 using sb::ball_detector::StereoPipeline;
+using sb::simulator::SimBallSetup;
 
 namespace {
 
@@ -33,8 +33,8 @@ SimBallSetup plain_scene(double x_m, double y_m) {
 }
 
 Rendered render(const SimBallSetup& setup) {
-  const auto params = sb::ball_detector::default_sim_params();
-  const auto scenario = sb::ball_detector::make_sim_scenario(setup);
+  const auto params = sb::simulator::default_sim_params();
+  const auto scenario = sb::simulator::make_sim_scenario(setup);
   EXPECT_EQ(sb::simulator::Simulator::check(params, scenario), std::nullopt);
   sb::simulator::Simulator sim(params, scenario);
   return {sim.step(std::nullopt, 0), sim.calibration()};

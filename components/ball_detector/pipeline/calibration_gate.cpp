@@ -1,4 +1,4 @@
-#include "ball_detector/node/calibration_gate.hpp"
+#include "ball_detector/pipeline/calibration_gate.hpp"
 
 namespace stereoball::ball_detector {
 namespace {

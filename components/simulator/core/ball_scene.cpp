@@ -1,6 +1,6 @@
-#include "ball_detector/node/sim_frames.hpp"
+#include "simulator/core/ball_scene.hpp"
 
-namespace stereoball::ball_detector {
+namespace stereoball::simulator {
 
 simulator::Scenario make_sim_scenario(const SimBallSetup& setup) {
   simulator::Scenario s;
@@ -35,4 +35,4 @@ simulator::SimParams default_sim_params() {
   return simulator::SimParams{};
 }
 
-}  // namespace stereoball::ball_detector
+}  // namespace stereoball::simulator

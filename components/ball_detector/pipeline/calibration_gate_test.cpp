@@ -1,6 +1,6 @@
 // CalibrationGate: a calibration that does not fit the frames never replaces a good one.
 
-#include "ball_detector/node/calibration_gate.hpp"
+#include "ball_detector/pipeline/calibration_gate.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "ball_detector/node/detector_params.hpp"
+#include "ball_detector/pipeline/detector_params.hpp"
 #include "common/params/params_file.hpp"
 #include "common/util/result.hpp"
 

@@ -1,4 +1,4 @@
-#include "ball_detector/node/pairing.hpp"
+#include "ball_detector/pipeline/pairing.hpp"
 
 #include "stereo/core/sphere_outline.hpp"
 

@@ -13,8 +13,8 @@
 
 #include "ball_detector/core/appearance_model.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
-#include "ball_detector/node/detector_params.hpp"
-#include "ball_detector/node/pairing.hpp"
+#include "ball_detector/pipeline/detector_params.hpp"
+#include "ball_detector/pipeline/pairing.hpp"
 #include "stereo/core/calibration.hpp"
 #include "stereo/core/epipolar.hpp"
 #include "stereo/core/rectifier.hpp"

@@ -1,4 +1,4 @@
-#include "ball_detector/node/detector_params.hpp"
+#include "ball_detector/pipeline/detector_params.hpp"
 
 namespace stereoball::ball_detector {
 

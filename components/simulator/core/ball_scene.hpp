@@ -1,12 +1,12 @@
 #pragma once
-// Rendered stereo frames with ground truth from the simulator core, for the detector's tests
-// and benchmark (a known ball seen by the simulated rig, raw distorted BGR images).
+// A scene with one known ball seen by the simulated rig (raw distorted BGR images), for the
+// ball detector's tests and benchmarks and the replay recordings.
 
 #include <cstdint>
 
 #include "simulator/core/simulator.hpp"
 
-namespace stereoball::ball_detector {
+namespace stereoball::simulator {
 
 /// Where the ball is and whether the room holds clutter.
 struct SimBallSetup {
@@ -26,4 +26,4 @@ simulator::Scenario make_sim_scenario(const SimBallSetup& setup);
 /// The simulator's hardware defaults (640x480, config/simulator.yaml values).
 simulator::SimParams default_sim_params();
 
-}  // namespace stereoball::ball_detector
+}  // namespace stereoball::simulator

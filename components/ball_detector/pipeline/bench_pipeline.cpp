@@ -14,9 +14,9 @@
 #include <ctime>
 #include <vector>
 
-#include "ball_detector/node/sim_frames.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/util/bench_clock.hpp"
+#include "simulator/core/ball_scene.hpp"
 
 namespace sb = stereoball;
 
@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
   cv::setNumThreads(threads);
 
   // A ball rolling across and away in front of the robot: varied positions and sizes.
-  sb::ball_detector::SimBallSetup setup;
+  sb::simulator::SimBallSetup setup;
   setup.ball_x_m = 1.0;
   setup.ball_y_m = 0.4;
   setup.vx_mps = 0.5;
@@ -93,8 +93,8 @@ int main(int argc, char** argv) {
   setup.clutter = clutter;
   setup.plain_room = plain;
   setup.uniform_ball = plain;
-  const auto sim_params = sb::ball_detector::default_sim_params();
-  const auto scenario = sb::ball_detector::make_sim_scenario(setup);
+  const auto sim_params = sb::simulator::default_sim_params();
+  const auto scenario = sb::simulator::make_sim_scenario(setup);
   if (auto e = sb::simulator::Simulator::check(sim_params, scenario)) {
     std::fprintf(stderr, "stereoball-bench-pipeline: %s\n", e->c_str());
     return 1;
