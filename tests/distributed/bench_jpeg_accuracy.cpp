@@ -18,11 +18,11 @@
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/pipeline/detector_params_file.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
-#include "camera_server/core/frame_codec.hpp"
 #include "common/node/common_flags.hpp"
 #include "simulator/core/simulator.hpp"
 #include "simulator/io/scenario_file.hpp"
 #include "simulator/io/sim_params_file.hpp"
+#include "stereo/frame/frame_codec.hpp"
 #include "two_host_system.hpp"
 
 namespace sb = stereoball;
@@ -88,7 +88,7 @@ int run_images(const std::vector<std::string>& images, const std::vector<int>& q
                      path.c_str());
         return 2;
       }
-      sb::camera_server::EyeEncoder encoder({"jpeg", q});
+      sb::stereo::EyeEncoder encoder({"jpeg", q});
       if (auto err = encoder.encode(raw)) {
         std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s: %s\n", path.c_str(),
                      err->c_str());
@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
         for (int e = 0; e < 2; ++e) {
           auto t0 = std::chrono::steady_clock::now();
           // The publishers' own encoder (camera_server, simulator with frame_encoding jpeg).
-          sb::camera_server::EyeEncoder encoder({"jpeg", q});
+          sb::stereo::EyeEncoder encoder({"jpeg", q});
           if (auto err = encoder.encode(*in[e])) {
             std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", err->c_str());
             return 1;

@@ -1,13 +1,13 @@
 // libFuzzer target: frame decoding. Either a compressed eye (JPEG/PNG header, size check,
-// strict decode) or a whole stereo/frame sample through ball_detector's FrameDecoder with
+// strict decode) or a whole stereo/frame sample through the frame library's FrameDecoder with
 // raw (bgr8/mono8) or compressed eyes and arbitrary size, step and length fields.
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
-#include "ball_detector/node/frame_input.hpp"
 #include "fuzz_input.hpp"
+#include "stereo/frame/frame_decoder.hpp"
 #include "stereo/image/image_decode.hpp"
 
 namespace {
@@ -39,7 +39,7 @@ void decode_frame(stereoball::fuzz::FuzzInput& in) {
   std::vector<uint8_t> left, right;
   fill_eye(in, left, msg.left);
   fill_eye(in, right, msg.right);
-  stereoball::ball_detector::FrameDecoder decoder;
+  stereoball::stereo::FrameDecoder decoder;
   cv::Mat l, r;
   if (!decoder.decode(msg, expected, l, r)) {
     // Touch every pixel: a view past the sample's bytes would be caught here.

@@ -10,7 +10,7 @@
 #include "common/dds/writer.hpp"
 #include "recorder/io/recording.hpp"
 #include "simulator/core/ball_scene.hpp"
-#include "simulator/node/msg_conversion.hpp"
+#include "stereo/frame/frame_msg.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 #include "stereoball/idl_text.hpp"
 #include "stereoball/topics.hpp"
@@ -121,7 +121,11 @@ std::optional<std::string> make_replay_recording(const std::string& path, int do
     const std::int64_t t_ns = i * period_ns;
     const std::int64_t stamp = kReplayEpochNs + t_ns + period_ns;
     const simulator::SimFrame f = sim.step(std::nullopt, t_ns);
-    if (!push(1, frame_ser.cdr(simulator::frame_to_msg(f, stamp, source)), stamp))
+    const auto view = stereo::view_of_images(f.left, f.right, f.seq, stamp);
+    if (!view) return "frame: " + view.error();
+    stereoball_msg_StereoFrame frame_msg{};
+    stereo::fill_frame_message(*view, source, frame_msg);
+    if (!push(1, frame_ser.cdr(frame_msg), stamp))
       return "frame sample was not serialized or queued";
     const bd::StereoDetection det = pipeline.step(f.left, f.right, false);
     stereoball_msg_BallDetection det_msg{};

@@ -133,7 +133,7 @@ std::vector<params::Field<P>> source_fields() {
 
 params::FieldTable<P> make_table() {
   params::FieldTable<P> t{capture_fields(), check_rules};
-  for (const auto& part : {params::section("", &P::output, frame_codec_fields()),
+  for (const auto& part : {params::section("", &P::output, stereo::frame_codec_fields()),
                            params::section("", &P::controls, camera_controls_fields())}) {
     for (auto f : part.fields) t.fields.push_back(optional(std::move(f)));
   }

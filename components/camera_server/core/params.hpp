@@ -4,9 +4,9 @@
 #include <cstdint>
 #include <string>
 
-#include "camera_server/core/frame_codec.hpp"
 #include "common/params/field_table.hpp"
 #include "common/util/result.hpp"
+#include "stereo/frame/frame_codec.hpp"
 
 namespace stereoball::camera_server {
 
@@ -41,8 +41,8 @@ struct CameraServerParams {
   int64_t max_skew_ns;
   uint32_t buffer_count;
   std::string publish_encoding;
-  FrameCodecParams output;  ///< frame_encoding (raw|jpeg|png) and jpeg_quality
-  CameraControls controls;  ///< applied to both cameras
+  stereo::FrameCodecParams output;  ///< frame_encoding (raw|jpeg|png) and jpeg_quality
+  CameraControls controls;          ///< applied to both cameras
   double reopen_initial_s;
   double reopen_max_s;
   double reopen_factor;

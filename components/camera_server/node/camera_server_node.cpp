@@ -1,9 +1,9 @@
 #include "camera_server/node/camera_server_node.hpp"
 
 #include "camera_server/io/v4l2_device.hpp"
-#include "camera_server/node/frame_message.hpp"
 #include "common/util/log.hpp"
 #include "stereo/core/eye_order.hpp"
+#include "stereo/frame/frame_msg.hpp"
 #include "stereo/io/calibration_file.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
@@ -125,7 +125,7 @@ void CameraServerNode::publish_file_pair(int64_t now_ns) {
     return;
   }
   const FilePair& p = files_->pair(i);
-  auto view = view_of_images(p.left, p.right, file_seq_++, now_ns);
+  auto view = stereo::view_of_images(p.left, p.right, file_seq_++, now_ns);
   if (!view) {
     runner_.health().error("bad_file_pair", view.error());
     return;
@@ -176,14 +176,16 @@ void CameraServerNode::update_capture_health() {
 
 // The rectified copy of a decoded view in storage, the view itself when not rectifying, or
 // nullptr when rectification failed (counted in health).
-const FrameView* CameraServerNode::rectify(const FrameView& view, FrameView& storage) {
-  const cv::Mat l = image_of(view.left, view.encoding), r = image_of(view.right, view.encoding);
+const stereo::FrameView* CameraServerNode::rectify(const stereo::FrameView& view,
+                                                   stereo::FrameView& storage) {
+  const cv::Mat l = stereo::image_of(view.left, view.encoding),
+                r = stereo::image_of(view.right, view.encoding);
   if (!params_.rectify || !rectifier_ || l.empty()) return &view;
   if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1])) {
     runner_.health().error("rectify", *e);
     return nullptr;
   }
-  auto v = view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);
+  auto v = stereo::view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);
   if (!v) return nullptr;
   storage = *v;
   storage.left.capture_stamp_ns = view.left.capture_stamp_ns;
@@ -194,7 +196,8 @@ const FrameView* CameraServerNode::rectify(const FrameView& view, FrameView& sto
 
 // The jpeg/png view in storage with frame_encoding set, else the view itself; nullptr when
 // encoding failed (counted in health).
-const FrameView* CameraServerNode::compress(const FrameView& view, FrameView& storage) {
+const stereo::FrameView* CameraServerNode::compress(const stereo::FrameView& view,
+                                                    stereo::FrameView& storage) {
   if (!compressor_) return &view;
   const int64_t start_ns = node::monotonic_ns();
   auto v = compressor_->step(view);
@@ -208,10 +211,10 @@ const FrameView* CameraServerNode::compress(const FrameView& view, FrameView& st
   return &storage;
 }
 
-void CameraServerNode::check_eye_order(const FrameView& view) {
+void CameraServerNode::check_eye_order(const stereo::FrameView& view) {
   if (!rectifier_) return;
-  const auto evidence = eye_order_.step(*rectifier_, image_of(view.left, view.encoding),
-                                        image_of(view.right, view.encoding), false);
+  const auto evidence = eye_order_.step(*rectifier_, stereo::image_of(view.left, view.encoding),
+                                        stereo::image_of(view.right, view.encoding), false);
   if (!evidence) return;
   if (auto text = stereo::describe_swapped_eyes(*evidence, std::string(kHowToSwap))) {
     log::error(*text);
@@ -219,14 +222,14 @@ void CameraServerNode::check_eye_order(const FrameView& view) {
   }
 }
 
-void CameraServerNode::publish(const FrameView& view) {
+void CameraServerNode::publish(const stereo::FrameView& view) {
   check_eye_order(view);
-  FrameView rectified, compressed;
-  const FrameView* out = rectify(view, rectified);
+  stereo::FrameView rectified, compressed;
+  const stereo::FrameView* out = rectify(view, rectified);
   if (out != nullptr) out = compress(*out, compressed);
   if (out == nullptr) return;
   stereoball_msg_StereoFrame msg{};
-  fill_frame_message(*out, source_name_, msg);
+  stereo::fill_frame_message(*out, source_name_, msg);
   frame_writer_.write(msg);
   runner_.health().count(std::string(topics::kStereoFrame.spec.name));
 }

@@ -5,50 +5,6 @@
 #include <limits>
 
 namespace stereoball::simulator {
-namespace {
-
-stereoball_msg_EyeImage eye(const cv::Mat& image, int64_t stamp_ns) {
-  stereoball_msg_EyeImage e{};
-  e.capture_stamp_ns = stamp_ns;
-  e.width_px = static_cast<uint32_t>(image.cols);
-  e.height_px = static_cast<uint32_t>(image.rows);
-  e.step_bytes = static_cast<uint32_t>(image.step[0]);
-  // Simulator images are freshly allocated, hence continuous.
-  e.data._maximum = e.data._length = static_cast<uint32_t>(image.step[0] * image.rows);
-  e.data._buffer = const_cast<uint8_t*>(image.data);
-  e.data._release = false;
-  return e;
-}
-
-}  // namespace
-
-stereoball_msg_StereoFrame frame_to_msg(const SimFrame& frame, int64_t stamp_ns,
-                                        const std::string& source) {
-  stereoball_msg_StereoFrame m{};
-  m.seq = frame.seq;
-  m.stamp_ns = stamp_ns;
-  m.source = const_cast<char*>(source.c_str());
-  m.encoding = const_cast<char*>("bgr8");
-  m.rectified = false;
-  m.left = eye(frame.left, stamp_ns);
-  m.right = eye(frame.right, stamp_ns);
-  return m;
-}
-
-stereoball_msg_StereoFrame encoded_frame_to_msg(const SimFrame& frame, const std::string& encoding,
-                                                const std::vector<uint8_t>& left,
-                                                const std::vector<uint8_t>& right, int64_t stamp_ns,
-                                                const std::string& source) {
-  stereoball_msg_StereoFrame m = frame_to_msg(frame, stamp_ns, source);
-  m.encoding = const_cast<char*>(encoding.c_str());
-  for (auto [eye, bytes] : {std::pair{&m.left, &left}, std::pair{&m.right, &right}}) {
-    eye->step_bytes = 0;
-    eye->data._maximum = eye->data._length = static_cast<uint32_t>(bytes->size());
-    eye->data._buffer = const_cast<uint8_t*>(bytes->data());
-  }
-  return m;
-}
-
 stereoball_msg_GroundTruth ground_truth_to_msg(const GroundTruth& g, int64_t stamp_ns,
                                                const std::string& scenario) {
   stereoball_msg_GroundTruth m{};

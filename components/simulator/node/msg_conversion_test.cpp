@@ -8,56 +8,6 @@
 namespace stereoball::simulator {
 namespace {
 
-// A simulated 352x288 frame of an empty scenario.
-SimFrame small_frame() {
-  SimParams p;
-  p.width_px = 352;
-  p.height_px = 288;
-  Simulator sim(p, Scenario{});
-  return sim.step(std::nullopt, 0);
-}
-
-TEST(MsgConversion, FrameCarriesBothRawEyesAsBgr8) {
-  // Given a simulated 352x288 frame
-  const SimFrame f = small_frame();
-  const std::string source = "simulator:test";
-  // When converted
-  const auto m = frame_to_msg(f, 77, source);
-  // Then each eye points at its image with the right geometry
-  EXPECT_STREQ(m.encoding, "bgr8");
-  EXPECT_FALSE(m.rectified);
-  EXPECT_EQ(m.left.width_px, 352u);
-  EXPECT_EQ(m.right.height_px, 288u);
-  EXPECT_EQ(m.left.step_bytes, 352u * 3);
-  EXPECT_EQ(m.left.data._length, 352u * 288 * 3);
-  EXPECT_EQ(m.left.data._buffer, f.left.data);
-  EXPECT_EQ(m.right.data._buffer, f.right.data);
-  EXPECT_EQ(m.right.capture_stamp_ns, 77);
-}
-
-TEST(MsgConversion, EncodedFrameCarriesOneStreamPerEyeWithTheDecodedSize) {
-  // Given a simulated 352x288 frame and two (stand-in) compressed streams of different lengths
-  const SimFrame f = small_frame();
-  const std::string source = "simulator:test", encoding = "jpeg";
-  const std::vector<uint8_t> left(1234, 1), right(999, 2);
-  // When converted
-  const auto m = encoded_frame_to_msg(f, encoding, left, right, 55, source);
-  // Then the message follows the compressed-frame contract
-  EXPECT_STREQ(m.encoding, "jpeg");
-  EXPECT_STREQ(m.source, "simulator:test");
-  EXPECT_EQ(m.stamp_ns, 55);
-  EXPECT_EQ(m.left.width_px, 352u);
-  EXPECT_EQ(m.right.height_px, 288u);
-  EXPECT_EQ(m.left.step_bytes, 0u);
-  EXPECT_EQ(m.right.step_bytes, 0u);
-  EXPECT_EQ(m.left.data._length, 1234u);
-  EXPECT_EQ(m.right.data._length, 999u);
-  EXPECT_EQ(m.left.data._buffer, left.data());
-  EXPECT_EQ(m.right.data._buffer, right.data());
-  EXPECT_FALSE(m.left.data._release);
-  EXPECT_EQ(m.left.capture_stamp_ns, 55);
-}
-
 TEST(MsgConversion, CommandAgeIsScaledIntoSimulatedTime) {
   // Given a command stamped 100 ms before now on the wall clock
   stereoball_msg_VelocityCommand msg{};

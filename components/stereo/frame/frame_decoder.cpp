@@ -1,4 +1,4 @@
-#include "ball_detector/node/frame_input.hpp"
+#include "stereo/frame/frame_decoder.hpp"
 
 #include <cstring>
 #include <span>
@@ -6,7 +6,7 @@
 
 #include "stereo/image/image_decode.hpp"
 
-namespace stereoball::ball_detector {
+namespace stereoball::stereo {
 namespace {
 
 std::string dims(std::uint64_t w, std::uint64_t h) {
@@ -94,4 +94,4 @@ std::optional<std::string> FrameDecoder::decode_eye(const char* eye,
   return std::nullopt;
 }
 
-}  // namespace stereoball::ball_detector
+}  // namespace stereoball::stereo

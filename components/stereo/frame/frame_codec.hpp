@@ -14,7 +14,7 @@
 #include "common/params/field_table.hpp"
 #include "common/util/result.hpp"
 
-namespace stereoball::camera_server {
+namespace stereoball::stereo {
 
 /// The values frame_encoding accepts: "raw" (pixels as they are), "jpeg", "png".
 const std::vector<std::string>& frame_encoding_choices();
@@ -59,4 +59,4 @@ class EyeEncoder {
   std::vector<uint8_t> bytes_;
 };
 
-}  // namespace stereoball::camera_server
+}  // namespace stereoball::stereo

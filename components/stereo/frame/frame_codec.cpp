@@ -1,4 +1,4 @@
-#include "camera_server/core/frame_codec.hpp"
+#include "stereo/frame/frame_codec.hpp"
 
 #include <jpeglib.h>
 
@@ -7,7 +7,7 @@
 #include <csetjmp>
 #include <cstdlib>
 
-namespace stereoball::camera_server {
+namespace stereoball::stereo {
 namespace {
 
 // libjpeg reports errors through error_exit, which must not return: jump back to the caller.
@@ -113,4 +113,4 @@ std::optional<std::string> EyeEncoder::encode_jpeg(const cv::Mat& image) {
   return std::nullopt;
 }
 
-}  // namespace stereoball::camera_server
+}  // namespace stereoball::stereo

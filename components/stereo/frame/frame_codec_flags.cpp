@@ -1,6 +1,6 @@
-#include "camera_server/node/frame_codec_flags.hpp"
+#include "stereo/frame/frame_codec_flags.hpp"
 
-namespace stereoball::camera_server {
+namespace stereoball::stereo {
 
 FrameCodecFlags::FrameCodecFlags(CLI::App& app) {
   app.add_option("--frame-encoding", encoding_,
@@ -15,4 +15,4 @@ void FrameCodecFlags::apply(FrameCodecParams& params) const {
   if (quality_ != 0) params.jpeg_quality = quality_;
 }
 
-}  // namespace stereoball::camera_server
+}  // namespace stereoball::stereo

@@ -1,16 +1,16 @@
-#include "camera_server/core/frame_compressor.hpp"
+#include "stereo/frame/frame_compressor.hpp"
 
-namespace stereoball::camera_server {
+namespace stereoball::stereo {
 namespace {
 
 Result<EyeView> compress_eye(const char* name, const EyeView& eye, const std::string& encoding,
                              EyeEncoder& encoder) {
   const cv::Mat image = image_of(eye, encoding);
   if (image.empty()) {
-    return fail(std::string(name) + " eye: cannot compress \"" + encoding +
-                "\" frames, only bgr8 or mono8");
+    return Error{std::string(name) + " eye: cannot compress \"" + encoding +
+                 "\" frames, only bgr8 or mono8"};
   }
-  if (auto e = encoder.encode(image)) return fail(std::string(name) + " eye: " + *e);
+  if (auto e = encoder.encode(image)) return Error{std::string(name) + " eye: " + *e};
   EyeView out = eye;
   out.step_bytes = 0;
   out.data = encoder.bytes().data();
@@ -35,4 +35,4 @@ Result<FrameView> FrameCompressor::step(const FrameView& view) {
   return out;
 }
 
-}  // namespace stereoball::camera_server
+}  // namespace stereoball::stereo

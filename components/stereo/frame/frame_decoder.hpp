@@ -9,7 +9,7 @@
 
 #include "stereoball.h"
 
-namespace stereoball::ball_detector {
+namespace stereoball::stereo {
 
 /// Pixel encodings the detector accepts.
 enum class FrameEncoding { kBgr8, kMono8, kJpeg, kPng };
@@ -38,4 +38,4 @@ class FrameDecoder {
   cv::Mat decoded_left_, decoded_right_;
 };
 
-}  // namespace stereoball::ball_detector
+}  // namespace stereoball::stereo

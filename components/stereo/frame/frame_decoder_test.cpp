@@ -1,6 +1,6 @@
 // FrameDecoder: raw and compressed stereo/frame samples, and every malformed case.
 
-#include "ball_detector/node/frame_input.hpp"
+#include "stereo/frame/frame_decoder.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <vector>
 
 namespace sb = stereoball;
-using sb::ball_detector::FrameDecoder;
+using sb::stereo::FrameDecoder;
 
 namespace {
 

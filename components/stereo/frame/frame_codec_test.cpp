@@ -1,7 +1,7 @@
-// The shared frame encoder and the camera_server's frame compressor: round trips through
+// The shared frame encoder and frame compressor: round trips through
 // cv::imdecode (what ball_detector does), sizes, and named errors.
 
-#include "camera_server/core/frame_codec.hpp"
+#include "stereo/frame/frame_codec.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,12 +10,12 @@
 
 #include <cstdio>
 
-#include "camera_server/core/frame_compressor.hpp"
+#include "stereo/frame/frame_compressor.hpp"
 
 // GCC 12 reports a false -Wrestrict on std::string assignment from a literal (GCC PR 105651).
 #pragma GCC diagnostic ignored "-Wrestrict"
 
-namespace stereoball::camera_server {
+namespace stereoball::stereo {
 namespace {
 
 // A camera-like test image: smooth shading, a few hard-edged discs and mild noise.
@@ -219,4 +219,4 @@ TEST(FrameCompressor, GivenNativeYuyvViewThenErrorNamesTheEncoding) {
 }
 
 }  // namespace
-}  // namespace stereoball::camera_server
+}  // namespace stereoball::stereo

@@ -6,9 +6,9 @@
 
 #include <string>
 
-#include "camera_server/core/frame_codec.hpp"
+#include "stereo/frame/frame_codec.hpp"
 
-namespace stereoball::camera_server {
+namespace stereoball::stereo {
 
 /// Registers both flags on an app and applies the ones given to the config's values.
 class FrameCodecFlags {
@@ -23,4 +23,4 @@ class FrameCodecFlags {
   int quality_ = 0;  // 0 = not given
 };
 
-}  // namespace stereoball::camera_server
+}  // namespace stereoball::stereo

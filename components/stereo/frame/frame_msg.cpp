@@ -1,8 +1,8 @@
-#include "camera_server/node/frame_message.hpp"
+#include "stereo/frame/frame_msg.hpp"
 
 #include <algorithm>
 
-namespace stereoball::camera_server {
+namespace stereoball::stereo {
 namespace {
 
 void fill_eye(const EyeView& v, stereoball_msg_EyeImage& m) {
@@ -29,4 +29,4 @@ void fill_frame_message(const FrameView& view, const std::string& source,
   fill_eye(view.right, msg.right);
 }
 
-}  // namespace stereoball::camera_server
+}  // namespace stereoball::stereo

@@ -1,10 +1,10 @@
 #pragma once
 // Turns a decoded outgoing frame (bgr8/mono8) into a compressed one (jpeg/png per eye).
 
-#include "camera_server/core/frame_builder.hpp"
-#include "camera_server/core/frame_codec.hpp"
+#include "stereo/frame/frame_codec.hpp"
+#include "stereo/frame/frame_view.hpp"
 
-namespace stereoball::camera_server {
+namespace stereoball::stereo {
 
 /// Compresses both eyes of decoded frame views, reusing its buffers.
 class FrameCompressor {
@@ -23,4 +23,4 @@ class FrameCompressor {
   EyeEncoder right_;
 };
 
-}  // namespace stereoball::camera_server
+}  // namespace stereoball::stereo
