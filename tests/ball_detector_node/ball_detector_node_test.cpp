@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "ball_detector/node/message_conversion.hpp"
+#include "ball_detector/node/detection_msg.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
 #include "crafted_images.hpp"

@@ -3,7 +3,7 @@
 #include <memory>
 #include <vector>
 
-#include "ball_detector/node/message_conversion.hpp"
+#include "ball_detector/node/detection_msg.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/dds/participant.hpp"
 #include "common/dds/serialized.hpp"
@@ -15,7 +15,7 @@
 #include "stereoball/idl_text.hpp"
 #include "stereoball/topics.hpp"
 #include "tracker/core/tracker.hpp"
-#include "tracker/node/track_conversion.hpp"
+#include "tracker/node/track_msg.hpp"
 
 namespace stereoball::replay {
 namespace {

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ball_detector/node/message_conversion.hpp"
+#include "ball_detector/node/detection_msg.hpp"
 #include "common/util/bench_clock.hpp"
-#include "motion_controller/node/command_conversion.hpp"
-#include "tracker/node/track_conversion.hpp"
+#include "motion_controller/node/command_msg.hpp"
+#include "tracker/node/track_msg.hpp"
 
 namespace stereoball::sim_loop {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "ball_detector/node/message_conversion.hpp"
+#include "ball_detector/node/detection_msg.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
 namespace stereoball::ball_detector {

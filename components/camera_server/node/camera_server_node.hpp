@@ -8,8 +8,8 @@
 #include <string>
 #include <thread>
 
+#include "camera_server/core/camera_server_params.hpp"
 #include "camera_server/core/frame_builder.hpp"
-#include "camera_server/core/params.hpp"
 #include "camera_server/io/file_source.hpp"
 #include "camera_server/io/stereo_capture.hpp"
 #include "common/dds/writer.hpp"

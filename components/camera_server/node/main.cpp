@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "camera_server/node/camera_server_node.hpp"
-#include "camera_server/node/params_loader.hpp"
+#include "camera_server/node/camera_server_params_file.hpp"
 #include "common/node/node_runner.hpp"
 #include "common/util/log.hpp"
 #include "stereo/frame/frame_codec_flags.hpp"

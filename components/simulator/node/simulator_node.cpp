@@ -8,7 +8,7 @@
 
 #include "common/util/clock_stamp.hpp"
 #include "common/util/log.hpp"
-#include "simulator/node/msg_conversion.hpp"
+#include "simulator/node/ground_truth_msg.hpp"
 #include "stereo/frame/frame_msg.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 

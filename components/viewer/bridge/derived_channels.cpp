@@ -1,6 +1,6 @@
 #include "viewer/bridge/derived_channels.hpp"
 
-#include "viewer/bridge/conversion.hpp"
+#include "viewer/bridge/view_msg.hpp"
 
 namespace stereoball::viewer {
 

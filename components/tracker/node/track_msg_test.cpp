@@ -1,4 +1,4 @@
-#include "tracker/node/track_conversion.hpp"
+#include "tracker/node/track_msg.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "camera_server/node/params_loader.hpp"
+#include "camera_server/node/camera_server_params_file.hpp"
 
 #include "common/params/field_table_yaml.hpp"
 

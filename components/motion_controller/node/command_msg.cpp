@@ -1,4 +1,4 @@
-#include "motion_controller/node/command_conversion.hpp"
+#include "motion_controller/node/command_msg.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "simulator/node/msg_conversion.hpp"
+#include "simulator/node/ground_truth_msg.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "camera_server/core/params.hpp"
+#include "camera_server/core/camera_server_params.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // IDL <-> core conversions: detection message fields, ball/track prior.
 
-#include "ball_detector/node/message_conversion.hpp"
+#include "ball_detector/node/detection_msg.hpp"
 
 #include <gtest/gtest.h>
 

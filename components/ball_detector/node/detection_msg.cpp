@@ -1,4 +1,4 @@
-#include "ball_detector/node/message_conversion.hpp"
+#include "ball_detector/node/detection_msg.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "viewer/bridge/conversion.hpp"
+#include "viewer/bridge/view_msg.hpp"
 
 #include <algorithm>
 

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "camera_server/core/params.hpp"
+#include "camera_server/core/camera_server_params.hpp"
 #include "common/util/result.hpp"
 
 namespace stereoball::camera_server {
