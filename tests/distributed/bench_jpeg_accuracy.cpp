@@ -89,9 +89,9 @@ int run_images(const std::vector<std::string>& images, const std::vector<int>& q
         return 2;
       }
       sb::stereo::EyeEncoder encoder({"jpeg", q});
-      if (auto err = encoder.encode(raw)) {
+      if (auto st = encoder.encode(raw); !st) {
         std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s: %s\n", path.c_str(),
-                     err->c_str());
+                     st.error().c_str());
         return 2;
       }
       const std::vector<uint8_t>& buffer = encoder.bytes();
@@ -206,8 +206,8 @@ int main(int argc, char** argv) {
           auto t0 = std::chrono::steady_clock::now();
           // The publishers' own encoder (camera_server, simulator with frame_encoding jpeg).
           sb::stereo::EyeEncoder encoder({"jpeg", q});
-          if (auto err = encoder.encode(*in[e])) {
-            std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", err->c_str());
+          if (auto st = encoder.encode(*in[e]); !st) {
+            std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", st.error().c_str());
             return 1;
           }
           s.encode_ms += ms_since(t0);

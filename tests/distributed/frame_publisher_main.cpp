@@ -40,7 +40,7 @@ std::optional<std::string> encode(const cv::Mat& bgr, const std::string& encodin
     return std::nullopt;
   }
   sb::stereo::EyeEncoder encoder({encoding, quality});
-  if (auto err = encoder.encode(bgr)) return err;
+  if (auto st = encoder.encode(bgr); !st) return st.error();
   e.bytes = encoder.bytes();
   return std::nullopt;
 }

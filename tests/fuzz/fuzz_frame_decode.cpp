@@ -41,7 +41,7 @@ void decode_frame(stereoball::fuzz::FuzzInput& in) {
   fill_eye(in, right, msg.right);
   stereoball::stereo::FrameDecoder decoder;
   cv::Mat l, r;
-  if (!decoder.decode(msg, expected, l, r)) {
+  if (decoder.decode(msg, expected, l, r).ok()) {
     // Touch every pixel: a view past the sample's bytes would be caught here.
     volatile int sum = 0;
     sum = sum + static_cast<int>(cv::sum(l)[0] + cv::sum(r)[0]);

@@ -119,8 +119,8 @@ int main(int argc, char** argv) {
     const double c2 = cpu_ms();
     size_t bytes = 0;
     for (const cv::Mat* eye : {&f.left, &f.right}) {
-      if (auto e = encoder->encode(*eye)) {
-        return std::fprintf(stderr, "stereoball-sim-bench: %s\n", e->c_str()), 1;
+      if (auto st = encoder->encode(*eye); !st) {
+        return std::fprintf(stderr, "stereoball-sim-bench: %s\n", st.error().c_str()), 1;
       }
       bytes += encoder->bytes().size();
     }

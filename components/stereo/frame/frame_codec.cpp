@@ -85,32 +85,32 @@ Status FrameCodecParams::validate() const {
 
 EyeEncoder::EyeEncoder(const FrameCodecParams& params) : params_(params) {}
 
-std::optional<std::string> EyeEncoder::encode(const cv::Mat& image) {
-  if (image.empty()) return "cannot " + params_.frame_encoding + "-encode an empty image";
+Status EyeEncoder::encode(const cv::Mat& image) {
+  if (image.empty()) return Error{"cannot " + params_.frame_encoding + "-encode an empty image"};
   if (image.type() != CV_8UC1 && image.type() != CV_8UC3) {
-    return "cannot " + params_.frame_encoding +
-           "-encode this image: only 8-bit grey or BGR images are supported";
+    return Error{"cannot " + params_.frame_encoding +
+                 "-encode this image: only 8-bit grey or BGR images are supported"};
   }
   if (params_.frame_encoding == "jpeg") return encode_jpeg(image);
   bool ok = false;
   try {
     ok = cv::imencode(".png", image, bytes_, {cv::IMWRITE_PNG_COMPRESSION, kPngCompressionLevel});
   } catch (const cv::Exception& e) {
-    return std::string("png encoding failed: ") + e.what();
+    return Error{std::string("png encoding failed: ") + e.what()};
   }
-  if (!ok || bytes_.empty()) return "png encoding failed";
-  return std::nullopt;
+  if (!ok || bytes_.empty()) return Error{"png encoding failed"};
+  return {};
 }
 
-std::optional<std::string> EyeEncoder::encode_jpeg(const cv::Mat& image) {
+Status EyeEncoder::encode_jpeg(const cv::Mat& image) {
   unsigned char* out = nullptr;
   unsigned long size = 0;
   JpegErrors errors{};
   const bool ok = compress_jpeg_444(image, params_.jpeg_quality, &out, &size, errors);
   if (ok) bytes_.assign(out, out + size);
   std::free(out);
-  if (!ok) return std::string("jpeg encoding failed: ") + errors.message;
-  return std::nullopt;
+  if (!ok) return Error{std::string("jpeg encoding failed: ") + errors.message};
+  return {};
 }
 
 }  // namespace stereoball::stereo

@@ -47,13 +47,13 @@ class EyeEncoder {
   /// params must be valid and compressed().
   explicit EyeEncoder(const FrameCodecParams& params);
 
-  /// Compresses an 8-bit grey or BGR image into bytes(); nullopt on success, else the problem.
-  std::optional<std::string> encode(const cv::Mat& image);
+  /// Compresses an 8-bit grey or BGR image into bytes(); an error names the problem.
+  Status encode(const cv::Mat& image);
   /// The complete JPEG/PNG stream of the last successful encode().
   const std::vector<uint8_t>& bytes() const { return bytes_; }
 
  private:
-  std::optional<std::string> encode_jpeg(const cv::Mat& image);
+  Status encode_jpeg(const cv::Mat& image);
 
   FrameCodecParams params_;
   std::vector<uint8_t> bytes_;

@@ -10,7 +10,7 @@ Result<EyeView> compress_eye(const char* name, const EyeView& eye, const std::st
     return Error{std::string(name) + " eye: cannot compress \"" + encoding +
                  "\" frames, only bgr8 or mono8"};
   }
-  if (auto e = encoder.encode(image)) return Error{std::string(name) + " eye: " + *e};
+  if (auto st = encoder.encode(image); !st) return Error{std::string(name) + " eye: " + st.error()};
   EyeView out = eye;
   out.step_bytes = 0;
   out.data = encoder.bytes().data();

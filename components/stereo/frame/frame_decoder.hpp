@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "common/util/result.hpp"
 #include "stereoball.h"
 
 namespace stereoball::stereo {
@@ -17,9 +18,9 @@ enum class FrameEncoding { kBgr8, kMono8, kJpeg, kPng };
 /// The encoding named by text, or nullopt for an unsupported one.
 std::optional<FrameEncoding> parse_encoding(const char* text);
 
-/// Why a raw (bgr8/mono8) eye cannot be used: step, length and size checks; nullopt if fine.
-std::optional<std::string> check_raw_eye(const char* eye, const stereoball_msg_EyeImage& image,
-                                         int channels, cv::Size expected);
+/// Whether a raw (bgr8/mono8) eye can be used: step, length and size checks; errors say why.
+Status check_raw_eye(const char* eye, const stereoball_msg_EyeImage& image, int channels,
+                     cv::Size expected);
 
 /// Validates and decodes StereoFrame samples; owns the decode buffers.
 class FrameDecoder {
@@ -27,13 +28,12 @@ class FrameDecoder {
   /// Fills left/right (CV_8UC3 BGR or CV_8UC1) for a frame that must have size expected.
   /// Raw encodings give views of msg's bytes (valid while msg lives); compressed ones give
   /// views of this decoder's buffers (valid until the next call). Error names eye and problem.
-  std::optional<std::string> decode(const stereoball_msg_StereoFrame& msg, cv::Size expected,
-                                    cv::Mat& left, cv::Mat& right);
+  Status decode(const stereoball_msg_StereoFrame& msg, cv::Size expected, cv::Mat& left,
+                cv::Mat& right);
 
  private:
-  std::optional<std::string> decode_eye(const char* eye, const stereoball_msg_EyeImage& image,
-                                        FrameEncoding encoding, cv::Size expected, cv::Mat& buffer,
-                                        cv::Mat& out);
+  Status decode_eye(const char* eye, const stereoball_msg_EyeImage& image, FrameEncoding encoding,
+                    cv::Size expected, cv::Mat& buffer, cv::Mat& out);
 
   cv::Mat decoded_left_, decoded_right_;
 };

@@ -9,6 +9,7 @@
 #include <vector>
 
 namespace sb = stereoball;
+using sb::Status;
 using sb::stereo::FrameDecoder;
 
 namespace {
@@ -59,7 +60,8 @@ cv::Mat gradient(int type) {
 std::string decode_error(FrameBuilder& f) {
   FrameDecoder d;
   cv::Mat l, r;
-  return d.decode(f.get(), kSize, l, r).value_or("");
+  const Status st = d.decode(f.get(), kSize, l, r);
+  return st ? "" : st.error();
 }
 
 }  // namespace
@@ -70,7 +72,7 @@ TEST(FrameDecoder, GivenBgr8_ThenZeroCopyViewsWithTheBytes) {
   f.raw(img, img);
   FrameDecoder d;
   cv::Mat l, r;
-  ASSERT_EQ(d.decode(f.get(), kSize, l, r), std::nullopt);
+  ASSERT_TRUE(d.decode(f.get(), kSize, l, r).ok());
   EXPECT_EQ(l.type(), CV_8UC3);
   EXPECT_EQ(l.size(), kSize);
   EXPECT_EQ(l.data, f.left.data());  // a view, not a copy
@@ -85,7 +87,7 @@ TEST(FrameDecoder, GivenMono8WithPaddedRows_ThenStepRespected) {
   f.msg.left.width_px = f.msg.right.width_px = static_cast<uint32_t>(kSize.width);
   FrameDecoder d;
   cv::Mat l, r;
-  ASSERT_EQ(d.decode(f.get(), kSize, l, r), std::nullopt);
+  ASSERT_TRUE(d.decode(f.get(), kSize, l, r).ok());
   EXPECT_EQ(l.type(), CV_8UC1);
   EXPECT_EQ(l.step, static_cast<size_t>(kSize.width + 16));
 }
@@ -97,7 +99,7 @@ TEST(FrameDecoder, GivenPngAndJpeg_ThenDecodedToBgr) {
     f.encoded(ext, img, img);
     FrameDecoder d;
     cv::Mat l, r;
-    ASSERT_EQ(d.decode(f.get(), kSize, l, r), std::nullopt) << ext;
+    ASSERT_TRUE(d.decode(f.get(), kSize, l, r).ok()) << ext;
     EXPECT_EQ(l.type(), CV_8UC3);
     EXPECT_EQ(l.size(), kSize);
     if (ext == "png") {
