@@ -68,6 +68,10 @@ TEST(DetectTool, GivenAGoodImageThenTheBallIsFound) {
 // Issue 22: a 28 KB JPEG or 1.1 MB PNG whose header says 20000x20000 ran past 30 s at 4-5 GB.
 TEST(DetectTool, GivenHeadersClaiming20000x20000ThenItFailsFastNamingTheLimit) {
   const auto dir = sb::testing::temp_dir();
+  // The process's own start-up, for comparison: the same refusal without any image to read.
+  const DetectRun missing = detect({dir + "/missing.png"});
+  std::printf("[figure] stereoball detect on a missing file (start-up only): exit %d in %.1f ms\n",
+              missing.code, missing.ms);
   auto jpeg = encode(".jpg");
   sb::testing::claim_image_size(jpeg, 20000, 20000);
   auto png = encode(".png");

@@ -99,7 +99,33 @@ struct Figures {
   double median_us = 0, p99_us = 0, rate_hz = 0, mbps = 0;
   size_t count = 0;
   double overall_p99_us = 0;  // ours only: p99 over all samples (ddsperf prints per second)
+  // What the figures above are made of, so slices of one run can be pooled.
+  std::vector<double> second_medians_us, second_p99s_us;
+  std::vector<double> all_us;  // ours only
 };
+
+// One run's slices of one side pooled: the per-second percentiles of every slice together,
+// median over the seconds, as for a single slice.
+Figures pooled(const std::vector<Figures>& slices) {
+  Figures f;
+  double seconds = 0;
+  for (const Figures& s : slices) {
+    f.second_medians_us.insert(f.second_medians_us.end(), s.second_medians_us.begin(),
+                               s.second_medians_us.end());
+    f.second_p99s_us.insert(f.second_p99s_us.end(), s.second_p99s_us.begin(),
+                            s.second_p99s_us.end());
+    f.all_us.insert(f.all_us.end(), s.all_us.begin(), s.all_us.end());
+    f.count += s.count;
+    if (s.rate_hz > 0) seconds += static_cast<double>(s.count) / s.rate_hz;
+  }
+  if (f.second_medians_us.empty()) return f;
+  f.median_us = median(f.second_medians_us);
+  f.p99_us = median(f.second_p99s_us);
+  f.overall_p99_us = percentile(f.all_us, 99);
+  f.rate_hz = seconds > 0 ? static_cast<double>(f.count) / seconds : 0;
+  f.mbps = f.rate_hz * 2.0 * kWidth * kHeight * 3 / 1e6;
+  return f;
+}
 
 // ddsperf prints a 50 % and 99 % line per second of pinging; ours are summarised the same
 // way (per-second percentiles, median over the seconds), so the ratio compares like with like.
@@ -135,6 +161,9 @@ Figures per_second_figures(const std::vector<Sample>& samples) {
   f.median_us = median(medians);
   f.p99_us = median(p99s);
   f.overall_p99_us = percentile(all, 99);
+  f.second_medians_us = std::move(medians);
+  f.second_p99s_us = std::move(p99s);
+  f.all_us = std::move(all);
   return f;
 }
 
@@ -273,6 +302,8 @@ Figures ddsperf(int domain, int seconds, bool best_effort) {
   Figures f;
   f.median_us = median(medians);
   f.p99_us = median(p99s);
+  f.second_medians_us = medians;
+  f.second_p99s_us = p99s;
   f.count = count;
   f.rate_hz = medians.empty() ? 0 : count / static_cast<double>(medians.size());
   f.mbps = f.rate_hz * 1843200 / 1e6;
@@ -287,7 +318,7 @@ int main(int argc, char** argv) {
   int domain = sb::dds::domain_from_env(77);
   std::string partition;
   double seconds = 60;
-  int frames = 1000, runs = 3;
+  int frames = 1000, runs = 3, slices = 3;
   bool with_ddsperf = true;
   app.add_flag("--pong", pong, "internal: run the echo side");
   app.add_option("--domain", domain, "DDS domain (ddsperf uses domain+1)")
@@ -298,6 +329,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(10, 1000000));
   app.add_option("--runs", runs, "runs of each side; medians are reported")
       ->check(CLI::Range(1, 20));
+  app.add_option("--slices", slices,
+                 "each run alternates ours and ddsperf this many times (frames split between "
+                 "the slices), so a change of load during a run hits both sides alike")
+      ->check(CLI::Range(1, 10))
+      ->capture_default_str();
   app.add_flag("!--no-ddsperf", with_ddsperf, "skip the ddsperf comparison");
   app.add_flag("--reliable,!--best-effort", g_reliable,
                "our frames reliable instead of the table's best-effort");
@@ -309,19 +345,26 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ddsperf not found (package cyclonedds-tools); comparison skipped\n");
     with_ddsperf = false;
   }
-  const int ddsperf_seconds = std::max(3, frames / 500 + 2);
+  // Each slice: at least 3 s of ddsperf (its first second, discovery, is dropped).
+  const int slice_frames = std::max(10, frames / slices);
+  const int ddsperf_seconds = std::max(3, slice_frames / 500 + 2);
   std::vector<Figures> mine, theirs_rel, theirs_be;
   std::vector<double> p99_ratios, median_ratios;
   for (int run = 0; run < runs; ++run) {
-    // ddsperf with our reliability right before or after ours (alternating), so both see the
-    // same load on this shared machine; the other reliability afterwards, for reference.
+    // Ours and ddsperf with our reliability in alternating slices (A B, B A, A B, ...), so both
+    // see the same load on this shared machine; the other reliability afterwards, for reference.
     auto& same = g_reliable ? theirs_rel : theirs_be;
     auto& other = g_reliable ? theirs_be : theirs_rel;
-    const bool ddsperf_first = with_ddsperf && run % 2 == 1;
-    if (ddsperf_first) same.push_back(ddsperf(domain, ddsperf_seconds, !g_reliable));
-    mine.push_back(ours(domain, frames, ddsperf_seconds - 1, run));
-    if (with_ddsperf && !ddsperf_first)
-      same.push_back(ddsperf(domain, ddsperf_seconds, !g_reliable));
+    std::vector<Figures> mine_slices, same_slices;
+    for (int slice = 0; slice < slices; ++slice) {
+      const bool ddsperf_first = with_ddsperf && (run * slices + slice) % 2 == 1;
+      if (ddsperf_first) same_slices.push_back(ddsperf(domain, ddsperf_seconds, !g_reliable));
+      mine_slices.push_back(ours(domain, slice_frames, ddsperf_seconds - 1, run * slices + slice));
+      if (with_ddsperf && !ddsperf_first)
+        same_slices.push_back(ddsperf(domain, ddsperf_seconds, !g_reliable));
+    }
+    mine.push_back(pooled(mine_slices));
+    if (with_ddsperf) same.push_back(pooled(same_slices));
     std::printf(
         "run %d: ours (%s keep-last-1) median %.0f us p99 %.0f us (p99 of all %zu samples %.0f "
         "us), %.1f frames/s\n",

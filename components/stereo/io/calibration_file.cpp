@@ -170,7 +170,7 @@ void write_all(cv::FileStorage& fs, const StereoCalibration& c, const Calibratio
 // found by fuzzing); OpenCV writes "---" on a line of its own. A calibration is a few KiB.
 std::optional<std::string> check_before_opencv(const std::string& text) {
   constexpr std::size_t kMaxBytes = std::size_t{1} << 20;
-  if (text.size() > kMaxBytes) return std::string("larger than 1 MiB (a calibration is a few KiB)");
+  if (text.size() > kMaxBytes) return std::string("larger than 1 MiB (these files are a few KiB)");
   std::size_t line = 1;
   for (std::size_t at = 0; at < text.size(); ++line) {
     const std::size_t end = std::min(text.find('\n', at), text.size());
@@ -181,6 +181,22 @@ std::optional<std::string> check_before_opencv(const std::string& text) {
     at = end + 1;
   }
   return std::nullopt;
+}
+
+// Reads a file that OpenCV will parse, bounded and checked first (see check_before_opencv);
+// what names the kind of file in errors.
+Result<std::string> read_small_file(const std::string& path, const char* what) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such " + what};
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec || size > (std::uintmax_t{1} << 20)) {
+    return Error{path + ": cannot be read, or larger than 1 MiB (a " + what + " is a few KiB)"};
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in && !in.eof()) return Error{path + ": cannot be read"};
+  if (auto e = check_before_opencv(text)) return Error{path + ": " + *e};
+  return text;
 }
 
 // Parses calibration text (YAML, XML or JSON, as OpenCV writes them); origin names it in errors.
@@ -202,18 +218,9 @@ CalibResult parse_text(const std::string& text, const std::string& origin) {
 }  // namespace
 
 CalibResult load_calibration(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    return Error{path + ": no such calibration file"};
-  }
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec || size > (std::uintmax_t{1} << 20)) {
-    return Error{path + ": cannot be read, or larger than 1 MiB (a calibration is a few KiB)"};
-  }
-  std::ifstream in(path, std::ios::binary);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in && !in.eof()) return Error{path + ": cannot be read"};
-  return parse_text(text, path);
+  auto text = read_small_file(path, "calibration file");
+  if (!text.ok()) return Error{text.error()};
+  return parse_text(text.value(), path);
 }
 
 CalibResult parse_calibration(const std::string& text) {
@@ -241,11 +248,11 @@ std::optional<std::string> save_calibration(const std::string& path, const Stere
 }
 
 Result<std::vector<std::pair<std::string, std::string>>> load_pair_list(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such pair list"};
+  auto text = read_small_file(path, "pair list");
+  if (!text.ok()) return Error{text.error()};
   std::vector<std::string> names;
   try {
-    cv::FileStorage fs(path, cv::FileStorage::READ);
+    cv::FileStorage fs(text.value(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
     if (!fs.isOpened()) return Error{path + ": cannot be read as OpenCV FileStorage"};
     const cv::FileNode list = fs.getFirstTopLevelNode();
     if (!list.isSeq()) return Error{path + ": first entry is not a list of image names"};

@@ -224,6 +224,18 @@ TEST_F(CalibrationFileTest, GivenOddOrMissingListWhenLoadedThenError) {
   EXPECT_FALSE(load_pair_list((dir_ / "none.xml").string()).ok());
 }
 
+// The pair list goes to the same OpenCV YAML reader as the calibration, so it gets the same
+// checks first: the input that made OpenCV 4.6 loop forever, and the size bound.
+TEST_F(CalibrationFileTest, GivenPairListOpenCvWouldHangOnWhenLoadedThenRefusedWithLine) {
+  const auto hang = load_pair_list(write("hang.yaml", "%YAML:1.0\n---a: t\nb: -\nc"));
+  ASSERT_FALSE(hang.ok());
+  EXPECT_NE(hang.error().find("line 2: text after the document marker"), std::string::npos)
+      << hang.error();
+  const auto big = load_pair_list(write("big.yaml", std::string((1 << 20) + 1, '#')));
+  ASSERT_FALSE(big.ok());
+  EXPECT_NE(big.error().find("larger than 1 MiB (a pair list"), std::string::npos) << big.error();
+}
+
 }  // namespace
 }  // namespace stereoball::stereo
 

@@ -1,5 +1,6 @@
 #include "tracker/core/tracker.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -27,6 +28,7 @@ void Tracker::reset() {
 }
 
 Track Tracker::step(const Detection& detection, std::int64_t now_ns) {
+  note_input(now_ns);
   // Positions older than this say nothing about the present (the camera moves).
   const auto& entries = register_.entries();
   if (!entries.empty() && now_ns - entries.back().stamp_ns > params_.register_max_age_ns) {
@@ -119,11 +121,24 @@ void Tracker::accept(const Detection& d, std::int64_t now_ns) {
   side_ = side_of(d);
 }
 
+void Tracker::note_input(std::int64_t now_ns) {
+  if (has_input_ && now_ns - last_input_ns_ > params_.lost_after_ns) {
+    // Nothing arrived for longer than a loss takes: judge the ball on what arrives from now on
+    // (the register's age rule already drops the old positions).
+    loss_clock_from_ns_ = now_ns;
+    frames_since_accept_ = 0;
+  }
+  has_input_ = true;
+  last_input_ns_ = now_ns;
+}
+
 void Tracker::miss(std::int64_t now_ns) {
   ++frames_since_accept_;
   if (state_ != TrackState::kFollowing) return;
+  const std::int64_t without_acceptance_ns =
+      now_ns - std::max(last_accepted_ns_, loss_clock_from_ns_);
   if (frames_since_accept_ >= params_.lost_after_frames ||
-      now_ns - last_accepted_ns_ >= params_.lost_after_ns) {
+      without_acceptance_ns >= params_.lost_after_ns) {
     state_ = TrackState::kSearching;
   }
 }

@@ -46,6 +46,7 @@ class Tracker {
   Decision decide_startup(const Detection& d, std::int64_t now_ns);
   Decision decide_tracking(const Detection& d, std::int64_t now_ns);
   void accept(const Detection& d, std::int64_t now_ns);
+  void note_input(std::int64_t now_ns);
   void miss(std::int64_t now_ns);
   void update_velocity(std::int64_t now_ns);
   Side side_of(const Detection& d) const;
@@ -62,6 +63,11 @@ class Tracker {
   std::int64_t last_accepted_ns_ = 0;
   Side side_ = Side::kUnknown;
   int frames_since_accept_ = 0;
+  // Input gaps (a cut link, a stalled detector) are no evidence that the ball is lost: the
+  // loss clock restarts at the first detection after a gap longer than lost_after_ns.
+  bool has_input_ = false;
+  std::int64_t last_input_ns_ = 0;
+  std::int64_t loss_clock_from_ns_ = 0;
 };
 
 }  // namespace stereoball::tracker

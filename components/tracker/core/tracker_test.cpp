@@ -255,6 +255,38 @@ TEST(Tracker, GivenLowFrameRate_WhenNoAcceptedDetectionForLostAfterNs_ThenSearch
   EXPECT_EQ(s.step(Detection{}, 100'000'000).state, TrackState::kSearching);
 }
 
+// A cut link or a stalled detector delivers nothing for a while: no evidence that the ball is
+// gone. Given following, when detections resume after 2 s of silence with the ball looking
+// different (block matching fails), then the tracker does not declare a loss at the first
+// rejection but re-acquires from the statistics, never searching in between.
+TEST(Tracker, GivenFollowing_WhenInputResumesAfterAGap_ThenReacquiredWithoutSearching) {
+  Script s;
+  s.start_following({0.2, 0.0, 2.0}, kRed);
+  const Patch new_look = ball_patch(150, 30, 20, 0.8, 10);
+  Eigen::Vector3d ball(0.25, 0.0, 2.0);
+  Track t = s.step(detection_at(ball, new_look), 2'000'000'000);
+  EXPECT_EQ(t.state, TrackState::kFollowing) << t.reason;
+  EXPECT_EQ(t.verdict, Verdict::kRejected) << t.reason;
+  for (int frame = 2; frame <= 10 && t.verdict != Verdict::kStatisticsAccepted; ++frame) {
+    t = s.see(ball, new_look);
+    EXPECT_EQ(t.state, TrackState::kFollowing) << "frame " << frame << ": " << t.reason;
+  }
+  EXPECT_EQ(t.verdict, Verdict::kStatisticsAccepted) << t.reason;
+}
+
+// Given following, when input resumes after a gap without the ball, then the loss is counted
+// from the resumption: searching after lost_after_frames detections, as after any loss.
+TEST(Tracker, GivenFollowing_WhenInputResumesAfterAGapWithoutTheBall_ThenLossCountedFromThere) {
+  TrackerParams p;
+  Script s(p);
+  s.start_following({0.2, 0.0, 2.0}, kRed);
+  EXPECT_EQ(s.step(Detection{}, 2'000'000'000).state, TrackState::kFollowing);
+  for (int frame = 2; frame < p.lost_after_frames; ++frame) {
+    EXPECT_EQ(s.none().state, TrackState::kFollowing) << "frame " << frame;
+  }
+  EXPECT_EQ(s.none().state, TrackState::kSearching);
+}
+
 TEST(Tracker, GivenBallVanishingNearCentreWhileMovingLeft_ThenLastSeenSideFollowsMotion) {
   Script s;
   s.start_following({0.3, 0, 2}, kRed);
