@@ -17,7 +17,7 @@ const char* const kEncodings[] = {"bgr8", "mono8", "jpeg", "png", "yuyv", ""};
 void decode_image(const std::vector<uint8_t>& bytes) {
   namespace st = stereoball::stereo;
   const auto header = st::read_image_header(bytes);
-  if (!header || st::check_within(*header, {640, 480})) return;
+  if (!header || !st::check_within(*header, {640, 480})) return;
   cv::Mat out;
   (void)st::decode_bgr(bytes, *header, out);
 }

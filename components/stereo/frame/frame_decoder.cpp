@@ -88,8 +88,8 @@ Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& 
                  " but the calibration is for " +
                  dims(static_cast<std::uint64_t>(expected.width),
                       static_cast<std::uint64_t>(expected.height))};
-  if (auto e = stereo::decode_bgr(bytes, *header, buffer))
-    return Error{std::string(eye) + " " + *e};
+  if (auto st = stereo::decode_bgr(bytes, *header, buffer); !st)
+    return Error{std::string(eye) + " " + st.error()};
   out = buffer;
   return {};
 }
