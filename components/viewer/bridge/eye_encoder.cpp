@@ -55,11 +55,11 @@ Result<cv::Mat> to_bgr(const stereoball_msg_EyeImage& image, const std::string& 
 
 }  // namespace
 
-std::optional<std::string> EyeEncoderParams::validate() const {
-  if (jpeg_quality < 1 || jpeg_quality > 100) return "jpeg_quality must be in 1..100";
+Status EyeEncoderParams::validate() const {
+  if (jpeg_quality < 1 || jpeg_quality > 100) return Error{"jpeg_quality must be in 1..100"};
   if (max_width_px != 0 && (max_width_px < 16 || max_width_px > kMaxSidePx))
-    return "max_width_px must be 0 or in 16..8192";
-  return std::nullopt;
+    return Error{"max_width_px must be 0 or in 16..8192"};
+  return {};
 }
 
 EyeEncoder::EyeEncoder(const EyeEncoderParams& params) : params_(params) {}

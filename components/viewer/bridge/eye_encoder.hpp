@@ -20,8 +20,8 @@ namespace stereoball::viewer {
 struct EyeEncoderParams {
   int jpeg_quality = 75;        ///< 1..100
   uint32_t max_width_px = 640;  ///< wider images are scaled down to this width (0 = never)
-  /// nullopt when valid, else a message naming the bad field and its allowed range.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// A JPEG of one eye with the size it shows.
