@@ -13,11 +13,12 @@ stereo::EyeView raw_view(const RawImage& raw, int64_t stamp_ns) {
 
 }  // namespace
 
-std::optional<std::string> FrameBuilderParams::validate() const {
+Status FrameBuilderParams::validate() const {
   if (publish_encoding != "bgr8" && publish_encoding != "native") {
-    return "publish_encoding must be \"bgr8\" or \"native\", got \"" + publish_encoding + "\"";
+    return Error{"publish_encoding must be \"bgr8\" or \"native\", got \"" + publish_encoding +
+                 "\""};
   }
-  return std::nullopt;
+  return {};
 }
 
 FrameBuilder::FrameBuilder(const FrameBuilderParams& params) : params_(params) {}

@@ -18,8 +18,8 @@ namespace stereoball::camera_server {
 struct FrameBuilderParams {
   std::string publish_encoding = "bgr8";  ///< "bgr8" (converted) or "native" (as captured)
 
-  /// Names the bad field and its allowed values, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed values.
+  Status validate() const;
 };
 
 /// Converts raw pairs (YUYV/MJPEG) per the publish encoding, reusing its buffers.

@@ -39,17 +39,17 @@ Result<std::unique_ptr<CameraServerNode>> CameraServerNode::create(const CameraS
                                                                    node::Runner& runner) {
   if (auto st = params.validate(); !st) return Error{st.error()};
   std::unique_ptr<CameraServerNode> node(new CameraServerNode(params, runner));
-  if (auto e = node->open_source()) return Error{*e};
+  if (auto st = node->open_source(); !st) return Error{st.error()};
   node->start();
   return node;
 }
 
-std::optional<std::string> CameraServerNode::open_source() {
+Status CameraServerNode::open_source() {
   cv::Size size(static_cast<int>(params_.width_px), static_cast<int>(params_.height_px));
   if (params_.source == "files") {
     auto src = FileSource::open(FileSourceParams{params_.left_glob, params_.right_glob,
                                                  params_.pairs_dir, params_.file_encoding});
-    if (!src) return src.error();
+    if (!src) return Error{src.error()};
     files_.emplace(std::move(*src));
     source_name_ = files_->description();
     size = files_->image_size();
@@ -60,37 +60,38 @@ std::optional<std::string> CameraServerNode::open_source() {
     capture_ = std::make_unique<StereoCapture>(params_,
                                                [](Eye) { return std::make_unique<V4l2Device>(); });
     // Check the calibration before touching the cameras: a wrong size is a config error.
-    if (auto e = open_calibration(size)) return e;
+    if (auto st = open_calibration(size); !st) return st;
     const DeviceStatus st = capture_->start();
-    if (!st.ok()) return st.message;
+    if (!st.ok()) return Error{st.message};
     for (const auto& line : capture_->take_log()) log::warn(line);
     const auto h = capture_->health();
     log::info("streaming ", source_name_, " as ", fourcc_text(h.eyes[0].format.fourcc), " ",
               size_text(size), " at ", params_.rate_hz, " Hz");
-    return std::nullopt;
+    return {};
   }
   return open_calibration(size);
 }
 
-std::optional<std::string> CameraServerNode::open_calibration(cv::Size capture_size) {
-  if (params_.calibration_file.empty()) return std::nullopt;
+Status CameraServerNode::open_calibration(cv::Size capture_size) {
+  if (params_.calibration_file.empty()) return {};
   auto calib = stereo::load_calibration(params_.calibration_file);
-  if (!calib) return calib.error();
+  if (!calib) return Error{calib.error()};
   if (calib->image_size != capture_size) {
-    return "calibration " + params_.calibration_file + " is for " + size_text(calib->image_size) +
-           " images but the capture size is " + size_text(capture_size) +
-           "; recalibrate at this size or change width_px/height_px";
+    return Error{"calibration " + params_.calibration_file + " is for " +
+                 size_text(calib->image_size) + " images but the capture size is " +
+                 size_text(capture_size) +
+                 "; recalibrate at this size or change width_px/height_px"};
   }
   if (auto swapped = stereo::check_camera_order(*calib)) {
-    return "calibration " + params_.calibration_file + ": " + *swapped + "; " + kHowToSwap +
-           " and calibrate again (stereoball calibrate)";
+    return Error{"calibration " + params_.calibration_file + ": " + *swapped + "; " + kHowToSwap +
+                 " and calibrate again (stereoball calibrate)"};
   }
   calibration_.emplace(std::move(calib).value());
   // Also without `rectify`: the eye-order check of the first frames rectifies them.
   auto r = stereo::Rectifier::create(*calibration_);
-  if (!r) return params_.calibration_file + ": " + r.error();
+  if (!r) return Error{params_.calibration_file + ": " + r.error()};
   rectifier_.emplace(std::move(r).value());
-  return std::nullopt;
+  return {};
 }
 
 void CameraServerNode::start() {

@@ -33,8 +33,8 @@ class CameraServerNode {
 
  private:
   CameraServerNode(const CameraServerParams& params, node::Runner& runner);
-  std::optional<std::string> open_source();
-  std::optional<std::string> open_calibration(cv::Size capture_size);
+  Status open_source();
+  Status open_calibration(cv::Size capture_size);
   void start();
   void publish_file_pair(int64_t now_ns);
   void capture_loop();
