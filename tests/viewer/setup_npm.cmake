@@ -12,5 +12,7 @@ foreach(f package.json package-lock.json foxglove_client.mjs browser_check.mjs d
   configure_file(${SRC_DIR}/${f} ${WORK_DIR}/${f} COPYONLY)
 endforeach()
 configure_file(${VALIDATOR} ${WORK_DIR}/validate.mjs COPYONLY)
+configure_file(${SRC_DIR}/../../tools/view/client/view_chromium.mjs ${WORK_DIR}/view_chromium.mjs
+  COPYONLY)
 include(${CMAKE_CURRENT_LIST_DIR}/../../cmake/NpmCi.cmake)
 sb_npm_ci(${WORK_DIR} @foxglove/ws-protocol)

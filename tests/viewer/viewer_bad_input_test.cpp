@@ -76,14 +76,14 @@ TEST(ViewerBadInput, MalformedFramesAndBytesCloseOnlyThatConnection) {
   };
   for (const auto& c : cases) {
     // Given a connection (WebSocket, or raw TCP for non-HTTP bytes)
-    const int fd = c.handshake ? ws_connect(viewer.port) : tcp_connect(viewer.port, 10);
+    const int fd = c.handshake ? ws_connect(viewer.port) : tcp_connect(viewer.port, 10'000);
     ASSERT_GE(fd, 0) << c.what;
     // When it sends the bad bytes
     send_all(fd, c.bytes);
     // Then the server closes it, and still serves new clients
     EXPECT_TRUE(closed_by_server(fd)) << c.what;
     close(fd);
-    EXPECT_GE(stat(viewer.port, "connections"), 0) << "after " << c.what;
+    EXPECT_GE(stats_counter(viewer.port, "connections"), 0) << "after " << c.what;
     const int again = ws_connect(viewer.port, "foxglove.websocket.v1");
     EXPECT_GE(again, 0) << "after " << c.what;
     if (again >= 0) close(again);
@@ -120,13 +120,13 @@ TEST(ViewerBadInput, ClientThatNeverReadsIsDroppedWhileOthersKeepReceiving) {
   setsockopt(stuck, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
   send_all(stuck, subscribe);
   // Then the viewer cuts it off
-  EXPECT_TRUE(eventually([&] { return stat(viewer.port, "disconnected_slow") >= 1; }, 60s))
+  EXPECT_TRUE(eventually([&] { return stats_counter(viewer.port, "disconnected_slow") >= 1; }, 60s))
       << http_get(viewer.port, "/stats");
   // And the reading client still gets images afterwards
   const uint64_t before = received;
   EXPECT_TRUE(eventually([&] { return received > before + 100'000; }, 20s))
       << http_get(viewer.port, "/stats");
-  EXPECT_EQ(stat(viewer.port, "foxglove_clients"), 1);
+  EXPECT_EQ(stats_counter(viewer.port, "foxglove_clients"), 1);
   stop = true;
   shutdown(reader, SHUT_RDWR);
   drain.join();

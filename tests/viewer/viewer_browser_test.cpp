@@ -105,5 +105,26 @@ TEST_F(ViewerBrowser, PageReconnectsWhenTheViewerRestarts) {
   EXPECT_EQ(*rc, 0) << browser.output();
 }
 
+TEST_F(ViewerBrowser, OverlayIsScaledWithAnEyeShownSmallerThanItIs) {
+  // Given 320x240 eyes with a known left circle, and a viewer that shows them 160 px wide
+  const std::string partition = unique_partition();
+  KnownScene scene(partition, 20);
+  auto viewer = start_viewer(partition, {"--max-width", "160"});
+  ASSERT_GT(viewer.port, 0) << viewer.process.output();
+  const std::string out = out_dir("scaled");
+  // When Chromium shows the page
+  const SceneValues& v = scene.values();
+  char expected[96];
+  std::snprintf(expected, sizeof expected, "--overlay=%g,%g,%g", v.left_x / 2, v.left_y / 2,
+                v.left_r / 2);
+  const auto [rc, log] =
+      run({node_binary(), npm_dir() + "/browser_check.mjs",
+           "http://127.0.0.1:" + std::to_string(viewer.port) + "/", out, chromium(), expected},
+          240s);
+  // Then the circle is drawn at half the detector's coordinates and radius, on the eye
+  EXPECT_EQ(rc, 0) << log;
+  std::printf("%s", log.c_str());
+}
+
 }  // namespace
 }  // namespace stereoball::testing

@@ -20,21 +20,22 @@ TEST(ViewerFlow, EachFrameIsEncodedOnceForAllClients) {
   auto viewer = start_viewer(partition);
   ASSERT_GT(viewer.port, 0) << viewer.process.output();
   KnownScene scene(partition, 10);
-  std::vector<std::unique_ptr<PageReader>> pages;
+  std::vector<std::unique_ptr<WsClient>> pages;
   for (int i = 0; i < 3; ++i) {
-    pages.push_back(std::make_unique<PageReader>(viewer.port, /*ack=*/true));
+    pages.push_back(std::make_unique<WsClient>(viewer.port, WsClient::Kind::kPage, /*acks=*/true));
     ASSERT_TRUE(pages.back()->connected());
   }
-  ASSERT_TRUE(eventually([&] { return pages.back()->pairs() >= 3; }, 60s))
+  ASSERT_TRUE(eventually([&] { return pages.back()->images() >= 3; }, 60s))
       << http_get(viewer.port, "/stats");
   // When images flow to all three for a while
-  const long encoded0 = stat(viewer.port, "pairs_encoded");
-  const long sent0 = stat(viewer.port, "images_sent");
+  const long encoded0 = stats_counter(viewer.port, "pairs_encoded");
+  const long sent0 = stats_counter(viewer.port, "images_sent");
   const uint64_t published0 = scene.frames_published();
-  ASSERT_TRUE(eventually([&] { return stat(viewer.port, "pairs_encoded") >= encoded0 + 10; }, 60s))
+  ASSERT_TRUE(
+      eventually([&] { return stats_counter(viewer.port, "pairs_encoded") >= encoded0 + 10; }, 60s))
       << http_get(viewer.port, "/stats");
-  const long encoded = stat(viewer.port, "pairs_encoded") - encoded0;
-  const long sent = stat(viewer.port, "images_sent") - sent0;
+  const long encoded = stats_counter(viewer.port, "pairs_encoded") - encoded0;
+  const long sent = stats_counter(viewer.port, "images_sent") - sent0;
   const uint64_t published = scene.frames_published() - published0;
   // Then no frame was encoded more than once (at most one per published frame, plus the one
   // in the encoder when counting started) and each encoded pair went to several clients
@@ -48,22 +49,45 @@ TEST(ViewerFlow, NothingIsEncodedWhileNoClientCanTakeAnImage) {
   auto viewer = start_viewer(partition);
   ASSERT_GT(viewer.port, 0) << viewer.process.output();
   KnownScene scene(partition, 10);
-  PageReader page(viewer.port, /*ack=*/false);
+  WsClient page(viewer.port, WsClient::Kind::kPage, /*acks=*/false);
   ASSERT_TRUE(page.connected());
   // When it holds the two pairs a page may have in flight
-  ASSERT_TRUE(eventually([&] { return page.pairs() >= 2; }, 60s))
+  ASSERT_TRUE(eventually([&] { return page.images() >= 2; }, 60s))
       << http_get(viewer.port, "/stats");
-  const long encoded = stat(viewer.port, "pairs_encoded");
+  const long encoded = stats_counter(viewer.port, "pairs_encoded");
   const uint64_t published = scene.frames_published();
   // Then frames keep coming but are skipped, not encoded
   ASSERT_TRUE(eventually([&] { return scene.frames_published() >= published + 15; }, 60s));
-  EXPECT_LE(stat(viewer.port, "pairs_encoded"), encoded + 1) << http_get(viewer.port, "/stats");
-  EXPECT_EQ(page.pairs(), 2u);
+  EXPECT_LE(stats_counter(viewer.port, "pairs_encoded"), encoded + 1)
+      << http_get(viewer.port, "/stats");
+  EXPECT_EQ(page.images(), 2u);
   // And one acknowledgement frees a slot: encoding resumes
   page.ack();
-  EXPECT_TRUE(eventually([&] { return page.pairs() >= 3; }, 30s))
+  EXPECT_TRUE(eventually([&] { return page.images() >= 3; }, 30s))
       << http_get(viewer.port, "/stats");
-  EXPECT_GT(stat(viewer.port, "pairs_encoded"), encoded);
+  EXPECT_GT(stats_counter(viewer.port, "pairs_encoded"), encoded);
+}
+
+TEST(ViewerFlow, PairsCarryTheSizeTheDetectionsReferTo) {
+  // Given 320x240 eyes and a viewer that shows them at most 160 px wide
+  const std::string partition = unique_partition();
+  auto viewer = start_viewer(partition, {"--max-width", "160"});
+  ASSERT_GT(viewer.port, 0) << viewer.process.output();
+  KnownScene scene(partition, 10);
+  WsClient page(viewer.port, WsClient::Kind::kPage);
+  ASSERT_TRUE(page.connected());
+  // When pairs arrive
+  ASSERT_TRUE(eventually([&] { return page.images() >= 2; }, 60s))
+      << http_get(viewer.port, "/stats");
+  // Then each says the eyes' own size (the page scales the circles by shown / source width)
+  // and when the viewer took and encoded it, after the capture
+  const auto h = page.last_pair();
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->source_width_px, 320u);
+  EXPECT_EQ(h->source_height_px, 240u);
+  EXPECT_EQ(h->capture_ms, scene.values().capture_stamp_ns / 1e6);
+  EXPECT_GE(h->encoded_ms, h->received_ms);
+  EXPECT_GT(h->received_ms, 0);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // Shared by the viewer's integration tests: start `stereoball view` on this test's domain and
-// partition, publish a known scene, talk HTTP, run the npm clients.
+// partition, publish a known scene, find the npm clients (HTTP and WebSocket clients:
+// tools/view/client).
 
 #include <atomic>
 #include <string>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "process.hpp"
+#include "view_client.hpp"
 
 namespace stereoball::testing {
 
@@ -51,39 +53,14 @@ class KnownScene {
   std::thread thread_;
 };
 
-/// A TCP connection to 127.0.0.1:port with a receive timeout; -1 when refused.
-int tcp_connect(int port, int timeout_s);
-/// True when response holds its head and the whole body its Content-Length announces.
-bool http_response_complete(const std::string& response);
-/// Body of GET path on 127.0.0.1:port ("" when the request failed).
-std::string http_get(int port, const std::string& path);
-/// One counter of /stats, -1 when unavailable.
-long stat(int port, const std::string& name);
-
-void send_all(int fd, const std::string& bytes);
-/// Opens a WebSocket (optionally asking for a subprotocol); -1 unless the server said 101.
-int ws_connect(int port, const std::string& subprotocol = "");
-/// A client frame: FIN + opcode, masked (mask 0 keeps the payload readable), any length.
-std::string client_frame(uint8_t opcode, const std::string& payload, bool masked = true);
-
-/// A WebSocket client that reads like the page: counts image pairs (binary messages) and,
-/// when acking, acknowledges each one as drawn.
-class PageReader {
- public:
-  PageReader(int port, bool acks);
-  ~PageReader();
-  bool connected() const { return fd_ >= 0; }
-  uint64_t pairs() const { return pairs_.load(); }
-  /// Sends one acknowledgement (for a reader that does not ack by itself).
-  void ack();
-
- private:
-  int fd_ = -1;
-  bool ack_;
-  std::atomic<bool> stop_{false};
-  std::atomic<uint64_t> pairs_{0};
-  std::thread thread_;
-};
+// HTTP, WebSocket and page-like clients, shared with the viewer's benchmark.
+using view_client::client_frame;
+using view_client::http_get;
+using view_client::send_all;
+using view_client::stats_counter;
+using view_client::tcp_connect;
+using view_client::ws_connect;
+using view_client::WsClient;
 
 /// Folder with the tests' npm packages and scripts (SB_VIEWER_NPM_DIR), "" when unset or
 /// not installed.

@@ -99,6 +99,12 @@ std::optional<std::string> Browser::read_line(double timeout_s) {
   }
 }
 
+bool Browser::mark() {
+  if (!error_.empty() || write(to_node_, "mark\n", 5) != 5) return false;
+  const auto line = read_line(30);
+  return line && *line == "marked";
+}
+
 std::optional<BrowserResult> Browser::finish() {
   if (!error_.empty()) return std::nullopt;
   if (write(to_node_, "report\n", 7) != 7) return std::nullopt;
@@ -106,8 +112,9 @@ std::optional<BrowserResult> Browser::finish() {
   if (!line) return std::nullopt;
   try {
     const auto j = nlohmann::json::parse(*line);
-    return BrowserResult{j.at("images").get<uint64_t>(),
-                         j.at("latenciesMs").get<std::vector<double>>()};
+    return BrowserResult{j.at("images").get<uint64_t>(), j.at("skipped").get<uint64_t>(),
+                         j.at("latenciesMs").get<std::vector<double>>(),
+                         j.at("stages").get<std::vector<std::vector<double>>>()};
   } catch (const std::exception&) {
     error_ = *line;
     return std::nullopt;

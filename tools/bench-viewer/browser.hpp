@@ -1,7 +1,7 @@
 #pragma once
 // One headless Chromium showing the viewer page, for the benchmark (browser_client.mjs run
 // by node): starts it, waits until the page draws images, and reads back the page's own
-// capture -> drawn latencies.
+// capture -> drawn latencies and their stages.
 
 #include <sys/types.h>
 
@@ -13,7 +13,9 @@ namespace stereoball::bench {
 
 struct BrowserResult {
   uint64_t images = 0;
+  uint64_t skipped = 0;  ///< pairs the page replaced by a newer one before decoding them
   std::vector<double> latencies_ms;
+  std::vector<std::vector<double>> stages_ms;  ///< per drawn pair, the page's stages
 };
 
 class Browser {
@@ -27,7 +29,9 @@ class Browser {
   Browser& operator=(const Browser&) = delete;
   /// "" when the page is live, else what went wrong.
   const std::string& error() const { return error_; }
-  /// Images and latencies since the page went live; ends the browser.
+  /// Restarts the counts (the measurement starts now); false when the browser did not answer.
+  bool mark();
+  /// Images and latencies since the last mark (or since the page went live); ends the browser.
   std::optional<BrowserResult> finish();
 
  private:

@@ -27,10 +27,11 @@
 #include "common/util/install_layout.hpp"
 #include "processes.hpp"
 #include "source.hpp"
-#include "ws_client.hpp"
+#include "view_client.hpp"
 
 namespace sb = stereoball;
 namespace bench = stereoball::bench;
+namespace vc = stereoball::view_client;
 using namespace std::chrono_literals;
 
 namespace {
@@ -46,6 +47,8 @@ struct Options {
   bool browser = true;
   double soak_s = 0;
   std::vector<std::string> viewer_args;
+  bool jpeg = false;            // synthetic frames as from JPEG cameras
+  std::string baseline_viewer;  // another stereoball-view build, measured side by side
   int domain = sb::dds::domain_from_env(0);
 };
 
@@ -68,12 +71,7 @@ double sum_cpu_seconds(const std::vector<pid_t>& pids) {
   return total;
 }
 
-long stats_counter(int port, const std::string& name) {
-  std::smatch m;
-  const std::string body = bench::http_get(port, "/stats");
-  if (!std::regex_search(body, m, std::regex("\"" + name + "\":(\\d+)"))) return -1;
-  return std::stol(m[1]);
-}
+using vc::stats_counter;
 
 // A running stereoball-view and its port.
 struct Viewer {
@@ -81,18 +79,13 @@ struct Viewer {
   int port = 0;
 };
 
-std::optional<Viewer> start_viewer(const Options& o, const std::string& partition,
-                                   const std::string& log_prefix) {
+std::optional<Viewer> start_viewer(const Options& o, const std::string& program,
+                                   const std::string& partition, const std::string& log_prefix) {
   // A log of its own: the address found in it must be this viewer's.
   static int started = 0;
   const std::string log = log_prefix + "-" + std::to_string(++started) + ".log";
-  std::vector<std::string> argv = {bench::sibling_program("stereoball-view"),
-                                   "--port",
-                                   "0",
-                                   "--domain",
-                                   std::to_string(o.domain),
-                                   "--partition",
-                                   partition};
+  std::vector<std::string> argv = {
+      program, "--port", "0", "--domain", std::to_string(o.domain), "--partition", partition};
   argv.insert(argv.end(), o.viewer_args.begin(), o.viewer_args.end());
   Viewer v{std::make_unique<bench::Child>(argv, log), 0};
   const auto port = v.child->wait_for_log(std::regex(R"(viewer: http://127\.0\.0\.1:(\d+)/)"), 60);
@@ -107,12 +100,20 @@ struct Case {
   bool viewer = true;
   int clients = 0;
   bool browser = false;
+  std::string program;  // the stereoball-view to run
 };
+
+// Stages of an image's way, ms: capture -> taken by the viewer -> encoded -> received by the
+// client -> decoded -> drawn (the last two in Chromium only).
+constexpr const char* kStageNames[] = {"capture→taken", "encode", "→client", "decode", "→drawn"};
+constexpr size_t kStages = std::size(kStageNames);
 
 struct Sample {
   double viewer_cpu = NAN, robot_cpu = NAN, images_per_client_s = NAN, rss_mb = NAN;
   double frames_hz = NAN, encoded_per_s = NAN;
   std::vector<double> latencies_ms;
+  std::vector<double> stages_ms[kStages];
+  std::map<std::string, double> viewer_threads_cpu;  // % of one core per thread name
 };
 
 class Measurer {
@@ -122,12 +123,11 @@ class Measurer {
 
   // Connects what the case needs, waits for it to settle, samples for phase_s.
   std::optional<Sample> run(const Case& c, const Viewer* viewer) {
-    std::vector<std::unique_ptr<bench::WsClient>> clients;
+    std::vector<std::unique_ptr<vc::WsClient>> clients;
     std::unique_ptr<bench::Browser> browser;
     if (viewer) {
       for (int i = 0; i < c.clients; ++i) {
-        clients.push_back(
-            std::make_unique<bench::WsClient>(viewer->port, bench::WsClient::Kind::kPage));
+        clients.push_back(std::make_unique<vc::WsClient>(viewer->port, vc::WsClient::Kind::kPage));
         if (!clients.back()->connected()) {
           std::printf("  client %d could not connect to port %d\n", i + 1, viewer->port);
           return std::nullopt;
@@ -146,19 +146,31 @@ class Measurer {
     const auto robot = source_.robot_processes();
     const pid_t vp = viewer ? viewer->child->pid() : -1;
     const double viewer0 = viewer ? bench::cpu_seconds(vp).value_or(NAN) : NAN;
+    const auto threads0 = viewer ? bench::thread_cpu_seconds(vp) : std::map<std::string, double>{};
     const double robot0 = sum_cpu_seconds(robot);
     const long encoded0 = viewer ? stats_counter(viewer->port, "pairs_encoded") : 0;
     uint64_t images0 = 0;
     for (auto& cl : clients) images0 += cl->images();
     std::vector<size_t> lat0;
-    for (auto& cl : clients) lat0.push_back(cl->latencies_ms().size());
+    for (auto& cl : clients) lat0.push_back(cl->timings().size());
+    if (browser && !browser->mark()) {
+      std::printf("  browser: did not answer\n");
+      return std::nullopt;
+    }
     frames_.restart();
     const auto t0 = std::chrono::steady_clock::now();
     std::this_thread::sleep_for(std::chrono::duration<double>(o_.phase_s));
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     Sample s;
-    if (viewer) s.viewer_cpu = (bench::cpu_seconds(vp).value_or(NAN) - viewer0) / wall * 100;
+    if (viewer) {
+      s.viewer_cpu = (bench::cpu_seconds(vp).value_or(NAN) - viewer0) / wall * 100;
+      for (const auto& [name, cpu] : bench::thread_cpu_seconds(vp)) {
+        const auto before = threads0.find(name);
+        s.viewer_threads_cpu[name] =
+            (cpu - (before == threads0.end() ? 0 : before->second)) / wall * 100;
+      }
+    }
     if (!robot.empty()) s.robot_cpu = (sum_cpu_seconds(robot) - robot0) / wall * 100;
     s.frames_hz = frames_.rate_hz();
     if (viewer) {
@@ -168,8 +180,13 @@ class Measurer {
     uint64_t images = 0;
     for (size_t i = 0; i < clients.size(); ++i) {
       images += clients[i]->images();
-      const auto l = clients[i]->latencies_ms();
-      s.latencies_ms.insert(s.latencies_ms.end(), l.begin() + static_cast<long>(lat0[i]), l.end());
+      const auto t = clients[i]->timings();
+      for (size_t k = lat0[i]; k < t.size(); ++k) {
+        s.latencies_ms.push_back(t[k].capture_to_received);
+        s.stages_ms[0].push_back(t[k].capture_to_taken);
+        s.stages_ms[1].push_back(t[k].taken_to_encoded);
+        s.stages_ms[2].push_back(t[k].encoded_to_received);
+      }
     }
     if (!clients.empty()) s.images_per_client_s = (images - images0) / wall / clients.size();
     if (browser) {
@@ -180,6 +197,9 @@ class Measurer {
       }
       s.images_per_client_s = r->images / wall;
       s.latencies_ms = r->latencies_ms;
+      for (const auto& stages : r->stages_ms)
+        for (size_t k = 0; k < kStages && k < stages.size(); ++k)
+          s.stages_ms[k].push_back(stages[k]);
     }
     return s;
   }
@@ -206,24 +226,30 @@ std::vector<double> field(const std::vector<Sample>& v, double Sample::*f) {
 
 int run_cases(const Options& o, const bench::Source& source, const std::string& log) {
   bench::FrameRate frames(o.domain, source.partition());
-  std::vector<Case> cases = {{"no viewer", false, 0, false}};
-  for (int n : o.clients)
-    cases.push_back({std::to_string(n) + " client" + (n == 1 ? "" : "s"), true, n, false});
-  if (o.browser) {
-    if (auto why = bench::Browser::unavailable()) {
-      std::printf("(no Chromium case: %s)\n", why->c_str());
-    } else {
-      cases.push_back({"1 Chromium", true, 0, true});
-    }
+  std::vector<Case> cases = {{"no viewer", false, 0, false, ""}};
+  // With a baseline, each round measures it case by case next to this build ("before:").
+  std::vector<std::pair<std::string, std::string>> viewers = {
+      {"", bench::sibling_program("stereoball-view")}};
+  if (!o.baseline_viewer.empty()) viewers.insert(viewers.begin(), {"before: ", o.baseline_viewer});
+  const auto unavailable = o.browser ? bench::Browser::unavailable() : std::nullopt;
+  if (unavailable) std::printf("(no Chromium case: %s)\n", unavailable->c_str());
+  for (const auto& [prefix, program] : viewers) {
+    for (int n : o.clients)
+      cases.push_back(
+          {prefix + std::to_string(n) + " client" + (n == 1 ? "" : "s"), true, n, false, program});
+    if (o.browser && !unavailable) cases.push_back({prefix + "1 Chromium", true, 0, true, program});
   }
   std::map<std::string, std::vector<Sample>> results;
   Measurer measurer(o, source, frames);
   const double load_start = bench::load_average();
   for (int round = 1; round <= o.repeats; ++round) {
     std::optional<Viewer> viewer;
+    std::string running;  // the program of viewer
     for (const auto& c : cases) {
+      if (viewer && c.program != running) viewer.reset();
       if (c.viewer && !viewer) {
-        viewer = start_viewer(o, source.partition(), log);
+        running = c.program;
+        viewer = start_viewer(o, c.program, source.partition(), log);
         if (!viewer) {
           std::fprintf(stderr, "bench viewer: the viewer did not start (see %s-*.log)\n",
                        log.c_str());
@@ -234,7 +260,7 @@ int run_cases(const Options& o, const bench::Source& source, const std::string& 
       const auto s = measurer.run(c, viewer ? &*viewer : nullptr);
       if (!s) continue;
       std::printf(
-          "round %d, %-10s: viewer CPU %5s %%, robot CPU %5s %%, %5s frames/s, %5s pairs "
+          "round %d, %-18s: viewer CPU %5s %%, robot CPU %5s %%, %5s frames/s, %5s pairs "
           "encoded/s, %5s images/s per client, latency p50 %5s ms, viewer RSS %5s MB\n",
           round, c.name.c_str(), fmt(s->viewer_cpu).c_str(), fmt(s->robot_cpu).c_str(),
           fmt(s->frames_hz).c_str(), fmt(s->encoded_per_s).c_str(),
@@ -274,6 +300,43 @@ int run_cases(const Options& o, const bench::Source& source, const std::string& 
                                   .c_str(),
                 fmt(median(field(v, &Sample::rss_mb))).c_str());
   }
+  std::printf(
+      "\nthe viewer's CPU by thread, %% of one core (median of rounds; threads over 0.2)\n\n");
+  for (const auto& c : cases) {
+    const auto& v = results[c.name];
+    if (v.empty() || v.front().viewer_threads_cpu.empty()) continue;
+    std::string line;
+    for (const auto& [name, cpu] : v.front().viewer_threads_cpu) {
+      std::vector<double> per_round;
+      for (const auto& smp : v) {
+        const auto it = smp.viewer_threads_cpu.find(name);
+        if (it != smp.viewer_threads_cpu.end()) per_round.push_back(it->second);
+      }
+      const double m = median(per_round);
+      if (m > 0.2) line += (line.empty() ? "" : ", ") + name + " " + fmt(m);
+    }
+    std::printf("- %s: %s\n", c.name.c_str(), line.empty() ? "–" : line.c_str());
+  }
+  std::printf("\nwhere the latency goes, p50 ms per stage (all rounds)\n\n| case |");
+  for (const char* name : kStageNames) std::printf(" %s |", name);
+  std::printf(" whole way p50 |\n|---|");
+  for (size_t k = 0; k <= kStages; ++k) std::printf("---|");
+  std::printf("\n");
+  for (const auto& c : cases) {
+    const auto& v = results[c.name];
+    if (v.empty() || v.front().stages_ms[0].empty()) continue;
+    std::printf("| %s |", c.name.c_str());
+    std::vector<double> lat;
+    for (size_t k = 0; k < kStages; ++k) {
+      std::vector<double> all;
+      for (const auto& smp : v)
+        all.insert(all.end(), smp.stages_ms[k].begin(), smp.stages_ms[k].end());
+      std::printf(" %s |", fmt(percentile(all, 0.5)).c_str());
+    }
+    for (const auto& smp : v)
+      lat.insert(lat.end(), smp.latencies_ms.begin(), smp.latencies_ms.end());
+    std::printf(" %s |\n", fmt(percentile(lat, 0.5)).c_str());
+  }
   return 0;
 }
 
@@ -301,7 +364,8 @@ size_t open_fds(pid_t pid) {
 }
 
 int run_soak(const Options& o, const bench::Source& source, const std::string& log) {
-  const auto viewer = start_viewer(o, source.partition(), log);
+  const auto viewer =
+      start_viewer(o, bench::sibling_program("stereoball-view"), source.partition(), log);
   if (!viewer) {
     std::fprintf(stderr, "bench viewer: the viewer did not start (see %s-*.log)\n", log.c_str());
     return 1;
@@ -319,9 +383,9 @@ int run_soak(const Options& o, const bench::Source& source, const std::string& l
     threads.emplace_back([&, i] {
       for (uint64_t round = 0; !stop; ++round) {
         const auto kind =
-            (round + i) % 2 ? bench::WsClient::Kind::kFoxglove : bench::WsClient::Kind::kPage;
+            (round + i) % 2 ? vc::WsClient::Kind::kFoxglove : vc::WsClient::Kind::kPage;
         {
-          bench::WsClient client(viewer->port, kind);
+          vc::WsClient client(viewer->port, kind);
           if (!client.connected()) ++failed;
           client.set_clean_close(round % 3 != 0);
           const int hold_ms = 500 + static_cast<int>((round * 7919 + i * 104729) % 1500);
@@ -389,6 +453,7 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", o.scenario, "demo scenario")->capture_default_str();
   app.add_option("--width", o.width, "synthetic image width")->check(CLI::Range(16, 4096));
   app.add_option("--height", o.height, "synthetic image height")->check(CLI::Range(16, 4096));
+  app.add_flag("--jpeg", o.jpeg, "synthetic frames JPEG-compressed, as from JPEG cameras");
   app.add_option("--rate", o.rate_hz, "synthetic frames per second")->check(CLI::Range(1.0, 240.0));
   app.add_option("--phase-s", o.phase_s, "seconds per measurement")
       ->check(CLI::Range(1.0, 600.0))
@@ -405,6 +470,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(10.0, 86400.0));
   app.add_option("--viewer-arg", o.viewer_args, "extra argument for stereoball view (repeatable)")
       ->allow_extra_args(false);
+  app.add_option("--baseline-viewer", o.baseline_viewer,
+                 "another stereoball-view build measured in the same rounds (cases 'before: ...')")
+      ->check(CLI::ExistingFile);
   app.add_option("--domain", o.domain)->check(CLI::Range(0, 232))->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (o.clients.empty() && o.soak_s == 0) o.clients = {0, 1, 2, 5};
@@ -426,7 +494,7 @@ int main(int argc, char** argv) {
       return 1;
     }
   } else {
-    source = bench::start_synthetic(o.domain, o.width, o.height, o.rate_hz);
+    source = bench::start_synthetic(o.domain, o.width, o.height, o.rate_hz, o.jpeg);
   }
   std::printf("logs in %s\n", work.c_str());
   return o.soak_s > 0 ? run_soak(o, *source, log) : run_cases(o, *source, log);

@@ -1,26 +1,18 @@
 #include "processes.hpp"
 
 #include <dirent.h>
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <thread>
-
-extern char** environ;
 
 namespace stereoball::bench {
 namespace {
 
-// Fields of /proc/<pid>/stat after the command name (which may contain spaces).
-std::vector<std::string> stat_fields(pid_t pid) {
-  std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
+// Fields of a /proc/.../stat file after the command name (which may contain spaces).
+std::vector<std::string> stat_fields(const std::string& path) {
+  std::ifstream f(path);
   std::string line;
   if (!std::getline(f, line)) return {};
   const auto close = line.rfind(')');
@@ -31,13 +23,36 @@ std::vector<std::string> stat_fields(pid_t pid) {
   return fields;
 }
 
-}  // namespace
+std::vector<std::string> stat_fields(pid_t pid) {
+  return stat_fields("/proc/" + std::to_string(pid) + "/stat");
+}
 
-std::optional<double> cpu_seconds(pid_t pid) {
-  const auto fields = stat_fields(pid);  // [0] is state: utime and stime are [11] and [12]
+// utime + stime of stat fields ([0] is the state: they are [11] and [12]), seconds.
+std::optional<double> cpu_of(const std::vector<std::string>& fields) {
   if (fields.size() < 13) return std::nullopt;
   return (std::stod(fields[11]) + std::stod(fields[12])) /
          static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
+}  // namespace
+
+std::optional<double> cpu_seconds(pid_t pid) {
+  return cpu_of(stat_fields(pid));
+}
+
+std::map<std::string, double> thread_cpu_seconds(pid_t pid) {
+  std::map<std::string, double> out;
+  std::error_code ec;
+  const std::string task = "/proc/" + std::to_string(pid) + "/task";
+  for (auto it = std::filesystem::directory_iterator(task, ec);
+       !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+    std::ifstream comm(it->path() / "comm");
+    std::string name;
+    std::getline(comm, name);
+    if (const auto cpu = cpu_of(stat_fields((it->path() / "stat").string())))
+      out[name.empty() ? "?" : name] += *cpu;
+  }
+  return out;
 }
 
 std::optional<double> rss_mb(pid_t pid) {
@@ -64,55 +79,6 @@ double load_average() {
   double one = 0;
   f >> one;
   return one;
-}
-
-Child::Child(const std::vector<std::string>& argv, const std::string& log_path)
-    : log_path_(log_path) {
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(),
-                                   O_WRONLY | O_CREAT | O_APPEND, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  if (posix_spawn(&pid_, args[0], &actions, nullptr, args.data(), environ) != 0) pid_ = -1;
-  posix_spawn_file_actions_destroy(&actions);
-}
-
-Child::~Child() {
-  if (!running()) return;
-  kill(pid_, SIGTERM);
-  for (int i = 0; i < 50; ++i) {
-    if (waitpid(pid_, nullptr, WNOHANG) == pid_) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  kill(pid_, SIGKILL);
-  waitpid(pid_, nullptr, 0);
-}
-
-bool Child::running() {
-  if (pid_ <= 0) return false;
-  if (waitpid(pid_, nullptr, WNOHANG) == pid_) pid_ = -1;
-  return pid_ > 0;
-}
-
-std::optional<std::string> Child::wait_for_log(const std::regex& pattern, double timeout_s) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  while (std::chrono::steady_clock::now() < end && running()) {
-    std::ifstream f(log_path_);
-    std::stringstream text;
-    text << f.rdbuf();
-    const std::string s = text.str();
-    std::smatch m;
-    if (std::regex_search(s, m, pattern)) return m.size() > 1 ? m[1].str() : m[0].str();
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return std::nullopt;
-}
-
-std::string sibling_program(const std::string& name) {
-  return (std::filesystem::read_symlink("/proc/self/exe").parent_path() / name).string();
 }
 
 }  // namespace stereoball::bench

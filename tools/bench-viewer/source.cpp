@@ -8,6 +8,9 @@
 #include <filesystem>
 #include <regex>
 
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
 #include "common/dds/participant.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
@@ -36,10 +39,11 @@ class Demo : public Source {
 
 class Synthetic : public Source {
  public:
-  Synthetic(int domain, int width, int height, double rate_hz)
+  Synthetic(int domain, int width, int height, double rate_hz, bool jpeg)
       : partition_("bench.viewer." + std::to_string(getpid())),
         describe_("synthetic " + std::to_string(width) + "x" + std::to_string(height) +
-                  " bgr8 stereo pair published by the benchmark") {
+                  (jpeg ? " jpeg" : " bgr8") + " stereo pair published by the benchmark"),
+        jpeg_(jpeg) {
     thread_ = std::thread([=, this] { publish(domain, width, height, rate_hz); });
   }
   ~Synthetic() override {
@@ -53,6 +57,7 @@ class Synthetic : public Source {
  private:
   void publish(int domain, int width, int height, double rate_hz);
   std::string partition_, describe_;
+  bool jpeg_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };
@@ -77,27 +82,41 @@ void Synthetic::publish(int domain, int width, int height, double rate_hz) {
       px[2] = static_cast<uint8_t>(128 - 100 * v);
     }
   std::vector<uint8_t> image(static_cast<size_t>(width) * height * 3);
-  char source[] = "bench", encoding[] = "bgr8", reason[] = "bench", scenario[] = "bench";
-  const auto period = std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate_hz));
-  auto next = std::chrono::steady_clock::now();
-  for (uint64_t seq = 0; !stop_; ++seq) {
+  auto shifted = [&](uint64_t seq) {
     const size_t shift = (seq * 3) % margin;
     for (int y = 0; y < height; ++y)
       std::memcpy(&image[static_cast<size_t>(y) * width * 3],
                   &texture[(static_cast<size_t>(y) * wide + shift) * 3],
                   static_cast<size_t>(width) * 3);
+  };
+  // JPEG cameras: a cycle of frames compressed beforehand (q80, as camera_server's default),
+  // so the benchmark's own encoding costs nothing while it runs.
+  std::vector<std::vector<uint8_t>> jpegs;
+  for (uint64_t seq = 0; jpeg_ && seq < 32; ++seq) {
+    shifted(seq);
+    jpegs.emplace_back();
+    cv::imencode(".jpg", cv::Mat(height, width, CV_8UC3, image.data()), jpegs.back(),
+                 {cv::IMWRITE_JPEG_QUALITY, 80});
+  }
+  char source[] = "bench", reason[] = "bench", scenario[] = "bench";
+  char bgr8[] = "bgr8", jpeg_encoding[] = "jpeg";
+  const auto period = std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate_hz));
+  auto next = std::chrono::steady_clock::now();
+  for (uint64_t seq = 0; !stop_; ++seq) {
+    if (!jpeg_) shifted(seq);
+    auto& bytes = jpeg_ ? jpegs[seq % jpegs.size()] : image;
     stereoball_msg_StereoFrame f{};
     f.seq = seq;
     f.stamp_ns = node::now_ns();
     f.source = source;
-    f.encoding = encoding;
+    f.encoding = jpeg_ ? jpeg_encoding : bgr8;
     for (auto* eye : {&f.left, &f.right}) {
       eye->capture_stamp_ns = f.stamp_ns;
       eye->width_px = static_cast<uint32_t>(width);
       eye->height_px = static_cast<uint32_t>(height);
-      eye->step_bytes = static_cast<uint32_t>(width * 3);
-      eye->data._buffer = image.data();
-      eye->data._length = static_cast<uint32_t>(image.size());
+      eye->step_bytes = jpeg_ ? 0 : static_cast<uint32_t>(width * 3);
+      eye->data._buffer = bytes.data();
+      eye->data._length = static_cast<uint32_t>(bytes.size());
     }
     frames.write(f);
     stereoball_msg_BallDetection d{};
@@ -134,8 +153,9 @@ std::unique_ptr<Source> start_demo(int domain, const std::string& scenario,
   return demo;
 }
 
-std::unique_ptr<Source> start_synthetic(int domain, int width, int height, double rate_hz) {
-  return std::make_unique<Synthetic>(domain, width, height, rate_hz);
+std::unique_ptr<Source> start_synthetic(int domain, int width, int height, double rate_hz,
+                                        bool jpeg) {
+  return std::make_unique<Synthetic>(domain, width, height, rate_hz, jpeg);
 }
 
 FrameRate::FrameRate(int domain, const std::string& partition) {

@@ -27,9 +27,10 @@ class Source {
 std::unique_ptr<Source> start_demo(int domain, const std::string& scenario,
                                    const std::string& work_dir, std::string& error);
 
-/// A synthetic width x height bgr8 stereo pair with detections, tracks and ground truth at
-/// rate_hz, published from a thread of this process.
-std::unique_ptr<Source> start_synthetic(int domain, int width, int height, double rate_hz);
+/// A synthetic width x height stereo pair (bgr8, or JPEG as from JPEG cameras) with
+/// detections, tracks and ground truth at rate_hz, published from a thread of this process.
+std::unique_ptr<Source> start_synthetic(int domain, int width, int height, double rate_hz,
+                                        bool jpeg);
 
 /// Stereo frames per second that flow, from the ground truth's frame numbers (a small topic:
 /// reading it costs the camera nothing worth mentioning).

@@ -2,9 +2,10 @@
 // `stereoball demo --view`: the viewer (stereoball-view) as a child process for the whole
 // demo, subscribed to every scenario's partition, stopped when the demo ends.
 
-#include <sys/types.h>
-
+#include <memory>
 #include <string>
+
+#include "child_process.hpp"
 
 namespace stereoball::demo {
 
@@ -14,14 +15,11 @@ class ViewerProcess {
   /// its output goes to log_path. error() says why when it could not start.
   ViewerProcess(const std::string& bin_dir, int domain, const std::string& partition,
                 const std::string& bind, int port, const std::string& log_path);
-  ~ViewerProcess();
-  ViewerProcess(const ViewerProcess&) = delete;
-  ViewerProcess& operator=(const ViewerProcess&) = delete;
-  bool running() const { return pid_ > 0; }
+  bool running() const { return child_ && child_->pid() > 0; }
   const std::string& error() const { return error_; }
 
  private:
-  pid_t pid_ = -1;
+  std::unique_ptr<view_client::Child> child_;
   std::string error_;
 };
 

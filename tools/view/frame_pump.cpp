@@ -1,5 +1,7 @@
 #include "frame_pump.hpp"
 
+#include <pthread.h>
+
 #include <chrono>
 #include <memory>
 
@@ -46,6 +48,7 @@ void FramePump::stop() {
 }
 
 void FramePump::run() {
+  pthread_setname_np(pthread_self(), "view-frames");  // per-thread CPU in the benchmark
   std::unique_ptr<Subscription> sub;
   viewer::RateLimiter limiter(max_rate_hz_);
   log::Throttle throttle(5'000'000'000);
@@ -60,10 +63,17 @@ void FramePump::run() {
       // Skip frames rather than queue them: a frame is taken (and deserialised and encoded)
       // only when some client would send it now; meanwhile keep-last-1 holds just the newest.
       if (!server_.wait_until_ready_for_image(100'000'000)) continue;
+      // Over the rate limit, wait rather than take a frame and drop it (keep-last-1 holds the
+      // newest meanwhile).
+      if (const int64_t wait = limiter.wait_ns(node::monotonic_ns()); wait > 0) {
+        std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+        continue;
+      }
       sub->waitset.wait(100'000'000);
       auto loaned = sub->reader.take_loaned();
       const auto newest = loaned.latest_valid();
       if (!newest || !limiter.admit(node::monotonic_ns())) continue;
+      const int64_t taken_ns = node::now_ns();
       auto pair = viewer::encode_pair(encoder_, loaned[*newest]);
       if (!pair) {
         ++bad_frames_;
@@ -71,6 +81,8 @@ void FramePump::run() {
           log::warn("frame ", loaned[*newest].seq, " not shown: ", pair.error());
         continue;
       }
+      pair->taken_stamp_ns = taken_ns;
+      pair->encoded_stamp_ns = node::now_ns();
       ++encoded_;
       server_.publish_pair(std::make_shared<const viewer::PairJpeg>(std::move(*pair)));
     } catch (const std::exception& e) {

@@ -64,6 +64,12 @@ int main(int argc, char** argv) {
   app.add_option("--max-width", o.derive.encoder.max_width_px,
                  "scale wider images down to this width (0 = never)")
       ->capture_default_str();
+  app.add_option("--max-input-width", o.derive.encoder.max_input_width_px,
+                 "refuse eyes wider than this (raw size, JPEG/PNG header: checked before decoding)")
+      ->capture_default_str();
+  app.add_option("--max-input-height", o.derive.encoder.max_input_height_px,
+                 "refuse eyes taller than this (as --max-input-width)")
+      ->capture_default_str();
   double stall_s = 5;
   app.add_option("--client-stall-s", stall_s,
                  "cut off a client whose backlog stays over the image drop limit this long")

@@ -8,6 +8,7 @@
 #include "page_asset.hpp"
 #include "viewer/core/foxglove_protocol.hpp"
 #include "viewer/core/foxglove_schemas.hpp"
+#include "viewer/core/pair_message.hpp"
 #include "ws_transport.hpp"
 
 namespace stereoball::view {
@@ -17,7 +18,6 @@ namespace fg = viewer::foxglove;
 
 constexpr size_t kMaxIncomingBytes = 64 * 1024;  // clients send small JSON only
 constexpr uint32_t kPlotChannelId = 100;
-constexpr size_t kPairHeaderBytes = 24;
 
 // Foxglove channel id of a derived channel (1-based, in kDerivedTopics order).
 uint32_t channel_id(fg::DerivedChannel c) {
@@ -36,22 +36,16 @@ std::vector<fg::Channel> advertised_channels() {
   return out;
 }
 
-// The page's binary image message: type 1, left length, frame seq, capture time (ms since
-// the epoch, as doubles the page reads with a DataView), then both JPEGs.
+// The page's binary image message (viewer/core/pair_message.hpp).
 std::string pair_message(const viewer::PairJpeg& pair) {
-  std::string out(kPairHeaderBytes + pair.left.bytes.size() + pair.right.bytes.size(), '\0');
-  const uint32_t type = 1;
-  const auto left = static_cast<uint32_t>(pair.left.bytes.size());
-  const double seq = static_cast<double>(pair.frame_seq);
-  const double capture_ms = pair.capture_stamp_ns / 1e6;
-  std::memcpy(out.data(), &type, 4);
-  std::memcpy(out.data() + 4, &left, 4);
-  std::memcpy(out.data() + 8, &seq, 8);
-  std::memcpy(out.data() + 16, &capture_ms, 8);
-  std::memcpy(out.data() + kPairHeaderBytes, pair.left.bytes.data(), pair.left.bytes.size());
-  std::memcpy(out.data() + kPairHeaderBytes + left, pair.right.bytes.data(),
-              pair.right.bytes.size());
-  return out;
+  viewer::PairHeader h;
+  h.frame_seq = pair.frame_seq;
+  h.capture_ms = pair.capture_stamp_ns / 1e6;
+  h.source_width_px = pair.left.source_width_px;
+  h.source_height_px = pair.left.source_height_px;
+  h.received_ms = pair.taken_stamp_ns / 1e6;
+  h.encoded_ms = pair.encoded_stamp_ns / 1e6;
+  return viewer::pair_message(h, pair.left.bytes, pair.right.bytes);
 }
 
 }  // namespace

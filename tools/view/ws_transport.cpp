@@ -1,6 +1,8 @@
 // Compiled as C++17 (see ws_transport.hpp).
 #include "ws_transport.hpp"
 
+#include <pthread.h>
+
 #define ASIO_STANDALONE
 #include <websocketpp/config/asio_no_tls.hpp>
 #include <websocketpp/server.hpp>
@@ -52,6 +54,12 @@ WsTransport::WsTransport(Handlers handlers, std::vector<std::string> subprotocol
   s.set_open_handshake_timeout(5000);
   s.set_close_handshake_timeout(1000);
   Impl* impl = impl_.get();
+  // No Nagle delay: an image message's last partial segment would otherwise wait for the
+  // client's (delayed, up to 40 ms) acknowledgement of the previous one.
+  s.set_socket_init_handler([](Hdl, asio::ip::tcp::socket& socket) {
+    std::error_code ec;
+    socket.set_option(asio::ip::tcp::no_delay(true), ec);
+  });
   s.set_validate_handler([impl](Hdl h) {
     auto con = impl->server.get_con_from_hdl(h);
     for (const auto& offered : con->get_requested_subprotocols()) {
@@ -131,7 +139,10 @@ std::string WsTransport::start(const std::string& bind_address, uint16_t port,
   const auto local = s.get_local_endpoint(aec);
   bound_port = aec ? port : local.port();
   Impl* impl = impl_.get();
-  impl_->thread = std::thread([impl] { impl->server.run(); });
+  impl_->thread = std::thread([impl] {
+    pthread_setname_np(pthread_self(), "view-web");  // per-thread CPU in the benchmark
+    impl->server.run();
+  });
   return "";
 }
 

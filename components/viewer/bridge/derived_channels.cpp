@@ -43,6 +43,10 @@ std::vector<DerivedMessage> Deriver::on_frame(const stereoball_msg_StereoFrame& 
 
 std::vector<DerivedMessage> Deriver::on_pair(const PairJpeg& pair) {
   width_px_ = pair.left.width_px;
+  // Detections come in the camera's pixels; an eye wider than max_width_px is shown smaller.
+  scale_ = pair.left.source_width_px > 0
+               ? static_cast<double>(pair.left.width_px) / pair.left.source_width_px
+               : 1.0;
   return {{DerivedChannel::kLeftImage,
            foxglove::compressed_image(pair.capture_stamp_ns, Eye::kLeft, pair.left.bytes),
            pair.capture_stamp_ns},
@@ -54,10 +58,10 @@ std::vector<DerivedMessage> Deriver::on_pair(const PairJpeg& pair) {
 std::vector<DerivedMessage> Deriver::on_detection(const stereoball_msg_BallDetection& m) {
   const Detection d = to_view(m);
   scene_.apply(d);
-  return {{DerivedChannel::kLeftAnnotations, foxglove::image_annotations(d, Eye::kLeft, width_px_),
-           d.capture_stamp_ns},
+  return {{DerivedChannel::kLeftAnnotations,
+           foxglove::image_annotations(d, Eye::kLeft, width_px_, scale_), d.capture_stamp_ns},
           {DerivedChannel::kRightAnnotations,
-           foxglove::image_annotations(d, Eye::kRight, width_px_), d.capture_stamp_ns}};
+           foxglove::image_annotations(d, Eye::kRight, width_px_, scale_), d.capture_stamp_ns}};
 }
 
 std::vector<DerivedMessage> Deriver::scene_messages(int64_t stamp_ns, int64_t now_ns) {

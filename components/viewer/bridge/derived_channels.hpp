@@ -22,6 +22,8 @@ struct PairJpeg {
   int64_t capture_stamp_ns = 0;
   EyeJpeg left;
   EyeJpeg right;
+  int64_t taken_stamp_ns = 0;    ///< when the viewer took the frame (ns since epoch; 0 unknown)
+  int64_t encoded_stamp_ns = 0;  ///< when both eyes were encoded (ns since epoch; 0 unknown)
 };
 
 /// Both eyes of frame as JPEGs; error names the eye and the problem.
@@ -72,7 +74,8 @@ class Deriver {
   Scene scene_;
   RateLimiter image_rate_;
   RateLimiter scene_rate_;
-  uint32_t width_px_ = 640;  // of the last frame, for the epipolar row's length
+  uint32_t width_px_ = 640;  // of the last frame as shown, for the epipolar row's length
+  double scale_ = 1.0;       // shown pixels per camera pixel of the last frame
   uint64_t bad_frames_ = 0;
   std::string last_error_;
 };

@@ -2,23 +2,26 @@
 
 #include <turbojpeg.h>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <cstring>
+#include <span>
 #include <utility>
+
+#include "stereo/image/image_decode.hpp"
 
 namespace stereoball::viewer {
 namespace {
 
-constexpr uint32_t kMaxSidePx = 8192;  // bound every decoded size before touching the bytes
+constexpr uint32_t kMaxSidePx = 16384;  // the largest limit a user may configure
 
+std::string dims(uint64_t w, uint64_t h) {
+  return std::to_string(w) + "x" + std::to_string(h);
+}
+
+// The raw pixels of image as a Mat over the sample's own bytes (no copy), sizes checked first.
 Result<cv::Mat> raw_view(const stereoball_msg_EyeImage& image, int type, uint32_t bytes_per_px) {
-  if (image.width_px == 0 || image.height_px == 0 || image.width_px > kMaxSidePx ||
-      image.height_px > kMaxSidePx)
-    return Error{"image size " + std::to_string(image.width_px) + "x" +
-                 std::to_string(image.height_px) + " is outside 1..8192"};
-  if (image.step_bytes < image.width_px * bytes_per_px)
+  if (image.step_bytes < uint64_t{image.width_px} * bytes_per_px)
     return Error{"step_bytes " + std::to_string(image.step_bytes) + " is smaller than a row"};
   const uint64_t need = uint64_t{image.step_bytes} * image.height_px;
   if (image.data._buffer == nullptr || image.data._length < need)
@@ -28,29 +31,9 @@ Result<cv::Mat> raw_view(const stereoball_msg_EyeImage& image, int type, uint32_
                  image.data._buffer, image.step_bytes);
 }
 
-Result<cv::Mat> to_bgr(const stereoball_msg_EyeImage& image, const std::string& encoding) {
-  if (encoding == "bgr8") return raw_view(image, CV_8UC3, 3);
-  if (encoding == "mono8") return raw_view(image, CV_8UC1, 1);
-  if (encoding == "yuyv") {
-    auto view = raw_view(image, CV_8UC2, 2);
-    if (!view) return Error{view.error()};
-    cv::Mat bgr;
-    cv::cvtColor(*view, bgr, cv::COLOR_YUV2BGR_YUYV);
-    return bgr;
-  }
-  if (encoding == "png") {
-    if (image.data._buffer == nullptr || image.data._length == 0) return Error{"png data is empty"};
-    cv::Mat decoded;
-    try {
-      decoded =
-          cv::imdecode(cv::Mat(1, static_cast<int>(image.data._length), CV_8U, image.data._buffer),
-                       cv::IMREAD_COLOR);
-    } catch (const cv::Exception&) {
-    }
-    if (decoded.empty()) return Error{"png data could not be decoded"};
-    return decoded;
-  }
-  return Error{"encoding '" + encoding + "' is not supported (bgr8, mono8, yuyv, jpeg, png)"};
+std::span<const uint8_t> bytes_of(const stereoball_msg_EyeImage& image) {
+  if (image.data._buffer == nullptr) return {};
+  return {image.data._buffer, image.data._length};
 }
 
 }  // namespace
@@ -58,7 +41,10 @@ Result<cv::Mat> to_bgr(const stereoball_msg_EyeImage& image, const std::string& 
 Status EyeEncoderParams::validate() const {
   if (jpeg_quality < 1 || jpeg_quality > 100) return Error{"jpeg_quality must be in 1..100"};
   if (max_width_px != 0 && (max_width_px < 16 || max_width_px > kMaxSidePx))
-    return Error{"max_width_px must be 0 or in 16..8192"};
+    return Error{"max_width_px must be 0 or in 16..16384"};
+  if (max_input_width_px < 16 || max_input_width_px > kMaxSidePx || max_input_height_px < 16 ||
+      max_input_height_px > kMaxSidePx)
+    return Error{"max_input_width_px and max_input_height_px must be in 16..16384"};
   return {};
 }
 
@@ -70,6 +56,7 @@ EyeEncoder::~EyeEncoder() {
 
 EyeEncoder::EyeEncoder(EyeEncoder&& other) noexcept
     : params_(other.params_),
+      decoded_(std::move(other.decoded_)),
       compressor_(std::exchange(other.compressor_, nullptr)),
       scratch_(std::move(other.scratch_)) {}
 
@@ -77,23 +64,70 @@ EyeEncoder& EyeEncoder::operator=(EyeEncoder&& other) noexcept {
   if (this != &other) {
     if (compressor_) tjDestroy(compressor_);
     params_ = other.params_;
+    decoded_ = std::move(other.decoded_);
     compressor_ = std::exchange(other.compressor_, nullptr);
     scratch_ = std::move(other.scratch_);
   }
   return *this;
 }
 
+Result<cv::Mat> EyeEncoder::to_bgr(const stereoball_msg_EyeImage& image,
+                                   const std::string& encoding) {
+  if (encoding == "bgr8") return raw_view(image, CV_8UC3, 3);
+  if (encoding == "mono8") return raw_view(image, CV_8UC1, 1);
+  if (encoding == "yuyv") {
+    if (image.width_px % 2 != 0)
+      return Error{"yuyv width " + std::to_string(image.width_px) + " is odd"};
+    auto view = raw_view(image, CV_8UC2, 2);
+    if (!view) return Error{view.error()};
+    cv::Mat bgr;
+    cv::cvtColor(*view, bgr, cv::COLOR_YUV2BGR_YUYV);
+    return bgr;
+  }
+  if (encoding == "png") {
+    // As ball_detector does: the header decides how much memory decoding takes, so it is read
+    // and checked against the limit before any pixel is decoded.
+    const auto bytes = bytes_of(image);
+    if (bytes.empty()) return Error{"png data is empty"};
+    const auto header = stereo::read_image_header(bytes);
+    if (!header) return Error{"png data: " + header.error()};
+    if (header->codec != stereo::ImageCodec::kPng)
+      return Error{std::string(stereo::codec_name(header->codec)) + " data in a png frame"};
+    if (auto st = stereo::check_within(*header, {static_cast<int>(params_.max_input_width_px),
+                                                 static_cast<int>(params_.max_input_height_px)});
+        !st)
+      return Error{st.error()};
+    if (auto st = stereo::decode_bgr(bytes, *header, decoded_); !st) return Error{st.error()};
+    return decoded_;
+  }
+  return Error{"encoding '" + encoding + "' is not supported (bgr8, mono8, yuyv, jpeg, png)"};
+}
+
+Result<EyeJpeg> EyeEncoder::pass_through(const stereoball_msg_EyeImage& image) {
+  // Already compressed by the camera: forwarded as it is (the browser decodes it), after its
+  // header was read and checked like any other input.
+  const auto bytes = bytes_of(image);
+  if (bytes.size() < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8)
+    return Error{"jpeg data does not start with a JPEG marker"};
+  const auto header = stereo::read_image_header(bytes);
+  if (!header) return Error{"jpeg data: " + header.error()};
+  if (auto st = stereo::check_within(*header, {static_cast<int>(params_.max_input_width_px),
+                                               static_cast<int>(params_.max_input_height_px)});
+      !st)
+    return Error{st.error()};
+  const auto w = static_cast<uint32_t>(header->width_px);
+  const auto h = static_cast<uint32_t>(header->height_px);
+  return EyeJpeg{{bytes.begin(), bytes.end()}, w, h, w, h};
+}
+
 Result<EyeJpeg> EyeEncoder::encode(const stereoball_msg_EyeImage& image, const char* encoding) {
   const std::string enc = encoding ? encoding : "";
-  if (enc == "jpeg") {
-    // Already compressed by the camera: pass through (the browser decodes it).
-    if (image.data._buffer == nullptr || image.data._length < 4 || image.data._buffer[0] != 0xFF ||
-        image.data._buffer[1] != 0xD8)
-      return Error{"jpeg data does not start with a JPEG marker"};
-    return EyeJpeg{{image.data._buffer, image.data._buffer + image.data._length},
-                   image.width_px,
-                   image.height_px};
-  }
+  if (enc == "jpeg") return pass_through(image);
+  if (enc != "png" &&
+      (image.width_px == 0 || image.height_px == 0 || image.width_px > params_.max_input_width_px ||
+       image.height_px > params_.max_input_height_px))
+    return Error{"image size " + dims(image.width_px, image.height_px) + " is outside 1x1.." +
+                 dims(params_.max_input_width_px, params_.max_input_height_px)};
   auto bgr = to_bgr(image, enc);
   if (!bgr) return Error{bgr.error()};
   cv::Mat shown = *bgr;
@@ -101,7 +135,11 @@ Result<EyeJpeg> EyeEncoder::encode(const stereoball_msg_EyeImage& image, const c
     const double scale = static_cast<double>(params_.max_width_px) / shown.cols;
     cv::resize(*bgr, shown, cv::Size(), scale, scale, cv::INTER_AREA);
   }
-  return compress(shown);
+  auto jpeg = compress(shown);
+  if (!jpeg) return jpeg;
+  jpeg->source_width_px = static_cast<uint32_t>(bgr->cols);
+  jpeg->source_height_px = static_cast<uint32_t>(bgr->rows);
+  return jpeg;
 }
 
 Result<EyeJpeg> EyeEncoder::compress(const cv::Mat& shown) {
@@ -118,8 +156,8 @@ Result<EyeJpeg> EyeEncoder::compress(const cv::Mat& shown) {
                   grey ? TJPF_GRAY : TJPF_BGR, &out, &size, subsampling, params_.jpeg_quality,
                   TJFLAG_NOREALLOC | TJFLAG_FASTDCT) != 0)
     return Error{std::string("JPEG encoding failed: ") + tjGetErrorStr2(compressor_)};
-  return EyeJpeg{
-      {out, out + size}, static_cast<uint32_t>(shown.cols), static_cast<uint32_t>(shown.rows)};
+  const auto w = static_cast<uint32_t>(shown.cols), h = static_cast<uint32_t>(shown.rows);
+  return EyeJpeg{{out, out + size}, w, h, w, h};
 }
 
 }  // namespace stereoball::viewer

@@ -2,7 +2,9 @@
 // One eye of a StereoFrame as a JPEG for people to look at: raw encodings are encoded at the
 // chosen quality (and optionally scaled down), JPEG eyes pass through unchanged. Encoding uses
 // libjpeg-turbo's TurboJPEG API (BGR in directly, 4:2:0 chroma as usual for viewing, the fast
-// integer DCT, no allocation per frame): the viewer's main cost.
+// integer DCT, no allocation per frame): the viewer's main cost. Every size is checked against
+// the configured input limit before anything is decoded or encoded (compressed eyes from their
+// header, as ball_detector does).
 
 #include <opencv2/core.hpp>
 
@@ -20,15 +22,21 @@ namespace stereoball::viewer {
 struct EyeEncoderParams {
   int jpeg_quality = 75;        ///< 1..100
   uint32_t max_width_px = 640;  ///< wider images are scaled down to this width (0 = never)
+  /// Largest eye accepted (raw size fields, JPEG/PNG headers); larger ones are refused.
+  uint32_t max_input_width_px = 4096;
+  uint32_t max_input_height_px = 4096;
   /// Success, or an error naming the bad field and its allowed range.
   Status validate() const;
 };
 
-/// A JPEG of one eye with the size it shows.
+/// A JPEG of one eye with the size it shows and the size of the eye it was made from (the
+/// detections' pixel coordinates are in the latter).
 struct EyeJpeg {
   std::vector<uint8_t> bytes;
   uint32_t width_px = 0;
   uint32_t height_px = 0;
+  uint32_t source_width_px = 0;
+  uint32_t source_height_px = 0;
 };
 
 class EyeEncoder {
@@ -42,8 +50,11 @@ class EyeEncoder {
   Result<EyeJpeg> encode(const stereoball_msg_EyeImage& image, const char* encoding);
 
  private:
+  Result<cv::Mat> to_bgr(const stereoball_msg_EyeImage& image, const std::string& encoding);
+  Result<EyeJpeg> pass_through(const stereoball_msg_EyeImage& image);
   Result<EyeJpeg> compress(const cv::Mat& shown);
   EyeEncoderParams params_;
+  cv::Mat decoded_;                     // PNG eyes are decoded into this (reused)
   void* compressor_ = nullptr;          // TurboJPEG handle (tjhandle), created on first use
   std::vector<unsigned char> scratch_;  // worst-case output size of the last image shape
 };

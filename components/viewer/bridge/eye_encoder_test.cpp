@@ -5,6 +5,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <cstring>
+
 namespace stereoball::viewer {
 namespace {
 
@@ -39,6 +41,9 @@ TEST(EyeEncoder, WideImagesAreScaledDownToMaxWidth) {
   ASSERT_TRUE(jpeg) << jpeg.error();
   EXPECT_EQ(jpeg->width_px, 640u);
   EXPECT_EQ(jpeg->height_px, 480u);
+  // And the size the detections refer to is kept, for drawing them on the smaller image
+  EXPECT_EQ(jpeg->source_width_px, 1280u);
+  EXPECT_EQ(jpeg->source_height_px, 960u);
 }
 
 TEST(EyeEncoder, JpegPassesThroughUnchanged) {
@@ -55,7 +60,7 @@ TEST(EyeEncoder, BadInputIsNamed) {
             std::string::npos);
   EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 64, 48, 10), "bgr8").error().find("step_bytes"),
             std::string::npos);
-  EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 99999, 1, 99999), "mono8").error().find("8192"),
+  EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 99999, 1, 99999), "mono8").error().find("4096"),
             std::string::npos);
   EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 8, 8, 0), "jpeg").error().find("JPEG marker"),
             std::string::npos);
@@ -63,6 +68,57 @@ TEST(EyeEncoder, BadInputIsNamed) {
             std::string::npos);
   EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 8, 8, 8), "rgb16").error().find("rgb16"),
             std::string::npos);
+}
+
+TEST(EyeEncoder, PngIsDecodedOnlyWhenItsHeaderIsWithinTheLimit) {
+  // Given an encoder that accepts eyes up to 64x64 and a 100x40 PNG
+  EyeEncoderParams p;
+  p.max_input_width_px = p.max_input_height_px = 64;
+  EyeEncoder encoder(p);
+  std::vector<uint8_t> png;
+  cv::imencode(".png", cv::Mat(40, 100, CV_8UC3, cv::Scalar(0, 128, 255)), png);
+  // When it is encoded, then its header refuses it, naming the size and the limit
+  const auto wide = encoder.encode(eye(png, 100, 40, 0), "png");
+  ASSERT_FALSE(wide);
+  EXPECT_NE(wide.error().find("100x40, larger than the limit 64x64"), std::string::npos)
+      << wide.error();
+  // And a 48x32 PNG within the limit is shown, at its own size whatever the sample claims
+  std::vector<uint8_t> small;
+  cv::imencode(".png", cv::Mat(32, 48, CV_8UC3, cv::Scalar(0, 128, 255)), small);
+  const auto ok = encoder.encode(eye(small, 9999, 9999, 0), "png");
+  ASSERT_TRUE(ok) << ok.error();
+  EXPECT_EQ(ok->width_px, 48u);
+  EXPECT_EQ(ok->height_px, 32u);
+}
+
+TEST(EyeEncoder, ForgedPngHeaderIsRefusedBeforeDecoding) {
+  // Given a PNG whose IHDR claims 60000x60000 pixels (10 GB of BGR) in a few bytes
+  std::vector<uint8_t> png;
+  cv::imencode(".png", cv::Mat(4, 4, CV_8UC3, cv::Scalar::all(7)), png);
+  const uint8_t huge[8] = {0, 0, 0xEA, 0x60, 0, 0, 0xEA, 0x60};  // IHDR width, height (BE)
+  std::memcpy(png.data() + 16, huge, sizeof huge);
+  // When it is encoded, then it is refused from the header, nothing allocated
+  const auto r = EyeEncoder({}).encode(eye(png, 4, 4, 0), "png");
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("60000x60000"), std::string::npos) << r.error();
+  // And JPEG data sent as png, or a truncated PNG, are named too
+  std::vector<uint8_t> jpeg;
+  cv::imencode(".jpg", cv::Mat(8, 8, CV_8UC3, cv::Scalar(1, 2, 3)), jpeg);
+  EXPECT_NE(EyeEncoder({}).encode(eye(jpeg, 8, 8, 0), "png").error().find("jpeg data in a png"),
+            std::string::npos);
+  cv::imencode(".png", cv::Mat(16, 16, CV_8UC3, cv::Scalar::all(9)), png);
+  png.resize(png.size() / 2);
+  EXPECT_FALSE(EyeEncoder({}).encode(eye(png, 16, 16, 0), "png"));
+}
+
+TEST(EyeEncoder, PassedThroughJpegIsCheckedAgainstTheLimitToo) {
+  EyeEncoderParams p;
+  p.max_input_width_px = p.max_input_height_px = 64;
+  std::vector<uint8_t> jpeg;
+  cv::imencode(".jpg", cv::Mat(80, 120, CV_8UC3, cv::Scalar(1, 2, 3)), jpeg);
+  const auto r = EyeEncoder(p).encode(eye(jpeg, 120, 80, 0), "jpeg");
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("120x80"), std::string::npos) << r.error();
 }
 
 }  // namespace

@@ -1,17 +1,42 @@
 #include "viewer/core/flow.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace stereoball::viewer {
 
+namespace {
+
+constexpr double kBurst = 2;  // events that may pass back to back after a pause
+// An event may pass with this much credit: one arriving 10 % of an interval early (jitter)
+// borrows the rest from the next interval instead of being lost.
+constexpr double kEnough = 0.9;
+
+}  // namespace
+
 RateLimiter::RateLimiter(double max_rate_hz)
-    : min_interval_ns_(max_rate_hz > 0 ? static_cast<int64_t>(1e9 / max_rate_hz) : 0) {}
+    : interval_ns_(max_rate_hz > 0 ? static_cast<int64_t>(1e9 / max_rate_hz) : 0) {}
+
+double RateLimiter::credit_at(int64_t now_ns) const {
+  if (!last_ns_) return kBurst;
+  const double earned = static_cast<double>(now_ns - *last_ns_) / static_cast<double>(interval_ns_);
+  return std::min(kBurst, credit_ + std::max(0.0, earned));
+}
 
 bool RateLimiter::admit(int64_t now_ns) {
-  // A small tolerance keeps a source at exactly the limit from losing every other event to
-  // jitter in its arrival times.
-  const int64_t tolerance_ns = min_interval_ns_ / 10;
-  if (last_ns_ && now_ns - *last_ns_ < min_interval_ns_ - tolerance_ns) return false;
+  if (interval_ns_ == 0) return true;
+  const double credit = credit_at(now_ns);
+  credit_ = credit;
   last_ns_ = now_ns;
+  if (credit < kEnough) return false;
+  credit_ = credit - 1;
   return true;
+}
+
+int64_t RateLimiter::wait_ns(int64_t now_ns) const {
+  if (interval_ns_ == 0) return 0;
+  const double missing = kEnough - credit_at(now_ns);
+  return missing <= 0 ? 0 : static_cast<int64_t>(std::ceil(missing * interval_ns_));
 }
 
 Status FlowParams::validate() const {

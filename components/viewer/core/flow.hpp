@@ -10,16 +10,24 @@
 
 namespace stereoball::viewer {
 
-/// Passes at most one event per min_interval_ns (frame-rate decimation, time as an argument).
+/// Passes events at no more than a rate on average (a token bucket; time as an argument). A
+/// source at the rate passes whole even with jitter: an early event spends credit that the
+/// next, later one makes up, and up to two events may pass back to back after a pause.
 class RateLimiter {
  public:
   /// max_rate_hz <= 0 passes everything.
   explicit RateLimiter(double max_rate_hz);
-  /// True when an event at now_ns may pass (and records it as the last one passed).
+  /// True when an event at now_ns may pass (and spends its credit).
   bool admit(int64_t now_ns);
+  /// Nanoseconds from now_ns until an event may pass (0: now). A source that can wait, as the
+  /// viewer's frame reader can (keep-last-1 keeps the newest frame meanwhile), waits this long
+  /// instead of losing the event.
+  int64_t wait_ns(int64_t now_ns) const;
 
  private:
-  int64_t min_interval_ns_;
+  double credit_at(int64_t now_ns) const;
+  int64_t interval_ns_;  // 0: no limit
+  double credit_ = 0;    // events that may pass, as of last_ns_ (unset: a full bucket)
   std::optional<int64_t> last_ns_;
 };
 

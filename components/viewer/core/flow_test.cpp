@@ -12,14 +12,45 @@ TEST(RateLimiter, PassesAtMostTheRateAndKeepsARateSourceAtTheLimit) {
   RateLimiter limiter(10);
   int passed = 0;
   for (int i = 0; i < 90; ++i) passed += limiter.admit(i * 33 * kMs);
-  // Then about a third pass (3 s of events at 10 Hz)
+  // Then about a third pass (3 s of events at 10 Hz, plus the burst of two the limiter allows
+  // at the start)
   EXPECT_GE(passed, 28);
-  EXPECT_LE(passed, 31);
+  EXPECT_LE(passed, 32);
   // And a source exactly at the limit, with jitter, loses nothing
   RateLimiter exact(10);
   int exact_passed = 0;
   for (int i = 0; i < 50; ++i) exact_passed += exact.admit(i * 100 * kMs + (i % 2 ? 3 : -3) * kMs);
   EXPECT_EQ(exact_passed, 50);
+}
+
+TEST(RateLimiter, SaysHowLongToWaitInsteadOfLosingAnEarlyEvent) {
+  // Given a 30 Hz limit that passed two events back to back (its whole burst)
+  RateLimiter limiter(30);
+  EXPECT_EQ(limiter.wait_ns(0), 0);
+  ASSERT_TRUE(limiter.admit(0));
+  ASSERT_TRUE(limiter.admit(1 * kMs));
+  // When the next comes early, it is told to wait, not dropped
+  const int64_t wait = limiter.wait_ns(10 * kMs);
+  EXPECT_GT(wait, 0);
+  EXPECT_FALSE(limiter.admit(10 * kMs));
+  // And after that wait it passes
+  EXPECT_EQ(limiter.wait_ns(10 * kMs + wait), 0);
+  EXPECT_TRUE(limiter.admit(10 * kMs + wait));
+}
+
+TEST(RateLimiter, BurstyJitterAtTheRateLosesNothingButTheAverageStaysBounded) {
+  // Given a 30 Hz limit and a 30 Hz source whose frames come in pairs (late, then early)
+  RateLimiter limiter(30);
+  int passed = 0;
+  for (int i = 0; i < 60; ++i) passed += limiter.admit(i / 2 * 66'667'000 + (i % 2) * 2 * kMs);
+  // Then every frame passes
+  EXPECT_EQ(passed, 60);
+  // And a 120 Hz source is held to about 30 per second
+  RateLimiter fast(30);
+  int fast_passed = 0;
+  for (int i = 0; i < 240; ++i) fast_passed += fast.admit(i * 8'333'333);
+  EXPECT_GE(fast_passed, 59);
+  EXPECT_LE(fast_passed, 63);
 }
 
 TEST(RateLimiter, ZeroRatePassesEverything) {

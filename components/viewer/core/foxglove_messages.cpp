@@ -178,8 +178,12 @@ std::vector<uint8_t> compressed_image(int64_t stamp_ns, Eye eye, std::span<const
   return w.take();
 }
 
-std::vector<uint8_t> image_annotations(const Detection& d, Eye eye, uint32_t width_px) {
-  const Circle& c = eye == Eye::kLeft ? d.left : d.right;
+std::vector<uint8_t> image_annotations(const Detection& d, Eye eye, uint32_t width_px,
+                                       double scale) {
+  const Circle& detected = eye == Eye::kLeft ? d.left : d.right;
+  // Detections are in the camera's pixels; the image may be shown smaller.
+  const Circle c{detected.x_px * scale, detected.y_px * scale, detected.radius_px * scale,
+                 detected.score};
   const bool present = c.score > 0 && c.radius_px > 0;
   const Rgba outline = d.found ? kGreen : kOrange;
   CdrWriter w;

@@ -28,8 +28,10 @@ inline constexpr std::string_view kCameraFrame = "camera";
 std::vector<uint8_t> compressed_image(int64_t stamp_ns, Eye eye, std::span<const uint8_t> jpeg);
 
 /// foxglove.ImageAnnotations for one eye: the circle, its centre, the epipolar row across the
-/// image (width_px wide) and a text with the score or the rejection reason.
-std::vector<uint8_t> image_annotations(const Detection& d, Eye eye, uint32_t width_px);
+/// image (width_px wide, as shown) and a text with the score or the rejection reason. scale is
+/// shown pixels per detection pixel (below 1 when the eye is shown scaled down).
+std::vector<uint8_t> image_annotations(const Detection& d, Eye eye, uint32_t width_px,
+                                       double scale = 1.0);
 
 /// foxglove.SceneUpdate replacing every entity with the scene's current state.
 std::vector<uint8_t> scene_update(const Scene& scene, int64_t stamp_ns);

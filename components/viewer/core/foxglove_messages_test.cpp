@@ -81,6 +81,14 @@ TEST(FoxgloveMessages, AnnotationsDrawTheCircleOrSayWhyThereIsNone) {
   EXPECT_EQ(with_circle.get<double>(), 50.0);
   EXPECT_EQ(with_circle.get<double>(), 40.0);  // diameter
 
+  // An eye shown at half its width gets the circle at half its coordinates and size
+  const auto half_cdr = image_annotations(found, Eye::kLeft, 320, 0.5);
+  CdrReader half(half_cdr);
+  for (int i = 0; i < 5; ++i) half.get<uint32_t>();
+  EXPECT_EQ(half.get<double>(), 50.0);
+  EXPECT_EQ(half.get<double>(), 25.0);
+  EXPECT_EQ(half.get<double>(), 20.0);  // diameter
+
   Detection refused;
   refused.status = "epipolar_mismatch";
   refused.reason = "rows differ by 9 px";
