@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "ball_detector/node/message_conversion.hpp"
-#include "ball_detector/node/sim_frames.hpp"
+#include "ball_detector/node/detection_msg.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
 #include "crafted_images.hpp"
 #include "process.hpp"
+#include "simulator/core/ball_scene.hpp"
 #include "stereo/io/calibration_file.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
@@ -38,14 +38,14 @@ struct Scene {
 
 const Scene& scene() {
   static const Scene s = [] {
-    sb::ball_detector::SimBallSetup setup;
+    sb::simulator::SimBallSetup setup;
     setup.ball_x_m = 1.5;
     setup.ball_y_m = 0.0;
     setup.clutter = false;
     setup.plain_room = true;
     setup.uniform_ball = true;
-    sb::simulator::Simulator sim(sb::ball_detector::default_sim_params(),
-                                 sb::ball_detector::make_sim_scenario(setup));
+    sb::simulator::Simulator sim(sb::simulator::default_sim_params(),
+                                 sb::simulator::make_sim_scenario(setup));
     return Scene{sim.step(std::nullopt, 0), sim.calibration()};
   }();
   return s;

@@ -16,13 +16,13 @@
 #include <vector>
 
 #include "ball_detector/core/p2p_detector.hpp"
-#include "ball_detector/node/detector_params_file.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
-#include "camera_server/core/frame_codec.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/node/common_flags.hpp"
 #include "simulator/core/simulator.hpp"
 #include "simulator/io/scenario_file.hpp"
 #include "simulator/io/sim_params_file.hpp"
+#include "stereo/frame/frame_codec.hpp"
 #include "two_host_system.hpp"
 
 namespace sb = stereoball;
@@ -88,10 +88,10 @@ int run_images(const std::vector<std::string>& images, const std::vector<int>& q
                      path.c_str());
         return 2;
       }
-      sb::camera_server::EyeEncoder encoder({"jpeg", q});
-      if (auto err = encoder.encode(raw)) {
+      sb::stereo::EyeEncoder encoder({"jpeg", q});
+      if (auto st = encoder.encode(raw); !st) {
         std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s: %s\n", path.c_str(),
-                     err->c_str());
+                     st.error().c_str());
         return 2;
       }
       const std::vector<uint8_t>& buffer = encoder.bytes();
@@ -205,9 +205,9 @@ int main(int argc, char** argv) {
         for (int e = 0; e < 2; ++e) {
           auto t0 = std::chrono::steady_clock::now();
           // The publishers' own encoder (camera_server, simulator with frame_encoding jpeg).
-          sb::camera_server::EyeEncoder encoder({"jpeg", q});
-          if (auto err = encoder.encode(*in[e])) {
-            std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", err->c_str());
+          sb::stereo::EyeEncoder encoder({"jpeg", q});
+          if (auto st = encoder.encode(*in[e]); !st) {
+            std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", st.error().c_str());
             return 1;
           }
           s.encode_ms += ms_since(t0);

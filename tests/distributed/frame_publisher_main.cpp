@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "camera_server/core/frame_codec.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
 #include "simulator/core/simulator.hpp"
 #include "simulator/io/scenario_file.hpp"
 #include "simulator/io/sim_params_file.hpp"
+#include "stereo/frame/frame_codec.hpp"
 #include "stereoball/topics.hpp"
 
 namespace sb = stereoball;
@@ -39,8 +39,8 @@ std::optional<std::string> encode(const cv::Mat& bgr, const std::string& encodin
     e.bytes.assign(bgr.data, bgr.data + bgr.step[0] * bgr.rows);
     return std::nullopt;
   }
-  sb::camera_server::EyeEncoder encoder({encoding, quality});
-  if (auto err = encoder.encode(bgr)) return err;
+  sb::stereo::EyeEncoder encoder({encoding, quality});
+  if (auto st = encoder.encode(bgr); !st) return st.error();
   e.bytes = encoder.bytes();
   return std::nullopt;
 }

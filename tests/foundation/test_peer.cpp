@@ -33,7 +33,7 @@ sb::Result<PeerParams> load_params(const std::string& path) {
   PeerParams p;
   file->read("peer.label", p.label);
   file->read("peer.delay_ms", p.delay_ms, 0, 1000);
-  if (auto e = file->finish()) return sb::Error{*e};
+  if (auto st = file->finish(); !st) return sb::Error{st.error()};
   return p;
 }
 

@@ -8,14 +8,14 @@
 #include <string>
 #include <vector>
 
-#include "ball_detector/node/message_conversion.hpp"
+#include "ball_detector/node/detection_msg.hpp"
 #include "fuzz_input.hpp"
-#include "motion_controller/node/command_conversion.hpp"
-#include "simulator/node/msg_conversion.hpp"
+#include "motion_controller/node/command_msg.hpp"
+#include "simulator/node/ground_truth_msg.hpp"
 #include "stereo/core/rectifier.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 #include "tracker/core/tracker.hpp"
-#include "tracker/node/track_conversion.hpp"
+#include "tracker/node/track_msg.hpp"
 
 namespace {
 

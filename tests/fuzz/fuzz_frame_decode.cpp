@@ -1,13 +1,13 @@
 // libFuzzer target: frame decoding. Either a compressed eye (JPEG/PNG header, size check,
-// strict decode) or a whole stereo/frame sample through ball_detector's FrameDecoder with
+// strict decode) or a whole stereo/frame sample through the frame library's FrameDecoder with
 // raw (bgr8/mono8) or compressed eyes and arbitrary size, step and length fields.
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
-#include "ball_detector/node/frame_input.hpp"
 #include "fuzz_input.hpp"
+#include "stereo/frame/frame_decoder.hpp"
 #include "stereo/image/image_decode.hpp"
 
 namespace {
@@ -17,7 +17,7 @@ const char* const kEncodings[] = {"bgr8", "mono8", "jpeg", "png", "yuyv", ""};
 void decode_image(const std::vector<uint8_t>& bytes) {
   namespace st = stereoball::stereo;
   const auto header = st::read_image_header(bytes);
-  if (!header || st::check_within(*header, {640, 480})) return;
+  if (!header || !st::check_within(*header, {640, 480})) return;
   cv::Mat out;
   (void)st::decode_bgr(bytes, *header, out);
 }
@@ -39,9 +39,9 @@ void decode_frame(stereoball::fuzz::FuzzInput& in) {
   std::vector<uint8_t> left, right;
   fill_eye(in, left, msg.left);
   fill_eye(in, right, msg.right);
-  stereoball::ball_detector::FrameDecoder decoder;
+  stereoball::stereo::FrameDecoder decoder;
   cv::Mat l, r;
-  if (!decoder.decode(msg, expected, l, r)) {
+  if (decoder.decode(msg, expected, l, r).ok()) {
     // Touch every pixel: a view past the sample's bytes would be caught here.
     volatile int sum = 0;
     sum = sum + static_cast<int>(cv::sum(l)[0] + cv::sum(r)[0]);

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "ball_detector/node/detector_params_file.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
 #include "common/params/params_file.hpp"
 #include "common/params/yaml_load.hpp"
 #include "tracker/node/tracker_params_file.hpp"

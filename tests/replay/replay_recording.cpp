@@ -3,19 +3,19 @@
 #include <memory>
 #include <vector>
 
-#include "ball_detector/node/message_conversion.hpp"
-#include "ball_detector/node/sim_frames.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/node/detection_msg.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/dds/participant.hpp"
 #include "common/dds/serialized.hpp"
 #include "common/dds/writer.hpp"
 #include "recorder/io/recording.hpp"
-#include "simulator/node/msg_conversion.hpp"
+#include "simulator/core/ball_scene.hpp"
+#include "stereo/frame/frame_msg.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 #include "stereoball/idl_text.hpp"
 #include "stereoball/topics.hpp"
 #include "tracker/core/tracker.hpp"
-#include "tracker/node/track_conversion.hpp"
+#include "tracker/node/track_msg.hpp"
 
 namespace stereoball::replay {
 namespace {
@@ -47,7 +47,7 @@ class Serializer {
 
 // The scene: a one-colour ball rolling away and across in a plain room, robot standing.
 simulator::Scenario scene() {
-  bd::SimBallSetup setup;
+  simulator::SimBallSetup setup;
   setup.ball_x_m = 1.1;
   setup.ball_y_m = 0.3;
   setup.vx_mps = 0.5;
@@ -56,7 +56,7 @@ simulator::Scenario scene() {
   setup.plain_room = true;
   setup.uniform_ball = true;
   setup.seed = 9;
-  return bd::make_sim_scenario(setup);
+  return simulator::make_sim_scenario(setup);
 }
 
 // Appends kHeldTrackFrames copies of last (fresh stamps, zero velocity) after the frames, so
@@ -99,7 +99,7 @@ std::optional<std::string> make_replay_recording(const std::string& path, int do
   Serializer<stereoball_msg_BallDetection> det_ser(participant, topics::kBallDetection);
   Serializer<stereoball_msg_BallTrack> track_ser(participant, topics::kBallTrack);
 
-  simulator::Simulator sim(bd::default_sim_params(), scene());
+  simulator::Simulator sim(simulator::default_sim_params(), scene());
   bd::StereoPipeline pipeline{bd::BallDetectorParams{}};
   if (auto e = pipeline.set_calibration(sim.calibration())) return "calibration: " + *e;
   tracker::Tracker tracker{tracker::TrackerParams{}};
@@ -121,7 +121,11 @@ std::optional<std::string> make_replay_recording(const std::string& path, int do
     const std::int64_t t_ns = i * period_ns;
     const std::int64_t stamp = kReplayEpochNs + t_ns + period_ns;
     const simulator::SimFrame f = sim.step(std::nullopt, t_ns);
-    if (!push(1, frame_ser.cdr(simulator::frame_to_msg(f, stamp, source)), stamp))
+    const auto view = stereo::view_of_images(f.left, f.right, f.seq, stamp);
+    if (!view) return "frame: " + view.error();
+    stereoball_msg_StereoFrame frame_msg{};
+    stereo::fill_frame_message(*view, source, frame_msg);
+    if (!push(1, frame_ser.cdr(frame_msg), stamp))
       return "frame sample was not serialized or queued";
     const bd::StereoDetection det = pipeline.step(f.left, f.right, false);
     stereoball_msg_BallDetection det_msg{};

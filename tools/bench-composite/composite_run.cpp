@@ -1,6 +1,6 @@
 #include "composite_run.hpp"
 
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 
 #include <algorithm>
 #include <chrono>

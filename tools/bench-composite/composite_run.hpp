@@ -2,7 +2,7 @@
 // Runs the ball detector's stereo pipeline (the node's per-frame functions) over real
 // backgrounds with composited balls and over the same backgrounds without a ball.
 
-#include "ball_detector/node/detector_params.hpp"
+#include "ball_detector/pipeline/detector_params.hpp"
 #include "composite_scenes.hpp"
 
 #include <string>

@@ -3,7 +3,7 @@
 
 #include "composite_run.hpp"
 
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "stereo/core/sphere_outline.hpp"
 #include "stereo/io/calibration_file.hpp"
 

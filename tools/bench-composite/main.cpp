@@ -2,7 +2,7 @@
 // (OpenCV's 13 chessboard pairs through their calibration, Middlebury Aloe) with a shaded
 // sphere composited into both rectified views at known 3D positions. Prints figures only.
 
-#include "ball_detector/node/detector_params_file.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
 #include "composite_run.hpp"
 #include "stereo/io/calibration_file.hpp"
 

@@ -4,7 +4,6 @@
 
 #include <signal.h>
 #include <unistd.h>
-#include <yaml-cpp/yaml.h>
 #include <CLI/CLI.hpp>
 
 #include <atomic>
@@ -22,6 +21,7 @@
 #include "common/util/log.hpp"
 #include "installed_profile.hpp"
 #include "metrics.hpp"
+#include "motion_controller/node/controller_params_file.hpp"
 #include "plot.hpp"
 #include "supervisor.hpp"
 #include "viewer_process.hpp"
@@ -65,19 +65,6 @@ bool accepted(stereoball_msg_TrackVerdict v) {
   return v == stereoball_msg_VERDICT_STARTUP_ACCEPTED ||
          v == stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED ||
          v == stereoball_msg_VERDICT_STATISTICS_ACCEPTED;
-}
-
-// The controller's target distance, read from its parameters file (any key named
-// target_distance_m).
-double find_target_distance(const YAML::Node& node, double fallback) {
-  if (node.IsMap()) {
-    for (const auto& item : node) {
-      if (item.first.as<std::string>() == "target_distance_m") return item.second.as<double>();
-      const double inner = find_target_distance(item.second, NAN);
-      if (!std::isnan(inner)) return inner;
-    }
-  }
-  return fallback;
 }
 
 struct Readers {
@@ -230,12 +217,15 @@ int main(int argc, char** argv) {
                  ec.message().c_str());
     return 2;
   }
-  double target_m = 1.0;
-  try {
-    target_m = find_target_distance(
-        YAML::LoadFile(sb::paths::shipped_config_path("motion_controller.yaml")), 1.0);
-  } catch (const std::exception&) {
+  // The target distance the metrics judge against is the controller's own, loaded as the
+  // motion_controller process loads it (a missing or bad file is an error, not a default).
+  const auto controller = sb::motion_controller::load_controller_params(
+      sb::paths::shipped_config_path("motion_controller.yaml"));
+  if (!controller) {
+    std::fprintf(stderr, "stereoball demo: %s\n", controller.error().c_str());
+    return 2;
   }
+  const double target_m = controller->controller.target_distance_m;
   if (!profile->cyclonedds_config.empty() && !std::getenv("CYCLONEDDS_URI")) {
     setenv("CYCLONEDDS_URI", ("file://" + profile->cyclonedds_config).c_str(), 1);
   }

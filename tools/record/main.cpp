@@ -9,15 +9,15 @@
 #include <cstdio>
 #include <ctime>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "common/dds/reader.hpp"
-#include "common/dds/serialized.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
 #include "recorder/core/selection.hpp"
 #include "recorder/io/recording.hpp"
+#include "recorder/node/recorder_node.hpp"
 #include "stereoball/idl_text.hpp"
 #include "stereoball/topics.hpp"
 #include "viewer/recording/derived_recording.hpp"
@@ -53,15 +53,6 @@ std::string default_output() {
   char name[64];
   std::strftime(name, sizeof name, "stereoball_%Y%m%d_%H%M%S.mcap", &tm);
   return name;
-}
-
-// Reader QoS for recording: the table's, with a deeper history so bursts between takes are
-// not overwritten, and no deadline requirement.
-sb::topics::QosSpec recording_qos(const sb::topics::TopicSpec& spec) {
-  sb::topics::QosSpec q = spec.qos;
-  q.history_depth = std::max(q.history_depth, 32);
-  q.deadline_ns = 0;
-  return q;
 }
 
 void print_progress(double elapsed_s, const std::vector<std::string>& names,
@@ -169,52 +160,26 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "stereoball record: %s\n", recording.error().c_str());
       return 1;
     }
-    std::vector<std::unique_ptr<sb::dds::SerializedReader>> readers;
     std::printf("recording %zu topic(s) to %s (domain %d%s%s):\n", specs.size(),
                 params.path.c_str(), common.domain_id,
                 common.partition.empty() ? "" : ", partition ", common.partition.c_str());
-    for (size_t i = 0; i < specs.size(); ++i) {
-      readers.push_back(std::make_unique<sb::dds::SerializedReader>(runner.participant(), *specs[i],
-                                                                    recording_qos(*specs[i])));
-      std::printf("  %-20.*s %.*s\n", static_cast<int>(specs[i]->name.size()),
-                  specs[i]->name.data(), static_cast<int>(specs[i]->type_name.size()),
-                  specs[i]->type_name.data());
-      auto* reader = readers.back().get();
-      runner.on_data(reader->handle(), [&, reader, i] {
-        std::vector<sb::dds::SerializedSample> samples;
-        reader->take(samples, 256);
-        const int64_t received = sb::node::now_ns();
-        for (auto& s : samples) {
-          const uint64_t publish = s.source_stamp_ns > 0 ? s.source_stamp_ns : received;
-          if (!(*recording)->push(i, std::move(s.cdr), received, publish)) {
-            runner.health().drop(specs[i]->name.data(), 1);
-          }
-        }
-      });
+    for (const auto* spec : specs) {
+      std::printf("  %-20.*s %.*s\n", static_cast<int>(spec->name.size()), spec->name.data(),
+                  static_cast<int>(spec->type_name.size()), spec->type_name.data());
     }
-    std::unique_ptr<sb::viewer::DerivedRecording> derived_recording;
-    if (derived) {
-      std::printf("  view/* (derived: images, detections, 3D scene for Foxglove)\n");
-      derived_recording = std::make_unique<sb::viewer::DerivedRecording>(
-          sb::dds::ParticipantOptions{common.domain_id, common.partition}, derive, **recording,
-          specs.size());
-    }
+    if (derived) std::printf("  view/* (derived: images, detections, 3D scene for Foxglove)\n");
+    rec::RecorderNode node(runner, sb::dds::ParticipantOptions{common.domain_id, common.partition},
+                           specs, **recording, derived ? std::optional(derive) : std::nullopt);
     std::fflush(stdout);
     const int64_t start = sb::node::monotonic_ns();
     bool failed = false;
-    // Samples DDS lost before we could take them (history overwritten, rejected): reported
-    // beside the queue drops so no loss is silent.
-    std::vector<uint64_t> lost(selected->size(), 0);  // derived channels: always 0
-    auto update_lost = [&] {
-      for (size_t i = 0; i < readers.size(); ++i) {
-        lost[i] += sb::dds::take_lost_count(readers[i]->handle());
-      }
-    };
+    // Samples DDS lost before we could take them are reported beside the queue drops so no
+    // loss is silent.
     runner.every(1'000'000'000, [&](int64_t) {
-      update_lost();
+      node.update_lost();
       if (!o.quiet) {
         print_progress((sb::node::monotonic_ns() - start) / 1e9, *selected,
-                       (*recording)->counters(), lost, (*recording)->queued_bytes());
+                       (*recording)->counters(), node.lost(), (*recording)->queued_bytes());
       }
       if (auto err = (*recording)->failure()) {
         std::fprintf(stderr, "stereoball record: write failed, stopping: %s\n", err->c_str());
@@ -226,9 +191,8 @@ int main(int argc, char** argv) {
       runner.every(static_cast<int64_t>(o.duration_s * 1e9), [&](int64_t) { runner.stop(); });
     }
     runner.run();
-    update_lost();
-    if (derived_recording) derived_recording->stop();
-    readers.clear();
+    node.update_lost();
+    node.stop();
     const auto err = (*recording)->stop();
     const auto counters = (*recording)->counters();
     uint64_t total = 0, dropped = 0, lost_total = 0;
@@ -236,7 +200,7 @@ int main(int argc, char** argv) {
       total += c.messages;
       dropped += c.dropped;
     }
-    for (uint64_t l : lost) lost_total += l;
+    for (uint64_t l : node.lost()) lost_total += l;
     std::printf("stopped: %llu messages written, %llu dropped, %llu lost in DDS, file(s):",
                 static_cast<unsigned long long>(total), static_cast<unsigned long long>(dropped),
                 static_cast<unsigned long long>(lost_total));

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "ball_detector/node/detector_params_file.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
 #include "motion_controller/node/controller_params_file.hpp"
 #include "simulator/io/scenario_file.hpp"
 #include "simulator/io/sim_params_file.hpp"

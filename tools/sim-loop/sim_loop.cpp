@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ball_detector/node/detection_msg.hpp"
 #include "common/util/bench_clock.hpp"
+#include "motion_controller/node/command_msg.hpp"
+#include "tracker/node/track_msg.hpp"
 
 namespace stereoball::sim_loop {
 namespace {
@@ -21,45 +24,30 @@ mc::TrackSample on_controller_clock(mc::TrackSample s) {
   return s;
 }
 
-tracker::Detection to_tracker(const bd::StereoDetection& d, int width_px) {
-  tracker::Detection t;
-  t.found = d.status == bd::DetectionStatus::kFound;
-  t.position_m = {d.position_m[0], d.position_m[1], d.position_m[2]};
-  t.left_x_px = d.left.x_px;
-  t.image_width_px = static_cast<std::uint32_t>(width_px);
-  t.patch_valid = d.patch_valid;
-  std::copy(d.patch_rgb.begin(), d.patch_rgb.end(), t.patch_rgb.begin());
-  return t;
+// The detection as the tracker node receives it: through ball/detection and the two nodes'
+// conversions (a FOUND message with a bad position is not a detection).
+tracker::Detection to_tracker(const bd::StereoDetection& d, std::uint64_t seq,
+                              std::int64_t stamp_ns, int width_px) {
+  stereoball_msg_BallDetection msg{};
+  bd::to_message(d, {seq, stamp_ns}, 0.0F, stamp_ns, msg);
+  return tracker::to_detection(msg, static_cast<std::uint32_t>(width_px)).detection;
 }
 
 }  // namespace
 
+stereoball_msg_BallTrack track_message(const tracker::Track& track, std::uint64_t seq,
+                                       std::int64_t stamp_ns) {
+  stereoball_msg_BallTrack msg{};
+  tracker::to_message(track, seq, stamp_ns, stamp_ns, msg);
+  return msg;
+}
+
 bd::TrackedBall to_tracked_ball(const tracker::Track& t, std::int64_t stamp_ns) {
-  bd::TrackedBall b;
-  b.following = t.state == tracker::TrackState::kFollowing;
-  b.position_valid = t.position_valid;
-  b.position_m = {t.position_m.x(), t.position_m.y(), t.position_m.z()};
-  b.velocity_mps = {t.velocity_mps.x(), t.velocity_mps.y(), t.velocity_mps.z()};
-  b.capture_stamp_ns = stamp_ns;
-  return b;
+  return bd::from_message(track_message(t, 0, stamp_ns));
 }
 
 mc::TrackSample to_controller(const tracker::Track& t, std::int64_t stamp_ns) {
-  mc::TrackSample s;
-  s.state = static_cast<mc::TrackState>(static_cast<int>(t.state));
-  s.position_valid = t.position_valid;
-  s.bearing_rad = t.bearing_rad;
-  s.distance_m = t.distance_m;
-  if (t.position_valid) {
-    const mc::PolarRates r =
-        mc::polar_rates(t.position_m.x(), t.position_m.z(), t.velocity_mps.x(), t.velocity_mps.z());
-    s.bearing_rate_radps = r.bearing_radps;
-    s.distance_rate_mps = r.range_mps;
-  }
-  s.last_seen_side = static_cast<mc::Side>(static_cast<int>(t.last_seen_side));
-  s.capture_stamp_ns = stamp_ns;
-  s.last_accepted_stamp_ns = t.last_accepted_stamp_ns;
-  return s;
+  return mc::to_sample(track_message(t, 0, stamp_ns));
 }
 
 Result<std::unique_ptr<SimLoop>> SimLoop::create(const LoopConfig& config) {
@@ -152,7 +140,8 @@ LoopFrame SimLoop::step() {
   pipeline_.finish_frame(f.left, false);
   out.detector_cpu_ms += bench::thread_cpu_ms() - c1;
   out.detector_wall_ms += bench::wall_ms() - w1;
-  out.track = tracker_.step(to_tracker(out.detection, f.left.cols), f.sim_time_ns);
+  out.track =
+      tracker_.step(to_tracker(out.detection, f.seq, f.sim_time_ns, f.left.cols), f.sim_time_ns);
   last_track_ = to_tracked_ball(out.track, f.sim_time_ns);
   if (config_.drive == Drive::kController) {
     pending_tracks_.push_back({on_controller_clock(to_controller(out.track, f.sim_time_ns)),

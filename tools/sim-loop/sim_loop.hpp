@@ -6,7 +6,9 @@
 // controller core drives the robot: event-driven as the node, each track answered when it
 // reaches the controller (control_latency_ns after its frame), and at least
 // controller_rate_hz without tracks; every command acts on the simulated base from its time on.
-// No DDS, no wall clock in the loop (only the detector timing figures read clocks).
+// Between the cores, detections and tracks pass through their IDL messages and the nodes' own
+// conversions (the *_msg libraries), as in the deployed system. No DDS, no wall clock in the
+// loop (only the detector timing figures read clocks).
 
 #include <cstdint>
 #include <deque>
@@ -15,14 +17,15 @@
 
 #include <opencv2/core.hpp>
 
-#include "ball_detector/node/detector_params.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/detector_params.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/util/result.hpp"
 #include "motion_controller/core/controller_params.hpp"
 #include "motion_controller/core/motion_controller.hpp"
 #include "simulator/core/scenario.hpp"
 #include "simulator/core/sim_params.hpp"
 #include "simulator/core/simulator.hpp"
+#include "stereoball.h"
 #include "tracker/core/tracker.hpp"
 #include "tracker/core/tracker_params.hpp"
 
@@ -100,10 +103,17 @@ class SimLoop {
   std::optional<ball_detector::TrackedBall> last_track_;  // fed back as the detector's prior
 };
 
-/// Converts a tracker track to the detector's prior input, as the node does from ball/track.
+/// The ball/track message the tracker node publishes for track, captured and published at
+/// stamp_ns (the tracker node's conversion; reason points into track: keep it alive).
+stereoball_msg_BallTrack track_message(const tracker::Track& track, std::uint64_t seq,
+                                       std::int64_t stamp_ns);
+
+/// A tracker track as the detector's prior input: through ball/track and the ball detector
+/// node's conversion (non-finite numbers invalidate the position).
 ball_detector::TrackedBall to_tracked_ball(const tracker::Track& track, std::int64_t stamp_ns);
 
-/// Converts a tracker track to the controller's input, as the nodes do over ball/track.
+/// A tracker track as the controller's input: through ball/track and the motion controller
+/// node's conversion (no casts between the two cores' enums; non-finite numbers invalidate it).
 motion_controller::TrackSample to_controller(const tracker::Track& track, std::int64_t stamp_ns);
 
 }  // namespace stereoball::sim_loop

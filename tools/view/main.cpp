@@ -78,8 +78,8 @@ int main(int argc, char** argv) {
   sb::node::add_common_flags(app, common, "", false);
   CLI11_PARSE(app, argc, argv);
   o.server.flow.stall_timeout_ns = static_cast<int64_t>(stall_s * 1e9);
-  if (auto bad = o.derive.validate()) {
-    std::fprintf(stderr, "stereoball view: %s\n", bad->c_str());
+  if (auto st = o.derive.validate(); !st) {
+    std::fprintf(stderr, "stereoball view: %s\n", st.error().c_str());
     return 2;
   }
   try {

@@ -312,7 +312,7 @@ ViewServer::~ViewServer() {
 }
 
 Result<std::string> ViewServer::start() {
-  if (auto bad = impl_->params.flow.validate()) return Error{*bad};
+  if (auto st = impl_->params.flow.validate(); !st) return Error{st.error()};
   if (!(impl_->params.scene_rate_hz > 0 && impl_->params.scene_rate_hz <= 120))
     return Error{"scene_rate_hz must be in (0, 120]"};
   uint16_t port = 0;

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "ball_detector/node/message_conversion.hpp"
+#include "ball_detector/node/detection_msg.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
 namespace stereoball::ball_detector {
@@ -115,9 +115,9 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
   if (!pipeline_.has_calibration()) {
     det = pipeline_.step(cv::Mat(), cv::Mat(), false);  // kNoCalibration with its reason
   } else {
-    if (auto e = decoder_.decode(frame, pipeline_.image_size(), left, right)) {
+    if (auto st = decoder_.decode(frame, pipeline_.image_size(), left, right); !st) {
       det.status = DetectionStatus::kBadFrame;
-      det.reason = *e;
+      det.reason = st.error();
     } else {
       check_eye_order(left, right, frame.rectified);
       det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns), frame.stamp_ns);

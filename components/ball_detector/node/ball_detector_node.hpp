@@ -6,14 +6,14 @@
 #include <optional>
 #include <string>
 
-#include "ball_detector/node/calibration_gate.hpp"
-#include "ball_detector/node/frame_input.hpp"
-#include "ball_detector/node/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/calibration_gate.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
 #include "common/util/log.hpp"
 #include "stereo/core/eye_order.hpp"
+#include "stereo/frame/frame_decoder.hpp"
 
 namespace stereoball::ball_detector {
 
@@ -50,7 +50,7 @@ class BallDetectorNode {
   // First frames of each calibration: are the cameras swapped? (3 looks, 30 frames apart: each
   // costs a few hundred ms on a loaded machine, so not every 100 frames as camera_server does)
   stereo::EyeOrderWatch eye_order_{3, 30};
-  FrameDecoder decoder_;
+  stereo::FrameDecoder decoder_;
   dds::DataReader<stereoball_msg_StereoFrame> frames_;
   dds::DataReader<stereoball_msg_StereoCalibration> calibration_;
   dds::DataReader<stereoball_msg_BallTrack> tracks_;  // fed back: where the ball is expected

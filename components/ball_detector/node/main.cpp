@@ -8,7 +8,7 @@
 #include <exception>
 
 #include "ball_detector/node/ball_detector_node.hpp"
-#include "ball_detector/node/detector_params_file.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
 

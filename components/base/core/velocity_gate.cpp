@@ -4,11 +4,11 @@
 
 namespace stereoball::base {
 
-std::optional<std::string> VelocityGateParams::validate() const {
+Status VelocityGateParams::validate() const {
   if (command_timeout_ns <= 0 || command_timeout_ns > 10'000'000'000) {
-    return "command_timeout_ns must be in (0, 1e10]";
+    return Error{"command_timeout_ns must be in (0, 1e10]"};
   }
-  return std::nullopt;
+  return {};
 }
 
 std::string_view to_string(GateState state) {

@@ -7,12 +7,14 @@
 #include <string>
 #include <string_view>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::base {
 
 struct VelocityGateParams {
   int64_t command_timeout_ns = 300'000'000;  ///< a command older than this stops the base, ns
-  /// Empty, or the bad field and its allowed range.
-  std::optional<std::string> validate() const;
+  /// Success, or the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Velocity of a differential-drive base.

@@ -53,7 +53,8 @@ TEST(VelocityGate, NonFiniteCommandsCountAsZero) {
 }
 
 TEST(VelocityGate, ParamsValidateNamesTheField) {
-  EXPECT_FALSE(sb::VelocityGateParams{}.validate());
-  EXPECT_NE(sb::VelocityGateParams{0}.validate().value_or("").find("command_timeout_ns"),
-            std::string::npos);
+  EXPECT_TRUE(sb::VelocityGateParams{}.validate().ok());
+  const auto bad = sb::VelocityGateParams{0}.validate();
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().find("command_timeout_ns"), std::string::npos);
 }

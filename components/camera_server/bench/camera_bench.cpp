@@ -127,7 +127,7 @@ void bench_file_source(const std::string& encoding, double rate_hz, double secon
     std::this_thread::sleep_for(std::chrono::nanoseconds(due - clock_ns(CLOCK_MONOTONIC)));
     const int64_t t0 = clock_ns(CLOCK_MONOTONIC);
     const sc::FilePair& p = src->pair(static_cast<size_t>(i) % src->size());
-    auto view = sc::view_of_images(p.left, p.right, i, clock_ns(CLOCK_REALTIME));
+    auto view = stereoball::stereo::view_of_images(p.left, p.right, i, clock_ns(CLOCK_REALTIME));
     message.resize(view->left.bytes + view->right.bytes);
     std::copy_n(view->left.data, view->left.bytes, message.data());
     std::copy_n(view->right.data, view->right.bytes, message.data() + view->left.bytes);

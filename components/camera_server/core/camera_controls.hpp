@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "camera_server/core/params.hpp"
+#include "camera_server/core/camera_server_params.hpp"
 
 namespace stereoball::camera_server {
 

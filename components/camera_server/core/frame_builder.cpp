@@ -6,27 +6,19 @@
 namespace stereoball::camera_server {
 namespace {
 
-EyeView raw_view(const RawImage& raw, int64_t stamp_ns) {
-  return EyeView{stamp_ns,       raw.width_px,     raw.height_px,
-                 raw.step_bytes, raw.bytes.data(), raw.bytes.size()};
-}
-
-EyeView mat_view(const cv::Mat& m, int64_t stamp_ns) {
-  return EyeView{stamp_ns,
-                 static_cast<uint32_t>(m.cols),
-                 static_cast<uint32_t>(m.rows),
-                 static_cast<uint32_t>(m.step),
-                 m.data,
-                 m.step * static_cast<size_t>(m.rows)};
+stereo::EyeView raw_view(const RawImage& raw, int64_t stamp_ns) {
+  return stereo::EyeView{stamp_ns,       raw.width_px,     raw.height_px,
+                         raw.step_bytes, raw.bytes.data(), raw.bytes.size()};
 }
 
 }  // namespace
 
-std::optional<std::string> FrameBuilderParams::validate() const {
+Status FrameBuilderParams::validate() const {
   if (publish_encoding != "bgr8" && publish_encoding != "native") {
-    return "publish_encoding must be \"bgr8\" or \"native\", got \"" + publish_encoding + "\"";
+    return Error{"publish_encoding must be \"bgr8\" or \"native\", got \"" + publish_encoding +
+                 "\""};
   }
-  return std::nullopt;
+  return {};
 }
 
 FrameBuilder::FrameBuilder(const FrameBuilderParams& params) : params_(params) {}
@@ -43,12 +35,12 @@ Status FrameBuilder::convert(const RawImage& raw, cv::Mat& out) const {
   return fail("cannot convert pixel format " + fourcc_text(raw.fourcc) + " to bgr8");
 }
 
-Result<FrameView> FrameBuilder::step(const RawStereoPair& pair) {
+Result<stereo::FrameView> FrameBuilder::step(const RawStereoPair& pair) {
   if (pair.left.fourcc != pair.right.fourcc) {
     return fail("left camera delivers " + fourcc_text(pair.left.fourcc) + " but right " +
                 fourcc_text(pair.right.fourcc) + "; both must use the same pixel format");
   }
-  FrameView v;
+  stereo::FrameView v;
   v.seq = pair.seq;
   v.stamp_ns = pair.stamp_ns;
   if (params_.publish_encoding == "native") {
@@ -65,33 +57,8 @@ Result<FrameView> FrameBuilder::step(const RawStereoPair& pair) {
   if (auto s = convert(pair.left, bgr_[0]); !s.ok()) return Error{"left camera: " + s.error()};
   if (auto s = convert(pair.right, bgr_[1]); !s.ok()) return Error{"right camera: " + s.error()};
   v.encoding = "bgr8";
-  v.left = mat_view(bgr_[0], pair.left_stamp_ns);
-  v.right = mat_view(bgr_[1], pair.right_stamp_ns);
-  return v;
-}
-
-cv::Mat image_of(const EyeView& eye, const std::string& encoding) {
-  if (encoding != "bgr8" && encoding != "mono8") return {};
-  return cv::Mat(static_cast<int>(eye.height_px), static_cast<int>(eye.width_px),
-                 encoding == "bgr8" ? CV_8UC3 : CV_8UC1, const_cast<uint8_t*>(eye.data),
-                 eye.step_bytes);
-}
-
-Result<FrameView> view_of_images(const cv::Mat& left, const cv::Mat& right, uint64_t seq,
-                                 int64_t stamp_ns) {
-  if (left.empty() || right.empty()) return fail("empty image in a file pair");
-  if (left.size() != right.size() || left.type() != right.type()) {
-    return fail("left and right images differ in size or type");
-  }
-  if (left.type() != CV_8UC1 && left.type() != CV_8UC3) {
-    return fail("images must be 8-bit grey or BGR");
-  }
-  FrameView v;
-  v.seq = seq;
-  v.stamp_ns = stamp_ns;
-  v.encoding = left.channels() == 1 ? "mono8" : "bgr8";
-  v.left = mat_view(left, stamp_ns);
-  v.right = mat_view(right, stamp_ns);
+  v.left = stereo::eye_view(bgr_[0], pair.left_stamp_ns);
+  v.right = stereo::eye_view(bgr_[1], pair.right_stamp_ns);
   return v;
 }
 

@@ -99,13 +99,13 @@ TEST(FrameBuilder, GivenMixedFormatsWhenBuiltThenError) {
 TEST(ViewOfImages, GivenGreyPairWhenViewedThenMono8PointingAtPixels) {
   cv::Mat l(4, 6, CV_8UC1, cv::Scalar(3));
   cv::Mat r(4, 6, CV_8UC1, cv::Scalar(4));
-  auto v = view_of_images(l, r, 5, 99);
+  auto v = stereo::view_of_images(l, r, 5, 99);
   ASSERT_TRUE(v.ok());
   EXPECT_EQ(v->encoding, "mono8");
   EXPECT_EQ(v->left.data, l.data);
   EXPECT_EQ(v->right.bytes, 24u);
   EXPECT_EQ(v->left.capture_stamp_ns, 99);
-  EXPECT_FALSE(view_of_images(l, cv::Mat(4, 6, CV_8UC3), 0, 0).ok());
+  EXPECT_FALSE(stereo::view_of_images(l, cv::Mat(4, 6, CV_8UC3), 0, 0).ok());
 }
 
 }  // namespace

@@ -170,7 +170,7 @@ Status yuyv_to_bgr_into(std::span<const uint8_t> yuyv, int width_px, int height_
     convert_row(yuyv.data() + static_cast<size_t>(row) * step_bytes,
                 dst + static_cast<size_t>(row) * dst_step_bytes, width_px, row + 1 < height_px, t);
   }
-  return Ok{};
+  return {};
 }
 
 Status yuyv_to_bgr(std::span<const uint8_t> yuyv, int width_px, int height_px, int step_bytes,
@@ -198,7 +198,7 @@ Status mjpeg_to_bgr(std::span<const uint8_t> jpeg, int width_px, int height_px, 
                 size_text(width_px, height_px));
   }
   bgr = std::move(decoded);
-  return Ok{};
+  return {};
 }
 
 }  // namespace stereoball::camera_server

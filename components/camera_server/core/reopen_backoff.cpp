@@ -5,17 +5,17 @@
 
 namespace stereoball::camera_server {
 
-std::optional<std::string> BackoffParams::validate() const {
+Status BackoffParams::validate() const {
   if (!(initial_s > 0.0 && initial_s <= 60.0)) {
-    return "initial_s must be in (0, 60], got " + std::to_string(initial_s);
+    return Error{"initial_s must be in (0, 60], got " + std::to_string(initial_s)};
   }
   if (!(max_s >= initial_s && max_s <= 600.0)) {
-    return "max_s must be in [initial_s, 600], got " + std::to_string(max_s);
+    return Error{"max_s must be in [initial_s, 600], got " + std::to_string(max_s)};
   }
   if (!(factor >= 1.0 && factor <= 10.0)) {
-    return "factor must be in [1, 10], got " + std::to_string(factor);
+    return Error{"factor must be in [1, 10], got " + std::to_string(factor)};
   }
-  return std::nullopt;
+  return {};
 }
 
 ReopenBackoff::ReopenBackoff(const BackoffParams& params) : params_(params) {}

@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::camera_server {
 
 /// Back-off shape.
@@ -13,8 +15,8 @@ struct BackoffParams {
   double max_s = 8.0;      ///< longest wait, seconds
   double factor = 2.0;     ///< wait multiplier per consecutive failure
 
-  /// Names the bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Tracks consecutive failures and when the next attempt is due.

@@ -39,8 +39,8 @@ TEST(ReopenBackoff, GivenSuccessAfterFailuresWhenFailingAgainThenStartsFromIniti
 
 TEST(BackoffParams, GivenMaxBelowInitialWhenValidatedThenNamesMax) {
   BackoffParams p{2.0, 1.0, 2.0};
-  ASSERT_TRUE(p.validate());
-  EXPECT_NE(p.validate()->find("max_s"), std::string::npos);
+  ASSERT_FALSE(p.validate().ok());
+  EXPECT_NE(p.validate().error().find("max_s"), std::string::npos);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #pragma once
-// Result types of the camera server: a value or a one-line error naming the problem.
+// Result types of the camera server: the project's Result/Status (common/util/result.hpp),
+// a value or success, or a one-line error naming the problem.
 
 #include "common/util/result.hpp"
 
@@ -7,12 +8,7 @@ namespace stereoball::camera_server {
 
 using stereoball::Error;
 using stereoball::Result;
-
-/// Empty success value for operations that return nothing.
-struct Ok {};
-
-/// Success or a one-line error.
-using Status = Result<Ok>;
+using stereoball::Status;
 
 /// Builds a failed result from a message.
 inline Error fail(std::string message) {

@@ -9,6 +9,8 @@
 #include <string>
 #include <utility>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::camera_server {
 
 /// Which camera a frame came from.
@@ -43,13 +45,14 @@ struct PairerParams {
   int64_t max_skew_ns = 16'666'667;  ///< largest |left - right| stamp difference, ns
   uint32_t max_pending = 4;          ///< frames held per eye while waiting for a partner
 
-  /// Names the bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const {
-    if (max_skew_ns <= 0) return "max_skew_ns must be > 0, got " + std::to_string(max_skew_ns);
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const {
+    if (max_skew_ns <= 0)
+      return Error{"max_skew_ns must be > 0, got " + std::to_string(max_skew_ns)};
     if (max_pending < 1 || max_pending > 64) {
-      return "max_pending must be in [1, 64], got " + std::to_string(max_pending);
+      return Error{"max_pending must be in [1, 64], got " + std::to_string(max_pending)};
     }
-    return std::nullopt;
+    return {};
   }
 };
 

@@ -115,9 +115,9 @@ TEST(StereoPairer, GivenOneCameraSilentWhenOtherKeepsStreamingThenPendingIsBound
 
 TEST(PairerParams, GivenZeroSkewWhenValidatedThenNamesTheField) {
   PairerParams bad{0, 4};
-  ASSERT_TRUE(bad.validate());
-  EXPECT_NE(bad.validate()->find("max_skew_ns"), std::string::npos);
-  EXPECT_FALSE(PairerParams{}.validate());
+  ASSERT_FALSE(bad.validate().ok());
+  EXPECT_NE(bad.validate().error().find("max_skew_ns"), std::string::npos);
+  EXPECT_TRUE(PairerParams{}.validate().ok());
 }
 
 }  // namespace

@@ -48,18 +48,19 @@ DeviceStatus open_camera(VideoDevice& device, const CameraConfig& config, Opened
   return s;
 }
 
-std::optional<std::string> same_device_error(const std::string& left, const std::string& right) {
+Status check_distinct_devices(const std::string& left, const std::string& right) {
   if (left == right) {
-    return "left and right camera are the same device (" + left + "); give two different cameras";
+    return Error{"left and right camera are the same device (" + left +
+                 "); give two different cameras"};
   }
   struct stat a {};
   struct stat b {};
-  if (::stat(left.c_str(), &a) != 0 || ::stat(right.c_str(), &b) != 0) return std::nullopt;
+  if (::stat(left.c_str(), &a) != 0 || ::stat(right.c_str(), &b) != 0) return {};
   if (S_ISCHR(a.st_mode) && S_ISCHR(b.st_mode) && a.st_rdev == b.st_rdev) {
-    return "left camera " + left + " and right camera " + right +
-           " are the same device; give two different cameras";
+    return Error{"left camera " + left + " and right camera " + right +
+                 " are the same device; give two different cameras"};
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace stereoball::camera_server

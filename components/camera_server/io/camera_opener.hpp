@@ -5,8 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "camera_server/core/params.hpp"
+#include "camera_server/core/camera_server_params.hpp"
 #include "camera_server/io/video_device.hpp"
+#include "common/util/result.hpp"
 
 namespace stereoball::camera_server {
 
@@ -33,7 +34,7 @@ CameraConfig camera_config(const CameraServerParams& params, const std::string& 
 DeviceStatus open_camera(VideoDevice& device, const CameraConfig& config, OpenedCamera& opened);
 
 /// Error when both paths name the same camera (same path, or same device number through
-/// symlinks such as /dev/v4l/by-id/...); nullopt when they differ or cannot be compared.
-std::optional<std::string> same_device_error(const std::string& left, const std::string& right);
+/// symlinks such as /dev/v4l/by-id/...); success when they differ or cannot be compared.
+Status check_distinct_devices(const std::string& left, const std::string& right);
 
 }  // namespace stereoball::camera_server

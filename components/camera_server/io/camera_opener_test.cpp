@@ -76,19 +76,19 @@ TEST(OpenCamera, GivenBusyOrMissingDeviceWhenOpenedThenCauseIsNamed) {
   }
 }
 
-TEST(SameDeviceError, GivenSamePathOrSymlinkToSameNodeThenErrorElseNone) {
-  EXPECT_TRUE(same_device_error("/dev/video0", "/dev/video0"));
+TEST(CheckDistinctDevices, GivenSamePathOrSymlinkToSameNodeThenErrorElseNone) {
+  EXPECT_FALSE(check_distinct_devices("/dev/video0", "/dev/video0").ok());
   const auto dir =
       std::filesystem::temp_directory_path() / ("sb_cam_link_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const auto link = dir / "by-id-null";
   std::filesystem::remove(link);
   std::filesystem::create_symlink("/dev/null", link);
-  const auto e = same_device_error("/dev/null", link.string());
-  ASSERT_TRUE(e);
-  EXPECT_NE(e->find("same device"), std::string::npos);
-  EXPECT_FALSE(same_device_error("/dev/null", "/dev/zero"));
-  EXPECT_FALSE(same_device_error("/dev/null", "/does/not/exist"));
+  const auto e = check_distinct_devices("/dev/null", link.string());
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error().find("same device"), std::string::npos);
+  EXPECT_TRUE(check_distinct_devices("/dev/null", "/dev/zero").ok());
+  EXPECT_TRUE(check_distinct_devices("/dev/null", "/does/not/exist").ok());
   std::filesystem::remove_all(dir);
 }
 

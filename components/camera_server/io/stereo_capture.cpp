@@ -53,8 +53,8 @@ DeviceStatus StereoCapture::open_eye(Eye eye) {
 }
 
 DeviceStatus StereoCapture::start() {
-  if (auto e = same_device_error(params_.left_device, params_.right_device)) {
-    return {EINVAL, *e};
+  if (auto st = check_distinct_devices(params_.left_device, params_.right_device); !st) {
+    return {EINVAL, st.error()};
   }
   for (Eye e : kEyes) {
     DeviceStatus st = open_eye(e);

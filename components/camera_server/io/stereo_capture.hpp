@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "camera_server/core/params.hpp"
+#include "camera_server/core/camera_server_params.hpp"
 #include "camera_server/core/raw_image.hpp"
 #include "camera_server/core/reopen_backoff.hpp"
 #include "camera_server/core/stereo_pairer.hpp"

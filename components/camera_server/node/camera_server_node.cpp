@@ -1,9 +1,9 @@
 #include "camera_server/node/camera_server_node.hpp"
 
 #include "camera_server/io/v4l2_device.hpp"
-#include "camera_server/node/frame_message.hpp"
 #include "common/util/log.hpp"
 #include "stereo/core/eye_order.hpp"
+#include "stereo/frame/frame_msg.hpp"
 #include "stereo/io/calibration_file.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
@@ -39,17 +39,17 @@ Result<std::unique_ptr<CameraServerNode>> CameraServerNode::create(const CameraS
                                                                    node::Runner& runner) {
   if (auto st = params.validate(); !st) return Error{st.error()};
   std::unique_ptr<CameraServerNode> node(new CameraServerNode(params, runner));
-  if (auto e = node->open_source()) return Error{*e};
+  if (auto st = node->open_source(); !st) return Error{st.error()};
   node->start();
   return node;
 }
 
-std::optional<std::string> CameraServerNode::open_source() {
+Status CameraServerNode::open_source() {
   cv::Size size(static_cast<int>(params_.width_px), static_cast<int>(params_.height_px));
   if (params_.source == "files") {
     auto src = FileSource::open(FileSourceParams{params_.left_glob, params_.right_glob,
                                                  params_.pairs_dir, params_.file_encoding});
-    if (!src) return src.error();
+    if (!src) return Error{src.error()};
     files_.emplace(std::move(*src));
     source_name_ = files_->description();
     size = files_->image_size();
@@ -60,37 +60,38 @@ std::optional<std::string> CameraServerNode::open_source() {
     capture_ = std::make_unique<StereoCapture>(params_,
                                                [](Eye) { return std::make_unique<V4l2Device>(); });
     // Check the calibration before touching the cameras: a wrong size is a config error.
-    if (auto e = open_calibration(size)) return e;
+    if (auto st = open_calibration(size); !st) return st;
     const DeviceStatus st = capture_->start();
-    if (!st.ok()) return st.message;
+    if (!st.ok()) return Error{st.message};
     for (const auto& line : capture_->take_log()) log::warn(line);
     const auto h = capture_->health();
     log::info("streaming ", source_name_, " as ", fourcc_text(h.eyes[0].format.fourcc), " ",
               size_text(size), " at ", params_.rate_hz, " Hz");
-    return std::nullopt;
+    return {};
   }
   return open_calibration(size);
 }
 
-std::optional<std::string> CameraServerNode::open_calibration(cv::Size capture_size) {
-  if (params_.calibration_file.empty()) return std::nullopt;
+Status CameraServerNode::open_calibration(cv::Size capture_size) {
+  if (params_.calibration_file.empty()) return {};
   auto calib = stereo::load_calibration(params_.calibration_file);
-  if (!calib) return calib.error();
+  if (!calib) return Error{calib.error()};
   if (calib->image_size != capture_size) {
-    return "calibration " + params_.calibration_file + " is for " + size_text(calib->image_size) +
-           " images but the capture size is " + size_text(capture_size) +
-           "; recalibrate at this size or change width_px/height_px";
+    return Error{"calibration " + params_.calibration_file + " is for " +
+                 size_text(calib->image_size) + " images but the capture size is " +
+                 size_text(capture_size) +
+                 "; recalibrate at this size or change width_px/height_px"};
   }
   if (auto swapped = stereo::check_camera_order(*calib)) {
-    return "calibration " + params_.calibration_file + ": " + *swapped + "; " + kHowToSwap +
-           " and calibrate again (stereoball calibrate)";
+    return Error{"calibration " + params_.calibration_file + ": " + *swapped + "; " + kHowToSwap +
+                 " and calibrate again (stereoball calibrate)"};
   }
   calibration_.emplace(std::move(calib).value());
   // Also without `rectify`: the eye-order check of the first frames rectifies them.
   auto r = stereo::Rectifier::create(*calibration_);
-  if (!r) return params_.calibration_file + ": " + r.error();
+  if (!r) return Error{params_.calibration_file + ": " + r.error()};
   rectifier_.emplace(std::move(r).value());
-  return std::nullopt;
+  return {};
 }
 
 void CameraServerNode::start() {
@@ -125,7 +126,7 @@ void CameraServerNode::publish_file_pair(int64_t now_ns) {
     return;
   }
   const FilePair& p = files_->pair(i);
-  auto view = view_of_images(p.left, p.right, file_seq_++, now_ns);
+  auto view = stereo::view_of_images(p.left, p.right, file_seq_++, now_ns);
   if (!view) {
     runner_.health().error("bad_file_pair", view.error());
     return;
@@ -176,14 +177,16 @@ void CameraServerNode::update_capture_health() {
 
 // The rectified copy of a decoded view in storage, the view itself when not rectifying, or
 // nullptr when rectification failed (counted in health).
-const FrameView* CameraServerNode::rectify(const FrameView& view, FrameView& storage) {
-  const cv::Mat l = image_of(view.left, view.encoding), r = image_of(view.right, view.encoding);
+const stereo::FrameView* CameraServerNode::rectify(const stereo::FrameView& view,
+                                                   stereo::FrameView& storage) {
+  const cv::Mat l = stereo::image_of(view.left, view.encoding),
+                r = stereo::image_of(view.right, view.encoding);
   if (!params_.rectify || !rectifier_ || l.empty()) return &view;
   if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1])) {
     runner_.health().error("rectify", *e);
     return nullptr;
   }
-  auto v = view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);
+  auto v = stereo::view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);
   if (!v) return nullptr;
   storage = *v;
   storage.left.capture_stamp_ns = view.left.capture_stamp_ns;
@@ -194,7 +197,8 @@ const FrameView* CameraServerNode::rectify(const FrameView& view, FrameView& sto
 
 // The jpeg/png view in storage with frame_encoding set, else the view itself; nullptr when
 // encoding failed (counted in health).
-const FrameView* CameraServerNode::compress(const FrameView& view, FrameView& storage) {
+const stereo::FrameView* CameraServerNode::compress(const stereo::FrameView& view,
+                                                    stereo::FrameView& storage) {
   if (!compressor_) return &view;
   const int64_t start_ns = node::monotonic_ns();
   auto v = compressor_->step(view);
@@ -208,10 +212,10 @@ const FrameView* CameraServerNode::compress(const FrameView& view, FrameView& st
   return &storage;
 }
 
-void CameraServerNode::check_eye_order(const FrameView& view) {
+void CameraServerNode::check_eye_order(const stereo::FrameView& view) {
   if (!rectifier_) return;
-  const auto evidence = eye_order_.step(*rectifier_, image_of(view.left, view.encoding),
-                                        image_of(view.right, view.encoding), false);
+  const auto evidence = eye_order_.step(*rectifier_, stereo::image_of(view.left, view.encoding),
+                                        stereo::image_of(view.right, view.encoding), false);
   if (!evidence) return;
   if (auto text = stereo::describe_swapped_eyes(*evidence, std::string(kHowToSwap))) {
     log::error(*text);
@@ -219,14 +223,14 @@ void CameraServerNode::check_eye_order(const FrameView& view) {
   }
 }
 
-void CameraServerNode::publish(const FrameView& view) {
+void CameraServerNode::publish(const stereo::FrameView& view) {
   check_eye_order(view);
-  FrameView rectified, compressed;
-  const FrameView* out = rectify(view, rectified);
+  stereo::FrameView rectified, compressed;
+  const stereo::FrameView* out = rectify(view, rectified);
   if (out != nullptr) out = compress(*out, compressed);
   if (out == nullptr) return;
   stereoball_msg_StereoFrame msg{};
-  fill_frame_message(*out, source_name_, msg);
+  stereo::fill_frame_message(*out, source_name_, msg);
   frame_writer_.write(msg);
   runner_.health().count(std::string(topics::kStereoFrame.spec.name));
 }

@@ -8,15 +8,15 @@
 #include <string>
 #include <thread>
 
+#include "camera_server/core/camera_server_params.hpp"
 #include "camera_server/core/frame_builder.hpp"
-#include "camera_server/core/frame_compressor.hpp"
-#include "camera_server/core/params.hpp"
 #include "camera_server/io/file_source.hpp"
 #include "camera_server/io/stereo_capture.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
 #include "stereo/core/eye_order.hpp"
 #include "stereo/core/rectifier.hpp"
+#include "stereo/frame/frame_compressor.hpp"
 
 namespace stereoball::camera_server {
 
@@ -33,15 +33,15 @@ class CameraServerNode {
 
  private:
   CameraServerNode(const CameraServerParams& params, node::Runner& runner);
-  std::optional<std::string> open_source();
-  std::optional<std::string> open_calibration(cv::Size capture_size);
+  Status open_source();
+  Status open_calibration(cv::Size capture_size);
   void start();
   void publish_file_pair(int64_t now_ns);
   void capture_loop();
-  void publish(const FrameView& view);
-  void check_eye_order(const FrameView& view);
-  const FrameView* rectify(const FrameView& view, FrameView& storage);
-  const FrameView* compress(const FrameView& view, FrameView& storage);
+  void publish(const stereo::FrameView& view);
+  void check_eye_order(const stereo::FrameView& view);
+  const stereo::FrameView* rectify(const stereo::FrameView& view, stereo::FrameView& storage);
+  const stereo::FrameView* compress(const stereo::FrameView& view, stereo::FrameView& storage);
   void update_capture_health();
 
   CameraServerParams params_;
@@ -56,7 +56,7 @@ class CameraServerNode {
   std::optional<stereo::Rectifier> rectifier_;  // with a calibration (rectify, eye order)
   stereo::EyeOrderWatch eye_order_;             // first frames: are the cameras swapped?
   cv::Mat rectified_[2];
-  std::optional<FrameCompressor> compressor_;  // frame_encoding jpeg/png
+  std::optional<stereo::FrameCompressor> compressor_;  // frame_encoding jpeg/png
   uint64_t file_seq_ = 0;
   bool files_done_ = false;
   uint64_t reported_drops_ = 0;

@@ -4,10 +4,10 @@
 #include <cstdio>
 
 #include "camera_server/node/camera_server_node.hpp"
-#include "camera_server/node/frame_codec_flags.hpp"
-#include "camera_server/node/params_loader.hpp"
+#include "camera_server/node/camera_server_params_file.hpp"
 #include "common/node/node_runner.hpp"
 #include "common/util/log.hpp"
+#include "stereo/frame/frame_codec_flags.hpp"
 
 namespace sb = stereoball;
 
@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   sb::node::CommonOptions common;
   sb::node::add_common_flags(app, common, "camera_server.yaml");
   sb::node::add_help_params(app, sb::params::specs(sb::camera_server::camera_server_fields()));
-  const sb::camera_server::FrameCodecFlags codec_flags(app);
+  const sb::stereo::FrameCodecFlags codec_flags(app);
   CLI11_PARSE(app, argc, argv);
   sb::log::Level level = sb::log::Level::kInfo;
   sb::log::parse_level(common.log_level, level);

@@ -38,7 +38,7 @@ Result<S> read_fields(const FieldTable<S>& table, ParamsFile& file) {
     }
     f.set(s, *v);
   }
-  if (auto e = file.finish()) return Error{*e};
+  if (auto st = file.finish(); !st) return Error{st.error()};
   if (table.cross_check) {
     if (auto st = table.cross_check(s); !st) return Error{file.name() + ": " + st.error()};
   }

@@ -202,8 +202,8 @@ bool ParamsFile::has(std::string_view key) {
   return lookup(key).has_value();
 }
 
-std::optional<std::string> ParamsFile::finish() const {
-  if (error_) return error_;
+Status ParamsFile::finish() const {
+  if (error_) return Error{*error_};
   std::vector<std::string> leaves;
   collect_leaf_keys(root_, "", leaves);
   for (const auto& leaf : leaves) {
@@ -212,9 +212,9 @@ std::optional<std::string> ParamsFile::finish() const {
     for (const auto& k : known_) {
       if (leaf == k || leaf.rfind(k + ".", 0) == 0) known = true;
     }
-    if (!known) return name_ + ": key '" + leaf + "': unknown parameter";
+    if (!known) return Error{name_ + ": key '" + leaf + "': unknown parameter"};
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace stereoball::params

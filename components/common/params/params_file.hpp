@@ -42,8 +42,8 @@ class ParamsFile {
   void fail(const std::string& message);
   /// True once any read or fail() has recorded an error (unknown keys are found by finish()).
   bool failed() const { return error_.has_value(); }
-  /// The first error, or an unknown-key error; nullopt if everything was fine.
-  std::optional<std::string> finish() const;
+  /// Success, or the first error, or an unknown-key error.
+  Status finish() const;
   const std::string& name() const { return name_; }
   const YAML::Node& root() const { return root_; }
 

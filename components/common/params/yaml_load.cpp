@@ -16,31 +16,31 @@ std::string child_path(const std::string& prefix, const std::string& part) {
 }
 
 // Depth-first search; the recursion depth is bounded by yaml-cpp's own nesting limit.
-std::optional<std::string> find_in(const YAML::Node& node, const std::string& prefix) {
+Status check_in(const YAML::Node& node, const std::string& prefix) {
   if (node.IsSequence()) {
     for (std::size_t i = 0; i < node.size(); ++i) {
-      if (auto e = find_in(node[i], prefix + "[" + std::to_string(i) + "]")) return e;
+      if (auto st = check_in(node[i], prefix + "[" + std::to_string(i) + "]"); !st) return st;
     }
   }
-  if (!node.IsMap()) return std::nullopt;
+  if (!node.IsMap()) return {};
   std::unordered_map<std::string, int> line_of;  // key -> its 1-based line
   for (const auto& item : node) {
     const std::string key = key_text(item.first);
     const int line = item.first.Mark().line + 1;
     const auto [first, inserted] = line_of.emplace(key, line);
     if (!inserted) {
-      return "key '" + child_path(prefix, key) + "' appears twice (lines " +
-             std::to_string(first->second) + " and " + std::to_string(line) + ")";
+      return Error{"key '" + child_path(prefix, key) + "' appears twice (lines " +
+                   std::to_string(first->second) + " and " + std::to_string(line) + ")"};
     }
-    if (auto e = find_in(item.second, child_path(prefix, key))) return e;
+    if (auto st = check_in(item.second, child_path(prefix, key)); !st) return st;
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace
 
-std::optional<std::string> find_duplicate_key(const YAML::Node& root) {
-  return find_in(root, "");
+Status check_unique_keys(const YAML::Node& root) {
+  return check_in(root, "");
 }
 
 Result<YAML::Node> parse_yaml(const std::string& text, const std::string& name) {
@@ -50,7 +50,7 @@ Result<YAML::Node> parse_yaml(const std::string& text, const std::string& name) 
   } catch (const YAML::Exception& e) {
     return Error{name + ": not valid YAML: " + e.what()};
   }
-  if (auto duplicate = find_duplicate_key(root)) return Error{name + ": " + *duplicate};
+  if (auto st = check_unique_keys(root); !st) return Error{name + ": " + st.error()};
   return root;
 }
 

@@ -11,9 +11,9 @@
 
 namespace stereoball::params {
 
-/// The first key that appears twice in one mapping anywhere under root, as
-/// "key 'a.b' appears twice (lines 3 and 7)"; nullopt when every key is unique.
-std::optional<std::string> find_duplicate_key(const YAML::Node& root);
+/// Success when every key is unique in its mapping anywhere under root; else an error naming the
+/// first key that appears twice, as "key 'a.b' appears twice (lines 3 and 7)".
+Status check_unique_keys(const YAML::Node& root);
 
 /// Parses text (name is the file in error messages): "NAME: not valid YAML: ..." or
 /// "NAME: key 'a.b' appears twice (lines 3 and 7)".

@@ -26,7 +26,8 @@ std::optional<std::string> load_demo(const std::string& text, Demo& demo) {
   file->read("enabled", demo.enabled);
   file->read_choice("mode", demo.mode, {"a", "b"});
   file->read("xyz", demo.xyz, 3);
-  return file->finish();
+  if (auto st = file->finish(); !st) return st.error();
+  return std::nullopt;
 }
 
 const char* kGood = "gain: 2.5\nnested:\n  count: 7\nenabled: true\nmode: b\nxyz: [1, 2, 3]\n";

@@ -5,13 +5,15 @@
 #include <cstdint>
 #include <string_view>
 
+#include "tracker/core/track_state.hpp"
+
 namespace stereoball::motion_controller {
 
-/// Tracker state as reported on ball/track.
-enum class TrackState { kIdle, kFollowing, kSearching };
+/// Tracker state as reported on ball/track (the tracker's own declaration).
+using TrackState = tracker::TrackState;
 
-/// Side where the ball was last seen.
-enum class Side { kUnknown, kLeft, kRight };
+/// Side where the ball was last seen (the tracker's own declaration).
+using Side = tracker::Side;
 
 /// The part of one ball/track sample the controller needs.
 struct TrackSample {

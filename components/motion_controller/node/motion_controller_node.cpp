@@ -3,7 +3,7 @@
 #include <string>
 
 #include "common/util/log.hpp"
-#include "motion_controller/node/command_conversion.hpp"
+#include "motion_controller/node/command_msg.hpp"
 
 namespace stereoball::motion_controller {
 namespace {

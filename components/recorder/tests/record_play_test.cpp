@@ -26,12 +26,12 @@ using sb::testing::Process;
 
 namespace {
 
-std::vector<std::string> dds_flags(const std::string& partition) {
+std::vector<std::string> domain_flags(const std::string& partition) {
   return {"--domain", std::to_string(sb::testing::test_domain()), "--partition", partition};
 }
 
 std::vector<std::string> args(std::vector<std::string> a, const std::string& partition) {
-  for (auto& f : dds_flags(partition)) a.push_back(f);
+  for (auto& f : domain_flags(partition)) a.push_back(f);
   return a;
 }
 

@@ -63,10 +63,10 @@ int main(int argc, char** argv) {
   app.add_option("--width", width, "override image width, pixels");
   app.add_option("--height", height, "override image height, pixels");
   app.add_option("--blur", blur, "override motion blur sub-frames")->check(CLI::Range(1, 16));
-  stereoball::camera_server::FrameCodecParams codec;
+  stereoball::stereo::FrameCodecParams codec;
   app.add_option("--frame-encoding", codec.frame_encoding,
                  "also time compressing each pair: raw (no), jpeg or png")
-      ->check(CLI::IsMember(stereoball::camera_server::frame_encoding_choices()))
+      ->check(CLI::IsMember(stereoball::stereo::frame_encoding_choices()))
       ->capture_default_str();
   app.add_option("--jpeg-quality", codec.jpeg_quality, "JPEG quality")
       ->check(CLI::Range(1, 100))
@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
 
   std::vector<double> render_ms, step_ms, render_cpu_ms, step_cpu_ms, encode_ms, encode_cpu_ms;
   std::vector<double> pair_bytes;
-  std::optional<stereoball::camera_server::EyeEncoder> encoder;
+  std::optional<stereoball::stereo::EyeEncoder> encoder;
   if (codec.compressed()) encoder.emplace(codec);
   cv::Mat left, right;
   for (int i = 0; i < frames; ++i) {
@@ -119,8 +119,8 @@ int main(int argc, char** argv) {
     const double c2 = cpu_ms();
     size_t bytes = 0;
     for (const cv::Mat* eye : {&f.left, &f.right}) {
-      if (auto e = encoder->encode(*eye)) {
-        return std::fprintf(stderr, "stereoball-sim-bench: %s\n", e->c_str()), 1;
+      if (auto st = encoder->encode(*eye); !st) {
+        return std::fprintf(stderr, "stereoball-sim-bench: %s\n", st.error().c_str()), 1;
       }
       bytes += encoder->bytes().size();
     }

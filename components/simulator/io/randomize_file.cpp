@@ -21,7 +21,7 @@ void read_weights(params::ParamsFile& f, const std::string& key, Weights<N>& w,
 Result<RandomizeRanges> finish(params::ParamsFile& f) {
   RandomizeRanges r;
   read_randomize_ranges(f, r);
-  if (auto e = f.finish()) return Error{*e};
+  if (auto st = f.finish(); !st) return Error{st.error()};
   if (auto e = r.validate()) return Error{f.name() + ": " + *e};
   return r;
 }

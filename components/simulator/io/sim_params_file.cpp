@@ -7,8 +7,7 @@ namespace {
 
 params::FieldTable<SimulatorConfig> make_table() {
   auto table = params::section("", &SimulatorConfig::sim, sim_fields());
-  const auto output =
-      params::section("", &SimulatorConfig::output, camera_server::frame_codec_fields());
+  const auto output = params::section("", &SimulatorConfig::output, stereo::frame_codec_fields());
   // After frame_rate_hz, where config/simulator.yaml has them.
   table.fields.insert(table.fields.begin() + 3, output.fields.begin(), output.fields.end());
   return table;

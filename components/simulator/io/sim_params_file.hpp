@@ -4,17 +4,17 @@
 
 #include <string>
 
-#include "camera_server/core/frame_codec.hpp"
 #include "common/params/field_table.hpp"
 #include "common/util/result.hpp"
 #include "simulator/core/sim_params.hpp"
+#include "stereo/frame/frame_codec.hpp"
 
 namespace stereoball::simulator {
 
 /// Everything in config/simulator.yaml: the simulated hardware and how its frames are published.
 struct SimulatorConfig {
-  SimParams sim;                           ///< cameras, rig, base, ball, sensor
-  camera_server::FrameCodecParams output;  ///< frame_encoding (raw|jpeg|png), jpeg_quality
+  SimParams sim;                    ///< cameras, rig, base, ball, sensor
+  stereo::FrameCodecParams output;  ///< frame_encoding (raw|jpeg|png), jpeg_quality
 };
 
 /// Every key of config/simulator.yaml: sim_fields() plus frame_encoding and jpeg_quality.

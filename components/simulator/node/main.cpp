@@ -7,12 +7,12 @@
 #include <exception>
 #include <string>
 
-#include "camera_server/node/frame_codec_flags.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
 #include "simulator/io/scenario_file.hpp"
 #include "simulator/io/sim_params_file.hpp"
 #include "simulator/node/simulator_node.hpp"
+#include "stereo/frame/frame_codec_flags.hpp"
 #include "stereo/io/calibration_file.hpp"
 
 namespace {
@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
                  "publish this calibration file instead of the true one (calibrated-vs-true "
                  "mismatch tests); its image size must match the simulator's");
   app.add_flag("--loop", options.loop, "restart the scenario when its duration has passed");
-  const sb::camera_server::FrameCodecFlags codec_flags(app);
+  const sb::stereo::FrameCodecFlags codec_flags(app);
   CLI11_PARSE(app, argc, argv);
 
   auto config = sb::simulator::load_simulator_config(common.config_path);

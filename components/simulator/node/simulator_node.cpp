@@ -8,7 +8,8 @@
 
 #include "common/util/clock_stamp.hpp"
 #include "common/util/log.hpp"
-#include "simulator/node/msg_conversion.hpp"
+#include "simulator/node/ground_truth_msg.hpp"
+#include "stereo/frame/frame_msg.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
 namespace stereoball::simulator {
@@ -40,9 +41,7 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       calibration_(runner.participant(), topics::kStereoCalibration),
       base_(runner, base::VelocityGateParams{params.robot.command_timeout_ns},
             [this](const base::BaseCommand& c) { on_command(c); }) {
-  if (options_.output.compressed()) {
-    for (auto& e : encoders_) e.emplace(options_.output);
-  }
+  if (options_.output.compressed()) compressor_.emplace(options_.output);
   // Transient-local: written once, every late joiner still receives it.
   calibration_.write(
       stereo::calibration_to_message(published_, node::now_ns(), options_.calibration_source));
@@ -78,7 +77,7 @@ int64_t SimulatorNode::measure_render_lead_ns(const SimParams& params, const Sce
   // Render (and encode) a few frames of a scratch copy of the scenario: the lead is what that
   // takes here (the slowest of them, plus a margin for the loop's timer), never a period.
   Simulator scratch(params, scenario);
-  std::optional<camera_server::EyeEncoder> encoder;
+  std::optional<stereo::EyeEncoder> encoder;
   if (options.output.compressed()) encoder.emplace(options.output);
   int64_t slowest = 0;
   for (int i = 1; i <= 3; ++i) {
@@ -122,8 +121,10 @@ void SimulatorNode::tick(int64_t /*now_ns*/) {
   // Encoding and the message are the camera's work before the release, too.
   const int64_t exposure = exposure_monotonic_ns(index * period);
   const int64_t stamp_ns = monotonic_to_epoch_ns(exposure, node::monotonic_ns(), node::now_ns());
-  if (encoders_[0] && !encode_eyes(f)) return;
-  stereoball_msg_StereoFrame frame = frame_message(f, stamp_ns);
+  const auto view = frame_view(f, stamp_ns);
+  if (!view) return;
+  stereoball_msg_StereoFrame frame{};
+  stereo::fill_frame_message(*view, frame_source_, frame);
   if (!wait_until(exposure)) return;
   if (node::monotonic_ns() > exposure + kLateNs) runner_.health().count("late_frames");
   frames_.write(frame, stamp_ns);
@@ -145,26 +146,22 @@ bool SimulatorNode::wait_until(int64_t due_monotonic_ns) const {
   return false;
 }
 
-stereoball_msg_StereoFrame SimulatorNode::frame_message(const SimFrame& f, int64_t stamp_ns) const {
-  stereoball_msg_StereoFrame frame =
-      encoders_[0] ? encoded_frame_to_msg(f, options_.output.frame_encoding, encoders_[0]->bytes(),
-                                          encoders_[1]->bytes(), stamp_ns, frame_source_)
-                   : frame_to_msg(f, stamp_ns, frame_source_);
-  frame.seq = total_frames_;
-  return frame;
-}
-
-bool SimulatorNode::encode_eyes(const SimFrame& f) {
+Result<stereo::FrameView> SimulatorNode::frame_view(const SimFrame& f, int64_t stamp_ns) {
+  auto raw = stereo::view_of_images(f.left, f.right, total_frames_, stamp_ns);
+  if (!raw) {
+    runner_.health().error("bad_frame", raw.error());
+    return raw;
+  }
+  if (!compressor_) return raw;
   const int64_t start = node::monotonic_ns();
-  for (auto [encoder, image] : {std::pair{&encoders_[0], &f.left}, {&encoders_[1], &f.right}}) {
-    if (auto e = (*encoder)->encode(*image)) {
-      runner_.health().error("encode", *e);
-      return false;
-    }
+  auto compressed = compressor_->step(*raw);
+  if (!compressed) {
+    runner_.health().error("encode", compressed.error());
+    return compressed;
   }
   runner_.health().set_counter("encode_us",
                                static_cast<uint64_t>((node::monotonic_ns() - start) / 1000));
-  return true;
+  return compressed;
 }
 
 }  // namespace stereoball::simulator

@@ -9,11 +9,11 @@
 #include <string>
 
 #include "base/node/base_link.hpp"
-#include "camera_server/core/frame_codec.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
 #include "simulator/core/simulator.hpp"
+#include "stereo/frame/frame_compressor.hpp"
 
 namespace stereoball::simulator {
 
@@ -22,7 +22,7 @@ struct SimulatorNodeOptions {
   double rate = 1.0;  ///< simulated seconds per wall second
   bool loop = false;  ///< restart the scenario after its duration
   std::string calibration_source = "simulator (true calibration)";  ///< published source text
-  camera_server::FrameCodecParams output;  ///< raw bgr8 or jpeg/png eyes (must be valid)
+  stereo::FrameCodecParams output;  ///< raw bgr8 or jpeg/png eyes (must be valid)
 };
 
 /// Wires a Simulator to its topics and a frame timer on a runner.
@@ -44,9 +44,9 @@ class SimulatorNode {
   static int64_t frame_period_wall_ns(const SimParams& params, const SimulatorNodeOptions& options);
   // Sleeps until the monotonic time; false if the runner is stopping.
   bool wait_until(int64_t due_monotonic_ns) const;
-  // The frame's message (raw eyes, or the encoders' bytes after encode_eyes).
-  stereoball_msg_StereoFrame frame_message(const SimFrame& f, int64_t stamp_ns) const;
-  bool encode_eyes(const SimFrame& f);  // into encoders_; false (health error) on failure
+  // The outgoing view of a frame: its raw eyes, or the compressor's streams (timed as
+  // encode_us); points into f and the compressor. Error (reported as health error) on failure.
+  Result<stereo::FrameView> frame_view(const SimFrame& f, int64_t stamp_ns);
 
   node::Runner& runner_;
   SimParams params_;
@@ -56,7 +56,7 @@ class SimulatorNode {
   stereo::StereoCalibration published_;
   std::string frame_source_;
   int64_t lead_ns_;  // frames are rendered this long before their exposure instant
-  std::optional<camera_server::EyeEncoder> encoders_[2];  // left, right (jpeg/png only)
+  std::optional<stereo::FrameCompressor> compressor_;  // jpeg/png only
   dds::DataWriter<stereoball_msg_StereoFrame> frames_;
   dds::DataWriter<stereoball_msg_GroundTruth> truth_;
   dds::DataWriter<stereoball_msg_StereoCalibration> calibration_;

@@ -108,18 +108,17 @@ Result<ImageHeader> read_png_header(std::span<const std::uint8_t> bytes) {
   return ImageHeader{ImageCodec::kPng, static_cast<int>(w), static_cast<int>(h)};
 }
 
-std::optional<std::string> decode_jpeg(std::span<const std::uint8_t> bytes,
-                                       const ImageHeader& header, cv::Mat& out) {
+Status decode_jpeg(std::span<const std::uint8_t> bytes, const ImageHeader& header, cv::Mat& out) {
   JpegDecompressor jpeg;
   auto& info = jpeg.info();
   if (setjmp(jpeg.errors().jump)) {
     out.release();
-    return std::string("jpeg data is corrupt: ") + jpeg.errors().message.data();
+    return Error{std::string("jpeg data is corrupt: ") + jpeg.errors().message.data()};
   }
   jpeg.read_header(bytes);
   if (static_cast<int>(info.image_width) != header.width_px ||
       static_cast<int>(info.image_height) != header.height_px)
-    return std::string("jpeg header changed between reads");
+    return Error{"jpeg header changed between reads"};
   info.out_color_space = JCS_EXT_BGR;  // libjpeg-turbo writes OpenCV's channel order directly
   jpeg_start_decompress(&info);
   out.create(header.height_px, header.width_px, CV_8UC3);
@@ -128,15 +127,14 @@ std::optional<std::string> decode_jpeg(std::span<const std::uint8_t> bytes,
     jpeg_read_scanlines(&info, &row, 1);
   }
   jpeg_finish_decompress(&info);
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> decode_png(std::span<const std::uint8_t> bytes,
-                                      const ImageHeader& header, cv::Mat& out) {
+Status decode_png(std::span<const std::uint8_t> bytes, const ImageHeader& header, cv::Mat& out) {
   if (bytes.size() < kPngMagic.size() + kPngEnd.size() ||
       !std::equal(kPngEnd.begin(), kPngEnd.end(), bytes.end() - kPngEnd.size())) {
     out.release();
-    return std::string("png data is truncated (no IEND chunk at the end)");
+    return Error{"png data is truncated (no IEND chunk at the end)"};
   }
   const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U,
                     const_cast<std::uint8_t*>(bytes.data()));
@@ -145,12 +143,12 @@ std::optional<std::string> decode_png(std::span<const std::uint8_t> bytes,
   } catch (const cv::Exception&) {
     out.release();
   }
-  if (out.empty()) return std::string("png data is corrupt (libpng could not decode it)");
+  if (out.empty()) return Error{"png data is corrupt (libpng could not decode it)"};
   if (out.cols != header.width_px || out.rows != header.height_px) {
     out.release();
-    return std::string("png header changed between reads");
+    return Error{"png header changed between reads"};
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace
@@ -177,17 +175,16 @@ Result<ImageHeader> read_image_header(std::span<const std::uint8_t> bytes) {
   return *codec == ImageCodec::kJpeg ? read_jpeg_header(bytes) : read_png_header(bytes);
 }
 
-std::optional<std::string> check_within(const ImageHeader& header, cv::Size max_size) {
-  if (header.width_px <= max_size.width && header.height_px <= max_size.height) return std::nullopt;
-  return std::string(codec_name(header.codec)) + " header says " +
-         dims(header.width_px, header.height_px) + ", larger than the limit " +
-         dims(max_size.width, max_size.height);
+Status check_within(const ImageHeader& header, cv::Size max_size) {
+  if (header.width_px <= max_size.width && header.height_px <= max_size.height) return {};
+  return Error{std::string(codec_name(header.codec)) + " header says " +
+               dims(header.width_px, header.height_px) + ", larger than the limit " +
+               dims(max_size.width, max_size.height)};
 }
 
-std::optional<std::string> decode_bgr(std::span<const std::uint8_t> bytes,
-                                      const ImageHeader& header, cv::Mat& out) {
+Status decode_bgr(std::span<const std::uint8_t> bytes, const ImageHeader& header, cv::Mat& out) {
   if (bytes.size() > static_cast<std::size_t>(INT32_MAX))
-    return std::string("image stream is larger than 2 GiB");
+    return Error{"image stream is larger than 2 GiB"};
   return header.codec == ImageCodec::kJpeg ? decode_jpeg(bytes, header, out)
                                            : decode_png(bytes, header, out);
 }

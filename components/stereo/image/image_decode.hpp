@@ -35,13 +35,12 @@ std::optional<ImageCodec> sniff_codec(std::span<const std::uint8_t> bytes);
 /// Reads the header of a JPEG or PNG stream; errors name the problem (not an image, bad header).
 Result<ImageHeader> read_image_header(std::span<const std::uint8_t> bytes);
 
-/// Why header is larger than max_size (either side), or nullopt when it fits.
-std::optional<std::string> check_within(const ImageHeader& header, cv::Size max_size);
+/// Success when header fits max_size, else an error saying which size is too large.
+Status check_within(const ImageHeader& header, cv::Size max_size);
 
 /// Decodes a complete JPEG/PNG stream whose header was read by read_image_header (and checked
-/// by the caller) into 8-bit BGR, reusing out's buffer. nullopt on success, else the problem
+/// by the caller) into 8-bit BGR, reusing out's buffer. An error names the problem
 /// ("jpeg data is corrupt: Premature end of JPEG file"); out is then empty.
-std::optional<std::string> decode_bgr(std::span<const std::uint8_t> bytes,
-                                      const ImageHeader& header, cv::Mat& out);
+Status decode_bgr(std::span<const std::uint8_t> bytes, const ImageHeader& header, cv::Mat& out);
 
 }  // namespace stereoball::stereo

@@ -59,8 +59,9 @@ Result<cv::Mat> read_image_file(const std::string& path, cv::Size max_size) {
   }
   const auto header = read_image_header(bytes);
   if (!header) return Error{"'" + path + "': " + header.error()};
-  if (auto e = check_within(*header, max_size)) return Error{"'" + path + "': " + *e};
-  if (auto e = decode_bgr(bytes, *header, image)) return Error{"'" + path + "': " + *e};
+  if (auto st = check_within(*header, max_size); !st) return Error{"'" + path + "': " + st.error()};
+  if (auto st = decode_bgr(bytes, *header, image); !st)
+    return Error{"'" + path + "': " + st.error()};
   return image;
 }
 

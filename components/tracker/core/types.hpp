@@ -9,6 +9,8 @@
 #include <string>
 #include <string_view>
 
+#include "tracker/core/track_state.hpp"
+
 namespace stereoball::tracker {
 
 /// Half size k of the block matching window, pixels (paper: k = 10).
@@ -20,12 +22,6 @@ inline constexpr std::size_t kPatchBytes = kBlockSidePx * kBlockSidePx * 3;
 
 /// A 21x21 RGB block, row-major, interleaved R, G, B, 8 bits per channel.
 using Patch = std::array<std::uint8_t, kPatchBytes>;
-
-/// Tracker state (IDL TrackState).
-enum class TrackState { kIdle, kFollowing, kSearching };
-
-/// Side of the image where the ball was last seen (IDL Side).
-enum class Side { kUnknown, kLeft, kRight };
 
 /// Why the current detection was accepted or rejected (IDL TrackVerdict).
 enum class Verdict {

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "common/util/log.hpp"
-#include "tracker/node/track_conversion.hpp"
+#include "tracker/node/track_msg.hpp"
 
 namespace stereoball::tracker {
 namespace {

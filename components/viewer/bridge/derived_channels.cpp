@@ -1,6 +1,6 @@
 #include "viewer/bridge/derived_channels.hpp"
 
-#include "viewer/bridge/conversion.hpp"
+#include "viewer/bridge/view_msg.hpp"
 
 namespace stereoball::viewer {
 
@@ -15,10 +15,10 @@ Result<PairJpeg> encode_pair(EyeEncoder& encoder, const stereoball_msg_StereoFra
   return PairJpeg{frame.seq, frame.stamp_ns, std::move(*left), std::move(*right)};
 }
 
-std::optional<std::string> DeriverParams::validate() const {
-  if (image_rate_hz < 0 || image_rate_hz > 240) return "image_rate_hz must be in 0..240";
-  if (scene_rate_hz <= 0 || scene_rate_hz > 240) return "scene_rate_hz must be in (0, 240]";
-  if (auto e = encoder.validate()) return e;
+Status DeriverParams::validate() const {
+  if (image_rate_hz < 0 || image_rate_hz > 240) return Error{"image_rate_hz must be in 0..240"};
+  if (scene_rate_hz <= 0 || scene_rate_hz > 240) return Error{"scene_rate_hz must be in (0, 240]"};
+  if (auto st = encoder.validate(); !st) return st;
   return scene.validate();
 }
 

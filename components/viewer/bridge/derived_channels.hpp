@@ -42,8 +42,8 @@ struct DeriverParams {
   double scene_rate_hz = 15;  ///< scene updates per second at most
   EyeEncoderParams encoder;
   SceneParams scene;
-  /// nullopt when valid, else a message naming the bad field and its allowed range.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 class Deriver {

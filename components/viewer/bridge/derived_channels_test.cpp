@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "viewer/bridge/conversion.hpp"
+#include "viewer/bridge/view_msg.hpp"
 
 namespace stereoball::viewer {
 namespace {

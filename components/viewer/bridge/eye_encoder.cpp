@@ -38,14 +38,14 @@ std::span<const uint8_t> bytes_of(const stereoball_msg_EyeImage& image) {
 
 }  // namespace
 
-std::optional<std::string> EyeEncoderParams::validate() const {
-  if (jpeg_quality < 1 || jpeg_quality > 100) return "jpeg_quality must be in 1..100";
+Status EyeEncoderParams::validate() const {
+  if (jpeg_quality < 1 || jpeg_quality > 100) return Error{"jpeg_quality must be in 1..100"};
   if (max_width_px != 0 && (max_width_px < 16 || max_width_px > kMaxSidePx))
-    return "max_width_px must be 0 or in 16..16384";
+    return Error{"max_width_px must be 0 or in 16..16384"};
   if (max_input_width_px < 16 || max_input_width_px > kMaxSidePx || max_input_height_px < 16 ||
       max_input_height_px > kMaxSidePx)
-    return "max_input_width_px and max_input_height_px must be in 16..16384";
-  return std::nullopt;
+    return Error{"max_input_width_px and max_input_height_px must be in 16..16384"};
+  return {};
 }
 
 EyeEncoder::EyeEncoder(const EyeEncoderParams& params) : params_(params) {}
@@ -93,10 +93,11 @@ Result<cv::Mat> EyeEncoder::to_bgr(const stereoball_msg_EyeImage& image,
     if (!header) return Error{"png data: " + header.error()};
     if (header->codec != stereo::ImageCodec::kPng)
       return Error{std::string(stereo::codec_name(header->codec)) + " data in a png frame"};
-    if (auto e = stereo::check_within(*header, {static_cast<int>(params_.max_input_width_px),
-                                                static_cast<int>(params_.max_input_height_px)}))
-      return Error{*e};
-    if (auto e = stereo::decode_bgr(bytes, *header, decoded_)) return Error{*e};
+    if (auto st = stereo::check_within(*header, {static_cast<int>(params_.max_input_width_px),
+                                                 static_cast<int>(params_.max_input_height_px)});
+        !st)
+      return Error{st.error()};
+    if (auto st = stereo::decode_bgr(bytes, *header, decoded_); !st) return Error{st.error()};
     return decoded_;
   }
   return Error{"encoding '" + encoding + "' is not supported (bgr8, mono8, yuyv, jpeg, png)"};
@@ -110,9 +111,10 @@ Result<EyeJpeg> EyeEncoder::pass_through(const stereoball_msg_EyeImage& image) {
     return Error{"jpeg data does not start with a JPEG marker"};
   const auto header = stereo::read_image_header(bytes);
   if (!header) return Error{"jpeg data: " + header.error()};
-  if (auto e = stereo::check_within(*header, {static_cast<int>(params_.max_input_width_px),
-                                              static_cast<int>(params_.max_input_height_px)}))
-    return Error{*e};
+  if (auto st = stereo::check_within(*header, {static_cast<int>(params_.max_input_width_px),
+                                               static_cast<int>(params_.max_input_height_px)});
+      !st)
+    return Error{st.error()};
   const auto w = static_cast<uint32_t>(header->width_px);
   const auto h = static_cast<uint32_t>(header->height_px);
   return EyeJpeg{{bytes.begin(), bytes.end()}, w, h, w, h};

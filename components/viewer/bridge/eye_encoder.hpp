@@ -25,8 +25,8 @@ struct EyeEncoderParams {
   /// Largest eye accepted (raw size fields, JPEG/PNG headers); larger ones are refused.
   uint32_t max_input_width_px = 4096;
   uint32_t max_input_height_px = 4096;
-  /// nullopt when valid, else a message naming the bad field and its allowed range.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// A JPEG of one eye with the size it shows and the size of the eye it was made from (the

@@ -39,14 +39,14 @@ int64_t RateLimiter::wait_ns(int64_t now_ns) const {
   return missing <= 0 ? 0 : static_cast<int64_t>(std::ceil(missing * interval_ns_));
 }
 
-std::optional<std::string> FlowParams::validate() const {
+Status FlowParams::validate() const {
   if (max_frames_in_flight < 1 || max_frames_in_flight > 16)
-    return "max_frames_in_flight must be in 1..16";
-  if (drop_images_above_bytes < 1024) return "drop_images_above_bytes must be >= 1024";
+    return Error{"max_frames_in_flight must be in 1..16"};
+  if (drop_images_above_bytes < 1024) return Error{"drop_images_above_bytes must be >= 1024"};
   if (disconnect_above_bytes <= drop_images_above_bytes)
-    return "disconnect_above_bytes must be larger than drop_images_above_bytes";
-  if (stall_timeout_ns <= 0) return "stall_timeout_ns must be > 0";
-  return std::nullopt;
+    return Error{"disconnect_above_bytes must be larger than drop_images_above_bytes"};
+  if (stall_timeout_ns <= 0) return Error{"stall_timeout_ns must be > 0"};
+  return {};
 }
 
 ClientFlow::ClientFlow(const FlowParams& params, bool acks) : params_(params), acks_(acks) {}

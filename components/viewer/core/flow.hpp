@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::viewer {
 
 /// Passes events at no more than a rate on average (a token bucket; time as an argument). A
@@ -35,8 +37,8 @@ struct FlowParams {
   uint64_t drop_images_above_bytes = 1u << 20;  ///< queued bytes above which images are dropped
   uint64_t disconnect_above_bytes = 16u << 20;  ///< queued bytes above which the client is cut off
   int64_t stall_timeout_ns = 5'000'000'000;     ///< over the drop limit this long: cut off
-  /// nullopt when valid, else a message naming the bad field and its allowed range.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 enum class Decision { kSend, kDrop, kDisconnect };

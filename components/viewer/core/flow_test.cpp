@@ -136,10 +136,10 @@ TEST(ClientFlow, DrainingResetsTheStallClockAndAHugeBacklogCutsAtOnce) {
 
 TEST(FlowParams, ValidateNamesTheBadField) {
   FlowParams p;
-  EXPECT_FALSE(p.validate());
+  EXPECT_TRUE(p.validate().ok());
   p.disconnect_above_bytes = p.drop_images_above_bytes;
-  ASSERT_TRUE(p.validate());
-  EXPECT_NE(p.validate()->find("disconnect_above_bytes"), std::string::npos);
+  ASSERT_FALSE(p.validate().ok());
+  EXPECT_NE(p.validate().error().find("disconnect_above_bytes"), std::string::npos);
 }
 
 }  // namespace

@@ -20,16 +20,17 @@ std::string health_key(const Health& h) {
 
 }  // namespace
 
-std::optional<std::string> SceneParams::validate() const {
-  if (register_size < 2 || register_size > 50) return "register_size must be in 2..50";
-  if (recent_detections < 1 || recent_detections > 256) return "recent_detections must be 1..256";
-  if (command_window_ns <= 0) return "command_window_ns must be > 0";
-  if (max_commands < 1) return "max_commands must be >= 1";
-  if (max_plotted_commands < 2) return "max_plotted_commands must be >= 2";
-  if (health_stale_ns <= 0) return "health_stale_ns must be > 0";
+Status SceneParams::validate() const {
+  if (register_size < 2 || register_size > 50) return Error{"register_size must be in 2..50"};
+  if (recent_detections < 1 || recent_detections > 256)
+    return Error{"recent_detections must be 1..256"};
+  if (command_window_ns <= 0) return Error{"command_window_ns must be > 0"};
+  if (max_commands < 1) return Error{"max_commands must be >= 1"};
+  if (max_plotted_commands < 2) return Error{"max_plotted_commands must be >= 2"};
+  if (health_stale_ns <= 0) return Error{"health_stale_ns must be > 0"};
   for (double h : prediction_horizons_s)
-    if (!(h > 0 && h <= 10)) return "prediction_horizons_s must each be in (0, 10] s";
-  return std::nullopt;
+    if (!(h > 0 && h <= 10)) return Error{"prediction_horizons_s must each be in (0, 10] s"};
+  return {};
 }
 
 Scene::Scene(const SceneParams& params) : params_(params) {}

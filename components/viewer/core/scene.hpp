@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/util/result.hpp"
 #include "viewer/core/view_model.hpp"
 
 namespace stereoball::viewer {
@@ -26,8 +27,8 @@ struct SceneParams {
   size_t max_plotted_commands = 300;           ///< commands in the JSON (evenly thinned)
   int64_t health_stale_ns = 3'000'000'000;     ///< a node silent this long shows as stale
   std::vector<double> prediction_horizons_s = {0.5, 1.0, 1.5};  ///< predicted positions
-  /// nullopt when valid, else a message naming the bad field and its allowed range.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Ball estimate derived from the register: mean position, 1-sigma spread per axis (metres)

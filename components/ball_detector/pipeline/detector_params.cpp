@@ -1,0 +1,178 @@
+#include "ball_detector/pipeline/detector_params.hpp"
+
+namespace stereoball::ball_detector {
+
+const char* to_string(DetectorInput input) {
+  switch (input) {
+    case DetectorInput::kGrey:
+      return "grey";
+    case DetectorInput::kSaturation:
+      return "saturation";
+    case DetectorInput::kValue:
+      return "value";
+    case DetectorInput::kRed:
+      return "red";
+    case DetectorInput::kGreen:
+      return "green";
+    case DetectorInput::kBlue:
+      return "blue";
+    case DetectorInput::kColour:
+      return "colour";
+  }
+  return "grey";
+}
+
+std::optional<DetectorInput> parse_detector_input(const std::string& text) {
+  for (DetectorInput i :
+       {DetectorInput::kGrey, DetectorInput::kSaturation, DetectorInput::kValue,
+        DetectorInput::kRed, DetectorInput::kGreen, DetectorInput::kBlue, DetectorInput::kColour}) {
+    if (text == to_string(i)) return i;
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+using params::at;
+using params::flag;
+using params::list;
+using params::number;
+using P = BallDetectorParams;
+using P2P = PixelToPixelParams;
+using A = AppearanceParams;
+
+std::string input_word(DetectorInput input) {
+  return to_string(input);
+}
+DetectorInput input_of(const std::string& word) {
+  return parse_detector_input(word).value_or(DetectorInput::kGrey);
+}
+
+// The detector's and the appearance model's own rules (min_radius_px < max_radius_px...), on
+// what the pipeline hands them.
+Status cross_check(const P& p) {
+  if (auto e = p.detector_params().validate()) return Error{"p2p." + *e};
+  if (auto e = p.appearance.validate()) return Error{*e};
+  return {};
+}
+
+std::vector<params::Field<P>> pipeline_fields() {
+  return {
+      number("ball.diameter_m", at(&P::ball_diameter_m), 0.22, {0.001, 5.0}, "m",
+             "true ball diameter (the simulator's ball: radius 0.11 m)"),
+      number("epipolar.tolerance_px", at(&P::epipolar_tolerance_px), 2.0, {0.0, 100.0}, "px",
+             "largest abs(y_left - y_right) of a stereo pair, rectified (paper: 2)"),
+      number("size.max_relative_error", at(&P::size_max_relative_error), 0.15, {0.001, 10.0}, "",
+             "accepted abs(r - r_expected) / r_expected at the triangulated depth"),
+      number("floor.camera_height_m", at(&P::floor_camera_height_m), 0.30, {0.0, 10.0}, "m",
+             "left camera's optical centre above the floor (simulator rig: 0.30)"),
+      number("floor.camera_pitch_rad", at(&P::floor_camera_pitch_rad), 0.20, {-1.57, 1.57}, "rad",
+             "left camera pitched down (simulator rig: 0.20)"),
+      number("floor.tolerance_m", at(&P::floor_tolerance_m), 0.10, {0.0, 10.0}, "m",
+             "reject pairs whose centre is farther from the resting height (0 = off: bouncing "
+             "balls)"),
+      number("image_limit.max_width_px", at(&P::max_image_width_px), 1920, {16, 16384}, "px",
+             "larger stereo/calibration samples are refused before anything is allocated"),
+      number("image_limit.max_height_px", at(&P::max_image_height_px), 1080, {16, 16384}, "px",
+             "see image_limit.max_width_px"),
+      number("max_candidates_per_eye", at(&P::max_candidates_per_eye), 5, {1, 50}, "",
+             "Pixel-to-Pixel circles kept per eye"),
+      flag("right_eye_partner_boxes", at(&P::right_eye_partner_boxes), true,
+           "search the right eye only where a ball-sized partner of a left circle can be"),
+      flag("predicted_partner.enabled", at(&P::predicted_partner), true,
+           "a left circle no right circle pairs with: look along its epipolar line for the "
+           "outline its ball makes in the right eye"),
+      number("predicted_partner.min_inside_fraction", at(&P::predicted_partner_min_inside_fraction),
+             0.2, {0.0, 1.0}, "", "that outline counts with this much of it in the right image"),
+      number("track_prior.gate_m", at(&P::track_prior_gate_m), 0.3, {0.0, 10.0}, "m",
+             "pairs this close to where ball/track expects the ball win over better-scoring "
+             "pairs elsewhere (0 = off)"),
+      number("track_prior.max_age_ns", at(&P::track_prior_max_age_ns), 500'000'000,
+             {0, 10'000'000'000}, "ns", "older tracks are not used"),
+      number("track_prior.min_inside_fraction", at(&P::prior_min_inside_fraction), 0.3, {0.0, 1.0},
+             "", "there, a ball cut by the image border counts with this much of it inside"),
+      flag("track_prior.window", at(&P::prior_window), true,
+           "search first only where the prior says (whole frame if not found there)"),
+  };
+}
+
+std::vector<params::Field<P>> appearance_fields() {
+  const A core;  // the model's own defaults are the pipeline's
+  return {
+      flag("appearance.enabled", at(&P::appearance, &A::enabled), core.enabled,
+           "learn the followed ball's colour (hue-saturation histogram) while the tracker "
+           "follows it"),
+      number("appearance.min_similarity", at(&P::appearance, &A::min_similarity),
+             core.min_similarity, {0.0, 1.0}, "",
+             "left circles whose colours lie in the learnt ones less than this (containment) are "
+             "rejected"),
+      number("appearance.learn_rate", at(&P::appearance, &A::learn_rate), core.learn_rate,
+             {0.001, 1.0}, "", "weight of each new sample once learnt"),
+      number("appearance.frames_to_learn", at(&P::appearance, &A::frames_to_learn),
+             core.frames_to_learn, {1, 1000}, "frames",
+             "samples before it ranks and rejects anything"),
+      number("appearance.forget_after_ns", at(&P::appearance, &A::forget_after_ns),
+             core.forget_after_ns, {0, 3'600'000'000'000}, "ns",
+             "a loss longer than this forgets it (the next ball may look different)"),
+  };
+}
+
+std::vector<params::Field<P>> p2p_fields() {
+  const P2P core;  // the detector's own defaults, where the pipeline keeps them
+  const auto p2p = [](auto member) { return at(&P::p2p, member); };
+  return {
+      params::choice("input", at(&P::input), DetectorInput::kRed,
+                     {"colour", "grey", "saturation", "value", "red", "green", "blue"}, input_word,
+                     input_of,
+                     "image P2P runs on (red: the orange ball's white panels vanish, its outline "
+                     "stays)"),
+      list("p2p.k_values", p2p(&P2P::k_values), core.k_values, {1, 31}, "px",
+           "half window sizes k (window 2k+1)"),
+      number("p2p.min_radius_px", p2p(&P2P::min_radius_px), core.min_radius_px, {0.0, 4000.0}, "px",
+             "smallest radius searched"),
+      number("p2p.max_radius_px", p2p(&P2P::max_radius_px), 250.0, {1.0, 4000.0}, "px",
+             "largest radius searched (a ball 0.4 m away is ~170 px)"),
+      number("p2p.min_separation_px", p2p(&P2P::min_separation_px), core.min_separation_px,
+             {0.0, 4000.0}, "px", "closest two candidates of one eye may be"),
+      number("p2p.min_score", p2p(&P2P::min_score), core.min_score, {0.0, 1.0}, "",
+             "candidates below this score (circumference coverage) are dropped"),
+      number("p2p.max_peaks_examined", p2p(&P2P::max_peaks_examined), core.max_peaks_examined,
+             {1, 1000}, "", "accumulator peaks scored as candidates per eye, strongest first"),
+      number("p2p.edge_min_threshold", at(&P::p2p, &P2P::edge, &EdgeParams::min_high_threshold),
+             150.0, {1.0, 1000.0}, "",
+             "floor of the Canny high threshold, Sobel abs(dx)+abs(dy) units (4 per grey level): "
+             "keeps shading ramps on the ball out"),
+      number("p2p.min_inside_fraction",
+             at(&P::p2p, &P2P::refine_params, &RefineParams::min_inside_fraction),
+             core.refine_params.min_inside_fraction, {0.0, 1.0}, "",
+             "a circle cut by the image border needs this much of it inside to count"),
+      flag("p2p.perspective_outline", at(&P::perspective_outline), true,
+           "score circles against the ellipse a sphere images as off the optical axis (false: "
+           "as circles, the paper)"),
+  };
+}
+
+params::FieldTable<P> make_table() {
+  params::FieldTable<P> t{pipeline_fields(), cross_check};
+  for (const auto& part : {appearance_fields(), p2p_fields()}) {
+    t.fields.insert(t.fields.end(), part.begin(), part.end());
+  }
+  return t;
+}
+
+}  // namespace
+
+SB_PARAMS_TABLE(BallDetectorParams, detector_fields, make_table)
+
+PixelToPixelParams BallDetectorParams::detector_params() const {
+  PixelToPixelParams p = p2p;
+  p.max_circles = max_candidates_per_eye;
+  // Colour edges show every panel and stripe boundary of a two-colour ball where it meets the
+  // outline, which orientation isolation cuts off (stereoball bench tracking, built-in scenes,
+  // input colour: 96.93 -> 98.07 % accepted). A channel chosen for the ball hides them, and there
+  // it changed 3 of 3165 frames for the worse (input red: 98.55 -> 98.45 %): off.
+  p.isolate_by_orientation = input == DetectorInput::kColour;
+  return p;
+}
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,454 @@
+#include "ball_detector/pipeline/pairing.hpp"
+
+#include "stereo/core/sphere_outline.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace stereoball::ball_detector {
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
+  return buf;
+}
+
+std::string no_candidate_reason(bool left_empty, bool right_empty) {
+  if (left_empty && right_empty) return "no circle in either eye";
+  return left_empty ? "no circle in the left eye" : "no circle in the right eye";
+}
+
+stereo::PinholeCamera left_camera(const stereo::Triangulator& tri) {
+  return {tri.focal_px(), tri.principal_left_px()};
+}
+
+stereo::PinholeCamera right_camera(const stereo::Triangulator& tri) {
+  return {tri.focal_px(), tri.principal_right_px()};
+}
+
+// Mean outline radius (what the detector's circle fit measures) of a ball of radius_m centred
+// at centre_m in camera's frame; 0 if it has no outline.
+double outline_radius_px(const stereo::PinholeCamera& camera, const cv::Vec3d& centre_m,
+                         double radius_m) {
+  const auto o = stereo::sphere_outline(camera, centre_m, radius_m);
+  return o ? o->mean_radius_px() : 0.0;
+}
+
+// Depth of the ball behind an outline, metres, or nullopt.
+std::optional<double> outline_depth_m(const stereo::PinholeCamera& camera, const Circle& c,
+                                      double radius_m) {
+  const auto view = stereo::sphere_from_outline(camera, {c.x_px, c.y_px}, c.radius_px);
+  if (!view) return std::nullopt;
+  return view->depth_m(radius_m);
+}
+
+// Between two frames the prediction errs far less than the gate allows (the gate is for
+// choosing among pairs; a miss only costs a whole-frame search): a third of it, in depth and
+// sideways.
+double prior_slack_m(const PositionPrior& prior) {
+  return prior.gate_m / 3.0;
+}
+
+// The left outline of the ball expected at prior moved by depth_shift_m along its line of
+// sight (negative = nearer); nullopt if that depth is not beyond the ball's own radius.
+std::optional<stereo::SphereOutline> prior_outline(const PairingContext& ctx,
+                                                   const PositionPrior& prior,
+                                                   double depth_shift_m) {
+  const cv::Vec3d& p = prior.position_m;
+  const double r_m = 0.5 * ctx.size.ball_diameter_m;
+  const double z = p[2] + depth_shift_m;
+  if (!(p[2] > 0.0) || !(z > r_m)) return std::nullopt;
+  return stereo::sphere_outline(left_camera(ctx.triangulator), p * (z / p[2]), r_m);
+}
+
+// The prior's left outline at the nearest depth the slack allows, where the disc and the slack
+// look largest, and how far the slack can move it sideways there, pixels.
+struct NearOutline {
+  stereo::SphereOutline outline;
+  double slack_px = 0.0;
+};
+
+std::optional<NearOutline> prior_near_outline(const PairingContext& ctx,
+                                              const PositionPrior& prior) {
+  const double slack_m = prior_slack_m(prior);
+  const auto outline = prior_outline(ctx, prior, -slack_m);
+  if (!outline) return std::nullopt;
+  const double near_z = prior.position_m[2] - slack_m;
+  return NearOutline{*outline, ctx.triangulator.focal_px() * slack_m / near_z};
+}
+
+// How far outside image a point within slack_px of p can be, rounded up; 0 if nowhere.
+double outside_by_px(const cv::Point2d& p, double slack_px, cv::Size image) {
+  const double out = std::max({-p.x, p.x - (image.width - 1), -p.y, p.y - (image.height - 1)});
+  return std::max(0.0, out + slack_px);
+}
+
+int margin_cap_px(double out_px, double cap_px) {
+  return static_cast<int>(std::ceil(std::min(out_px, std::max(0.0, cap_px))));
+}
+
+// The disparities of a right-eye partner of a ball-sized sphere at depth_m: the size check
+// accepts radii within the tolerance of the expected one, i.e. depths (and so disparities)
+// within about that fraction.
+struct DisparityRange {
+  double lo = 0.0, hi = 0.0;
+};
+
+DisparityRange disparity_range(const PairingContext& ctx, double depth_m) {
+  const double d = ctx.triangulator.focal_px() * ctx.triangulator.baseline_m() / depth_m;
+  const double tol = ctx.size.max_relative_error;
+  return {d * std::max(0.0, 1.0 - tol), d * (1.0 + tol)};
+}
+
+// The columns of those partners' centres.
+struct PartnerColumns {
+  double x_near = 0.0;  ///< nearest ball, leftmost centre, right rectified px
+  double x_far = 0.0;
+};
+
+std::optional<PartnerColumns> partner_columns(const PairingContext& ctx, const Circle& left) {
+  const stereo::Triangulator& tri = ctx.triangulator;
+  const auto depth = outline_depth_m(left_camera(tri), left, 0.5 * ctx.size.ball_diameter_m);
+  if (!depth) return std::nullopt;
+  const DisparityRange range = disparity_range(ctx, *depth);
+  const double shift = tri.principal_left_px().x - tri.principal_right_px().x;
+  return PartnerColumns{left.x_px - shift - range.hi, left.x_px - shift - range.lo};
+}
+
+// Smallest row difference over all combinations, for the mismatch reason.
+double closest_rows_px(const std::vector<Circle>& left, const std::vector<Circle>& right) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Circle& l : left)
+    for (const Circle& r : right) best = std::min(best, std::abs(l.y_px - r.y_px));
+  return best;
+}
+
+}  // namespace
+
+std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int64_t frame_stamp_ns,
+                                              double gate_m, std::int64_t max_age_ns) {
+  if (!(gate_m > 0.0) || !track.following || !track.position_valid) return std::nullopt;
+  const std::int64_t age_ns = frame_stamp_ns - track.capture_stamp_ns;
+  if (age_ns > max_age_ns || age_ns < -max_age_ns) return std::nullopt;
+  const double dt_s = 1e-9 * static_cast<double>(age_ns);
+  return PositionPrior{track.position_m + track.velocity_mps * dt_s, gate_m};
+}
+
+cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior, cv::Size image,
+                          int margin_px) {
+  // Off the axis the outline is an ellipse: its semi-major axis is the reach.
+  const auto near = prior_near_outline(ctx, prior);
+  if (!near) return {};
+  const cv::Point2d centre = near->outline.centre_px;
+  const double reach = (1.0 + ctx.size.max_relative_error) * near->outline.semi_major_px +
+                       near->slack_px + static_cast<double>(margin_px);
+  const cv::Point tl(static_cast<int>(std::floor(centre.x - reach)),
+                     static_cast<int>(std::floor(centre.y - reach)));
+  const cv::Point br(static_cast<int>(std::ceil(centre.x + reach)) + 1,
+                     static_cast<int>(std::ceil(centre.y + reach)) + 1);
+  return cv::Rect(tl, br) & cv::Rect(cv::Point(0, 0), image);
+}
+
+RadiusRange prior_radius_range(const PairingContext& ctx, const PositionPrior& prior) {
+  const double slack_m = prior_slack_m(prior);
+  const double tol = ctx.size.max_relative_error;
+  const auto near = prior_outline(ctx, prior, -slack_m);
+  const auto far = prior_outline(ctx, prior, slack_m);
+  // Without an outline (the prior at or behind the camera) nothing narrows the search.
+  if (!near || !far) return {0.0, 1e9};
+  return {far->semi_minor_px * (1.0 - tol) - 2.0, near->semi_major_px * (1.0 + tol) + 2.0};
+}
+
+RadiusRange partner_radius_range(const PairingContext& ctx, const std::vector<Circle>& left) {
+  if (left.empty()) return {0.0, 1e9};
+  const double tol = ctx.size.max_relative_error;
+  RadiusRange r{1e9, 0.0};
+  for (const Circle& c : left) {
+    r.min_px = std::min(r.min_px, c.radius_px * (1.0 - tol) - 2.0);
+    r.max_px = std::max(r.max_px, c.radius_px * (1.0 + tol) + 2.0);
+  }
+  return r;
+}
+
+bool better_pair(const StereoPair& a, const StereoPair& b) {
+  if (a.score != b.score) return a.score > b.score;
+  return a.row_residual_px < b.row_residual_px;
+}
+
+std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle& left,
+                                        const Circle& right) {
+  const stereo::EpipolarMatch m =
+      ctx.epipolar.check({left.x_px, left.y_px}, {right.x_px, right.y_px});
+  // A point in front of the rig appears further left in the right eye.
+  if (!m.accepted || m.x_left_px <= m.x_right_px) return std::nullopt;
+  const auto p = ctx.triangulator.sphere_centre_m({left.x_px, left.y_px}, {right.x_px, right.y_px},
+                                                  0.5 * ctx.size.ball_diameter_m);
+  if (!p || !((*p)[2] > 0.0)) return std::nullopt;
+
+  StereoPair pair;
+  pair.left = left;
+  pair.right = right;
+  pair.row_residual_px = m.row_residual_px;
+  pair.position_m = *p;
+  pair.score = 0.5 * (left.score + right.score);
+  // Sizes as each eye sees the ball where it is: off the axis the outline is an ellipse whose
+  // mean radius grows by up to 1 / cos^2 of the angle (24 % at 30 degrees), more than the
+  // size tolerance.
+  const stereo::Triangulator& tri = ctx.triangulator;
+  const double ball_radius_m = 0.5 * ctx.size.ball_diameter_m;
+  const cv::Vec3d in_right = *p - cv::Vec3d(tri.baseline_m(), 0.0, 0.0);
+  const auto depth_left = outline_depth_m(left_camera(tri), left, ball_radius_m);
+  const auto depth_right = outline_depth_m(right_camera(tri), right, ball_radius_m);
+  pair.depth_from_size_m = depth_left && depth_right ? 0.5 * (*depth_left + *depth_right) : 0.0;
+  const double radius_px = 0.5 * (left.radius_px + right.radius_px);
+  const double expected_px = 0.5 * (outline_radius_px(left_camera(tri), *p, ball_radius_m) +
+                                    outline_radius_px(right_camera(tri), in_right, ball_radius_m));
+  const stereo::SizeCheck size = stereo::check_size_against(ctx.size, radius_px, expected_px);
+  pair.expected_radius_px = size.expected_radius_px;
+  pair.size_error = size.relative_error;
+  pair.size_consistent = size.consistent;
+  if (ctx.floor) {
+    pair.height_error_m = ctx.floor->height_m(*p) - ball_radius_m;
+    pair.on_floor = std::abs(pair.height_error_m) <= ctx.floor->tolerance_m;
+  }
+  return pair;
+}
+
+cv::Rect partner_search_box(const PairingContext& ctx, const Circle& left, cv::Size image,
+                            int margin_px) {
+  const auto cols = partner_columns(ctx, left);
+  if (!cols) return {};
+  const double reach = (1.0 + ctx.size.max_relative_error) * left.radius_px + margin_px;
+  const double rows = reach + ctx.epipolar.params().max_row_diff_px;
+  const int x0 = static_cast<int>(std::floor(cols->x_near - reach));
+  const int x1 = static_cast<int>(std::ceil(cols->x_far + reach)) + 1;
+  const int y0 = static_cast<int>(std::floor(left.y_px - rows));
+  const int y1 = static_cast<int>(std::ceil(left.y_px + rows)) + 1;
+  return cv::Rect(cv::Point(x0, y0), cv::Point(x1, y1)) & cv::Rect(cv::Point(0, 0), image);
+}
+
+namespace {
+
+// The left circle is the outline of one cone from the left camera; every sphere inscribed in it
+// has its centre on the line of sight and a radius in proportion to its depth. With the ball's
+// radius one depth fits; the others are the balls the size tolerance allows, and all touch the
+// cone's top and bottom tangent planes, which contain the baseline: their right outlines lie
+// on the left circle's rows, as the true ball's does.
+struct LeftCone {
+  cv::Vec3d dir;          ///< the line of sight of the centres, z = 1
+  double depth_m = 0.0;   ///< of the ball-sized sphere in it
+  double radius_m = 0.0;  ///< the ball's
+};
+
+// The right outline of the sphere inscribed in cone at depth z_m.
+std::optional<Circle> right_outline_at(const stereo::Triangulator& tri, const LeftCone& cone,
+                                       double z_m) {
+  const cv::Vec3d in_right = cone.dir * z_m - cv::Vec3d(tri.baseline_m(), 0.0, 0.0);
+  const double r_m = cone.radius_m * z_m / cone.depth_m;
+  const auto o = stereo::sphere_outline(right_camera(tri), in_right, r_m);
+  if (!o) return std::nullopt;
+  return Circle{o->centre_px.x, o->centre_px.y, o->mean_radius_px(), 0.0};
+}
+
+// A right outline and the disparity it was made at.
+struct OutlineAt {
+  Circle outline;
+  double disparity_px = 0.0;
+};
+
+// Outlines at the disparities d_hi, d_hi - step_px, ... down to d_lo (nearest ball first);
+// at most kMaxOutlines + 1 of them (a coarser step for a wide range: each one is scored).
+constexpr int kMaxOutlines = 256;
+
+std::vector<OutlineAt> outlines_over(const stereo::Triangulator& tri, const LeftCone& cone,
+                                     double d_lo, double d_hi, double step_px) {
+  std::vector<OutlineAt> out;
+  if (!(d_hi >= d_lo) || !(step_px > 0.0) || !std::isfinite(d_hi)) return out;
+  step_px = std::max(step_px, (d_hi - d_lo) / kMaxOutlines);
+  const double fb = tri.focal_px() * tri.baseline_m();
+  const int steps = static_cast<int>(std::floor((d_hi - d_lo) / step_px + 1e-9));
+  for (int i = 0; i <= steps; ++i) {
+    const double d = d_hi - step_px * i;
+    if (!(d > 0.0)) break;
+    if (const auto c = right_outline_at(tri, cone, fb / d)) out.push_back({*c, d});
+  }
+  return out;
+}
+
+std::optional<LeftCone> left_cone(const PairingContext& ctx, const Circle& left) {
+  const auto view = stereo::sphere_from_outline(left_camera(ctx.triangulator),
+                                                {left.x_px, left.y_px}, left.radius_px);
+  if (!view) return std::nullopt;
+  const double r_m = 0.5 * ctx.size.ball_diameter_m;
+  const double z = view->depth_m(r_m);
+  if (!(z > 0.0)) return std::nullopt;
+  const double t = view->tan_off_axis;
+  return LeftCone{{t * view->major_axis.x, t * view->major_axis.y, 1.0}, z, r_m};
+}
+
+}  // namespace
+
+std::vector<Circle> partner_outlines(const PairingContext& ctx, const Circle& left,
+                                     double step_px) {
+  const auto cone = left_cone(ctx, left);
+  if (!cone || !(step_px > 0.0)) return {};
+  const DisparityRange range = disparity_range(ctx, cone->depth_m);
+  std::vector<Circle> out;
+  for (const auto& o : outlines_over(ctx.triangulator, *cone, range.lo, range.hi, step_px))
+    out.push_back(o.outline);
+  return out;
+}
+
+namespace {
+
+// The middle of the run of best-scoring outlines (they come in disparity order): a coverage
+// score is flat over a pixel or more, most for a small far ball, and the first of the run
+// would bias the depth toward the camera.
+std::optional<OutlineAt> best_of(std::vector<OutlineAt> outlines, const OutlineScorer& score) {
+  if (outlines.empty()) return std::nullopt;
+  double best = -1.0;
+  for (OutlineAt& o : outlines) {
+    o.outline.score = score(o.outline);
+    best = std::max(best, o.outline.score);
+  }
+  size_t first = 0;
+  while (outlines[first].outline.score < best) ++first;
+  size_t last = first;
+  while (last + 1 < outlines.size() && outlines[last + 1].outline.score >= best) ++last;
+  return outlines[(first + last) / 2];
+}
+
+// Whether a ball in cone, at a depth the disparity range allows, can rest on the floor (twice
+// the floor tolerance: the pair triangulates a little off the cone's axis). The height of a
+// point on the line of sight is linear in its depth, so the range's ends bound it.
+bool may_rest_on_floor(const PairingContext& ctx, const LeftCone& cone,
+                       const DisparityRange& range) {
+  if (!ctx.floor) return true;
+  const double fb = ctx.triangulator.focal_px() * ctx.triangulator.baseline_m();
+  const double z_near = fb / range.hi;
+  const double z_far = range.lo > 0.0 ? fb / range.lo : 1e3;
+  const double e_near = ctx.floor->height_m(cone.dir * z_near) - cone.radius_m;
+  const double e_far = ctx.floor->height_m(cone.dir * z_far) - cone.radius_m;
+  const double slack = 2.0 * ctx.floor->tolerance_m;
+  return std::min(e_near, e_far) <= slack && std::max(e_near, e_far) >= -slack;
+}
+
+}  // namespace
+
+std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle& left,
+                                        const OutlineScorer& score, double min_score) {
+  const auto cone = left_cone(ctx, left);
+  if (!cone) return std::nullopt;
+  const DisparityRange range = disparity_range(ctx, cone->depth_m);
+  // A pair off the floor fails the floor check whatever the right eye holds: not worth the
+  // scoring (in clutter most left circles are such).
+  if (!may_rest_on_floor(ctx, *cone, range)) return std::nullopt;
+  const auto coarse =
+      best_of(outlines_over(ctx.triangulator, *cone, range.lo, range.hi, 1.0), score);
+  if (!coarse || coarse->outline.score < min_score) return std::nullopt;
+  // A finer pass centres the outline on the rim.
+  const double d = coarse->disparity_px;
+  const auto fine = best_of(
+      outlines_over(ctx.triangulator, *cone, std::max(0.25, d - 1.0), d + 1.0, 0.25), score);
+  if (!fine || fine->outline.score < coarse->outline.score) return coarse->outline;
+  return fine->outline;
+}
+
+int prior_centre_margin_px(const PairingContext& ctx, const PositionPrior& prior, cv::Size image) {
+  const auto near = prior_near_outline(ctx, prior);
+  if (!near) return 0;
+  return margin_cap_px(outside_by_px(near->outline.centre_px, near->slack_px, image),
+                       (1.0 + ctx.size.max_relative_error) * near->outline.semi_major_px);
+}
+
+int partner_centre_margin_px(const PairingContext& ctx, const std::vector<Circle>& left,
+                             cv::Size image) {
+  int margin = 0;
+  const double rows = ctx.epipolar.params().max_row_diff_px;
+  for (const Circle& c : left) {
+    const auto cols = partner_columns(ctx, c);
+    if (!cols) continue;
+    const double cap = (1.0 + ctx.size.max_relative_error) * c.radius_px;
+    for (const double x : {cols->x_near, cols->x_far})
+      margin = std::max(margin, margin_cap_px(outside_by_px({x, c.y_px}, rows, image), cap));
+  }
+  return margin;
+}
+
+PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,
+                              const std::vector<Circle>& right,
+                              const std::optional<PositionPrior>& prior) {
+  PairingResult out;
+  if (left.empty() || right.empty()) {
+    out.status = PairingStatus::kNoCandidate;
+    out.reason = no_candidate_reason(left.empty(), right.empty());
+    return out;
+  }
+  std::optional<StereoPair> best_ok;
+  std::optional<StereoPair> best_near_prior;
+  // Closest to consistent, for the reason text: off the floor (the size fits) beats wrong size.
+  std::optional<StereoPair> best_off_floor;
+  std::optional<StereoPair> best_rejected;
+  for (std::size_t i = 0; i < left.size(); ++i) {
+    for (std::size_t j = 0; j < right.size(); ++j) {
+      auto pair = evaluate_pair(ctx, left[i], right[j]);
+      if (!pair) continue;
+      pair->left_index = i;
+      pair->right_index = j;
+      ++out.row_matches;
+      if (!pair->size_consistent) {
+        if (!best_rejected || std::abs(pair->size_error) < std::abs(best_rejected->size_error))
+          best_rejected = pair;
+        continue;
+      }
+      ++out.size_matches;
+      if (!pair->on_floor) {
+        if (!best_off_floor ||
+            std::abs(pair->height_error_m) < std::abs(best_off_floor->height_error_m))
+          best_off_floor = pair;
+        continue;
+      }
+      if (!best_ok || better_pair(*pair, *best_ok)) best_ok = pair;
+      if (prior && cv::norm(pair->position_m - prior->position_m) <= prior->gate_m &&
+          (!best_near_prior || better_pair(*pair, *best_near_prior)))
+        best_near_prior = pair;
+    }
+  }
+  if (best_near_prior) best_ok = best_near_prior;
+  if (best_ok) {
+    out.status = PairingStatus::kFound;
+    out.best = best_ok;
+    out.reason = format("pair score %.2f, row residual %.2f px, disparity %.1f px", best_ok->score,
+                        best_ok->row_residual_px, best_ok->left.x_px - best_ok->right.x_px);
+    return out;
+  }
+  if (best_off_floor) {
+    const StereoPair& p = *best_off_floor;
+    out.status = PairingStatus::kOffFloor;
+    out.best = best_off_floor;
+    out.reason = format("ball-sized pair %.2f m ", std::abs(p.height_error_m)) +
+                 (p.height_error_m > 0.0 ? "above" : "below") +
+                 format(" where a ball on the floor is (tolerance %.2f m), %.2f m away",
+                        ctx.floor->tolerance_m, p.position_m[2]);
+    return out;
+  }
+  if (best_rejected) {
+    const StereoPair& p = *best_rejected;
+    out.status = PairingStatus::kSizeInconsistent;
+    out.best = best_rejected;
+    out.reason = format("radius %.1f px but a ball at %.2f m should be %.1f px (error %+.0f%%)",
+                        0.5 * (p.left.radius_px + p.right.radius_px), p.position_m[2],
+                        p.expected_radius_px, 100.0 * p.size_error);
+    return out;
+  }
+  out.status = PairingStatus::kEpipolarMismatch;
+  out.reason =
+      format("no pair in front of the rig within %.1f px rows (closest rows differ by %.1f px)",
+             ctx.epipolar.params().max_row_diff_px, closest_rows_px(left, right));
+  return out;
+}
+
+}  // namespace stereoball::ball_detector

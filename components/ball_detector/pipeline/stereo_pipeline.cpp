@@ -1,0 +1,649 @@
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace stereoball::ball_detector {
+namespace {
+
+constexpr int kPatchHalf = kPatchSide / 2;
+// Where a circle's colour is sampled: rings at these fractions of its radius, kColourAngles
+// points each, and the centre (inside the ball, clear of its outline and the background).
+constexpr double kColourRings[] = {0.2, 0.4, 0.55, 0.7};
+constexpr int kColourAngles = 12;
+
+std::optional<std::string> check_pixels(const char* eye, const cv::Mat& m) {
+  if (m.empty()) return std::string(eye) + " image is empty";
+  if (m.depth() != CV_8U || (m.channels() != 1 && m.channels() != 3))
+    return std::string(eye) + " image must be 8-bit grey or BGR (got " +
+           std::to_string(m.channels()) + " channels, depth " + std::to_string(m.depth()) + ")";
+  return std::nullopt;
+}
+
+DetectionStatus from_pairing(PairingStatus s) {
+  switch (s) {
+    case PairingStatus::kFound:
+      return DetectionStatus::kFound;
+    case PairingStatus::kNoCandidate:
+      return DetectionStatus::kNoCandidate;
+    case PairingStatus::kEpipolarMismatch:
+      return DetectionStatus::kEpipolarMismatch;
+    case PairingStatus::kSizeInconsistent:
+      return DetectionStatus::kSizeInconsistent;
+    case PairingStatus::kOffFloor:
+      return DetectionStatus::kOffFloor;
+  }
+  return DetectionStatus::kNoCandidate;
+}
+
+// Writes pixel (b, g, r) or grey v of an 8-bit image at (x, y) into the patch as R, G, B.
+void put_rgb(const cv::Mat& image, int x, int y, std::uint8_t* dst) {
+  if (image.channels() == 3) {
+    const auto& p = image.at<cv::Vec3b>(y, x);
+    dst[0] = p[2];
+    dst[1] = p[1];
+    dst[2] = p[0];
+  } else {
+    dst[0] = dst[1] = dst[2] = image.at<std::uint8_t>(y, x);
+  }
+}
+
+}  // namespace
+
+// Per-thread planes reused from call to call: split + SIMD min/max is ~20x faster than a
+// per-pixel loop over interleaved BGR.
+struct Planes {
+  cv::Mat ch[3];
+  cv::Mat tmp;
+};
+
+Planes& planes() {
+  thread_local Planes p;
+  return p;
+}
+
+void saturation(const cv::Mat& bgr, cv::Mat& out) {
+  Planes& p = planes();
+  cv::split(bgr, p.ch);
+  cv::min(p.ch[0], p.ch[1], p.tmp);
+  cv::min(p.tmp, p.ch[2], p.tmp);
+  cv::max(p.ch[0], p.ch[1], out);
+  cv::max(out, p.ch[2], out);
+  cv::subtract(out, p.tmp, out);
+}
+
+void value(const cv::Mat& bgr, cv::Mat& out) {
+  Planes& p = planes();
+  cv::split(bgr, p.ch);
+  cv::max(p.ch[0], p.ch[1], out);
+  cv::max(out, p.ch[2], out);
+}
+
+void extract_patch(const cv::Mat& image, double x_px, double y_px,
+                   std::array<std::uint8_t, kPatchBytes>& out) {
+  const int cx = static_cast<int>(std::lround(x_px));
+  const int cy = static_cast<int>(std::lround(y_px));
+  std::uint8_t* dst = out.data();
+  for (int r = 0; r < kPatchSide; ++r) {
+    const int y = std::clamp(cy - kPatchHalf + r, 0, image.rows - 1);
+    for (int c = 0; c < kPatchSide; ++c, dst += 3)
+      put_rgb(image, std::clamp(cx - kPatchHalf + c, 0, image.cols - 1), y, dst);
+  }
+}
+
+std::optional<FloorModel> floor_model(const BallDetectorParams& params,
+                                      const stereo::StereoCalibration& calib) {
+  if (!(params.floor_tolerance_m > 0.0)) return std::nullopt;
+  // Up in the raw left camera (x right, y down, z forward) pitched down by phi about x.
+  const double phi = params.floor_camera_pitch_rad;
+  const cv::Vec3d up_raw(0.0, -std::cos(phi), -std::sin(phi));
+  FloorModel floor;
+  floor.up = calib.r1 * up_raw;  // r1 takes raw left camera coordinates to rectified ones
+  floor.camera_height_m = params.floor_camera_height_m;
+  floor.tolerance_m = params.floor_tolerance_m;
+  return floor;
+}
+
+const char* to_string(DetectionStatus status) {
+  switch (status) {
+    case DetectionStatus::kFound:
+      return "found";
+    case DetectionStatus::kNoCandidate:
+      return "no_candidate";
+    case DetectionStatus::kEpipolarMismatch:
+      return "epipolar_mismatch";
+    case DetectionStatus::kSizeInconsistent:
+      return "size_inconsistent";
+    case DetectionStatus::kNoCalibration:
+      return "no_calibration";
+    case DetectionStatus::kBadFrame:
+      return "bad_frame";
+    case DetectionStatus::kOffFloor:
+      return "off_floor";
+  }
+  return "unknown";
+}
+
+StereoPipeline::StereoPipeline(const BallDetectorParams& params)
+    : params_(params),
+      left_detector_(params.detector_params()),
+      right_detector_(params.detector_params()),
+      epipolar_(stereo::EpipolarParams{params.epipolar_tolerance_px}),
+      size_{params.ball_diameter_m, params.size_max_relative_error},
+      appearance_(params.appearance) {
+  patch_rays_.resize(kPatchSide * kPatchSide);
+  patch_raw_px_.reserve(kPatchSide * kPatchSide);
+  patch_map_.create(kPatchSide, kPatchSide, CV_32FC2);
+  left_candidates_.reserve(static_cast<std::size_t>(params.max_candidates_per_eye));
+  right_candidates_.reserve(static_cast<std::size_t>(params.max_candidates_per_eye));
+}
+
+std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
+  if (auto e = stereo::validate_calibration(calib)) return e;
+  if (auto swapped = stereo::check_camera_order(calib))
+    return *swapped + "; " + kHowToSwapCameras + " and calibrate again";
+  auto rectifier = stereo::Rectifier::create(calib);
+  if (!rectifier) return rectifier.error();
+  auto triangulator = stereo::Triangulator::create(calib);
+  if (!triangulator) return triangulator.error();
+  rectifier_.emplace(std::move(rectifier).value());
+  triangulator_.emplace(std::move(triangulator).value());
+  if (params_.perspective_outline) {
+    left_detector_.set_camera(
+        stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_left_px()});
+    right_detector_.set_camera(
+        stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()});
+  }
+  const cv::Matx33d p(calib.p1(0, 0), calib.p1(0, 1), calib.p1(0, 2), calib.p1(1, 0),
+                      calib.p1(1, 1), calib.p1(1, 2), calib.p1(2, 0), calib.p1(2, 1),
+                      calib.p1(2, 2));
+  patch_ray_from_pixel_ = calib.r1.t() * p.inv();
+  floor_ = floor_model(params_, calib);
+  return std::nullopt;
+}
+
+std::optional<stereo::PinholeCamera> StereoPipeline::left_camera() const {
+  if (!triangulator_) return std::nullopt;
+  return stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_left_px()};
+}
+
+std::optional<stereo::PinholeCamera> StereoPipeline::right_camera() const {
+  if (!triangulator_) return std::nullopt;
+  return stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()};
+}
+
+cv::Size StereoPipeline::image_size() const {
+  return rectifier_ ? rectifier_->calibration().image_size : cv::Size();
+}
+
+std::optional<std::string> StereoPipeline::check_input(const cv::Mat& left,
+                                                       const cv::Mat& right) const {
+  if (auto e = check_pixels("left", left)) return e;
+  if (auto e = check_pixels("right", right)) return e;
+  if (left.type() != right.type()) return std::string("left and right images differ in type");
+  return stereo::check_image_size(rectifier_->calibration(), left.size(), right.size());
+}
+
+const cv::Mat& StereoPipeline::detector_channel(const cv::Mat& raw, cv::Mat& grey) const {
+  // One channel first (remapping one channel is cheaper), unless edges come from colour.
+  const cv::Mat* src = &raw;
+  if (raw.channels() == 3 && params_.input != DetectorInput::kColour) {
+    switch (params_.input) {
+      case DetectorInput::kGrey:
+        cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY);
+        break;
+      case DetectorInput::kSaturation:
+        saturation(raw, grey);
+        break;
+      case DetectorInput::kValue:
+        value(raw, grey);
+        break;
+      case DetectorInput::kRed:
+        cv::extractChannel(raw, grey, 2);
+        break;
+      case DetectorInput::kGreen:
+        cv::extractChannel(raw, grey, 1);
+        break;
+      case DetectorInput::kBlue:
+        cv::extractChannel(raw, grey, 0);
+        break;
+      case DetectorInput::kColour:
+        break;
+    }
+    src = &grey;
+  }
+  return *src;
+}
+
+void StereoPipeline::rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                                   cv::Mat& out) const {
+  if (rectified) {
+    channel.copyTo(out);
+  } else {
+    rectifier_->rectify_eye(eye, channel, out);
+  }
+}
+
+StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, bool rectified,
+                                     const std::optional<PositionPrior>& prior,
+                                     std::int64_t stamp_ns) {
+  StereoDetection out;
+  left_candidates_.clear();
+  right_candidates_.clear();
+  appearance_.tick(stamp_ns);
+  frame_left_ = &left;
+  frame_rectified_ = rectified;
+  rejected_by_colour_ = 0;
+  if (!rectifier_) {
+    out.status = DetectionStatus::kNoCalibration;
+    out.reason = "no stereo calibration received yet";
+    return out;
+  }
+  if (auto e = check_input(left, right)) {
+    out.status = DetectionStatus::kBadFrame;
+    out.reason = *e;
+    return out;
+  }
+  const PairingContext ctx{epipolar_, *triangulator_, size_, floor_};
+  const cv::Mat& left_channel = detector_channel(left, grey_left_);
+  const cv::Mat& right_channel = detector_channel(right, grey_right_);
+  if (refresh_due_) refresh_thresholds(left_channel, rectified);  // finish_frame was not called
+  std::optional<PairingResult> pairing;
+  if (prior && params_.prior_window && left_thresholds_) {
+    pairing = search_near_prior(ctx, left_channel, right_channel, rectified, *prior);
+    // Found where the track expects it: that is the answer (a pair elsewhere would not win over
+    // it, see pair_candidates), so the whole frame is not searched in the frame's time; only its
+    // thresholds are measured again now and then, after the answer (finish_frame).
+    if (pairing && frames_since_full_search_ >= kFullSearchEveryFrames) refresh_due_ = true;
+  }
+  bool whole_frame = false;
+  if (!pairing) {
+    pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior);
+    whole_frame = true;
+  }
+  // Nothing paired over the whole frame: the left eye again radius band by radius band, each
+  // circle's right box with its own radii (kBandSearchEveryFrames: costly, so not every frame).
+  if (pairing->status == PairingStatus::kFound) frames_without_pair_ = 0;
+  if (whole_frame && pairing->status != PairingStatus::kFound &&
+      frames_without_pair_++ % kBandSearchEveryFrames == 0) {
+    auto whole_left = left_candidates_, whole_right = right_candidates_;
+    PairingResult banded = search_radius_bands(ctx, right_channel, rectified, prior);
+    if (banded.status == PairingStatus::kFound) {
+      pairing = std::move(banded);
+    } else {  // the report stays the whole frame's
+      left_candidates_ = std::move(whole_left);
+      right_candidates_ = std::move(whole_right);
+    }
+  }
+  out.candidates_left = static_cast<int>(left_candidates_.size());
+  out.candidates_right = static_cast<int>(right_candidates_.size());
+
+  fill_result(*pairing, out);
+  out.rejected_by_colour = rejected_by_colour_;
+  if (params_.right_eye_partner_boxes && left_candidates_.empty())
+    out.reason =
+        rejected_by_colour_ > 0
+            ? "every left circle differs in colour from the followed ball"
+            : "no circle in the left eye (the right eye is searched only near left circles)";
+  if (out.status == DetectionStatus::kFound) {
+    cut_patch(left, rectified, out);
+    // Where the following tracker expects the ball: this is the ball it follows.
+    if (prior && cv::norm(out.position_m - prior->position_m) <= prior->gate_m) {
+      if (auto h = colour_of(out.left)) appearance_.learn(*h, stamp_ns);
+    }
+  }
+  frame_left_ = nullptr;
+  return out;
+}
+
+void StereoPipeline::refresh_thresholds(const cv::Mat& left_channel, bool rectified) {
+  rectify_whole(left_channel, stereo::Eye::kLeft, rectified, refresh_left_);
+  left_thresholds_ =
+      measure_edge_thresholds(refresh_left_, params_.detector_params().edge, refresh_edges_);
+  frames_since_full_search_ = 0;
+  refresh_due_ = false;
+}
+
+bool StereoPipeline::finish_frame(const cv::Mat& left, bool rectified) {
+  if (!refresh_due_ || !rectifier_ || check_pixels("left", left) ||
+      stereo::check_image_size(rectifier_->calibration(), left.size(), left.size()))
+    return false;
+  refresh_thresholds(detector_channel(left, grey_left_), rectified);
+  return true;
+}
+
+std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingContext& ctx,
+                                                               const cv::Mat& left_channel,
+                                                               const cv::Mat& right_channel,
+                                                               bool rectified,
+                                                               const PositionPrior& prior) {
+  const cv::Size size = rectifier_->calibration().image_size;
+  const cv::Rect box = prior_search_box(ctx, prior, size, window_margin_px());
+  if (box.width < 8 || box.height < 8) return std::nullopt;
+  rect_left_.create(size, left_channel.type());
+  rect_left_.setTo(0);
+  if (rectified) {
+    left_channel(box).copyTo(rect_left_(box));
+  } else {
+    rectifier_->rectify_eye_region(stereo::Eye::kLeft, left_channel, box, rect_left_);
+  }
+  left_candidates_.clear();
+  // The tracker expects the ball here: a ball it follows out of the view is still scored on
+  // what is left of it in the image.
+  SearchHints hints{prior_radius_range(ctx, prior), params_.prior_min_inside_fraction};
+  // A ball the tracker follows out of the view may have its centre outside the image.
+  hints.centre_margin_px = prior_centre_margin_px(ctx, prior, size);
+  for (Circle c : left_detector_.detect(rect_left_(box), *left_thresholds_, hints)) {
+    c.x_px += box.x;
+    c.y_px += box.y;
+    left_candidates_.push_back(c);
+  }
+  right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, true);
+  PairingResult pairing = pair_with_predicted_partners(ctx, prior);
+  ++frames_since_full_search_;
+  // Only a ball where the track expects it ends the search; anything else needs the frame.
+  if (pairing.status == PairingStatus::kFound &&
+      cv::norm(pairing.best->position_m - prior.position_m) <= prior.gate_m)
+    return pairing;
+  return std::nullopt;
+}
+
+PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
+                                                 const cv::Mat& left_channel,
+                                                 const cv::Mat& right_channel, bool rectified,
+                                                 const std::optional<PositionPrior>& prior) {
+  rectify_whole(left_channel, stereo::Eye::kLeft, rectified, rect_left_);
+  left_candidates_ = left_detector_.detect(rect_left_);
+  left_thresholds_ = thresholds_of(left_detector_.edge_map());
+  frames_since_full_search_ = 0;
+  if (params_.right_eye_partner_boxes) {
+    right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, false);
+  } else {
+    rectify_whole(right_channel, stereo::Eye::kRight, rectified, rect_right_);
+    right_candidates_ = right_detector_.detect(rect_right_);
+    right_edges_box_ = cv::Rect(cv::Point(0, 0), rect_right_.size());
+  }
+  return pair_with_predicted_partners(ctx, prior);
+}
+
+std::vector<Circle> StereoPipeline::detect_in_bands(PixelToPixelDetector& detector,
+                                                    const cv::Mat& image) const {
+  std::vector<Circle> found;
+  // Up to a third of the image height: an outline larger than that is the largest structure in
+  // view and wins the whole-range accumulator already, while in a band of its own clutter
+  // scatters enough edge points along a 200 px circle to pass min_score (phantom pairs).
+  const double top = std::min(params_.p2p.max_radius_px, image.rows / 3.0);
+  for (double low = params_.p2p.min_radius_px; low < top; low *= kRadiusBandRatio) {
+    // Bands overlap by 10 %: a circle on a boundary is whole in one of them.
+    const SearchHints hints{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}};
+    // The detector still holds this image's edge map, made with these very thresholds: each
+    // band votes on it again instead of redoing the edge step (same edges, a third of the cost).
+    for (const Circle& c : detector.redetect(hints)) found.push_back(c);
+  }
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  // Neighbouring bands find the same circle: keep the best of each place and size.
+  std::vector<Circle> kept;
+  for (const Circle& c : found) {
+    const bool seen = std::any_of(kept.begin(), kept.end(), [&](const Circle& k) {
+      return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) < params_.p2p.min_separation_px &&
+             std::abs(k.radius_px - c.radius_px) < 0.2 * std::max(k.radius_px, c.radius_px);
+    });
+    if (!seen) kept.push_back(c);
+  }
+  return kept;
+}
+
+PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
+                                                  const cv::Mat& right_channel, bool rectified,
+                                                  const std::optional<PositionPrior>& prior) {
+  // rect_left_ still holds the whole rectified left eye of search_whole_frame, and the left
+  // detector its edge map (the right eye has its own detector).
+  const EdgeThresholds thresholds = *left_thresholds_;
+  left_candidates_ = detect_in_bands(left_detector_, rect_left_);
+  // Each left circle's partner box with only the radii its partner can have: one box searched
+  // for the union of every candidate's radii is crowded out by clutter just like the left eye.
+  const cv::Size size = rectifier_->calibration().image_size;
+  rect_right_.create(size, right_channel.type());
+  rect_right_.setTo(0);
+  right_candidates_.clear();
+  for (const Circle& left : left_candidates_) {
+    const cv::Rect box = partner_search_box(ctx, left, size, window_margin_px());
+    if (box.width < 8 || box.height < 8) continue;
+    if (rectified) {
+      right_channel(box).copyTo(rect_right_(box));
+    } else {
+      rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, box, rect_right_);
+    }
+    right_edges_box_ = box;
+    const SearchHints hints{partner_radius_range(ctx, {left})};
+    for (Circle c : right_detector_.detect(rect_right_(box), thresholds, hints)) {
+      c.x_px += box.x;
+      c.y_px += box.y;
+      right_candidates_.push_back(c);
+    }
+  }
+  PairingResult pairing = pair_with_predicted_partners(ctx, prior);
+  return pairing;
+}
+
+PairingResult StereoPipeline::pair_with_predicted_partners(
+    const PairingContext& ctx, const std::optional<PositionPrior>& prior) {
+  rejected_by_colour_ += apply_appearance();
+  PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
+  if (!params_.predicted_partner || pairing.status == PairingStatus::kFound) return pairing;
+  // The left circle passed its own border rule; the right eye sees the ball shifted by the
+  // disparity, often farther out of the image, and its outline has one free parameter left:
+  // a smaller part in view suffices.
+  const auto predicted = predicted_partners(ctx, params_.predicted_partner_min_inside_fraction);
+  if (predicted.empty()) return pairing;
+  right_candidates_.insert(right_candidates_.end(), predicted.begin(), predicted.end());
+  return pair_candidates(ctx, left_candidates_, right_candidates_, prior);
+}
+
+int StereoPipeline::window_margin_px() const {
+  const auto& ks = params_.p2p.k_values;
+  // Window half size plus the smoothing box: arcs closer to a box edge cannot vote.
+  return (ks.empty() ? 5 : *std::max_element(ks.begin(), ks.end())) + 4;
+}
+
+std::vector<cv::Rect> StereoPipeline::partner_boxes(const PairingContext& ctx) const {
+  const cv::Size size = rectifier_->calibration().image_size;
+  const int margin = window_margin_px();
+  std::vector<cv::Rect> boxes;
+  for (const Circle& c : left_candidates_) {
+    cv::Rect box = partner_search_box(ctx, c, size, margin);
+    if (box.width < 8 || box.height < 8) continue;
+    // Overlapping boxes are searched once, as their union.
+    for (bool merged = true; merged;) {
+      merged = false;
+      for (auto it = boxes.begin(); it != boxes.end(); ++it) {
+        if ((*it & box).empty()) continue;
+        box |= *it;
+        boxes.erase(it);
+        merged = true;
+        break;
+      }
+    }
+    boxes.push_back(box);
+  }
+  return boxes;
+}
+
+std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& ctx,
+                                                          const cv::Mat& right_channel,
+                                                          bool rectified, bool near_prior) {
+  rect_right_.create(rectifier_->calibration().image_size, right_channel.type());
+  rect_right_.setTo(0);
+  right_edges_box_ = {};
+  std::vector<Circle> found;
+  SearchHints hints{partner_radius_range(ctx, left_candidates_)};
+  if (near_prior) {
+    hints.min_inside_fraction = params_.prior_min_inside_fraction;
+    hints.centre_margin_px =
+        partner_centre_margin_px(ctx, left_candidates_, rectifier_->calibration().image_size);
+  }
+  for (const cv::Rect& box : partner_boxes(ctx)) {
+    if (rectified) {
+      right_channel(box).copyTo(rect_right_(box));
+    } else {
+      rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, box, rect_right_);
+    }
+    right_edges_box_ = box;
+    // The left image's thresholds: the box's own statistics depend on what it holds.
+    for (Circle c : right_detector_.detect(rect_right_(box),
+                                           thresholds_of(left_detector_.edge_map()), hints)) {
+      c.x_px += box.x;
+      c.y_px += box.y;
+      found.push_back(c);
+    }
+  }
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  return found;
+}
+
+std::vector<Circle> StereoPipeline::predicted_partners(const PairingContext& ctx,
+                                                       double min_inside_fraction) {
+  const cv::Size size = rectifier_->calibration().image_size;
+  const EdgeThresholds thresholds = thresholds_of(left_detector_.edge_map());
+  const PixelToPixelParams p2p = params_.detector_params();
+  RefineParams scoring = p2p.refine_params;
+  scoring.min_inside_fraction = min_inside_fraction;
+  if (params_.perspective_outline)
+    scoring.camera =
+        stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()};
+  std::vector<Circle> found;
+  for (const Circle& left : left_candidates_) {
+    const cv::Rect box = partner_search_box(ctx, left, size, window_margin_px());
+    if (box.width < 8 || box.height < 8) continue;
+    // detect_right_in_boxes rectified this box already (it searched the union of these), and
+    // the right detector still holds the edges of the last box it searched.
+    const EdgeMap* edges = &right_detector_.edge_map();
+    cv::Point origin = right_edges_box_.tl();
+    if ((box & right_edges_box_) != box) {
+      compute_edge_map(rect_right_(box), p2p.edge, thresholds.canny, thresholds.denoise,
+                       partner_edges_);
+      edges = &partner_edges_;
+      origin = box.tl();
+    }
+    const auto score = [&](const Circle& c) {
+      Circle in_box = c;
+      in_box.x_px -= origin.x;
+      in_box.y_px -= origin.y;
+      return score_circle(*edges, in_box, scoring);
+    };
+    if (auto partner = predicted_partner(ctx, left, score, p2p.min_score))
+      found.push_back(*partner);
+  }
+  return found;
+}
+
+void StereoPipeline::fill_result(const PairingResult& pairing, StereoDetection& out) const {
+  out.status = from_pairing(pairing.status);
+  out.reason = pairing.reason;
+  if (pairing.best) {
+    const StereoPair& p = *pairing.best;
+    out.left = p.left;
+    out.right = p.right;
+    out.row_residual_px = p.row_residual_px;
+    out.position_m = p.position_m;
+    out.depth_from_size_m = p.depth_from_size_m;
+  } else if (!left_candidates_.empty()) {
+    out.left = left_candidates_.front();  // best single-eye circle, for display
+  }
+}
+
+void StereoPipeline::raw_left_px(const std::vector<cv::Point2d>& rectified_px,
+                                 std::vector<cv::Point2d>& raw_px) {
+  patch_rays_.resize(rectified_px.size());
+  for (std::size_t i = 0; i < rectified_px.size(); ++i) {
+    const cv::Vec3d ray =
+        patch_ray_from_pixel_ * cv::Vec3d(rectified_px[i].x, rectified_px[i].y, 1.0);
+    patch_rays_[i] = {ray[0], ray[1], ray[2]};
+  }
+  const stereo::StereoCalibration& calib = rectifier_->calibration();
+  cv::projectPoints(patch_rays_, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(calib.k1),
+                    cv::Mat(calib.d1, true), raw_px);
+}
+
+void StereoPipeline::cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out) {
+  const cv::Size size = left_raw.size();
+  const int cx = static_cast<int>(std::lround(out.left.x_px));
+  const int cy = static_cast<int>(std::lround(out.left.y_px));
+  auto clamp_x = [&](int x) { return std::clamp(x, 0, size.width - 1); };
+  auto clamp_y = [&](int y) { return std::clamp(y, 0, size.height - 1); };
+  std::uint8_t* dst = out.patch_rgb.data();
+  if (rectified) {
+    extract_patch(left_raw, out.left.x_px, out.left.y_px, out.patch_rgb);
+    out.patch_valid = true;
+    return;
+  }
+  // Only 441 rectified pixels are needed: map them through the lens model instead of
+  // rectifying the whole colour image.
+  colour_rect_px_.clear();
+  for (int r = 0; r < kPatchSide; ++r)
+    for (int c = 0; c < kPatchSide; ++c)
+      colour_rect_px_.emplace_back(clamp_x(cx - kPatchHalf + c), clamp_y(cy - kPatchHalf + r));
+  raw_left_px(colour_rect_px_, patch_raw_px_);
+  for (int r = 0; r < kPatchSide; ++r)
+    for (int c = 0; c < kPatchSide; ++c) {
+      const cv::Point2d& p = patch_raw_px_[static_cast<std::size_t>(r * kPatchSide + c)];
+      patch_map_.at<cv::Vec2f>(r, c) = cv::Vec2f(static_cast<float>(p.x), static_cast<float>(p.y));
+    }
+  cv::remap(left_raw, patch_bgr_, patch_map_, cv::noArray(), cv::INTER_LINEAR,
+            cv::BORDER_REPLICATE);
+  for (int r = 0; r < kPatchSide; ++r)
+    for (int c = 0; c < kPatchSide; ++c, dst += 3) put_rgb(patch_bgr_, c, r, dst);
+  out.patch_valid = true;
+}
+
+std::optional<ColourHistogram> StereoPipeline::colour_of(const Circle& left) {
+  if (!frame_left_ || frame_left_->channels() != 3) return std::nullopt;
+  const cv::Mat& image = *frame_left_;
+  colour_rect_px_.clear();
+  colour_rect_px_.emplace_back(left.x_px, left.y_px);
+  for (const double f : kColourRings)
+    for (int a = 0; a < kColourAngles; ++a) {
+      const double t = 2.0 * CV_PI * (a + 0.5 * f) / kColourAngles;
+      colour_rect_px_.emplace_back(left.x_px + f * left.radius_px * std::cos(t),
+                                   left.y_px + f * left.radius_px * std::sin(t));
+    }
+  if (frame_rectified_) {
+    colour_raw_px_ = colour_rect_px_;
+  } else {
+    raw_left_px(colour_rect_px_, colour_raw_px_);
+  }
+  colour_px_.clear();
+  for (const cv::Point2d& p : colour_raw_px_) {
+    const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+    // A ball cut by the border is sampled where it is in view.
+    if (x >= 0 && y >= 0 && x < image.cols && y < image.rows)
+      colour_px_.push_back(image.at<cv::Vec3b>(y, x));
+  }
+  return ColourHistogram::of(colour_px_, appearance_.params().min_pixels);
+}
+
+int StereoPipeline::apply_appearance() {
+  if (!appearance_.ready()) return 0;
+  int rejected = 0;
+  for (auto it = left_candidates_.begin(); it != left_candidates_.end();) {
+    const auto h = colour_of(*it);
+    if (appearance_.rejects(h)) {
+      it = left_candidates_.erase(it);
+      ++rejected;
+      continue;
+    }
+    // Rank: a circle more of whose colours are the ball's keeps more of its outline score.
+    if (h) it->score *= 0.5 + 0.5 * appearance_.containment(*h).value_or(1.0);
+    ++it;
+  }
+  std::stable_sort(left_candidates_.begin(), left_candidates_.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  return rejected;
+}
+
+}  // namespace stereoball::ball_detector

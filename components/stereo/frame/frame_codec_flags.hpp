@@ -1,0 +1,26 @@
+#pragma once
+// --frame-encoding / --jpeg-quality: the command-line overrides of a frame publisher's
+// frame_encoding and jpeg_quality (camera_server, simulator; used by the *-jpeg profiles).
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+#include "stereo/frame/frame_codec.hpp"
+
+namespace stereoball::stereo {
+
+/// Registers both flags on an app and applies the ones given to the config's values.
+class FrameCodecFlags {
+ public:
+  /// Adds --frame-encoding (raw|jpeg|png) and --jpeg-quality (1-100) to app.
+  explicit FrameCodecFlags(CLI::App& app);
+  /// Overrides the fields of params whose flag was given (after parsing).
+  void apply(FrameCodecParams& params) const;
+
+ private:
+  std::string encoding_;
+  int quality_ = 0;  // 0 = not given
+};
+
+}  // namespace stereoball::stereo

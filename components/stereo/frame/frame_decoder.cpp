@@ -1,0 +1,97 @@
+#include "stereo/frame/frame_decoder.hpp"
+
+#include <cstring>
+#include <span>
+#include <string_view>
+
+#include "stereo/image/image_decode.hpp"
+
+namespace stereoball::stereo {
+namespace {
+
+std::string dims(std::uint64_t w, std::uint64_t h) {
+  return std::to_string(w) + "x" + std::to_string(h);
+}
+
+Status check_size(const char* eye, std::uint64_t w, std::uint64_t h, cv::Size expected) {
+  if (w == static_cast<std::uint64_t>(expected.width) &&
+      h == static_cast<std::uint64_t>(expected.height))
+    return {};
+  return Error{std::string(eye) + " image is " + dims(w, h) + " but the calibration is for " +
+               dims(static_cast<std::uint64_t>(expected.width),
+                    static_cast<std::uint64_t>(expected.height))};
+}
+
+}  // namespace
+
+std::optional<FrameEncoding> parse_encoding(const char* text) {
+  if (text == nullptr) return std::nullopt;
+  if (std::strcmp(text, "bgr8") == 0) return FrameEncoding::kBgr8;
+  if (std::strcmp(text, "mono8") == 0) return FrameEncoding::kMono8;
+  if (std::strcmp(text, "jpeg") == 0) return FrameEncoding::kJpeg;
+  if (std::strcmp(text, "png") == 0) return FrameEncoding::kPng;
+  return std::nullopt;
+}
+
+Status check_raw_eye(const char* eye, const stereoball_msg_EyeImage& image, int channels,
+                     cv::Size expected) {
+  if (auto st = check_size(eye, image.width_px, image.height_px, expected); !st) return st;
+  const std::uint64_t min_step = std::uint64_t{image.width_px} * static_cast<unsigned>(channels);
+  if (image.step_bytes < min_step)
+    return Error{std::string(eye) + " step_bytes " + std::to_string(image.step_bytes) +
+                 " is smaller than width * channels = " + std::to_string(min_step)};
+  const std::uint64_t need = std::uint64_t{image.step_bytes} * image.height_px;
+  if (image.data._length != need || image.data._buffer == nullptr)
+    return Error{std::string(eye) + " image has " + std::to_string(image.data._length) +
+                 " data bytes, expected step * height = " + std::to_string(need) +
+                 (image.data._length < need ? " (truncated)" : "")};
+  return {};
+}
+
+Status FrameDecoder::decode(const stereoball_msg_StereoFrame& msg, cv::Size expected, cv::Mat& left,
+                            cv::Mat& right) {
+  const auto encoding = parse_encoding(msg.encoding);
+  if (!encoding)
+    return Error{"encoding '" + std::string(msg.encoding ? msg.encoding : "") +
+                 "' is not supported (bgr8, mono8, jpeg, png)"};
+  if (auto st = decode_eye("left", msg.left, *encoding, expected, decoded_left_, left); !st)
+    return st;
+  return decode_eye("right", msg.right, *encoding, expected, decoded_right_, right);
+}
+
+Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& image,
+                                FrameEncoding encoding, cv::Size expected, cv::Mat& buffer,
+                                cv::Mat& out) {
+  if (encoding == FrameEncoding::kBgr8 || encoding == FrameEncoding::kMono8) {
+    const int channels = encoding == FrameEncoding::kBgr8 ? 3 : 1;
+    if (auto st = check_raw_eye(eye, image, channels, expected); !st) return st;
+    out = cv::Mat(static_cast<int>(image.height_px), static_cast<int>(image.width_px),
+                  CV_8UC(channels), image.data._buffer, image.step_bytes);
+    return {};
+  }
+  const char* name = encoding == FrameEncoding::kJpeg ? "jpeg" : "png";
+  if (auto st = check_size(eye, image.width_px, image.height_px, expected); !st) return st;
+  if (image.data._length == 0 || image.data._buffer == nullptr)
+    return Error{std::string(eye) + " " + name + " data is empty"};
+  const std::span<const std::uint8_t> bytes(image.data._buffer, image.data._length);
+  // The header is read and checked before anything is decoded: the size fields of the
+  // sample are only claims, the header decides how much memory decoding takes.
+  const auto header = stereo::read_image_header(bytes);
+  if (!header) return Error{std::string(eye) + " " + name + " data: " + header.error()};
+  if (std::string_view(stereo::codec_name(header->codec)) != name)
+    return Error{std::string(eye) + " image is " + stereo::codec_name(header->codec) +
+                 " data in a " + name + " frame"};
+  if (cv::Size(header->width_px, header->height_px) != expected)
+    return Error{std::string(eye) + " " + name + " header says " +
+                 dims(static_cast<std::uint64_t>(header->width_px),
+                      static_cast<std::uint64_t>(header->height_px)) +
+                 " but the calibration is for " +
+                 dims(static_cast<std::uint64_t>(expected.width),
+                      static_cast<std::uint64_t>(expected.height))};
+  if (auto st = stereo::decode_bgr(bytes, *header, buffer); !st)
+    return Error{std::string(eye) + " " + st.error()};
+  out = buffer;
+  return {};
+}
+
+}  // namespace stereoball::stereo

@@ -1,0 +1,184 @@
+// FrameDecoder: raw and compressed stereo/frame samples, and every malformed case.
+
+#include "stereo/frame/frame_decoder.hpp"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <vector>
+
+namespace sb = stereoball;
+using sb::Status;
+using sb::stereo::FrameDecoder;
+
+namespace {
+
+const cv::Size kSize(64, 48);
+
+// Owns the bytes a StereoFrame sample points at.
+struct FrameBuilder {
+  std::vector<uint8_t> left, right;
+  std::string encoding = "bgr8";
+  stereoball_msg_StereoFrame msg{};
+
+  FrameBuilder& raw(const cv::Mat& l, const cv::Mat& r) {
+    left.assign(l.data, l.data + l.total() * l.elemSize());
+    right.assign(r.data, r.data + r.total() * r.elemSize());
+    fill(msg.left, left, l.cols, l.rows, static_cast<uint32_t>(l.cols * l.elemSize()));
+    fill(msg.right, right, r.cols, r.rows, static_cast<uint32_t>(r.cols * r.elemSize()));
+    return *this;
+  }
+  FrameBuilder& encoded(const std::string& ext, const cv::Mat& l, const cv::Mat& r) {
+    cv::imencode("." + ext, l, left);
+    cv::imencode("." + ext, r, right);
+    encoding = ext == "jpg" ? "jpeg" : ext;
+    fill(msg.left, left, l.cols, l.rows, 0);
+    fill(msg.right, right, r.cols, r.rows, 0);
+    return *this;
+  }
+  const stereoball_msg_StereoFrame& get() {
+    msg.encoding = encoding.data();
+    return msg;
+  }
+  static void fill(stereoball_msg_EyeImage& eye, std::vector<uint8_t>& bytes, int w, int h,
+                   uint32_t step) {
+    eye.width_px = static_cast<uint32_t>(w);
+    eye.height_px = static_cast<uint32_t>(h);
+    eye.step_bytes = step;
+    eye.data._buffer = bytes.data();
+    eye.data._length = eye.data._maximum = static_cast<uint32_t>(bytes.size());
+  }
+};
+
+cv::Mat gradient(int type) {
+  cv::Mat m(kSize, type);
+  m.forEach<uint8_t>([](uint8_t& v, const int* p) { v = static_cast<uint8_t>(p[0] * 3 + p[1]); });
+  return m;
+}
+
+std::string decode_error(FrameBuilder& f) {
+  FrameDecoder d;
+  cv::Mat l, r;
+  const Status st = d.decode(f.get(), kSize, l, r);
+  return st ? "" : st.error();
+}
+
+}  // namespace
+
+TEST(FrameDecoder, GivenBgr8_ThenZeroCopyViewsWithTheBytes) {
+  const cv::Mat img(kSize, CV_8UC3, cv::Scalar(10, 20, 30));
+  FrameBuilder f;
+  f.raw(img, img);
+  FrameDecoder d;
+  cv::Mat l, r;
+  ASSERT_TRUE(d.decode(f.get(), kSize, l, r).ok());
+  EXPECT_EQ(l.type(), CV_8UC3);
+  EXPECT_EQ(l.size(), kSize);
+  EXPECT_EQ(l.data, f.left.data());  // a view, not a copy
+  EXPECT_EQ(r.at<cv::Vec3b>(5, 5), cv::Vec3b(10, 20, 30));
+}
+
+TEST(FrameDecoder, GivenMono8WithPaddedRows_ThenStepRespected) {
+  cv::Mat padded(kSize.height, kSize.width + 16, CV_8UC1, cv::Scalar(7));
+  FrameBuilder f;
+  f.encoding = "mono8";
+  f.raw(padded, padded);
+  f.msg.left.width_px = f.msg.right.width_px = static_cast<uint32_t>(kSize.width);
+  FrameDecoder d;
+  cv::Mat l, r;
+  ASSERT_TRUE(d.decode(f.get(), kSize, l, r).ok());
+  EXPECT_EQ(l.type(), CV_8UC1);
+  EXPECT_EQ(l.step, static_cast<size_t>(kSize.width + 16));
+}
+
+TEST(FrameDecoder, GivenPngAndJpeg_ThenDecodedToBgr) {
+  const cv::Mat img = gradient(CV_8UC3);
+  for (const std::string ext : {"png", "jpg"}) {
+    FrameBuilder f;
+    f.encoded(ext, img, img);
+    FrameDecoder d;
+    cv::Mat l, r;
+    ASSERT_TRUE(d.decode(f.get(), kSize, l, r).ok()) << ext;
+    EXPECT_EQ(l.type(), CV_8UC3);
+    EXPECT_EQ(l.size(), kSize);
+    if (ext == "png") {
+      EXPECT_EQ(cv::norm(l, img, cv::NORM_INF), 0.0);
+    }
+  }
+}
+
+TEST(FrameDecoder, GivenWrongEncoding_ThenErrorNamesIt) {
+  const cv::Mat img(kSize, CV_8UC3, cv::Scalar::all(1));
+  FrameBuilder f;
+  f.raw(img, img);
+  f.encoding = "yuyv";
+  EXPECT_NE(decode_error(f).find("'yuyv'"), std::string::npos) << decode_error(f);
+}
+
+TEST(FrameDecoder, GivenWrongSize_ThenErrorNamesEyeAndSizes) {
+  const cv::Mat img(kSize, CV_8UC3, cv::Scalar::all(1));
+  const cv::Mat small(24, 32, CV_8UC3, cv::Scalar::all(1));
+  FrameBuilder f;
+  f.raw(img, small);
+  const std::string e = decode_error(f);
+  EXPECT_NE(e.find("right image is 32x24"), std::string::npos) << e;
+  EXPECT_NE(e.find("64x48"), std::string::npos) << e;
+}
+
+TEST(FrameDecoder, GivenTruncatedData_ThenErrorSaysTruncated) {
+  const cv::Mat img(kSize, CV_8UC3, cv::Scalar::all(1));
+  FrameBuilder f;
+  f.raw(img, img);
+  f.msg.left.data._length -= 100;
+  const std::string e = decode_error(f);
+  EXPECT_NE(e.find("left"), std::string::npos) << e;
+  EXPECT_NE(e.find("truncated"), std::string::npos) << e;
+}
+
+TEST(FrameDecoder, GivenStepSmallerThanRow_ThenError) {
+  const cv::Mat img(kSize, CV_8UC3, cv::Scalar::all(1));
+  FrameBuilder f;
+  f.raw(img, img);
+  f.msg.right.step_bytes = 64;  // one byte per pixel for a bgr8 frame
+  EXPECT_NE(decode_error(f).find("step_bytes"), std::string::npos) << decode_error(f);
+}
+
+TEST(FrameDecoder, GivenGarbageJpeg_ThenErrorNotCrash) {
+  const cv::Mat img = gradient(CV_8UC3);
+  FrameBuilder f;
+  f.encoded("jpg", img, img);
+  std::fill(f.right.begin(), f.right.end(), uint8_t{0x5a});
+  EXPECT_NE(decode_error(f).find("right jpeg data: not a jpeg or png image"), std::string::npos)
+      << decode_error(f);
+  f.msg.right.data._length = 0;
+  EXPECT_NE(decode_error(f).find("empty"), std::string::npos) << decode_error(f);
+}
+
+TEST(FrameDecoder, GivenPngOfOtherSize_ThenTheHeaderSizeIsRefusedBeforeDecoding) {
+  const cv::Mat big(96, 128, CV_8UC3, cv::Scalar::all(1));
+  FrameBuilder f;
+  f.encoded("png", big, big);
+  f.msg.left.width_px = f.msg.right.width_px = 64;  // the sample claims the right size
+  f.msg.left.height_px = f.msg.right.height_px = 48;
+  EXPECT_EQ(decode_error(f), "left png header says 128x96 but the calibration is for 64x48");
+}
+
+// Issue 22: a truncated JPEG was processed as a valid frame (libjpeg only warns about it).
+TEST(FrameDecoder, GivenATruncatedJpeg_ThenItIsABadFrameNotAnImage) {
+  const cv::Mat img = gradient(CV_8UC3);
+  FrameBuilder f;
+  f.encoded("jpg", img, img);
+  f.msg.left.data._length = static_cast<uint32_t>(f.left.size() * 2 / 3);
+  EXPECT_NE(decode_error(f).find("left jpeg data is corrupt: Premature end of JPEG file"),
+            std::string::npos)
+      << decode_error(f);
+}
+
+TEST(FrameDecoder, GivenPngBytesInAJpegFrame_ThenTheMismatchIsNamed) {
+  const cv::Mat img = gradient(CV_8UC3);
+  FrameBuilder f;
+  f.encoded("png", img, img);
+  f.encoding = "jpeg";
+  EXPECT_EQ(decode_error(f), "left image is png data in a jpeg frame");
+}
