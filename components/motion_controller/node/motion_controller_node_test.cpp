@@ -56,6 +56,15 @@ class MotionControllerNodeTest : public ::testing::Test {
     commands_.emplace(*participant_, sb::topics::kVelocityCommand);
     ASSERT_TRUE(tracks_->wait_for_readers(1, 10'000'000'000)) << node_->output();
     ASSERT_TRUE(commands_->wait_for_writers(1, 10'000'000'000)) << node_->output();
+    // Discovery is not symmetric: our reader knowing the node's writer does not mean the writer
+    // knows our reader yet, and a command written before then never reaches us. The node
+    // commands at its minimum rate without tracks, so one received command proves the path.
+    const auto end = std::chrono::steady_clock::now() + 10s;
+    while (commands_->take().empty()) {
+      ASSERT_LT(std::chrono::steady_clock::now(), end)
+          << "no command from the node within 10 s" << node_->output();
+      std::this_thread::sleep_for(5ms);
+    }
   }
 
   // For duration, publishes t (if given) at 30 Hz and collects every command received.
