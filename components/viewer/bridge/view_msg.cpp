@@ -1,6 +1,8 @@
 #include "viewer/bridge/view_msg.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 
 namespace stereoball::viewer {
 namespace {
@@ -21,7 +23,18 @@ double latency_ms(int64_t publish_ns, int64_t capture_ns) {
   return publish_ns > 0 && capture_ns > 0 ? (publish_ns - capture_ns) / 1e6 : 0.0;
 }
 
-std::string status_name(stereoball_msg_DetectionStatus s) {
+// An enum field read as its integer, without an enum-typed load: a value outside the
+// enumerators (which Cyclone's deserializer refuses, but a sample built in this process may
+// hold) must print as unknown, not be undefined behaviour.
+template <typename Enum>
+std::int32_t raw(const Enum& e) {
+  static_assert(sizeof(Enum) == sizeof(std::int32_t), "IDL enums are 32-bit");
+  std::int32_t v;
+  std::memcpy(&v, &e, sizeof v);
+  return v;
+}
+
+std::string status_name(std::int32_t s) {
   switch (s) {
     case stereoball_msg_DETECTION_FOUND:
       return "found";
@@ -38,10 +51,10 @@ std::string status_name(stereoball_msg_DetectionStatus s) {
     case stereoball_msg_DETECTION_OFF_FLOOR:
       return "off_floor";
   }
-  return "unknown(" + std::to_string(static_cast<int>(s)) + ")";
+  return "unknown(" + std::to_string(s) + ")";
 }
 
-std::string state_name(stereoball_msg_TrackState s) {
+std::string state_name(std::int32_t s) {
   switch (s) {
     case stereoball_msg_TRACK_IDLE:
       return "idle";
@@ -50,10 +63,10 @@ std::string state_name(stereoball_msg_TrackState s) {
     case stereoball_msg_TRACK_SEARCHING:
       return "searching";
   }
-  return "unknown(" + std::to_string(static_cast<int>(s)) + ")";
+  return "unknown(" + std::to_string(s) + ")";
 }
 
-std::string verdict_name(stereoball_msg_TrackVerdict v) {
+std::string verdict_name(std::int32_t v) {
   switch (v) {
     case stereoball_msg_VERDICT_NO_DETECTION:
       return "no_detection";
@@ -70,10 +83,10 @@ std::string verdict_name(stereoball_msg_TrackVerdict v) {
     case stereoball_msg_VERDICT_REJECTED:
       return "rejected";
   }
-  return "unknown(" + std::to_string(static_cast<int>(v)) + ")";
+  return "unknown(" + std::to_string(v) + ")";
 }
 
-std::string side_name(stereoball_msg_Side s) {
+std::string side_name(std::int32_t s) {
   return s == stereoball_msg_SIDE_LEFT    ? "left"
          : s == stereoball_msg_SIDE_RIGHT ? "right"
                                           : "unknown";
@@ -85,8 +98,8 @@ Detection to_view(const stereoball_msg_BallDetection& m) {
   Detection d;
   d.frame_seq = m.frame_seq;
   d.capture_stamp_ns = m.capture_stamp_ns;
-  d.found = m.status == stereoball_msg_DETECTION_FOUND;
-  d.status = status_name(m.status);
+  d.found = raw(m.status) == stereoball_msg_DETECTION_FOUND;
+  d.status = status_name(raw(m.status));
   d.reason = text(m.reason);
   d.left = circle(m.left);
   d.right = circle(m.right);
@@ -103,18 +116,19 @@ Track to_view(const stereoball_msg_BallTrack& m) {
   Track t;
   t.frame_seq = m.frame_seq;
   t.capture_stamp_ns = m.capture_stamp_ns;
-  t.state = state_name(m.state);
-  t.verdict = verdict_name(m.verdict);
+  t.state = state_name(raw(m.state));
+  t.verdict = verdict_name(raw(m.verdict));
   t.reason = text(m.reason);
-  t.accepted = m.verdict == stereoball_msg_VERDICT_STARTUP_ACCEPTED ||
-               m.verdict == stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED ||
-               m.verdict == stereoball_msg_VERDICT_STATISTICS_ACCEPTED;
+  const std::int32_t verdict = raw(m.verdict);
+  t.accepted = verdict == stereoball_msg_VERDICT_STARTUP_ACCEPTED ||
+               verdict == stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED ||
+               verdict == stereoball_msg_VERDICT_STATISTICS_ACCEPTED;
   t.position_valid = m.position_valid;
   t.position_m = vec(m.position_m);
   t.velocity_mps = vec(m.velocity_mps);
   t.bearing_rad = m.bearing_rad;
   t.distance_m = m.distance_m;
-  t.last_seen_side = side_name(m.last_seen_side);
+  t.last_seen_side = side_name(raw(m.last_seen_side));
   t.ssd = m.ssd;
   t.latency_ms = latency_ms(m.publish_stamp_ns, m.capture_stamp_ns);
   return t;

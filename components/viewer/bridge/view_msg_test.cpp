@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstring>
+
 namespace stereoball::viewer {
 namespace {
 
@@ -35,7 +38,8 @@ TEST(Conversion, TrackNamesStateVerdictSideAndAcceptance) {
   EXPECT_TRUE(t.accepted);
   EXPECT_EQ(t.last_seen_side, "right");
   EXPECT_EQ(t.reason, "");
-  m.state = static_cast<stereoball_msg_TrackState>(77);  // out of range from the wire
+  const std::int32_t out_of_range = 77;  // the bytes of a value no enumerator has
+  std::memcpy(&m.state, &out_of_range, sizeof out_of_range);
   EXPECT_EQ(to_view(m).state, "unknown(77)");
 }
 
