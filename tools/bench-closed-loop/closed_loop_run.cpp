@@ -24,7 +24,7 @@ Sample to_sample(const sim_loop::LoopFrame& f) {
   s.detection.found = f.detection.status == ball_detector::DetectionStatus::kFound;
   for (int i = 0; i < 3; ++i) s.detection.position_m[i] = f.detection.position_m[i];
   s.track.seq = g.frame_seq;
-  s.track.state = static_cast<demo::TrackState>(static_cast<int>(f.track.state));
+  s.track.state = f.track.state;  // demo::TrackState is the tracker's own
   s.track.accepted = tracker::is_accepted(f.track.verdict);
   for (int i = 0; i < 3; ++i) s.track.position_m[i] = f.track.position_m[i];
   if (f.command) {

@@ -21,6 +21,7 @@
 #include "common/util/log.hpp"
 #include "installed_profile.hpp"
 #include "metrics.hpp"
+#include "motion_controller/node/command_msg.hpp"
 #include "motion_controller/node/controller_params_file.hpp"
 #include "plot.hpp"
 #include "supervisor.hpp"
@@ -43,17 +44,6 @@ struct Recorded {
   std::vector<sb::demo::TrackSample> tracks;
   std::vector<std::pair<double, double>> commands;  // (linear, angular)
 };
-
-TrackState to_state(stereoball_msg_TrackState s) {
-  switch (s) {
-    case stereoball_msg_TRACK_FOLLOWING:
-      return TrackState::kFollowing;
-    case stereoball_msg_TRACK_SEARCHING:
-      return TrackState::kSearching;
-    default:
-      return TrackState::kIdle;
-  }
-}
 
 const char* state_name(TrackState s) {
   return s == TrackState::kFollowing   ? "FOLLOWING"
@@ -104,7 +94,7 @@ void drain(Readers& r, Recorded& rec) {
   for (auto& s : r.track.take(256)) {
     sb::demo::TrackSample t;
     t.seq = s->frame_seq;
-    t.state = to_state(s->state);
+    t.state = sb::motion_controller::from_msg(s->state);
     t.accepted = accepted(s->verdict);
     for (int i = 0; i < 3; ++i) t.position_m[i] = s->position_m[i];
     rec.tracks.push_back(t);

@@ -6,9 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "tracker/core/track_state.hpp"
+
 namespace stereoball::demo {
 
-enum class TrackState { kIdle, kFollowing, kSearching };
+using TrackState = tracker::TrackState;
 
 /// Ground truth of one frame.
 struct TruthSample {

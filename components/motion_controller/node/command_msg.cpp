@@ -3,7 +3,6 @@
 #include <cmath>
 
 namespace stereoball::motion_controller {
-namespace {
 
 TrackState from_msg(stereoball_msg_TrackState s) {
   switch (s) {
@@ -26,8 +25,6 @@ Side from_msg(stereoball_msg_Side s) {
       return Side::kUnknown;
   }
 }
-
-}  // namespace
 
 TrackSample to_sample(const stereoball_msg_BallTrack& msg) {
   TrackSample t;

@@ -9,6 +9,10 @@
 
 namespace stereoball::motion_controller {
 
+/// The track state and side of ball/track; unknown values give kIdle / kUnknown.
+TrackState from_msg(stereoball_msg_TrackState s);
+Side from_msg(stereoball_msg_Side s);
+
 /// The fields of ball/track the controller uses; non-finite numbers make the position invalid.
 TrackSample to_sample(const stereoball_msg_BallTrack& msg);
 
