@@ -38,7 +38,7 @@ struct Options {
   std::vector<std::string> encodings{"raw", "jpeg"};
   std::vector<int> rates_hz{30, 60};
   bool one_host = true, two_hosts = false, shared_memory = false;
-  std::string scenario = "ball_rolling_across", json_path, one_host_cyclonedds;
+  std::string scenario = "ball_rolling_across", json_path, one_host_cyclonedds, frames_csv;
   std::string source = "simulator";  // or "files": camera_server plays frames rendered first
   double file_seconds = 3;           // simulated seconds rendered to files (looped)
 };
@@ -51,9 +51,24 @@ struct Case {
 };
 
 struct Result {
-  sd::LatencyFigures figures;
+  sd::LatencyFigures figures;  // frames exposed in the measured window
   sd::CoreLoad load;
+  sd::LatencyFigures startup;           // frames exposed before it (start-up and warm-up)
+  std::vector<sd::FrameStages> frames;  // every frame, for --frames-csv
+  std::int64_t measured_from_ns = 0;
 };
+
+// The figures of one run: the measured window's, and those of the frames before it apart.
+Result result_of(const sd::ObserverLog& detection_log, const sd::ObserverLog& control_log,
+                 std::int64_t from_ns, std::int64_t to_ns, int rate_hz, const sd::CoreLoad& load) {
+  Result r;
+  r.figures = sd::latency_figures(detection_log, control_log, from_ns, to_ns, rate_hz);
+  r.load = load;
+  r.startup = sd::latency_figures(detection_log, control_log, 0, from_ns, rate_hz);
+  r.frames = sd::frame_stages(detection_log, control_log, 0, to_ns);
+  r.measured_from_ns = from_ns;
+  return r;
+}
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
@@ -206,8 +221,7 @@ std::optional<Result> run_one_host(const Case& c, const Options& o, const std::s
   const Window w = measure(o, {launcher->get().pid(), observer.get().pid()});
   launcher.reset();  // stops the nodes before the observer
   const auto log = sd::parse_observer_log(observer.get().output());
-  Result r{sd::latency_figures(log, log, w.from_ns, w.to_ns, c.rate_hz),
-           sd::core_load(w.start, w.end)};
+  Result r = result_of(log, log, w.from_ns, w.to_ns, c.rate_hz, sd::core_load(w.start, w.end));
   if (r.figures.end_to_end.n == 0) {
     std::fprintf(stderr, "bench latency: no command answered a track; launcher log:\n%s\n",
                  read_text(dir + "/launch.log").c_str());
@@ -235,9 +249,8 @@ std::optional<Result> run_two_hosts(const Case& c, const Options& o, const std::
   const auto ws = system.hosts().pids(system.hosts().workstation());
   pids.insert(pids.end(), ws.begin(), ws.end());
   const Window w = measure(o, pids);
-  Result r{sd::latency_figures(system.workstation_log(), system.robot_log(), w.from_ns, w.to_ns,
-                               c.rate_hz),
-           sd::core_load(w.start, w.end)};
+  Result r = result_of(system.workstation_log(), system.robot_log(), w.from_ns, w.to_ns, c.rate_hz,
+                       sd::core_load(w.start, w.end));
   if (r.figures.end_to_end.n == 0) {
     std::fprintf(stderr, "bench latency: no command answered a track:\n%s\n",
                  system.diagnostics().c_str());
@@ -314,6 +327,9 @@ int main(int argc, char** argv) {
                "one host: Cyclone over iceoryx shared memory (config/cyclonedds/shm.xml; starts "
                "iox-roudi with config/iceoryx/roudi.toml unless one runs); setup one_host_shm");
   app.add_option("--json", o.json_path, "also write the figures to this file");
+  app.add_option("--frames-csv", o.frames_csv,
+                 "write every frame's stages (warm-up included, column measured) to "
+                 "PREFIX<setup>_<encoding>_<rate>hz_run<N>.csv");
   app.add_option("--domain", o.domain, "DDS domain")->check(CLI::Range(0, 232));
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
@@ -358,7 +374,21 @@ int main(int argc, char** argv) {
                     c.setup.c_str(), c.encoding.c_str(), c.rate_hz, o.scenario.c_str(), run + 1,
                     o.runs, o.seconds);
       std::fputs(sd::to_text(title, r->figures, r->load).c_str(), stdout);
-      runs.push_back(sd::to_json(r->figures, r->load));
+      const sd::Quantiles& s = r->startup.end_to_end;
+      std::printf(
+          "  start-up (frames exposed before the measured window: the first %.0f s after "
+          "launch, not in the figures above): detection p99 %.2f max %.2f ms, end to end n=%zu "
+          "p50 %.2f p99 %.2f max %.2f ms\n",
+          o.warmup_s, r->startup.detection.p99, r->startup.detection.max, s.n, s.p50, s.p99, s.max);
+      nlohmann::json j = sd::to_json(r->figures, r->load);
+      j["startup"] = sd::to_json(r->startup, r->load);
+      j["startup"].erase("load");
+      runs.push_back(j);
+      if (!o.frames_csv.empty()) {
+        const std::string path =
+            o.frames_csv + c.setup + "_" + c.key() + "_run" + std::to_string(run + 1) + ".csv";
+        std::ofstream(path) << sd::to_csv(r->frames, r->measured_from_ns);
+      }
     }
     if (runs.empty()) continue;
     nlohmann::json figures = median_of(runs);

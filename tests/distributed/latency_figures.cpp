@@ -89,38 +89,77 @@ Quantiles quantiles(const std::vector<double>& values_ms) {
   return q;
 }
 
-LatencyFigures latency_figures(const ObserverLog& detection_log, const ObserverLog& control_log,
-                               std::int64_t from_ns, std::int64_t to_ns, double frame_rate_hz) {
+std::vector<FrameStages> frame_stages(const ObserverLog& detection_log,
+                                      const ObserverLog& control_log, std::int64_t from_ns,
+                                      std::int64_t to_ns) {
   const auto detections = by_capture(detection_log.detections, from_ns, to_ns);
   const auto tracks = by_capture(control_log.tracks, from_ns, to_ns);
   std::map<std::int64_t, const CommandRx*> commands;
   for (const auto& c : control_log.commands) {
     if (c.capture_ns != 0) commands.emplace(c.capture_ns, &c);
   }
+  std::vector<FrameStages> out;
+  for (const auto& [capture, d] : detections) {
+    FrameStages f;
+    f.capture_ns = capture;
+    f.seq = d->frame_seq;
+    f.detection_status = d->status;
+    f.received_ms = ms(d->publish_ns - capture) - d->processing_ms;
+    f.detection_ms = d->processing_ms;
+    const auto t = tracks.find(capture);
+    if (t != tracks.end()) {
+      f.track_state = t->second->state;
+      f.track_ms = ms(t->second->publish_ns - d->publish_ns);
+      const auto c = commands.find(capture);
+      if (c != commands.end()) {
+        f.command_ms = ms(c->second->stamp_ns - t->second->publish_ns);
+        f.end_to_end_ms = ms(c->second->stamp_ns - capture);
+      }
+    }
+    out.push_back(f);
+  }
+  return out;
+}
+
+LatencyFigures latency_figures(const ObserverLog& detection_log, const ObserverLog& control_log,
+                               std::int64_t from_ns, std::int64_t to_ns, double frame_rate_hz) {
+  const auto frames = frame_stages(detection_log, control_log, from_ns, to_ns);
   std::vector<double> received, detection, track, command, end_to_end;
   LatencyFigures f;
-  for (const auto& [capture, d] : detections) {
-    const double taken_ms = ms(d->publish_ns - capture) - d->processing_ms;
-    received.push_back(taken_ms);
-    detection.push_back(d->processing_ms);
-    const auto t = tracks.find(capture);
-    if (t == tracks.end()) continue;
-    track.push_back(ms(t->second->publish_ns - d->publish_ns));
-    const auto c = commands.find(capture);
-    if (c == commands.end()) {
+  for (const FrameStages& s : frames) {
+    received.push_back(s.received_ms);
+    detection.push_back(s.detection_ms);
+    if (s.track_state < 0) continue;
+    track.push_back(s.track_ms);
+    if (s.end_to_end_ms < 0) {
       ++f.tracks_unanswered;
       continue;
     }
-    command.push_back(ms(c->second->stamp_ns - t->second->publish_ns));
-    end_to_end.push_back(ms(c->second->stamp_ns - capture));
+    command.push_back(s.command_ms);
+    end_to_end.push_back(s.end_to_end_ms);
   }
   f.frame_received = quantiles(received);
   f.detection = quantiles(detection);
   f.track = quantiles(track);
   f.command = quantiles(command);
   f.end_to_end = quantiles(end_to_end);
-  count_frames(detections, frame_rate_hz, f);
+  count_frames(by_capture(detection_log.detections, from_ns, to_ns), frame_rate_hz, f);
   return f;
+}
+
+std::string to_csv(const std::vector<FrameStages>& frames, std::int64_t measured_from_ns) {
+  std::string out =
+      "capture_ns,seq,detection_status,track_state,received_ms,detection_ms,track_ms,command_ms,"
+      "end_to_end_ms,measured\n";
+  char line[256];
+  for (const FrameStages& f : frames) {
+    std::snprintf(line, sizeof line, "%lld,%llu,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%d\n",
+                  static_cast<long long>(f.capture_ns), static_cast<unsigned long long>(f.seq),
+                  f.detection_status, f.track_state, f.received_ms, f.detection_ms, f.track_ms,
+                  f.command_ms, f.end_to_end_ms, f.capture_ns >= measured_from_ns ? 1 : 0);
+    out += line;
+  }
+  return out;
 }
 
 CpuSample cpu_sample(const std::vector<int>& pids) {

@@ -33,8 +33,23 @@ struct LatencyFigures {
   std::size_t tracks_unanswered = 0;  ///< tracks no command carried the capture stamp of
 };
 
-/// Figures of the frames exposed in [from_ns, to_ns): detections from detection_log, tracks and
-/// commands from control_log (the two may be one observer's log).
+/// One frame's way from exposure to command, ms (negative: that stage never happened, e.g. no
+/// track or no command answered it).
+struct FrameStages {
+  std::int64_t capture_ns = 0;
+  std::uint64_t seq = 0;
+  int detection_status = 0;  ///< ball/detection status (0 = found)
+  int track_state = -1;      ///< ball/track state, -1 without a track
+  double received_ms = -1, detection_ms = -1, track_ms = -1, command_ms = -1, end_to_end_ms = -1;
+};
+
+/// Every detected frame exposed in [from_ns, to_ns), by exposure: detections from
+/// detection_log, tracks and commands from control_log (the two may be one observer's log).
+std::vector<FrameStages> frame_stages(const ObserverLog& detection_log,
+                                      const ObserverLog& control_log, std::int64_t from_ns,
+                                      std::int64_t to_ns);
+
+/// Figures of the frames exposed in [from_ns, to_ns) (frame_stages, summarised).
 LatencyFigures latency_figures(const ObserverLog& detection_log, const ObserverLog& control_log,
                                std::int64_t from_ns, std::int64_t to_ns, double frame_rate_hz);
 
@@ -59,6 +74,10 @@ CoreLoad core_load(const CpuSample& start, const CpuSample& end);
 /// {"frame_received_ms": {...}, ..., "end_to_end_ms": {"p50", "p90", "p99", "max", "n"},
 ///  "frames_expected", "frames_lost", "tracks_unanswered"} plus "load" when given.
 nlohmann::json to_json(const LatencyFigures& f, const CoreLoad& load);
+
+/// frames as CSV, a header and one line per frame (for finding what the slow frames were);
+/// column measured is 1 for frames exposed at or after measured_from_ns (the window).
+std::string to_csv(const std::vector<FrameStages>& frames, std::int64_t measured_from_ns);
 
 /// One printed block: a line per stage, then loss and load.
 std::string to_text(const std::string& title, const LatencyFigures& f, const CoreLoad& load);

@@ -188,6 +188,36 @@ TEST(Redetect, GivenBandsOfRadiiThenRedetectFindsWhatDetectWithTheSameThresholds
   EXPECT_GT(circles, 0);
 }
 
+TEST(Redetect, GivenASecondDetectorThenRedetectFromFindsWhatTheSourcesRedetectFinds) {
+  // Given real colour images detected once by a source detector
+  const auto images = real_colours();
+  ASSERT_FALSE(images.empty());
+  PixelToPixelDetector source(PixelToPixelParams{}), reader(PixelToPixelParams{});
+  int circles = 0;
+  for (std::size_t i = 0; i < std::min<std::size_t>(images.size(), 6); ++i) {
+    source.detect(images[i]);
+    for (const RadiusRange radii :
+         {RadiusRange{4, 11}, RadiusRange{25, 70}, RadiusRange{60, 160}}) {
+      // When another detector searches a band on the source's lines, and the source itself
+      const auto borrowed = reader.redetect_from(source, SearchHints{radii});
+      const auto own = source.redetect(SearchHints{radii});
+      // Then the circles are the same, bit for bit
+      ASSERT_EQ(borrowed.size(), own.size());
+      for (std::size_t j = 0; j < own.size(); ++j) {
+        EXPECT_EQ(borrowed[j].x_px, own[j].x_px);
+        EXPECT_EQ(borrowed[j].y_px, own[j].y_px);
+        EXPECT_EQ(borrowed[j].radius_px, own[j].radius_px);
+        EXPECT_EQ(borrowed[j].score, own[j].score);
+      }
+      circles += static_cast<int>(own.size());
+    }
+  }
+  EXPECT_GT(circles, 0);
+  // And a source that has seen no valid image lends nothing
+  PixelToPixelDetector fresh(PixelToPixelParams{});
+  EXPECT_TRUE(reader.redetect_from(fresh, SearchHints{}).empty());
+}
+
 TEST(Redetect, GivenNoImageOrAnInvalidOneThenItFindsNothing) {
   // Given a detector that has seen no image, then an invalid one after a valid one
   PixelToPixelDetector detector(PixelToPixelParams{});

@@ -133,6 +133,7 @@ PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : p
   if (params_.k_values.empty()) params_.k_values = {5};
   params_.box_size_px = std::clamp(params_.box_size_px | 1, 1, 31);
   voters_.reserve(8192);
+  lines_.reserve(8192);
 }
 
 void PixelToPixelDetector::vote(int k) {
@@ -173,16 +174,21 @@ void PixelToPixelDetector::vote(int k) {
           continue;
         }
         if (!line) continue;
-        const double cx = x + 0.5 * line->c2x;
-        const double cy = y + 0.5 * line->c2y;
-        diag_.increments += plot_ray(accumulator_, cx + margin_px_, cy + margin_px_, line->nx,
-                                     line->ny, radii_.min_px, radii_.max_px);
-        const float norm = fast_hypot(static_cast<float>(line->nx), static_cast<float>(line->ny));
-        voters_.push_back(
-            {static_cast<float>(cx), static_cast<float>(cy), line->nx / norm, line->ny / norm});
+        // C lies on the half-pixel grid: exact in float for any image size we take.
+        lines_.push_back({static_cast<float>(x + 0.5 * line->c2x),
+                          static_cast<float>(y + 0.5 * line->c2y), line->nx, line->ny});
+        plot(lines_.back());
       }
     }
   }
+}
+
+void PixelToPixelDetector::plot(const VoteLineAt& line) {
+  diag_.increments += plot_ray(accumulator_, static_cast<double>(line.cx) + margin_px_,
+                               static_cast<double>(line.cy) + margin_px_, line.nx, line.ny,
+                               radii_.min_px, radii_.max_px);
+  const float norm = fast_hypot(static_cast<float>(line.nx), static_cast<float>(line.ny));
+  voters_.push_back({line.cx, line.cy, line.nx / norm, line.ny / norm});
 }
 
 void PixelToPixelDetector::build_orientation_planes() {
@@ -279,19 +285,35 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
 }
 
 std::vector<Circle> PixelToPixelDetector::redetect(const SearchHints& hints) {
+  return redetect_from(*this, hints);
+}
+
+std::vector<Circle> PixelToPixelDetector::redetect_from(const PixelToPixelDetector& source,
+                                                        const SearchHints& hints) {
   start(hints);
-  if (!edges_ready_ || !(radii_.max_px > radii_.min_px)) return {};
-  return detect_on_edges();
+  if (!source.edges_ready_ || !(radii_.max_px > radii_.min_px)) return {};
+  // Which points vote and along which line does not depend on the radii (steps 2-6): only the
+  // plotting (step 7) is redone, in the same order, so the accumulator is the same cell by cell.
+  const cv::Size size = source.edges_.edges.size();
+  accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
+  accumulator_.setTo(0);
+  for (const VoteLineAt& line : source.lines_) plot(line);
+  return circles_on(source.edges_);
 }
 
 std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   const cv::Size size = edges_.edges.size();
   accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
+  lines_.clear();
   for (int k : params_.k_values) vote(k);
+  return circles_on(edges_);
+}
+
+std::vector<Circle> PixelToPixelDetector::circles_on(const EdgeMap& edges) {
   const double max_v = box_filter(accumulator_, params_.box_size_px, smoothed_);
   const cv::Mat& smoothed = smoothed_;
-  diag_.edges = edges_.edges;
+  diag_.edges = edges.edges;
   diag_.accumulator = smoothed;
   diag_.voters = static_cast<std::int64_t>(voters_.size());
   const float floor_v = static_cast<float>(
@@ -313,7 +335,7 @@ std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   opt.refine = params_.refine;
   opt.refine_params = params_.refine_params;
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
-  return circles_from_votes(edges_, voters_, peaks, opt);
+  return circles_from_votes(edges, voters_, peaks, opt);
 }
 
 const DetectionDiagnostics* PixelToPixelDetector::diagnostics() const {

@@ -96,8 +96,13 @@ class PixelToPixelDetector final : public CircleDetector {
   std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
                              const SearchHints& hints);
   /// detect() once more on the last image's edge map with other hints, without the edge step
-  /// (the same image searched radius band by radius band); empty before the first image.
+  /// or the window rules (the lines they gave are plotted again over the new radii: the same
+  /// image searched radius band by radius band); empty before the first image.
   std::vector<Circle> redetect(const SearchHints& hints);
+  /// redetect() on source's last image: source's edge map and lines are only read, so several
+  /// detectors can search bands of one image at once (source must not change meanwhile).
+  /// Same circles as source.redetect(hints) given the same params and camera.
+  std::vector<Circle> redetect_from(const PixelToPixelDetector& source, const SearchHints& hints);
   const DetectionDiagnostics* diagnostics() const override;
   std::string name() const override { return "p2p"; }
   /// The rectified camera of the whole image (RefineParams::camera); nullopt = circles only.
@@ -112,11 +117,19 @@ class PixelToPixelDetector final : public CircleDetector {
   const EdgeMap& edge_map() const { return edges_; }
 
  private:
+  // One line the window rules let vote: its start C (on the half-pixel grid, exact in float)
+  // and its unnormalised direction, as plot_ray takes them.
+  struct VoteLineAt {
+    float cx = 0.0f, cy = 0.0f;
+    int nx = 0, ny = 0;
+  };
   void vote(int k);
+  void plot(const VoteLineAt& line);
   bool isolate_along_orientation(int x, int y, int k, std::span<const std::uint64_t> window,
                                  std::span<std::uint64_t> mask);
   void build_orientation_planes();
   std::vector<Circle> detect_on_edges();
+  std::vector<Circle> circles_on(const EdgeMap& edges);
   void start(const std::optional<SearchHints>& hints);
   std::vector<Circle> circles_from_peaks();
 
@@ -133,6 +146,7 @@ class PixelToPixelDetector final : public CircleDetector {
   cv::Mat accumulator_;
   cv::Mat smoothed_;  // box-filtered accumulator_, buffer kept across images
   std::vector<Voter> voters_;
+  std::vector<VoteLineAt> lines_;  // every line of edges_, in voting order (redetect replays)
   mutable DetectionDiagnostics diag_;
   mutable bool peak_ratio_done_ = false;
 };

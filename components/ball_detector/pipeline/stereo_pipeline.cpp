@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace stereoball::ball_detector {
 namespace {
@@ -107,6 +108,10 @@ std::optional<FloorModel> floor_model(const BallDetectorParams& params,
   return floor;
 }
 
+void run_tasks_in_turn(int n, const std::function<void(int)>& task) {
+  for (int i = 0; i < n; ++i) task(i);
+}
+
 const char* to_string(DetectionStatus status) {
   switch (status) {
     case DetectionStatus::kFound:
@@ -131,6 +136,8 @@ StereoPipeline::StereoPipeline(const BallDetectorParams& params)
     : params_(params),
       left_detector_(params.detector_params()),
       right_detector_(params.detector_params()),
+      band_detectors_{PixelToPixelDetector(params.detector_params()),
+                      PixelToPixelDetector(params.detector_params())},
       epipolar_(stereo::EpipolarParams{params.epipolar_tolerance_px}),
       size_{params.ball_diameter_m, params.size_max_relative_error},
       appearance_(params.appearance) {
@@ -156,6 +163,9 @@ std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoC
         stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_left_px()});
     right_detector_.set_camera(
         stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()});
+    for (PixelToPixelDetector& d : band_detectors_)
+      d.set_camera(
+          stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_left_px()});
   }
   const cv::Matx33d p(calib.p1(0, 0), calib.p1(0, 1), calib.p1(0, 2), calib.p1(1, 0),
                       calib.p1(1, 1), calib.p1(1, 2), calib.p1(2, 0), calib.p1(2, 1),
@@ -369,20 +379,45 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
   return pair_with_predicted_partners(ctx, prior);
 }
 
-std::vector<Circle> StereoPipeline::detect_in_bands(PixelToPixelDetector& detector,
-                                                    const cv::Mat& image) const {
-  std::vector<Circle> found;
+std::vector<Circle> StereoPipeline::detect_left_in_bands() {
   // Up to a third of the image height: an outline larger than that is the largest structure in
   // view and wins the whole-range accumulator already, while in a band of its own clutter
   // scatters enough edge points along a 200 px circle to pass min_score (phantom pairs).
-  const double top = std::min(params_.p2p.max_radius_px, image.rows / 3.0);
+  const double top = std::min(params_.p2p.max_radius_px, rect_left_.rows / 3.0);
+  std::vector<SearchHints> bands;
   for (double low = params_.p2p.min_radius_px; low < top; low *= kRadiusBandRatio) {
     // Bands overlap by 10 %: a circle on a boundary is whole in one of them.
-    const SearchHints hints{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}};
-    // The detector still holds this image's edge map, made with these very thresholds: each
-    // band votes on it again instead of redoing the edge step (same edges, a third of the cost).
-    for (const Circle& c : detector.redetect(hints)) found.push_back(c);
+    bands.push_back(
+        SearchHints{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}});
+    // This band reaches the top already: a next one would lie inside it (it cost 3 ms).
+    if (bands.back().radii.max_px >= top) break;
   }
+  // The left detector still holds this image's edge map, made with these very thresholds, and
+  // the lines its points voted along: each band plots them again over its radii instead of
+  // redoing the edge step and the window rules. The bands are independent: each task searches
+  // some of them on its own detector (the left one is only read meanwhile), the longest bands
+  // (their lines and circles cost most) dealt first, each to the task with the least so far.
+  std::vector<std::size_t> order(bands.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  const auto span = [&](std::size_t b) { return bands[b].radii.max_px - bands[b].radii.min_px; };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return span(a) > span(b); });
+  std::array<std::vector<std::size_t>, kBandTasks> task_bands;
+  std::array<double, kBandTasks> task_span{};
+  for (const std::size_t b : order) {
+    const auto least = static_cast<std::size_t>(
+        std::min_element(task_span.begin(), task_span.end()) - task_span.begin());
+    task_bands[least].push_back(b);
+    task_span[least] += span(b);
+  }
+  std::vector<std::vector<Circle>> per_band(bands.size());
+  run_tasks_(kBandTasks, [&](int task) {
+    const auto t = static_cast<std::size_t>(task);
+    for (const std::size_t b : task_bands[t])
+      per_band[b] = band_detectors_[t].redetect_from(left_detector_, bands[b]);
+  });
+  std::vector<Circle> found;
+  for (const auto& circles : per_band) found.insert(found.end(), circles.begin(), circles.end());
   std::stable_sort(found.begin(), found.end(),
                    [](const Circle& a, const Circle& b) { return a.score > b.score; });
   // Neighbouring bands find the same circle: keep the best of each place and size.
@@ -403,7 +438,7 @@ PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
   // rect_left_ still holds the whole rectified left eye of search_whole_frame, and the left
   // detector its edge map (the right eye has its own detector).
   const EdgeThresholds thresholds = *left_thresholds_;
-  left_candidates_ = detect_in_bands(left_detector_, rect_left_);
+  left_candidates_ = detect_left_in_bands();
   // Each left circle's partner box with only the radii its partner can have: one box searched
   // for the union of every candidate's radii is crowded out by clutter just like the left eye.
   const cv::Size size = rectifier_->calibration().image_size;

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,6 +68,16 @@ constexpr double kRadiusBandRatio = 2.5;
 /// would cost 52 ms instead of 5-8).
 constexpr int kBandSearchEveryFrames = 5;
 
+/// Runs task(0) .. task(n - 1), possibly at the same time, and returns once all are done. Each
+/// task touches only its own state. The pipeline owns no threads: its caller (the node) may
+/// give it a runner that spreads the tasks over cores.
+using RunTasks = std::function<void(int n, const std::function<void(int)>& task)>;
+/// Runs the tasks one after the other (the pipeline's default).
+void run_tasks_in_turn(int n, const std::function<void(int)>& task);
+/// The radius-band search is split into this many tasks (bands dealt out in turn), each with
+/// its own detector reading the whole-frame search's edges and lines.
+constexpr int kBandTasks = 2;
+
 /// Side of the colour block around the left centre, pixels (paper: 21x21, k = 10).
 constexpr int kPatchSide = 21;
 /// Bytes of the colour block (R, G, B per pixel, row-major).
@@ -98,6 +109,10 @@ class StereoPipeline {
  public:
   /// params must pass validate() (invalid detector values are clamped by the detector).
   explicit StereoPipeline(const BallDetectorParams& params);
+
+  /// How independent parts of a frame's work are run (run_tasks_in_turn until set): the
+  /// detections are the same whichever runner it is.
+  void set_task_runner(RunTasks run) { run_tasks_ = std::move(run); }
 
   /// Validates calib and builds the rectification LUTs and the triangulator; on error the
   /// previous calibration (if any) stays in use and the message names the problem.
@@ -158,8 +173,8 @@ class StereoPipeline {
                                    const std::optional<PositionPrior>& prior);
   PairingResult search_radius_bands(const PairingContext& ctx, const cv::Mat& right_channel,
                                     bool rectified, const std::optional<PositionPrior>& prior);
-  /// detector's last image (whole, its own thresholds) searched again band by band.
-  std::vector<Circle> detect_in_bands(PixelToPixelDetector& detector, const cv::Mat& image) const;
+  /// The left detector's last image (whole, its own thresholds) searched again band by band.
+  std::vector<Circle> detect_left_in_bands();
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified, bool near_prior);
@@ -175,6 +190,8 @@ class StereoPipeline {
   BallDetectorParams params_;
   PixelToPixelDetector left_detector_;
   PixelToPixelDetector right_detector_;
+  std::array<PixelToPixelDetector, kBandTasks> band_detectors_;  // radius bands of the left eye
+  RunTasks run_tasks_ = run_tasks_in_turn;
   stereo::EpipolarCheck epipolar_;
   stereo::SizeCheckParams size_;
   std::optional<stereo::Rectifier> rectifier_;

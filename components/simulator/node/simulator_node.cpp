@@ -31,7 +31,8 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       params_(params),
       scenario_(scenario),
       options_(options),
-      sim_(std::make_unique<Simulator>(params, scenario)),
+      start_(params, scenario),
+      sim_(std::make_unique<Simulator>(start_)),
       published_(published),
       frame_source_("simulator:" + scenario.name),
       // Before the writers exist, so a subscriber's first frames are not delayed by it.
@@ -106,8 +107,9 @@ void SimulatorNode::tick(int64_t /*now_ns*/) {
   const auto sim_elapsed = static_cast<double>(mono - run_start_mono_ns_) * options_.rate;
   int64_t index = std::max<int64_t>(frame_index_, std::ceil(sim_elapsed / period));
   if (options_.loop && index * period > static_cast<int64_t>(scenario_.duration_s * 1e9)) {
-    sim_ = std::make_unique<Simulator>(params_, scenario_);
-    run_start_mono_ns_ = mono + lead_ns_;
+    sim_ = std::make_unique<Simulator>(start_);
+    // The new run's first frame is rendered now and released one lead later, as at start.
+    run_start_mono_ns_ = node::monotonic_ns() + lead_ns_;
     index = frame_index_ = 0;
     sim_now_ns_ = 0;
     runner_.health().count("scenario_restarts");

@@ -52,6 +52,10 @@ class SimulatorNode {
   SimParams params_;
   Scenario scenario_;
   SimulatorNodeOptions options_;
+  // The scenario at its start, never stepped: a looped scenario restarts from a copy of it
+  // (a few ms; building the world again took ~40 ms, which made the first frame of each run
+  // late and skipped the next ones).
+  const Simulator start_;
   std::unique_ptr<Simulator> sim_;
   stereo::StereoCalibration published_;
   std::string frame_source_;
