@@ -218,6 +218,38 @@ TEST(Redetect, GivenASecondDetectorThenRedetectFromFindsWhatTheSourcesRedetectFi
   EXPECT_TRUE(reader.redetect_from(fresh, SearchHints{}).empty());
 }
 
+TEST(Redetect, GivenDetectInTwoHalvesThenTheSameCirclesAndBandsCanBeReadBetween) {
+  // Given real colour images, each voted on by one detector and detected whole by another
+  const auto images = real_colours();
+  ASSERT_FALSE(images.empty());
+  PixelToPixelDetector halves(PixelToPixelParams{}), whole(PixelToPixelParams{}),
+      band(PixelToPixelParams{}), band_after(PixelToPixelParams{});
+  int circles = 0;
+  for (std::size_t i = 0; i < std::min<std::size_t>(images.size(), 6); ++i) {
+    ASSERT_TRUE(halves.cast_votes(images[i]));
+    // When a band is searched from the votes before the second half runs, and after it
+    const auto early = band.redetect_from(halves, SearchHints{RadiusRange{9, 28}});
+    const auto found = halves.circles_of_votes();
+    const auto late = band_after.redetect_from(halves, SearchHints{RadiusRange{9, 28}});
+    // Then the halves find what detect() finds
+    const auto expected = whole.detect(images[i]);
+    ASSERT_EQ(found.size(), expected.size());
+    for (std::size_t j = 0; j < found.size(); ++j) {
+      EXPECT_EQ(found[j].x_px, expected[j].x_px);
+      EXPECT_EQ(found[j].radius_px, expected[j].radius_px);
+      EXPECT_EQ(found[j].score, expected[j].score);
+    }
+    // And the band found the same before and after the second half
+    ASSERT_EQ(early.size(), late.size());
+    for (std::size_t j = 0; j < early.size(); ++j) EXPECT_EQ(early[j].score, late[j].score);
+    circles += static_cast<int>(found.size());
+  }
+  EXPECT_GT(circles, 0);
+  // And an invalid image casts no votes and has no circles
+  EXPECT_FALSE(halves.cast_votes(cv::Mat()));
+  EXPECT_TRUE(halves.circles_of_votes().empty());
+}
+
 TEST(Redetect, GivenNoImageOrAnInvalidOneThenItFindsNothing) {
   // Given a detector that has seen no image, then an invalid one after a valid one
   PixelToPixelDetector detector(PixelToPixelParams{});

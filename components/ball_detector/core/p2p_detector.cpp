@@ -235,6 +235,7 @@ bool PixelToPixelDetector::isolate_along_orientation(int x, int y, int k,
 void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
   diag_ = DetectionDiagnostics{};
   peak_ratio_done_ = false;
+  votes_ready_ = false;
   voters_.clear();
   radii_ = {params_.min_radius_px, params_.max_radius_px};
   min_inside_fraction_ = params_.refine_params.min_inside_fraction;
@@ -252,13 +253,24 @@ void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
 }
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
+  if (!cast_votes(bgr_or_grey)) return {};
+  return circles_of_votes();
+}
+
+bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey) {
   start(std::nullopt);
   edges_ready_ = false;
   orientation_ready_ = false;  // planes of the previous edge map
-  if (validate_image(bgr_or_grey)) return {};
+  if (validate_image(bgr_or_grey)) return false;
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
   edges_ready_ = true;
-  return detect_on_edges();
+  vote_on_edges();
+  return true;
+}
+
+std::vector<Circle> PixelToPixelDetector::circles_of_votes() {
+  if (!votes_ready_) return {};
+  return circles_on(edges_);
 }
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
@@ -302,12 +314,17 @@ std::vector<Circle> PixelToPixelDetector::redetect_from(const PixelToPixelDetect
 }
 
 std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
+  vote_on_edges();
+  return circles_on(edges_);
+}
+
+void PixelToPixelDetector::vote_on_edges() {
   const cv::Size size = edges_.edges.size();
   accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
   lines_.clear();
   for (int k : params_.k_values) vote(k);
-  return circles_on(edges_);
+  votes_ready_ = true;
 }
 
 std::vector<Circle> PixelToPixelDetector::circles_on(const EdgeMap& edges) {

@@ -95,6 +95,13 @@ class PixelToPixelDetector final : public CircleDetector {
   /// faster, and nothing of another size can win), and its border rule.
   std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
                              const SearchHints& hints);
+  /// detect(bgr_or_grey) in two halves, for a caller that runs other work beside the second:
+  /// the edge step and the voting (false for an invalid image: nothing to find); after it,
+  /// other detectors may redetect_from() this one while it runs circles_of_votes().
+  bool cast_votes(const cv::Mat& bgr_or_grey);
+  /// The second half: the peaks of the last votes refined and scored, as detect() returns them
+  /// (empty if the last cast_votes() had an invalid image).
+  std::vector<Circle> circles_of_votes();
   /// detect() once more on the last image's edge map with other hints, without the edge step
   /// or the window rules (the lines they gave are plotted again over the new radii: the same
   /// image searched radius band by radius band); empty before the first image.
@@ -129,6 +136,7 @@ class PixelToPixelDetector final : public CircleDetector {
                                  std::span<std::uint64_t> mask);
   void build_orientation_planes();
   std::vector<Circle> detect_on_edges();
+  void vote_on_edges();
   std::vector<Circle> circles_on(const EdgeMap& edges);
   void start(const std::optional<SearchHints>& hints);
   std::vector<Circle> circles_from_peaks();
@@ -139,6 +147,7 @@ class PixelToPixelDetector final : public CircleDetector {
   int margin_px_ = 0;                 // of the current image: accumulator padding per side
   EdgeMap edges_;
   bool edges_ready_ = false;  // edges_ holds the last image's map (redetect may reuse it)
+  bool votes_ready_ = false;  // the accumulator and voters hold the votes of edges_
   // Plane b: the edge points whose orientation bin is within the slack of bin b, built once
   // per image on the first orientation isolation (each point lies in up to (2k+1)^2 windows).
   std::array<BitImage, 8> near_orientation_;

@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 
@@ -270,8 +271,11 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     if (pairing && frames_since_full_search_ >= kFullSearchEveryFrames) refresh_due_ = true;
   }
   bool whole_frame = false;
+  std::optional<std::vector<Circle>> band_left;  // the left eye's radius bands, when due
   if (!pairing) {
-    pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior);
+    const bool bands_due = frames_without_pair_ % kBandSearchEveryFrames == 0;
+    pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior,
+                                 bands_due ? &band_left : nullptr);
     whole_frame = true;
   }
   // Nothing paired over the whole frame: the left eye again radius band by radius band, each
@@ -280,7 +284,9 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   if (whole_frame && pairing->status != PairingStatus::kFound &&
       frames_without_pair_++ % kBandSearchEveryFrames == 0) {
     auto whole_left = left_candidates_, whole_right = right_candidates_;
-    PairingResult banded = search_radius_bands(ctx, right_channel, rectified, prior);
+    if (!band_left) band_left = detect_left_in_bands(nullptr);
+    PairingResult banded =
+        search_radius_bands(ctx, std::move(*band_left), right_channel, rectified, prior);
     if (banded.status == PairingStatus::kFound) {
       pairing = std::move(banded);
     } else {  // the report stays the whole frame's
@@ -364,22 +370,42 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
 PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
                                                  const cv::Mat& left_channel,
                                                  const cv::Mat& right_channel, bool rectified,
-                                                 const std::optional<PositionPrior>& prior) {
+                                                 const std::optional<PositionPrior>& prior,
+                                                 std::optional<std::vector<Circle>>* band_left) {
   rectify_whole(left_channel, stereo::Eye::kLeft, rectified, rect_left_);
-  left_candidates_ = left_detector_.detect(rect_left_);
-  left_thresholds_ = thresholds_of(left_detector_.edge_map());
-  frames_since_full_search_ = 0;
-  if (params_.right_eye_partner_boxes) {
-    right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, false);
-  } else {
-    rectify_whole(right_channel, stereo::Eye::kRight, rectified, rect_right_);
-    right_candidates_ = right_detector_.detect(rect_right_);
-    right_edges_box_ = cv::Rect(cv::Point(0, 0), rect_right_.size());
-  }
-  return pair_with_predicted_partners(ctx, prior);
+  const bool voted = left_detector_.cast_votes(rect_left_);
+  // Task 0 finishes the search (peaks, right eye, pairing). When a band search is due, the
+  // other tasks search the left eye's radius bands on the same votes meanwhile, in case it
+  // pairs nothing: on another core this takes the bands out of the frame's time, and the work
+  // is dropped (stopped between bands) if it pairs. Run in turn, task 0 goes first and the
+  // bands run only if it paired nothing. Task 0 does not touch what the band tasks read (the
+  // left detector's edges and lines), nor they anything it touches.
+  PairingResult pairing;
+  std::atomic<bool> paired{false};
+  std::vector<Circle> bands;
+  run_tasks_(band_left ? 2 : 1, [&](int task) {
+    if (task == 1) {
+      if (!paired) bands = detect_left_in_bands(&paired);
+      return;
+    }
+    left_candidates_ = voted ? left_detector_.circles_of_votes() : std::vector<Circle>{};
+    left_thresholds_ = thresholds_of(left_detector_.edge_map());
+    frames_since_full_search_ = 0;
+    if (params_.right_eye_partner_boxes) {
+      right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, false);
+    } else {
+      rectify_whole(right_channel, stereo::Eye::kRight, rectified, rect_right_);
+      right_candidates_ = right_detector_.detect(rect_right_);
+      right_edges_box_ = cv::Rect(cv::Point(0, 0), rect_right_.size());
+    }
+    pairing = pair_with_predicted_partners(ctx, prior);
+    paired = pairing.status == PairingStatus::kFound;
+  });
+  if (band_left && !paired) *band_left = std::move(bands);
+  return pairing;
 }
 
-std::vector<Circle> StereoPipeline::detect_left_in_bands() {
+std::vector<Circle> StereoPipeline::detect_left_in_bands(const std::atomic<bool>* stop) {
   // Up to a third of the image height: an outline larger than that is the largest structure in
   // view and wins the whole-range accumulator already, while in a band of its own clutter
   // scatters enough edge points along a 200 px circle to pass min_score (phantom pairs).
@@ -392,11 +418,11 @@ std::vector<Circle> StereoPipeline::detect_left_in_bands() {
     // This band reaches the top already: a next one would lie inside it (it cost 3 ms).
     if (bands.back().radii.max_px >= top) break;
   }
-  // The left detector still holds this image's edge map, made with these very thresholds, and
-  // the lines its points voted along: each band plots them again over its radii instead of
-  // redoing the edge step and the window rules. The bands are independent: each task searches
-  // some of them on its own detector (the left one is only read meanwhile), the longest bands
-  // (their lines and circles cost most) dealt first, each to the task with the least so far.
+  // The left detector holds this image's edge map, made with these very thresholds, and the
+  // lines its points voted along: each band plots them again over its radii instead of redoing
+  // the edge step and the window rules. The bands are independent: each task searches some of
+  // them on its own detector (the left one is only read), the longest bands (their lines and
+  // circles cost most) dealt first, each to the task with the least so far.
   std::vector<std::size_t> order(bands.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   const auto span = [&](std::size_t b) { return bands[b].radii.max_px - bands[b].radii.min_px; };
@@ -413,8 +439,10 @@ std::vector<Circle> StereoPipeline::detect_left_in_bands() {
   std::vector<std::vector<Circle>> per_band(bands.size());
   run_tasks_(kBandTasks, [&](int task) {
     const auto t = static_cast<std::size_t>(task);
-    for (const std::size_t b : task_bands[t])
+    for (const std::size_t b : task_bands[t]) {
+      if (stop && *stop) return;  // the result is not wanted any more
       per_band[b] = band_detectors_[t].redetect_from(left_detector_, bands[b]);
+    }
   });
   std::vector<Circle> found;
   for (const auto& circles : per_band) found.insert(found.end(), circles.begin(), circles.end());
@@ -433,12 +461,13 @@ std::vector<Circle> StereoPipeline::detect_left_in_bands() {
 }
 
 PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
+                                                  std::vector<Circle> band_left,
                                                   const cv::Mat& right_channel, bool rectified,
                                                   const std::optional<PositionPrior>& prior) {
-  // rect_left_ still holds the whole rectified left eye of search_whole_frame, and the left
-  // detector its edge map (the right eye has its own detector).
+  // band_left: the left eye's circles band by band (detect_left_in_bands); the right eye is
+  // searched with the whole left frame's thresholds.
   const EdgeThresholds thresholds = *left_thresholds_;
-  left_candidates_ = detect_left_in_bands();
+  left_candidates_ = std::move(band_left);
   // Each left circle's partner box with only the radii its partner can have: one box searched
   // for the union of every candidate's radii is crowded out by clutter just like the left eye.
   const cv::Size size = rectifier_->calibration().image_size;

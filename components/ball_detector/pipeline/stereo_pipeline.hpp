@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -170,11 +171,14 @@ class StereoPipeline {
                                                  const PositionPrior& prior);
   PairingResult search_whole_frame(const PairingContext& ctx, const cv::Mat& left_channel,
                                    const cv::Mat& right_channel, bool rectified,
-                                   const std::optional<PositionPrior>& prior);
-  PairingResult search_radius_bands(const PairingContext& ctx, const cv::Mat& right_channel,
-                                    bool rectified, const std::optional<PositionPrior>& prior);
-  /// The left detector's last image (whole, its own thresholds) searched again band by band.
-  std::vector<Circle> detect_left_in_bands();
+                                   const std::optional<PositionPrior>& prior,
+                                   std::optional<std::vector<Circle>>* band_left);
+  PairingResult search_radius_bands(const PairingContext& ctx, std::vector<Circle> band_left,
+                                    const cv::Mat& right_channel, bool rectified,
+                                    const std::optional<PositionPrior>& prior);
+  /// The left detector's last image (whole, its own thresholds) searched again band by band;
+  /// stops early (result unused) once *stop is set.
+  std::vector<Circle> detect_left_in_bands(const std::atomic<bool>* stop);
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified, bool near_prior);
