@@ -247,7 +247,39 @@ TEST(Redetect, GivenDetectInTwoHalvesThenTheSameCirclesAndBandsCanBeReadBetween)
   EXPECT_GT(circles, 0);
   // And an invalid image casts no votes and has no circles
   EXPECT_FALSE(halves.cast_votes(cv::Mat()));
+  EXPECT_EQ(halves.find_peaks_of_votes(), 0);
   EXPECT_TRUE(halves.circles_of_votes().empty());
+}
+
+TEST(Redetect, GivenPeaksRefinedOneByOneInReverseThenTheSameCirclesAsCirclesOfVotes) {
+  // Given real colour images voted on by two detectors
+  const auto images = real_colours();
+  ASSERT_FALSE(images.empty());
+  PixelToPixelDetector parts(PixelToPixelParams{}), whole(PixelToPixelParams{});
+  int circles = 0;
+  for (std::size_t i = 0; i < std::min<std::size_t>(images.size(), 6); ++i) {
+    ASSERT_TRUE(parts.cast_votes(images[i]));
+    ASSERT_TRUE(whole.cast_votes(images[i]));
+    // When one refines its peaks one by one, last first (as tasks may finish), and selects
+    const int n = parts.find_peaks_of_votes();
+    std::vector<std::optional<Circle>> per_peak(static_cast<std::size_t>(n));
+    for (int p = n - 1; p >= 0; --p) per_peak[static_cast<std::size_t>(p)] = parts.refine_peak(p);
+    const auto found = parts.select_circles(per_peak);
+    // Then it keeps exactly what the other's circles_of_votes keeps
+    const auto expected = whole.circles_of_votes();
+    ASSERT_EQ(found.size(), expected.size());
+    for (std::size_t j = 0; j < found.size(); ++j) {
+      EXPECT_EQ(found[j].x_px, expected[j].x_px);
+      EXPECT_EQ(found[j].y_px, expected[j].y_px);
+      EXPECT_EQ(found[j].radius_px, expected[j].radius_px);
+      EXPECT_EQ(found[j].score, expected[j].score);
+    }
+    circles += static_cast<int>(found.size());
+  }
+  EXPECT_GT(circles, 0);
+  // And a peak index out of range refines to nothing
+  EXPECT_FALSE(parts.refine_peak(-1).has_value());
+  EXPECT_FALSE(parts.refine_peak(1000).has_value());
 }
 
 TEST(Redetect, GivenNoImageOrAnInvalidOneThenItFindsNothing) {

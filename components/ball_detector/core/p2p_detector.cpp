@@ -28,54 +28,6 @@ double median_of(std::vector<double>& v) {
   return *mid;
 }
 
-// The voters that may lie in a band of rows, in their original order (the refinement's sums
-// then run in the same order as a full scan, so results are identical). Voters come in raster
-// order of their edge points, one run per k, so within a run y is sorted up to a few pixels:
-// the run's prefix maximum and suffix minimum of y are sorted and bound it by binary search.
-class VoterRows {
- public:
-  explicit VoterRows(const std::vector<Voter>& voters) : voters_(voters) {
-    const size_t n = voters.size();
-    prefix_max_.resize(n);
-    suffix_min_.resize(n);
-    size_t begin = 0;
-    for (size_t i = 0; i < n; ++i) {
-      // A big drop in y starts a new run (the next k's raster pass).
-      if (i > begin && voters[i].y < prefix_max_[i - 1] - kNewRunDropPx) {
-        runs_.push_back({begin, i});
-        begin = i;
-      }
-      prefix_max_[i] = i > begin ? std::max(prefix_max_[i - 1], voters[i].y) : voters[i].y;
-    }
-    if (n > begin) runs_.push_back({begin, n});
-    for (const auto& run : runs_)
-      for (size_t i = run.end; i-- > run.begin;)
-        suffix_min_[i] = i + 1 < run.end ? std::min(suffix_min_[i + 1], voters[i].y) : voters[i].y;
-  }
-
-  /// Calls f(voter) for every voter with y in [y_lo, y_hi] (and possibly a few others).
-  template <typename F>
-  void for_each(double y_lo, double y_hi, F&& f) const {
-    for (const auto& run : runs_) {
-      const auto first =
-          std::lower_bound(prefix_max_.begin() + run.begin, prefix_max_.begin() + run.end, y_lo);
-      const auto last =
-          std::upper_bound(suffix_min_.begin() + run.begin, suffix_min_.begin() + run.end, y_hi);
-      for (auto i = first - prefix_max_.begin(); i < last - suffix_min_.begin(); ++i)
-        f(voters_[static_cast<size_t>(i)]);
-    }
-  }
-
- private:
-  static constexpr float kNewRunDropPx = 64.0f;
-  struct Run {
-    size_t begin, end;
-  };
-  const std::vector<Voter>& voters_;
-  std::vector<Run> runs_;
-  std::vector<float> prefix_max_, suffix_min_;
-};
-
 constexpr int kOrientationBins = 8;
 constexpr int kOrientationSlackBins = 2;
 
@@ -98,6 +50,25 @@ bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_s
 }
 
 }  // namespace
+
+VoterRows::VoterRows(const std::vector<Voter>& voters) {
+  const size_t n = voters.size();
+  prefix_max_.resize(n);
+  suffix_min_.resize(n);
+  size_t begin = 0;
+  for (size_t i = 0; i < n; ++i) {
+    // A big drop in y starts a new run (the next k's raster pass).
+    if (i > begin && voters[i].y < prefix_max_[i - 1] - kNewRunDropPx) {
+      runs_.push_back({begin, i});
+      begin = i;
+    }
+    prefix_max_[i] = i > begin ? std::max(prefix_max_[i - 1], voters[i].y) : voters[i].y;
+  }
+  if (n > begin) runs_.push_back({begin, n});
+  for (const auto& run : runs_)
+    for (size_t i = run.end; i-- > run.begin;)
+      suffix_min_[i] = i + 1 < run.end ? std::min(suffix_min_[i + 1], voters[i].y) : voters[i].y;
+}
 
 std::optional<std::string> PixelToPixelParams::validate() const {
   if (auto e = edge.validate()) return "edge." + *e;
@@ -328,6 +299,23 @@ void PixelToPixelDetector::vote_on_edges() {
 }
 
 std::vector<Circle> PixelToPixelDetector::circles_on(const EdgeMap& edges) {
+  const int n = peaks_on(edges);
+  std::vector<std::optional<Circle>> per_peak(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) per_peak[static_cast<std::size_t>(i)] = refine_peak(i);
+  return select_circles(per_peak);
+}
+
+int PixelToPixelDetector::find_peaks_of_votes() {
+  if (!votes_ready_) {
+    peaks_.clear();
+    return 0;
+  }
+  return peaks_on(edges_);
+}
+
+int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
+  peaks_.clear();
+  peak_edges_ = &edges;
   const double max_v = box_filter(accumulator_, params_.box_size_px, smoothed_);
   const cv::Mat& smoothed = smoothed_;
   diag_.edges = edges.edges;
@@ -335,14 +323,15 @@ std::vector<Circle> PixelToPixelDetector::circles_on(const EdgeMap& edges) {
   diag_.voters = static_cast<std::int64_t>(voters_.size());
   const float floor_v = static_cast<float>(
       std::max<double>(params_.min_peak_votes, params_.min_relative_peak * max_v));
-  if (max_v < params_.min_peak_votes || max_v <= 0.0) return {};
-  auto peaks = find_peaks(smoothed, floor_v, params_.min_separation_px,
-                          std::max(params_.max_peaks_examined, params_.max_circles));
-  for (Peak& p : peaks) {  // back to image coordinates (outside the image with a margin)
+  if (max_v < params_.min_peak_votes || max_v <= 0.0) return 0;
+  peaks_ = find_peaks(smoothed, floor_v, params_.min_separation_px,
+                      std::max(params_.max_peaks_examined, params_.max_circles));
+  for (Peak& p : peaks_) {  // back to image coordinates (outside the image with a margin)
     p.x -= margin_px_;
     p.y -= margin_px_;
   }
-  CandidateOptions opt;
+  CandidateOptions& opt = candidate_options_;
+  opt = CandidateOptions{};
   opt.min_radius_px = radii_.min_px;
   opt.max_radius_px = radii_.max_px;
   opt.line_tolerance_px = 0.5 * params_.box_size_px + 1.0;
@@ -352,7 +341,22 @@ std::vector<Circle> PixelToPixelDetector::circles_on(const EdgeMap& edges) {
   opt.refine = params_.refine;
   opt.refine_params = params_.refine_params;
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
-  return circles_from_votes(edges, voters_, peaks, opt);
+  voter_rows_ = VoterRows(voters_);
+  return static_cast<int>(peaks_.size());
+}
+
+std::optional<Circle> PixelToPixelDetector::refine_peak(int i) const {
+  if (i < 0 || i >= static_cast<int>(peaks_.size()) || !peak_edges_) return std::nullopt;
+  return circle_from_peak(*peak_edges_, voters_, voter_rows_, peaks_[static_cast<std::size_t>(i)],
+                          candidate_options_);
+}
+
+std::vector<Circle> PixelToPixelDetector::select_circles(
+    const std::vector<std::optional<Circle>>& per_peak) const {
+  std::vector<Circle> found;
+  for (const auto& c : per_peak)
+    if (c) found.push_back(*c);
+  return ball_detector::select_circles(std::move(found), candidate_options_);
 }
 
 const DetectionDiagnostics* PixelToPixelDetector::diagnostics() const {
@@ -366,62 +370,70 @@ const DetectionDiagnostics* PixelToPixelDetector::diagnostics() const {
 std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<Voter>& voters,
                                        const std::vector<Peak>& peaks,
                                        const CandidateOptions& options) {
+  const VoterRows rows(voters);
   std::vector<Circle> found;
+  for (const auto& peak : peaks)
+    if (auto c = circle_from_peak(edges, voters, rows, peak, options)) found.push_back(*c);
+  return select_circles(std::move(found), options);
+}
+
+std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
+                                       const VoterRows& rows, const Peak& peak,
+                                       const CandidateOptions& options) {
   std::vector<double> radii;
   std::vector<cv::Point2d> support;
-  const VoterRows rows(voters);
   // A voter passing the tests below is at most this far from the peak (t <= max radius and
   // the line within tolerance), plus a pixel for float rounding.
   const double reach_px = options.max_radius_px + options.line_tolerance_px + 1.0;
-  for (const auto& peak : peaks) {
-    radii.clear();
-    rows.for_each(peak.y - reach_px, peak.y + reach_px, [&](const Voter& v) {
-      const double px = peak.x - v.x, py = peak.y - v.y;
-      const double t = px * v.ux + py * v.uy;
-      if (t < options.min_radius_px || t > options.max_radius_px) return;
-      if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
-      radii.push_back(std::sqrt(px * px + py * py));
-    });
-    if (radii.size() < 3) continue;
-    const double r0 = median_of(radii);
-    // The voters' own positions on the circle seed the fit (they are edge points).
-    support.clear();
-    const double support_reach_px = 1.2 * r0 + 2.0;
-    rows.for_each(peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
-      const double px = peak.x - v.x, py = peak.y - v.y;
-      // The cheap tests first: most voters in the band fail the line test, and need no root.
-      if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
-      if (px * v.ux + py * v.uy <= 0.0) return;
-      const double d = std::sqrt(px * px + py * py);
-      if (std::abs(d - r0) > 0.2 * r0 + 1.0) return;
-      support.emplace_back(v.x, v.y);
-    });
-    Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};
-    if (const auto fit = fit_circle(support);
-        fit && fast_hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)
-      seed = *fit;
-    auto refine_seed = [&](const Circle& s) -> std::optional<Circle> {
-      if (options.refine) return refine_circle(edges, s, options.refine_params);
-      Circle unrefined = s;
-      unrefined.score = score_circle(edges, s, options.refine_params);
-      return unrefined;
-    };
-    std::optional<Circle> c = refine_seed(seed);
-    // Second seed only when the first is weak: the ring of edge points around the peak.
-    // Voters from texture inside a ball can drag the voters' median radius; the ring cannot.
-    if (!c || c->score < kRingSeedBelowScore) {
-      if (const auto ring_r =
-              estimate_radius(edges, peak.x, peak.y, options.min_radius_px, options.max_radius_px);
-          ring_r && std::abs(*ring_r - seed.radius_px) > 1.5) {
-        const auto alt = refine_seed(
-            Circle{static_cast<double>(peak.x), static_cast<double>(peak.y), *ring_r, 0.0});
-        if (alt && (!c || alt->score > c->score)) c = alt;
-      }
+  rows.for_each(voters, peak.y - reach_px, peak.y + reach_px, [&](const Voter& v) {
+    const double px = peak.x - v.x, py = peak.y - v.y;
+    const double t = px * v.ux + py * v.uy;
+    if (t < options.min_radius_px || t > options.max_radius_px) return;
+    if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
+    radii.push_back(std::sqrt(px * px + py * py));
+  });
+  if (radii.size() < 3) return std::nullopt;
+  const double r0 = median_of(radii);
+  // The voters' own positions on the circle seed the fit (they are edge points).
+  const double support_reach_px = 1.2 * r0 + 2.0;
+  rows.for_each(voters, peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
+    const double px = peak.x - v.x, py = peak.y - v.y;
+    // The cheap tests first: most voters in the band fail the line test, and need no root.
+    if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
+    if (px * v.ux + py * v.uy <= 0.0) return;
+    const double d = std::sqrt(px * px + py * py);
+    if (std::abs(d - r0) > 0.2 * r0 + 1.0) return;
+    support.emplace_back(v.x, v.y);
+  });
+  Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};
+  if (const auto fit = fit_circle(support);
+      fit && fast_hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)
+    seed = *fit;
+  auto refine_seed = [&](const Circle& s) -> std::optional<Circle> {
+    if (options.refine) return refine_circle(edges, s, options.refine_params);
+    Circle unrefined = s;
+    unrefined.score = score_circle(edges, s, options.refine_params);
+    return unrefined;
+  };
+  std::optional<Circle> c = refine_seed(seed);
+  // Second seed only when the first is weak: the ring of edge points around the peak.
+  // Voters from texture inside a ball can drag the voters' median radius; the ring cannot.
+  if (!c || c->score < kRingSeedBelowScore) {
+    if (const auto ring_r =
+            estimate_radius(edges, peak.x, peak.y, options.min_radius_px, options.max_radius_px);
+        ring_r && std::abs(*ring_r - seed.radius_px) > 1.5) {
+      const auto alt = refine_seed(
+          Circle{static_cast<double>(peak.x), static_cast<double>(peak.y), *ring_r, 0.0});
+      if (alt && (!c || alt->score > c->score)) c = alt;
     }
-    if (!c || c->score < options.min_score) continue;
-    if (c->radius_px < options.min_radius_px || c->radius_px > options.max_radius_px) continue;
-    found.push_back(*c);
   }
+  if (!c || c->score < options.min_score) return std::nullopt;
+  if (c->radius_px < options.min_radius_px || c->radius_px > options.max_radius_px)
+    return std::nullopt;
+  return c;
+}
+
+std::vector<Circle> select_circles(std::vector<Circle> found, const CandidateOptions& options) {
   std::stable_sort(found.begin(), found.end(),
                    [](const Circle& a, const Circle& b) { return a.score > b.score; });
   std::vector<Circle> kept;

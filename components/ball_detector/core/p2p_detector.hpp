@@ -7,6 +7,7 @@
 #include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/voting.hpp"
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <span>
@@ -80,6 +81,50 @@ struct Voter {
   float uy = 0.0f;
 };
 
+/// The voters that may lie in a band of rows, found without scanning them all. Voters come in
+/// raster order of their edge points, one run per k, so within a run y is sorted up to a few
+/// pixels: the run's prefix maximum and suffix minimum of y are sorted and bound it by binary
+/// search. Visits keep the voters' order (sums over them then run as over a full scan).
+class VoterRows {
+ public:
+  VoterRows() = default;
+  /// Indexes voters (which the visits must be given again, unchanged).
+  explicit VoterRows(const std::vector<Voter>& voters);
+  /// Calls f(voter) for every voter with y in [y_lo, y_hi] (and possibly a few others).
+  template <typename F>
+  void for_each(const std::vector<Voter>& voters, double y_lo, double y_hi, F&& f) const {
+    for (const auto& run : runs_) {
+      const auto first =
+          std::lower_bound(prefix_max_.begin() + run.begin, prefix_max_.begin() + run.end, y_lo);
+      const auto last =
+          std::upper_bound(suffix_min_.begin() + run.begin, suffix_min_.begin() + run.end, y_hi);
+      for (auto i = first - prefix_max_.begin(); i < last - suffix_min_.begin(); ++i)
+        f(voters[static_cast<std::size_t>(i)]);
+    }
+  }
+
+ private:
+  static constexpr float kNewRunDropPx = 64.0f;
+  struct Run {
+    std::size_t begin, end;
+  };
+  std::vector<Run> runs_;
+  std::vector<float> prefix_max_, suffix_min_;
+};
+
+/// Candidates turned into circles for any 2D line-voting detector: consistent voters give the
+/// radius, least-squares refinement gives the sub-pixel centre, angular coverage the score.
+struct CandidateOptions {
+  double min_radius_px = 4.0;
+  double max_radius_px = 120.0;
+  double line_tolerance_px = 3.5;  ///< a voter's line passes this close to the peak, pixels
+  double min_separation_px = 10.0;
+  double min_score = 0.5;
+  int max_circles = 5;
+  bool refine = true;
+  RefineParams refine_params;
+};
+
 /// Pixel-to-Pixel: thin edge map -> per-window chord rules -> concave-side lines -> box filter
 /// -> peaks -> refined, scored circles sorted by decreasing score.
 class PixelToPixelDetector final : public CircleDetector {
@@ -102,6 +147,13 @@ class PixelToPixelDetector final : public CircleDetector {
   /// The second half: the peaks of the last votes refined and scored, as detect() returns them
   /// (empty if the last cast_votes() had an invalid image).
   std::vector<Circle> circles_of_votes();
+  /// circles_of_votes() in parts, for a caller that refines peaks on several cores: the peaks
+  /// of the last votes (their number); refine_peak(i) for each i in [0, that), in any order or
+  /// at once (it changes nothing); select_circles() of the results in peak order gives exactly
+  /// circles_of_votes().
+  int find_peaks_of_votes();
+  std::optional<Circle> refine_peak(int i) const;
+  std::vector<Circle> select_circles(const std::vector<std::optional<Circle>>& per_peak) const;
   /// detect() once more on the last image's edge map with other hints, without the edge step
   /// or the window rules (the lines they gave are plotted again over the new radii: the same
   /// image searched radius band by radius band); empty before the first image.
@@ -138,6 +190,7 @@ class PixelToPixelDetector final : public CircleDetector {
   std::vector<Circle> detect_on_edges();
   void vote_on_edges();
   std::vector<Circle> circles_on(const EdgeMap& edges);
+  int peaks_on(const EdgeMap& edges);
   void start(const std::optional<SearchHints>& hints);
   std::vector<Circle> circles_from_peaks();
 
@@ -156,26 +209,29 @@ class PixelToPixelDetector final : public CircleDetector {
   cv::Mat smoothed_;  // box-filtered accumulator_, buffer kept across images
   std::vector<Voter> voters_;
   std::vector<VoteLineAt> lines_;  // every line of edges_, in voting order (redetect replays)
+  // The peaks being refined (find_peaks_of_votes), the edges and options they are refined with.
+  std::vector<Peak> peaks_;
+  const EdgeMap* peak_edges_ = nullptr;
+  CandidateOptions candidate_options_;
+  VoterRows voter_rows_;
   mutable DetectionDiagnostics diag_;
   mutable bool peak_ratio_done_ = false;
 };
 
-/// Candidates turned into circles for any 2D line-voting detector: consistent voters give the
-/// radius, least-squares refinement gives the sub-pixel centre, angular coverage the score.
-struct CandidateOptions {
-  double min_radius_px = 4.0;
-  double max_radius_px = 120.0;
-  double line_tolerance_px = 3.5;  ///< a voter's line passes this close to the peak, pixels
-  double min_separation_px = 10.0;
-  double min_score = 0.5;
-  int max_circles = 5;
-  bool refine = true;
-  RefineParams refine_params;
-};
-
-/// Shared post-processing: peaks of a smoothed accumulator + voters -> scored circles.
+/// Shared post-processing: peaks of a smoothed accumulator + voters -> scored circles
+/// (circle_from_peak on each, then select_circles).
 std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<Voter>& voters,
                                        const std::vector<Peak>& peaks,
                                        const CandidateOptions& options);
+
+/// One peak of circles_from_votes refined and scored; nullopt when it gives no circle (too few
+/// voters, score or radius out of range). rows indexes voters.
+std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
+                                       const VoterRows& rows, const Peak& peak,
+                                       const CandidateOptions& options);
+
+/// The circles circles_from_votes keeps of the peaks' circles (in peak order): best score
+/// first, none within min_separation_px of a better one, at most max_circles.
+std::vector<Circle> select_circles(std::vector<Circle> found, const CandidateOptions& options);
 
 }  // namespace stereoball::ball_detector

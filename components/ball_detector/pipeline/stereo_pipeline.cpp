@@ -388,7 +388,7 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
       if (!paired) bands = detect_left_in_bands(&paired);
       return;
     }
-    left_candidates_ = voted ? left_detector_.circles_of_votes() : std::vector<Circle>{};
+    left_candidates_ = voted ? left_circles_of_votes(!band_left) : std::vector<Circle>{};
     left_thresholds_ = thresholds_of(left_detector_.edge_map());
     frames_since_full_search_ = 0;
     if (params_.right_eye_partner_boxes) {
@@ -403,6 +403,19 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
   });
   if (band_left && !paired) *band_left = std::move(bands);
   return pairing;
+}
+
+std::vector<Circle> StereoPipeline::left_circles_of_votes(bool peaks_at_once) {
+  // Refining and scoring the peaks is most of a whole-frame search (~40 %), and each peak is
+  // independent. When the band search runs beside it, it has the other core to itself.
+  if (!peaks_at_once) return left_detector_.circles_of_votes();
+  const int n = left_detector_.find_peaks_of_votes();
+  std::vector<std::optional<Circle>> per_peak(static_cast<std::size_t>(n));
+  run_tasks_(kPeakTasks, [&](int task) {
+    for (int i = task; i < n; i += kPeakTasks)
+      per_peak[static_cast<std::size_t>(i)] = left_detector_.refine_peak(i);
+  });
+  return left_detector_.select_circles(per_peak);
 }
 
 std::vector<Circle> StereoPipeline::detect_left_in_bands(const std::atomic<bool>* stop) {
