@@ -1,9 +1,6 @@
 #include "ball_detector/node/ball_detector_node.hpp"
 
-#include <future>
 #include <string>
-#include <system_error>
-#include <vector>
 
 #include "ball_detector/node/detection_msg.hpp"
 #include "stereo/msg/calibration_msg.hpp"
@@ -17,21 +14,6 @@ const std::string kDetectionTopic(topics::kBallDetection.spec.name);
 // No frame for this long makes the node report itself unhealthy.
 constexpr std::int64_t kInputTimeoutNs = 2'000'000'000;
 
-// The pipeline's independent tasks at once: task 0 on this thread, the others on threads of
-// their own (a few per slow frame; the machine's other core is idle while one thread detects).
-void run_tasks_at_once(int n, const std::function<void(int)>& task) {
-  std::vector<std::future<void>> others;
-  for (int i = 1; i < n; ++i) {
-    try {
-      others.push_back(std::async(std::launch::async, task, i));
-    } catch (const std::system_error&) {
-      task(i);  // no thread to be had: in turn, as the pipeline would on its own
-    }
-  }
-  if (n > 0) task(0);
-  for (auto& f : others) f.get();  // rethrows what a task threw
-}
-
 }  // namespace
 
 BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParams& params)
@@ -42,7 +24,8 @@ BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParam
       tracks_(runner.participant(), topics::kBallTrack),
       params_(params),
       detections_(runner.participant(), topics::kBallDetection) {
-  pipeline_.set_task_runner(run_tasks_at_once);
+  pipeline_.set_task_runner(
+      [this](int n, const std::function<void(int)>& task) { helper_.run(n, task); });
   runner_.on_data(calibration_.handle(), [this] { on_calibration(); });
   runner_.on_data(frames_.handle(), [this] { on_frames(); });
   runner_.every(1'000'000'000, [this](std::int64_t now_ns) { check_input(now_ns); });

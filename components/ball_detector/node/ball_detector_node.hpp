@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "ball_detector/node/task_helper.hpp"
 #include "ball_detector/pipeline/calibration_gate.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/dds/reader.hpp"
@@ -44,6 +45,7 @@ class BallDetectorNode {
                std::int64_t start_mono_ns);
 
   node::Runner& runner_;
+  TaskHelper helper_;  // the pipeline's tasks on the other core (declared first: outlives it)
   StereoPipeline pipeline_;
   CalibrationGate gate_;
   std::optional<CalibrationFrom> pending_calibration_;  // held back until frames fit it

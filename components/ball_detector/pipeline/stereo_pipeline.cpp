@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <numeric>
 
 namespace stereoball::ball_detector {
 namespace {
@@ -137,8 +136,7 @@ StereoPipeline::StereoPipeline(const BallDetectorParams& params)
     : params_(params),
       left_detector_(params.detector_params()),
       right_detector_(params.detector_params()),
-      band_detectors_{PixelToPixelDetector(params.detector_params()),
-                      PixelToPixelDetector(params.detector_params())},
+
       epipolar_(stereo::EpipolarParams{params.epipolar_tolerance_px}),
       size_{params.ball_diameter_m, params.size_max_relative_error},
       appearance_(params.appearance) {
@@ -164,10 +162,9 @@ std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoC
         stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_left_px()});
     right_detector_.set_camera(
         stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()});
-    for (PixelToPixelDetector& d : band_detectors_)
-      d.set_camera(
-          stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_left_px()});
   }
+  for (PixelToPixelDetector& d : band_detectors_)
+    d.set_camera(params_.perspective_outline ? left_camera() : std::nullopt);
   const cv::Matx33d p(calib.p1(0, 0), calib.p1(0, 1), calib.p1(0, 2), calib.p1(1, 0),
                       calib.p1(1, 1), calib.p1(1, 2), calib.p1(2, 0), calib.p1(2, 1),
                       calib.p1(2, 2));
@@ -411,10 +408,8 @@ std::vector<Circle> StereoPipeline::left_circles_of_votes(bool peaks_at_once) {
   if (!peaks_at_once) return left_detector_.circles_of_votes();
   const int n = left_detector_.find_peaks_of_votes();
   std::vector<std::optional<Circle>> per_peak(static_cast<std::size_t>(n));
-  run_tasks_(kPeakTasks, [&](int task) {
-    for (int i = task; i < n; i += kPeakTasks)
-      per_peak[static_cast<std::size_t>(i)] = left_detector_.refine_peak(i);
-  });
+  run_tasks_(n,
+             [&](int i) { per_peak[static_cast<std::size_t>(i)] = left_detector_.refine_peak(i); });
   return left_detector_.select_circles(per_peak);
 }
 
@@ -433,29 +428,17 @@ std::vector<Circle> StereoPipeline::detect_left_in_bands(const std::atomic<bool>
   }
   // The left detector holds this image's edge map, made with these very thresholds, and the
   // lines its points voted along: each band plots them again over its radii instead of redoing
-  // the edge step and the window rules. The bands are independent: each task searches some of
-  // them on its own detector (the left one is only read), the longest bands (their lines and
-  // circles cost most) dealt first, each to the task with the least so far.
-  std::vector<std::size_t> order(bands.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  const auto span = [&](std::size_t b) { return bands[b].radii.max_px - bands[b].radii.min_px; };
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return span(a) > span(b); });
-  std::array<std::vector<std::size_t>, kBandTasks> task_bands;
-  std::array<double, kBandTasks> task_span{};
-  for (const std::size_t b : order) {
-    const auto least = static_cast<std::size_t>(
-        std::min_element(task_span.begin(), task_span.end()) - task_span.begin());
-    task_bands[least].push_back(b);
-    task_span[least] += span(b);
+  // the edge step and the window rules. The bands are independent tasks, each on a detector of
+  // its own (the left one is only read).
+  while (band_detectors_.size() < bands.size()) {
+    band_detectors_.emplace_back(params_.detector_params());
+    band_detectors_.back().set_camera(params_.perspective_outline ? left_camera() : std::nullopt);
   }
   std::vector<std::vector<Circle>> per_band(bands.size());
-  run_tasks_(kBandTasks, [&](int task) {
-    const auto t = static_cast<std::size_t>(task);
-    for (const std::size_t b : task_bands[t]) {
-      if (stop && *stop) return;  // the result is not wanted any more
-      per_band[b] = band_detectors_[t].redetect_from(left_detector_, bands[b]);
-    }
+  run_tasks_(static_cast<int>(bands.size()), [&](int task) {
+    const auto b = static_cast<std::size_t>(task);
+    if (stop && *stop) return;  // the result is not wanted any more
+    per_band[b] = band_detectors_[b].redetect_from(left_detector_, bands[b]);
   });
   std::vector<Circle> found;
   for (const auto& circles : per_band) found.insert(found.end(), circles.begin(), circles.end());

@@ -75,11 +75,6 @@ constexpr int kBandSearchEveryFrames = 5;
 using RunTasks = std::function<void(int n, const std::function<void(int)>& task)>;
 /// Runs the tasks one after the other (the pipeline's default).
 void run_tasks_in_turn(int n, const std::function<void(int)>& task);
-/// The radius-band search is split into this many tasks (bands dealt out in turn), each with
-/// its own detector reading the whole-frame search's edges and lines.
-constexpr int kBandTasks = 2;
-/// The whole-frame search's peaks are refined in this many tasks (peaks dealt out in turn).
-constexpr int kPeakTasks = 2;
 
 /// Side of the colour block around the left centre, pixels (paper: 21x21, k = 10).
 constexpr int kPatchSide = 21;
@@ -181,7 +176,7 @@ class StereoPipeline {
   /// The left detector's last image (whole, its own thresholds) searched again band by band;
   /// stops early (result unused) once *stop is set.
   std::vector<Circle> detect_left_in_bands(const std::atomic<bool>* stop);
-  /// The left detector's last votes turned into circles, the peaks in kPeakTasks tasks or not.
+  /// The left detector's last votes turned into circles, each peak a task or all in turn.
   std::vector<Circle> left_circles_of_votes(bool peaks_at_once);
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
@@ -198,7 +193,7 @@ class StereoPipeline {
   BallDetectorParams params_;
   PixelToPixelDetector left_detector_;
   PixelToPixelDetector right_detector_;
-  std::array<PixelToPixelDetector, kBandTasks> band_detectors_;  // radius bands of the left eye
+  std::vector<PixelToPixelDetector> band_detectors_;  // one per radius band of the left eye
   RunTasks run_tasks_ = run_tasks_in_turn;
   stereo::EpipolarCheck epipolar_;
   stereo::SizeCheckParams size_;
