@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace stereoball::distributed {
 namespace {
@@ -61,6 +63,30 @@ TEST(LatencyFigures, GivenWindowAndAnUnansweredTrack_ThenOnlyWindowFramesAndTheM
   EXPECT_EQ(f.end_to_end.n, 5u);
   EXPECT_EQ(f.tracks_unanswered, 1u);
   EXPECT_EQ(f.frames_lost, 0u);
+}
+
+TEST(LatencyFigures, GivenFrames_ThenEachFramesStagesAndACsvLinePerFrame) {
+  // Given 4 frames, frame 2 without a command answering its track
+  ObserverLog log;
+  for (int i = 0; i < 4; ++i) add_frame(log, i);
+  log.commands.erase(log.commands.begin() + 4);
+  // When their stages are taken, the window starting at frame 1
+  const auto frames = frame_stages(log, log, kT0, kT0 + 4 * kPeriod);
+  // Then each frame has its stages, the unanswered one no command and no end to end
+  ASSERT_EQ(frames.size(), 4u);
+  EXPECT_EQ(frames[1].seq, 1u);
+  EXPECT_NEAR(frames[1].received_ms, 3.0, 1e-9);
+  EXPECT_NEAR(frames[1].end_to_end_ms, 8.5, 1e-9);
+  EXPECT_EQ(frames[2].track_state, 1);
+  EXPECT_LT(frames[2].command_ms, 0.0);
+  EXPECT_LT(frames[2].end_to_end_ms, 0.0);
+  // And the CSV has a header and one line per frame, frame 0 outside the measured window
+  const std::string csv = to_csv(frames, kT0 + kPeriod);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
+  EXPECT_EQ(csv.substr(0, csv.find(',')), "capture_ns");
+  const std::string first = csv.substr(csv.find('\n') + 1);
+  EXPECT_EQ(first.substr(first.find('\n') - 2, 2), ",0");
+  EXPECT_NE(csv.find(",8.500,1\n"), std::string::npos);
 }
 
 TEST(LatencyFigures, GivenFigures_ThenJsonHasEveryQuantileFinite) {
