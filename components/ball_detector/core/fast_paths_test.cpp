@@ -160,6 +160,17 @@ TEST(StrongestChannelGradient, GivenRealColourImagesAndCropsThenItEqualsThreeSob
   EXPECT_GE(compared, 80);
 }
 
+// The same circles, bit for bit, in the same order.
+void expect_same_circles(const std::vector<Circle>& a, const std::vector<Circle>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].x_px, b[i].x_px) << i;
+    EXPECT_EQ(a[i].y_px, b[i].y_px) << i;
+    EXPECT_EQ(a[i].radius_px, b[i].radius_px) << i;
+    EXPECT_EQ(a[i].score, b[i].score) << i;
+  }
+}
+
 TEST(Redetect, GivenBandsOfRadiiThenRedetectFindsWhatDetectWithTheSameThresholdsFinds) {
   // Given real colour images, each detected once over the whole radius range
   const auto images = real_colours();
@@ -202,13 +213,7 @@ TEST(Redetect, GivenASecondDetectorThenRedetectFromFindsWhatTheSourcesRedetectFi
       const auto borrowed = reader.redetect_from(source, SearchHints{radii});
       const auto own = source.redetect(SearchHints{radii});
       // Then the circles are the same, bit for bit
-      ASSERT_EQ(borrowed.size(), own.size());
-      for (std::size_t j = 0; j < own.size(); ++j) {
-        EXPECT_EQ(borrowed[j].x_px, own[j].x_px);
-        EXPECT_EQ(borrowed[j].y_px, own[j].y_px);
-        EXPECT_EQ(borrowed[j].radius_px, own[j].radius_px);
-        EXPECT_EQ(borrowed[j].score, own[j].score);
-      }
+      expect_same_circles(borrowed, own);
       circles += static_cast<int>(own.size());
     }
   }
@@ -232,16 +237,9 @@ TEST(Redetect, GivenDetectInTwoHalvesThenTheSameCirclesAndBandsCanBeReadBetween)
     const auto found = halves.circles_of_votes();
     const auto late = band_after.redetect_from(halves, SearchHints{RadiusRange{9, 28}});
     // Then the halves find what detect() finds
-    const auto expected = whole.detect(images[i]);
-    ASSERT_EQ(found.size(), expected.size());
-    for (std::size_t j = 0; j < found.size(); ++j) {
-      EXPECT_EQ(found[j].x_px, expected[j].x_px);
-      EXPECT_EQ(found[j].radius_px, expected[j].radius_px);
-      EXPECT_EQ(found[j].score, expected[j].score);
-    }
+    expect_same_circles(found, whole.detect(images[i]));
     // And the band found the same before and after the second half
-    ASSERT_EQ(early.size(), late.size());
-    for (std::size_t j = 0; j < early.size(); ++j) EXPECT_EQ(early[j].score, late[j].score);
+    expect_same_circles(early, late);
     circles += static_cast<int>(found.size());
   }
   EXPECT_GT(circles, 0);
@@ -266,14 +264,7 @@ TEST(Redetect, GivenPeaksRefinedOneByOneInReverseThenTheSameCirclesAsCirclesOfVo
     for (int p = n - 1; p >= 0; --p) per_peak[static_cast<std::size_t>(p)] = parts.refine_peak(p);
     const auto found = parts.select_circles(per_peak);
     // Then it keeps exactly what the other's circles_of_votes keeps
-    const auto expected = whole.circles_of_votes();
-    ASSERT_EQ(found.size(), expected.size());
-    for (std::size_t j = 0; j < found.size(); ++j) {
-      EXPECT_EQ(found[j].x_px, expected[j].x_px);
-      EXPECT_EQ(found[j].y_px, expected[j].y_px);
-      EXPECT_EQ(found[j].radius_px, expected[j].radius_px);
-      EXPECT_EQ(found[j].score, expected[j].score);
-    }
+    expect_same_circles(found, whole.circles_of_votes());
     circles += static_cast<int>(found.size());
   }
   EXPECT_GT(circles, 0);
