@@ -136,7 +136,6 @@ StereoPipeline::StereoPipeline(const BallDetectorParams& params)
     : params_(params),
       left_detector_(params.detector_params()),
       right_detector_(params.detector_params()),
-
       epipolar_(stereo::EpipolarParams{params.epipolar_tolerance_px}),
       size_{params.ball_diameter_m, params.size_max_relative_error},
       appearance_(params.appearance) {
