@@ -313,6 +313,7 @@ std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   opt.refine = params_.refine;
   opt.refine_params = params_.refine_params;
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
+  opt.polish = params_.polish;
   return circles_from_votes(edges_, voters_, peaks, opt);
 }
 
@@ -323,6 +324,27 @@ const DetectionDiagnostics* PixelToPixelDetector::diagnostics() const {
   }
   return &diag_;
 }
+
+namespace {
+
+// PixelToPixelParams::polish: each circle refined again, robustly from a wider band; kept as it
+// was when that fails (too few points, wandered off) or scores below min_score, then the list
+// re-sorted by score. The robust fit's score is taken even when lower: the least-squares circle
+// pulled between outline and texture can cover more of both than the outline alone.
+void polish_circles(const EdgeMap& edges, const RefineParams& refine, double min_score,
+                    std::vector<Circle>& circles) {
+  RefineParams robust = refine;
+  robust.first_band_px = PixelToPixelParams::kPolishFirstBandPx;
+  robust.robust_fit_floor_px = PixelToPixelParams::kPolishRobustFloorPx;
+  for (Circle& c : circles) {
+    const auto polished = refine_circle(edges, c, robust);
+    if (polished && polished->score >= min_score) c = *polished;
+  }
+  std::stable_sort(circles.begin(), circles.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+}
+
+}  // namespace
 
 std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<Voter>& voters,
                                        const std::vector<Peak>& peaks,
@@ -391,6 +413,8 @@ std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<V
     // Two peaks of one ball (e.g. its seam) refine onto the same circle: keep the better.
     if (far_from_all(kept, c, std::max(options.min_separation_px, 1.0))) kept.push_back(c);
   }
+  if (options.refine && options.polish)
+    polish_circles(edges, options.refine_params, options.min_score, kept);
   return kept;
 }
 

@@ -48,6 +48,14 @@ struct PixelToPixelParams {
   bool isolate_by_orientation = true;
   bool refine = true;          ///< sub-pixel least-squares refinement (addition)
   RefineParams refine_params;  ///< refinement and scoring options
+  /// Addition (with refine): the circles kept are refined once more from a wider first band
+  /// (kPolishFirstBandPx) with the robust fit (kPolishRobustFloorPx). Colour edges see a
+  /// patterned ball's panel and stripe boundaries, which near the rim run parallel to the
+  /// outline a pixel or two inside it; least squares let them pull fits inwards by up to 2 px
+  /// (p95, the simulator's panelled ball). Only the kept circles: the few that matter.
+  bool polish = true;
+  static constexpr double kPolishFirstBandPx = 4.0;
+  static constexpr double kPolishRobustFloorPx = 0.6;
 
   /// Names the first bad field and its allowed range, or nullopt.
   std::optional<std::string> validate() const;
@@ -148,6 +156,7 @@ struct CandidateOptions {
   int max_circles = 5;
   bool refine = true;
   RefineParams refine_params;
+  bool polish = false;  ///< PixelToPixelParams::polish
 };
 
 /// Shared post-processing: peaks of a smoothed accumulator + voters -> scored circles.
