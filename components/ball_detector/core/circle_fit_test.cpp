@@ -1,6 +1,7 @@
 // Additions: least-squares circle fit, angular coverage score.
 
 #include "ball_detector/core/circle_fit.hpp"
+#include "ball_detector/core/synthetic.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -61,14 +62,7 @@ TEST(FitCircle, GivenAnInnerArcBesideTheOutlineThenTheRobustFitKeepsToTheOutline
 TEST(RefineCircle, GivenAPanelTouchingTheRimOfAColourDiscThenTheRobustFitFindsTheRim) {
   // An orange disc with white spots just inside its rim on grey, as colour edges see a
   // panelled ball: each spot's boundary runs beside the outline a pixel or two inside it.
-  cv::Mat img(200, 200, CV_8UC3, cv::Scalar(120, 120, 120));
-  cv::circle(img, {100 * 16, 100 * 16}, 40 * 16, cv::Scalar(30, 90, 230), cv::FILLED, cv::LINE_AA,
-             4);
-  for (const double a : {-1.57, 0.5, 2.6}) {
-    const cv::Point centre(static_cast<int>(16 * (100 + 18 * std::cos(a))),
-                           static_cast<int>(16 * (100 + 18 * std::sin(a))));
-    cv::circle(img, centre, 20 * 16, cv::Scalar(250, 250, 250), cv::FILLED, cv::LINE_AA, 4);
-  }
+  const cv::Mat img = spotted_disc_image({200, 200}, {100, 100}, 40, 18, 20);
   EdgeMap e;
   compute_edge_map(img, EdgeParams{}, e);
   const Circle seed{100.5, 101.5, 38.5, 0};

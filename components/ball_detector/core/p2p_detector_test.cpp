@@ -223,14 +223,7 @@ TEST(ColourEdges, GivenABallOfAnotherHueAtEqualBrightnessThenColourFindsItAndGre
 TEST(PixelToPixel, GivenSpotsJustInsideTheRimThenTheBestCircleStaysOnTheRimWithOrWithoutPolishing) {
   // An orange ball with white spots reaching to a pixel or two of its rim on grey: colour
   // edges see each spot's boundary beside the outline.
-  cv::Mat img(240, 240, CV_8UC3, cv::Scalar(120, 120, 120));
-  cv::circle(img, {120 * 16, 120 * 16}, 45 * 16, cv::Scalar(30, 90, 230), cv::FILLED, cv::LINE_AA,
-             4);
-  for (const double a : {-1.57, 0.5, 2.6}) {
-    const cv::Point centre(static_cast<int>(16 * (120 + 21 * std::cos(a))),
-                           static_cast<int>(16 * (120 + 21 * std::sin(a))));
-    cv::circle(img, centre, 22 * 16, cv::Scalar(250, 250, 250), cv::FILLED, cv::LINE_AA, 4);
-  }
+  const cv::Mat img = spotted_disc_image({240, 240}, {120, 120}, 45, 21, 22);
   auto best_with = [&](bool polish) {
     PixelToPixelParams p = multi_k();
     p.polish = polish;
