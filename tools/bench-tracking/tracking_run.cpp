@@ -96,6 +96,33 @@ void diagnose_miss(const bd::StereoPipeline& pipeline, const bd::BallDetectorPar
   }
 }
 
+// For an on-ball detection: how far each eye's circle lies from the true outline there.
+void measure_outline_errors(const bd::StereoPipeline& pipeline, const simulator::GroundTruth& g,
+                            const bd::StereoDetection& d, FrameRecord& r) {
+  if (!r.raw_on_ball || !r.ball_visible) return;
+  const auto& c = g.ball_camera_m;
+  const cv::Vec3d centre_left(c.x, c.y, c.z);
+  const auto left_camera = pipeline.left_camera();
+  const auto right_camera = pipeline.right_camera();
+  if (!left_camera || !right_camera || c.z <= 0) return;
+  // The right rectified camera sits one baseline to the right; the truth's projected right
+  // centre gives that baseline without reaching into the pipeline.
+  const double baseline_m =
+      c.x - (g.ball_right_px.x - right_camera->principal_px.x) * c.z / right_camera->focal_px;
+  const cv::Vec3d centre_right(c.x - baseline_m, c.y, c.z);
+  const auto write = [&](const std::optional<stereo::SphereOutline>& o, const bd::Circle& found,
+                         double* out) {
+    if (!o) return;
+    out[0] = found.x_px - o->centre_px.x;
+    out[1] = found.y_px - o->centre_px.y;
+    out[2] = found.radius_px - o->mean_radius_px();
+  };
+  write(stereo::sphere_outline(*left_camera, centre_left, g.ball_radius_m), d.left,
+        r.outline_error_left_px);
+  write(stereo::sphere_outline(*right_camera, centre_right, g.ball_radius_m), d.right,
+        r.outline_error_right_px);
+}
+
 }  // namespace
 
 RunOutcome run_scenario(const RunConfig& config, const FrameSink& on_frame) {
@@ -112,6 +139,7 @@ RunOutcome run_scenario(const RunConfig& config, const FrameSink& on_frame) {
     if (on_frame) on_frame(index, f);
     FrameRecord r = judge(f.truth, f.detection, f.track);
     diagnose_miss((*loop)->pipeline(), config.detector, f.truth, f.detection, r);
+    measure_outline_errors((*loop)->pipeline(), f.truth, f.detection, r);
     r.cpu_ms = f.detector_cpu_ms;
     r.wall_ms = f.detector_wall_ms;
     out.result.frames.push_back(r);

@@ -3,6 +3,7 @@
 // of tools/sim-loop: simulator core, ball detector pipeline, tracker core, optionally the
 // motion controller core driving); every frame is compared with the ground truth.
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -53,6 +54,10 @@ struct FrameRecord {
   std::string miss_cause;
   double true_radius_px = 0;   ///< mean radius of the true left outline, px
   double truth_coverage = -1;  ///< the detector's score of the true left outline (-1 unknown)
+  /// On-ball detections: found minus true outline (centre x, centre y, mean radius) per eye,
+  /// rectified px; tells which eye a 3D error comes from (NaN when not judged).
+  double outline_error_left_px[3] = {NAN, NAN, NAN};
+  double outline_error_right_px[3] = {NAN, NAN, NAN};
 };
 
 /// All frames of one scenario run.

@@ -90,9 +90,29 @@ void for_each_edge_in_annulus(const EdgeMap& edges, double cx, double cy, double
   }
 }
 
+// Tukey's biweight: 1 at the circle, falling to 0 at |res| = cut.
+double tukey_weight(double res, double cut) {
+  const double u = res / cut;
+  if (u * u >= 1.0) return 0.0;
+  const double v = 1.0 - u * u;
+  return v * v;
+}
+
+// 4.7 robust sigmas (1.4826 x the median absolute residual), at least floor_px: the cut that
+// keeps 95 % efficiency on clean Gaussian residuals.
+double robust_cut_px(std::span<const cv::Point2d> points, const cv::Point2d& mean, double cx,
+                     double cy, double r, double floor_px, std::vector<double>& residuals) {
+  residuals.clear();
+  for (const auto& p : points)
+    residuals.push_back(std::abs(fast_hypot(p.x - mean.x - cx, p.y - mean.y - cy) - r));
+  const auto mid = residuals.begin() + static_cast<std::ptrdiff_t>(residuals.size() / 2);
+  std::nth_element(residuals.begin(), mid, residuals.end());
+  return std::min(std::max(floor_px, 4.685 * 1.4826 * *mid), 2.0 * floor_px);
+}
+
 }  // namespace
 
-std::optional<Circle> fit_circle(std::span<const cv::Point2d> points) {
+std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double robust_floor_px) {
   const int n = static_cast<int>(points.size());
   if (n < 3) return std::nullopt;
   cv::Point2d mean(0, 0);
@@ -117,7 +137,12 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points) {
   if (!(r2 > 0.0)) return std::nullopt;
   double r = std::sqrt(r2);
   // Geometric refinement: Kasa is biased on short arcs and noisy points.
-  for (int it = 0; it < 5; ++it) {
+  const int rounds = robust_floor_px > 0.0 ? 8 : 5;  // reweighting converges more slowly
+  std::vector<double> residuals;
+  for (int it = 0; it < rounds; ++it) {
+    const double cut = robust_floor_px > 0.0
+                           ? robust_cut_px(points, mean, cx, cy, r, robust_floor_px, residuals)
+                           : 0.0;
     cv::Matx33d jtj = cv::Matx33d::zeros();
     cv::Vec3d jtr(0, 0, 0);
     for (const auto& p : points) {
@@ -126,9 +151,11 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points) {
       if (d < 1e-9) continue;
       const cv::Vec3d j(-x / d, -y / d, -1.0);
       const double res = d - r;
+      const double w = cut > 0.0 ? tukey_weight(res, cut) : 1.0;
+      if (w <= 0.0) continue;
       for (int a = 0; a < 3; ++a) {
-        jtr[a] += j[a] * res;
-        for (int b = 0; b < 3; ++b) jtj(a, b) += j[a] * j[b];
+        jtr[a] += w * j[a] * res;
+        for (int b = 0; b < 3; ++b) jtj(a, b) += w * j[a] * j[b];
       }
     }
     cv::Vec3d delta;
@@ -341,10 +368,11 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
     const OutlineStretch stretch = outline_stretch(edges, c, params);
     const Circle round = round_circle(c, stretch);
     // Shrinking bands: the rough centre from a vote peak may be off by a pixel or two, and a
-    // wide band would let texture just inside the rim pull the fit.
-    const double band = std::max(scoring_band_px(round, params), 2.5 / (1 << it));
+    // wide band would let texture just inside the rim pull a least-squares fit (a robust fit
+    // can start wider: it sees both and keeps to the majority).
+    const double band = std::max(scoring_band_px(round, params), params.first_band_px / (1 << it));
     gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
-    const auto fit = fit_circle(pts);
+    const auto fit = fit_circle(pts, params.robust_fit_floor_px);
     if (!fit) return std::nullopt;
     const Circle next = unround_circle(*fit, {c.x_px, c.y_px}, stretch);
     // A fit that wanders far from its seed has locked onto some other structure.

@@ -16,7 +16,11 @@ namespace stereoball::ball_detector {
 
 /// Least-squares circle through points: algebraic (Kasa) start, then geometric Gauss-Newton.
 /// nullopt for fewer than 3 points or a degenerate (collinear) set. Score is left at 0.
-std::optional<Circle> fit_circle(std::span<const cv::Point2d> points);
+/// robust_floor_px > 0: the Gauss-Newton steps weight each point by Tukey's biweight of its
+/// distance to the circle, with a cut at max(robust_floor_px, 4.7 x the residuals' robust
+/// sigma), so a minority of points off the outline (texture arcs just inside a ball's rim) no
+/// longer pulls the fit; 0 = plain least squares.
+std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double robust_floor_px = 0.0);
 
 /// Options of the annulus gathering and scoring.
 struct RefineParams {
@@ -27,6 +31,11 @@ struct RefineParams {
   double band_per_radius = 0.025;
   double min_radial_cos = 0.85;  ///< min |cos| between edge gradient and the radius, [0, 1]
   int iterations = 3;            ///< gather + fit rounds
+  /// Half width of the first round's band, px; each later round halves it (down to the
+  /// scoring band).
+  double first_band_px = 2.5;
+  /// Addition: the fit's robust cut floor, px (fit_circle's robust_floor_px; 0 = least squares).
+  double robust_fit_floor_px = 0.0;
   /// Addition: when > 0, the score is the outline's coverage minus the larger coverage of the
   /// circles this fraction of the radius (at least 2 px) larger and smaller, so that dense
   /// texture, which covers every circle through it, does not score as an outline. 0 = off.

@@ -1,6 +1,7 @@
 // Additions: least-squares circle fit, angular coverage score.
 
 #include "ball_detector/core/circle_fit.hpp"
+#include "ball_detector/core/synthetic.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -41,6 +42,43 @@ TEST(FitCircle, GivenRoundedPointsOnAQuarterArcThenTheCentreIsWithinAPixel) {
 TEST(FitCircle, GivenTooFewOrCollinearPointsThenNoCircle) {
   EXPECT_FALSE(fit_circle(std::vector<cv::Point2d>{{0, 0}, {1, 1}}).has_value());
   EXPECT_FALSE(fit_circle(std::vector<cv::Point2d>{{0, 0}, {1, 1}, {2, 2}, {3, 3}}).has_value());
+}
+
+TEST(FitCircle, GivenAnInnerArcBesideTheOutlineThenTheRobustFitKeepsToTheOutline) {
+  // A patterned ball near its rim: a texture arc 2.5 px inside the outline over a quarter of it.
+  auto pts = arc(60.0, 50.0, 40.0, 0.0, 2 * std::numbers::pi, 240);
+  const auto inner = arc(60.0, 50.0, 37.5, -2.2, -0.7, 60);
+  pts.insert(pts.end(), inner.begin(), inner.end());
+  const auto plain = fit_circle(pts);
+  const auto robust = fit_circle(pts, 0.6);
+  ASSERT_TRUE(plain.has_value());
+  ASSERT_TRUE(robust.has_value());
+  EXPECT_GT(std::hypot(plain->y_px - 50.0, plain->radius_px - 40.0), 0.3);
+  EXPECT_NEAR(robust->x_px, 60.0, 0.05);
+  EXPECT_NEAR(robust->y_px, 50.0, 0.05);
+  EXPECT_NEAR(robust->radius_px, 40.0, 0.05);
+}
+
+TEST(RefineCircle, GivenAPanelTouchingTheRimOfAColourDiscThenTheRobustFitFindsTheRim) {
+  // An orange disc with white spots just inside its rim on grey, as colour edges see a
+  // panelled ball: each spot's boundary runs beside the outline a pixel or two inside it.
+  const cv::Mat img = spotted_disc_image({200, 200}, {100, 100}, 40, 18, 20);
+  EdgeMap e;
+  compute_edge_map(img, EdgeParams{}, e);
+  const Circle seed{100.5, 101.5, 38.5, 0};
+  RefineParams least_squares;
+  least_squares.robust_fit_floor_px = 0.0;
+  const auto pulled = refine_circle(e, seed, least_squares);
+  RefineParams robust;
+  robust.robust_fit_floor_px = 0.6;
+  const auto c = refine_circle(e, seed, robust);
+  ASSERT_TRUE(pulled.has_value());
+  ASSERT_TRUE(c.has_value());
+  // Unweighted, the spots' boundaries pull the centre a pixel towards them.
+  EXPECT_GT(std::hypot(pulled->x_px - 100.0, pulled->y_px - 100.0), 0.5);
+  EXPECT_NEAR(c->x_px, 100.0, 0.15);
+  EXPECT_NEAR(c->y_px, 100.0, 0.15);
+  EXPECT_NEAR(c->radius_px, 40.0, 1.0);  // the same edge-position bias as a plain disc
 }
 
 TEST(AngularCoverage, GivenFullAndHalfCirclesThenCoverageIsOneAndAHalf) {

@@ -341,6 +341,7 @@ int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
   opt.refine = params_.refine;
   opt.refine_params = params_.refine_params;
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
+  opt.polish = params_.polish;
   voter_rows_ = VoterRows(voters_);
   return static_cast<int>(peaks_.size());
 }
@@ -356,7 +357,7 @@ std::vector<Circle> PixelToPixelDetector::select_circles(
   std::vector<Circle> found;
   for (const auto& c : per_peak)
     if (c) found.push_back(*c);
-  return ball_detector::select_circles(std::move(found), candidate_options_);
+  return ball_detector::select_circles(*peak_edges_, std::move(found), candidate_options_);
 }
 
 const DetectionDiagnostics* PixelToPixelDetector::diagnostics() const {
@@ -367,6 +368,27 @@ const DetectionDiagnostics* PixelToPixelDetector::diagnostics() const {
   return &diag_;
 }
 
+namespace {
+
+// PixelToPixelParams::polish: each circle refined again, robustly from a wider band; kept as it
+// was when that fails (too few points, wandered off) or scores below min_score, then the list
+// re-sorted by score. The robust fit's score is taken even when lower: the least-squares circle
+// pulled between outline and texture can cover more of both than the outline alone.
+void polish_circles(const EdgeMap& edges, const RefineParams& refine, double min_score,
+                    std::vector<Circle>& circles) {
+  RefineParams robust = refine;
+  robust.first_band_px = PixelToPixelParams::kPolishFirstBandPx;
+  robust.robust_fit_floor_px = PixelToPixelParams::kPolishRobustFloorPx;
+  for (Circle& c : circles) {
+    const auto polished = refine_circle(edges, c, robust);
+    if (polished && polished->score >= min_score) c = *polished;
+  }
+  std::stable_sort(circles.begin(), circles.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+}
+
+}  // namespace
+
 std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<Voter>& voters,
                                        const std::vector<Peak>& peaks,
                                        const CandidateOptions& options) {
@@ -374,7 +396,7 @@ std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<V
   std::vector<Circle> found;
   for (const auto& peak : peaks)
     if (auto c = circle_from_peak(edges, voters, rows, peak, options)) found.push_back(*c);
-  return select_circles(std::move(found), options);
+  return select_circles(edges, std::move(found), options);
 }
 
 std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
@@ -433,7 +455,8 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
   return c;
 }
 
-std::vector<Circle> select_circles(std::vector<Circle> found, const CandidateOptions& options) {
+std::vector<Circle> select_circles(const EdgeMap& edges, std::vector<Circle> found,
+                                   const CandidateOptions& options) {
   std::stable_sort(found.begin(), found.end(),
                    [](const Circle& a, const Circle& b) { return a.score > b.score; });
   std::vector<Circle> kept;
@@ -442,6 +465,8 @@ std::vector<Circle> select_circles(std::vector<Circle> found, const CandidateOpt
     // Two peaks of one ball (e.g. its seam) refine onto the same circle: keep the better.
     if (far_from_all(kept, c, std::max(options.min_separation_px, 1.0))) kept.push_back(c);
   }
+  if (options.refine && options.polish)
+    polish_circles(edges, options.refine_params, options.min_score, kept);
   return kept;
 }
 

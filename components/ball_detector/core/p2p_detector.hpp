@@ -49,6 +49,14 @@ struct PixelToPixelParams {
   bool isolate_by_orientation = true;
   bool refine = true;          ///< sub-pixel least-squares refinement (addition)
   RefineParams refine_params;  ///< refinement and scoring options
+  /// Addition (with refine): the circles kept are refined once more from a wider first band
+  /// (kPolishFirstBandPx) with the robust fit (kPolishRobustFloorPx). Colour edges see a
+  /// patterned ball's panel and stripe boundaries, which near the rim run parallel to the
+  /// outline a pixel or two inside it; least squares let them pull fits inwards by up to 2 px
+  /// (p95, the simulator's panelled ball). Only the kept circles: the few that matter.
+  bool polish = true;
+  static constexpr double kPolishFirstBandPx = 4.0;
+  static constexpr double kPolishRobustFloorPx = 0.6;
 
   /// Names the first bad field and its allowed range, or nullopt.
   std::optional<std::string> validate() const;
@@ -123,6 +131,7 @@ struct CandidateOptions {
   int max_circles = 5;
   bool refine = true;
   RefineParams refine_params;
+  bool polish = false;  ///< PixelToPixelParams::polish
 };
 
 /// Pixel-to-Pixel: thin edge map -> per-window chord rules -> concave-side lines -> box filter
@@ -231,7 +240,9 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
                                        const CandidateOptions& options);
 
 /// The circles circles_from_votes keeps of the peaks' circles (in peak order): best score
-/// first, none within min_separation_px of a better one, at most max_circles.
-std::vector<Circle> select_circles(std::vector<Circle> found, const CandidateOptions& options);
+/// first, none within min_separation_px of a better one, at most max_circles; then polished on
+/// edges when options.polish (PixelToPixelParams::polish).
+std::vector<Circle> select_circles(const EdgeMap& edges, std::vector<Circle> found,
+                                   const CandidateOptions& options);
 
 }  // namespace stereoball::ball_detector

@@ -245,4 +245,19 @@ std::vector<SyntheticScene> make_suite(cv::Size size, int per_kind, std::uint32_
   return suite;
 }
 
+cv::Mat spotted_disc_image(cv::Size size, cv::Point centre_px, int radius_px, int spot_offset_px,
+                           int spot_radius_px) {
+  constexpr int kSub = 16;  // drawing shift of 4 bits
+  cv::Mat img(size, CV_8UC3, cv::Scalar(120, 120, 120));
+  cv::circle(img, centre_px * kSub, radius_px * kSub, cv::Scalar(30, 90, 230), cv::FILLED,
+             cv::LINE_AA, 4);
+  for (const double a : {-1.57, 0.5, 2.6}) {
+    const cv::Point spot(static_cast<int>(kSub * (centre_px.x + spot_offset_px * std::cos(a))),
+                         static_cast<int>(kSub * (centre_px.y + spot_offset_px * std::sin(a))));
+    cv::circle(img, spot, spot_radius_px * kSub, cv::Scalar(250, 250, 250), cv::FILLED, cv::LINE_AA,
+               4);
+  }
+  return img;
+}
+
 }  // namespace stereoball::ball_detector

@@ -55,6 +55,13 @@ enum class SceneKind {
 /// Display name of a scene kind.
 std::string scene_kind_name(SceneKind kind);
 
+/// An orange disc on grey with three white spots of spot_radius_px centred spot_offset_px from
+/// its centre, exact to 1/16 px (anti-aliased): with spot_offset + spot_radius a pixel or two
+/// short of radius, colour edges see each spot's boundary beside the rim, as on a panelled
+/// ball near its outline.
+cv::Mat spotted_disc_image(cv::Size size, cv::Point centre_px, int radius_px, int spot_offset_px,
+                           int spot_radius_px);
+
 /// One synthetic image and its ground truth (full visible-or-occluded ball discs).
 struct SyntheticScene {
   cv::Mat image;              ///< CV_8UC3

@@ -230,6 +230,15 @@ Rgb other_colour(Rng& rng, const RandomizeRanges& r, double ball_hue) {
                      rng.uniform(r.ball_value));
 }
 
+// A drawn diameter moved out of (ball / ratio, ball * ratio), to the nearer side that stays
+// within the range's top (no extra draw, so the scene's other draws are unchanged).
+double other_ball_diameter(double drawn_m, double ball_m, const RandomizeRanges& r) {
+  const double k = r.other_ball_min_size_ratio;
+  if (drawn_m <= ball_m / k || drawn_m >= ball_m * k) return drawn_m;
+  const bool larger_fits = ball_m * k <= r.ball_diameter_m.hi;
+  return drawn_m >= ball_m && larger_fits ? ball_m * k : ball_m / k;
+}
+
 PlateSpec wall_plate(Rng& rng, const RoomSpec& room) {
   PlateSpec p;
   const int wall = static_cast<int>(rng.next() % 3);  // far wall, right wall, left wall
@@ -283,7 +292,8 @@ void draw_clutter(Rng& rng, const RandomizeRanges& r, double ball_hue, Scenario&
   }
   int placed_balls = 0, placed_on_boxes = 0;
   for (int i = 0; i < balls; ++i) {
-    const double radius = 0.5 * rng.uniform(r.ball_diameter_m);
+    const double radius =
+        0.5 * other_ball_diameter(rng.uniform(r.ball_diameter_m), 2.0 * b.radius_m, r);
     if (auto spot = free_spot(rng, s.room, 0.3 + radius, keep)) {
       s.spheres.push_back(
           {{spot->first, spot->second, radius}, radius, other_colour(rng, r, ball_hue)});
@@ -365,6 +375,8 @@ std::optional<std::string> RandomizeRanges::validate() const {
   if (auto e = check_probability("distractors.probability", distractor_probability)) return e;
   if (!(other_ball_min_hue_gap_deg >= 0.0 && other_ball_min_hue_gap_deg <= 180.0))
     return "distractors.other_ball_min_hue_gap_deg: must be in [0, 180]";
+  if (!(other_ball_min_size_ratio >= 1.0 && other_ball_min_size_ratio <= 3.0))
+    return "distractors.other_ball_min_size_ratio: must be in [1, 3]";
   return std::nullopt;
 }
 

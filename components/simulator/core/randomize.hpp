@@ -65,6 +65,10 @@ struct RandomizeRanges {
   Range objects_on_boxes{0, 1};
   double distractor_probability = 0.6;  ///< a scene has any distractor at all
   double other_ball_min_hue_gap_deg = 60.0;
+  /// Other balls' diameter differs from the ball's by at least this factor (either way). The
+  /// system is told only the ball's diameter: a ball of that size and another colour is, before
+  /// its colour has been learnt, the ball, so a look-alike that close is no fair distractor.
+  double other_ball_min_size_ratio = 1.3;
   // Leaving the view.
   Weights<4> leave_view{2.0, 1.0, 1.0, 1.0};
   Range slow_turn_radps{0.3, 0.6};  ///< the slow base's yaw-rate limit

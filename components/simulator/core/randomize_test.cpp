@@ -115,9 +115,12 @@ TEST(Randomize, EveryRangeIsRespectedAndEveryScenarioIsValid) {
       EXPECT_TRUE(within(2.0 * sp.radius_m, {0.0, r.ball_diameter_m.hi}));
       if (std::abs(sp.center_m.z - sp.radius_m) < 1e-9) {
         ++floor_balls;
-        // Other balls on the floor differ in hue from the ball by the configured gap
+        // Other balls on the floor differ in hue from the ball by the configured gap, and in
+        // size by the configured factor
         const double gap = std::abs(to_hsv(sp.color)[0] - hsv_a[0]);
         EXPECT_GE(std::min(gap, 360.0 - gap), r.other_ball_min_hue_gap_deg - 1.0);
+        const double ratio = sp.radius_m / s.ball->radius_m;
+        EXPECT_GE(std::max(ratio, 1.0 / ratio), r.other_ball_min_size_ratio - 1e-9);
       }
     }
     EXPECT_LE(floor_balls, static_cast<int>(r.other_balls.hi));

@@ -58,6 +58,7 @@ void read_randomize_ranges(params::ParamsFile& f, RandomizeRanges& r) {
   read_range(f, "distractors.wall_plates", r.wall_plates);
   read_range(f, "distractors.objects_on_boxes", r.objects_on_boxes);
   f.read("distractors.other_ball_min_hue_gap_deg", r.other_ball_min_hue_gap_deg, 0.0, 180.0);
+  f.read("distractors.other_ball_min_size_ratio", r.other_ball_min_size_ratio, 1.0, 3.0);
   read_weights(f, "leave_view.kind_weights", r.leave_view, kLeaveNames);
   read_range(f, "leave_view.slow_turn_radps", r.slow_turn_radps);
   read_range(f, "leave_view.leave_speed_mps", r.leave_speed_mps);
