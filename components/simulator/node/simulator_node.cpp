@@ -42,6 +42,9 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       base_(runner, base::VelocityGateParams{params.robot.command_timeout_ns},
             [this](const base::BaseCommand& c) { on_command(c); }) {
   if (options_.output.compressed()) compressor_.emplace(options_.output);
+  if (!options_.output.compressed() && options_.output.preview_max_width_px > 0)
+    preview_ = std::make_unique<stereo::PreviewPublisher>(runner.participant(), options_.output,
+                                                          frame_source_);
   // Transient-local: written once, every late joiner still receives it.
   calibration_.write(
       stereo::calibration_to_message(published_, node::now_ns(), options_.calibration_source));
@@ -129,6 +132,7 @@ void SimulatorNode::tick(int64_t /*now_ns*/) {
   if (node::monotonic_ns() > exposure + kLateNs) runner_.health().count("late_frames");
   frames_.write(frame, stamp_ns);
   runner_.health().count(frame_topic_);
+  offer_preview(*view);
   stereoball_msg_GroundTruth truth = ground_truth_to_msg(f.truth, stamp_ns, scenario_.name);
   truth.frame_seq = total_frames_;
   truth_.write(truth, stamp_ns);
@@ -162,6 +166,14 @@ Result<stereo::FrameView> SimulatorNode::frame_view(const SimFrame& f, int64_t s
   runner_.health().set_counter("encode_us",
                                static_cast<uint64_t>((node::monotonic_ns() - start) / 1000));
   return compressed;
+}
+
+void SimulatorNode::offer_preview(const stereo::FrameView& view) {
+  if (!preview_) return;
+  preview_->offer(view);
+  runner_.health().set_counter("preview_frames", preview_->published());
+  runner_.health().set_counter("preview_encode_us", preview_->encode_us());
+  if (auto error = preview_->take_error()) runner_.health().error("preview", *error);
 }
 
 }  // namespace stereoball::simulator

@@ -1,0 +1,113 @@
+#include "stereo/frame/preview_publisher.hpp"
+
+#include <pthread.h>
+
+#include <chrono>
+#include <cstring>
+
+#include "stereo/frame/preview_encoder.hpp"
+#include "stereoball/topics.hpp"
+
+namespace stereoball::stereo {
+namespace {
+
+void copy_eye(const EyeView& from, std::vector<uint8_t>& bytes, EyeView& to) {
+  bytes.resize(from.bytes);  // same size frame after frame: no allocation after the first
+  if (from.bytes > 0) std::memcpy(bytes.data(), from.data, from.bytes);
+  to = from;
+  to.data = bytes.data();
+}
+
+void fill_eye(const EyeView& v, stereoball_msg_EyeImage& m) {
+  m.capture_stamp_ns = v.capture_stamp_ns;
+  m.width_px = v.width_px;
+  m.height_px = v.height_px;
+  m.step_bytes = v.step_bytes;
+  m.data._buffer = const_cast<uint8_t*>(v.data);
+  m.data._length = static_cast<uint32_t>(v.bytes);
+  m.data._maximum = static_cast<uint32_t>(v.bytes);
+  m.data._release = false;
+}
+
+int64_t steady_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+PreviewPublisher::PreviewPublisher(const dds::DomainParticipant& participant,
+                                   const FrameCodecParams& params, std::string source)
+    : source_(std::move(source)), writer_(participant, topics::kStereoPreview) {
+  worker_ = std::thread([this, params] { run(params); });
+}
+
+PreviewPublisher::~PreviewPublisher() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  worker_.join();
+}
+
+void PreviewPublisher::offer(const FrameView& view) {
+  // The only cost while nobody watches: one look at the matched-reader count.
+  if (writer_.matched_readers() == 0) return;
+  {
+    std::lock_guard lock(mutex_);
+    pending_.view = view;
+    copy_eye(view.left, pending_.left, pending_.view.left);
+    copy_eye(view.right, pending_.right, pending_.view.right);
+    has_pending_ = true;
+  }
+  wake_.notify_one();
+}
+
+std::optional<std::string> PreviewPublisher::take_error() {
+  std::lock_guard lock(mutex_);
+  return std::exchange(error_, std::nullopt);
+}
+
+void PreviewPublisher::run(FrameCodecParams params) {
+  pthread_setname_np(pthread_self(), "preview");  // its CPU shows per thread
+  PreviewEncoder encoder(params);
+  Slot working;
+  while (true) {
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [this] { return stop_ || has_pending_; });
+      if (stop_) return;
+      // Swapping moves the buffers with the view that points into them.
+      std::swap(working, pending_);
+      has_pending_ = false;
+    }
+    const int64_t start_us = steady_us();
+    auto preview = encoder.step(working.view);
+    if (!preview) {
+      std::lock_guard lock(mutex_);
+      error_ = preview.error();
+      continue;
+    }
+    stereoball_msg_StereoPreview msg{};
+    msg.seq = preview->view.seq;
+    msg.stamp_ns = preview->view.stamp_ns;
+    msg.source = const_cast<char*>(source_.c_str());
+    msg.source_width_px = preview->source_width_px;
+    msg.source_height_px = preview->source_height_px;
+    fill_eye(preview->view.left, msg.left);
+    fill_eye(preview->view.right, msg.right);
+    try {
+      writer_.write(msg, msg.stamp_ns);
+    } catch (const std::exception& e) {
+      std::lock_guard lock(mutex_);
+      error_ = std::string("stereo/preview: ") + e.what();
+      continue;
+    }
+    encode_us_ = static_cast<uint64_t>(steady_us() - start_us);
+    ++published_;
+  }
+}
+
+}  // namespace stereoball::stereo
