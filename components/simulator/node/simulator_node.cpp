@@ -132,12 +132,13 @@ void SimulatorNode::tick(int64_t /*now_ns*/) {
   if (node::monotonic_ns() > exposure + kLateNs) runner_.health().count("late_frames");
   frames_.write(frame, stamp_ns);
   runner_.health().count(frame_topic_);
-  offer_preview(*view);
   stereoball_msg_GroundTruth truth = ground_truth_to_msg(f.truth, stamp_ns, scenario_.name);
   truth.frame_seq = total_frames_;
   truth_.write(truth, stamp_ns);
   runner_.health().count(std::string(topics::kGroundTruth.spec.name));
   runner_.health().set_counter("frames", ++total_frames_);
+  // Last: the preview's copy (only while watched) delays neither the frame nor its truth.
+  offer_preview(*view);
 }
 
 bool SimulatorNode::wait_until(int64_t due_monotonic_ns) const {

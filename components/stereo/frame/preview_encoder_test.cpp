@@ -42,12 +42,12 @@ TEST(PreviewEncoder, BgrEyesBecomeJpegsOfTheSameSizeAndFrame) {
   // Given a 640x480 bgr8 frame and previews up to 640 px wide
   const cv::Mat left = gradient(640, 480), right = gradient(640, 480);
   auto view = view_of_images(left, right, 42, 1'000'000'123);
-  ASSERT_TRUE(view.has_value());
+  ASSERT_TRUE(view.ok());
   PreviewEncoder encoder(preview_params(640));
   // When the preview is made
   const auto p = encoder.step(*view);
   // Then both eyes are JPEGs of 640x480 close to the original, with the frame's seq and stamps
-  ASSERT_TRUE(p.has_value()) << p.error();
+  ASSERT_TRUE(p.ok()) << p.error();
   EXPECT_EQ(p->view.encoding, "jpeg");
   EXPECT_EQ(p->view.seq, 42u);
   EXPECT_EQ(p->view.stamp_ns, 1'000'000'123);
@@ -69,12 +69,12 @@ TEST(PreviewEncoder, WideEyesAreScaledDownAndKeepTheirSourceSize) {
   // Given 1280x720 eyes and previews up to 640 px wide
   const cv::Mat left = gradient(1280, 720);
   auto view = view_of_images(left, left, 1, 5);
-  ASSERT_TRUE(view.has_value());
+  ASSERT_TRUE(view.ok());
   PreviewEncoder encoder(preview_params(640));
   // When the preview is made
   const auto p = encoder.step(*view);
   // Then the eyes are 640x360 and the source size says 1280x720 (the detections' pixels)
-  ASSERT_TRUE(p.has_value()) << p.error();
+  ASSERT_TRUE(p.ok()) << p.error();
   EXPECT_EQ(decoded(p->view.left).size(), cv::Size(640, 360));
   EXPECT_EQ(p->view.left.width_px, 640u);
   EXPECT_EQ(p->view.left.height_px, 360u);
@@ -87,7 +87,7 @@ TEST(PreviewEncoder, MonoAndYuyvEyesAreEncoded) {
   cv::Mat grey;
   cv::cvtColor(gradient(320, 240), grey, cv::COLOR_BGR2GRAY);
   auto mono = view_of_images(grey, grey, 1, 5);
-  ASSERT_TRUE(mono.has_value());
+  ASSERT_TRUE(mono.ok());
   std::vector<uint8_t> yuyv(320 * 240 * 2, 128);
   FrameView packed;
   packed.encoding = "yuyv";
@@ -97,7 +97,7 @@ TEST(PreviewEncoder, MonoAndYuyvEyesAreEncoded) {
   // When previews are made, then both decode at 320x240
   for (const FrameView* v : {&*mono, &packed}) {
     const auto p = encoder.step(*v);
-    ASSERT_TRUE(p.has_value()) << v->encoding << ": " << p.error();
+    ASSERT_TRUE(p.ok()) << v->encoding << ": " << p.error();
     EXPECT_EQ(decoded(p->view.right).size(), cv::Size(320, 240)) << v->encoding;
   }
 }
@@ -105,25 +105,25 @@ TEST(PreviewEncoder, MonoAndYuyvEyesAreEncoded) {
 TEST(PreviewEncoder, BadInputIsRefusedWithTheReason) {
   const cv::Mat img = gradient(64, 48);
   auto good = view_of_images(img, img, 1, 5);
-  ASSERT_TRUE(good.has_value());
+  ASSERT_TRUE(good.ok());
   PreviewEncoder encoder(preview_params(640));
   // A compressed frame (its publisher offers no preview)
   FrameView jpeg = *good;
   jpeg.encoding = "jpeg";
   auto r = encoder.step(jpeg);
-  ASSERT_FALSE(r.has_value());
+  ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find("\"jpeg\""), std::string::npos) << r.error();
   // Fewer bytes than the size fields claim
   FrameView truncated = *good;
   truncated.right.bytes /= 2;
   r = encoder.step(truncated);
-  ASSERT_FALSE(r.has_value());
+  ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find("right eye"), std::string::npos) << r.error();
   // Eyes of different sizes
   FrameView mismatched = *good;
   mismatched.right.width_px = 32;
   r = encoder.step(mismatched);
-  ASSERT_FALSE(r.has_value());
+  ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find("differ"), std::string::npos) << r.error();
   // An odd yuyv width
   std::vector<uint8_t> yuyv(63 * 48 * 2);
@@ -132,7 +132,7 @@ TEST(PreviewEncoder, BadInputIsRefusedWithTheReason) {
   odd.left = {5, 63, 48, 126, yuyv.data(), yuyv.size()};
   odd.right = odd.left;
   r = encoder.step(odd);
-  ASSERT_FALSE(r.has_value());
+  ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find("odd"), std::string::npos) << r.error();
 }
 

@@ -3,8 +3,8 @@
 // compressed stream: a preview is made only while some reader of stereo/preview is matched, so
 // with no viewer open the robot pays one matched-reader check per frame and nothing else. It
 // is made off the capture path: offer() is called after the frame itself was published and
-// only copies the eyes into a one-slot mailbox (the newest frame wins); a worker thread
-// encodes (preview_encoder.hpp) and publishes.
+// only copies the eyes into a one-slot mailbox (the newest frame wins); a worker thread at low
+// priority (normal policy, nice 10) encodes (preview_encoder.hpp) and publishes.
 
 #include <atomic>
 #include <condition_variable>
