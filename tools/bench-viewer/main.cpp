@@ -239,6 +239,27 @@ std::vector<double> field(const std::vector<Sample>& v, double Sample::*f) {
   return out;
 }
 
+// One line per case: each name's CPU (median over the rounds), names under 0.2 % left out.
+void print_cpu_by_name(const std::vector<Case>& cases,
+                       std::map<std::string, std::vector<Sample>>& results,
+                       std::map<std::string, double> Sample::*by_name) {
+  for (const auto& c : cases) {
+    const auto& v = results[c.name];
+    if (v.empty() || (v.front().*by_name).empty()) continue;
+    std::string line;
+    for (const auto& [name, cpu] : v.front().*by_name) {
+      std::vector<double> per_round;
+      for (const auto& smp : v) {
+        const auto it = (smp.*by_name).find(name);
+        if (it != (smp.*by_name).end()) per_round.push_back(it->second);
+      }
+      const double m = median(per_round);
+      if (m > 0.2) line += (line.empty() ? "" : ", ") + name + " " + fmt(m);
+    }
+    std::printf("- %s: %s\n", c.name.c_str(), line.empty() ? "–" : line.c_str());
+  }
+}
+
 int run_cases(const Options& o, const bench::Source& source, const std::string& log) {
   bench::FrameRate frames(o.domain, source.partition());
   std::vector<Case> cases = {{"no viewer", false, 0, false, ""}};
@@ -318,37 +339,9 @@ int run_cases(const Options& o, const bench::Source& source, const std::string& 
   }
   std::printf(
       "\nthe viewer's CPU by thread, %% of one core (median of rounds; threads over 0.2)\n\n");
-  for (const auto& c : cases) {
-    const auto& v = results[c.name];
-    if (v.empty() || v.front().viewer_threads_cpu.empty()) continue;
-    std::string line;
-    for (const auto& [name, cpu] : v.front().viewer_threads_cpu) {
-      std::vector<double> per_round;
-      for (const auto& smp : v) {
-        const auto it = smp.viewer_threads_cpu.find(name);
-        if (it != smp.viewer_threads_cpu.end()) per_round.push_back(it->second);
-      }
-      const double m = median(per_round);
-      if (m > 0.2) line += (line.empty() ? "" : ", ") + name + " " + fmt(m);
-    }
-    std::printf("- %s: %s\n", c.name.c_str(), line.empty() ? "–" : line.c_str());
-  }
+  print_cpu_by_name(cases, results, &Sample::viewer_threads_cpu);
   std::printf("\nthe robot's CPU by process, %% of one core (median of rounds; over 0.2)\n\n");
-  for (const auto& c : cases) {
-    const auto& v = results[c.name];
-    if (v.empty() || v.front().robot_processes_cpu.empty()) continue;
-    std::string line;
-    for (const auto& [name, cpu] : v.front().robot_processes_cpu) {
-      std::vector<double> per_round;
-      for (const auto& smp : v) {
-        const auto it = smp.robot_processes_cpu.find(name);
-        if (it != smp.robot_processes_cpu.end()) per_round.push_back(it->second);
-      }
-      const double m = median(per_round);
-      if (m > 0.2) line += (line.empty() ? "" : ", ") + name + " " + fmt(m);
-    }
-    std::printf("- %s: %s\n", c.name.c_str(), line.empty() ? "–" : line.c_str());
-  }
+  print_cpu_by_name(cases, results, &Sample::robot_processes_cpu);
   std::printf("\nwhere the latency goes, p50 ms per stage (all rounds)\n\n| case |");
   for (const char* name : kStageNames) std::printf(" %s |", name);
   std::printf(" whole way p50 |\n|---|");

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "stereo/frame/frame_msg.hpp"
 #include "stereo/frame/preview_encoder.hpp"
 #include "stereoball/topics.hpp"
 
@@ -19,17 +20,6 @@ void copy_eye(const EyeView& from, std::vector<uint8_t>& bytes, EyeView& to) {
   if (from.bytes > 0) std::memcpy(bytes.data(), from.data, from.bytes);
   to = from;
   to.data = bytes.data();
-}
-
-void fill_eye(const EyeView& v, stereoball_msg_EyeImage& m) {
-  m.capture_stamp_ns = v.capture_stamp_ns;
-  m.width_px = v.width_px;
-  m.height_px = v.height_px;
-  m.step_bytes = v.step_bytes;
-  m.data._buffer = const_cast<uint8_t*>(v.data);
-  m.data._length = static_cast<uint32_t>(v.bytes);
-  m.data._maximum = static_cast<uint32_t>(v.bytes);
-  m.data._release = false;
 }
 
 int64_t steady_us() {
@@ -112,8 +102,8 @@ void PreviewPublisher::run(FrameCodecParams params) {
     msg.source = const_cast<char*>(source_.c_str());
     msg.source_width_px = preview->source_width_px;
     msg.source_height_px = preview->source_height_px;
-    fill_eye(preview->view.left, msg.left);
-    fill_eye(preview->view.right, msg.right);
+    fill_eye_message(preview->view.left, msg.left);
+    fill_eye_message(preview->view.right, msg.right);
     try {
       writer_.write(msg, msg.stamp_ns);
     } catch (const std::exception& e) {
