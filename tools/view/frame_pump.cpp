@@ -17,8 +17,9 @@ namespace stereoball::view {
 namespace {
 
 // How long a new stereo/preview reader waits for a publisher before the raw frames are read:
-// endpoint discovery between running participants takes milliseconds on one host and well
-// under a second on a LAN; a viewer of a publisher without previews starts this much later.
+// endpoint discovery between participants that already know each other takes milliseconds
+// on one host; a viewer of a publisher without previews shows its first image this much
+// later, and a preview found later still takes over.
 constexpr int64_t kPreviewDiscoveryNs = 1'000'000'000;
 
 // A reader with its waitset, alive only while images are wanted.
