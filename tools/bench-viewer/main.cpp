@@ -4,7 +4,8 @@
 // viewer's CPU (% of one core, median), the robot processes' CPU, images per client,
 // capture -> client latency p50/p90 and the viewer's resident memory. --soak S instead
 // connects and disconnects --clients clients in a loop for S seconds and prints the viewer's
-// memory every minute and its slope.
+// memory every minute and its slope. --watch P only starts a viewer on partition P with
+// --clients page clients (someone watching another program's robot).
 
 #include <unistd.h>
 
