@@ -90,5 +90,60 @@ TEST(ViewerFlow, PairsCarryTheSizeTheDetectionsReferTo) {
   EXPECT_GT(h->received_ms, 0);
 }
 
+TEST(ViewerFlow, APublishersPreviewIsShownAndMadeOnlyWhileSomeoneWatches) {
+  // Given a publisher that offers stereo/preview beside its raw frames, and a viewer
+  const std::string partition = unique_partition();
+  KnownScene scene(partition, 10, /*noise_frames=*/false, /*with_preview=*/true);
+  auto viewer = start_viewer(partition);
+  ASSERT_GT(viewer.port, 0) << viewer.process.output();
+  // When no client is connected, then no preview is made (no reader asks for one)
+  ASSERT_TRUE(eventually([&] { return scene.frames_published() >= 15; }, 60s));
+  EXPECT_EQ(scene.previews_published(), 0u);
+  EXPECT_EQ(scene.preview_readers(), 0u);
+  // When a page connects
+  auto page = std::make_unique<WsClient>(viewer.port, WsClient::Kind::kPage);
+  ASSERT_TRUE(page->connected());
+  ASSERT_TRUE(eventually([&] { return page->images() >= 5; }, 60s))
+      << http_get(viewer.port, "/stats");
+  // Then it is shown the publisher's previews, none encoded by the viewer, and the raw frames
+  // are not sent to the viewer at all
+  EXPECT_GE(stats_counter(viewer.port, "pairs_from_preview"), 5) << http_get(viewer.port, "/stats");
+  EXPECT_EQ(stats_counter(viewer.port, "pairs_encoded"), 0) << http_get(viewer.port, "/stats");
+  EXPECT_GT(scene.previews_published(), 0u);
+  EXPECT_EQ(scene.frame_readers(), 0u);
+  // And each pair still says the raw eyes' size (the detections' pixels) and the capture time
+  const auto h = page->last_pair();
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->source_width_px, scene.values().width_px);
+  EXPECT_EQ(h->source_height_px, scene.values().height_px);
+  EXPECT_EQ(h->capture_ms, scene.values().capture_stamp_ns / 1e6);
+  // When the page leaves, the viewer drops its preview reader and the publisher stops making
+  // previews
+  page.reset();
+  ASSERT_TRUE(eventually([&] { return scene.preview_readers() == 0; }, 60s));
+  const uint64_t previews = scene.previews_published();
+  const uint64_t frames = scene.frames_published();
+  ASSERT_TRUE(eventually([&] { return scene.frames_published() >= frames + 15; }, 60s));
+  // (one preview may have been in the worker when the reader went)
+  EXPECT_LE(scene.previews_published(), previews + 1);
+}
+
+TEST(ViewerFlow, WithNoPreviewTheRawFramesAreShownEvenWhenOneIsOffered) {
+  // Given a publisher with a preview and a viewer told not to use it
+  const std::string partition = unique_partition();
+  KnownScene scene(partition, 10, /*noise_frames=*/false, /*with_preview=*/true);
+  auto viewer = start_viewer(partition, {"--no-preview"});
+  ASSERT_GT(viewer.port, 0) << viewer.process.output();
+  // When a page connects
+  WsClient page(viewer.port, WsClient::Kind::kPage);
+  ASSERT_TRUE(page.connected());
+  ASSERT_TRUE(eventually([&] { return page.images() >= 3; }, 60s))
+      << http_get(viewer.port, "/stats");
+  // Then the viewer encodes the raw frames and never asks for a preview
+  EXPECT_GE(stats_counter(viewer.port, "pairs_encoded"), 3) << http_get(viewer.port, "/stats");
+  EXPECT_EQ(stats_counter(viewer.port, "pairs_from_preview"), 0);
+  EXPECT_EQ(scene.previews_published(), 0u);
+}
+
 }  // namespace
 }  // namespace stereoball::testing

@@ -9,6 +9,7 @@
 #include "common/dds/participant.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
+#include "stereo/frame/preview_publisher.hpp"
 #include "stereoball/topics.hpp"
 
 namespace stereoball::testing {
@@ -27,10 +28,14 @@ RunningViewer start_viewer(const std::string& partition, const std::vector<std::
   return v;
 }
 
-KnownScene::KnownScene(const std::string& partition, double rate_hz, bool noise_frames) {
-  thread_ = std::thread([this, partition, rate_hz, noise_frames] {
+KnownScene::KnownScene(const std::string& partition, double rate_hz, bool noise_frames,
+                       bool with_preview) {
+  thread_ = std::thread([this, partition, rate_hz, noise_frames, with_preview] {
     dds::DomainParticipant p({test_domain(), partition});
     dds::DataWriter<stereoball_msg_StereoFrame> frames(p, topics::kStereoFrame);
+    std::unique_ptr<stereo::PreviewPublisher> preview;
+    if (with_preview)
+      preview = std::make_unique<stereo::PreviewPublisher>(p, stereo::FrameCodecParams{}, "test");
     dds::DataWriter<stereoball_msg_BallDetection> detections(p, topics::kBallDetection);
     dds::DataWriter<stereoball_msg_BallTrack> tracks(p, topics::kBallTrack);
     dds::DataWriter<stereoball_msg_GroundTruth> truth(p, topics::kGroundTruth);
@@ -59,6 +64,20 @@ KnownScene::KnownScene(const std::string& partition, double rate_hz, bool noise_
       }
       frames.write(f);
       ++frames_published_;
+      frame_readers_ = frames.matched_readers();
+      if (preview) {
+        stereo::FrameView view;
+        view.seq = seq;
+        view.stamp_ns = v.capture_stamp_ns;
+        view.encoding = "bgr8";
+        view.left = {v.capture_stamp_ns, v.width_px,  v.height_px,
+                     v.width_px * 3,     left.data(), left.size()};
+        view.right = {v.capture_stamp_ns, v.width_px,   v.height_px,
+                      v.width_px * 3,     right.data(), right.size()};
+        preview->offer(view);
+        previews_published_ = preview->published();
+        preview_readers_ = preview->matched_readers();
+      }
       stereoball_msg_BallDetection d{};
       d.frame_seq = seq;
       d.capture_stamp_ns = v.capture_stamp_ns;

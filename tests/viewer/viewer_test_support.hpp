@@ -37,19 +37,28 @@ struct SceneValues {
 };
 
 /// Publishes frames (noise or smooth), detections, tracks and ground truth at rate_hz on its
-/// own thread until destroyed.
+/// own thread until destroyed; with_preview: also stereo/preview beside the frames, as
+/// camera_server and the simulator do (stereo/frame/preview_publisher.hpp).
 class KnownScene {
  public:
-  KnownScene(const std::string& partition, double rate_hz, bool noise_frames = false);
+  KnownScene(const std::string& partition, double rate_hz, bool noise_frames = false,
+             bool with_preview = false);
   ~KnownScene();
   const SceneValues& values() const { return values_; }
   /// Stereo frames written so far.
   uint64_t frames_published() const { return frames_published_.load(); }
+  /// Previews made and published so far (0 without with_preview).
+  uint64_t previews_published() const { return previews_published_.load(); }
+  /// Readers matched now with the stereo/frame writer, and with the stereo/preview writer.
+  uint32_t frame_readers() const { return frame_readers_.load(); }
+  uint32_t preview_readers() const { return preview_readers_.load(); }
 
  private:
   SceneValues values_;
   std::atomic<bool> stop_{false};
   std::atomic<uint64_t> frames_published_{0};
+  std::atomic<uint64_t> previews_published_{0};
+  std::atomic<uint32_t> frame_readers_{0}, preview_readers_{0};
   std::thread thread_;
 };
 

@@ -4,7 +4,8 @@
 // viewer's CPU (% of one core, median), the robot processes' CPU, images per client,
 // capture -> client latency p50/p90 and the viewer's resident memory. --soak S instead
 // connects and disconnects --clients clients in a loop for S seconds and prints the viewer's
-// memory every minute and its slope.
+// memory every minute and its slope. --watch P only starts a viewer on partition P with
+// --clients page clients (someone watching another program's robot).
 
 #include <unistd.h>
 
@@ -46,6 +47,8 @@ struct Options {
   std::vector<int> clients;
   bool browser = true;
   double soak_s = 0;
+  std::string watch_partition;  // --watch: only a viewer with clients on someone else's robot
+  double watch_s = 0;
   std::vector<std::string> viewer_args;
   bool jpeg = false;            // synthetic frames as from JPEG cameras
   std::string baseline_viewer;  // another stereoball-view build, measured side by side
@@ -72,6 +75,13 @@ double sum_cpu_seconds(const std::vector<pid_t>& pids) {
 }
 
 using vc::stats_counter;
+
+// Pairs the viewer made for its clients: encoded from raw frames, or forwarded from the
+// publisher's stereo/preview (a viewer built before previews reports no such counter).
+long pairs_made(int port) {
+  return stats_counter(port, "pairs_encoded") +
+         std::max(0L, stats_counter(port, "pairs_from_preview"));
+}
 
 // A running stereoball-view and its port.
 struct Viewer {
@@ -113,7 +123,8 @@ struct Sample {
   double frames_hz = NAN, encoded_per_s = NAN;
   std::vector<double> latencies_ms;
   std::vector<double> stages_ms[kStages];
-  std::map<std::string, double> viewer_threads_cpu;  // % of one core per thread name
+  std::map<std::string, double> viewer_threads_cpu;   // % of one core per thread name
+  std::map<std::string, double> robot_processes_cpu;  // % of one core per robot process name
 };
 
 class Measurer {
@@ -148,7 +159,9 @@ class Measurer {
     const double viewer0 = viewer ? bench::cpu_seconds(vp).value_or(NAN) : NAN;
     const auto threads0 = viewer ? bench::thread_cpu_seconds(vp) : std::map<std::string, double>{};
     const double robot0 = sum_cpu_seconds(robot);
-    const long encoded0 = viewer ? stats_counter(viewer->port, "pairs_encoded") : 0;
+    std::map<pid_t, double> robot_each0;
+    for (pid_t r : robot) robot_each0[r] = bench::cpu_seconds(r).value_or(NAN);
+    const long encoded0 = viewer ? pairs_made(viewer->port) : 0;
     uint64_t images0 = 0;
     for (auto& cl : clients) images0 += cl->images();
     std::vector<size_t> lat0;
@@ -172,10 +185,13 @@ class Measurer {
       }
     }
     if (!robot.empty()) s.robot_cpu = (sum_cpu_seconds(robot) - robot0) / wall * 100;
+    for (pid_t r : robot)
+      s.robot_processes_cpu[bench::process_name(r)] +=
+          (bench::cpu_seconds(r).value_or(NAN) - robot_each0[r]) / wall * 100;
     s.frames_hz = frames_.rate_hz();
     if (viewer) {
       s.rss_mb = bench::rss_mb(vp).value_or(NAN);
-      s.encoded_per_s = (stats_counter(viewer->port, "pairs_encoded") - encoded0) / wall;
+      s.encoded_per_s = (pairs_made(viewer->port) - encoded0) / wall;
     }
     uint64_t images = 0;
     for (size_t i = 0; i < clients.size(); ++i) {
@@ -222,6 +238,27 @@ std::vector<double> field(const std::vector<Sample>& v, double Sample::*f) {
   for (const auto& s : v)
     if (!std::isnan(s.*f)) out.push_back(s.*f);
   return out;
+}
+
+// One line per case: each name's CPU (median over the rounds), names under 0.2 % left out.
+void print_cpu_by_name(const std::vector<Case>& cases,
+                       std::map<std::string, std::vector<Sample>>& results,
+                       std::map<std::string, double> Sample::*by_name) {
+  for (const auto& c : cases) {
+    const auto& v = results[c.name];
+    if (v.empty() || (v.front().*by_name).empty()) continue;
+    std::string line;
+    for (const auto& [name, cpu] : v.front().*by_name) {
+      std::vector<double> per_round;
+      for (const auto& smp : v) {
+        const auto it = (smp.*by_name).find(name);
+        if (it != (smp.*by_name).end()) per_round.push_back(it->second);
+      }
+      const double m = median(per_round);
+      if (m > 0.2) line += (line.empty() ? "" : ", ") + name + " " + fmt(m);
+    }
+    std::printf("- %s: %s\n", c.name.c_str(), line.empty() ? "–" : line.c_str());
+  }
 }
 
 int run_cases(const Options& o, const bench::Source& source, const std::string& log) {
@@ -277,7 +314,8 @@ int run_cases(const Options& o, const bench::Source& source, const std::string& 
       source.describe().c_str(), o.phase_s, o.repeats, load_start, load_end,
       sysconf(_SC_NPROCESSORS_ONLN));
   std::printf(
-      "| case | viewer CPU, %% of one core (runs) | robot CPU %% | frames/s | pairs encoded/s | "
+      "| case | viewer CPU, %% of one core (runs) | robot CPU %% | frames/s | pairs made/s "
+      "(encoded or preview) | "
       "images/s per client | capture→client p50 / p90 ms | viewer RSS MB |\n"
       "|---|---|---|---|---|---|---|---|\n");
   for (const auto& c : cases) {
@@ -302,21 +340,9 @@ int run_cases(const Options& o, const bench::Source& source, const std::string& 
   }
   std::printf(
       "\nthe viewer's CPU by thread, %% of one core (median of rounds; threads over 0.2)\n\n");
-  for (const auto& c : cases) {
-    const auto& v = results[c.name];
-    if (v.empty() || v.front().viewer_threads_cpu.empty()) continue;
-    std::string line;
-    for (const auto& [name, cpu] : v.front().viewer_threads_cpu) {
-      std::vector<double> per_round;
-      for (const auto& smp : v) {
-        const auto it = smp.viewer_threads_cpu.find(name);
-        if (it != smp.viewer_threads_cpu.end()) per_round.push_back(it->second);
-      }
-      const double m = median(per_round);
-      if (m > 0.2) line += (line.empty() ? "" : ", ") + name + " " + fmt(m);
-    }
-    std::printf("- %s: %s\n", c.name.c_str(), line.empty() ? "–" : line.c_str());
-  }
+  print_cpu_by_name(cases, results, &Sample::viewer_threads_cpu);
+  std::printf("\nthe robot's CPU by process, %% of one core (median of rounds; over 0.2)\n\n");
+  print_cpu_by_name(cases, results, &Sample::robot_processes_cpu);
   std::printf("\nwhere the latency goes, p50 ms per stage (all rounds)\n\n| case |");
   for (const char* name : kStageNames) std::printf(" %s |", name);
   std::printf(" whole way p50 |\n|---|");
@@ -442,6 +468,36 @@ int run_soak(const Options& o, const bench::Source& source, const std::string& l
   return 0;
 }
 
+// A viewer with --clients page-like clients on another program's partition (e.g. `stereoball
+// bench latency` measured with and without someone watching) for --watch-s seconds.
+int run_watch(const Options& o, const std::string& log) {
+  const auto viewer =
+      start_viewer(o, bench::sibling_program("stereoball-view"), o.watch_partition, log);
+  if (!viewer) {
+    std::fprintf(stderr, "bench viewer: the viewer did not start (see %s-*.log)\n", log.c_str());
+    return 1;
+  }
+  const int n = o.clients.empty() ? 1 : o.clients.front();
+  std::vector<std::unique_ptr<vc::WsClient>> clients;
+  for (int i = 0; i < n; ++i)
+    clients.push_back(std::make_unique<vc::WsClient>(viewer->port, vc::WsClient::Kind::kPage));
+  const pid_t vp = viewer->child->pid();
+  const double cpu0 = bench::cpu_seconds(vp).value_or(NAN);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(std::chrono::duration<double>(o.watch_s));
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  uint64_t images = 0;
+  for (const auto& c : clients) images += c->images();
+  std::printf(
+      "watched partition %s with %d client(s) for %.0f s: %.1f images/s per client, "
+      "viewer CPU %.1f %% of one core, %ld pairs from previews, %ld encoded\n",
+      o.watch_partition.c_str(), n, wall, images / wall / n,
+      (bench::cpu_seconds(vp).value_or(NAN) - cpu0) / wall * 100,
+      stats_counter(viewer->port, "pairs_from_preview"),
+      stats_counter(viewer->port, "pairs_encoded"));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -468,6 +524,10 @@ int main(int argc, char** argv) {
   app.add_flag("!--no-browser", o.browser, "skip the headless Chromium case");
   app.add_option("--soak", o.soak_s, "seconds of clients connecting and disconnecting instead")
       ->check(CLI::Range(10.0, 86400.0));
+  app.add_option("--watch", o.watch_partition,
+                 "no source: a viewer (and --clients page clients, default 1) on this partition "
+                 "for --watch-s seconds (wildcards work)");
+  app.add_option("--watch-s", o.watch_s, "seconds of --watch")->check(CLI::Range(1.0, 86400.0));
   app.add_option("--viewer-arg", o.viewer_args, "extra argument for stereoball view (repeatable)")
       ->allow_extra_args(false);
   app.add_option("--baseline-viewer", o.baseline_viewer,
@@ -485,6 +545,7 @@ int main(int argc, char** argv) {
     if (std::filesystem::exists(xml))
       setenv("CYCLONEDDS_URI", ("file://" + std::filesystem::absolute(xml).string()).c_str(), 1);
   }
+  if (!o.watch_partition.empty()) return run_watch(o, log);
   std::unique_ptr<bench::Source> source;
   if (o.source == "demo") {
     std::string error;

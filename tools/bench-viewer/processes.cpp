@@ -55,6 +55,13 @@ std::map<std::string, double> thread_cpu_seconds(pid_t pid) {
   return out;
 }
 
+std::string process_name(pid_t pid) {
+  std::ifstream comm("/proc/" + std::to_string(pid) + "/comm");
+  std::string name;
+  std::getline(comm, name);
+  return name.empty() ? "?" : name;
+}
+
 std::optional<double> rss_mb(pid_t pid) {
   std::ifstream f("/proc/" + std::to_string(pid) + "/status");
   for (std::string line; std::getline(f, line);)

@@ -22,6 +22,8 @@ std::optional<double> cpu_seconds(pid_t pid);
 std::map<std::string, double> thread_cpu_seconds(pid_t pid);
 /// Resident memory of a process, MB; nullopt when it is gone.
 std::optional<double> rss_mb(pid_t pid);
+/// The command name of a process (/proc/PID/comm), "?" when it is gone.
+std::string process_name(pid_t pid);
 /// Direct children of a process.
 std::vector<pid_t> children_of(pid_t pid);
 /// 1-minute load average of the host.

@@ -25,6 +25,7 @@ struct Options {
   sb::view::ServerParams server;
   sb::viewer::DeriverParams derive;
   double image_rate_hz = 30;
+  bool no_preview = false;
 };
 
 // Every non-image input: converted under one lock, derived messages handed to the server.
@@ -70,6 +71,9 @@ int main(int argc, char** argv) {
   app.add_option("--max-input-height", o.derive.encoder.max_input_height_px,
                  "refuse eyes taller than this (as --max-input-width)")
       ->capture_default_str();
+  app.add_flag("--no-preview", o.no_preview,
+               "always show stereo/frame, even when its publisher offers stereo/preview (JPEG "
+               "eyes made on the robot while a viewer reads them)");
   double stall_s = 5;
   app.add_option("--client-stall-s", stall_s,
                  "cut off a client whose backlog stays over the image drop limit this long")
@@ -137,7 +141,8 @@ int main(int argc, char** argv) {
       deriver.on_health(m);
     });
 
-    sb::view::FramePump pump(runner.participant(), o.derive.encoder, o.image_rate_hz, server);
+    sb::view::FramePump pump(runner.participant(), o.derive.encoder, o.image_rate_hz, !o.no_preview,
+                             server);
     pump.start();
     runner.every(1'000'000'000, [&](int64_t) {
       const auto s = server.stats();

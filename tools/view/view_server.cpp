@@ -69,6 +69,7 @@ struct ViewServer::Impl {
   std::vector<uint32_t> channel_ids;
   std::string session_id = std::to_string(node::now_ns());
   std::atomic<int> pairs_pending{0};
+  std::atomic<uint64_t> pairs_from_preview{0};
   std::atomic<uint64_t> connections{0}, disconnected_slow{0}, pairs_encoded{0}, images_sent{0},
       images_dropped{0}, bad_client_messages{0}, browsers{0}, foxglove_clients{0};
 
@@ -200,11 +201,12 @@ struct ViewServer::Impl {
         buf, sizeof buf,
         "{\"browsers\":%llu,\"foxglove_clients\":%llu,\"connections\":%llu,"
         "\"disconnected_slow\":%llu,\"pairs_encoded\":%llu,\"images_sent\":%llu,"
-        "\"images_dropped\":%llu,\"bad_client_messages\":%llu}\n",
+        "\"images_dropped\":%llu,\"bad_client_messages\":%llu,\"pairs_from_preview\":%llu}\n",
         (unsigned long long)browsers.load(), (unsigned long long)foxglove_clients.load(),
         (unsigned long long)connections.load(), (unsigned long long)disconnected_slow.load(),
         (unsigned long long)pairs_encoded.load(), (unsigned long long)images_sent.load(),
-        (unsigned long long)images_dropped.load(), (unsigned long long)bad_client_messages.load());
+        (unsigned long long)images_dropped.load(), (unsigned long long)bad_client_messages.load(),
+        (unsigned long long)pairs_from_preview.load());
     return buf;
   }
 
@@ -336,7 +338,7 @@ bool ViewServer::wait_until_ready_for_image(int64_t timeout_ns) {
 
 void ViewServer::publish_pair(std::shared_ptr<const viewer::PairJpeg> pair) {
   Impl* impl = impl_.get();
-  ++impl->pairs_encoded;
+  ++(pair->from_preview ? impl->pairs_from_preview : impl->pairs_encoded);
   // At most two pairs wait for the server thread; beyond that a pair is not queued at all
   // (a newer one follows), so a busy server never piles up images.
   if (impl->pairs_pending.fetch_add(1) >= 2) {
@@ -357,9 +359,9 @@ void ViewServer::publish_derived(std::vector<viewer::DerivedMessage> messages) {
 }
 
 ServerStats ViewServer::stats() const {
-  return {impl_->browsers,          impl_->foxglove_clients,   impl_->connections,
-          impl_->disconnected_slow, impl_->pairs_encoded,      impl_->images_sent,
-          impl_->images_dropped,    impl_->bad_client_messages};
+  return {impl_->browsers,          impl_->foxglove_clients,    impl_->connections,
+          impl_->disconnected_slow, impl_->pairs_encoded,       impl_->images_sent,
+          impl_->images_dropped,    impl_->bad_client_messages, impl_->pairs_from_preview};
 }
 
 }  // namespace stereoball::view

@@ -39,6 +39,7 @@ struct ServerStats {
   uint64_t images_sent = 0;        ///< pairs sent, summed over clients
   uint64_t images_dropped = 0;
   uint64_t bad_client_messages = 0;
+  uint64_t pairs_from_preview = 0;  ///< pairs the publisher's stereo/preview carried as JPEGs
 };
 
 class ViewServer {

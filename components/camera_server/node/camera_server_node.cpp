@@ -233,6 +233,21 @@ void CameraServerNode::publish(const stereo::FrameView& view) {
   stereo::fill_frame_message(*out, source_name_, msg);
   frame_writer_.write(msg);
   runner_.health().count(std::string(topics::kStereoFrame.spec.name));
+  offer_preview(*out);
+}
+
+void CameraServerNode::offer_preview(const stereo::FrameView& view) {
+  // Compressed frames (frame_encoding, or a JPEG camera published natively) need no preview:
+  // the viewer shows them as they are, so no preview writer is offered for it to wait on.
+  if (compressor_ || params_.output.preview_max_width_px == 0) return;
+  if (view.encoding != "bgr8" && view.encoding != "mono8" && view.encoding != "yuyv") return;
+  if (!preview_)
+    preview_ = std::make_unique<stereo::PreviewPublisher>(runner_.participant(), params_.output,
+                                                          source_name_);
+  preview_->offer(view);
+  runner_.health().set_counter("preview_frames", preview_->published());
+  runner_.health().set_counter("preview_encode_us", preview_->encode_us());
+  if (auto error = preview_->take_error()) runner_.health().error("preview", *error);
 }
 
 }  // namespace stereoball::camera_server

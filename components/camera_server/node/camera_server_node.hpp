@@ -17,6 +17,7 @@
 #include "stereo/core/eye_order.hpp"
 #include "stereo/core/rectifier.hpp"
 #include "stereo/frame/frame_compressor.hpp"
+#include "stereo/frame/preview_publisher.hpp"
 
 namespace stereoball::camera_server {
 
@@ -39,6 +40,7 @@ class CameraServerNode {
   void publish_file_pair(int64_t now_ns);
   void capture_loop();
   void publish(const stereo::FrameView& view);
+  void offer_preview(const stereo::FrameView& view);
   void check_eye_order(const stereo::FrameView& view);
   const stereo::FrameView* rectify(const stereo::FrameView& view, stereo::FrameView& storage);
   const stereo::FrameView* compress(const stereo::FrameView& view, stereo::FrameView& storage);
@@ -57,6 +59,9 @@ class CameraServerNode {
   stereo::EyeOrderWatch eye_order_;             // first frames: are the cameras swapped?
   cv::Mat rectified_[2];
   std::optional<stereo::FrameCompressor> compressor_;  // frame_encoding jpeg/png
+  // stereo/preview of raw frames, made only while a viewer reads it; created with the source
+  // (it carries the source name).
+  std::unique_ptr<stereo::PreviewPublisher> preview_;
   uint64_t file_seq_ = 0;
   bool files_done_ = false;
   uint64_t reported_drops_ = 0;

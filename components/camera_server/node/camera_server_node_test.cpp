@@ -73,6 +73,67 @@ std::pair<int, std::string> run_node(const std::string& config) {
   return run_node_with(config, {});
 }
 
+TEST(CameraServerNode, GivenAPreviewReaderThenRawFramesComeWithJpegPreviewsOfTheSamePairs) {
+  // Given the real pairs played raw and a reader of stereo/preview (what stereoball view does)
+  const std::string partition = sb::testing::unique_partition();
+  Process node =
+      Process::start({sb::testing::bin("camera_server"), "--config",
+                      files_config(kSamples + "/left*.jpg", kSamples + "/right*.jpg"), "--domain",
+                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DataReader<stereoball_msg_StereoPreview> previews(participant,
+                                                             sb::topics::kStereoPreview);
+  // The preview writer appears with the first raw frame.
+  ASSERT_TRUE(previews.wait_for_writers(1, 20'000'000'000)) << node.output();
+  // When previews arrive, then each eye is a JPEG of the 640x480 pair it was made from
+  int checked = 0;
+  sb::testing::eventually(
+      [&] {
+        for (auto& p : previews.take()) {
+          EXPECT_EQ(p->source_width_px, 640u);
+          EXPECT_EQ(p->source_height_px, 480u);
+          EXPECT_EQ(p->left.capture_stamp_ns, p->stamp_ns);
+          const std::vector<uint8_t> bytes(p->left.data._buffer,
+                                           p->left.data._buffer + p->left.data._length);
+          const cv::Mat img = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+          EXPECT_EQ(img.cols, 640) << "seq " << p->seq;
+          EXPECT_EQ(img.rows, 480) << "seq " << p->seq;
+          EXPECT_LT(bytes.size(), 640u * 480u / 2) << "seq " << p->seq;
+          ++checked;
+        }
+        return checked >= 5;
+      },
+      20s);
+  EXPECT_GE(checked, 5) << node.output();
+}
+
+TEST(CameraServerNode, GivenJpegFramesThenNoPreviewIsOffered) {
+  // Given frames published as JPEG (nothing for a preview to save)
+  const std::string partition = sb::testing::unique_partition();
+  const std::string config =
+      write_config("source: files\nleft_glob: " + kSamples + "/left*.jpg\nright_glob: " + kSamples +
+                   "/right*.jpg\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\n" +
+                   "frame_encoding: jpeg\ncalibration_file: " + kCalibration + "\n");
+  Process node =
+      Process::start({sb::testing::bin("camera_server"), "--config", config, "--domain",
+                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DataReader<stereoball_msg_StereoPreview> previews(participant,
+                                                             sb::topics::kStereoPreview);
+  sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
+  // When JPEG frames arrive
+  int received = 0;
+  sb::testing::eventually(
+      [&] {
+        received += static_cast<int>(frames.take().size());
+        return received >= 10;
+      },
+      20s);
+  ASSERT_GE(received, 10) << node.output();
+  // Then no stereo/preview writer exists (a viewer reads the frames themselves)
+  EXPECT_EQ(previews.matched_writers(), 0u);
+}
+
 TEST(CameraServerNode, GivenRealPairsWhenPlayedThenFramesByteIdenticalAndCalibrationLatched) {
   std::vector<cv::Mat> left, right;
   for (const auto& f : sample_names("left")) left.push_back(cv::imread(f, cv::IMREAD_UNCHANGED));

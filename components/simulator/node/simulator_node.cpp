@@ -43,6 +43,9 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       base_(runner, base::VelocityGateParams{params.robot.command_timeout_ns},
             [this](const base::BaseCommand& c) { on_command(c); }) {
   if (options_.output.compressed()) compressor_.emplace(options_.output);
+  if (!options_.output.compressed() && options_.output.preview_max_width_px > 0)
+    preview_ = std::make_unique<stereo::PreviewPublisher>(runner.participant(), options_.output,
+                                                          frame_source_);
   // Transient-local: written once, every late joiner still receives it.
   calibration_.write(
       stereo::calibration_to_message(published_, node::now_ns(), options_.calibration_source));
@@ -136,6 +139,8 @@ void SimulatorNode::tick(int64_t /*now_ns*/) {
   truth_.write(truth, stamp_ns);
   runner_.health().count(std::string(topics::kGroundTruth.spec.name));
   runner_.health().set_counter("frames", ++total_frames_);
+  // Last: the preview's copy (only while watched) delays neither the frame nor its truth.
+  offer_preview(*view);
 }
 
 bool SimulatorNode::wait_until(int64_t due_monotonic_ns) const {
@@ -164,6 +169,14 @@ Result<stereo::FrameView> SimulatorNode::frame_view(const SimFrame& f, int64_t s
   runner_.health().set_counter("encode_us",
                                static_cast<uint64_t>((node::monotonic_ns() - start) / 1000));
   return compressed;
+}
+
+void SimulatorNode::offer_preview(const stereo::FrameView& view) {
+  if (!preview_) return;
+  preview_->offer(view);
+  runner_.health().set_counter("preview_frames", preview_->published());
+  runner_.health().set_counter("preview_encode_us", preview_->encode_us());
+  if (auto error = preview_->take_error()) runner_.health().error("preview", *error);
 }
 
 }  // namespace stereoball::simulator

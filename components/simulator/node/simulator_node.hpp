@@ -14,6 +14,7 @@
 #include "common/node/node_runner.hpp"
 #include "simulator/core/simulator.hpp"
 #include "stereo/frame/frame_compressor.hpp"
+#include "stereo/frame/preview_publisher.hpp"
 
 namespace stereoball::simulator {
 
@@ -47,6 +48,8 @@ class SimulatorNode {
   // The outgoing view of a frame: its raw eyes, or the compressor's streams (timed as
   // encode_us); points into f and the compressor. Error (reported as health error) on failure.
   Result<stereo::FrameView> frame_view(const SimFrame& f, int64_t stamp_ns);
+  // Hands the published frame to the preview publisher and reports its counters and errors.
+  void offer_preview(const stereo::FrameView& view);
 
   node::Runner& runner_;
   SimParams params_;
@@ -65,6 +68,8 @@ class SimulatorNode {
   dds::DataWriter<stereoball_msg_GroundTruth> truth_;
   dds::DataWriter<stereoball_msg_StereoCalibration> calibration_;
   base::BaseLink base_;  // authenticated commands, the e-stop, the base's own gate
+  // stereo/preview of raw frames, made only while a viewer reads it (none for jpeg/png).
+  std::unique_ptr<stereo::PreviewPublisher> preview_;
   std::string frame_topic_{topics::kStereoFrame.spec.name};
   static constexpr int64_t kLateNs = 1'000'000;  // released later than this: counted late
   int64_t run_start_mono_ns_ = -1;

@@ -75,6 +75,13 @@ const params::FieldTable<FrameCodecParams>& frame_codec_fields() {
                      "raw (pixels) or jpeg / png: how each eye is compressed before publishing"),
       params::number("jpeg_quality", at(&FrameCodecParams::jpeg_quality), defaults.jpeg_quality,
                      {1, 100}, "", "JPEG quality, used with frame_encoding jpeg"),
+      params::number("preview_max_width_px", at(&FrameCodecParams::preview_max_width_px),
+                     defaults.preview_max_width_px, {0, 8192}, "px",
+                     "stereo/preview (for stereoball view, encoded only while a viewer reads "
+                     "it): eyes scaled to at most this width; 0 = no preview"),
+      params::number("preview_jpeg_quality", at(&FrameCodecParams::preview_jpeg_quality),
+                     defaults.preview_jpeg_quality, {1, 100}, "",
+                     "JPEG quality of stereo/preview (4:2:0)"),
   }};
   return table;
 }

@@ -24,6 +24,10 @@ const std::vector<std::string>& frame_encoding_choices();
 struct FrameCodecParams {
   std::string frame_encoding = "raw";  ///< "raw", "jpeg" (lossy) or "png" (lossless)
   int jpeg_quality = 90;               ///< 1 (smallest) .. 100 (closest to raw)
+  /// stereo/preview (preview_encoder.hpp), made only while a viewer reads it: eyes scaled to
+  /// at most this width; 0 = never offer a preview.
+  int preview_max_width_px = 640;
+  int preview_jpeg_quality = 75;  ///< 1..100; 75 with 4:2:0 is what the viewer always showed
 
   /// Success, or the field out of its range, naming key and allowed values.
   Status validate() const;
@@ -31,7 +35,8 @@ struct FrameCodecParams {
   bool compressed() const { return frame_encoding == "jpeg" || frame_encoding == "png"; }
 };
 
-/// frame_encoding and jpeg_quality, as the camera_server and simulator files hold them.
+/// frame_encoding, jpeg_quality and the preview fields, as the camera_server and simulator
+/// files hold them.
 const params::FieldTable<FrameCodecParams>& frame_codec_fields();
 
 /// zlib level of PNG frames: 1 = fastest; PNG is lossless at every level, higher levels only

@@ -3,9 +3,7 @@
 #include <algorithm>
 
 namespace stereoball::stereo {
-namespace {
-
-void fill_eye(const EyeView& v, stereoball_msg_EyeImage& m) {
+void fill_eye_message(const EyeView& v, stereoball_msg_EyeImage& m) {
   m.capture_stamp_ns = v.capture_stamp_ns;
   m.width_px = v.width_px;
   m.height_px = v.height_px;
@@ -16,8 +14,6 @@ void fill_eye(const EyeView& v, stereoball_msg_EyeImage& m) {
   m.data._release = false;
 }
 
-}  // namespace
-
 void fill_frame_message(const FrameView& view, const std::string& source,
                         stereoball_msg_StereoFrame& msg) {
   msg.seq = view.seq;
@@ -25,8 +21,8 @@ void fill_frame_message(const FrameView& view, const std::string& source,
   msg.source = const_cast<char*>(source.c_str());
   msg.encoding = const_cast<char*>(view.encoding.c_str());
   msg.rectified = view.rectified;
-  fill_eye(view.left, msg.left);
-  fill_eye(view.right, msg.right);
+  fill_eye_message(view.left, msg.left);
+  fill_eye_message(view.right, msg.right);
 }
 
 }  // namespace stereoball::stereo

@@ -15,6 +15,18 @@ Result<PairJpeg> encode_pair(EyeEncoder& encoder, const stereoball_msg_StereoFra
   return PairJpeg{frame.seq, frame.stamp_ns, std::move(*left), std::move(*right)};
 }
 
+Result<PairJpeg> preview_pair(EyeEncoder& encoder, const stereoball_msg_StereoPreview& preview) {
+  auto left =
+      encoder.encode_preview(preview.left, preview.source_width_px, preview.source_height_px);
+  if (!left) return Error{"left eye: " + left.error()};
+  auto right =
+      encoder.encode_preview(preview.right, preview.source_width_px, preview.source_height_px);
+  if (!right) return Error{"right eye: " + right.error()};
+  PairJpeg pair{preview.seq, preview.stamp_ns, std::move(*left), std::move(*right)};
+  pair.from_preview = true;
+  return pair;
+}
+
 Status DeriverParams::validate() const {
   if (image_rate_hz < 0 || image_rate_hz > 240) return Error{"image_rate_hz must be in 0..240"};
   if (scene_rate_hz <= 0 || scene_rate_hz > 240) return Error{"scene_rate_hz must be in (0, 240]"};

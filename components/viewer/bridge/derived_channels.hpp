@@ -24,10 +24,13 @@ struct PairJpeg {
   EyeJpeg right;
   int64_t taken_stamp_ns = 0;    ///< when the viewer took the frame (ns since epoch; 0 unknown)
   int64_t encoded_stamp_ns = 0;  ///< when both eyes were encoded (ns since epoch; 0 unknown)
+  bool from_preview = false;     ///< the publisher's stereo/preview JPEGs, not encoded here
 };
 
 /// Both eyes of frame as JPEGs; error names the eye and the problem.
 Result<PairJpeg> encode_pair(EyeEncoder& encoder, const stereoball_msg_StereoFrame& frame);
+/// Both eyes of a stereo/preview (EyeEncoder::encode_preview); error names the eye.
+Result<PairJpeg> preview_pair(EyeEncoder& encoder, const stereoball_msg_StereoPreview& preview);
 
 /// One derived message: channel, CDR payload, stamp (ns since epoch).
 struct DerivedMessage {

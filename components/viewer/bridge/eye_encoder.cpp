@@ -84,23 +84,26 @@ Result<cv::Mat> EyeEncoder::to_bgr(const stereoball_msg_EyeImage& image,
     cv::cvtColor(*view, bgr, cv::COLOR_YUV2BGR_YUYV);
     return bgr;
   }
-  if (encoding == "png") {
-    // As ball_detector does: the header decides how much memory decoding takes, so it is read
-    // and checked against the limit before any pixel is decoded.
-    const auto bytes = bytes_of(image);
-    if (bytes.empty()) return Error{"png data is empty"};
-    const auto header = stereo::read_image_header(bytes);
-    if (!header) return Error{"png data: " + header.error()};
-    if (header->codec != stereo::ImageCodec::kPng)
-      return Error{std::string(stereo::codec_name(header->codec)) + " data in a png frame"};
-    if (auto st = stereo::check_within(*header, {static_cast<int>(params_.max_input_width_px),
-                                                 static_cast<int>(params_.max_input_height_px)});
-        !st)
-      return Error{st.error()};
-    if (auto st = stereo::decode_bgr(bytes, *header, decoded_); !st) return Error{st.error()};
-    return decoded_;
-  }
+  if (encoding == "png") return decode(image, stereo::ImageCodec::kPng);
   return Error{"encoding '" + encoding + "' is not supported (bgr8, mono8, yuyv, jpeg, png)"};
+}
+
+Result<cv::Mat> EyeEncoder::decode(const stereoball_msg_EyeImage& image, stereo::ImageCodec codec) {
+  // As ball_detector does: the header decides how much memory decoding takes, so it is read
+  // and checked against the limit before any pixel is decoded.
+  const std::string name = stereo::codec_name(codec);
+  const auto bytes = bytes_of(image);
+  if (bytes.empty()) return Error{name + " data is empty"};
+  const auto header = stereo::read_image_header(bytes);
+  if (!header) return Error{name + " data: " + header.error()};
+  if (header->codec != codec)
+    return Error{std::string(stereo::codec_name(header->codec)) + " data in a " + name + " frame"};
+  if (auto st = stereo::check_within(*header, {static_cast<int>(params_.max_input_width_px),
+                                               static_cast<int>(params_.max_input_height_px)});
+      !st)
+    return Error{st.error()};
+  if (auto st = stereo::decode_bgr(bytes, *header, decoded_); !st) return Error{st.error()};
+  return decoded_;
 }
 
 Result<EyeJpeg> EyeEncoder::pass_through(const stereoball_msg_EyeImage& image) {
@@ -139,6 +142,31 @@ Result<EyeJpeg> EyeEncoder::encode(const stereoball_msg_EyeImage& image, const c
   if (!jpeg) return jpeg;
   jpeg->source_width_px = static_cast<uint32_t>(bgr->cols);
   jpeg->source_height_px = static_cast<uint32_t>(bgr->rows);
+  return jpeg;
+}
+
+Result<EyeJpeg> EyeEncoder::encode_preview(const stereoball_msg_EyeImage& image,
+                                           uint32_t source_width_px, uint32_t source_height_px) {
+  if (source_width_px == 0 || source_height_px == 0 ||
+      source_width_px > params_.max_input_width_px ||
+      source_height_px > params_.max_input_height_px)
+    return Error{"source size " + dims(source_width_px, source_height_px) + " is outside 1x1.." +
+                 dims(params_.max_input_width_px, params_.max_input_height_px)};
+  auto jpeg = pass_through(image);
+  if (!jpeg) return jpeg;
+  if (params_.max_width_px != 0 && jpeg->width_px > params_.max_width_px) {
+    // A publisher's preview wider than this viewer shows: made smaller here (decoded, scaled,
+    // encoded again), which costs what a raw frame does; preview_max_width_px avoids it.
+    auto bgr = decode(image, stereo::ImageCodec::kJpeg);
+    if (!bgr) return Error{bgr.error()};
+    const double scale = static_cast<double>(params_.max_width_px) / bgr->cols;
+    cv::Mat shown;
+    cv::resize(*bgr, shown, cv::Size(), scale, scale, cv::INTER_AREA);
+    jpeg = compress(shown);
+    if (!jpeg) return jpeg;
+  }
+  jpeg->source_width_px = source_width_px;
+  jpeg->source_height_px = source_height_px;
   return jpeg;
 }
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/util/result.hpp"
+#include "stereo/image/image_decode.hpp"
 #include "stereoball.h"
 
 namespace stereoball::viewer {
@@ -48,10 +49,17 @@ class EyeEncoder {
   /// JPEG of image (encoding as in StereoFrame.encoding); error names the problem. Reuses the
   /// encoder's compressor and scratch buffer from call to call: one encoder per thread.
   Result<EyeJpeg> encode(const stereoball_msg_EyeImage& image, const char* encoding);
+  /// One eye of a stereo/preview (a JPEG made for viewing by the frame's publisher): passed
+  /// through, or decoded and scaled down when it is wider than max_width_px; the size the
+  /// detections refer to is source_width_px x source_height_px of the preview.
+  Result<EyeJpeg> encode_preview(const stereoball_msg_EyeImage& image, uint32_t source_width_px,
+                                 uint32_t source_height_px);
 
  private:
   Result<cv::Mat> to_bgr(const stereoball_msg_EyeImage& image, const std::string& encoding);
   Result<EyeJpeg> pass_through(const stereoball_msg_EyeImage& image);
+  // The bytes of a PNG or JPEG eye decoded into decoded_, after its header was checked.
+  Result<cv::Mat> decode(const stereoball_msg_EyeImage& image, stereo::ImageCodec codec);
   Result<EyeJpeg> compress(const cv::Mat& shown);
   EyeEncoderParams params_;
   cv::Mat decoded_;                     // PNG eyes are decoded into this (reused)

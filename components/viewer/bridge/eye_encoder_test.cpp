@@ -54,6 +54,49 @@ TEST(EyeEncoder, JpegPassesThroughUnchanged) {
   EXPECT_EQ(jpeg->bytes, src);
 }
 
+TEST(EyeEncoder, PreviewEyesPassThroughWithTheirSourceSize) {
+  // Given a 320x240 preview JPEG made from a 640x480 eye
+  std::vector<uint8_t> src;
+  cv::imencode(".jpg", cv::Mat(240, 320, CV_8UC3, cv::Scalar(10, 120, 200)), src);
+  // When it is shown by a viewer at most 640 wide, then it is forwarded unchanged
+  const auto jpeg = EyeEncoder({}).encode_preview(eye(src, 320, 240, 0), 640, 480);
+  ASSERT_TRUE(jpeg) << jpeg.error();
+  EXPECT_EQ(jpeg->bytes, src);
+  EXPECT_EQ(jpeg->width_px, 320u);
+  // And the detections' pixels are the source's
+  EXPECT_EQ(jpeg->source_width_px, 640u);
+  EXPECT_EQ(jpeg->source_height_px, 480u);
+}
+
+TEST(EyeEncoder, PreviewWiderThanMaxWidthIsScaledHere) {
+  // Given a 320x240 preview and a viewer that shows at most 160 px
+  std::vector<uint8_t> src;
+  cv::imencode(".jpg", cv::Mat(240, 320, CV_8UC3, cv::Scalar(10, 120, 200)), src);
+  EyeEncoderParams p;
+  p.max_width_px = 160;
+  // When it is shown, then it is 160x120 and still refers to the 640x480 source
+  const auto jpeg = EyeEncoder(p).encode_preview(eye(src, 320, 240, 0), 640, 480);
+  ASSERT_TRUE(jpeg) << jpeg.error();
+  EXPECT_EQ(cv::imdecode(jpeg->bytes, cv::IMREAD_COLOR).size(), cv::Size(160, 120));
+  EXPECT_EQ(jpeg->source_width_px, 640u);
+}
+
+TEST(EyeEncoder, BadPreviewsAreNamed) {
+  std::vector<uint8_t> src;
+  cv::imencode(".jpg", cv::Mat(24, 32, CV_8UC3, cv::Scalar(1, 2, 3)), src);
+  // A source size of zero or beyond the input limit
+  auto r = EyeEncoder({}).encode_preview(eye(src, 32, 24, 0), 0, 480);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("source size"), std::string::npos) << r.error();
+  r = EyeEncoder({}).encode_preview(eye(src, 32, 24, 0), 100000, 480);
+  ASSERT_FALSE(r);
+  // Bytes that are not a JPEG
+  std::vector<uint8_t> junk(64, 0x42);
+  r = EyeEncoder({}).encode_preview(eye(junk, 32, 24, 0), 640, 480);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("JPEG marker"), std::string::npos) << r.error();
+}
+
 TEST(EyeEncoder, BadInputIsNamed) {
   std::vector<uint8_t> short_data(100);
   EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 64, 48, 192), "bgr8").error().find("truncated"),

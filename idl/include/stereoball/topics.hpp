@@ -54,6 +54,15 @@ inline constexpr Topic<stereoball_msg_StereoFrame> kStereoFrame{
      &stereoball_msg_StereoFrame_desc,
      {Reliability::kBestEffort, Durability::kVolatile, 1, 0},
      "synchronized stereo pair (both eyes)"}};
+// Preview: like frames (newest wins). Not in all()/for_each(): a derived, on-demand stream
+// that its publishers encode only while some reader is matched, so `record --all` and the
+// generic tools must not subscribe to it and make the robot encode for nobody.
+inline constexpr Topic<stereoball_msg_StereoPreview> kStereoPreview{
+    {"stereo/preview",
+     "stereoball::msg::StereoPreview",
+     &stereoball_msg_StereoPreview_desc,
+     {Reliability::kBestEffort, Durability::kVolatile, 1, 0},
+     "JPEG copy of stereo/frame for viewers, published only while a reader is matched"}};
 // Calibration: reliable, transient-local so a late joiner receives it.
 inline constexpr Topic<stereoball_msg_StereoCalibration> kStereoCalibration{
     {"stereo/calibration",
