@@ -6,6 +6,7 @@
 #include "ball_detector/core/circle_fit.hpp"
 #include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/voting.hpp"
+#include "common/util/result.hpp"
 
 #include <array>
 #include <optional>
@@ -49,8 +50,8 @@ struct PixelToPixelParams {
   bool refine = true;          ///< sub-pixel least-squares refinement (addition)
   RefineParams refine_params;  ///< refinement and scoring options
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the first bad field and its allowed range.
+  Status validate() const;
 };
 
 /// A range of circle radii, pixels.
