@@ -67,8 +67,8 @@ double rate_hz(const std::vector<T>& rx) {
 int transport(const std::string& encoding, int quality, double duration_s, int domain,
               const std::string& receiver_uri, const std::string& label) {
   sd::TwoHosts hosts;
-  if (auto e = hosts.setup()) {
-    std::fprintf(stderr, "stereoball-bench-distributed: %s\n", e->c_str());
+  if (auto e = hosts.setup(); !e) {
+    std::fprintf(stderr, "stereoball-bench-distributed: %s\n", e.error().c_str());
     return 1;
   }
   const std::string partition = "sbbench." + std::to_string(::getpid());
@@ -130,8 +130,8 @@ int system_run(double duration_s, int domain, const std::string& robot_profile) 
   o.partition = "sbbench.system." + std::to_string(::getpid());
   o.workstation_observer_topics = {"frame", "detection"};
   sd::TwoHostSystem system(o);
-  if (auto e = system.start()) {
-    std::fprintf(stderr, "stereoball-bench-distributed: %s\n", e->c_str());
+  if (auto e = system.start(); !e) {
+    std::fprintf(stderr, "stereoball-bench-distributed: %s\n", e.error().c_str());
     return 1;
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(duration_s * 1e3)));

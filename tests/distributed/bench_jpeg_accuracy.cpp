@@ -181,8 +181,8 @@ int main(int argc, char** argv) {
       pipelines[q] = std::make_unique<bd::StereoPipeline>(*detector_params);
       pipelines[q]->set_calibration(sim.calibration());
     }
-    if (auto e = raw_pipeline.set_calibration(sim.calibration())) {
-      std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: calibration: %s\n", e->c_str());
+    if (auto e = raw_pipeline.set_calibration(sim.calibration()); !e) {
+      std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: calibration: %s\n", e.error().c_str());
       return 2;
     }
     for (int i = 0; i < frames_per_scenario; ++i) {

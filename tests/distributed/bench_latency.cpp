@@ -241,8 +241,8 @@ std::optional<Result> run_two_hosts(const Case& c, const Options& o, const std::
   so.robot_observer_topics = {"track", "cmd"};
   so.workstation_observer_topics = {"detection"};
   sd::TwoHostSystem system(so);
-  if (auto e = system.start()) {
-    std::fprintf(stderr, "bench latency: %s\n", e->c_str());
+  if (auto e = system.start(); !e) {
+    std::fprintf(stderr, "bench latency: %s\n", e.error().c_str());
     return std::nullopt;
   }
   std::vector<int> pids = system.hosts().pids(system.hosts().robot());

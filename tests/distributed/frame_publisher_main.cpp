@@ -13,6 +13,7 @@
 #include "common/dds/writer.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
+#include "common/util/result.hpp"
 #include "simulator/core/simulator.hpp"
 #include "simulator/io/scenario_file.hpp"
 #include "simulator/io/sim_params_file.hpp"
@@ -30,19 +31,18 @@ struct EncodedEye {
 };
 
 // The eye as published: raw bgr8 pixels, or compressed by the publishers' shared encoder.
-std::optional<std::string> encode(const cv::Mat& bgr, const std::string& encoding, int quality,
-                                  EncodedEye& e) {
+sb::Status encode(const cv::Mat& bgr, const std::string& encoding, int quality, EncodedEye& e) {
   e.width = static_cast<uint32_t>(bgr.cols);
   e.height = static_cast<uint32_t>(bgr.rows);
   if (encoding == "bgr8") {
     e.step = static_cast<uint32_t>(bgr.step[0]);
     e.bytes.assign(bgr.data, bgr.data + bgr.step[0] * bgr.rows);
-    return std::nullopt;
+    return {};
   }
   sb::stereo::EyeEncoder encoder({encoding, quality});
-  if (auto st = encoder.encode(bgr); !st) return st.error();
+  if (auto st = encoder.encode(bgr); !st) return sb::Error{st.error()};
   e.bytes = encoder.bytes();
-  return std::nullopt;
+  return {};
 }
 
 stereoball_msg_EyeImage eye_msg(EncodedEye& e, int64_t stamp_ns) {
@@ -99,8 +99,8 @@ int main(int argc, char** argv) {
     const auto f = sim.step(std::nullopt, static_cast<int64_t>((0.5 + 0.2 * i) * 1e9));
     auto& [left, right] = frames.emplace_back();
     for (auto [image, eye] : {std::pair{&f.left, &left}, std::pair{&f.right, &right}}) {
-      if (auto e = encode(*image, encoding, quality, *eye)) {
-        return std::fprintf(stderr, "sb_frame_publisher: %s\n", e->c_str()), 1;
+      if (auto e = encode(*image, encoding, quality, *eye); !e) {
+        return std::fprintf(stderr, "sb_frame_publisher: %s\n", e.error().c_str()), 1;
       }
     }
   }

@@ -41,9 +41,9 @@ TEST(RogueHost, ThirdNamespaceMovesNothingAndClearsNoStop) {
   o.robot_observer_topics = {"truth"};
   o.rogue_host = true;
   sd::TwoHostSystem system(o);
-  if (auto e = system.start()) {
-    if (system.unavailable()) GTEST_SKIP() << *e;
-    FAIL() << *e;
+  if (auto e = system.start(); !e) {
+    if (system.unavailable()) GTEST_SKIP() << e.error();
+    FAIL() << e.error();
   }
   const std::vector<std::string> where{"--domain", std::to_string(o.domain), "--partition",
                                        o.partition};

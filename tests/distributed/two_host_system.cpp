@@ -40,15 +40,15 @@ TwoHostSystem::~TwoHostSystem() {
   while (!processes_.empty()) processes_.pop_back();
 }
 
-std::optional<std::string> TwoHostSystem::start() {
-  if (auto e = hosts_.setup()) {
+Status TwoHostSystem::start() {
+  if (auto e = hosts_.setup(); !e) {
     unavailable_ = true;
-    return "cannot create two network namespaces joined by veth: " + *e;
+    return Error{"cannot create two network namespaces joined by veth: " + e.error()};
   }
   if (options_.rogue_host) {
-    if (auto e = hosts_.add_rogue()) {
+    if (auto e = hosts_.add_rogue(); !e) {
       unavailable_ = true;
-      return "cannot create the third (rogue) namespace: " + *e;
+      return Error{"cannot create the third (rogue) namespace: " + e.error()};
     }
   }
   dir_ = testing::temp_dir();
@@ -56,7 +56,7 @@ std::optional<std::string> TwoHostSystem::start() {
   key_file_ = dir_ + "/deployment.key";
   auto [code, output] = testing::run({testing::bin("stereoball-keys"), "init", "--file", key_file_},
                                      milliseconds(20'000));
-  if (code != 0) return "stereoball-keys init failed: " + output;
+  if (code != 0) return Error{"stereoball-keys init failed: " + output};
   hosts_.set_key_file(key_file_);
   const std::string domain = std::to_string(options_.domain);
   auto observer = [&](const Host& host, const std::vector<std::string>& topics) {
@@ -89,12 +89,12 @@ std::optional<std::string> TwoHostSystem::start() {
   };
   for (GentleProcess* o : {robot_observer_, workstation_observer_}) {
     if (o && !o->get().wait_for_output("# observing", milliseconds(10'000))) {
-      return "observer did not start in its namespace: " + o->get().output();
+      return Error{"observer did not start in its namespace: " + o->get().output()};
     }
   }
   launch(hosts_.workstation(), options_.workstation_profile, "workstation.log");
   launch(hosts_.robot(), options_.robot_profile, "robot.log");
-  return std::nullopt;
+  return {};
 }
 
 std::pair<int, std::string> TwoHostSystem::run_tool(const Host& host,

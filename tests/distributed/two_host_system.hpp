@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
 #include "observer_log.hpp"
 #include "process.hpp"
 #include "two_hosts.hpp"
@@ -45,7 +46,7 @@ class TwoHostSystem {
   explicit TwoHostSystem(SystemOptions options);
   ~TwoHostSystem();
   /// Creates the hosts and starts observers and both launchers; error = skip reason or failure.
-  std::optional<std::string> start();
+  Status start();
   TwoHosts& hosts() { return hosts_; }
   /// What the observer in the robot namespace has received so far.
   ObserverLog robot_log() const;

@@ -59,15 +59,15 @@ TwoHosts::~TwoHosts() {
   if (workstation_created_) ip({"netns", "delete", workstation_.netns});
 }
 
-std::optional<std::string> TwoHosts::ip(const std::vector<std::string>& args) const {
+Status TwoHosts::ip(const std::vector<std::string>& args) const {
   std::vector<std::string> argv{ip_path_};
   argv.insert(argv.end(), args.begin(), args.end());
   auto [code, output] = testing::run(argv, milliseconds(10'000));
-  if (code == 0) return std::nullopt;
+  if (code == 0) return {};
   std::string line;
   for (const auto& a : argv) line += (line.empty() ? "" : " ") + a;
   while (!output.empty() && output.back() == '\n') output.pop_back();
-  return "'" + line + "' failed (exit " + std::to_string(code) + "): " + output;
+  return Error{"'" + line + "' failed (exit " + std::to_string(code) + "): " + output};
 }
 
 void TwoHosts::remove_abandoned() const {
@@ -96,41 +96,46 @@ void TwoHosts::remove_abandoned() const {
   }
 }
 
-std::optional<std::string> TwoHosts::setup() {
-  if (ip_path_.empty()) return "iproute2 'ip' program not found";
+Status TwoHosts::setup() {
+  if (ip_path_.empty()) return Error{"iproute2 'ip' program not found"};
   if (::geteuid() != 0) {
-    return "network namespaces need root (running as uid " + std::to_string(::geteuid()) + ")";
+    return Error{"network namespaces need root (running as uid " + std::to_string(::geteuid()) +
+                 ")"};
   }
   remove_abandoned();
-  if (auto e = ip({"netns", "add", robot_.netns})) return e;
+  if (auto e = ip({"netns", "add", robot_.netns}); !e) return e;
   robot_created_ = true;
-  if (auto e = ip({"netns", "add", workstation_.netns})) return e;
+  if (auto e = ip({"netns", "add", workstation_.netns}); !e) return e;
   workstation_created_ = true;
   if (auto e = ip({"link", "add", robot_.iface, "netns", robot_.netns, "type", "veth", "peer",
-                   "name", workstation_.iface, "netns", workstation_.netns})) {
+                   "name", workstation_.iface, "netns", workstation_.netns});
+      !e) {
     return e;
   }
   for (const Host* h : {&robot_, &workstation_}) {
-    if (auto e = ip({"-n", h->netns, "addr", "add", h->address + "/24", "dev", h->iface})) return e;
-    if (auto e = ip({"-n", h->netns, "link", "set", "lo", "up"})) return e;
-    if (auto e = ip({"-n", h->netns, "link", "set", h->iface, "up"})) return e;
+    if (auto e = ip({"-n", h->netns, "addr", "add", h->address + "/24", "dev", h->iface}); !e)
+      return e;
+    if (auto e = ip({"-n", h->netns, "link", "set", "lo", "up"}); !e) return e;
+    if (auto e = ip({"-n", h->netns, "link", "set", h->iface, "up"}); !e) return e;
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> TwoHosts::add_rogue() {
-  if (auto e = ip({"netns", "add", rogue_.netns})) return e;
+Status TwoHosts::add_rogue() {
+  if (auto e = ip({"netns", "add", rogue_.netns}); !e) return e;
   rogue_created_ = true;
   if (auto e = ip({"link", "add", rogue_.iface, "netns", rogue_.netns, "type", "veth", "peer",
-                   "name", robot_rogue_side_.iface, "netns", robot_.netns})) {
+                   "name", robot_rogue_side_.iface, "netns", robot_.netns});
+      !e) {
     return e;
   }
   for (const Host* h : {&rogue_, &robot_rogue_side_}) {
-    if (auto e = ip({"-n", h->netns, "addr", "add", h->address + "/24", "dev", h->iface})) return e;
-    if (auto e = ip({"-n", h->netns, "link", "set", "lo", "up"})) return e;
-    if (auto e = ip({"-n", h->netns, "link", "set", h->iface, "up"})) return e;
+    if (auto e = ip({"-n", h->netns, "addr", "add", h->address + "/24", "dev", h->iface}); !e)
+      return e;
+    if (auto e = ip({"-n", h->netns, "link", "set", "lo", "up"}); !e) return e;
+    if (auto e = ip({"-n", h->netns, "link", "set", h->iface, "up"}); !e) return e;
   }
-  return std::nullopt;
+  return {};
 }
 
 std::vector<std::string> TwoHosts::command(const Host& host, const std::vector<std::string>& argv,
@@ -150,13 +155,13 @@ std::vector<std::string> TwoHosts::command(const Host& host, const std::vector<s
   return out;
 }
 
-std::optional<std::string> TwoHosts::set_robot_link(bool up) const {
+Status TwoHosts::set_robot_link(bool up) const {
   return ip({"-n", robot_.netns, "link", "set", robot_.iface, up ? "up" : "down"});
 }
 
-std::optional<std::string> TwoHosts::add_netem(int delay_ms, double loss_percent) const {
+Status TwoHosts::add_netem(int delay_ms, double loss_percent) const {
   const std::string tc = fs::path(ip_path_).parent_path() / "tc";
-  if (!fs::exists(tc)) return "tc (iproute2) not installed";
+  if (!fs::exists(tc)) return Error{"tc (iproute2) not installed"};
   std::ostringstream loss;
   loss << loss_percent << "%";
   for (const Host* h : {&robot_, &workstation_}) {
@@ -166,10 +171,10 @@ std::optional<std::string> TwoHosts::add_netem(int delay_ms, double loss_percent
         milliseconds(10'000));
     if (code != 0) {
       while (!output.empty() && output.back() == '\n') output.pop_back();
-      return "tc qdisc add ... netem failed (exit " + std::to_string(code) + "): " + output;
+      return Error{"tc qdisc add ... netem failed (exit " + std::to_string(code) + "): " + output};
     }
   }
-  return std::nullopt;
+  return {};
 }
 
 void TwoHosts::remove_netem() const {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::distributed {
 
 /// One side of the pair: namespace, interface inside it, its address and the peer's.
@@ -26,10 +28,10 @@ class TwoHosts {
   TwoHosts& operator=(const TwoHosts&) = delete;
 
   /// Creates the namespaces and the link; an error (the reason, for GTEST_SKIP) if impossible.
-  std::optional<std::string> setup();
+  Status setup();
   /// Adds a third namespace, "rogue", with its own veth link to the robot namespace (another
   /// subnet; the robot's Cyclone interface and peer list do not name it). After setup().
-  std::optional<std::string> add_rogue();
+  Status add_rogue();
   const Host& robot() const { return robot_; }
   const Host& workstation() const { return workstation_; }
   const Host& rogue() const { return rogue_; }
@@ -44,9 +46,9 @@ class TwoHosts {
                                    const std::string& cyclonedds_uri = "") const;
 
   /// `ip link set <robot iface> up|down`; error text on failure.
-  std::optional<std::string> set_robot_link(bool up) const;
+  Status set_robot_link(bool up) const;
   /// Adds a netem qdisc (delay, loss) on both ends; error text (e.g. no sch_netem) on failure.
-  std::optional<std::string> add_netem(int delay_ms, double loss_percent) const;
+  Status add_netem(int delay_ms, double loss_percent) const;
   /// Removes the netem qdiscs (ignores errors).
   void remove_netem() const;
 
@@ -54,7 +56,7 @@ class TwoHosts {
   std::vector<int> pids(const Host& host) const;
 
  private:
-  std::optional<std::string> ip(const std::vector<std::string>& args) const;
+  Status ip(const std::vector<std::string>& args) const;
   void kill_all(const Host& host) const;
   void remove_abandoned() const;
 

@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::span<const uint8_t> bytes(data, size);
   MemorySource source(bytes);
   McapReader reader(source);
-  if (!reader.open()) {
+  if (reader.open().ok()) {
     reader.for_each_message([](const MessageView& m) { return m.data.size() < (1u << 30); });
     reader.check_message_indexes();
   }

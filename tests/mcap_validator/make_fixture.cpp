@@ -267,7 +267,8 @@ int main(int argc, char** argv) {
   rec::WriterParams params;
   params.chunk_size_bytes = 64 * 1024;  // several chunks
   rec::McapWriter writer(params);
-  if (auto e = writer.open(**sink)) return std::fprintf(stderr, "fixture: %s\n", e->c_str()), 1;
+  if (auto e = writer.open(**sink); !e)
+    return std::fprintf(stderr, "fixture: %s\n", e.error().c_str()), 1;
 
   json expected = json::array();
   uint64_t t = 1'700'000'000'000'000'000ull;
@@ -288,8 +289,8 @@ int main(int argc, char** argv) {
       gen->second(s, k);
       t += 1'000'000;
       const uint64_t publish = t - 250'000;
-      if (auto e = writer.write({channel.value(), sequence, t, publish, s.cdr()})) {
-        return std::fprintf(stderr, "fixture: %s\n", e->c_str()), 1;
+      if (auto e = writer.write({channel.value(), sequence, t, publish, s.cdr()}); !e) {
+        return std::fprintf(stderr, "fixture: %s\n", e.error().c_str()), 1;
       }
       expected.push_back({{"topic", spec.name},
                           {"schema", type},
@@ -299,7 +300,8 @@ int main(int argc, char** argv) {
                           {"value", s.value()}});
     }
   }
-  if (auto e = writer.close()) return std::fprintf(stderr, "fixture: %s\n", e->c_str()), 1;
+  if (auto e = writer.close(); !e)
+    return std::fprintf(stderr, "fixture: %s\n", e.error().c_str()), 1;
   std::ofstream(argv[2]) << expected.dump(1) << "\n";
   std::printf("fixture: %zu messages, %llu chunks -> %s\n", expected.size(),
               static_cast<unsigned long long>(writer.stats().chunks), argv[1]);

@@ -62,24 +62,22 @@ simulator::Scenario scene() {
 // Appends kHeldTrackFrames copies of last (fresh stamps, zero velocity) after the frames, so
 // the motion controller ends on a constant target whatever the replay timing.
 template <typename Push>
-std::optional<std::string> push_held_tracks(Serializer<stereoball_msg_BallTrack>& ser,
-                                            stereoball_msg_BallTrack last, std::int64_t period_ns,
-                                            Push& push) {
+Status push_held_tracks(Serializer<stereoball_msg_BallTrack>& ser, stereoball_msg_BallTrack last,
+                        std::int64_t period_ns, Push& push) {
   for (int i = 0; i < kHeldTrackFrames; ++i) {
     last.frame_seq += 1;
     last.capture_stamp_ns += period_ns;
     last.publish_stamp_ns += period_ns;
     if (last.position_valid) last.last_accepted_stamp_ns = last.capture_stamp_ns;
     for (double& v : last.velocity_mps) v = 0.0;
-    if (!push(3, ser.cdr(last), last.publish_stamp_ns)) return "held track was not queued";
+    if (!push(3, ser.cdr(last), last.publish_stamp_ns)) return Error{"held track was not queued"};
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace
 
-std::optional<std::string> make_replay_recording(const std::string& path, int domain,
-                                                 const std::string& partition) {
+Status make_replay_recording(const std::string& path, int domain, const std::string& partition) {
   const std::vector<std::string> names = {"stereo/calibration", "stereo/frame", "ball/detection",
                                           "ball/track"};
   std::vector<recorder::RecordedTopic> recorded;
@@ -91,7 +89,7 @@ std::optional<std::string> make_replay_recording(const std::string& path, int do
   recorder::RecordingParams rp;
   rp.path = path;
   auto recording = recorder::Recording::start(rp, recorded);
-  if (!recording) return "cannot start the recording: " + recording.error();
+  if (!recording) return Error{"cannot start the recording: " + recording.error()};
 
   dds::DomainParticipant participant({domain, partition});
   Serializer<stereoball_msg_StereoCalibration> calib_ser(participant, topics::kStereoCalibration);
@@ -101,7 +99,8 @@ std::optional<std::string> make_replay_recording(const std::string& path, int do
 
   simulator::Simulator sim(simulator::default_sim_params(), scene());
   bd::StereoPipeline pipeline{bd::BallDetectorParams{}};
-  if (auto e = pipeline.set_calibration(sim.calibration())) return "calibration: " + *e;
+  if (auto e = pipeline.set_calibration(sim.calibration()); !e)
+    return Error{"calibration: " + e.error()};
   tracker::Tracker tracker{tracker::TrackerParams{}};
   tracker::Track last_track;
   const std::string source = "replay_test";
@@ -113,7 +112,7 @@ std::optional<std::string> make_replay_recording(const std::string& path, int do
           0,
           calib_ser.cdr(stereo::calibration_to_message(sim.calibration(), kReplayEpochNs, source)),
           kReplayEpochNs))
-    return "calibration sample was not serialized or queued";
+    return Error{"calibration sample was not serialized or queued"};
   const std::int64_t period_ns = sim.frame_period_ns();
   const auto width = static_cast<std::uint32_t>(sim.calibration().image_size.width);
   stereoball_msg_BallTrack track_msg{};
@@ -122,25 +121,25 @@ std::optional<std::string> make_replay_recording(const std::string& path, int do
     const std::int64_t stamp = kReplayEpochNs + t_ns + period_ns;
     const simulator::SimFrame f = sim.step(std::nullopt, t_ns);
     const auto view = stereo::view_of_images(f.left, f.right, f.seq, stamp);
-    if (!view) return "frame: " + view.error();
+    if (!view) return Error{"frame: " + view.error()};
     stereoball_msg_StereoFrame frame_msg{};
     stereo::fill_frame_message(*view, source, frame_msg);
     if (!push(1, frame_ser.cdr(frame_msg), stamp))
-      return "frame sample was not serialized or queued";
+      return Error{"frame sample was not serialized or queued"};
     const bd::StereoDetection det = pipeline.step(f.left, f.right, false);
     stereoball_msg_BallDetection det_msg{};
     bd::to_message(det, {f.seq, stamp}, 0.0F, stamp + 1'000'000, det_msg);
     if (!push(2, det_ser.cdr(det_msg), stamp + 1'000'000))
-      return "detection sample was not serialized or queued";
+      return Error{"detection sample was not serialized or queued"};
     const auto in = tracker::to_detection(det_msg, width);
     last_track = tracker.step(in.detection, stamp);  // track_msg.reason points into it
     tracker::to_message(last_track, f.seq, stamp, stamp + 2'000'000, track_msg);
     if (!push(3, track_ser.cdr(track_msg), stamp + 2'000'000))
-      return "track sample was not serialized or queued";
+      return Error{"track sample was not serialized or queued"};
   }
-  if (auto e = push_held_tracks(track_ser, track_msg, period_ns, push)) return e;
-  if (auto st = (*recording)->stop()) return "closing the recording: " + *st;
-  return std::nullopt;
+  if (auto e = push_held_tracks(track_ser, track_msg, period_ns, push); !e) return e;
+  if (auto st = (*recording)->stop(); !st) return Error{"closing the recording: " + st.error()};
+  return {};
 }
 
 }  // namespace stereoball::replay

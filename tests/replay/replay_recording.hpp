@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::replay {
 
 /// Frames in the recording (30 Hz simulated: 1.5 s).
@@ -20,7 +22,6 @@ inline constexpr std::int64_t kReplayEpochNs = 1'700'000'000'000'000'000;
 
 /// Writes the recording to path (topics stereo/calibration, stereo/frame, ball/detection,
 /// ball/track); DDS is used on domain/partition only to serialize. Error text on failure.
-std::optional<std::string> make_replay_recording(const std::string& path, int domain,
-                                                 const std::string& partition);
+Status make_replay_recording(const std::string& path, int domain, const std::string& partition);
 
 }  // namespace stereoball::replay

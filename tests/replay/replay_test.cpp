@@ -45,7 +45,7 @@ class ReplayTest : public ::testing::Test {
     const std::string path = *dir_ + "/replay.mcap";
     const auto error =
         sb::replay::make_replay_recording(path, st::test_domain(), st::unique_partition() + "_gen");
-    ASSERT_FALSE(error) << *error;
+    ASSERT_TRUE(error.ok()) << error.error();
     recording_ = new std::string(path);
   }
   static void TearDownTestSuite() {

@@ -102,8 +102,8 @@ int main(int argc, char** argv) {
   const std::string dir = std::filesystem::temp_directory_path() / "sb_bench_auth";
   std::filesystem::create_directories(dir);
   const std::string key = dir + "/bench.key";
-  if (auto e = sb::auth::save_key_file(key, sb::auth::new_keyring())) {
-    std::fprintf(stderr, "bench auth: %s\n", e->c_str());
+  if (auto e = sb::auth::save_key_file(key, sb::auth::new_keyring()); !e) {
+    std::fprintf(stderr, "bench auth: %s\n", e.error().c_str());
     return 1;
   }
   sb::dds::AuthSession session(key);

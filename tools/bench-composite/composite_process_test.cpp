@@ -45,8 +45,8 @@ TEST(CompositeProcesses, GivenComposedRealPairsWhenPlayedByCameraServerThenDetec
     ASSERT_TRUE(cv::imwrite(dir + "/right_" + std::to_string(i) + ".png", r));
   }
   const std::string calib_file = dir + "/rectified_rig.yaml";
-  ASSERT_EQ(sb::stereo::save_calibration(calib_file, sb::composite::rectified_rig_calibration(bg)),
-            std::nullopt);
+  ASSERT_TRUE(
+      sb::stereo::save_calibration(calib_file, sb::composite::rectified_rig_calibration(bg)).ok());
   const std::string camera_config =
       write_file(dir + "/camera_server.yaml",
                  "source: files\nleft_glob: " + dir + "/left_*.png\n" + "right_glob: " + dir +

@@ -51,7 +51,7 @@ SuiteResult run_suite(const std::vector<Background>& backgrounds,
     // Each composited pair is a still of its own: a fresh pipeline (no history) per frame.
     const auto calib = rectified_rig_calibration(bg);
     ball_detector::StereoPipeline pipeline(params);
-    if (pipeline.set_calibration(calib)) continue;
+    if (!pipeline.set_calibration(calib).ok()) continue;
     ++out.frames_without_ball;
     const auto empty = pipeline.step(bg.left, bg.right, true);
     if (empty.status == ball_detector::DetectionStatus::kFound) {

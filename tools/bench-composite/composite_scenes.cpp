@@ -110,7 +110,7 @@ Result<std::vector<Background>> load_real_backgrounds(
     if (!r) return Error{r.error()};
     Background bg;
     bg.name = "chessboard" + n.substr(0, 2);
-    if (auto e = rectifier->rectify(*l, *r, bg.left, bg.right)) return Error{*e};
+    if (auto e = rectifier->rectify(*l, *r, bg.left, bg.right); !e) return Error{e.error()};
     bg.focal_px = stereo::focal_px(calibration);
     bg.principal_px = {calibration.p1(0, 2), calibration.p1(1, 2)};
     bg.baseline_m = stereo::baseline_m(calibration);

@@ -64,7 +64,7 @@ TEST(Composite, GivenLargeBallAmongChessboardCornersWhenDetectedThenFoundAccurat
   ASSERT_EQ(ball.colour, "blue");
   ASSERT_NEAR(ball.centre_m[2], 0.88, 0.01);
   ball_detector::StereoPipeline pipeline(composite_params({}, 0.11));
-  ASSERT_EQ(pipeline.set_calibration(rectified_rig_calibration(bg)), std::nullopt);
+  ASSERT_TRUE(pipeline.set_calibration(rectified_rig_calibration(bg)).ok());
   // When the pipeline runs on it
   const auto [left, right] = composite(bg, ball);
   const auto det = pipeline.step(left, right, true);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/util/install_layout.hpp"
+#include "common/util/result.hpp"
 #include "loop_cli.hpp"
 #include "loop_config.hpp"
 #include "scene_report.hpp"
@@ -153,8 +154,8 @@ std::string csv_field(const std::string& text) {
 }
 
 // One row per frame of every run: what was true, what was found, what the tracker said.
-std::optional<std::string> write_frames_csv(std::FILE* f, const std::string& path,
-                                            const std::vector<bt::RunResult>& runs) {
+stereoball::Status write_frames_csv(std::FILE* f, const std::string& path,
+                                    const std::vector<bt::RunResult>& runs) {
   std::fprintf(f,
                "scenario,frame,stamp_ns,visible,true_x_px,true_y_px,found,on_ball,found_x_px,"
                "found_y_px,found_r_px,status,reason,verdict,verdict_reason,accepted,state,error_mm,"
@@ -181,8 +182,8 @@ std::optional<std::string> write_frames_csv(std::FILE* f, const std::string& pat
   }
   const bool ok = std::fflush(f) == 0 && !std::ferror(f);
   std::fclose(f);
-  if (!ok) return "cannot write '" + path + "': " + std::strerror(errno);
-  return std::nullopt;
+  if (!ok) return stereoball::Error{"cannot write '" + path + "': " + std::strerror(errno)};
+  return {};
 }
 
 }  // namespace
@@ -260,7 +261,7 @@ int main(int argc, char** argv) {
   print_error(runs);
   print_time(runs, o.threads);
   if (csv) {
-    if (auto e = write_frames_csv(csv, o.frames_csv, runs)) return fail(*e);
+    if (auto e = write_frames_csv(csv, o.frames_csv, runs); !e) return fail(e.error());
     std::fprintf(stderr, "  per-frame CSV: %s\n", o.frames_csv.c_str());
   }
   return 0;

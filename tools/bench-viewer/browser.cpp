@@ -27,11 +27,12 @@ std::string script() {
 
 }  // namespace
 
-std::optional<std::string> Browser::unavailable() {
-  if (!std::filesystem::exists(kNode)) return std::string(kNode) + " is not installed";
-  if (!std::filesystem::exists(kChromium)) return std::string(kChromium) + " is not installed";
-  if (!std::filesystem::exists(script())) return script() + " is missing";
-  return std::nullopt;
+Status Browser::available() {
+  if (!std::filesystem::exists(kNode)) return Error{std::string(kNode) + " is not installed"};
+  if (!std::filesystem::exists(kChromium))
+    return Error{std::string(kChromium) + " is not installed"};
+  if (!std::filesystem::exists(script())) return Error{script() + " is missing"};
+  return {};
 }
 
 Browser::Browser(const std::string& url) {

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::bench {
 
 struct BrowserResult {
@@ -20,8 +22,8 @@ struct BrowserResult {
 
 class Browser {
  public:
-  /// Why a browser cannot run here (no node or chromium), or nullopt.
-  static std::optional<std::string> unavailable();
+  /// Whether a browser can run here; the error says what is missing (node, chromium, script).
+  static Status available();
   /// Starts Chromium on url and waits (up to 120 s) until the page draws images.
   explicit Browser(const std::string& url);
   ~Browser();

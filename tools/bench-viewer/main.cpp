@@ -268,13 +268,13 @@ int run_cases(const Options& o, const bench::Source& source, const std::string& 
   std::vector<std::pair<std::string, std::string>> viewers = {
       {"", bench::sibling_program("stereoball-view")}};
   if (!o.baseline_viewer.empty()) viewers.insert(viewers.begin(), {"before: ", o.baseline_viewer});
-  const auto unavailable = o.browser ? bench::Browser::unavailable() : std::nullopt;
-  if (unavailable) std::printf("(no Chromium case: %s)\n", unavailable->c_str());
+  const sb::Status browser = o.browser ? bench::Browser::available() : sb::Status{};
+  if (!browser.ok()) std::printf("(no Chromium case: %s)\n", browser.error().c_str());
   for (const auto& [prefix, program] : viewers) {
     for (int n : o.clients)
       cases.push_back(
           {prefix + std::to_string(n) + " client" + (n == 1 ? "" : "s"), true, n, false, program});
-    if (o.browser && !unavailable) cases.push_back({prefix + "1 Chromium", true, 0, true, program});
+    if (o.browser && browser.ok()) cases.push_back({prefix + "1 Chromium", true, 0, true, program});
   }
   std::map<std::string, std::vector<Sample>> results;
   Measurer measurer(o, source, frames);

@@ -152,25 +152,25 @@ void print_report(const BoardCalibrationResult& r, double square_mm) {
 }
 
 // Side-by-side rectified pairs with horizontal guide lines, for a visual check.
-std::optional<std::string> save_rectified(const std::string& dir, const PairList& pairs,
-                                          const stereoball::stereo::StereoCalibration& calib) {
+stereoball::Status save_rectified(const std::string& dir, const PairList& pairs,
+                                  const stereoball::stereo::StereoCalibration& calib) {
   auto rect = stereoball::stereo::Rectifier::create(calib);
-  if (!rect) return rect.error();
+  if (!rect) return stereoball::Error{rect.error()};
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) return dir + ": cannot create (" + ec.message() + ")";
+  if (ec) return stereoball::Error{dir + ": cannot create (" + ec.message() + ")"};
   for (const auto& [lp, rp] : pairs) {
     cv::Mat l, r, both;
-    if (rect->rectify(cv::imread(lp), cv::imread(rp), l, r)) continue;
+    if (!rect->rectify(cv::imread(lp), cv::imread(rp), l, r).ok()) continue;
     cv::hconcat(l, r, both);
     for (int y = 0; y < both.rows; y += 24) {
       cv::line(both, {0, y}, {both.cols - 1, y}, cv::Scalar(0, 255, 0), 1);
     }
     const std::string out =
         dir + "/rectified_" + std::filesystem::path(lp).stem().string() + ".png";
-    if (!cv::imwrite(out, both)) return out + ": cannot write";
+    if (!cv::imwrite(out, both)) return stereoball::Error{out + ": cannot write"};
   }
-  return std::nullopt;
+  return {};
 }
 
 int run(const Options& o) {
@@ -185,7 +185,7 @@ int run(const Options& o) {
   params.rectify.alpha = o.alpha;
   params.outlier_ratio = o.outlier_ratio;
   params.outlier_min_px = o.outlier_min_px;
-  if (auto error = params.validate()) return fail(*error);
+  if (auto error = params.validate(); !error) return fail(error.error());
   const auto pairs = collect_pairs(o);
   if (!pairs) return fail(pairs.error());
   std::cout << "detecting " << board->width << "x" << board->height << " board in " << pairs->size()
@@ -200,8 +200,8 @@ int run(const Options& o) {
   const auto result = stereoball::stereo::calibrate_stereo(corners, *size, params);
   if (!result) return fail(result.error());
   print_report(result.value(), o.square_mm);
-  if (auto swapped = stereoball::stereo::check_camera_order(result->calibration)) {
-    return fail(*swapped + ": swap " +
+  if (auto swapped = stereoball::stereo::check_camera_order(result->calibration); !swapped) {
+    return fail(swapped.error() + ": swap " +
                 (o.pairs_list.empty()
                      ? std::string("--left-glob and --right-glob")
                      : std::string("the left and right file of each pair in ") + o.pairs_list) +
@@ -214,13 +214,15 @@ int run(const Options& o) {
   info.board_inner_corners = *board;
   info.pair_names = result->pair_names;
   info.note = "written by stereoball-calibrate";
-  if (auto error = stereoball::stereo::save_calibration(o.output, result->calibration, info)) {
-    return fail(*error);
+  if (auto error = stereoball::stereo::save_calibration(o.output, result->calibration, info);
+      !error) {
+    return fail(error.error());
   }
   std::cout << "wrote " << o.output << "\n";
   if (!o.save_rectified_dir.empty()) {
-    if (auto error = save_rectified(o.save_rectified_dir, pairs.value(), result->calibration)) {
-      return fail(*error);
+    if (auto error = save_rectified(o.save_rectified_dir, pairs.value(), result->calibration);
+        !error) {
+      return fail(error.error());
     }
     std::cout << "wrote rectified pairs to " << o.save_rectified_dir << "\n";
   }

@@ -154,8 +154,8 @@ int main(int argc, char** argv) {
       continue;
     }
     const cv::Mat image = std::move(*read);
-    if (const auto bad = bd::validate_image(image)) {
-      std::cerr << "stereoball-detect: '" << path << "': " << *bad << "\n";
+    if (const auto bad = bd::validate_image(image); !bad) {
+      std::cerr << "stereoball-detect: '" << path << "': " << bad.error() << "\n";
       ++failures;
       continue;
     }

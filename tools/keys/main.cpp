@@ -32,7 +32,7 @@ int init(const std::string& path, bool force) {
                 " exists (its keys may be in use; 'keys rotate' replaces them safely, "
                 "--force overwrites)");
   }
-  if (auto e = sa::save_key_file(path, sa::new_keyring())) return fail(*e);
+  if (auto e = sa::save_key_file(path, sa::new_keyring()); !e) return fail(e.error());
   std::printf(
       "created %s (mode 0600) with signing key 1.\n"
       "Copy it, mode 0600, to every host of this deployment and set "
@@ -53,7 +53,7 @@ int rotate(const std::string& path, bool staged, double grace_s) {
   if (!ring) return fail(ring.error());
   const sa::Keyring next =
       staged ? sa::stage(*ring) : sa::rotate(*ring, now_ns(), static_cast<int64_t>(grace_s * 1e9));
-  if (auto e = sa::save_key_file(path, next)) return fail(*e);
+  if (auto e = sa::save_key_file(path, next); !e) return fail(e.error());
   std::printf("%s\n%s", path.c_str(), sa::describe(next, now_ns()).c_str());
   std::printf(staged ? "Copy the file to every host, then run 'stereoball keys rotate' and copy "
                        "it again.\n"

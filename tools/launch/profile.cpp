@@ -102,17 +102,17 @@ Result<Profile> load_profile(const std::string& name_or_path, const std::string&
 
 Result<Profile> expand_config(Profile profile, const ConfigLookup& lookup) {
   constexpr std::string_view kPrefix = "{config}/";
-  auto expand = [&](std::string& s) -> std::optional<std::string> {
-    if (s.rfind(kPrefix, 0) != 0) return std::nullopt;
+  auto expand = [&](std::string& s) -> Status {
+    if (s.rfind(kPrefix, 0) != 0) return {};
     auto found = lookup(std::string_view(s).substr(kPrefix.size()));
-    if (!found) return found.error();
+    if (!found) return Error{found.error()};
     s = *found;
-    return std::nullopt;
+    return {};
   };
-  if (auto e = expand(profile.cyclonedds_config)) return Error{"cyclonedds: " + *e};
+  if (auto e = expand(profile.cyclonedds_config); !e) return Error{"cyclonedds: " + e.error()};
   for (auto& node : profile.nodes) {
     for (auto& arg : node.args) {
-      if (auto e = expand(arg)) return Error{"node '" + node.name + "': " + *e};
+      if (auto e = expand(arg); !e) return Error{"node '" + node.name + "': " + e.error()};
     }
   }
   return profile;

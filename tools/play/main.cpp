@@ -68,12 +68,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   sb::node::add_common_flags(app, common, "", false);
   CLI11_PARSE(app, argc, argv);
-  if (auto bad = params.validate()) return fail(*bad);
+  if (auto bad = params.validate(); !bad) return fail(bad.error());
 
   auto source = rec::FileSource::open(path);
   if (!source) return fail(source.error());
   rec::McapReader reader(**source);
-  if (auto err = reader.open()) return fail(path + ": " + *err);
+  if (auto err = reader.open(); !err) return fail(path + ": " + err.error());
   for (const auto& n : reader.notes())
     std::fprintf(stderr, "stereoball play: note: %s\n", n.c_str());
 
@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
         ++published[m.channel_id];
         return true;
       });
-      if (err) return fail(*err);
+      if (!err.ok()) return fail(err.error());
     } while (params.loop && !runner.stopping());
 
     uint64_t total = 0;

@@ -132,8 +132,8 @@ int main(int argc, char** argv) {
   params.writer.compression =
       o.compression == "zstd" ? rec::Compression::kZstd : rec::Compression::kNone;
   params.writer.zstd_level = o.zstd_level;
-  if (auto bad = params.validate()) {
-    std::fprintf(stderr, "stereoball record: %s\n", bad->c_str());
+  if (auto bad = params.validate(); !bad) {
+    std::fprintf(stderr, "stereoball record: %s\n", bad.error().c_str());
     return 2;
   }
   std::vector<rec::RecordedTopic> topics;
@@ -181,8 +181,8 @@ int main(int argc, char** argv) {
         print_progress((sb::node::monotonic_ns() - start) / 1e9, *selected,
                        (*recording)->counters(), node.lost(), (*recording)->queued_bytes());
       }
-      if (auto err = (*recording)->failure()) {
-        std::fprintf(stderr, "stereoball record: write failed, stopping: %s\n", err->c_str());
+      if (auto st = (*recording)->status(); !st) {
+        std::fprintf(stderr, "stereoball record: write failed, stopping: %s\n", st.error().c_str());
         failed = true;
         runner.stop();
       }
@@ -193,7 +193,7 @@ int main(int argc, char** argv) {
     runner.run();
     node.update_lost();
     node.stop();
-    const auto err = (*recording)->stop();
+    const auto stopped = (*recording)->stop();
     const auto counters = (*recording)->counters();
     uint64_t total = 0, dropped = 0, lost_total = 0;
     for (const auto& c : counters) {
@@ -206,9 +206,9 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(lost_total));
     for (const auto& f : (*recording)->files()) std::printf(" %s", f.c_str());
     std::printf("\n");
-    if (err || failed) {
+    if (!stopped.ok() || failed) {
       std::fprintf(stderr, "stereoball record: %s (file readable up to its last chunk)\n",
-                   err ? err->c_str() : "write failed");
+                   !stopped.ok() ? stopped.error().c_str() : "write failed");
       return 1;
     }
     return 0;

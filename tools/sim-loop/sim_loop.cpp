@@ -51,8 +51,8 @@ mc::TrackSample to_controller(const tracker::Track& t, std::int64_t stamp_ns) {
 }
 
 Result<std::unique_ptr<SimLoop>> SimLoop::create(const LoopConfig& config) {
-  if (auto e = simulator::Simulator::check(config.sim, config.scenario))
-    return Error{"scenario " + config.scenario.name + ": " + *e};
+  if (auto e = simulator::Simulator::check(config.sim, config.scenario); !e)
+    return Error{"scenario " + config.scenario.name + ": " + e.error()};
   if (auto st = config.tracker.validate(); !st) return Error{"tracker parameters: " + st.error()};
   if (auto st = config.controller.validate(); !st)
     return Error{"motion controller parameters: " + st.error()};
@@ -64,8 +64,8 @@ Result<std::unique_ptr<SimLoop>> SimLoop::create(const LoopConfig& config) {
     return Error{"control latency " + std::to_string(config.control_latency_ns) +
                  " ns is out of range [0, 1 s]"};
   std::unique_ptr<SimLoop> loop(new SimLoop(config));
-  if (auto e = loop->pipeline_.set_calibration(loop->sim_.calibration()))
-    return Error{"calibration of the simulated rig: " + *e};
+  if (auto e = loop->pipeline_.set_calibration(loop->sim_.calibration()); !e)
+    return Error{"calibration of the simulated rig: " + e.error()};
   return loop;
 }
 

@@ -73,7 +73,7 @@ std::string frame_name(const std::string& dir, const char* eye, uint64_t seq) {
 
 int run_scenario(const Options& o, const sim::SimParams& params, const sim::Scenario& scenario,
                  const std::string& png_dir) {
-  if (auto e = sim::Simulator::check(params, scenario)) return fail(*e);
+  if (auto e = sim::Simulator::check(params, scenario); !e) return fail(e.error());
 
   std::ofstream csv;
   if (!png_dir.empty()) {
@@ -90,8 +90,8 @@ int run_scenario(const Options& o, const sim::SimParams& params, const sim::Scen
     const auto path = (std::filesystem::path(png_dir) / "calibration.yaml").string();
     stereoball::stereo::CalibrationFileInfo info;
     info.note = "true calibration of the simulated rig (stereoball-sim)";
-    if (auto e = stereoball::stereo::save_calibration(path, simulator.calibration(), info)) {
-      return fail(*e);
+    if (auto e = stereoball::stereo::save_calibration(path, simulator.calibration(), info); !e) {
+      return fail(e.error());
     }
   }
   const double duration_s = o.duration_s > 0 ? o.duration_s : scenario.duration_s;

@@ -30,7 +30,7 @@ std::optional<HueSat> hue_sat(const cv::Vec3b& p) {
 
 }  // namespace
 
-std::optional<std::string> AppearanceParams::validate() const {
+Status AppearanceParams::validate() const {
   std::ostringstream s;
   if (!(min_similarity >= 0.0 && min_similarity <= 1.0)) {
     s << "appearance.min_similarity = " << min_similarity << " is out of range [0, 1]";
@@ -43,9 +43,9 @@ std::optional<std::string> AppearanceParams::validate() const {
   } else if (min_pixels < 1 || min_pixels > 10000) {
     s << "appearance.min_pixels = " << min_pixels << " is out of range [1, 10000]";
   } else {
-    return std::nullopt;
+    return {};
   }
-  return s.str();
+  return Error{s.str()};
 }
 
 std::optional<ColourHistogram> ColourHistogram::of(const std::vector<cv::Vec3b>& bgr,

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::ball_detector {
 
 /// Settings of the appearance model.
@@ -26,8 +28,8 @@ struct AppearanceParams {
   std::int64_t forget_after_ns = 3'000'000'000;  ///< a loss longer than this forgets the model
   int min_pixels = 12;                           ///< fewer sampled pixels than this: no histogram
 
-  /// First invalid field with its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or the first invalid field with its allowed range.
+  Status validate() const;
 };
 
 /// A normalised hue-saturation histogram: kHueBins x kSatBins chromatic bins (hue soft-binned

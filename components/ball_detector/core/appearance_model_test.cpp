@@ -138,11 +138,11 @@ TEST(AppearanceModel, HistogramIsNormalisedAndGreyGoesToOneBin) {
 TEST(AppearanceModel, ValidateNamesTheField) {
   AppearanceParams p;
   p.min_similarity = 1.5;
-  ASSERT_TRUE(p.validate().has_value());
-  EXPECT_NE(p.validate()->find("appearance.min_similarity"), std::string::npos);
+  ASSERT_FALSE(p.validate().ok());
+  EXPECT_NE(p.validate().error().find("appearance.min_similarity"), std::string::npos);
   p = {};
   p.forget_after_ns = -1;
-  EXPECT_NE(p.validate()->find("appearance.forget_after_ns"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("appearance.forget_after_ns"), std::string::npos);
 }
 
 }  // namespace

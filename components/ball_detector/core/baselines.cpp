@@ -20,11 +20,11 @@ inline double fast_hypot(double a, double b) {
   return std::sqrt(a * a + b * b);
 }
 
-std::optional<std::string> check_radii(double min_r, double max_r) {
-  if (!(min_r >= 0.0)) return std::string("min_radius_px must be >= 0");
+Status check_radii(double min_r, double max_r) {
+  if (!(min_r >= 0.0)) return Error{"min_radius_px must be >= 0"};
   if (!(max_r > min_r && max_r <= 4000.0))
-    return std::string("max_radius_px must be in (min_radius_px, 4000]");
-  return std::nullopt;
+    return Error{"max_radius_px must be in (min_radius_px, 4000]"};
+  return {};
 }
 
 std::vector<cv::Point> digital_circle(double r) {
@@ -42,14 +42,14 @@ std::vector<cv::Point> digital_circle(double r) {
 
 }  // namespace
 
-std::optional<std::string> GradientVotingParams::validate() const {
-  if (auto e = edge.validate()) return "edge." + *e;
+Status GradientVotingParams::validate() const {
+  if (auto e = edge.validate(); !e) return Error{"edge." + e.error()};
   if (box_size_px < 1 || box_size_px > 31 || box_size_px % 2 == 0)
-    return std::string("box_size_px must be odd and in [1, 31]");
-  if (auto e = check_radii(min_radius_px, max_radius_px)) return e;
-  if (max_circles < 1 || max_circles > 100) return std::string("max_circles must be in [1, 100]");
-  if (!(min_score >= 0.0 && min_score <= 1.0)) return std::string("min_score must be in [0, 1]");
-  return std::nullopt;
+    return Error{"box_size_px must be odd and in [1, 31]"};
+  if (auto e = check_radii(min_radius_px, max_radius_px); !e) return e;
+  if (max_circles < 1 || max_circles > 100) return Error{"max_circles must be in [1, 100]"};
+  if (!(min_score >= 0.0 && min_score <= 1.0)) return Error{"min_score must be in [0, 1]"};
+  return {};
 }
 
 GradientVotingDetector::GradientVotingDetector(const GradientVotingParams& params)
@@ -61,7 +61,7 @@ std::vector<Circle> GradientVotingDetector::detect(const cv::Mat& bgr_or_grey) {
   diag_ = DetectionDiagnostics{};
   peak_ratio_done_ = false;
   voters_.clear();
-  if (validate_image(bgr_or_grey)) return {};
+  if (!validate_image(bgr_or_grey).ok()) return {};
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
   accumulator_.create(edges_.edges.size(), CV_16UC1);
   accumulator_.setTo(0);
@@ -115,14 +115,14 @@ const DetectionDiagnostics* GradientVotingDetector::diagnostics() const {
   return &diag_;
 }
 
-std::optional<std::string> ChtParams::validate() const {
-  if (auto e = edge.validate()) return "edge." + *e;
-  if (auto e = check_radii(min_radius_px, max_radius_px)) return e;
+Status ChtParams::validate() const {
+  if (auto e = edge.validate(); !e) return Error{"edge." + e.error()};
+  if (auto e = check_radii(min_radius_px, max_radius_px); !e) return e;
   if (!(radius_step_px >= 0.25 && radius_step_px <= 100.0))
-    return std::string("radius_step_px must be in [0.25, 100]");
-  if (max_circles < 1 || max_circles > 100) return std::string("max_circles must be in [1, 100]");
-  if (!(min_score >= 0.0 && min_score <= 1.0)) return std::string("min_score must be in [0, 1]");
-  return std::nullopt;
+    return Error{"radius_step_px must be in [0.25, 100]"};
+  if (max_circles < 1 || max_circles > 100) return Error{"max_circles must be in [1, 100]"};
+  if (!(min_score >= 0.0 && min_score <= 1.0)) return Error{"min_score must be in [0, 1]"};
+  return {};
 }
 
 ChtDetector::ChtDetector(const ChtParams& params) : params_(params) {
@@ -136,7 +136,7 @@ ChtDetector::ChtDetector(const ChtParams& params) : params_(params) {
 
 std::vector<Circle> ChtDetector::detect(const cv::Mat& bgr_or_grey) {
   diag_ = DetectionDiagnostics{};
-  if (validate_image(bgr_or_grey) || radii_.empty()) return {};
+  if (!validate_image(bgr_or_grey).ok() || radii_.empty()) return {};
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
   const int w = edges_.edges.cols, h = edges_.edges.rows;
   const size_t plane = static_cast<size_t>(w) * h;
@@ -189,24 +189,23 @@ std::vector<Circle> ChtDetector::detect(const cv::Mat& bgr_or_grey) {
   return out;
 }
 
-std::optional<std::string> OpenCvHoughParams::validate() const {
-  if (!(dp >= 1.0 && dp <= 4.0)) return std::string("dp must be in [1, 4]");
-  if (!(param1 > 0.0)) return std::string("param1 must be > 0");
-  if (alt && !(param2 > 0.0 && param2 <= 1.0))
-    return std::string("param2 must be in (0, 1] for ALT");
-  if (!alt && !(param2 > 0.0)) return std::string("param2 must be > 0");
-  if (auto e = check_radii(min_radius_px, max_radius_px)) return e;
-  if (!(min_separation_px > 0.0)) return std::string("min_separation_px must be > 0");
-  if (max_circles < 1 || max_circles > 100) return std::string("max_circles must be in [1, 100]");
+Status OpenCvHoughParams::validate() const {
+  if (!(dp >= 1.0 && dp <= 4.0)) return Error{"dp must be in [1, 4]"};
+  if (!(param1 > 0.0)) return Error{"param1 must be > 0"};
+  if (alt && !(param2 > 0.0 && param2 <= 1.0)) return Error{"param2 must be in (0, 1] for ALT"};
+  if (!alt && !(param2 > 0.0)) return Error{"param2 must be > 0"};
+  if (auto e = check_radii(min_radius_px, max_radius_px); !e) return e;
+  if (!(min_separation_px > 0.0)) return Error{"min_separation_px must be > 0"};
+  if (max_circles < 1 || max_circles > 100) return Error{"max_circles must be in [1, 100]"};
   if (blur_ksize != 0 && (blur_ksize < 3 || blur_ksize % 2 == 0))
-    return std::string("blur_ksize must be 0 or odd >= 3");
-  return std::nullopt;
+    return Error{"blur_ksize must be 0 or odd >= 3"};
+  return {};
 }
 
 OpenCvHoughDetector::OpenCvHoughDetector(const OpenCvHoughParams& params) : params_(params) {}
 
 std::vector<Circle> OpenCvHoughDetector::detect(const cv::Mat& bgr_or_grey) {
-  if (validate_image(bgr_or_grey)) return {};
+  if (!validate_image(bgr_or_grey).ok()) return {};
   cv::Mat grey = to_grey(bgr_or_grey);
   if (params_.blur_ksize >= 3) cv::medianBlur(grey, grey, params_.blur_ksize);
   std::vector<cv::Vec4f> found;

@@ -6,6 +6,7 @@
 #include "ball_detector/core/circle_fit.hpp"
 #include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
+#include "common/util/result.hpp"
 
 #include <optional>
 #include <string>
@@ -26,8 +27,8 @@ struct GradientVotingParams {
   bool refine = true;               ///< same least-squares refinement as Pixel-to-Pixel
   RefineParams refine_params;
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the first bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Every edge point draws a line along its gradient, both ways (the ball may be darker or
@@ -58,8 +59,8 @@ struct ChtParams {
   double min_separation_px = 10.0;  ///< closest two centres, pixels
   double min_score = 0.5;           ///< votes / circle length threshold, [0, 1]
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the first bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Classic CHT: each edge point votes a full circle for every radius; score = votes / circle
@@ -92,8 +93,8 @@ struct OpenCvHoughParams {
   int max_circles = 5;              ///< most circles returned
   int blur_ksize = 0;               ///< median blur before detection (0 = none, else odd)
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the first bad field and its allowed range.
+  Status validate() const;
 };
 
 /// cv::HoughCircles; score = min(1, votes / circumference) when OpenCV reports votes.
@@ -119,8 +120,8 @@ struct EdCirclesParams {
   double min_separation_px = 10.0;  ///< closest two centres, pixels (the stronger is kept)
   int max_circles = 5;              ///< most circles returned
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the first bad field and its allowed range.
+  Status validate() const;
 };
 
 /// EDCircles (Akinlar & Topal 2013): Edge Drawing's one-pixel edge chains, arcs fitted to

@@ -56,13 +56,13 @@ TEST(GradientVoting, GivenTheSameBallThenItCastsMoreVotesThanPixelToPixel) {
 
 TEST(Cht, GivenBadParamsThenValidateNamesThem) {
   ChtParams p;
-  EXPECT_FALSE(p.validate().has_value());
+  EXPECT_TRUE(p.validate().ok());
   p.radius_step_px = 0.0;
-  EXPECT_NE(p.validate().value_or("").find("radius_step_px"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("radius_step_px"), std::string::npos);
   OpenCvHoughParams o;
   o.alt = true;
   o.param2 = 5.0;
-  EXPECT_NE(o.validate().value_or("").find("param2"), std::string::npos);
+  EXPECT_NE(o.validate().error().find("param2"), std::string::npos);
 }
 
 TEST(EdCircles, GivenAFlatEllipseAndACircleThenOnlyTheCircleIsReported) {
@@ -80,12 +80,12 @@ TEST(EdCircles, GivenAFlatEllipseAndACircleThenOnlyTheCircleIsReported) {
 
 TEST(EdCircles, GivenBadParamsThenValidateNamesThem) {
   EdCirclesParams p;
-  EXPECT_FALSE(p.validate().has_value());
+  EXPECT_TRUE(p.validate().ok());
   p.min_axis_ratio = 1.5;
-  EXPECT_NE(p.validate().value_or("").find("min_axis_ratio"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("min_axis_ratio"), std::string::npos);
   p = EdCirclesParams{};
   p.gradient_threshold = 0;
-  EXPECT_NE(p.validate().value_or("").find("gradient_threshold"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("gradient_threshold"), std::string::npos);
 }
 
 }  // namespace

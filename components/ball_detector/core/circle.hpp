@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::ball_detector {
 
 /// One detected circle in image pixels (pixel centres at integer coordinates).
@@ -40,8 +42,8 @@ class CircleDetector {
   virtual std::string name() const = 0;
 };
 
-/// Why an image cannot be processed (empty, wrong depth or channel count), or nullopt if fine.
-std::optional<std::string> validate_image(const cv::Mat& image);
+/// Success, or why an image cannot be processed (empty, wrong depth or channel count).
+Status validate_image(const cv::Mat& image);
 
 /// Settings common to every method, used by the factory (the CLI maps its flags onto these).
 struct DetectorOptions {

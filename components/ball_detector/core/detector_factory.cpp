@@ -17,13 +17,13 @@ Params with_common_options(Params p, const DetectorOptions& o) {
 
 }  // namespace
 
-std::optional<std::string> validate_image(const cv::Mat& image) {
-  if (image.empty()) return std::string("image is empty");
-  if (image.depth() != CV_8U) return std::string("image must have 8-bit pixels");
+Status validate_image(const cv::Mat& image) {
+  if (image.empty()) return Error{"image is empty"};
+  if (image.depth() != CV_8U) return Error{"image must have 8-bit pixels"};
   if (image.channels() != 1 && image.channels() != 3 && image.channels() != 4)
-    return std::string("image must have 1, 3 or 4 channels");
-  if (image.cols < 8 || image.rows < 8) return std::string("image is smaller than 8x8 pixels");
-  return std::nullopt;
+    return Error{"image must have 1, 3 or 4 channels"};
+  if (image.cols < 8 || image.rows < 8) return Error{"image is smaller than 8x8 pixels"};
+  return {};
 }
 
 std::vector<std::string> detector_names() {
@@ -40,19 +40,19 @@ std::unique_ptr<CircleDetector> make_detector(const std::string& method, const D
     auto p = with_common_options(PixelToPixelParams{}, o);
     p.k_values = o.k_values;
     p.min_score = o.min_score;
-    if (auto e = p.validate()) return fail("p2p: " + *e);
+    if (auto e = p.validate(); !e) return fail("p2p: " + e.error());
     return std::make_unique<PixelToPixelDetector>(p);
   }
   if (method == "gradient") {
     auto p = with_common_options(GradientVotingParams{}, o);
     p.min_score = o.min_score;
-    if (auto e = p.validate()) return fail("gradient: " + *e);
+    if (auto e = p.validate(); !e) return fail("gradient: " + e.error());
     return std::make_unique<GradientVotingDetector>(p);
   }
   if (method == "cht") {
     auto p = with_common_options(ChtParams{}, o);
     p.min_score = o.min_score;
-    if (auto e = p.validate()) return fail("cht: " + *e);
+    if (auto e = p.validate(); !e) return fail("cht: " + e.error());
     return std::make_unique<ChtDetector>(p);
   }
   if (method == "opencv" || method == "opencv-alt") {
@@ -68,12 +68,12 @@ std::unique_ptr<CircleDetector> make_detector(const std::string& method, const D
     p.min_radius_px = o.min_radius_px;
     p.max_radius_px = o.max_radius_px;
     p.min_separation_px = std::max(1.0, o.min_separation_px);
-    if (auto e = p.validate()) return fail(method + ": " + *e);
+    if (auto e = p.validate(); !e) return fail(method + ": " + e.error());
     return std::make_unique<OpenCvHoughDetector>(p);
   }
   if (method == "edcircles") {
     const auto p = with_common_options(EdCirclesParams{}, o);
-    if (auto e = p.validate()) return fail("edcircles: " + *e);
+    if (auto e = p.validate(); !e) return fail("edcircles: " + e.error());
     return std::make_unique<EdCirclesDetector>(p);
   }
   return fail("unknown method '" + method +

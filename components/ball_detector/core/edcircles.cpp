@@ -8,19 +8,19 @@
 
 namespace stereoball::ball_detector {
 
-std::optional<std::string> EdCirclesParams::validate() const {
+Status EdCirclesParams::validate() const {
   if (gradient_threshold < 1 || gradient_threshold > 255)
-    return std::string("gradient_threshold must be in [1, 255]");
+    return Error{"gradient_threshold must be in [1, 255]"};
   if (anchor_threshold < 0 || anchor_threshold > 255)
-    return std::string("anchor_threshold must be in [0, 255]");
-  if (!(sigma > 0.0 && sigma <= 10.0)) return std::string("sigma must be in (0, 10]");
+    return Error{"anchor_threshold must be in [0, 255]"};
+  if (!(sigma > 0.0 && sigma <= 10.0)) return Error{"sigma must be in (0, 10]"};
   if (!(min_axis_ratio >= 0.0 && min_axis_ratio <= 1.0))
-    return std::string("min_axis_ratio must be in [0, 1]");
-  if (!(min_radius_px >= 0.0)) return std::string("min_radius_px must be >= 0");
-  if (!(max_radius_px > min_radius_px)) return std::string("max_radius_px must be > min_radius_px");
-  if (!(min_separation_px >= 0.0)) return std::string("min_separation_px must be >= 0");
-  if (max_circles < 1 || max_circles > 100) return std::string("max_circles must be in [1, 100]");
-  return std::nullopt;
+    return Error{"min_axis_ratio must be in [0, 1]"};
+  if (!(min_radius_px >= 0.0)) return Error{"min_radius_px must be >= 0"};
+  if (!(max_radius_px > min_radius_px)) return Error{"max_radius_px must be > min_radius_px"};
+  if (!(min_separation_px >= 0.0)) return Error{"min_separation_px must be >= 0"};
+  if (max_circles < 1 || max_circles > 100) return Error{"max_circles must be in [1, 100]"};
+  return {};
 }
 
 struct EdCirclesDetector::Impl {
@@ -39,7 +39,7 @@ EdCirclesDetector::EdCirclesDetector(const EdCirclesParams& params)
 EdCirclesDetector::~EdCirclesDetector() = default;
 
 std::vector<Circle> EdCirclesDetector::detect(const cv::Mat& bgr_or_grey) {
-  if (validate_image(bgr_or_grey)) return {};
+  if (!validate_image(bgr_or_grey).ok()) return {};
   impl_->ed->detectEdges(to_grey(bgr_or_grey));
   std::vector<cv::Vec6d> found;
   impl_->ed->detectEllipses(found);

@@ -41,18 +41,20 @@ inline int code_at(const uchar* up, const uchar* mid, const uchar* down, int x) 
 
 }  // namespace
 
-std::optional<std::string> EdgeParams::validate() const {
-  if (!(noise_factor > 0.0 && noise_factor <= 100.0)) return "noise_factor must be in (0, 100]";
-  if (!(high_percentile > 0.0 && high_percentile < 1.0)) return "high_percentile must be in (0, 1)";
+Status EdgeParams::validate() const {
+  if (!(noise_factor > 0.0 && noise_factor <= 100.0))
+    return Error{"noise_factor must be in (0, 100]"};
+  if (!(high_percentile > 0.0 && high_percentile < 1.0))
+    return Error{"high_percentile must be in (0, 1)"};
   if (!(contrast_fraction >= 0.0 && contrast_fraction <= 1.0))
-    return "contrast_fraction must be in [0, 1]";
-  if (!(denoise_median >= 0.0)) return "denoise_median must be >= 0";
-  if (!(low_ratio > 0.0 && low_ratio <= 1.0)) return "low_ratio must be in (0, 1]";
+    return Error{"contrast_fraction must be in [0, 1]"};
+  if (!(denoise_median >= 0.0)) return Error{"denoise_median must be >= 0"};
+  if (!(low_ratio > 0.0 && low_ratio <= 1.0)) return Error{"low_ratio must be in (0, 1]"};
   if (!(min_high_threshold >= 1.0 && min_high_threshold <= 2040.0))
-    return "min_high_threshold must be in [1, 2040]";
+    return Error{"min_high_threshold must be in [1, 2040]"};
   if (!(max_high_threshold >= min_high_threshold))
-    return "max_high_threshold must be >= min_high_threshold";
-  return std::nullopt;
+    return Error{"max_high_threshold must be >= min_high_threshold"};
+  return {};
 }
 
 void BitImage::reset(int width, int height) {

@@ -4,6 +4,7 @@
 // counts.
 
 #include "ball_detector/core/canny.hpp"
+#include "common/util/result.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -34,8 +35,8 @@ struct EdgeParams {
   /// brightness). false = the grey image's gradient (the paper). Grey input: grey either way.
   bool colour = true;
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the first bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Binary image packed 64 pixels per word, rows padded by one word (safe two-word reads).

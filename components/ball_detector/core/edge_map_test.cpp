@@ -119,13 +119,13 @@ TEST(BitImage, GivenABinaryImageThenBitsMatchPixelsIncludingAcrossWords) {
 
 TEST(EdgeParams, GivenOutOfRangeFieldsThenValidateNamesThem) {
   EdgeParams p;
-  EXPECT_FALSE(p.validate().has_value());
+  EXPECT_TRUE(p.validate().ok());
   p.high_percentile = 1.5;
-  ASSERT_TRUE(p.validate().has_value());
-  EXPECT_NE(p.validate()->find("high_percentile"), std::string::npos);
+  ASSERT_FALSE(p.validate().ok());
+  EXPECT_NE(p.validate().error().find("high_percentile"), std::string::npos);
   p = EdgeParams{};
   p.low_ratio = 0.0;
-  EXPECT_NE(p.validate()->find("low_ratio"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("low_ratio"), std::string::npos);
 }
 
 }  // namespace

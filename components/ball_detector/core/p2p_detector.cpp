@@ -70,33 +70,33 @@ VoterRows::VoterRows(const std::vector<Voter>& voters) {
       suffix_min_[i] = i + 1 < run.end ? std::min(suffix_min_[i + 1], voters[i].y) : voters[i].y;
 }
 
-std::optional<std::string> PixelToPixelParams::validate() const {
-  if (auto e = edge.validate()) return "edge." + *e;
-  if (k_values.empty()) return std::string("k_values must hold at least one k in [1, 31]");
+Status PixelToPixelParams::validate() const {
+  if (auto e = edge.validate(); !e) return Error{"edge." + e.error()};
+  if (k_values.empty()) return Error{"k_values must hold at least one k in [1, 31]"};
   for (int k : k_values)
-    if (k < 1 || k > kMaxK) return std::string("k_values entries must be in [1, 31]");
+    if (k < 1 || k > kMaxK) return Error{"k_values entries must be in [1, 31]"};
   if (box_size_px < 1 || box_size_px > 31 || box_size_px % 2 == 0)
-    return std::string("box_size_px must be odd and in [1, 31]");
-  if (!(min_radius_px >= 0.0)) return std::string("min_radius_px must be >= 0");
+    return Error{"box_size_px must be odd and in [1, 31]"};
+  if (!(min_radius_px >= 0.0)) return Error{"min_radius_px must be >= 0"};
   if (!(max_radius_px > min_radius_px && max_radius_px <= 4000.0))
-    return std::string("max_radius_px must be in (min_radius_px, 4000]");
-  if (max_circles < 1 || max_circles > 100) return std::string("max_circles must be in [1, 100]");
+    return Error{"max_radius_px must be in (min_radius_px, 4000]"};
+  if (max_circles < 1 || max_circles > 100) return Error{"max_circles must be in [1, 100]"};
   if (!(isolate_max_points_factor >= 1.0 && isolate_max_points_factor <= 64.0))
-    return std::string("isolate_max_points_factor must be in [1, 64]");
-  if (!(min_separation_px >= 0.0)) return std::string("min_separation_px must be >= 0");
-  if (!(min_score >= 0.0 && min_score <= 1.0)) return std::string("min_score must be in [0, 1]");
-  if (min_peak_votes < 0) return std::string("min_peak_votes must be >= 0");
+    return Error{"isolate_max_points_factor must be in [1, 64]"};
+  if (!(min_separation_px >= 0.0)) return Error{"min_separation_px must be >= 0"};
+  if (!(min_score >= 0.0 && min_score <= 1.0)) return Error{"min_score must be in [0, 1]"};
+  if (min_peak_votes < 0) return Error{"min_peak_votes must be >= 0"};
   if (max_peaks_examined < 1 || max_peaks_examined > 1000)
-    return std::string("max_peaks_examined must be in [1, 1000]");
+    return Error{"max_peaks_examined must be in [1, 1000]"};
   if (!(min_relative_peak >= 0.0 && min_relative_peak <= 1.0))
-    return std::string("min_relative_peak must be in [0, 1]");
+    return Error{"min_relative_peak must be in [0, 1]"};
   if (!(refine_params.band_px > 0.0 && refine_params.band_px <= 10.0))
-    return std::string("refine_params.band_px must be in (0, 10]");
+    return Error{"refine_params.band_px must be in (0, 10]"};
   if (!(refine_params.min_radial_cos >= 0.0 && refine_params.min_radial_cos <= 1.0))
-    return std::string("refine_params.min_radial_cos must be in [0, 1]");
+    return Error{"refine_params.min_radial_cos must be in [0, 1]"};
   if (!(refine_params.min_inside_fraction >= 0.0 && refine_params.min_inside_fraction <= 1.0))
-    return std::string("refine_params.min_inside_fraction must be in [0, 1]");
-  return std::nullopt;
+    return Error{"refine_params.min_inside_fraction must be in [0, 1]"};
+  return {};
 }
 
 PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : params_(params) {
@@ -232,7 +232,7 @@ bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey) {
   start(std::nullopt);
   edges_ready_ = false;
   orientation_ready_ = false;  // planes of the previous edge map
-  if (validate_image(bgr_or_grey)) return false;
+  if (!validate_image(bgr_or_grey).ok()) return false;
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
   edges_ready_ = true;
   vote_on_edges();
@@ -249,7 +249,7 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
   start(std::nullopt);
   edges_ready_ = false;
   orientation_ready_ = false;  // planes of the previous edge map
-  if (validate_image(bgr_or_grey)) return {};
+  if (!validate_image(bgr_or_grey).ok()) return {};
   compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
   edges_ready_ = true;
   return detect_on_edges();
@@ -261,7 +261,7 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
   start(hints);
   edges_ready_ = false;
   orientation_ready_ = false;  // planes of the previous edge map
-  if (validate_image(bgr_or_grey) || !(radii_.max_px > radii_.min_px)) return {};
+  if (!validate_image(bgr_or_grey).ok() || !(radii_.max_px > radii_.min_px)) return {};
   compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
   edges_ready_ = true;
   return detect_on_edges();

@@ -6,6 +6,7 @@
 #include "ball_detector/core/circle_fit.hpp"
 #include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/voting.hpp"
+#include "common/util/result.hpp"
 
 #include <algorithm>
 #include <array>
@@ -58,8 +59,8 @@ struct PixelToPixelParams {
   static constexpr double kPolishFirstBandPx = 4.0;
   static constexpr double kPolishRobustFloorPx = 0.6;
 
-  /// Names the first bad field and its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the first bad field and its allowed range.
+  Status validate() const;
 };
 
 /// A range of circle radii, pixels.

@@ -149,9 +149,9 @@ TEST(PixelToPixel, GivenAnEmptyOrBadImageThenNoCirclesAndValidateExplains) {
   PixelToPixelDetector det(PixelToPixelParams{});
   EXPECT_TRUE(det.detect(cv::Mat()).empty());
   EXPECT_TRUE(det.detect(cv::Mat(10, 10, CV_32F, cv::Scalar(0))).empty());
-  EXPECT_NE(validate_image(cv::Mat()).value_or("").find("empty"), std::string::npos);
-  EXPECT_NE(validate_image(cv::Mat(10, 10, CV_32F)).value_or("").find("8-bit"), std::string::npos);
-  EXPECT_FALSE(validate_image(cv::Mat(10, 10, CV_8UC3)).has_value());
+  EXPECT_NE(validate_image(cv::Mat()).error().find("empty"), std::string::npos);
+  EXPECT_NE(validate_image(cv::Mat(10, 10, CV_32F)).error().find("8-bit"), std::string::npos);
+  EXPECT_TRUE(validate_image(cv::Mat(10, 10, CV_8UC3)).ok());
 }
 
 TEST(PixelToPixel, GivenGreyAndBgrVersionsOfOneImageThenResultsAgree) {
@@ -405,21 +405,21 @@ TEST(PixelToPixel, GivenDotsAroundAnOutlineThenADenserIsolationLimitIsolatesMore
 
 TEST(PixelToPixelParams, GivenBadFieldsThenValidateNamesThem) {
   PixelToPixelParams p;
-  EXPECT_FALSE(p.validate().has_value());
+  EXPECT_TRUE(p.validate().ok());
   p.k_values = {0};
-  EXPECT_NE(p.validate().value_or("").find("k_values"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("k_values"), std::string::npos);
   p = PixelToPixelParams{};
   p.box_size_px = 4;
-  EXPECT_NE(p.validate().value_or("").find("box_size_px"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("box_size_px"), std::string::npos);
   p = PixelToPixelParams{};
   p.max_radius_px = 1.0;
-  EXPECT_NE(p.validate().value_or("").find("max_radius_px"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("max_radius_px"), std::string::npos);
   p = PixelToPixelParams{};
   p.min_score = 2.0;
-  EXPECT_NE(p.validate().value_or("").find("min_score"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("min_score"), std::string::npos);
   p = PixelToPixelParams{};
   p.isolate_max_points_factor = 0.5;
-  EXPECT_NE(p.validate().value_or("").find("isolate_max_points_factor"), std::string::npos);
+  EXPECT_NE(p.validate().error().find("isolate_max_points_factor"), std::string::npos);
 }
 
 }  // namespace

@@ -48,8 +48,8 @@ void BallDetectorNode::on_calibration() {
 }
 
 void BallDetectorNode::apply_calibration(const CalibrationFrom& calibration) {
-  if (auto problem = pipeline_.set_calibration(calibration.calib))
-    return reject_calibration(calibration.source, *problem);
+  if (auto problem = pipeline_.set_calibration(calibration.calib); !problem)
+    return reject_calibration(calibration.source, problem.error());
   gate_.applied(calibration.calib.image_size);
   pending_calibration_.reset();
   eye_order_.reset();

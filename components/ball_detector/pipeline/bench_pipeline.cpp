@@ -95,8 +95,8 @@ int main(int argc, char** argv) {
   setup.uniform_ball = plain;
   const auto sim_params = sb::simulator::default_sim_params();
   const auto scenario = sb::simulator::make_sim_scenario(setup);
-  if (auto e = sb::simulator::Simulator::check(sim_params, scenario)) {
-    std::fprintf(stderr, "stereoball-bench-pipeline: %s\n", e->c_str());
+  if (auto e = sb::simulator::Simulator::check(sim_params, scenario); !e) {
+    std::fprintf(stderr, "stereoball-bench-pipeline: %s\n", e.error().c_str());
     return 1;
   }
   sb::simulator::Simulator sim(sim_params, scenario);
@@ -111,8 +111,8 @@ int main(int argc, char** argv) {
   params.size_max_relative_error = size_tolerance;
   params.p2p.min_score = min_score;
   sb::ball_detector::StereoPipeline pipeline(params);
-  if (auto e = pipeline.set_calibration(sim.calibration())) {
-    std::fprintf(stderr, "stereoball-bench-pipeline: calibration: %s\n", e->c_str());
+  if (auto e = pipeline.set_calibration(sim.calibration()); !e) {
+    std::fprintf(stderr, "stereoball-bench-pipeline: calibration: %s\n", e.error().c_str());
     return 1;
   }
   auto rectifier = sb::stereo::Rectifier::create(sim.calibration()).value();

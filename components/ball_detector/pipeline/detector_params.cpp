@@ -51,8 +51,8 @@ DetectorInput input_of(const std::string& word) {
 // The detector's and the appearance model's own rules (min_radius_px < max_radius_px...), on
 // what the pipeline hands them.
 Status cross_check(const P& p) {
-  if (auto e = p.detector_params().validate()) return Error{"p2p." + *e};
-  if (auto e = p.appearance.validate()) return Error{*e};
+  if (auto e = p.detector_params().validate(); !e) return Error{"p2p." + e.error()};
+  if (auto e = p.appearance.validate(); !e) return Error{e.error()};
   return {};
 }
 

@@ -16,12 +16,13 @@ constexpr int kPatchHalf = kPatchSide / 2;
 constexpr double kColourRings[] = {0.2, 0.4, 0.55, 0.7};
 constexpr int kColourAngles = 12;
 
-std::optional<std::string> check_pixels(const char* eye, const cv::Mat& m) {
-  if (m.empty()) return std::string(eye) + " image is empty";
+Status check_pixels(const char* eye, const cv::Mat& m) {
+  if (m.empty()) return Error{std::string(eye) + " image is empty"};
   if (m.depth() != CV_8U || (m.channels() != 1 && m.channels() != 3))
-    return std::string(eye) + " image must be 8-bit grey or BGR (got " +
-           std::to_string(m.channels()) + " channels, depth " + std::to_string(m.depth()) + ")";
-  return std::nullopt;
+    return Error{std::string(eye) + " image must be 8-bit grey or BGR (got " +
+                 std::to_string(m.channels()) + " channels, depth " + std::to_string(m.depth()) +
+                 ")"};
+  return {};
 }
 
 DetectionStatus from_pairing(PairingStatus s) {
@@ -146,14 +147,14 @@ StereoPipeline::StereoPipeline(const BallDetectorParams& params)
   right_candidates_.reserve(static_cast<std::size_t>(params.max_candidates_per_eye));
 }
 
-std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
-  if (auto e = stereo::validate_calibration(calib)) return e;
-  if (auto swapped = stereo::check_camera_order(calib))
-    return *swapped + "; " + kHowToSwapCameras + " and calibrate again";
+Status StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
+  if (auto e = stereo::validate_calibration(calib); !e) return e;
+  if (auto swapped = stereo::check_camera_order(calib); !swapped)
+    return Error{swapped.error() + "; " + kHowToSwapCameras + " and calibrate again"};
   auto rectifier = stereo::Rectifier::create(calib);
-  if (!rectifier) return rectifier.error();
+  if (!rectifier) return Error{rectifier.error()};
   auto triangulator = stereo::Triangulator::create(calib);
-  if (!triangulator) return triangulator.error();
+  if (!triangulator) return Error{triangulator.error()};
   rectifier_.emplace(std::move(rectifier).value());
   triangulator_.emplace(std::move(triangulator).value());
   if (params_.perspective_outline) {
@@ -169,7 +170,7 @@ std::optional<std::string> StereoPipeline::set_calibration(const stereo::StereoC
                       calib.p1(2, 2));
   patch_ray_from_pixel_ = calib.r1.t() * p.inv();
   floor_ = floor_model(params_, calib);
-  return std::nullopt;
+  return {};
 }
 
 std::optional<stereo::PinholeCamera> StereoPipeline::left_camera() const {
@@ -186,11 +187,10 @@ cv::Size StereoPipeline::image_size() const {
   return rectifier_ ? rectifier_->calibration().image_size : cv::Size();
 }
 
-std::optional<std::string> StereoPipeline::check_input(const cv::Mat& left,
-                                                       const cv::Mat& right) const {
-  if (auto e = check_pixels("left", left)) return e;
-  if (auto e = check_pixels("right", right)) return e;
-  if (left.type() != right.type()) return std::string("left and right images differ in type");
+Status StereoPipeline::check_input(const cv::Mat& left, const cv::Mat& right) const {
+  if (auto e = check_pixels("left", left); !e) return e;
+  if (auto e = check_pixels("right", right); !e) return e;
+  if (left.type() != right.type()) return Error{"left and right images differ in type"};
   return stereo::check_image_size(rectifier_->calibration(), left.size(), right.size());
 }
 
@@ -249,9 +249,9 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     out.reason = "no stereo calibration received yet";
     return out;
   }
-  if (auto e = check_input(left, right)) {
+  if (auto e = check_input(left, right); !e) {
     out.status = DetectionStatus::kBadFrame;
-    out.reason = *e;
+    out.reason = e.error();
     return out;
   }
   const PairingContext ctx{epipolar_, *triangulator_, size_, floor_};
@@ -320,8 +320,8 @@ void StereoPipeline::refresh_thresholds(const cv::Mat& left_channel, bool rectif
 }
 
 bool StereoPipeline::finish_frame(const cv::Mat& left, bool rectified) {
-  if (!refresh_due_ || !rectifier_ || check_pixels("left", left) ||
-      stereo::check_image_size(rectifier_->calibration(), left.size(), left.size()))
+  if (!refresh_due_ || !rectifier_ || !check_pixels("left", left).ok() ||
+      !stereo::check_image_size(rectifier_->calibration(), left.size(), left.size()).ok())
     return false;
   refresh_thresholds(detector_channel(left, grey_left_), rectified);
   return true;

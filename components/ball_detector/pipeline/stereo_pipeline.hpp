@@ -17,6 +17,7 @@
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/pipeline/detector_params.hpp"
 #include "ball_detector/pipeline/pairing.hpp"
+#include "common/util/result.hpp"
 #include "stereo/core/calibration.hpp"
 #include "stereo/core/epipolar.hpp"
 #include "stereo/core/rectifier.hpp"
@@ -114,7 +115,7 @@ class StereoPipeline {
 
   /// Validates calib and builds the rectification LUTs and the triangulator; on error the
   /// previous calibration (if any) stays in use and the message names the problem.
-  std::optional<std::string> set_calibration(const stereo::StereoCalibration& calib);
+  Status set_calibration(const stereo::StereoCalibration& calib);
   /// Whether a calibration has been set.
   bool has_calibration() const { return rectifier_.has_value(); }
   /// The calibration's rectifier, nullopt without calibration.
@@ -157,7 +158,7 @@ class StereoPipeline {
   std::optional<stereo::PinholeCamera> right_camera() const;
 
  private:
-  std::optional<std::string> check_input(const cv::Mat& left, const cv::Mat& right) const;
+  Status check_input(const cv::Mat& left, const cv::Mat& right) const;
   void refresh_thresholds(const cv::Mat& left_channel, bool rectified);
   void rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified, cv::Mat& out) const;
   const cv::Mat& detector_channel(const cv::Mat& raw, cv::Mat& grey) const;

@@ -82,9 +82,9 @@ Status CameraServerNode::open_calibration(cv::Size capture_size) {
                  size_text(capture_size) +
                  "; recalibrate at this size or change width_px/height_px"};
   }
-  if (auto swapped = stereo::check_camera_order(*calib)) {
-    return Error{"calibration " + params_.calibration_file + ": " + *swapped + "; " + kHowToSwap +
-                 " and calibrate again (stereoball calibrate)"};
+  if (auto swapped = stereo::check_camera_order(*calib); !swapped) {
+    return Error{"calibration " + params_.calibration_file + ": " + swapped.error() + "; " +
+                 kHowToSwap + " and calibrate again (stereoball calibrate)"};
   }
   calibration_.emplace(std::move(calib).value());
   // Also without `rectify`: the eye-order check of the first frames rectifies them.
@@ -182,8 +182,8 @@ const stereo::FrameView* CameraServerNode::rectify(const stereo::FrameView& view
   const cv::Mat l = stereo::image_of(view.left, view.encoding),
                 r = stereo::image_of(view.right, view.encoding);
   if (!params_.rectify || !rectifier_ || l.empty()) return &view;
-  if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1])) {
-    runner_.health().error("rectify", *e);
+  if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1]); !e) {
+    runner_.health().error("rectify", e.error());
     return nullptr;
   }
   auto v = stereo::view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);

@@ -42,20 +42,20 @@ const KeyEntry* Keyring::accepted(uint32_t id, int64_t now_ns) const {
   return nullptr;
 }
 
-std::optional<std::string> Keyring::validate() const {
+Status Keyring::validate() const {
   std::set<uint32_t> ids;
   int signers = 0;
   for (const auto& k : keys) {
-    if (k.id == 0) return "key id 0 is reserved for unsigned samples";
-    if (!ids.insert(k.id).second) return "key id " + std::to_string(k.id) + " appears twice";
+    if (k.id == 0) return Error{"key id 0 is reserved for unsigned samples"};
+    if (!ids.insert(k.id).second) return Error{"key id " + std::to_string(k.id) + " appears twice"};
     if (k.signs) ++signers;
     if (k.signs && k.accept_until_ns != INT64_MAX) {
-      return "the signing key " + std::to_string(k.id) + " must not expire";
+      return Error{"the signing key " + std::to_string(k.id) + " must not expire"};
     }
   }
   if (signers != 1)
-    return "exactly one signing key is needed (found " + std::to_string(signers) + ")";
-  return std::nullopt;
+    return Error{"exactly one signing key is needed (found " + std::to_string(signers) + ")"};
+  return {};
 }
 
 std::string_view to_string(Verdict verdict) {
@@ -80,11 +80,11 @@ std::string_view to_string(Verdict verdict) {
   return "?";
 }
 
-std::optional<std::string> WindowParams::validate() const {
-  if (max_age_ns <= 0) return "max_age_ns must be > 0";
-  if (max_future_ns < 0) return "max_future_ns must be >= 0";
-  if (max_links == 0) return "max_links must be > 0";
-  return std::nullopt;
+Status WindowParams::validate() const {
+  if (max_age_ns <= 0) return Error{"max_age_ns must be > 0"};
+  if (max_future_ns < 0) return Error{"max_future_ns must be >= 0"};
+  if (max_links == 0) return Error{"max_links must be > 0"};
+  return {};
 }
 
 ReplayGuard::ReplayGuard(ReplayRule rule, const WindowParams& params)

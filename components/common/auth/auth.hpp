@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::auth {
 
 constexpr size_t kKeyBytes = 32;  ///< crypto_auth_hmacsha512256_KEYBYTES
@@ -36,7 +38,7 @@ struct Keyring {
   /// The key with this id if it is accepted at now_ns, or nullptr.
   const KeyEntry* accepted(uint32_t id, int64_t now_ns) const;
   /// Empty, or why the ring is unusable (no signing key, duplicate or zero ids).
-  std::optional<std::string> validate() const;
+  Status validate() const;
 };
 
 /// What a reader decided about one sample.
@@ -64,7 +66,7 @@ struct WindowParams {
   int64_t max_age_ns = 1'000'000'000;   ///< kStream: older samples are stale
   int64_t max_future_ns = 500'000'000;  ///< both rules: allowed clock lead of the signer
   size_t max_links = 256;               ///< kStream: links remembered (oldest forgotten)
-  std::optional<std::string> validate() const;
+  Status validate() const;
 };
 
 /// Per-reader replay state. check() before accepting, accept() after the MAC verified.

@@ -62,21 +62,21 @@ uint32_t next_id(const Keyring& ring) {
 
 }  // namespace
 
-std::optional<std::string> check_key_file_mode(const std::string& path) {
+Status check_key_file_mode(const std::string& path) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return "key file " + path + " not found";
-  if (!S_ISREG(st.st_mode)) return "key file " + path + " is not a regular file";
+  if (::stat(path.c_str(), &st) != 0) return Error{"key file " + path + " not found"};
+  if (!S_ISREG(st.st_mode)) return Error{"key file " + path + " is not a regular file"};
   if ((st.st_mode & 077) != 0) {
     char mode[8];
     std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
-    return "key file " + path + " is accessible by others (mode " + mode +
-           "): anyone who can read it can move the robot; run 'chmod 600 " + path + "'";
+    return Error{"key file " + path + " is accessible by others (mode " + mode +
+                 "): anyone who can read it can move the robot; run 'chmod 600 " + path + "'"};
   }
-  return std::nullopt;
+  return {};
 }
 
 Result<Keyring> load_key_file(const std::string& path) {
-  if (auto e = check_key_file_mode(path)) return Error{*e};
+  if (auto e = check_key_file_mode(path); !e) return Error{e.error()};
   std::ifstream file(path);
   if (!file) return Error{"key file " + path + " cannot be read"};
   Keyring ring;
@@ -101,12 +101,12 @@ Result<Keyring> load_key_file(const std::string& path) {
     ring.keys.push_back(*entry);
   }
   if (!header) return Error{"key file " + path + " is empty"};
-  if (auto e = ring.validate()) return Error{"key file " + path + ": " + *e};
+  if (auto e = ring.validate(); !e) return Error{"key file " + path + ": " + e.error()};
   return ring;
 }
 
-std::optional<std::string> save_key_file(const std::string& path, const Keyring& ring) {
-  if (auto e = ring.validate()) return "refusing to write " + path + ": " + *e;
+Status save_key_file(const std::string& path, const Keyring& ring) {
+  if (auto e = ring.validate(); !e) return Error{"refusing to write " + path + ": " + e.error()};
   std::ostringstream text;
   text << "# StereoBall deployment keys: secret, mode 0600 (stereoball keys init|show|rotate)\n"
        << kHeader << "\n";
@@ -123,7 +123,7 @@ std::optional<std::string> save_key_file(const std::string& path, const Keyring&
   }
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-  if (fd < 0) return "cannot create " + tmp;
+  if (fd < 0) return Error{"cannot create " + tmp};
   const std::string bytes = text.str();
   const bool written =
       ::write(fd, bytes.data(), bytes.size()) == static_cast<ssize_t>(bytes.size());
@@ -131,9 +131,9 @@ std::optional<std::string> save_key_file(const std::string& path, const Keyring&
   ::close(fd);
   if (!written || !synced || ::rename(tmp.c_str(), path.c_str()) != 0) {
     ::unlink(tmp.c_str());
-    return "cannot write key file " + path;
+    return Error{"cannot write key file " + path};
   }
-  return std::nullopt;
+  return {};
 }
 
 Keyring new_keyring() {

@@ -17,9 +17,9 @@ namespace stereoball::auth {
 /// Reads path; an error names the file and the problem (missing, mode, syntax, ring).
 Result<Keyring> load_key_file(const std::string& path);
 /// Writes ring to path with mode 0600 (temporary file + rename: readers never see half).
-std::optional<std::string> save_key_file(const std::string& path, const Keyring& ring);
+Status save_key_file(const std::string& path, const Keyring& ring);
 /// Error text if path is readable or writable by group or others, or not a regular file.
-std::optional<std::string> check_key_file_mode(const std::string& path);
+Status check_key_file_mode(const std::string& path);
 
 /// A new ring with one random signing key (id 1).
 Keyring new_keyring();

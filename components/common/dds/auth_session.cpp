@@ -46,7 +46,7 @@ std::vector<uint8_t> canonical_encoding(const dds_topic_descriptor_t* desc, cons
 
 AuthSession::AuthSession(std::string key_file, const auth::WindowParams& window)
     : key_file_(std::move(key_file)), window_(window) {
-  if (auto e = window_.validate()) throw std::runtime_error("replay window: " + *e);
+  if (auto e = window_.validate(); !e) throw std::runtime_error("replay window: " + e.error());
   if (key_file_.empty()) return;
   auto ring = auth::load_key_file(key_file_);
   if (!ring) throw std::runtime_error(ring.error());

@@ -74,11 +74,11 @@ std::optional<YAML::Node> ParamsFile::lookup(std::string_view key) {
 }
 
 void ParamsFile::key_error(std::string_view key, const std::string& what) {
-  if (!error_) error_ = name_ + ": key '" + std::string(key) + "': " + what;
+  if (error_) error_ = Error{name_ + ": key '" + std::string(key) + "': " + what};
 }
 
 void ParamsFile::fail(const std::string& message) {
-  if (!error_) error_ = name_ + ": " + message;
+  if (error_) error_ = Error{name_ + ": " + message};
 }
 
 std::optional<YAML::Node> ParamsFile::scalar(std::string_view key) {
@@ -203,7 +203,7 @@ bool ParamsFile::has(std::string_view key) {
 }
 
 Status ParamsFile::finish() const {
-  if (error_) return Error{*error_};
+  if (!error_) return error_;
   std::vector<std::string> leaves;
   collect_leaf_keys(root_, "", leaves);
   for (const auto& leaf : leaves) {

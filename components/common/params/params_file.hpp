@@ -41,7 +41,7 @@ class ParamsFile {
   /// Records an error found by the caller (e.g. Params::validate()).
   void fail(const std::string& message);
   /// True once any read or fail() has recorded an error (unknown keys are found by finish()).
-  bool failed() const { return error_.has_value(); }
+  bool failed() const { return !error_; }
   /// Success, or the first error, or an unknown-key error.
   Status finish() const;
   const std::string& name() const { return name_; }
@@ -59,7 +59,7 @@ class ParamsFile {
   YAML::Node root_;
   std::string name_;
   std::set<std::string, std::less<>> known_;
-  std::optional<std::string> error_;
+  Status error_;  ///< the first problem found; finish() reports it
 };
 
 }  // namespace stereoball::params

@@ -18,23 +18,23 @@ struct Demo {
   std::vector<double> xyz{0, 0, 0};
 };
 
-std::optional<std::string> load_demo(const std::string& text, Demo& demo) {
+Status load_demo(const std::string& text, Demo& demo) {
   auto file = ParamsFile::parse(text, "demo.yaml");
-  if (!file) return file.error();
+  if (!file) return Error{file.error()};
   file->read("gain", demo.gain, 0.0, 10.0);
   file->read("nested.count", demo.count, 1, 100);
   file->read("enabled", demo.enabled);
   file->read_choice("mode", demo.mode, {"a", "b"});
   file->read("xyz", demo.xyz, 3);
-  if (auto st = file->finish(); !st) return st.error();
-  return std::nullopt;
+  if (auto st = file->finish(); !st) return Error{st.error()};
+  return {};
 }
 
 const char* kGood = "gain: 2.5\nnested:\n  count: 7\nenabled: true\nmode: b\nxyz: [1, 2, 3]\n";
 
 TEST(ParamsFile, GivenCompleteFileWhenLoadedThenEveryValueIsRead) {
   Demo demo;
-  EXPECT_EQ(load_demo(kGood, demo), std::nullopt);
+  EXPECT_TRUE(load_demo(kGood, demo).ok());
   EXPECT_DOUBLE_EQ(demo.gain, 2.5);
   EXPECT_EQ(demo.count, 7);
   EXPECT_TRUE(demo.enabled);
@@ -45,8 +45,8 @@ TEST(ParamsFile, GivenCompleteFileWhenLoadedThenEveryValueIsRead) {
 TEST(ParamsFile, GivenMissingKeyThenErrorNamesFileAndKey) {
   Demo demo;
   auto err = load_demo("gain: 2.5\nenabled: true\nmode: b\nxyz: [1,2,3]\n", demo);
-  ASSERT_TRUE(err);
-  EXPECT_EQ(*err, "demo.yaml: key 'nested.count': missing");
+  ASSERT_FALSE(err.ok());
+  EXPECT_EQ(err.error(), "demo.yaml: key 'nested.count': missing");
 }
 
 TEST(ParamsFile, GivenWrongTypeThenErrorNamesKeyAndValue) {
@@ -54,8 +54,8 @@ TEST(ParamsFile, GivenWrongTypeThenErrorNamesKeyAndValue) {
   std::string text = kGood;
   text.replace(text.find("2.5"), 3, "fast");
   auto err = load_demo(text, demo);
-  ASSERT_TRUE(err);
-  EXPECT_EQ(*err, "demo.yaml: key 'gain': expected a number, got 'fast'");
+  ASSERT_FALSE(err.ok());
+  EXPECT_EQ(err.error(), "demo.yaml: key 'gain': expected a number, got 'fast'");
   EXPECT_DOUBLE_EQ(demo.gain, 1.0) << "a bad value must not overwrite the default";
 }
 
@@ -64,32 +64,32 @@ TEST(ParamsFile, GivenOutOfRangeThenErrorStatesAllowedRange) {
   std::string text = kGood;
   text.replace(text.find("count: 7"), 8, "count: 700");
   auto err = load_demo(text, demo);
-  ASSERT_TRUE(err);
-  EXPECT_EQ(*err, "demo.yaml: key 'nested.count': 700 is out of range [1, 100]");
+  ASSERT_FALSE(err.ok());
+  EXPECT_EQ(err.error(), "demo.yaml: key 'nested.count': 700 is out of range [1, 100]");
 }
 
 TEST(ParamsFile, GivenUnknownKeyThenItIsReportedAsTypo) {
   Demo demo;
   auto err = load_demo(std::string(kGood) + "gian: 3\n", demo);
-  ASSERT_TRUE(err);
-  EXPECT_EQ(*err, "demo.yaml: key 'gian': unknown parameter");
+  ASSERT_FALSE(err.ok());
+  EXPECT_EQ(err.error(), "demo.yaml: key 'gian': unknown parameter");
 }
 
 TEST(ParamsFile, GivenBadChoiceOrListThenErrorsAreSpecific) {
   Demo demo;
   std::string text = kGood;
   text.replace(text.find("mode: b"), 7, "mode: z");
-  EXPECT_EQ(*load_demo(text, demo), "demo.yaml: key 'mode': 'z' is not one of: a, b");
+  EXPECT_EQ(load_demo(text, demo).error(), "demo.yaml: key 'mode': 'z' is not one of: a, b");
   text = kGood;
   text.replace(text.find("[1, 2, 3]"), 9, "[1, 2]");
-  EXPECT_EQ(*load_demo(text, demo), "demo.yaml: key 'xyz': expected 3 numbers, got 2");
+  EXPECT_EQ(load_demo(text, demo).error(), "demo.yaml: key 'xyz': expected 3 numbers, got 2");
 }
 
 TEST(ParamsFile, GivenIntegerWithFractionThenRejected) {
   Demo demo;
   std::string text = kGood;
   text.replace(text.find("count: 7"), 8, "count: 7.5");
-  EXPECT_EQ(*load_demo(text, demo),
+  EXPECT_EQ(load_demo(text, demo).error(),
             "demo.yaml: key 'nested.count': expected an integer, got '7.5'");
 }
 
@@ -129,8 +129,8 @@ TEST(ParamsFile, GivenADuplicatedKeyWhenParsedThenTheErrorNamesFileKeyAndBothLin
       "gain: 2.5\nnested:\n  count: 7\n  count: 9\nenabled: true\nmode: b\n"
       "xyz: [1, 2, 3]\n",
       demo);
-  ASSERT_TRUE(error);
-  EXPECT_EQ(*error, "demo.yaml: key 'nested.count' appears twice (lines 3 and 4)");
+  ASSERT_FALSE(error.ok());
+  EXPECT_EQ(error.error(), "demo.yaml: key 'nested.count' appears twice (lines 3 and 4)");
 }
 
 TEST(ParamsFile, GivenADuplicatedTopLevelKeyInAFileWhenLoadedThenItIsRefused) {

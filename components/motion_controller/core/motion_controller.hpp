@@ -17,7 +17,7 @@ namespace stereoball::motion_controller {
 /// Turns the latest track into smooth, limited velocity commands.
 class MotionController {
  public:
-  /// params must be valid (MotionControllerParams::validate() returned nullopt).
+  /// params must be valid (MotionControllerParams::validate() succeeded).
   explicit MotionController(const MotionControllerParams& params);
 
   /// What a track sample received at now_ns (receiver clock, ns) led to.

@@ -20,6 +20,7 @@
 #include "recorder/io/file_io.hpp"
 
 using namespace stereoball::recorder;
+using stereoball::Status;
 
 namespace {
 
@@ -67,13 +68,13 @@ int die(const std::string& what) {
 // Runs body(sink) on a fresh file, syncs, returns {wall, cpu} seconds or an error.
 Status timed(const std::string& path, Figures& f, const std::function<Status(FileSink&)>& body) {
   auto sink = FileSink::create(path);
-  if (!sink) return sink.error();
+  if (!sink) return stereoball::Error{sink.error()};
   const double w0 = wall_seconds(), c0 = cpu_seconds();
-  if (auto e = body(**sink)) return e;
-  if (auto e = (*sink)->sync()) return e;
+  if (auto e = body(**sink); !e) return e;
+  if (auto e = (*sink)->sync(); !e) return e;
   f.keep_best(wall_seconds() - w0, cpu_seconds() - c0);
   std::filesystem::remove(path);
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace
@@ -103,7 +104,7 @@ int main(int argc, char** argv) {
           "[--chunk-mb M] [--none]");
     }
   }
-  if (auto bad = params.validate()) return die(*bad);
+  if (auto bad = params.validate(); !bad) return die(bad.error());
   if (frames < 1 || rounds < 1) return die("--frames and --rounds must be >= 1");
 
   // Pre-render a loop of distinct frames so rendering is not measured.
@@ -123,29 +124,30 @@ int main(int argc, char** argv) {
   for (int round = 0; round < rounds; ++round) {
     auto raw_err = timed(dir + "/recorder_bench.raw", raw, [&](FileSink& sink) -> Status {
       for (int i = 0; i < frames; ++i) {
-        if (auto e = sink.write(payloads[i % kDistinct])) return e;
+        if (auto e = sink.write(payloads[i % kDistinct]); !e) return e;
       }
-      return std::nullopt;
+      return {};
     });
-    if (raw_err) return die(*raw_err);
+    if (!raw_err.ok()) return die(raw_err.error());
     auto mcap_err = timed(dir + "/recorder_bench.mcap", mcap, [&](FileSink& sink) -> Status {
       McapWriter writer(params);
-      if (auto e = writer.open(sink)) return e;
+      if (auto e = writer.open(sink); !e) return e;
       const auto schema = writer.add_schema("stereoball::msg::StereoFrame", "omgidl",
                                             std::string_view("module stereoball {};"));
       const auto channel = writer.add_channel(schema.value(), "stereo/frame", "cdr");
       uint64_t t = 1'700'000'000'000'000'000ull;
       for (int i = 0; i < frames; ++i) {
         t += 16'666'667;
-        if (auto e = writer.write({channel.value(), uint32_t(i), t, t, payloads[i % kDistinct]})) {
+        if (auto e = writer.write({channel.value(), uint32_t(i), t, t, payloads[i % kDistinct]});
+            !e) {
           return e;
         }
       }
-      if (auto e = writer.close()) return e;
+      if (auto e = writer.close(); !e) return e;
       file_bytes = writer.stats().file_bytes;
-      return std::nullopt;
+      return {};
     });
-    if (mcap_err) return die(*mcap_err);
+    if (!mcap_err.ok()) return die(mcap_err.error());
   }
 
   const double raw_mbps = total_mb / raw.wall_s, mcap_mbps = total_mb / mcap.wall_s;

@@ -24,10 +24,10 @@ Status ZstdCompressor::compress(std::span<const uint8_t> input, std::vector<uint
                                   input.size());
   if (ZSTD_isError(n)) {
     out.resize(start);
-    return std::string("zstd compression failed: ") + ZSTD_getErrorName(n);
+    return Error{std::string("zstd compression failed: ") + ZSTD_getErrorName(n)};
   }
   out.resize(start + n);
-  return std::nullopt;
+  return {};
 }
 
 size_t zstd_bound(size_t n) {
@@ -39,23 +39,25 @@ Status zstd_decompress(std::span<const uint8_t> input, uint64_t expected_size,
   // The chunk header's size is only a claim: check it against the limit and against the zstd
   // frame's own record of its content before allocating for it.
   if (expected_size > max_bytes) {
-    return "chunk claims " + std::to_string(expected_size) +
-           " bytes uncompressed, more than the reader's limit of " + std::to_string(max_bytes);
+    return Error{"chunk claims " + std::to_string(expected_size) +
+                 " bytes uncompressed, more than the reader's limit of " +
+                 std::to_string(max_bytes)};
   }
   const unsigned long long frame_size = ZSTD_getFrameContentSize(input.data(), input.size());
-  if (frame_size == ZSTD_CONTENTSIZE_ERROR) return std::string("not a zstd frame");
+  if (frame_size == ZSTD_CONTENTSIZE_ERROR) return Error{"not a zstd frame"};
   if (frame_size != ZSTD_CONTENTSIZE_UNKNOWN && frame_size != expected_size) {
-    return "zstd frame holds " + std::to_string(frame_size) + " bytes, chunk header says " +
-           std::to_string(expected_size);
+    return Error{"zstd frame holds " + std::to_string(frame_size) + " bytes, chunk header says " +
+                 std::to_string(expected_size)};
   }
   out.resize(expected_size);
   const size_t n = ZSTD_decompress(out.data(), out.size(), input.data(), input.size());
-  if (ZSTD_isError(n)) return std::string("zstd decompression failed: ") + ZSTD_getErrorName(n);
+  if (ZSTD_isError(n))
+    return Error{std::string("zstd decompression failed: ") + ZSTD_getErrorName(n)};
   if (n != expected_size) {
-    return "zstd produced " + std::to_string(n) + " bytes, chunk header says " +
-           std::to_string(expected_size);
+    return Error{"zstd produced " + std::to_string(n) + " bytes, chunk header says " +
+                 std::to_string(expected_size)};
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace stereoball::recorder

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "recorder/core/status.hpp"
+#include "common/util/result.hpp"
 
 namespace stereoball::recorder {
 

@@ -9,7 +9,7 @@ namespace stereoball::recorder {
 
 Result<FileInfo> collect_file_info(Source& source) {
   McapReader reader(source);
-  if (auto err = reader.open()) return Error{*err};
+  if (auto err = reader.open(); !err) return Error{err.error()};
   std::map<uint16_t, TopicInfo> per_channel;
   FileInfo info;
   if (auto err = reader.for_each_message([&](const MessageView& m) {
@@ -24,8 +24,9 @@ Result<FileInfo> collect_file_info(Source& source) {
         info.end_ns = std::max(info.end_ns, m.log_time_ns);
         ++info.messages;
         return true;
-      })) {
-    return Error{*err};
+      });
+      !err) {
+    return Error{err.error()};
   }
   const auto& summary = reader.summary();
   for (const auto& [id, channel] : summary.channels) {

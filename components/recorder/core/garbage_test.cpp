@@ -28,23 +28,23 @@ TEST(Garbage, GivenNonMcapInputsWhenOpenedThenTheErrorSaysBadMagic) {
                                                     text("\x89MCA"), text("\x89MCAP1\r\n")};
   for (const auto& in : inputs) {
     const auto err = open_bytes(in);
-    ASSERT_TRUE(err);
-    EXPECT_EQ(*err, "not an MCAP file: bad magic");
+    ASSERT_FALSE(err.ok());
+    EXPECT_EQ(err.error(), "not an MCAP file: bad magic");
   }
 }
 
 TEST(Garbage, GivenAnEmptyFileWhenOpenedThenTheErrorSaysEmpty) {
   const auto err = open_bytes({});
-  ASSERT_TRUE(err);
-  EXPECT_NE(err->find("empty"), std::string::npos);
+  ASSERT_FALSE(err.ok());
+  EXPECT_NE(err.error().find("empty"), std::string::npos);
 }
 
 TEST(Garbage, GivenMagicFollowedByGarbageWhenOpenedThenHeaderProblemIsNamed) {
   std::vector<uint8_t> bytes(kMagic.begin(), kMagic.end());
   for (int i = 0; i < 100; ++i) bytes.push_back(static_cast<uint8_t>(0x30 + i));
   const auto err = open_bytes(bytes);
-  ASSERT_TRUE(err);
-  EXPECT_NE(err->find("Header"), std::string::npos) << *err;
+  ASSERT_FALSE(err.ok());
+  EXPECT_NE(err.error().find("Header"), std::string::npos) << err.error();
 }
 
 TEST(Garbage, GivenRandomBytesAfterAValidHeaderWhenReadThenNoMessagesAndAStopNote) {

@@ -6,11 +6,12 @@ namespace stereoball::recorder {
 
 Status MemorySource::read(uint64_t offset, std::span<uint8_t> out) {
   if (offset > bytes_.size() || out.size() > bytes_.size() - offset) {
-    return "read of " + std::to_string(out.size()) + " bytes at offset " + std::to_string(offset) +
-           " is past the end (" + std::to_string(bytes_.size()) + " bytes)";
+    return Error{"read of " + std::to_string(out.size()) + " bytes at offset " +
+                 std::to_string(offset) + " is past the end (" + std::to_string(bytes_.size()) +
+                 " bytes)"};
   }
   std::copy_n(bytes_.begin() + offset, out.size(), out.begin());
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace stereoball::recorder

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "recorder/core/status.hpp"
+#include "common/util/result.hpp"
 
 namespace stereoball::recorder {
 
@@ -18,7 +18,7 @@ class Sink {
   /// Appends bytes; returns an error message when they could not all be written.
   virtual Status write(std::span<const uint8_t> bytes) = 0;
   /// Makes everything written so far durable against a crash of this process.
-  virtual Status flush() { return std::nullopt; }
+  virtual Status flush() { return {}; }
 };
 
 /// Sink that keeps the bytes in memory (tests, benchmarks).
@@ -26,7 +26,7 @@ class MemorySink : public Sink {
  public:
   Status write(std::span<const uint8_t> bytes) override {
     bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
-    return std::nullopt;
+    return {};
   }
   /// Everything written so far.
   const std::vector<uint8_t>& bytes() const { return bytes_; }

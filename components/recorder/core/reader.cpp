@@ -28,19 +28,20 @@ Status read_record(Source& source, uint64_t offset, uint64_t max_bytes, uint8_t&
                    std::vector<uint8_t>& content) {
   const uint64_t size = source.size();
   if (offset > size || size - offset < kRecordPrefixBytes) {
-    return "record at " + at(offset) + " is past the end of the file";
+    return Error{"record at " + at(offset) + " is past the end of the file"};
   }
   std::array<uint8_t, kRecordPrefixBytes> prefix{};
-  if (auto err = source.read(offset, prefix)) return err;
+  if (auto err = source.read(offset, prefix); !err) return err;
   const uint64_t length = load_u64(prefix.data() + 1);
   if (length > size - offset - kRecordPrefixBytes) {
-    return "truncated " + opcode_name(prefix[0]) + " record at " + at(offset) + ": needs " +
-           std::to_string(length) + " bytes, " +
-           std::to_string(size - offset - kRecordPrefixBytes) + " left";
+    return Error{"truncated " + opcode_name(prefix[0]) + " record at " + at(offset) + ": needs " +
+                 std::to_string(length) + " bytes, " +
+                 std::to_string(size - offset - kRecordPrefixBytes) + " left"};
   }
   if (length > max_bytes) {
-    return opcode_name(prefix[0]) + " record at " + at(offset) + " has " + std::to_string(length) +
-           " bytes, more than the reader's limit of " + std::to_string(max_bytes);
+    return Error{opcode_name(prefix[0]) + " record at " + at(offset) + " has " +
+                 std::to_string(length) + " bytes, more than the reader's limit of " +
+                 std::to_string(max_bytes)};
   }
   opcode = prefix[0];
   content.resize(length);
@@ -67,38 +68,39 @@ void McapReader::note(std::string text) {
 
 Status McapReader::read_header() {
   const uint64_t size = source_.size();
-  if (size == 0) return std::string("not an MCAP file: the file is empty (0 bytes)");
+  if (size == 0) return Error{"not an MCAP file: the file is empty (0 bytes)"};
   std::array<uint8_t, 8> magic{};
-  if (size < magic.size() || source_.read(0, magic) || magic != kMagic) {
-    return std::string("not an MCAP file: bad magic");
+  if (size < magic.size() || !source_.read(0, magic).ok() || magic != kMagic) {
+    return Error{"not an MCAP file: bad magic"};
   }
   uint8_t first = 0;
-  if (size > magic.size() && !source_.read(magic.size(), std::span(&first, 1)) &&
+  if (size > magic.size() && source_.read(magic.size(), std::span(&first, 1)).ok() &&
       first != static_cast<uint8_t>(Opcode::kHeader)) {
-    return "not an MCAP file: first record is " + opcode_name(first) + ", expected Header";
+    return Error{"not an MCAP file: first record is " + opcode_name(first) + ", expected Header"};
   }
   uint8_t opcode = 0;
-  if (auto err = read_record(source_, magic.size(), limits_.max_record_bytes, opcode, record_)) {
-    return "MCAP file truncated inside its Header record: " + *err;
+  if (auto err = read_record(source_, magic.size(), limits_.max_record_bytes, opcode, record_);
+      !err) {
+    return Error{"MCAP file truncated inside its Header record: " + err.error()};
   }
   auto header = parse_header(record_);
-  if (!header) return std::string("corrupt MCAP header record at offset 8");
+  if (!header) return Error{"corrupt MCAP header record at offset 8"};
   summary_.header = *header;
-  return std::nullopt;
+  return {};
 }
 
 Status McapReader::open() {
-  if (auto err = read_header()) return err;
+  if (auto err = read_header(); !err) return err;
   summary_.indexed = try_read_summary() && chunk_indexes_valid();
   if (!summary_.indexed) {
     summary_.schemas.clear();
     summary_.channels.clear();
     chunk_indexes_.clear();
-    if (auto err = scan_linear(nullptr)) return err;
+    if (auto err = scan_linear(nullptr); !err) return err;
     summary_.statistics = counted_;
   }
   opened_ = true;
-  return std::nullopt;
+  return {};
 }
 
 bool McapReader::try_read_summary() {
@@ -106,7 +108,7 @@ bool McapReader::try_read_summary() {
   const uint64_t tail_bytes = kFooterRecordBytes + kMagic.size();
   std::array<uint8_t, kFooterRecordBytes + 8> tail{};
   const bool has_tail =
-      size >= kMagic.size() + tail_bytes && !source_.read(size - tail_bytes, tail);
+      size >= kMagic.size() + tail_bytes && source_.read(size - tail_bytes, tail).ok();
   const bool footer_ok = has_tail && std::equal(kMagic.begin(), kMagic.end(), tail.end() - 8) &&
                          tail[0] == static_cast<uint8_t>(Opcode::kFooter) &&
                          load_u64(tail.data() + 1) == 20;
@@ -135,7 +137,7 @@ bool McapReader::try_read_summary() {
     return false;
   }
   std::vector<uint8_t> region(footer_pos + kRecordPrefixBytes + 16 - footer.summary_start);
-  if (source_.read(footer.summary_start, region)) {
+  if (!source_.read(footer.summary_start, region).ok()) {
     note(std::string("summary could not be read; ") + kLinearNote);
     return false;
   }
@@ -204,7 +206,7 @@ bool McapReader::chunk_indexes_valid() {
     const bool fits = at_offset >= kMagic.size() && at_offset <= size &&
                       size - at_offset >= kRecordPrefixBytes &&
                       index.chunk_length <= size - at_offset;
-    const bool is_chunk = fits && !source_.read(at_offset, prefix) &&
+    const bool is_chunk = fits && source_.read(at_offset, prefix).ok() &&
                           prefix[0] == static_cast<uint8_t>(Opcode::kChunk) &&
                           kRecordPrefixBytes + load_u64(prefix.data() + 1) == index.chunk_length;
     if (!is_chunk) {
@@ -234,7 +236,7 @@ Status McapReader::scan_linear(const MessageFn* f) {
            " bytes left); stopped there, everything before it was read");
       break;
     }
-    if (auto err = source_.read(pos, prefix)) return err;
+    if (auto err = source_.read(pos, prefix); !err) return err;
     const uint8_t opcode = prefix[0];
     const uint64_t length = load_u64(prefix.data() + 1);
     if (length > size - pos - kRecordPrefixBytes) {
@@ -256,7 +258,7 @@ Status McapReader::scan_linear(const MessageFn* f) {
       continue;
     }
     record_.resize(length);
-    if (auto err = source_.read(pos + kRecordPrefixBytes, record_)) return err;
+    if (auto err = source_.read(pos + kRecordPrefixBytes, record_); !err) return err;
     if (opcode == static_cast<uint8_t>(Opcode::kDataEnd)) {
       ByteReader r(record_);
       const auto stored = r.u32();
@@ -270,13 +272,13 @@ Status McapReader::scan_linear(const MessageFn* f) {
     data_crc.update(prefix);
     data_crc.update(record_);
     const Visit v = handle_record(pos, {opcode, record_}, f, false);
-    if (v == Visit::kStop) return std::nullopt;
+    if (v == Visit::kStop) return {};
     if (v == Visit::kCorrupt) break;
     pos += kRecordPrefixBytes + length;
   }
   counted_.schema_count = static_cast<uint16_t>(summary_.schemas.size());
   counted_.channel_count = static_cast<uint32_t>(summary_.channels.size());
-  return std::nullopt;
+  return {};
 }
 
 McapReader::Visit McapReader::handle_record(uint64_t offset, const RecordView& r,
@@ -320,8 +322,9 @@ bool McapReader::load_chunk(uint64_t offset, const ChunkView& chunk) {
   const std::string where = "chunk at " + at(offset) + ": ";
   if (chunk.compression == "zstd") {
     if (auto err = zstd_decompress(chunk.records, chunk.uncompressed_size, decompressed_,
-                                   limits_.max_record_bytes)) {
-      note(where + *err + "; its messages skipped");
+                                   limits_.max_record_bytes);
+        !err) {
+      note(where + err.error() + "; its messages skipped");
       return false;
     }
   } else if (chunk.compression.empty()) {
@@ -364,13 +367,14 @@ McapReader::Visit McapReader::visit_chunk(uint64_t offset, const MessageFn* f) {
 }
 
 Status McapReader::for_each_message(const MessageFn& f) {
-  if (!opened_) return std::string("MCAP reader is not open");
+  if (!opened_) return Error{"MCAP reader is not open"};
   if (!summary_.indexed) return scan_linear(&f);
   uint8_t opcode = 0;
   for (const auto& index : chunk_indexes_) {
     if (auto err = read_record(source_, index.chunk_start_offset, limits_.max_record_bytes, opcode,
-                               record_)) {
-      note("chunk index points to an unreadable chunk: " + *err + "; skipped");
+                               record_);
+        !err) {
+      note("chunk index points to an unreadable chunk: " + err.error() + "; skipped");
       continue;
     }
     auto chunk = parse_chunk(record_);
@@ -380,23 +384,24 @@ Status McapReader::for_each_message(const MessageFn& f) {
       continue;
     }
     if (!load_chunk(index.chunk_start_offset, *chunk)) continue;
-    if (visit_chunk(index.chunk_start_offset, &f) == Visit::kStop) return std::nullopt;
+    if (visit_chunk(index.chunk_start_offset, &f) == Visit::kStop) return {};
   }
-  return std::nullopt;
+  return {};
 }
 
 Status McapReader::check_message_indexes() {
-  if (!opened_) return std::string("MCAP reader is not open");
-  if (!summary_.indexed) return std::string("file has no summary: message indexes not checkable");
+  if (!opened_) return Error{"MCAP reader is not open"};
+  if (!summary_.indexed) return Error{"file has no summary: message indexes not checkable"};
   using Entries = std::vector<std::pair<uint64_t, uint64_t>>;
   uint8_t opcode = 0;
   for (const auto& index : chunk_indexes_) {
     const std::string where = "chunk at " + at(index.chunk_start_offset) + ": ";
     if (auto err = read_record(source_, index.chunk_start_offset, limits_.max_record_bytes, opcode,
-                               record_))
+                               record_);
+        !err)
       return err;
     auto chunk = parse_chunk(record_);
-    if (!chunk || !load_chunk(index.chunk_start_offset, *chunk)) return where + "unreadable";
+    if (!chunk || !load_chunk(index.chunk_start_offset, *chunk)) return Error{where + "unreadable"};
     std::map<uint16_t, Entries> actual;
     walk_records(std::span<const uint8_t>(decompressed_), [&](uint64_t inner, const RecordView& r) {
       if (r.opcode == static_cast<uint8_t>(Opcode::kMessage)) {
@@ -406,27 +411,27 @@ Status McapReader::check_message_indexes() {
       return true;
     });
     if (actual.size() != index.message_index_offsets.size()) {
-      return where + "has messages on " + std::to_string(actual.size()) + " channels but " +
-             std::to_string(index.message_index_offsets.size()) + " message indexes";
+      return Error{where + "has messages on " + std::to_string(actual.size()) + " channels but " +
+                   std::to_string(index.message_index_offsets.size()) + " message indexes"};
     }
     for (const auto& [channel, offset] : index.message_index_offsets) {
-      if (auto err = read_record(source_, offset, limits_.max_record_bytes, opcode, record_))
-        return where + *err;
+      if (auto err = read_record(source_, offset, limits_.max_record_bytes, opcode, record_); !err)
+        return Error{where + err.error()};
       auto mi = parse_message_index(record_);
       if (opcode != static_cast<uint8_t>(Opcode::kMessageIndex) || !mi ||
           mi->channel_id != channel) {
-        return where + "message index of channel " + std::to_string(channel) + " is corrupt";
+        return Error{where + "message index of channel " + std::to_string(channel) + " is corrupt"};
       }
       Entries expected = actual[channel];
       std::sort(expected.begin(), expected.end());
       std::sort(mi->entries.begin(), mi->entries.end());
       if (mi->entries != expected) {
-        return where + "message index of channel " + std::to_string(channel) +
-               " does not match the chunk's messages";
+        return Error{where + "message index of channel " + std::to_string(channel) +
+                     " does not match the chunk's messages"};
       }
     }
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace stereoball::recorder

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
 #include "recorder/core/io_interfaces.hpp"
 #include "recorder/core/records.hpp"
-#include "recorder/core/status.hpp"
 
 namespace stereoball::recorder {
 

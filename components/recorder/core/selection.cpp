@@ -38,14 +38,14 @@ Result<std::vector<std::string>> select_topics(const std::vector<std::string>& a
   return out;
 }
 
-std::optional<std::string> PlaybackParams::validate() const {
+Status PlaybackParams::validate() const {
   if (!(rate >= 0.01 && rate <= 100.0)) {
-    return "rate must be in [0.01, 100], got " + std::to_string(rate);
+    return Error{"rate must be in [0.01, 100], got " + std::to_string(rate)};
   }
   if (!(start_offset_s >= 0.0) || !std::isfinite(start_offset_s)) {
-    return "start_offset_s must be >= 0 seconds, got " + std::to_string(start_offset_s);
+    return Error{"start_offset_s must be >= 0 seconds, got " + std::to_string(start_offset_s)};
   }
-  return std::nullopt;
+  return {};
 }
 
 int64_t PlaybackSchedule::due_ns(uint64_t log_ns) const {

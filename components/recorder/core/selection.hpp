@@ -22,8 +22,8 @@ struct PlaybackParams {
   double rate = 1.0;            ///< time scale: 2 = twice as fast
   double start_offset_s = 0.0;  ///< skip this much of the recording's start, seconds
   bool loop = false;            ///< start over at the end
-  /// nullopt when valid, else a message naming the bad field and its allowed range.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// When each message of a recording is due: log times are mapped to a wall clock that

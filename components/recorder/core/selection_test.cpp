@@ -43,14 +43,14 @@ TEST(Playback, GivenARateWhenSchedulingThenGapsAreScaled) {
 
 TEST(Playback, GivenBadParamsWhenValidatedThenTheFieldIsNamed) {
   PlaybackParams p;
-  EXPECT_FALSE(p.validate());
+  EXPECT_TRUE(p.validate().ok());
   p.rate = 0;
-  ASSERT_TRUE(p.validate());
-  EXPECT_NE(p.validate()->find("rate"), std::string::npos);
+  ASSERT_FALSE(p.validate().ok());
+  EXPECT_NE(p.validate().error().find("rate"), std::string::npos);
   p = {};
   p.start_offset_s = -1;
-  ASSERT_TRUE(p.validate());
-  EXPECT_NE(p.validate()->find("start_offset_s"), std::string::npos);
+  ASSERT_FALSE(p.validate().ok());
+  EXPECT_NE(p.validate().error().find("start_offset_s"), std::string::npos);
 }
 
 }  // namespace

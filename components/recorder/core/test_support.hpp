@@ -40,7 +40,7 @@ inline Recording make_recording(const WriterParams& params, int channels, int co
   Recording rec;
   MemorySink sink;
   McapWriter writer(params);
-  if (writer.open(sink)) return rec;
+  if (!writer.open(sink).ok()) return rec;
   const auto schema = writer.add_schema("test::Msg", "omgidl", std::string_view("struct Msg {};"));
   std::vector<uint16_t> ids;
   for (int c = 0; c < channels; ++c) {
@@ -61,14 +61,14 @@ inline Recording make_recording(const WriterParams& params, int channels, int co
       m.data[b] = b % 2 ? static_cast<uint8_t>(rng()) : static_cast<uint8_t>(b / 64);
     }
     const uint64_t chunks_before = writer.stats().chunks;
-    if (writer.write({m.channel_id, m.sequence, m.log_time_ns, m.publish_time_ns, m.data})) {
+    if (!writer.write({m.channel_id, m.sequence, m.log_time_ns, m.publish_time_ns, m.data}).ok()) {
       return rec;
     }
     rec.messages.push_back(std::move(m));
     if (writer.stats().chunks != chunks_before) rec.messages_after_chunk.push_back(i + 1);
   }
   const uint64_t chunks_before = writer.stats().chunks;
-  if (writer.close()) return rec;
+  if (!writer.close().ok()) return rec;
   if (writer.stats().chunks != chunks_before) rec.messages_after_chunk.push_back(count);
   rec.bytes = sink.bytes();
   return rec;
@@ -80,7 +80,7 @@ inline std::vector<StoredMessage> read_all(const std::vector<uint8_t>& bytes,
   MemorySource source(bytes);
   McapReader reader(source);
   std::vector<StoredMessage> out;
-  if (reader.open()) return out;
+  if (!reader.open().ok()) return out;
   reader.for_each_message([&](const MessageView& m) {
     out.push_back(store(m));
     return true;

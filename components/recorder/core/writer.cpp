@@ -6,15 +6,15 @@
 
 namespace stereoball::recorder {
 
-std::optional<std::string> WriterParams::validate() const {
+Status WriterParams::validate() const {
   if (chunk_size_bytes < 1024 || chunk_size_bytes > (uint64_t{1} << 30)) {
-    return "chunk_size_bytes must be in [1024, 1073741824], got " +
-           std::to_string(chunk_size_bytes);
+    return Error{"chunk_size_bytes must be in [1024, 1073741824], got " +
+                 std::to_string(chunk_size_bytes)};
   }
   if (zstd_level < 1 || zstd_level > 19) {
-    return "zstd_level must be in [1, 19], got " + std::to_string(zstd_level);
+    return Error{"zstd_level must be in [1, 19], got " + std::to_string(zstd_level)};
   }
-  return std::nullopt;
+  return {};
 }
 
 McapWriter::McapWriter(const WriterParams& params) : params_(params) {
@@ -26,26 +26,27 @@ McapWriter::McapWriter(const WriterParams& params) : params_(params) {
 McapWriter::~McapWriter() = default;
 
 Status McapWriter::check_writable() const {
-  if (failure_) return failure_;
-  if (sink_ == nullptr) return std::string("MCAP writer is not open");
-  if (closed_) return std::string("MCAP writer is already closed");
-  return std::nullopt;
+  if (!failure_.ok()) return failure_;
+  if (sink_ == nullptr) return Error{"MCAP writer is not open"};
+  if (closed_) return Error{"MCAP writer is already closed"};
+  return {};
 }
 
 Status McapWriter::emit(std::span<const uint8_t> bytes) {
-  if (auto err = sink_->write(bytes)) {
-    failure_ = "write failed at file offset " + std::to_string(position_) + ": " + *err;
+  if (auto err = sink_->write(bytes); !err) {
+    failure_ =
+        Error{"write failed at file offset " + std::to_string(position_) + ": " + err.error()};
     return failure_;
   }
   if (params_.data_section_crc) data_crc_.update(bytes);
   position_ += bytes.size();
   stats_.file_bytes = position_;
-  return std::nullopt;
+  return {};
 }
 
 Status McapWriter::open(Sink& sink) {
-  if (auto bad = params_.validate()) return bad;
-  if (sink_ != nullptr) return std::string("MCAP writer is already open");
+  if (auto bad = params_.validate(); !bad) return bad;
+  if (sink_ != nullptr) return Error{"MCAP writer is already open"};
   sink_ = &sink;
   scratch_.assign(kMagic.begin(), kMagic.end());
   append_header(scratch_, HeaderRecord{params_.profile, params_.library});
@@ -54,14 +55,14 @@ Status McapWriter::open(Sink& sink) {
 
 Result<uint16_t> McapWriter::add_schema(std::string_view name, std::string_view encoding,
                                         std::span<const uint8_t> data) {
-  if (auto err = check_writable()) return Error{*err};
+  if (auto err = check_writable(); !err) return Error{err.error()};
   if (schemas_.size() >= 0xFFFE) return Error{"too many schemas (max 65534)"};
   SchemaRecord schema{static_cast<uint16_t>(schemas_.size() + 1), std::string(name),
                       std::string(encoding), std::vector<uint8_t>(data.begin(), data.end())};
   // Outside chunks, so the definition survives even if the next chunk is cut off.
   scratch_.clear();
   append_schema(scratch_, schema);
-  if (auto err = emit(scratch_)) return Error{*err};
+  if (auto err = emit(scratch_); !err) return Error{err.error()};
   schemas_.push_back(std::move(schema));
   return schemas_.back().id;
 }
@@ -76,7 +77,7 @@ Result<uint16_t> McapWriter::add_schema(std::string_view name, std::string_view 
 Result<uint16_t> McapWriter::add_channel(uint16_t schema_id, std::string_view topic,
                                          std::string_view message_encoding,
                                          const std::map<std::string, std::string>& metadata) {
-  if (auto err = check_writable()) return Error{*err};
+  if (auto err = check_writable(); !err) return Error{err.error()};
   if (schema_id > schemas_.size()) {
     return Error{"channel '" + std::string(topic) + "' refers to unknown schema " +
                  std::to_string(schema_id)};
@@ -86,15 +87,15 @@ Result<uint16_t> McapWriter::add_channel(uint16_t schema_id, std::string_view to
                         std::string(message_encoding), metadata};
   scratch_.clear();
   append_channel(scratch_, channel);
-  if (auto err = emit(scratch_)) return Error{*err};
+  if (auto err = emit(scratch_); !err) return Error{err.error()};
   channels_.push_back(std::move(channel));
   return channels_.back().id;
 }
 
 Status McapWriter::write(const MessageView& message) {
-  if (auto err = check_writable()) return err;
+  if (auto err = check_writable(); !err) return err;
   if (message.channel_id == 0 || message.channel_id > channels_.size()) {
-    return "message on unknown channel " + std::to_string(message.channel_id);
+    return Error{"message on unknown channel " + std::to_string(message.channel_id)};
   }
   if (chunk_messages_ == 0) {
     chunk_start_ns_ = chunk_end_ns_ = message.log_time_ns;
@@ -116,16 +117,16 @@ Status McapWriter::write(const MessageView& message) {
   stats_.message_bytes += message.data.size();
 
   if (chunk_records_.size() >= params_.chunk_size_bytes) return finish_chunk();
-  return std::nullopt;
+  return {};
 }
 
 Status McapWriter::flush_chunk() {
-  if (auto err = check_writable()) return err;
+  if (auto err = check_writable(); !err) return err;
   return finish_chunk();
 }
 
 Status McapWriter::finish_chunk() {
-  if (chunk_messages_ == 0) return std::nullopt;
+  if (chunk_messages_ == 0) return {};
   const uint32_t crc = params_.chunk_crc ? crc32(chunk_records_) : 0;
   const bool zstd = params_.compression == Compression::kZstd;
 
@@ -143,7 +144,7 @@ Status McapWriter::finish_chunk() {
   w.u64(0);
   const size_t records_start = scratch_.size();
   if (zstd) {
-    if (auto err = compressor_->compress(chunk_records_, scratch_)) return err;
+    if (auto err = compressor_->compress(chunk_records_, scratch_); !err) return err;
   } else {
     w.bytes(chunk_records_);
   }
@@ -159,7 +160,7 @@ Status McapWriter::finish_chunk() {
   index.compression = zstd ? "zstd" : "";
   index.compressed_size = compressed_size;
   index.uncompressed_size = chunk_records_.size();
-  if (auto err = emit(scratch_)) return err;
+  if (auto err = emit(scratch_); !err) return err;
 
   // Message indexes, one per channel, written as one block right after the chunk.
   scratch_.clear();
@@ -172,9 +173,9 @@ Status McapWriter::finish_chunk() {
     append_message_index(scratch_, MessageIndexRecord{channel, std::move(entries)});
   }
   index.message_index_length = scratch_.size();
-  if (auto err = emit(scratch_)) return err;
-  if (auto err = sink_->flush()) {
-    failure_ = "flush failed: " + *err;
+  if (auto err = emit(scratch_); !err) return err;
+  if (auto err = sink_->flush(); !err) {
+    failure_ = Error{"flush failed: " + err.error()};
     return failure_;
   }
 
@@ -183,25 +184,25 @@ Status McapWriter::finish_chunk() {
   chunk_records_.clear();
   chunk_index_.clear();
   chunk_messages_ = 0;
-  return std::nullopt;
+  return {};
 }
 
 Status McapWriter::close() {
-  if (auto err = check_writable()) return err;
-  if (auto err = finish_chunk()) return err;
-  if (auto err = write_summary_and_footer()) return err;
+  if (auto err = check_writable(); !err) return err;
+  if (auto err = finish_chunk(); !err) return err;
+  if (auto err = write_summary_and_footer(); !err) return err;
   closed_ = true;
-  if (auto err = sink_->flush()) {
-    failure_ = "flush failed: " + *err;
+  if (auto err = sink_->flush(); !err) {
+    failure_ = Error{"flush failed: " + err.error()};
     return failure_;
   }
-  return std::nullopt;
+  return {};
 }
 
 Status McapWriter::write_summary_and_footer() {
   scratch_.clear();
   append_data_end(scratch_, params_.data_section_crc ? data_crc_.value() : 0);
-  if (auto err = emit(scratch_)) return err;
+  if (auto err = emit(scratch_); !err) return err;
 
   const uint64_t summary_start = position_;
   std::vector<uint8_t> summary;

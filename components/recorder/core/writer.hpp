@@ -18,7 +18,6 @@
 #include "recorder/core/crc32.hpp"
 #include "recorder/core/io_interfaces.hpp"
 #include "recorder/core/records.hpp"
-#include "recorder/core/status.hpp"
 
 namespace stereoball::recorder {
 
@@ -37,8 +36,8 @@ struct WriterParams {
   bool data_section_crc = false;
   std::string profile;                          ///< MCAP header profile ("" = none)
   std::string library = "stereoball-recorder";  ///< MCAP header library string
-  /// nullopt when valid, else a message naming the bad field and its allowed range.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Counters of what has been written so far.
@@ -78,8 +77,8 @@ class McapWriter {
 
   /// What has been written so far.
   const WriterStats& stats() const { return stats_; }
-  /// First error that stopped the writer (sink failure), if any.
-  const std::optional<std::string>& failure() const { return failure_; }
+  /// Success until an error stops the writer (a sink failure), then that error.
+  const Status& status() const { return failure_; }
 
  private:
   Status emit(std::span<const uint8_t> bytes);
@@ -90,7 +89,7 @@ class McapWriter {
   WriterParams params_;
   Sink* sink_ = nullptr;
   bool closed_ = false;
-  std::optional<std::string> failure_;
+  Status failure_;
   std::unique_ptr<ZstdCompressor> compressor_;
   Crc32 data_crc_;
   uint64_t position_ = 0;

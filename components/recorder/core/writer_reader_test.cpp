@@ -25,26 +25,28 @@ TEST(WriterReader, GivenManyMessagesOnSeveralChannelsWhenReadBackThenByteEqualAn
   // When read back
   MemorySource source(rec.bytes);
   McapReader reader(source);
-  ASSERT_FALSE(reader.open());
+  ASSERT_TRUE(reader.open().ok());
   std::vector<StoredMessage> got;
-  ASSERT_FALSE(reader.for_each_message([&](const MessageView& m) {
-    got.push_back(testing::store(m));
-    return true;
-  }));
+  ASSERT_TRUE(reader
+                  .for_each_message([&](const MessageView& m) {
+                    got.push_back(testing::store(m));
+                    return true;
+                  })
+                  .ok());
   // Then everything is identical, read through the index, with no problem noted
   EXPECT_EQ(got, rec.messages);
   EXPECT_TRUE(reader.summary().complete);
   EXPECT_TRUE(reader.summary().indexed);
   EXPECT_TRUE(reader.notes().empty()) << reader.notes().front();
   EXPECT_GT(reader.chunk_indexes().size(), 10u);
-  EXPECT_FALSE(reader.check_message_indexes());
+  EXPECT_TRUE(reader.check_message_indexes().ok());
 }
 
 TEST(WriterReader, GivenARecordingWhenOpenedThenStatisticsMatchWhatWasWritten) {
   const auto rec = make_recording(small_chunks(), 3, 500, 512);
   MemorySource source(rec.bytes);
   McapReader reader(source);
-  ASSERT_FALSE(reader.open());
+  ASSERT_TRUE(reader.open().ok());
   const auto& s = reader.summary().statistics;
   EXPECT_EQ(s.message_count, 500u);
   EXPECT_EQ(s.channel_count, 3u);
@@ -85,11 +87,11 @@ TEST(WriterReader, GivenAMessageLargerThanTheChunkSizeWhenWrittenThenItGetsItsOw
 TEST(WriterReader, GivenNoMessagesWhenClosedThenAValidEmptyFile) {
   MemorySink sink;
   McapWriter writer(WriterParams{});
-  ASSERT_FALSE(writer.open(sink));
-  ASSERT_FALSE(writer.close());
+  ASSERT_TRUE(writer.open(sink).ok());
+  ASSERT_TRUE(writer.close().ok());
   MemorySource source(sink.bytes());
   McapReader reader(source);
-  ASSERT_FALSE(reader.open());
+  ASSERT_TRUE(reader.open().ok());
   EXPECT_TRUE(reader.summary().complete);
   EXPECT_EQ(reader.summary().statistics.message_count, 0u);
   EXPECT_EQ(reader.summary().header.library, "stereoball-recorder");
@@ -98,24 +100,24 @@ TEST(WriterReader, GivenNoMessagesWhenClosedThenAValidEmptyFile) {
 TEST(WriterReader, GivenBadParamsWhenValidatedThenTheFieldIsNamed) {
   WriterParams p;
   p.chunk_size_bytes = 10;
-  ASSERT_TRUE(p.validate());
-  EXPECT_NE(p.validate()->find("chunk_size_bytes"), std::string::npos);
+  ASSERT_FALSE(p.validate().ok());
+  EXPECT_NE(p.validate().error().find("chunk_size_bytes"), std::string::npos);
   p = {};
   p.zstd_level = 40;
-  ASSERT_TRUE(p.validate());
-  EXPECT_NE(p.validate()->find("zstd_level"), std::string::npos);
+  ASSERT_FALSE(p.validate().ok());
+  EXPECT_NE(p.validate().error().find("zstd_level"), std::string::npos);
   MemorySink sink;
-  EXPECT_TRUE(McapWriter(p).open(sink));
+  EXPECT_FALSE(McapWriter(p).open(sink).ok());
 }
 
 TEST(WriterReader, GivenUnknownIdsWhenUsedThenTheWriterRefuses) {
   MemorySink sink;
   McapWriter writer(WriterParams{});
-  ASSERT_FALSE(writer.open(sink));
+  ASSERT_TRUE(writer.open(sink).ok());
   EXPECT_FALSE(writer.add_channel(5, "t", "cdr"));
   const std::vector<uint8_t> data = {1};
-  EXPECT_TRUE(writer.write({1, 0, 1, 1, data}));
-  EXPECT_TRUE(writer.write({0, 0, 1, 1, data}));
+  EXPECT_FALSE(writer.write({1, 0, 1, 1, data}).ok());
+  EXPECT_FALSE(writer.write({0, 0, 1, 1, data}).ok());
 }
 
 // Sink that fails once a byte budget is used up, like a full disk.
@@ -123,9 +125,9 @@ class FullDiskSink : public Sink {
  public:
   explicit FullDiskSink(size_t budget) : budget_(budget) {}
   Status write(std::span<const uint8_t> bytes) override {
-    if (bytes_.size() + bytes.size() > budget_) return std::string("No space left on device");
+    if (bytes_.size() + bytes.size() > budget_) return Error{"No space left on device"};
     bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
-    return std::nullopt;
+    return {};
   }
   std::vector<uint8_t> bytes_;
 
@@ -136,20 +138,20 @@ class FullDiskSink : public Sink {
 TEST(WriterReader, GivenADiskThatFillsUpWhenWritingThenErrorIsReportedAndThePrefixIsReadable) {
   FullDiskSink sink(60'000);
   McapWriter writer(small_chunks(Compression::kNone));
-  ASSERT_FALSE(writer.open(sink));
+  ASSERT_TRUE(writer.open(sink).ok());
   const auto schema = writer.add_schema("S", "omgidl", std::string_view("struct S {};"));
   const auto channel = writer.add_channel(schema.value(), "t", "cdr");
   std::vector<uint8_t> data(1000, 0xAB);
   Status err;
   uint64_t written = 0;
-  for (int i = 0; i < 200 && !err; ++i) {
+  for (int i = 0; i < 200 && err.ok(); ++i) {
     data[0] = static_cast<uint8_t>(i);
     err = writer.write({channel.value(), static_cast<uint32_t>(i), 1000u + i, 1000u + i, data});
-    if (!err) ++written;
+    if (err.ok()) ++written;
   }
-  ASSERT_TRUE(err);
-  EXPECT_NE(err->find("No space left"), std::string::npos);
-  EXPECT_TRUE(writer.write({channel.value(), 0, 1, 1, data}));  // stays failed
+  ASSERT_FALSE(err.ok());
+  EXPECT_NE(err.error().find("No space left"), std::string::npos);
+  EXPECT_FALSE(writer.write({channel.value(), 0, 1, 1, data}).ok());  // stays failed
   std::vector<std::string> notes;
   const auto got = read_all(sink.bytes_, &notes);
   EXPECT_GT(got.size(), 0u);
@@ -163,20 +165,20 @@ TEST(WriterReader, GivenAnUnclosedWriterWhenReadThenCompletedChunksAreReadLinear
   // Given a writer whose process "died" after some chunks (never closed)
   MemorySink sink;
   McapWriter writer(small_chunks());
-  ASSERT_FALSE(writer.open(sink));
+  ASSERT_TRUE(writer.open(sink).ok());
   const auto schema = writer.add_schema("S", "omgidl", std::string_view("struct S {};"));
   const auto channel = writer.add_channel(schema.value(), "t", "cdr");
   std::vector<uint8_t> data(3000, 1);
   for (uint32_t i = 0; i < 50; ++i) {
     data[1] = static_cast<uint8_t>(i);
-    ASSERT_FALSE(writer.write({channel.value(), i, i + 1u, i + 1u, data}));
+    ASSERT_TRUE(writer.write({channel.value(), i, i + 1u, i + 1u, data}).ok());
   }
   const uint64_t in_chunks = writer.stats().chunks;
   ASSERT_GT(in_chunks, 0u);
   // When the file as it stands is read
   MemorySource source(sink.bytes());
   McapReader reader(source);
-  ASSERT_FALSE(reader.open());
+  ASSERT_TRUE(reader.open().ok());
   // Then it is marked incomplete, and every message of the finished chunks is there
   EXPECT_FALSE(reader.summary().complete);
   EXPECT_FALSE(reader.summary().indexed);
@@ -227,9 +229,9 @@ TEST(WriterReader, GivenAVisitorThatStopsWhenIteratingThenNoFurtherMessagesAreDe
   const auto rec = make_recording(small_chunks(), 2, 300, 300);
   MemorySource source(rec.bytes);
   McapReader reader(source);
-  ASSERT_FALSE(reader.open());
+  ASSERT_TRUE(reader.open().ok());
   int seen = 0;
-  ASSERT_FALSE(reader.for_each_message([&](const MessageView&) { return ++seen < 10; }));
+  ASSERT_TRUE(reader.for_each_message([&](const MessageView&) { return ++seen < 10; }).ok());
   EXPECT_EQ(seen, 10);
 }
 

@@ -27,23 +27,24 @@ Status FileSink::write(std::span<const uint8_t> bytes) {
   while (left > 0) {
     const ssize_t n = ::write(fd_, p, left);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return "'" + path_ + "': " + (n < 0 ? std::strerror(errno) : "wrote 0 bytes");
+    if (n <= 0)
+      return Error{"'" + path_ + "': " + (n < 0 ? std::strerror(errno) : "wrote 0 bytes")};
     p += n;
     left -= static_cast<size_t>(n);
   }
-  return std::nullopt;
+  return {};
 }
 
 Status FileSink::flush() {
   if (sync_on_flush_ && ::fdatasync(fd_) != 0) {
-    return "'" + path_ + "': fdatasync: " + std::strerror(errno);
+    return Error{"'" + path_ + "': fdatasync: " + std::strerror(errno)};
   }
-  return std::nullopt;
+  return {};
 }
 
 Status FileSink::sync() {
-  if (::fdatasync(fd_) != 0) return "'" + path_ + "': fdatasync: " + std::strerror(errno);
-  return std::nullopt;
+  if (::fdatasync(fd_) != 0) return Error{"'" + path_ + "': fdatasync: " + std::strerror(errno)};
+  return {};
 }
 
 Result<std::unique_ptr<FileSource>> FileSource::open(const std::string& path) {
@@ -69,11 +70,11 @@ Status FileSource::read(uint64_t offset, std::span<uint8_t> out) {
     const ssize_t n =
         ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) return std::string("read failed: ") + std::strerror(errno);
-    if (n == 0) return "unexpected end of file at offset " + std::to_string(offset + done);
+    if (n < 0) return Error{std::string("read failed: ") + std::strerror(errno)};
+    if (n == 0) return Error{"unexpected end of file at offset " + std::to_string(offset + done)};
     done += static_cast<size_t>(n);
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace stereoball::recorder

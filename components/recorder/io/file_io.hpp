@@ -7,7 +7,6 @@
 
 #include "common/util/result.hpp"
 #include "recorder/core/io_interfaces.hpp"
-#include "recorder/core/status.hpp"
 
 namespace stereoball::recorder {
 

@@ -23,28 +23,30 @@ TEST(FileIo, GivenAFileWrittenThroughFileSinkWhenReadThroughFileSourceThenMessag
     auto sink = FileSink::create(path);
     ASSERT_TRUE(sink) << sink.error();
     McapWriter writer(WriterParams{});
-    ASSERT_FALSE(writer.open(**sink));
+    ASSERT_TRUE(writer.open(**sink).ok());
     const auto schema = writer.add_schema("S", "omgidl", std::string_view("struct S {};"));
     const auto channel = writer.add_channel(schema.value(), "a/b", "cdr");
     for (uint32_t i = 0; i < 100; ++i) {
       std::vector<uint8_t> data(i * 10, static_cast<uint8_t>(i));
-      ASSERT_FALSE(writer.write({channel.value(), i, 1000u + i, 900u + i, data}));
+      ASSERT_TRUE(writer.write({channel.value(), i, 1000u + i, 900u + i, data}).ok());
     }
-    ASSERT_FALSE(writer.close());
+    ASSERT_TRUE(writer.close().ok());
   }
   auto source = FileSource::open(path);
   ASSERT_TRUE(source) << source.error();
   McapReader reader(**source);
-  ASSERT_FALSE(reader.open());
+  ASSERT_TRUE(reader.open().ok());
   EXPECT_TRUE(reader.summary().complete);
   uint32_t n = 0;
-  ASSERT_FALSE(reader.for_each_message([&](const MessageView& m) {
-    EXPECT_EQ(m.sequence, n);
-    EXPECT_EQ(m.data.size(), n * 10);
-    EXPECT_EQ(m.publish_time_ns, 900u + n);
-    ++n;
-    return true;
-  }));
+  ASSERT_TRUE(reader
+                  .for_each_message([&](const MessageView& m) {
+                    EXPECT_EQ(m.sequence, n);
+                    EXPECT_EQ(m.data.size(), n * 10);
+                    EXPECT_EQ(m.publish_time_ns, 900u + n);
+                    ++n;
+                    return true;
+                  })
+                  .ok());
   EXPECT_EQ(n, 100u);
   std::filesystem::remove(path);
 }
@@ -67,15 +69,15 @@ TEST(FileIo, GivenASourceWhenReadingPastTheEndThenAnErrorIsReturned) {
     auto sink = FileSink::create(path);
     ASSERT_TRUE(sink);
     const std::vector<uint8_t> bytes = {1, 2, 3};
-    ASSERT_FALSE((*sink)->write(bytes));
+    ASSERT_TRUE((*sink)->write(bytes).ok());
   }
   auto source = FileSource::open(path);
   ASSERT_TRUE(source);
   EXPECT_EQ((*source)->size(), 3u);
   std::vector<uint8_t> out(4);
-  EXPECT_TRUE((*source)->read(0, out));
+  EXPECT_FALSE((*source)->read(0, out).ok());
   out.resize(2);
-  EXPECT_FALSE((*source)->read(1, out));
+  EXPECT_TRUE((*source)->read(1, out).ok());
   EXPECT_EQ(out[0], 2);
   std::filesystem::remove(path);
 }

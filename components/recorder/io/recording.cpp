@@ -11,18 +11,17 @@ namespace {
 constexpr uint64_t kItemOverheadBytes = 64;
 }  // namespace
 
-std::optional<std::string> RecordingParams::validate() const {
-  if (path.empty()) return std::string("path must not be empty");
+Status RecordingParams::validate() const {
+  if (path.empty()) return Error{"path must not be empty"};
   if (split_size_bytes != 0 && split_size_bytes < (1u << 20)) {
-    return "split_size_bytes must be 0 (off) or >= 1048576, got " +
-           std::to_string(split_size_bytes);
+    return Error{"split_size_bytes must be 0 (off) or >= 1048576, got " +
+                 std::to_string(split_size_bytes)};
   }
-  if (split_duration_ns < 0) return std::string("split_duration_ns must be >= 0 (0 = off)");
+  if (split_duration_ns < 0) return Error{"split_duration_ns must be >= 0 (0 = off)"};
   if (queue_limit_bytes < (1u << 20)) {
-    return "queue_limit_bytes must be >= 1048576, got " + std::to_string(queue_limit_bytes);
+    return Error{"queue_limit_bytes must be >= 1048576, got " + std::to_string(queue_limit_bytes)};
   }
-  if (chunk_flush_period_ns < 1'000'000)
-    return std::string("chunk_flush_period_ns must be >= 1 ms");
+  if (chunk_flush_period_ns < 1'000'000) return Error{"chunk_flush_period_ns must be >= 1 ms"};
   return writer.validate();
 }
 
@@ -34,10 +33,10 @@ Recording::Recording(const RecordingParams& params, std::vector<RecordedTopic> t
 
 Result<std::unique_ptr<Recording>> Recording::start(const RecordingParams& params,
                                                     std::vector<RecordedTopic> topics) {
-  if (auto bad = params.validate()) return Error{*bad};
+  if (auto bad = params.validate(); !bad) return Error{bad.error()};
   if (topics.empty()) return Error{"no topics to record"};
   std::unique_ptr<Recording> rec(new Recording(params, std::move(topics)));
-  if (auto err = rec->open_file()) return Error{*err};
+  if (auto err = rec->open_file(); !err) return Error{err.error()};
   rec->thread_ = std::thread([r = rec.get()] { r->run(); });
   return rec;
 }
@@ -62,27 +61,28 @@ Status Recording::open_file() {
     path = file_path(files_.size());
   }
   auto sink = FileSink::create(path);
-  if (!sink) return sink.error();
+  if (!sink) return Error{sink.error()};
   sink_ = std::move(*sink);
   writer_ = std::make_unique<McapWriter>(params_.writer);
-  if (auto err = writer_->open(*sink_)) return err;
+  if (auto err = writer_->open(*sink_); !err) return err;
   channel_ids_.clear();
   for (const auto& t : topics_) {
     const auto schema = writer_->add_schema(t.type_name, "omgidl", t.schema_text);
-    if (!schema) return schema.error();
+    if (!schema) return Error{schema.error()};
     const auto channel = writer_->add_channel(schema.value(), t.topic, "cdr");
-    if (!channel) return channel.error();
+    if (!channel) return Error{channel.error()};
     channel_ids_.push_back(channel.value());
   }
   file_has_messages_ = false;
   std::lock_guard lock(mutex_);
   files_.push_back(path);
-  return std::nullopt;
+  return {};
 }
 
 Status Recording::close_file() {
-  if (!writer_) return std::nullopt;
-  Status err = writer_->failure() ? writer_->failure() : writer_->close();
+  if (!writer_) return {};
+  Status err = writer_->status();
+  if (err.ok()) err = writer_->close();
   writer_.reset();
   sink_.reset();
   return err;
@@ -90,7 +90,7 @@ Status Recording::close_file() {
 
 void Recording::fail(const std::string& what) {
   std::lock_guard lock(mutex_);
-  if (!failure_) failure_ = what;
+  if (failure_.ok()) failure_ = Error{what};
 }
 
 Status Recording::write_item(const Item& item) {
@@ -99,8 +99,8 @@ Status Recording::write_item(const Item& item) {
   const bool split_by_time = params_.split_duration_ns != 0 && file_has_messages_ &&
                              item.log_ns >= file_first_log_ns_ + params_.split_duration_ns;
   if (file_has_messages_ && (split_by_size || split_by_time)) {
-    if (auto err = close_file()) return err;
-    if (auto err = open_file()) return err;
+    if (auto err = close_file(); !err) return err;
+    if (auto err = open_file(); !err) return err;
   }
   if (!file_has_messages_) {
     file_first_log_ns_ = item.log_ns;
@@ -128,9 +128,9 @@ void Recording::run() {
         break;
       }
     }
-    if (item && !failure()) {
-      if (auto err = write_item(*item)) {
-        fail(*err);
+    if (item && status().ok()) {
+      if (auto err = write_item(*item); !err) {
+        fail(err.error());
       } else {
         std::lock_guard lock(mutex_);
         ++counters_[item->topic].messages;
@@ -143,9 +143,9 @@ void Recording::run() {
     }
     // Slow topics must not sit in memory for long: a crash would lose them.
     const auto now = Clock::now();
-    if (unflushed && !failure() &&
+    if (unflushed && status().ok() &&
         now - last_flush >= std::chrono::nanoseconds(params_.chunk_flush_period_ns)) {
-      if (auto err = writer_->flush_chunk()) fail(*err);
+      if (auto err = writer_->flush_chunk(); !err) fail(err.error());
       last_flush = now;
       unflushed = false;
     }
@@ -157,7 +157,7 @@ bool Recording::push(size_t topic_index, std::vector<uint8_t> cdr, uint64_t log_
   std::lock_guard lock(mutex_);
   if (topic_index >= topics_.size()) return false;
   const uint64_t cost = cdr.size() + kItemOverheadBytes;
-  if (failure_ || stopping_ || queued_bytes_ + cost > params_.queue_limit_bytes) {
+  if (!failure_.ok() || stopping_ || queued_bytes_ + cost > params_.queue_limit_bytes) {
     ++counters_[topic_index].dropped;
     return false;
   }
@@ -178,7 +178,7 @@ uint64_t Recording::queued_bytes() const {
   return queued_bytes_;
 }
 
-std::optional<std::string> Recording::failure() const {
+Status Recording::status() const {
   std::lock_guard lock(mutex_);
   return failure_;
 }
@@ -196,13 +196,13 @@ Status Recording::stop() {
   }
   wake_.notify_one();
   if (thread_.joinable()) thread_.join();
-  if (!failure()) {
-    if (auto err = close_file()) fail(*err);
+  if (status().ok()) {
+    if (auto err = close_file(); !err) fail(err.error());
   } else {
     writer_.reset();
     sink_.reset();
   }
-  return failure();
+  return status();
 }
 
 }  // namespace stereoball::recorder

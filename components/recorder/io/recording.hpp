@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "common/util/result.hpp"
-#include "recorder/core/status.hpp"
 #include "recorder/core/writer.hpp"
 #include "recorder/io/file_io.hpp"
 
@@ -29,8 +28,8 @@ struct RecordingParams {
   uint64_t queue_limit_bytes = 256ull << 20;      ///< queued payload bytes before dropping
   int64_t chunk_flush_period_ns = 1'000'000'000;  ///< write out a non-full chunk this old
   WriterParams writer;
-  /// nullopt when valid, else a message naming the bad field and its allowed range.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// A topic to record: name, type (schema name) and the IDL text stored as its schema.
@@ -65,9 +64,9 @@ class Recording {
   std::vector<TopicCounters> counters() const;
   /// Bytes currently queued.
   uint64_t queued_bytes() const;
-  /// The first write error (e.g. disk full), if any; the files stay readable up to the last
-  /// completed chunk.
-  std::optional<std::string> failure() const;
+  /// Success, or the first write error (e.g. disk full); the files stay readable up to the
+  /// last completed chunk.
+  Status status() const;
   /// Files written so far (the last one is open until stop()).
   std::vector<std::string> files() const;
   /// Writes everything queued, closes the file (summary and footer), joins the thread.
@@ -99,7 +98,7 @@ class Recording {
   bool stopping_ = false;
   std::vector<TopicCounters> counters_;
   std::vector<uint32_t> sequences_;
-  std::optional<std::string> failure_;
+  Status failure_;
   std::vector<std::string> files_;
 
   // Owned by the writer thread once started.

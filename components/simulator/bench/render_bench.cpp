@@ -82,8 +82,8 @@ int main(int argc, char** argv) {
       sim::load_scenario_by_name(scenario_name, paths::shipped_config_path("scenarios"));
   if (!scenario)
     return std::fprintf(stderr, "stereoball-sim-bench: %s\n", scenario.error().c_str()), 2;
-  if (auto e = sim::Simulator::check(*params, *scenario)) {
-    return std::fprintf(stderr, "stereoball-sim-bench: %s\n", e->c_str()), 2;
+  if (auto e = sim::Simulator::check(*params, *scenario); !e) {
+    return std::fprintf(stderr, "stereoball-sim-bench: %s\n", e.error().c_str()), 2;
   }
 
   const auto t_build = Clock::now();

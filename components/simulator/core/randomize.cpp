@@ -48,35 +48,34 @@ class Rng {
   std::uint64_t state_;
 };
 
-std::optional<std::string> check_range(const std::string& key, const Range& r, double lo,
-                                       double hi) {
+Status check_range(const std::string& key, const Range& r, double lo, double hi) {
   std::ostringstream s;
   if (!(std::isfinite(r.lo) && std::isfinite(r.hi) && r.lo >= lo && r.hi <= hi)) {
     s << "[" << r.lo << ", " << r.hi << "] is not within [" << lo << ", " << hi << "]";
   } else if (r.lo > r.hi) {
     s << "lower end " << r.lo << " is above upper end " << r.hi;
   } else {
-    return std::nullopt;
+    return {};
   }
-  return key + ": " + s.str();
+  return Error{key + ": " + s.str()};
 }
 
 template <std::size_t N>
-std::optional<std::string> check_weights(const std::string& key, const Weights<N>& w,
-                                         const std::array<const char*, N>& names) {
+Status check_weights(const std::string& key, const Weights<N>& w,
+                     const std::array<const char*, N>& names) {
   double total = 0.0;
   for (std::size_t i = 0; i < N; ++i) {
     if (!(std::isfinite(w[i]) && w[i] >= 0.0 && w[i] <= 1000.0))
-      return key + "." + names[i] + ": weight must be in [0, 1000]";
+      return Error{key + "." + names[i] + ": weight must be in [0, 1000]"};
     total += w[i];
   }
-  if (!(total > 0.0)) return key + ": at least one weight must be positive";
-  return std::nullopt;
+  if (!(total > 0.0)) return Error{key + ": at least one weight must be positive"};
+  return {};
 }
 
-std::optional<std::string> check_probability(const std::string& key, double p) {
-  if (std::isfinite(p) && p >= 0.0 && p <= 1.0) return std::nullopt;
-  return key + ": probability must be in [0, 1]";
+Status check_probability(const std::string& key, double p) {
+  if (std::isfinite(p) && p >= 0.0 && p <= 1.0) return {};
+  return Error{key + ": probability must be in [0, 1]"};
 }
 
 Rgb hsv_wrapped(double hue_deg, double s, double v) {
@@ -333,9 +332,9 @@ std::uint64_t scene_seed(std::uint64_t seed, int index) {
 
 }  // namespace
 
-std::optional<std::string> RandomizeRanges::validate() const {
+Status RandomizeRanges::validate() const {
   if (!(std::isfinite(duration_s) && duration_s >= 1.0 && duration_s <= 600.0))
-    return "duration_s: must be in [1, 600] s";
+    return Error{"duration_s: must be in [1, 600] s"};
   const std::pair<const char*, std::pair<const Range*, std::pair<double, double>>> ranges[] = {
       {"ball.diameter_m", {&ball_diameter_m, {0.02, 1.0}}},
       {"ball.hue_deg", {&ball_hue_deg, {-360.0, 720.0}}},
@@ -366,18 +365,18 @@ std::optional<std::string> RandomizeRanges::validate() const {
       {"leave_view.kick_time_s", {&kick_time_s, {0.0, duration_s}}},
   };
   for (const auto& [key, spec] : ranges) {
-    if (auto e = check_range(key, *spec.first, spec.second.first, spec.second.second)) return e;
+    if (auto e = check_range(key, *spec.first, spec.second.first, spec.second.second); !e) return e;
   }
-  if (auto e = check_weights("ball.pattern_weights", ball_pattern, kPatternNames)) return e;
-  if (auto e = check_weights("floor.kind_weights", floor_kind, kFloorNames)) return e;
-  if (auto e = check_weights("leave_view.kind_weights", leave_view, kLeaveNames)) return e;
-  if (auto e = check_probability("floor.light_probability", floor_light_probability)) return e;
-  if (auto e = check_probability("distractors.probability", distractor_probability)) return e;
+  if (auto e = check_weights("ball.pattern_weights", ball_pattern, kPatternNames); !e) return e;
+  if (auto e = check_weights("floor.kind_weights", floor_kind, kFloorNames); !e) return e;
+  if (auto e = check_weights("leave_view.kind_weights", leave_view, kLeaveNames); !e) return e;
+  if (auto e = check_probability("floor.light_probability", floor_light_probability); !e) return e;
+  if (auto e = check_probability("distractors.probability", distractor_probability); !e) return e;
   if (!(other_ball_min_hue_gap_deg >= 0.0 && other_ball_min_hue_gap_deg <= 180.0))
-    return "distractors.other_ball_min_hue_gap_deg: must be in [0, 180]";
+    return Error{"distractors.other_ball_min_hue_gap_deg: must be in [0, 180]"};
   if (!(other_ball_min_size_ratio >= 1.0 && other_ball_min_size_ratio <= 3.0))
-    return "distractors.other_ball_min_size_ratio: must be in [1, 3]";
-  return std::nullopt;
+    return Error{"distractors.other_ball_min_size_ratio: must be in [1, 3]"};
+  return {};
 }
 
 RandomScene draw_scene(const RandomizeRanges& r, std::uint64_t seed, int index) {

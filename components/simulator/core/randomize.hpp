@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
 #include "simulator/core/scenario.hpp"
 
 namespace stereoball::simulator {
@@ -76,8 +77,8 @@ struct RandomizeRanges {
   Range kick_speed_mps{1.5, 2.5};
   Range kick_time_s{2.0, 4.0};
 
-  /// First invalid field (its YAML key) with the problem, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or the first invalid field (its YAML key) with the problem.
+  Status validate() const;
 };
 
 /// What one scene is, in the benchmarks' categories.

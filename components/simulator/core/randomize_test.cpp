@@ -82,7 +82,7 @@ TEST(Randomize, EveryRangeIsRespectedAndEveryScenarioIsValid) {
     const Scenario& s = sc.scenario;
     SCOPED_TRACE(s.name);
     // Then each one is a valid scenario within every range
-    ASSERT_FALSE(s.validate().has_value()) << *s.validate();
+    ASSERT_TRUE(s.validate().ok()) << s.validate().error();
     ASSERT_TRUE(s.ball.has_value());
     EXPECT_TRUE(within(2.0 * s.ball->radius_m, r.ball_diameter_m));
     EXPECT_DOUBLE_EQ(sc.ball_diameter_m, 2.0 * s.ball->radius_m);
@@ -161,16 +161,17 @@ TEST(Randomize, ZeroWeightKindsAreNeverDrawn) {
 TEST(Randomize, ValidateNamesTheBadKey) {
   RandomizeRanges r;
   r.ball_diameter_m = {0.3, 0.2};
-  ASSERT_TRUE(r.validate().has_value());
-  EXPECT_NE(r.validate()->find("ball.diameter_m"), std::string::npos) << *r.validate();
+  ASSERT_FALSE(r.validate().ok());
+  EXPECT_NE(r.validate().error().find("ball.diameter_m"), std::string::npos)
+      << r.validate().error();
   r = {};
   r.floor_kind = {0, 0, 0, 0};
-  ASSERT_TRUE(r.validate().has_value());
-  EXPECT_NE(r.validate()->find("floor.kind_weights"), std::string::npos);
+  ASSERT_FALSE(r.validate().ok());
+  EXPECT_NE(r.validate().error().find("floor.kind_weights"), std::string::npos);
   r = {};
   r.sun_elevation_deg = {10, 95};
-  ASSERT_TRUE(r.validate().has_value());
-  EXPECT_NE(r.validate()->find("lighting.sun_elevation_deg"), std::string::npos);
+  ASSERT_FALSE(r.validate().ok());
+  EXPECT_NE(r.validate().error().find("lighting.sun_elevation_deg"), std::string::npos);
 }
 
 TEST(Randomize, HueNamesAndColourDifference) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
 #include "simulator/core/vec3.hpp"
 
 namespace stereoball::simulator {
@@ -133,8 +134,8 @@ struct Scenario {
   std::vector<LightKey> lighting;  ///< sorted by t_s; empty = LightKey defaults
   std::vector<ScriptedCommand> commands;  ///< sorted by t_s
 
-  /// First invalid field with its allowed range, or nullopt.
-  std::optional<std::string> validate() const;
+  /// Success, or the first invalid field with its allowed range.
+  Status validate() const;
 };
 
 /// An axis-aligned solid box in the world (boxes and door-frame parts), metres.

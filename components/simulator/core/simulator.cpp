@@ -25,10 +25,11 @@ Simulator::Simulator(const SimParams& params, const Scenario& scenario)
       sensor_(params.sensor.noise_sigma_dn, scenario.seed),
       occluders_(solid_boxes(scenario)) {}
 
-std::optional<std::string> Simulator::check(const SimParams& params, const Scenario& scenario) {
-  if (auto st = params.validate(); !st) return "simulator params: " + st.error();
-  if (auto e = scenario.validate()) return "scenario '" + scenario.name + "': " + *e;
-  return std::nullopt;
+Status Simulator::check(const SimParams& params, const Scenario& scenario) {
+  if (auto st = params.validate(); !st) return Error{"simulator params: " + st.error()};
+  if (auto e = scenario.validate(); !e)
+    return Error{"scenario '" + scenario.name + "': " + e.error()};
+  return {};
 }
 
 int64_t Simulator::frame_period_ns() const {

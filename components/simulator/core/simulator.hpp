@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
 #include "simulator/core/ground_truth.hpp"
 #include "simulator/core/renderer.hpp"
 #include "simulator/core/rig.hpp"
@@ -42,7 +43,7 @@ class Simulator {
   Simulator(const SimParams& params, const Scenario& scenario);
 
   /// Validates both and builds a simulator, or returns the first error.
-  static std::optional<std::string> check(const SimParams& params, const Scenario& scenario);
+  static Status check(const SimParams& params, const Scenario& scenario);
 
   /// Applies a new command (if any), advances to sim_time_ns (ns since scenario start,
   /// non-decreasing) and renders both eyes through run_both (the frame is the same either way).

@@ -22,7 +22,7 @@ Result<RandomizeRanges> finish(params::ParamsFile& f) {
   RandomizeRanges r;
   read_randomize_ranges(f, r);
   if (auto st = f.finish(); !st) return Error{st.error()};
-  if (auto e = r.validate()) return Error{f.name() + ": " + *e};
+  if (auto e = r.validate(); !e) return Error{f.name() + ": " + e.error()};
   return r;
 }
 

@@ -14,7 +14,7 @@ namespace {
 // Reads the keys of one YAML map; remembers the first error and rejects unknown keys.
 class MapReader {
  public:
-  MapReader(const YAML::Node& node, std::string prefix, std::optional<std::string>& error)
+  MapReader(const YAML::Node& node, std::string prefix, Status& error)
       : node_(node), prefix_(std::move(prefix)), error_(error) {
     if (!node_.IsMap()) fail_key(prefix_.empty() ? "(top level)" : prefix_, "expected a mapping");
   }
@@ -53,7 +53,7 @@ class MapReader {
   }
 
   void fail_key(const std::string& full_key, const std::string& what) {
-    if (!error_) error_ = "key '" + full_key + "': " + what;
+    if (error_.ok()) error_ = Error{"key '" + full_key + "': " + what};
   }
 
  private:
@@ -84,11 +84,9 @@ class MapReader {
 
   YAML::Node node_;
   std::string prefix_;
-  std::optional<std::string>& error_;
+  Status& error_;  // the first problem; later ones are not reported
   std::set<std::string> used_;
 };
-
-using Err = std::optional<std::string>;
 
 // An optional key naming one of choices; out keeps its value when the key is absent.
 template <typename E>
@@ -108,7 +106,7 @@ void opt_choice(MapReader& m, const std::string& k, E& out,
   m.fail_key(m.key(k), "expected one of " + expected);
 }
 
-void read_room(MapReader& top, RoomSpec& r, Err& err) {
+void read_room(MapReader& top, RoomSpec& r, Status& err) {
   const YAML::Node n = top.child("room");
   if (!n.IsDefined()) return;
   MapReader m(n, "room", err);
@@ -133,7 +131,7 @@ void read_room(MapReader& top, RoomSpec& r, Err& err) {
   m.finish();
 }
 
-void read_robot(MapReader& top, Scenario& s, Err& err) {
+void read_robot(MapReader& top, Scenario& s, Status& err) {
   const YAML::Node n = top.child("robot");
   if (!n.IsDefined()) return;
   MapReader m(n, "robot", err);
@@ -148,7 +146,7 @@ void read_robot(MapReader& top, Scenario& s, Err& err) {
   m.finish();
 }
 
-void read_ball(MapReader& top, Scenario& s, Err& err) {
+void read_ball(MapReader& top, Scenario& s, Status& err) {
   const YAML::Node n = top.child("ball");
   if (!n.IsDefined() || n.IsNull()) return;
   BallSpec b;
@@ -169,7 +167,7 @@ void read_ball(MapReader& top, Scenario& s, Err& err) {
   s.ball = b;
 }
 
-void read_sun(MapReader& top, Scenario& s, Err& err) {
+void read_sun(MapReader& top, Scenario& s, Status& err) {
   const YAML::Node n = top.child("sun");
   if (!n.IsDefined()) return;
   MapReader m(n, "sun", err);
@@ -180,7 +178,7 @@ void read_sun(MapReader& top, Scenario& s, Err& err) {
 
 // Reads a list of maps: one T per entry, each filled by fill(reader, item).
 template <typename T, typename F>
-void read_list(MapReader& top, const std::string& name, std::vector<T>& out, Err& err, F fill) {
+void read_list(MapReader& top, const std::string& name, std::vector<T>& out, Status& err, F fill) {
   const YAML::Node n = top.child(name);
   if (!n.IsDefined() || n.IsNull()) return;
   if (!n.IsSequence()) {
@@ -196,7 +194,7 @@ void read_list(MapReader& top, const std::string& name, std::vector<T>& out, Err
   }
 }
 
-void read_lists(MapReader& top, Scenario& s, Err& err) {
+void read_lists(MapReader& top, Scenario& s, Status& err) {
   read_list(top, "boxes", s.boxes, err, [](MapReader& m, BoxSpec& b) {
     m.opt("x_m", b.x_m);
     m.opt("y_m", b.y_m);
@@ -258,7 +256,7 @@ Result<Scenario> parse_scenario(const std::string& text, const std::string& sour
   if (!parsed) return Error{parsed.error()};
   const YAML::Node& root = *parsed;
   Scenario s;
-  Err err;
+  Status err;
   MapReader top(root, "", err);
   top.opt("name", s.name);
   top.opt("seed", s.seed);
@@ -269,8 +267,8 @@ Result<Scenario> parse_scenario(const std::string& text, const std::string& sour
   read_sun(top, s, err);
   read_lists(top, s, err);
   top.finish();
-  if (err) return Error{source + ": " + *err};
-  if (auto e = s.validate()) return Error{source + ": " + *e};
+  if (!err.ok()) return Error{source + ": " + err.error()};
+  if (auto e = s.validate(); !e) return Error{source + ": " + e.error()};
   return s;
 }
 

@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   codec_flags.apply(options.output);
   auto scenario = sb::simulator::load_scenario_by_name(scenario_name, scenarios_dir);
   if (!scenario) return fail(scenario.error());
-  if (auto e = sb::simulator::Simulator::check(params, *scenario)) return fail(*e);
+  if (auto e = sb::simulator::Simulator::check(params, *scenario); !e) return fail(e.error());
   const sb::simulator::StereoRig rig(params);
   sb::stereo::StereoCalibration published = rig.calibration();
   if (!calibration_path.empty()) {

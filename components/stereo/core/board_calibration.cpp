@@ -36,31 +36,32 @@ std::vector<cv::Point2d> to_double(const std::vector<cv::Point2f>& pts) {
 
 }  // namespace
 
-std::optional<std::string> BoardCalibrationParams::validate() const {
+Status BoardCalibrationParams::validate() const {
   if (inner_corners.width < 2 || inner_corners.height < 2 || inner_corners.width > 100 ||
       inner_corners.height > 100) {
-    return "inner_corners: each dimension must be in [2, 100]";
+    return Error{"inner_corners: each dimension must be in [2, 100]"};
   }
   if (!std::isfinite(square_m) || square_m <= 0.0 || square_m > 10.0) {
-    return "square_m: must be in (0, 10] metres, got " + std::to_string(square_m);
+    return Error{"square_m: must be in (0, 10] metres, got " + std::to_string(square_m)};
   }
   if (min_pairs < 3 || min_pairs > 1000) {
-    return "min_pairs: must be in [3, 1000], got " + std::to_string(min_pairs);
+    return Error{"min_pairs: must be in [3, 1000], got " + std::to_string(min_pairs)};
   }
   if (!std::isfinite(outlier_ratio) || outlier_ratio < 0.0 || outlier_ratio > 100.0) {
-    return "outlier_ratio: must be 0 (keep every pair) or in (0, 100], got " +
-           std::to_string(outlier_ratio);
+    return Error{"outlier_ratio: must be 0 (keep every pair) or in (0, 100], got " +
+                 std::to_string(outlier_ratio)};
   }
   if (!std::isfinite(outlier_min_px) || outlier_min_px < 0.0 || outlier_min_px > 100.0) {
-    return "outlier_min_px: must be in [0, 100] pixels, got " + std::to_string(outlier_min_px);
+    return Error{"outlier_min_px: must be in [0, 100] pixels, got " +
+                 std::to_string(outlier_min_px)};
   }
   if (subpix_window_px < 3 || subpix_window_px > 51) {
-    return "subpix_window_px: must be in [3, 51], got " + std::to_string(subpix_window_px);
+    return Error{"subpix_window_px: must be in [3, 51], got " + std::to_string(subpix_window_px)};
   }
   if (!(rectify.alpha == -1.0 || (rectify.alpha >= 0.0 && rectify.alpha <= 1.0))) {
-    return "rectify.alpha: must be -1 or in [0, 1], got " + std::to_string(rectify.alpha);
+    return Error{"rectify.alpha: must be -1 or in [0, 1], got " + std::to_string(rectify.alpha)};
   }
-  return std::nullopt;
+  return {};
 }
 
 std::optional<std::vector<cv::Point2f>> find_board_corners(const cv::Mat& image,
@@ -201,7 +202,7 @@ std::vector<cv::Point3f> board_points_m(const BoardCalibrationParams& params) {
 Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& pairs,
                                                 cv::Size image_size,
                                                 const BoardCalibrationParams& params) {
-  if (auto error = params.validate()) return Error{*error};
+  if (auto error = params.validate(); !error) return Error{error.error()};
   if (image_size.width <= 0 || image_size.height <= 0) return Error{"image_size: must be > 0"};
   const std::size_t expected = static_cast<std::size_t>(params.inner_corners.area());
   for (const PairCorners& p : pairs) {
@@ -215,8 +216,8 @@ Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& 
                  std::to_string(params.min_pairs) + " (min_pairs)"};
   }
   BoardCalibrationResult out = calibrate_pairs(pairs, image_size, params);
-  if (auto error = validate_calibration(out.calibration))
-    return Error{"calibration result invalid: " + *error};
+  if (auto error = validate_calibration(out.calibration); !error)
+    return Error{"calibration result invalid: " + error.error()};
   const double all_rms = out.calibration.rms_px;
   const auto [all_mean_row, all_max_row] = rectified_row_error_px(out.calibration, pairs);
   std::vector<PairCorners> kept = pairs;
@@ -230,8 +231,8 @@ Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& 
   out.all_pairs_rms_px = all_rms;
   out.all_pairs_mean_row_error_px = all_mean_row;
   out.all_pairs_max_row_error_px = all_max_row;
-  if (auto error = validate_calibration(out.calibration))
-    return Error{"calibration result invalid: " + *error};
+  if (auto error = validate_calibration(out.calibration); !error)
+    return Error{"calibration result invalid: " + error.error()};
   std::tie(out.mean_rectified_row_error_px, out.max_rectified_row_error_px) =
       rectified_row_error_px(out.calibration, kept);
   return out;

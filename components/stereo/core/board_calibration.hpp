@@ -27,8 +27,8 @@ struct BoardCalibrationParams {
   /// time, worst first, never below min_pairs. outlier_ratio = 0 keeps every pair.
   double outlier_ratio = 3.0;
   double outlier_min_px = 0.3;  ///< see outlier_ratio, pixels
-  /// Validates ranges; names the bad field and its allowed range, nullopt if OK.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Chessboard corners of one stereo pair, pixels, in board order.

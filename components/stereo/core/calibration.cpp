@@ -23,22 +23,23 @@ bool all_finite(const std::vector<double>& v) {
   return true;
 }
 
-std::optional<std::string> check_camera_matrix(const cv::Matx33d& k, const char* name) {
-  if (!all_finite(k)) return std::string(name) + ": not finite";
-  if (k(0, 0) <= 0.0 || k(1, 1) <= 0.0) return std::string(name) + ": focal lengths must be > 0";
+Status check_camera_matrix(const cv::Matx33d& k, const char* name) {
+  if (!all_finite(k)) return Error{std::string(name) + ": not finite"};
+  if (k(0, 0) <= 0.0 || k(1, 1) <= 0.0)
+    return Error{std::string(name) + ": focal lengths must be > 0"};
   if (k(2, 0) != 0.0 || k(2, 1) != 0.0 || k(2, 2) != 1.0) {
-    return std::string(name) + ": last row must be [0 0 1]";
+    return Error{std::string(name) + ": last row must be [0 0 1]"};
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> check_distortion(const std::vector<double>& d, const char* name) {
+Status check_distortion(const std::vector<double>& d, const char* name) {
   if (!is_valid_distortion_size(d.size())) {
-    return std::string(name) + ": " + std::to_string(d.size()) +
-           " coefficients, expected 0, 4, 5, 8, 12 or 14";
+    return Error{std::string(name) + ": " + std::to_string(d.size()) +
+                 " coefficients, expected 0, 4, 5, 8, 12 or 14"};
   }
-  if (!all_finite(d)) return std::string(name) + ": not finite";
-  return std::nullopt;
+  if (!all_finite(d)) return Error{std::string(name) + ": not finite"};
+  return {};
 }
 
 cv::Mat distortion_mat(const std::vector<double>& d) {
@@ -80,50 +81,56 @@ StereoCalibration make_calibration(const CameraModel& left, const CameraModel& r
   return calib;
 }
 
-std::optional<std::string> validate_calibration(const StereoCalibration& calib) {
+Status validate_calibration(const StereoCalibration& calib) {
   if (calib.image_size.width <= 0 || calib.image_size.height <= 0) {
-    return "image_size: width and height must be > 0, got " +
-           std::to_string(calib.image_size.width) + "x" + std::to_string(calib.image_size.height);
+    return Error{"image_size: width and height must be > 0, got " +
+                 std::to_string(calib.image_size.width) + "x" +
+                 std::to_string(calib.image_size.height)};
   }
-  if (auto e = check_camera_matrix(calib.k1, "K1")) return e;
-  if (auto e = check_distortion(calib.d1, "D1")) return e;
-  if (auto e = check_camera_matrix(calib.k2, "K2")) return e;
-  if (auto e = check_distortion(calib.d2, "D2")) return e;
-  if (!all_finite(calib.r)) return "R: not finite";
-  if (std::abs(cv::determinant(calib.r) - 1.0) > 1e-3) return "R: not a rotation (det != 1)";
-  if (!all_finite(calib.t) || cv::norm(calib.t) <= 0.0) return "T: must be finite and non-zero";
-  if (!all_finite(calib.r1)) return "R1: not finite";
-  if (!all_finite(calib.r2)) return "R2: not finite";
-  if (!all_finite(calib.p1) || calib.p1(0, 0) <= 0.0) return "P1: must be finite with fx > 0";
-  if (!all_finite(calib.p2) || calib.p2(0, 0) <= 0.0) return "P2: must be finite with fx > 0";
+  if (auto e = check_camera_matrix(calib.k1, "K1"); !e) return e;
+  if (auto e = check_distortion(calib.d1, "D1"); !e) return e;
+  if (auto e = check_camera_matrix(calib.k2, "K2"); !e) return e;
+  if (auto e = check_distortion(calib.d2, "D2"); !e) return e;
+  if (!all_finite(calib.r)) return Error{"R: not finite"};
+  if (std::abs(cv::determinant(calib.r) - 1.0) > 1e-3) return Error{"R: not a rotation (det != 1)"};
+  if (!all_finite(calib.t) || cv::norm(calib.t) <= 0.0)
+    return Error{"T: must be finite and non-zero"};
+  if (!all_finite(calib.r1)) return Error{"R1: not finite"};
+  if (!all_finite(calib.r2)) return Error{"R2: not finite"};
+  if (!all_finite(calib.p1) || calib.p1(0, 0) <= 0.0)
+    return Error{"P1: must be finite with fx > 0"};
+  if (!all_finite(calib.p2) || calib.p2(0, 0) <= 0.0)
+    return Error{"P2: must be finite with fx > 0"};
   if (calib.p2(0, 3) == 0.0 || calib.p2(1, 3) != 0.0) {
-    return "P2: expected horizontal rectification (P2(0,3) = -f*B != 0, P2(1,3) = 0)";
+    return Error{"P2: expected horizontal rectification (P2(0,3) = -f*B != 0, P2(1,3) = 0)"};
   }
-  if (!all_finite(calib.q) || calib.q(3, 2) == 0.0) return "Q: must be finite with Q(3,2) != 0";
-  return std::nullopt;
+  if (!all_finite(calib.q) || calib.q(3, 2) == 0.0)
+    return Error{"Q: must be finite with Q(3,2) != 0"};
+  return {};
 }
 
-std::optional<std::string> check_image_size(const StereoCalibration& calib, cv::Size left,
-                                            cv::Size right) {
+Status check_image_size(const StereoCalibration& calib, cv::Size left, cv::Size right) {
   auto text = [](cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
   if (left != calib.image_size) {
-    return "left image is " + text(left) + " but the calibration is for " + text(calib.image_size);
+    return Error{"left image is " + text(left) + " but the calibration is for " +
+                 text(calib.image_size)};
   }
   if (right != calib.image_size) {
-    return "right image is " + text(right) + " but the calibration is for " +
-           text(calib.image_size);
+    return Error{"right image is " + text(right) + " but the calibration is for " +
+                 text(calib.image_size)};
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> check_camera_order(const StereoCalibration& calib) {
+Status check_camera_order(const StereoCalibration& calib) {
   const double b = baseline_m(calib);
-  if (b > 0.0) return std::nullopt;
+  if (b > 0.0) return {};
   char text[64];
   std::snprintf(text, sizeof text, "%.4f", b);
-  return std::string("negative baseline (") + text +
-         " m): the camera given as right is to the left of the one given as left, so every "
-         "disparity comes out negative and no ball can be located; the two cameras are swapped";
+  return Error{
+      std::string("negative baseline (") + text +
+      " m): the camera given as right is to the left of the one given as left, so every "
+      "disparity comes out negative and no ball can be located; the two cameras are swapped"};
 }
 
 StereoCalibration swapped_cameras(const StereoCalibration& calib, const RectifyOptions& options) {

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::stereo {
 
 /// Intrinsics, extrinsics and rectification of a stereo rig, valid for one image size.
@@ -52,12 +54,11 @@ StereoCalibration make_calibration(const CameraModel& left, const CameraModel& r
 /// Fills r1 r2 p1 p2 q of calib from its k1 d1 k2 d2 r t image_size.
 void rectify_calibration(StereoCalibration& calib, const RectifyOptions& options = {});
 
-/// Checks sizes, finiteness and horizontal rectification; names the bad field, nullopt if OK.
-std::optional<std::string> validate_calibration(const StereoCalibration& calib);
+/// Checks sizes, finiteness and horizontal rectification; the error names the bad field.
+Status validate_calibration(const StereoCalibration& calib);
 
 /// Checks that both frames have the calibration's image size; error names the eye and sizes.
-std::optional<std::string> check_image_size(const StereoCalibration& calib, cv::Size left,
-                                            cv::Size right);
+Status check_image_size(const StereoCalibration& calib, cv::Size left, cv::Size right);
 
 /// Rectified focal length, pixels (p1(0,0)).
 double focal_px(const StereoCalibration& calib);
@@ -67,9 +68,9 @@ double baseline_m(const StereoCalibration& calib);
 
 /// Whether the camera called right really is to the right of the one called left: a negative
 /// baseline (swapped cameras) makes every disparity negative, so nothing in front of the rig
-/// triangulates. Returns a message saying so (without the fix, which depends on the program),
-/// nullopt for a rig in the right order.
-std::optional<std::string> check_camera_order(const StereoCalibration& calib);
+/// triangulates. Success for a rig in the right order, else an error saying so (without the
+/// fix, which depends on the program).
+Status check_camera_order(const StereoCalibration& calib);
 
 /// The same rig with its eyes exchanged (what a rig with swapped cameras calibrates to), with
 /// the rectification rebuilt with options.

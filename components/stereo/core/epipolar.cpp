@@ -4,11 +4,12 @@
 
 namespace stereoball::stereo {
 
-std::optional<std::string> EpipolarParams::validate() const {
+Status EpipolarParams::validate() const {
   if (!std::isfinite(max_row_diff_px) || max_row_diff_px < 0.0 || max_row_diff_px > 100.0) {
-    return "max_row_diff_px: must be in [0, 100] pixels, got " + std::to_string(max_row_diff_px);
+    return Error{"max_row_diff_px: must be in [0, 100] pixels, got " +
+                 std::to_string(max_row_diff_px)};
   }
-  return std::nullopt;
+  return {};
 }
 
 EpipolarCheck::EpipolarCheck(const EpipolarParams& params) : params_(params) {}

@@ -9,13 +9,15 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::stereo {
 
 /// Parameters of the epipolar row check.
 struct EpipolarParams {
   double max_row_diff_px = 2.0;  ///< largest accepted |y_left - y_right|, rectified pixels
-  /// Validates ranges; names the bad field and its allowed range, nullopt if OK.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Outcome of checking one left/right pair of rectified centres.

@@ -53,11 +53,11 @@ TEST(EpipolarCheck, GivenConfiguredToleranceWhenCheckedThenItIsUsed) {
 }
 
 TEST(EpipolarParams, GivenNegativeOrNanToleranceWhenValidatedThenFieldNamed) {
-  EXPECT_EQ(EpipolarParams{}.validate(), std::nullopt);
+  EXPECT_TRUE(EpipolarParams{}.validate().ok());
   const auto neg = EpipolarParams{.max_row_diff_px = -1.0}.validate();
-  ASSERT_TRUE(neg.has_value());
-  EXPECT_EQ(neg->rfind("max_row_diff_px", 0), 0u);
-  EXPECT_TRUE(EpipolarParams{.max_row_diff_px = std::nan("")}.validate().has_value());
+  ASSERT_FALSE(neg.ok());
+  EXPECT_EQ(neg.error().rfind("max_row_diff_px", 0), 0u);
+  EXPECT_FALSE(EpipolarParams{.max_row_diff_px = std::nan("")}.validate().ok());
 }
 
 TEST(EpipolarCheck, GivenCandidatesWhenBestPairThenClosestRowWithPositiveDisparity) {

@@ -26,8 +26,8 @@ EyeOrderEvidence check_eye_order(const Rectifier& rectifier, const cv::Mat& left
     out.matches_swapped = matches_on_row(right, left, params);
   } else {
     // Exchanged: the image given as right goes through the left camera's model and back.
-    if (rectifier.rectify(left, right, l, r) ||
-        rectifier.rectify(right, left, l_swapped, r_swapped))
+    if (!rectifier.rectify(left, right, l, r).ok() ||
+        !rectifier.rectify(right, left, l_swapped, r_swapped).ok())
       return out;
     out.matches_as_given = matches_on_row(l, r, params);
     out.matches_swapped = matches_on_row(l_swapped, r_swapped, params);

@@ -22,7 +22,7 @@ const char* eye_name(Eye eye) {
 }  // namespace
 
 Result<Rectifier> Rectifier::create(const StereoCalibration& calib) {
-  if (auto error = validate_calibration(calib)) return Error{*error};
+  if (auto error = validate_calibration(calib); !error) return Error{error.error()};
   return Rectifier(calib);
 }
 
@@ -34,45 +34,45 @@ Rectifier::Rectifier(const StereoCalibration& calib) : calib_(calib) {
                               right_.frac);
 }
 
-std::optional<std::string> Rectifier::check_size(Eye eye, const cv::Mat& raw) const {
-  if (raw.empty()) return std::string(eye_name(eye)) + " image is empty";
+Status Rectifier::check_size(Eye eye, const cv::Mat& raw) const {
+  if (raw.empty()) return Error{std::string(eye_name(eye)) + " image is empty"};
   if (raw.size() != calib_.image_size) {
-    return std::string(eye_name(eye)) + " image is " + size_text(raw.size()) +
-           " but the calibration is for " + size_text(calib_.image_size);
+    return Error{std::string(eye_name(eye)) + " image is " + size_text(raw.size()) +
+                 " but the calibration is for " + size_text(calib_.image_size)};
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> Rectifier::rectify_eye(Eye eye, const cv::Mat& raw, cv::Mat& out) const {
-  if (auto error = check_size(eye, raw)) return error;
+Status Rectifier::rectify_eye(Eye eye, const cv::Mat& raw, cv::Mat& out) const {
+  if (auto error = check_size(eye, raw); !error) return error;
   const EyeMaps& m = maps(eye);
   cv::remap(raw, out, m.xy, m.frac, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> Rectifier::rectify_eye_region(Eye eye, const cv::Mat& raw, cv::Rect roi,
-                                                         cv::Mat& out) const {
-  if (auto error = check_size(eye, raw)) return error;
+Status Rectifier::rectify_eye_region(Eye eye, const cv::Mat& raw, cv::Rect roi,
+                                     cv::Mat& out) const {
+  if (auto error = check_size(eye, raw); !error) return error;
   if (out.size() != calib_.image_size || out.type() != raw.type())
-    return std::string("rectify_eye_region: output must be ") + size_text(calib_.image_size) +
-           " of the raw frame's type";
+    return Error{std::string("rectify_eye_region: output must be ") + size_text(calib_.image_size) +
+                 " of the raw frame's type"};
   roi &= cv::Rect(cv::Point(0, 0), calib_.image_size);
-  if (roi.empty()) return std::nullopt;
+  if (roi.empty()) return {};
   const EyeMaps& m = maps(eye);
   cv::Mat target = out(roi);
   // The LUT rows/columns of the region map it from anywhere in the raw frame.
   cv::remap(raw, target, m.xy(roi), m.frac(roi), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> Rectifier::rectify(const cv::Mat& left, const cv::Mat& right,
-                                              cv::Mat& left_out, cv::Mat& right_out) const {
+Status Rectifier::rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& left_out,
+                          cv::Mat& right_out) const {
   // Check both before writing either, so a bad pair leaves the outputs untouched.
-  if (auto error = check_size(Eye::kLeft, left)) return error;
-  if (auto error = check_size(Eye::kRight, right)) return error;
+  if (auto error = check_size(Eye::kLeft, left); !error) return error;
+  if (auto error = check_size(Eye::kRight, right); !error) return error;
   rectify_eye(Eye::kLeft, left, left_out);
   rectify_eye(Eye::kRight, right, right_out);
-  return std::nullopt;
+  return {};
 }
 
 std::vector<cv::Point2d> Rectifier::rectify_points(Eye eye,

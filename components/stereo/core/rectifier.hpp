@@ -26,17 +26,16 @@ class Rectifier {
   /// Rectifies both raw frames (any depth/channels cv::remap accepts) into the outputs.
   /// Fails without touching the outputs if a frame is empty or its size differs from
   /// the calibration's image size.
-  std::optional<std::string> rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& left_out,
-                                     cv::Mat& right_out) const;
+  Status rectify(const cv::Mat& left, const cv::Mat& right, cv::Mat& left_out,
+                 cv::Mat& right_out) const;
 
   /// Rectifies one raw frame of one eye; same checks as rectify().
-  std::optional<std::string> rectify_eye(Eye eye, const cv::Mat& raw, cv::Mat& out) const;
+  Status rectify_eye(Eye eye, const cv::Mat& raw, cv::Mat& out) const;
 
   /// Rectifies only the rectified-image region roi of one eye into out(roi); out must already
   /// be of the calibration's size and the raw frame's type (pixels outside roi are untouched).
   /// Same checks as rectify_eye, plus out's size/type; roi is clipped to the image.
-  std::optional<std::string> rectify_eye_region(Eye eye, const cv::Mat& raw, cv::Rect roi,
-                                                cv::Mat& out) const;
+  Status rectify_eye_region(Eye eye, const cv::Mat& raw, cv::Rect roi, cv::Mat& out) const;
   /// Raw (distorted) pixel -> rectified pixel, for callers that only need centres.
   cv::Point2d rectify_point(Eye eye, cv::Point2d raw_px) const;
 
@@ -47,7 +46,7 @@ class Rectifier {
   cv::Point2d unrectify_point(Eye eye, cv::Point2d rectified_px) const;
 
   /// Checks that a frame matches the calibration's image size; error names eye and sizes.
-  std::optional<std::string> check_size(Eye eye, const cv::Mat& raw) const;
+  Status check_size(Eye eye, const cv::Mat& raw) const;
 
   /// The calibration the tables were built from.
   const StereoCalibration& calibration() const { return calib_; }

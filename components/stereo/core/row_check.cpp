@@ -50,18 +50,19 @@ std::optional<cv::Point2d> match_block(const cv::Mat& src, const cv::Mat& dst, c
 
 }  // namespace
 
-std::optional<std::string> RowCheckParams::validate() const {
-  if (max_features < 1 || max_features > 100000) return "max_features: must be in [1, 100000]";
-  if (half_block_px < 2 || half_block_px > 50) return "half_block_px: must be in [2, 50]";
+Status RowCheckParams::validate() const {
+  if (max_features < 1 || max_features > 100000)
+    return Error{"max_features: must be in [1, 100000]"};
+  if (half_block_px < 2 || half_block_px > 50) return Error{"half_block_px: must be in [2, 50]"};
   if (max_row_search_px < 1 || max_row_search_px > 200) {
-    return "max_row_search_px: must be in [1, 200]";
+    return Error{"max_row_search_px: must be in [1, 200]"};
   }
   if (max_disparity_px < 0 || max_disparity_px > 5000) {
-    return "max_disparity_px: must be in [0, 5000]";
+    return Error{"max_disparity_px: must be in [0, 5000]"};
   }
-  if (!(min_score > 0.0 && min_score <= 1.0)) return "min_score: must be in (0, 1]";
-  if (!(max_backmatch_px > 0.0)) return "max_backmatch_px: must be > 0";
-  return std::nullopt;
+  if (!(min_score > 0.0 && min_score <= 1.0)) return Error{"min_score: must be in (0, 1]"};
+  if (!(max_backmatch_px > 0.0)) return Error{"max_backmatch_px: must be > 0"};
+  return {};
 }
 
 std::vector<RowMatch> match_rows(const cv::Mat& left, const cv::Mat& right,

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "common/util/result.hpp"
+
 namespace stereoball::stereo {
 
 /// Parameters of the feature-based row check.
@@ -19,8 +21,8 @@ struct RowCheckParams {
   int max_disparity_px = 300;     ///< columns searched to the left of x_left, pixels
   double min_score = 0.9;         ///< minimum normalised cross-correlation of a match
   double max_backmatch_px = 1.0;  ///< right->left match must land this close, pixels
-  /// Validates ranges; names the bad field and its allowed range, nullopt if OK.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// One matched feature.

@@ -57,10 +57,10 @@ TEST_F(AloeTest, GivenRightImageShifted5RowsWhenMatchedThenResidualShowsShiftAnd
 TEST(RowCheck, GivenMismatchedSizesWhenMatchedThenNoMatches) {
   EXPECT_TRUE(match_rows(cv::Mat(100, 100, CV_8U), cv::Mat(90, 100, CV_8U), {}).empty());
   EXPECT_EQ(summarize_rows({}).count, 0u);
-  EXPECT_EQ(RowCheckParams{}.validate(), std::nullopt);
+  EXPECT_TRUE(RowCheckParams{}.validate().ok());
   RowCheckParams p;
   p.min_score = 0.0;
-  EXPECT_EQ(p.validate()->rfind("min_score", 0), 0u);
+  EXPECT_EQ(p.validate().error().rfind("min_score", 0), 0u);
 }
 
 }  // namespace

@@ -5,7 +5,7 @@
 namespace stereoball::stereo {
 
 Result<Triangulator> Triangulator::create(const StereoCalibration& calib) {
-  if (auto error = validate_calibration(calib)) return Error{*error};
+  if (auto error = validate_calibration(calib); !error) return Error{error.error()};
   return Triangulator(calib);
 }
 
@@ -60,15 +60,17 @@ double expected_radius_px(double focal_px, double diameter_m, double depth_m) {
   return focal_px * r / std::sqrt(depth_m * depth_m - r * r);
 }
 
-std::optional<std::string> SizeCheckParams::validate() const {
+Status SizeCheckParams::validate() const {
   if (!std::isfinite(ball_diameter_m) || ball_diameter_m <= 0.0 || ball_diameter_m > 5.0) {
-    return "ball_diameter_m: must be in (0, 5] metres, got " + std::to_string(ball_diameter_m);
+    return Error{"ball_diameter_m: must be in (0, 5] metres, got " +
+                 std::to_string(ball_diameter_m)};
   }
   if (!std::isfinite(max_relative_error) || max_relative_error <= 0.0 ||
       max_relative_error > 10.0) {
-    return "max_relative_error: must be in (0, 10], got " + std::to_string(max_relative_error);
+    return Error{"max_relative_error: must be in (0, 10], got " +
+                 std::to_string(max_relative_error)};
   }
-  return std::nullopt;
+  return {};
 }
 
 SizeCheck check_size_against(const SizeCheckParams& params, double radius_px,

@@ -60,8 +60,8 @@ double expected_radius_px(double focal_px, double diameter_m, double depth_m);
 struct SizeCheckParams {
   double ball_diameter_m = 0.2;      ///< true ball diameter, metres
   double max_relative_error = 0.35;  ///< accepted |r_measured - r_expected| / r_expected
-  /// Validates ranges; names the bad field and its allowed range, nullopt if OK.
-  std::optional<std::string> validate() const;
+  /// Success, or an error naming the bad field and its allowed range.
+  Status validate() const;
 };
 
 /// Result of comparing a measured radius with the one expected at a depth.

@@ -88,13 +88,13 @@ TEST(RadiusDepth, GivenSyntheticBallWhenSeenByBothEyesThenStereoAndSizeDepthsAgr
 }
 
 TEST(SizeCheckParams, GivenBadValuesWhenValidatedThenFieldNamed) {
-  EXPECT_EQ(SizeCheckParams{}.validate(), std::nullopt);
+  EXPECT_TRUE(SizeCheckParams{}.validate().ok());
   SizeCheckParams p;
   p.ball_diameter_m = 0.0;
-  EXPECT_EQ(p.validate()->rfind("ball_diameter_m", 0), 0u);
+  EXPECT_EQ(p.validate().error().rfind("ball_diameter_m", 0), 0u);
   p = {};
   p.max_relative_error = -1.0;
-  EXPECT_EQ(p.validate()->rfind("max_relative_error", 0), 0u);
+  EXPECT_EQ(p.validate().error().rfind("max_relative_error", 0), 0u);
 }
 
 }  // namespace

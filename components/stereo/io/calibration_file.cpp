@@ -18,101 +18,100 @@ std::string shape_text(const cv::Mat& m) {
 // An opencv-matrix node's header checked before OpenCV reads it: OpenCV allocates rows x cols
 // as the header says (a garbled "rows" became 2^31 rows, 48 GB, found by fuzzing), so both must
 // be small integers matching the data list.
-std::optional<std::string> check_matrix_header(const cv::FileNode& node, const char* name) {
+Status check_matrix_header(const cv::FileNode& node, const char* name) {
   constexpr int kMaxSide = 16;  // the largest calibration matrix is 4x4, distortion 1x14
-  if (!node.isMap()) return std::string(name) + ": not a matrix";
+  if (!node.isMap()) return Error{std::string(name) + ": not a matrix"};
   const cv::FileNode rows = node["rows"], cols = node["cols"], data = node["data"];
   if (!rows.isInt() || !cols.isInt() || !data.isSeq()) {
-    return std::string(name) + ": not a matrix (needs integer rows, cols and a data list)";
+    return Error{std::string(name) + ": not a matrix (needs integer rows, cols and a data list)"};
   }
   const int r = static_cast<int>(rows), c = static_cast<int>(cols);
   if (r < 1 || c < 1 || r > kMaxSide || c > kMaxSide) {
-    return std::string(name) + ": " + std::to_string(r) + "x" + std::to_string(c) +
-           " is not a calibration matrix size (1-" + std::to_string(kMaxSide) + " per side)";
+    return Error{std::string(name) + ": " + std::to_string(r) + "x" + std::to_string(c) +
+                 " is not a calibration matrix size (1-" + std::to_string(kMaxSide) + " per side)"};
   }
   if (data.size() != static_cast<std::size_t>(r) * static_cast<std::size_t>(c)) {
-    return std::string(name) + ": data has " + std::to_string(data.size()) + " values for " +
-           std::to_string(r) + "x" + std::to_string(c);
+    return Error{std::string(name) + ": data has " + std::to_string(data.size()) + " values for " +
+                 std::to_string(r) + "x" + std::to_string(c)};
   }
-  return std::nullopt;
+  return {};
 }
 
 // Reads a matrix node of exactly rows x cols into out; error names the field.
 template <int M, int N>
-std::optional<std::string> read_matx(const cv::FileStorage& fs, const char* name,
-                                     cv::Matx<double, M, N>& out) {
+Status read_matx(const cv::FileStorage& fs, const char* name, cv::Matx<double, M, N>& out) {
   const cv::FileNode node = fs[name];
-  if (node.empty() || node.isNone()) return std::string(name) + ": missing";
-  if (auto e = check_matrix_header(node, name)) return e;
+  if (node.empty() || node.isNone()) return Error{std::string(name) + ": missing"};
+  if (auto e = check_matrix_header(node, name); !e) return e;
   cv::Mat m;
   try {
     node >> m;
   } catch (const std::exception&) {  // cv::Exception or what OpenCV lets through
-    return std::string(name) + ": not a matrix";
+    return Error{std::string(name) + ": not a matrix"};
   }
-  if (m.empty()) return std::string(name) + ": not a matrix";
+  if (m.empty()) return Error{std::string(name) + ": not a matrix"};
   if (m.total() != static_cast<std::size_t>(M * N) || m.channels() != 1 ||
       (m.rows != M && !(N == 1 && m.cols == M && m.rows == 1))) {
-    return std::string(name) + ": expected " + std::to_string(M) + "x" + std::to_string(N) +
-           ", got " + shape_text(m);
+    return Error{std::string(name) + ": expected " + std::to_string(M) + "x" + std::to_string(N) +
+                 ", got " + shape_text(m)};
   }
   m.convertTo(m, CV_64F);
   out = cv::Matx<double, M, N>(reinterpret_cast<const double*>(m.reshape(1, 1).data));
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> read_distortion(const cv::FileStorage& fs, const char* name,
-                                           std::vector<double>& out) {
+Status read_distortion(const cv::FileStorage& fs, const char* name, std::vector<double>& out) {
   const cv::FileNode node = fs[name];
-  if (node.empty() || node.isNone()) return std::string(name) + ": missing";
-  if (auto e = check_matrix_header(node, name)) return e;
+  if (node.empty() || node.isNone()) return Error{std::string(name) + ": missing"};
+  if (auto e = check_matrix_header(node, name); !e) return e;
   cv::Mat m;
   try {
     node >> m;
   } catch (const std::exception&) {  // cv::Exception or what OpenCV lets through
-    return std::string(name) + ": not a matrix";
+    return Error{std::string(name) + ": not a matrix"};
   }
   if (m.channels() != 1 || (m.rows != 1 && m.cols != 1) || !is_valid_distortion_size(m.total())) {
-    return std::string(name) + ": expected 1xN with N in {4, 5, 8, 12, 14}, got " + shape_text(m);
+    return Error{std::string(name) + ": expected 1xN with N in {4, 5, 8, 12, 14}, got " +
+                 shape_text(m)};
   }
   m.convertTo(m, CV_64F);
   m = m.reshape(1, 1).clone();
   out.assign(m.begin<double>(), m.end<double>());
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> read_size(const cv::FileStorage& fs, cv::Size& out) {
+Status read_size(const cv::FileStorage& fs, cv::Size& out) {
   const cv::FileNode w = fs["image_width"], h = fs["image_height"];
-  if (w.empty() || w.isNone()) return std::string("image_width: missing");
-  if (h.empty() || h.isNone()) return std::string("image_height: missing");
-  if (!w.isInt()) return std::string("image_width: not an integer");
-  if (!h.isInt()) return std::string("image_height: not an integer");
+  if (w.empty() || w.isNone()) return Error{"image_width: missing"};
+  if (h.empty() || h.isNone()) return Error{"image_height: missing"};
+  if (!w.isInt()) return Error{"image_width: not an integer"};
+  if (!h.isInt()) return Error{"image_height: not an integer"};
   out = cv::Size(static_cast<int>(w), static_cast<int>(h));
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> read_all(const cv::FileStorage& fs, StereoCalibration& c) {
-  if (auto e = read_size(fs, c.image_size)) return e;
-  if (auto e = read_matx(fs, "K1", c.k1)) return e;
-  if (auto e = read_distortion(fs, "D1", c.d1)) return e;
-  if (auto e = read_matx(fs, "K2", c.k2)) return e;
-  if (auto e = read_distortion(fs, "D2", c.d2)) return e;
-  if (auto e = read_matx(fs, "R", c.r)) return e;
-  if (auto e = read_matx(fs, "T", c.t)) return e;
-  if (auto e = read_matx(fs, "R1", c.r1)) return e;
-  if (auto e = read_matx(fs, "R2", c.r2)) return e;
-  if (auto e = read_matx(fs, "P1", c.p1)) return e;
-  if (auto e = read_matx(fs, "P2", c.p2)) return e;
-  if (auto e = read_matx(fs, "Q", c.q)) return e;
+Status read_all(const cv::FileStorage& fs, StereoCalibration& c) {
+  if (auto e = read_size(fs, c.image_size); !e) return e;
+  if (auto e = read_matx(fs, "K1", c.k1); !e) return e;
+  if (auto e = read_distortion(fs, "D1", c.d1); !e) return e;
+  if (auto e = read_matx(fs, "K2", c.k2); !e) return e;
+  if (auto e = read_distortion(fs, "D2", c.d2); !e) return e;
+  if (auto e = read_matx(fs, "R", c.r); !e) return e;
+  if (auto e = read_matx(fs, "T", c.t); !e) return e;
+  if (auto e = read_matx(fs, "R1", c.r1); !e) return e;
+  if (auto e = read_matx(fs, "R2", c.r2); !e) return e;
+  if (auto e = read_matx(fs, "P1", c.p1); !e) return e;
+  if (auto e = read_matx(fs, "P2", c.p2); !e) return e;
+  if (auto e = read_matx(fs, "Q", c.q); !e) return e;
   // Quality figures are optional: a hand-made or simulated calibration has none.
   const cv::FileNode rms = fs["rms_px"];
   if (!rms.empty() && !rms.isNone()) {
-    if (!rms.isReal() && !rms.isInt()) return std::string("rms_px: not a number");
+    if (!rms.isReal() && !rms.isInt()) return Error{"rms_px: not a number"};
     c.rms_px = static_cast<double>(rms);
   }
   const cv::FileNode per_pair = fs["per_pair_rms_px"];
   if (!per_pair.empty() && !per_pair.isNone()) {
-    if (!per_pair.isSeq()) return std::string("per_pair_rms_px: not a sequence");
+    if (!per_pair.isSeq()) return Error{"per_pair_rms_px: not a sequence"};
     for (const auto& v : per_pair) c.per_pair_rms_px.push_back(static_cast<double>(v));
   }
   return validate_calibration(c);
@@ -121,7 +120,7 @@ std::optional<std::string> read_all(const cv::FileStorage& fs, StereoCalibration
 CalibResult parse_storage(cv::FileStorage& fs, const std::string& origin) {
   StereoCalibration c;
   try {
-    if (auto e = read_all(fs, c)) return Error{origin + ": " + *e};
+    if (auto e = read_all(fs, c); !e) return Error{origin + ": " + e.error()};
   } catch (const cv::Exception& ex) {
     return Error{origin + ": malformed calibration (" + ex.err + ")"};
   } catch (const std::exception& ex) {
@@ -168,19 +167,19 @@ void write_all(cv::FileStorage& fs, const StereoCalibration& c, const Calibratio
 // What OpenCV's FileStorage must not see. Its YAML reader (4.6) loops forever on text after
 // the document marker on the same line followed by a malformed value ("---a: t\nb: -\nc",
 // found by fuzzing); OpenCV writes "---" on a line of its own. A calibration is a few KiB.
-std::optional<std::string> check_before_opencv(const std::string& text) {
+Status check_before_opencv(const std::string& text) {
   constexpr std::size_t kMaxBytes = std::size_t{1} << 20;
-  if (text.size() > kMaxBytes) return std::string("larger than 1 MiB (these files are a few KiB)");
+  if (text.size() > kMaxBytes) return Error{"larger than 1 MiB (these files are a few KiB)"};
   std::size_t line = 1;
   for (std::size_t at = 0; at < text.size(); ++line) {
     const std::size_t end = std::min(text.find('\n', at), text.size());
     const std::string_view l(text.data() + at, end - at);
     if (l.substr(0, 3) == "---" && l.find_first_not_of(" \t\r", 3) != std::string_view::npos) {
-      return "line " + std::to_string(line) + ": text after the document marker '---'";
+      return Error{"line " + std::to_string(line) + ": text after the document marker '---'"};
     }
     at = end + 1;
   }
-  return std::nullopt;
+  return {};
 }
 
 // Reads a file that OpenCV will parse, bounded and checked first (see check_before_opencv);
@@ -195,13 +194,13 @@ Result<std::string> read_small_file(const std::string& path, const char* what) {
   std::ifstream in(path, std::ios::binary);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in && !in.eof()) return Error{path + ": cannot be read"};
-  if (auto e = check_before_opencv(text)) return Error{path + ": " + *e};
+  if (auto e = check_before_opencv(text); !e) return Error{path + ": " + e.error()};
   return text;
 }
 
 // Parses calibration text (YAML, XML or JSON, as OpenCV writes them); origin names it in errors.
 CalibResult parse_text(const std::string& text, const std::string& origin) {
-  if (auto e = check_before_opencv(text)) return Error{origin + ": " + *e};
+  if (auto e = check_before_opencv(text); !e) return Error{origin + ": " + e.error()};
   cv::FileStorage fs;
   try {
     if (!fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY)) {
@@ -233,18 +232,19 @@ std::string calibration_to_yaml(const StereoCalibration& calib, const Calibratio
   return fs.releaseAndGetString();
 }
 
-std::optional<std::string> save_calibration(const std::string& path, const StereoCalibration& calib,
-                                            const CalibrationFileInfo& info) {
-  if (auto e = validate_calibration(calib)) return "refusing to write invalid calibration: " + *e;
+Status save_calibration(const std::string& path, const StereoCalibration& calib,
+                        const CalibrationFileInfo& info) {
+  if (auto e = validate_calibration(calib); !e)
+    return Error{"refusing to write invalid calibration: " + e.error()};
   try {
     cv::FileStorage fs(path, cv::FileStorage::WRITE);
-    if (!fs.isOpened()) return path + ": cannot open for writing";
+    if (!fs.isOpened()) return Error{path + ": cannot open for writing"};
     write_all(fs, calib, info);
     fs.release();
   } catch (const cv::Exception& ex) {
-    return path + ": write failed (" + ex.err + ")";
+    return Error{path + ": write failed (" + ex.err + ")"};
   }
-  return std::nullopt;
+  return {};
 }
 
 Result<std::vector<std::pair<std::string, std::string>>> load_pair_list(const std::string& path) {

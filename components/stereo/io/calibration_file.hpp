@@ -28,8 +28,8 @@ Result<StereoCalibration> load_calibration(const std::string& path);
 Result<StereoCalibration> parse_calibration(const std::string& text);
 
 /// Writes calib (and info) to path; the format follows the extension (.yaml/.yml/.xml/.json).
-std::optional<std::string> save_calibration(const std::string& path, const StereoCalibration& calib,
-                                            const CalibrationFileInfo& info = {});
+Status save_calibration(const std::string& path, const StereoCalibration& calib,
+                        const CalibrationFileInfo& info = {});
 
 /// The YAML text save_calibration would write.
 std::string calibration_to_yaml(const StereoCalibration& calib,

@@ -80,7 +80,7 @@ stereoball_msg_StereoCalibration calibration_to_message(const StereoCalibration&
   c.p2 = cv::Matx34d(msg.p2);
   c.q = cv::Matx44d(msg.q);
   c.rms_px = msg.rms_px;
-  if (auto e = validate_calibration(c)) return Error{*e};
+  if (auto e = validate_calibration(c); !e) return Error{e.error()};
   return c;
 }
 

@@ -19,7 +19,7 @@ namespace stereoball::tracker {
 /// Decides per detection whether it is the ball, and keeps the track state.
 class Tracker {
  public:
-  /// params must be valid (TrackerParams::validate() returned nullopt).
+  /// params must be valid (TrackerParams::validate() succeeded).
   explicit Tracker(const TrackerParams& params);
 
   /// Processes one detection captured at now_ns (capture stamp, ns) and returns the track.
