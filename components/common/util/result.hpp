@@ -45,7 +45,8 @@ class Status {
 
   bool ok() const { return !error_.has_value(); }
   explicit operator bool() const { return ok(); }
-  const std::string& error() const { return *error_; }
+  /// Throws std::bad_optional_access on success (like Result::error, a bug, never UB).
+  const std::string& error() const { return error_.value(); }
 
  private:
   std::optional<std::string> error_;
