@@ -73,13 +73,21 @@ std::pair<int, std::string> run_node(const std::string& config) {
   return run_node_with(config, {});
 }
 
+// camera_server started on config (and extra flags) on the test's domain and this partition.
+Process start_node(const std::string& config, const std::string& partition,
+                   const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> argv{sb::testing::bin("camera_server"), "--config", config};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  argv.insert(argv.end(),
+              {"--domain", std::to_string(sb::testing::test_domain()), "--partition", partition});
+  return Process::start(argv);
+}
+
 TEST(CameraServerNode, GivenAPreviewReaderThenRawFramesComeWithJpegPreviewsOfTheSamePairs) {
   // Given the real pairs played raw and a reader of stereo/preview (what stereoball view does)
   const std::string partition = sb::testing::unique_partition();
   Process node =
-      Process::start({sb::testing::bin("camera_server"), "--config",
-                      files_config(kSamples + "/left*.jpg", kSamples + "/right*.jpg"), "--domain",
-                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+      start_node(files_config(kSamples + "/left*.jpg", kSamples + "/right*.jpg"), partition);
   sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
   sb::dds::DataReader<stereoball_msg_StereoPreview> previews(participant,
                                                              sb::topics::kStereoPreview);
@@ -114,9 +122,7 @@ TEST(CameraServerNode, GivenJpegFramesThenNoPreviewIsOffered) {
       write_config("source: files\nleft_glob: " + kSamples + "/left*.jpg\nright_glob: " + kSamples +
                    "/right*.jpg\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\n" +
                    "frame_encoding: jpeg\ncalibration_file: " + kCalibration + "\n");
-  Process node =
-      Process::start({sb::testing::bin("camera_server"), "--config", config, "--domain",
-                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  Process node = start_node(config, partition);
   sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
   sb::dds::DataReader<stereoball_msg_StereoPreview> previews(participant,
                                                              sb::topics::kStereoPreview);
@@ -140,9 +146,7 @@ TEST(CameraServerNode, GivenRealPairsWhenPlayedThenFramesByteIdenticalAndCalibra
   for (const auto& f : sample_names("right")) right.push_back(cv::imread(f, cv::IMREAD_UNCHANGED));
   const std::string partition = sb::testing::unique_partition();
   Process node =
-      Process::start({sb::testing::bin("camera_server"), "--config",
-                      files_config(kSamples + "/left*.jpg", kSamples + "/right*.jpg"), "--domain",
-                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+      start_node(files_config(kSamples + "/left*.jpg", kSamples + "/right*.jpg"), partition);
   sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
   sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
   ASSERT_TRUE(frames.wait_for_writers(1, 10'000'000'000)) << node.output();
@@ -205,9 +209,7 @@ TEST(CameraServerNode, GivenRectifyWhenPlayedThenFramesEqualTheRectifierOutput) 
       "source: files\nleft_glob: " + kSamples + "/left01.jpg\nright_glob: " + kSamples +
       "/right01.jpg\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\ncalibration_file: " +
       kCalibration + "\nrectify: true\n");
-  Process node =
-      Process::start({sb::testing::bin("camera_server"), "--config", config, "--domain",
-                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  Process node = start_node(config, partition);
   sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
   sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
   ASSERT_TRUE(frames.wait_for_writers(1, 10'000'000'000)) << node.output();
@@ -256,9 +258,7 @@ TEST(CameraServerNode, GivenImagesInTheWrongOrderWhenPlayedThenSwapReportedAndSt
   // Given the sample rig's calibration but the right images given as left and vice versa
   const std::string partition = sb::testing::unique_partition();
   Process node =
-      Process::start({sb::testing::bin("camera_server"), "--config",
-                      files_config(kSamples + "/right0*.jpg", kSamples + "/left0*.jpg"), "--domain",
-                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+      start_node(files_config(kSamples + "/right0*.jpg", kSamples + "/left0*.jpg"), partition);
   // When it plays them, Then it says the images look swapped and how to fix it
   EXPECT_TRUE(node.wait_for_output("look swapped", 30s)) << node.output();
   EXPECT_NE(node.output().find("swap left_device and right_device"), std::string::npos)
@@ -272,9 +272,7 @@ TEST(CameraServerNode, GivenImagesInTheWrongOrderWhenPlayedThenSwapReportedAndSt
 TEST(CameraServerNode, GivenImagesInOrderWhenPlayedThenNoSwapReported) {
   const std::string partition = sb::testing::unique_partition();
   Process node =
-      Process::start({sb::testing::bin("camera_server"), "--config",
-                      files_config(kSamples + "/left0*.jpg", kSamples + "/right0*.jpg"), "--domain",
-                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+      start_node(files_config(kSamples + "/left0*.jpg", kSamples + "/right0*.jpg"), partition);
   // The check of the first frame is done when the second pair is being played
   sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
   sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
@@ -364,10 +362,8 @@ TEST(CameraServerNode, GivenFrameEncodingJpegWhenPlayedThenEyesDecodeCloseToTheF
   for (const auto& f : sample_names("right")) right.push_back(cv::imread(f, cv::IMREAD_UNCHANGED));
   // Given the 13 real pairs played with frame_encoding jpeg at quality 90
   const std::string partition = sb::testing::unique_partition();
-  Process node = Process::start(
-      {sb::testing::bin("camera_server"), "--config",
-       files_config(kSamples + "/left*.jpg", kSamples + "/right*.jpg"), "--frame-encoding", "jpeg",
-       "--domain", std::to_string(sb::testing::test_domain()), "--partition", partition});
+  Process node = start_node(files_config(kSamples + "/left*.jpg", kSamples + "/right*.jpg"),
+                            partition, {"--frame-encoding", "jpeg"});
   // When 15 frames arrive
   const DecodedFrames r = receive_decoded("jpeg", 15, left, right, node, partition);
   ASSERT_GE(r.count, 15) << node.output();
@@ -392,9 +388,7 @@ TEST(CameraServerNode, GivenFrameEncodingPngInTheConfigWhenPlayedThenEyesAreLoss
   const std::string config = write_config(
       "source: files\nleft_glob: " + kSamples + "/left03.jpg\nright_glob: " + kSamples +
       "/right03.jpg\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\nframe_encoding: png\n");
-  Process node =
-      Process::start({sb::testing::bin("camera_server"), "--config", config, "--domain",
-                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  Process node = start_node(config, partition);
   // When frames arrive, then they decode to exactly the file's pixels
   const DecodedFrames r = receive_decoded("png", 3, {left}, {right}, node, partition);
   ASSERT_GE(r.count, 3) << node.output();

@@ -1,7 +1,5 @@
 #include "stereo/frame/preview_encoder.hpp"
 
-#include <turbojpeg.h>
-
 #include <opencv2/imgproc.hpp>
 
 #include <string>
@@ -34,44 +32,21 @@ Result<cv::Mat> pixels_of(const EyeView& eye, const std::string& encoding, cv::M
 
 }  // namespace
 
-PreviewEncoder::PreviewEncoder(const FrameCodecParams& params) : params_(params) {}
-
-PreviewEncoder::~PreviewEncoder() {
-  if (compressor_) tjDestroy(compressor_);
-}
-
 Result<EyeView> PreviewEncoder::encode_eye(const char* name, const EyeView& eye,
-                                           const std::string& encoding, std::vector<uint8_t>& out) {
+                                           const std::string& encoding,
+                                           ViewingJpegEncoder& encoder) {
   auto pixels = pixels_of(eye, encoding, bgr_);
   if (!pixels) return Error{std::string(name) + " eye: " + pixels.error()};
-  cv::Mat shown = *pixels;
-  if (shown.cols > params_.preview_max_width_px) {
-    // INTER_AREA: a scaled-down picture without the aliasing of nearest/linear sampling.
-    const double scale = static_cast<double>(params_.preview_max_width_px) / shown.cols;
-    cv::resize(*pixels, scaled_, cv::Size(), scale, scale, cv::INTER_AREA);
-    shown = scaled_;
-  }
-  if (!compressor_) compressor_ = tjInitCompress();
-  if (!compressor_) return Error{std::string("cannot start the JPEG encoder: ") + tjGetErrorStr()};
-  const bool grey = shown.channels() == 1;
-  const int subsampling = grey ? TJSAMP_GRAY : TJSAMP_420;
-  // Grown to the worst case once, never shrunk: no allocation or clearing per frame.
-  const size_t worst = tjBufSize(shown.cols, shown.rows, subsampling);
-  if (out.size() < worst) out.resize(worst);
-  unsigned char* dst = out.data();
-  unsigned long size = out.size();
-  // TJFLAG_NOREALLOC: the worst-case buffer is ours and reused from frame to frame.
-  if (tjCompress2(compressor_, shown.data, shown.cols, static_cast<int>(shown.step), shown.rows,
-                  grey ? TJPF_GRAY : TJPF_BGR, &dst, &size, subsampling,
-                  params_.preview_jpeg_quality, TJFLAG_NOREALLOC | TJFLAG_FASTDCT) != 0)
-    return Error{std::string(name) + " eye: JPEG encoding failed: " + tjGetErrorStr2(compressor_)};
+  const auto jpeg =
+      encoder.encode(*pixels, params_.preview_max_width_px, params_.preview_jpeg_quality);
+  if (!jpeg) return Error{std::string(name) + " eye: " + jpeg.error()};
   EyeView v;
   v.capture_stamp_ns = eye.capture_stamp_ns;
-  v.width_px = static_cast<uint32_t>(shown.cols);
-  v.height_px = static_cast<uint32_t>(shown.rows);
+  v.width_px = static_cast<uint32_t>(jpeg->width_px);
+  v.height_px = static_cast<uint32_t>(jpeg->height_px);
   v.step_bytes = 0;
-  v.data = out.data();
-  v.bytes = size;
+  v.data = jpeg->bytes.data();
+  v.bytes = jpeg->bytes.size();
   return v;
 }
 

@@ -1,17 +1,17 @@
 #pragma once
 // The picture of stereo/preview (what `stereoball view` shows): both eyes of an outgoing frame
-// as JPEGs for people, scaled to at most preview_max_width_px, 4:2:0 chroma and the fast
-// integer DCT (libjpeg-turbo's TurboJPEG API, BGR in directly). Not the detector's format:
+// as JPEGs for people (stereo/image/viewing_jpeg), scaled to at most preview_max_width_px. Not
+// the detector's format:
 // stereo/frame's own jpeg keeps 4:4:4 (frame_codec.hpp) because the detector needs the chroma.
 
 #include <opencv2/core.hpp>
 
 #include <cstdint>
-#include <vector>
 
 #include "common/util/result.hpp"
 #include "stereo/frame/frame_codec.hpp"
 #include "stereo/frame/frame_view.hpp"
+#include "stereo/image/viewing_jpeg.hpp"
 
 namespace stereoball::stereo {
 
@@ -23,14 +23,11 @@ struct PreviewView {
   uint32_t source_height_px = 0;
 };
 
-/// Encodes previews, reusing its TurboJPEG handle and buffers: one encoder per thread.
+/// Encodes previews, reusing its encoders and buffers: one PreviewEncoder per thread.
 class PreviewEncoder {
  public:
   /// params must be valid (preview_jpeg_quality, preview_max_width_px > 0).
-  explicit PreviewEncoder(const FrameCodecParams& params);
-  ~PreviewEncoder();
-  PreviewEncoder(const PreviewEncoder&) = delete;
-  PreviewEncoder& operator=(const PreviewEncoder&) = delete;
+  explicit PreviewEncoder(const FrameCodecParams& params) : params_(params) {}
 
   /// The preview of a bgr8, mono8 or yuyv view; points into this encoder until the next step.
   /// Fails (naming the eye) for other encodings, eyes of different sizes or truncated data.
@@ -38,13 +35,12 @@ class PreviewEncoder {
 
  private:
   Result<EyeView> encode_eye(const char* name, const EyeView& eye, const std::string& encoding,
-                             std::vector<uint8_t>& out);
+                             ViewingJpegEncoder& encoder);
 
   FrameCodecParams params_;
-  void* compressor_ = nullptr;  // tjhandle, created on first use
-  cv::Mat bgr_;                 // yuyv eyes are converted into this
-  cv::Mat scaled_;              // eyes wider than the preview are scaled into this
-  std::vector<uint8_t> left_, right_;
+  cv::Mat bgr_;  // yuyv eyes are converted into this
+  // One per eye: each holds its eye's bytes until the next step.
+  ViewingJpegEncoder left_, right_;
 };
 
 }  // namespace stereoball::stereo

@@ -1,7 +1,5 @@
 #include "viewer/bridge/eye_encoder.hpp"
 
-#include <turbojpeg.h>
-
 #include <opencv2/imgproc.hpp>
 
 #include <cstring>
@@ -49,27 +47,6 @@ Status EyeEncoderParams::validate() const {
 }
 
 EyeEncoder::EyeEncoder(const EyeEncoderParams& params) : params_(params) {}
-
-EyeEncoder::~EyeEncoder() {
-  if (compressor_) tjDestroy(compressor_);
-}
-
-EyeEncoder::EyeEncoder(EyeEncoder&& other) noexcept
-    : params_(other.params_),
-      decoded_(std::move(other.decoded_)),
-      compressor_(std::exchange(other.compressor_, nullptr)),
-      scratch_(std::move(other.scratch_)) {}
-
-EyeEncoder& EyeEncoder::operator=(EyeEncoder&& other) noexcept {
-  if (this != &other) {
-    if (compressor_) tjDestroy(compressor_);
-    params_ = other.params_;
-    decoded_ = std::move(other.decoded_);
-    compressor_ = std::exchange(other.compressor_, nullptr);
-    scratch_ = std::move(other.scratch_);
-  }
-  return *this;
-}
 
 Result<cv::Mat> EyeEncoder::to_bgr(const stereoball_msg_EyeImage& image,
                                    const std::string& encoding) {
@@ -133,12 +110,7 @@ Result<EyeJpeg> EyeEncoder::encode(const stereoball_msg_EyeImage& image, const c
                  dims(params_.max_input_width_px, params_.max_input_height_px)};
   auto bgr = to_bgr(image, enc);
   if (!bgr) return Error{bgr.error()};
-  cv::Mat shown = *bgr;
-  if (params_.max_width_px != 0 && static_cast<uint32_t>(shown.cols) > params_.max_width_px) {
-    const double scale = static_cast<double>(params_.max_width_px) / shown.cols;
-    cv::resize(*bgr, shown, cv::Size(), scale, scale, cv::INTER_AREA);
-  }
-  auto jpeg = compress(shown);
+  auto jpeg = compress(*bgr);
   if (!jpeg) return jpeg;
   jpeg->source_width_px = static_cast<uint32_t>(bgr->cols);
   jpeg->source_height_px = static_cast<uint32_t>(bgr->rows);
@@ -159,10 +131,7 @@ Result<EyeJpeg> EyeEncoder::encode_preview(const stereoball_msg_EyeImage& image,
     // encoded again), which costs what a raw frame does; preview_max_width_px avoids it.
     auto bgr = decode(image, stereo::ImageCodec::kJpeg);
     if (!bgr) return Error{bgr.error()};
-    const double scale = static_cast<double>(params_.max_width_px) / bgr->cols;
-    cv::Mat shown;
-    cv::resize(*bgr, shown, cv::Size(), scale, scale, cv::INTER_AREA);
-    jpeg = compress(shown);
+    jpeg = compress(*bgr);
     if (!jpeg) return jpeg;
   }
   jpeg->source_width_px = source_width_px;
@@ -170,22 +139,11 @@ Result<EyeJpeg> EyeEncoder::encode_preview(const stereoball_msg_EyeImage& image,
   return jpeg;
 }
 
-Result<EyeJpeg> EyeEncoder::compress(const cv::Mat& shown) {
-  if (!compressor_) compressor_ = tjInitCompress();
-  if (!compressor_) return Error{std::string("cannot start the JPEG encoder: ") + tjGetErrorStr()};
-  const bool grey = shown.channels() == 1;
-  const int subsampling = grey ? TJSAMP_GRAY : TJSAMP_420;
-  scratch_.resize(tjBufSize(shown.cols, shown.rows, subsampling));
-  unsigned char* out = scratch_.data();
-  unsigned long size = scratch_.size();
-  // Fast integer DCT: at viewing qualities (<= 90) it differs from the exact one by less than
-  // the quantisation itself, and it is the cheaper transform.
-  if (tjCompress2(compressor_, shown.data, shown.cols, static_cast<int>(shown.step), shown.rows,
-                  grey ? TJPF_GRAY : TJPF_BGR, &out, &size, subsampling, params_.jpeg_quality,
-                  TJFLAG_NOREALLOC | TJFLAG_FASTDCT) != 0)
-    return Error{std::string("JPEG encoding failed: ") + tjGetErrorStr2(compressor_)};
-  const auto w = static_cast<uint32_t>(shown.cols), h = static_cast<uint32_t>(shown.rows);
-  return EyeJpeg{{out, out + size}, w, h, w, h};
+Result<EyeJpeg> EyeEncoder::compress(const cv::Mat& bgr) {
+  const auto jpeg = jpeg_.encode(bgr, static_cast<int>(params_.max_width_px), params_.jpeg_quality);
+  if (!jpeg) return Error{jpeg.error()};
+  const auto w = static_cast<uint32_t>(jpeg->width_px), h = static_cast<uint32_t>(jpeg->height_px);
+  return EyeJpeg{{jpeg->bytes.begin(), jpeg->bytes.end()}, w, h, w, h};
 }
 
 }  // namespace stereoball::viewer

@@ -15,6 +15,7 @@
 
 #include "common/util/result.hpp"
 #include "stereo/image/image_decode.hpp"
+#include "stereo/image/viewing_jpeg.hpp"
 #include "stereoball.h"
 
 namespace stereoball::viewer {
@@ -43,9 +44,6 @@ struct EyeJpeg {
 class EyeEncoder {
  public:
   explicit EyeEncoder(const EyeEncoderParams& params);
-  ~EyeEncoder();
-  EyeEncoder(EyeEncoder&&) noexcept;
-  EyeEncoder& operator=(EyeEncoder&&) noexcept;
   /// JPEG of image (encoding as in StereoFrame.encoding); error names the problem. Reuses the
   /// encoder's compressor and scratch buffer from call to call: one encoder per thread.
   Result<EyeJpeg> encode(const stereoball_msg_EyeImage& image, const char* encoding);
@@ -60,11 +58,11 @@ class EyeEncoder {
   Result<EyeJpeg> pass_through(const stereoball_msg_EyeImage& image);
   // The bytes of a PNG or JPEG eye decoded into decoded_, after its header was checked.
   Result<cv::Mat> decode(const stereoball_msg_EyeImage& image, stereo::ImageCodec codec);
-  Result<EyeJpeg> compress(const cv::Mat& shown);
+  // bgr scaled to max_width_px and encoded (stereo/image/viewing_jpeg).
+  Result<EyeJpeg> compress(const cv::Mat& bgr);
   EyeEncoderParams params_;
-  cv::Mat decoded_;                     // PNG eyes are decoded into this (reused)
-  void* compressor_ = nullptr;          // TurboJPEG handle (tjhandle), created on first use
-  std::vector<unsigned char> scratch_;  // worst-case output size of the last image shape
+  cv::Mat decoded_;                  // PNG eyes are decoded into this (reused)
+  stereo::ViewingJpegEncoder jpeg_;  // movable: EyeEncoder keeps its default moves
 };
 
 }  // namespace stereoball::viewer
