@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -333,6 +334,15 @@ int main(int argc, char** argv) {
   app.add_option("--domain", o.domain, "DDS domain")->check(CLI::Range(0, 232));
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  if (!o.frames_csv.empty()) {
+    // Checked before the (long) runs: a prefix in a missing folder fails at once.
+    const auto dir = std::filesystem::path(o.frames_csv).parent_path();
+    if (!dir.empty() && !std::filesystem::is_directory(dir)) {
+      std::fprintf(stderr, "bench latency: --frames-csv %s: folder %s does not exist\n",
+                   o.frames_csv.c_str(), dir.c_str());
+      return 2;
+    }
+  }
 
   std::vector<Case> cases;
   for (const bool two : {false, true}) {
@@ -387,7 +397,13 @@ int main(int argc, char** argv) {
       if (!o.frames_csv.empty()) {
         const std::string path =
             o.frames_csv + c.setup + "_" + c.key() + "_run" + std::to_string(run + 1) + ".csv";
-        std::ofstream(path) << sd::to_csv(r->frames, r->measured_from_ns);
+        std::ofstream out(path);
+        out << sd::to_csv(r->frames, r->measured_from_ns);
+        if (!out.flush()) {
+          // The figures of the run still count; the missing file is reported and fails the exit.
+          std::fprintf(stderr, "bench latency: cannot write %s\n", path.c_str());
+          ++failures;
+        }
       }
     }
     if (runs.empty()) continue;

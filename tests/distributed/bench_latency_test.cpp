@@ -41,3 +41,13 @@ TEST(BenchLatency, GivenAShortOneHostRun_ThenJsonHasFiniteOrderedEndToEndFigures
   // many depends on the load of the shared machine)
   EXPECT_GE(e2e.at("n").get<double>(), 1.0) << out;
 }
+
+TEST(BenchLatency, GivenFramesCsvInAMissingFolder_ThenRefusedBeforeAnyRunNamingIt) {
+  // Given a --frames-csv prefix whose folder does not exist
+  const auto [code, out] = st::run(
+      {st::bin("stereoball-bench-latency"), "--frames-csv", "/nonexistent/sb_frames_"}, 20s);
+  // Then it stops at once with one line naming the folder (no run was started)
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("/nonexistent"), std::string::npos) << out;
+  EXPECT_EQ(out.find("median of"), std::string::npos) << out;
+}

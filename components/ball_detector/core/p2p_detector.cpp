@@ -94,6 +94,10 @@ Status PixelToPixelParams::validate() const {
     return Error{"refine_params.band_px must be in (0, 10]"};
   if (!(refine_params.min_radial_cos >= 0.0 && refine_params.min_radial_cos <= 1.0))
     return Error{"refine_params.min_radial_cos must be in [0, 1]"};
+  if (!(refine_params.first_band_px > 0.0 && refine_params.first_band_px <= 20.0))
+    return Error{"refine_params.first_band_px must be in (0, 20]"};
+  if (!(refine_params.robust_fit_floor_px >= 0.0 && refine_params.robust_fit_floor_px <= 10.0))
+    return Error{"refine_params.robust_fit_floor_px must be in [0, 10]"};
   if (!(refine_params.min_inside_fraction >= 0.0 && refine_params.min_inside_fraction <= 1.0))
     return Error{"refine_params.min_inside_fraction must be in [0, 1]"};
   return {};

@@ -420,6 +420,12 @@ TEST(PixelToPixelParams, GivenBadFieldsThenValidateNamesThem) {
   p = PixelToPixelParams{};
   p.isolate_max_points_factor = 0.5;
   EXPECT_NE(p.validate().error().find("isolate_max_points_factor"), std::string::npos);
+  p = PixelToPixelParams{};
+  p.refine_params.first_band_px = 0.0;
+  EXPECT_NE(p.validate().error().find("refine_params.first_band_px"), std::string::npos);
+  p = PixelToPixelParams{};
+  p.refine_params.robust_fit_floor_px = std::nan("");
+  EXPECT_NE(p.validate().error().find("refine_params.robust_fit_floor_px"), std::string::npos);
 }
 
 }  // namespace

@@ -56,6 +56,10 @@ TEST(RandomizeFile, BadFilesAreRejectedWithFileAndKey) {
        "floor.kind_weights.plain"},
       {"sun_elevation_deg: [25, 80]", "sun_elevation_deg: [25, 95]", "lighting.sun_elevation_deg"},
       {"kick_time_s: [2.0, 4.0]", "kick_time_s: [2.0, 40.0]", "leave_view.kick_time_s"},
+      {"other_ball_min_size_ratio: 1.3", "other_ball_min_size_ratio: 0.5",
+       "distractors.other_ball_min_size_ratio"},
+      {"other_ball_min_size_ratio: 1.3", "other_ball_min_size_ratio: .nan",
+       "distractors.other_ball_min_size_ratio"},
       {"walls:", "wals:", "walls.value"},
       {"duration_s: 10", "duration_s: 10\nextra_key: 1", "extra_key"},
   };
