@@ -25,9 +25,22 @@ namespace {
 struct Cmd {
   double linear_mps;
   double angular_radps;
-  std::chrono::steady_clock::time_point received;
+  std::int64_t stamp_ns;  // when the node issued it (its own clock, the host's epoch)
   std::int64_t capture_stamp_ns;
 };
+
+// Median gap between consecutive issue stamps, ms. Judged on the node's own stamps, not on
+// when this test happened to take the samples, so a busy host delays delivery without failing
+// the rate check; one late timer tick does not move the median.
+double median_issue_gap_ms(const std::vector<Cmd>& cmds) {
+  std::vector<double> gaps;
+  for (std::size_t i = 1; i < cmds.size(); ++i) {
+    gaps.push_back(static_cast<double>(cmds[i].stamp_ns - cmds[i - 1].stamp_ns) / 1e6);
+  }
+  if (gaps.empty()) return 0.0;
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  return gaps[gaps.size() / 2];
+}
 
 stereoball_msg_BallTrack track(stereoball_msg_TrackState state, double bearing_rad,
                                double distance_m, stereoball_msg_Side side) {
@@ -88,8 +101,7 @@ class MotionControllerNodeTest : public ::testing::Test {
 
   void collect(std::vector<Cmd>& got) {
     for (auto& s : commands_->take()) {
-      got.push_back(
-          {s->linear_mps, s->angular_radps, std::chrono::steady_clock::now(), s->capture_stamp_ns});
+      got.push_back({s->linear_mps, s->angular_radps, s->stamp_ns, s->capture_stamp_ns});
     }
   }
 
@@ -131,7 +143,9 @@ class MotionControllerNodeTest : public ::testing::Test {
 TEST_F(MotionControllerNodeTest, GivenNoInput_ThenZeroCommandsAtAbout20Hz) {
   pump(std::nullopt, 300ms);  // let the timer settle
   const auto cmds = pump(std::nullopt, 2000ms);
-  EXPECT_GE(cmds.size(), 30u) << node_->output();
+  ASSERT_GE(cmds.size(), 10u) << node_->output();
+  // 20 Hz: the timer's period, whatever the host's load did to delivery
+  EXPECT_NEAR(median_issue_gap_ms(cmds), 50.0, 10.0);
   EXPECT_LE(cmds.size(), 50u);
   for (const auto& c : cmds) {
     EXPECT_EQ(c.linear_mps, 0.0);
@@ -149,13 +163,14 @@ TEST_F(MotionControllerNodeTest, GivenBallToTheRightFar_ThenTurnsRightAndDrives)
 
 TEST_F(MotionControllerNodeTest, GivenTrackStops_ThenZeroWithinHalfASecond) {
   pump(track(stereoball_msg_TRACK_FOLLOWING, 0.0, 2.0, stereoball_msg_SIDE_RIGHT), 1500ms);
-  const auto stopped_at = std::chrono::steady_clock::now();
+  const std::int64_t stopped_at_ns = sb::node::now_ns();
   const auto cmds = pump(std::nullopt, 1000ms);
   ASSERT_GT(cmds.size(), 10u);
-  // Commands keep coming although the input stopped, and turn to zero by 0.5 s
+  // Commands keep coming although the input stopped, and those issued 0.5 s after the last
+  // track are zero (issue stamps: a busy host may deliver them late, not issue them late)
   EXPECT_GT(cmds.front().linear_mps, 0.0);
   for (const auto& c : cmds) {
-    if (c.received - stopped_at > 500ms) {
+    if (c.stamp_ns - stopped_at_ns > 500'000'000) {
       EXPECT_EQ(c.linear_mps, 0.0);
       EXPECT_EQ(c.angular_radps, 0.0);
     }
