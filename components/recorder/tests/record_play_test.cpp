@@ -75,6 +75,24 @@ void publish_commands(const std::string& partition, int count, int64_t period_ns
     writer.write(cmd);
     std::this_thread::sleep_for(std::chrono::nanoseconds(period_ns));
   }
+  // Every command reached the recorder before the writer goes away (else the last ones may
+  // still be in flight when the test inspects the file)
+  ASSERT_TRUE(writer.wait_for_acks(10'000'000'000));
+}
+
+// Messages readable in the file at path now (0 when it cannot be opened yet); no test
+// expectations, for polling a file that is still being written.
+size_t messages_in(const std::string& path) {
+  auto source = rec::FileSource::open(path);
+  if (!source) return 0;
+  rec::McapReader reader(**source);
+  if (!reader.open().ok()) return 0;
+  size_t n = 0;
+  reader.for_each_message([&](const rec::MessageView&) {
+    ++n;
+    return true;
+  });
+  return n;
 }
 
 TEST(RecordPlay, GivenPublishedCommandsWhenRecordedAndInterruptedThenTheFileHoldsThemAll) {
@@ -118,7 +136,13 @@ TEST(RecordPlay, GivenAKilledRecorderWhenInspectedThenInfoSaysIncompleteAndMessa
                                       partition));
   ASSERT_TRUE(recorder.wait_for_output("recording 1 topic", 10s)) << recorder.output();
   publish_commands(partition, 50, 2'000'000);
-  std::this_thread::sleep_for(800ms);  // past the flush period
+  // Wait until the periodic flush has put all 50 on disk (a deadline, not a fixed sleep: a
+  // loaded or sanitised host flushes later), then kill the recorder without warning
+  const auto end = std::chrono::steady_clock::now() + 10s;
+  while (messages_in(file) < 50u && std::chrono::steady_clock::now() < end) {
+    std::this_thread::sleep_for(50ms);
+  }
+  ASSERT_EQ(messages_in(file), 50u) << "not flushed within 10 s" << recorder.output();
   recorder.signal(SIGKILL);
   recorder.wait_for_exit(5s);
   const auto [code, out] = sb::testing::run({sb::testing::bin("stereoball-info"), file}, 10s);
