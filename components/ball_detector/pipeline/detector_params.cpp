@@ -121,11 +121,11 @@ std::vector<params::Field<P>> p2p_fields() {
   const P2P core;  // the detector's own defaults, where the pipeline keeps them
   const auto p2p = [](auto member) { return at(&P::p2p, member); };
   return {
-      params::choice("input", at(&P::input), DetectorInput::kRed,
+      params::choice("input", at(&P::input), DetectorInput::kColour,
                      {"colour", "grey", "saturation", "value", "red", "green", "blue"}, input_word,
                      input_of,
-                     "image P2P runs on (red: the orange ball's white panels vanish, its outline "
-                     "stays)"),
+                     "image P2P runs on (colour: edges from the channel that changes most at each "
+                     "pixel; the others are expert overrides)"),
       list("p2p.k_values", p2p(&P2P::k_values), core.k_values, {1, 31}, "px",
            "half window sizes k (window 2k+1)"),
       number("p2p.min_radius_px", p2p(&P2P::min_radius_px), core.min_radius_px, {0.0, 4000.0}, "px",
@@ -139,9 +139,9 @@ std::vector<params::Field<P>> p2p_fields() {
       number("p2p.max_peaks_examined", p2p(&P2P::max_peaks_examined), core.max_peaks_examined,
              {1, 1000}, "", "accumulator peaks scored as candidates per eye, strongest first"),
       number("p2p.edge_min_threshold", at(&P::p2p, &P2P::edge, &EdgeParams::min_high_threshold),
-             150.0, {1.0, 1000.0}, "",
+             core.edge.min_high_threshold, {1.0, 1000.0}, "",
              "floor of the Canny high threshold, Sobel abs(dx)+abs(dy) units (4 per grey level): "
-             "keeps shading ramps on the ball out"),
+             "sensor noise only, the threshold itself follows each image"),
       number("p2p.min_inside_fraction",
              at(&P::p2p, &P2P::refine_params, &RefineParams::min_inside_fraction),
              core.refine_params.min_inside_fraction, {0.0, 1.0}, "",

@@ -41,8 +41,8 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
   ASSERT_TRUE(p.ok()) << p.error();
   EXPECT_DOUBLE_EQ(p->ball_diameter_m, 0.22);  // the simulator's ball: radius 0.11 m
   EXPECT_DOUBLE_EQ(p->epipolar_tolerance_px, 2.0);
-  EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kRed);
-  EXPECT_DOUBLE_EQ(p->p2p.edge.min_high_threshold, 150.0);
+  EXPECT_EQ(p->input, sb::ball_detector::DetectorInput::kColour);
+  EXPECT_DOUBLE_EQ(p->p2p.edge.min_high_threshold, 24.0);
   EXPECT_EQ(p->p2p.max_peaks_examined, 16);
   EXPECT_DOUBLE_EQ(p->track_prior_gate_m, 0.3);
   EXPECT_EQ(p->track_prior_max_age_ns, 500'000'000);
@@ -56,9 +56,9 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
 TEST(DetectorParamsFile, GivenChangedValues_ThenTheyAreUsed) {
   std::string text = replace(shipped_config(), "tolerance_px: 2.0", "tolerance_px: 1.5");
   text = replace(text, "k_values: [5]", "k_values: [3, 8]");
-  text = replace(text, "input: red", "input: grey");
+  text = replace(text, "input: colour", "input: grey");
   text = replace(text, "max_peaks_examined: 16", "max_peaks_examined: 7");
-  text = replace(text, "edge_min_threshold: 150", "edge_min_threshold: 40");
+  text = replace(text, "edge_min_threshold: 24", "edge_min_threshold: 40");
   text = replace(text, "right_eye_partner_boxes: true", "right_eye_partner_boxes: false");
   text = replace(text, "enabled: true", "enabled: false");
   text = replace(text, "min_inside_fraction: 0.2 ", "min_inside_fraction: 0.25 ");
@@ -84,10 +84,10 @@ TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {
       {"min_inside_fraction: 0.2 ", "min_inside_fraction: 1.5 ",
        "predicted_partner.min_inside_fraction"},
       {"k_values: [5]", "k_values: [2.5]", "p2p.k_values"},
-      {"input: red", "input: purple", "input"},
+      {"input: colour", "input: purple", "input"},
       {"max_peaks_examined: 16", "max_peaks_examined: 0", "p2p.max_peaks_examined"},
       {"gate_m: 0.3", "gate_m: -1", "track_prior.gate_m"},
-      {"edge_min_threshold: 150", "edge_min_threshold: -3", "p2p.edge_min_threshold"},
+      {"edge_min_threshold: 24", "edge_min_threshold: -3", "p2p.edge_min_threshold"},
       {"max_candidates_per_eye: 5", "max_candidates_per_eye: 0", "max_candidates_per_eye"},
       {"min_score: 0.55", "min_score: 1.5", "p2p.min_score"},
       {"max_candidates_per_eye: 5", "max_candidates_per_eye: 5\nunknown_key: 1", "unknown_key"},
