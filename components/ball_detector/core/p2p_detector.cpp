@@ -21,6 +21,11 @@ inline double fast_hypot(double a, double b) {
 constexpr int kMaxK = 31;                 // window rows are read as one 63-bit slice
 constexpr int kMaxCentreMarginPx = 4000;  // as max_radius_px: no centre is farther out
 constexpr double kRingSeedBelowScore = 0.8;
+// coarse_to_fine: smaller images are searched whole; a candidate's full-resolution window
+// reaches this far beyond its circle (the clutter rings and the first refinement band fit).
+constexpr int kCoarseMinSidePx = 64;
+constexpr double kWindowMarginPerRadius = 0.15;
+constexpr double kWindowMarginPx = 5.0;
 
 double median_of(std::vector<double>& v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -98,6 +103,10 @@ Status PixelToPixelParams::validate() const {
     return Error{"refine_params.first_band_px must be in (0, 20]"};
   if (!(refine_params.robust_fit_floor_px >= 0.0 && refine_params.robust_fit_floor_px <= 10.0))
     return Error{"refine_params.robust_fit_floor_px must be in [0, 10]"};
+  if (!(refine_params.give_up_below >= 0.0 && refine_params.give_up_below <= 1.0))
+    return Error{"refine_params.give_up_below must be in [0, 1]"};
+  if (!(coarse_min_score >= 0.0 && coarse_min_score <= 1.0))
+    return Error{"coarse_min_score must be in [0, 1]"};
   if (!(refine_params.min_inside_fraction >= 0.0 && refine_params.min_inside_fraction <= 1.0))
     return Error{"refine_params.min_inside_fraction must be in [0, 1]"};
   return {};
@@ -228,6 +237,9 @@ void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
 }
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
+  if (params_.coarse_to_fine && bgr_or_grey.cols >= kCoarseMinSidePx &&
+      bgr_or_grey.rows >= kCoarseMinSidePx)
+    return detect_coarse_to_fine(bgr_or_grey);
   if (!cast_votes(bgr_or_grey)) return {};
   return circles_of_votes();
 }
@@ -374,6 +386,11 @@ const DetectionDiagnostics* PixelToPixelDetector::diagnostics() const {
 
 namespace {
 
+void sort_by_score(std::vector<Circle>& circles) {
+  std::stable_sort(circles.begin(), circles.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+}
+
 // PixelToPixelParams::polish: each circle refined again, robustly from a wider band; kept as it
 // was when that fails (too few points, wandered off) or scores below min_score, then the list
 // re-sorted by score. The robust fit's score is taken even when lower: the least-squares circle
@@ -387,8 +404,20 @@ void polish_circles(const EdgeMap& edges, const RefineParams& refine, double min
     const auto polished = refine_circle(edges, c, robust);
     if (polished && polished->score >= min_score) c = *polished;
   }
-  std::stable_sort(circles.begin(), circles.end(),
-                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  sort_by_score(circles);
+}
+
+// The best circles first, none within min_separation_px of a better one, at most max_circles.
+std::vector<Circle> best_separated(std::vector<Circle> found, double min_separation_px,
+                                   int max_circles) {
+  sort_by_score(found);
+  std::vector<Circle> kept;
+  for (const auto& c : found) {
+    if (static_cast<int>(kept.size()) >= max_circles) break;
+    // Two peaks of one ball (e.g. its seam) refine onto the same circle: keep the better.
+    if (far_from_all(kept, c, std::max(min_separation_px, 1.0))) kept.push_back(c);
+  }
+  return kept;
 }
 
 }  // namespace
@@ -461,17 +490,74 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
 
 std::vector<Circle> select_circles(const EdgeMap& edges, std::vector<Circle> found,
                                    const CandidateOptions& options) {
-  std::stable_sort(found.begin(), found.end(),
-                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
-  std::vector<Circle> kept;
-  for (const auto& c : found) {
-    if (static_cast<int>(kept.size()) >= options.max_circles) break;
-    // Two peaks of one ball (e.g. its seam) refine onto the same circle: keep the better.
-    if (far_from_all(kept, c, std::max(options.min_separation_px, 1.0))) kept.push_back(c);
-  }
+  std::vector<Circle> kept =
+      best_separated(std::move(found), options.min_separation_px, options.max_circles);
   if (options.refine && options.polish)
     polish_circles(edges, options.refine_params, options.min_score, kept);
   return kept;
+}
+
+std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& image) {
+  start(std::nullopt);
+  edges_ready_ = false;  // no full-resolution map of the whole image: redetect finds nothing
+  orientation_ready_ = false;
+  if (!validate_image(image).ok()) return {};
+  if (!coarse_) {
+    PixelToPixelParams p = params_;
+    p.coarse_to_fine = false;
+    p.min_radius_px = 0.5 * params_.min_radius_px;
+    p.max_radius_px = 0.5 * params_.max_radius_px;
+    p.min_separation_px = 0.5 * params_.min_separation_px;
+    p.min_peak_votes = (params_.min_peak_votes + 1) / 2;  // half the circumference votes
+    p.min_score = params_.coarse_min_score;
+    // Every candidate goes on to full resolution, where the best max_circles are kept.
+    p.max_circles = std::max(params_.max_circles, params_.max_peaks_examined);
+    p.polish = false;  // the full-resolution refinement polishes
+    p.refine_params.camera.reset();
+    p.refine_params.give_up_below = params_.coarse_min_score;
+    coarse_ = std::make_unique<PixelToPixelDetector>(p);
+  }
+  // An even size halves exactly (each pixel the mean of a 2x2 block: OpenCV's fast path).
+  const cv::Mat even = image(cv::Rect(0, 0, image.cols & ~1, image.rows & ~1));
+  cv::resize(even, half_, cv::Size(even.cols / 2, even.rows / 2), 0.0, 0.0, cv::INTER_AREA);
+  const std::vector<Circle> candidates = coarse_->detect(half_);
+  diag_ = coarse_->diag_;  // the halved image's edges and votes
+  std::vector<Circle> found;
+  for (const Circle& c : candidates)
+    if (const auto fine = refine_at_full_resolution(image, c)) found.push_back(*fine);
+  return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
+}
+
+std::optional<Circle> PixelToPixelDetector::refine_at_full_resolution(const cv::Mat& image,
+                                                                      const Circle& coarse) {
+  // Pixel (i, j) of the halved image is the mean of pixels 2i, 2i + 1 (and 2j, 2j + 1).
+  Circle seed{2.0 * coarse.x_px + 0.5, 2.0 * coarse.y_px + 0.5, 2.0 * coarse.radius_px, 0.0};
+  const double reach = seed.radius_px * (1.0 + kWindowMarginPerRadius) + kWindowMarginPx;
+  const cv::Point top_left(static_cast<int>(std::floor(seed.x_px - reach)),
+                           static_cast<int>(std::floor(seed.y_px - reach)));
+  const cv::Point bottom_right(static_cast<int>(std::ceil(seed.x_px + reach)) + 1,
+                               static_cast<int>(std::ceil(seed.y_px + reach)) + 1);
+  const cv::Rect window = cv::Rect(top_left, bottom_right) & cv::Rect(0, 0, image.cols, image.rows);
+  if (window.width < 3 || window.height < 3) return std::nullopt;
+  // The window's own edge thresholds: it holds the outline and its surroundings, whose
+  // contrast is what the outline must stand out from.
+  compute_edge_map(image(window), params_.edge, window_edges_);
+  seed.x_px -= window.x;
+  seed.y_px -= window.y;
+  RefineParams refine = params_.refine_params;
+  refine.give_up_below = std::max(refine.give_up_below, params_.min_score);
+  std::optional<Circle> c = refine_circle(window_edges_, seed, refine);
+  if (!c || c->score < params_.min_score) return std::nullopt;
+  if (params_.polish) {
+    std::vector<Circle> one{*c};
+    polish_circles(window_edges_, refine, params_.min_score, one);
+    c = one.front();
+  }
+  if (c->radius_px < params_.min_radius_px || c->radius_px > params_.max_radius_px)
+    return std::nullopt;
+  c->x_px += window.x;
+  c->y_px += window.y;
+  return c;
 }
 
 }  // namespace stereoball::ball_detector

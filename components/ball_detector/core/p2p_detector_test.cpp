@@ -48,6 +48,69 @@ TEST(PixelToPixel, GivenTwoColourBallsThenTheCentreIsStillFound) {
   EXPECT_GE(hits, 5);
 }
 
+TEST(PixelToPixel, GivenCoarseToFineThenBallsAreFoundAtFullResolutionAccuracy) {
+  // Given plain, two-colour and several-ball scenes at 640x480, and the detector searching the
+  // halved image first (coarse_to_fine) beside the full-resolution one
+  PixelToPixelParams p = multi_k();
+  p.max_circles = 8;
+  PixelToPixelDetector full(p);
+  p.coarse_to_fine = true;
+  PixelToPixelDetector coarse_to_fine(p);
+  int balls = 0, found_by_both = 0;
+  for (const SceneKind kind : {SceneKind::kPlain, SceneKind::kTwoColour, SceneKind::kMultiple})
+    for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+      const auto scene = make_scene(kind, {640, 480}, seed);
+      // When both detect
+      const auto a = full.detect(scene.image);
+      const auto b = coarse_to_fine.detect(scene.image);
+      for (const Circle& truth : scene.truth) {
+        ++balls;
+        auto nearest = [&](const std::vector<Circle>& found) -> const Circle* {
+          const Circle* best = nullptr;
+          for (const Circle& c : found)
+            if (centre_error(c, truth) < 2.0 &&
+                (!best || centre_error(c, truth) < centre_error(*best, truth)))
+              best = &c;
+          return best;
+        };
+        const Circle* fa = nearest(a);
+        const Circle* fb = nearest(b);
+        if (!fa) continue;
+        // Then every ball the full search finds is found, with full-resolution accuracy: the
+        // centre within 0.5 px of the full search's (not the 2 px of the halved image's grid)
+        ASSERT_NE(fb, nullptr) << scene_kind_name(kind) << " seed " << seed;
+        EXPECT_LT(centre_error(*fa, *fb), 0.5) << scene_kind_name(kind) << " seed " << seed;
+        EXPECT_NEAR(fa->radius_px, fb->radius_px, 0.5) << scene_kind_name(kind) << " seed " << seed;
+        EXPECT_GE(fb->score, p.min_score);
+        ++found_by_both;
+      }
+    }
+  EXPECT_GE(found_by_both, balls * 3 / 4);
+}
+
+TEST(PixelToPixel, GivenCoarseToFineOnAnImageWithoutCirclesThenNothingIsFound) {
+  // Given lines and corners only
+  PixelToPixelParams p = multi_k();
+  p.coarse_to_fine = true;
+  PixelToPixelDetector det(p);
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    const auto scene = make_scene(SceneKind::kLinesOnly, {640, 480}, seed);
+    // Then no circle is reported
+    EXPECT_TRUE(det.detect(scene.image).empty()) << "seed " << seed;
+  }
+}
+
+TEST(PixelToPixel, GivenCoarseToFineAndAnInvalidCoarseScoreThenValidationNamesIt) {
+  PixelToPixelParams p;
+  p.coarse_min_score = 1.5;
+  const auto status = p.validate();
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.error().find("coarse_min_score"), std::string::npos);
+  p = PixelToPixelParams{};
+  p.refine_params.give_up_below = -0.1;
+  EXPECT_FALSE(p.validate().ok());
+}
+
 // A striped ball: a disc whose stripe boundaries (another colour) end on its outline, meeting
 // it at right angles, every 12 px along it.
 cv::Mat striped_ball(cv::Point centre, int radius) {
