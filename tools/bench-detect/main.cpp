@@ -150,7 +150,8 @@ std::string k_list(const std::vector<int>& ks) {
 std::vector<stereoball::bench_detect::Family> real_families() {
   using stereoball::bench_detect::Family;
   std::vector<Family> f;
-  // p2p coarse to fine (PixelToPixelParams::coarse_to_fine): k counts pixels of the halved image.
+  // p2p coarse to fine (PixelToPixelParams::coarse_to_fine); k as at full resolution (halved
+  // for the halved image).
   Family p2p{"p2p", {}};
   const std::vector<std::vector<int>> coarse_k_sets = {{3}, {5}, {3, 5}, {3, 5, 8}};
   for (const auto& ks : coarse_k_sets)

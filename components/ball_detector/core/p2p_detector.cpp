@@ -26,6 +26,7 @@ constexpr double kRingSeedBelowScore = 0.8;
 constexpr int kCoarseMinSidePx = 64;
 constexpr double kWindowMarginPerRadius = 0.15;
 constexpr double kWindowMarginPx = 5.0;
+constexpr int kFineRefineRounds = 2;
 
 double median_of(std::vector<double>& v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -107,6 +108,8 @@ Status PixelToPixelParams::validate() const {
     return Error{"refine_params.give_up_below must be in [0, 1]"};
   if (!(coarse_min_score >= 0.0 && coarse_min_score <= 1.0))
     return Error{"coarse_min_score must be in [0, 1]"};
+  if (!(coarse_min_voted_coverage >= 0.0 && coarse_min_voted_coverage <= 1.0))
+    return Error{"coarse_min_voted_coverage must be in [0, 1]"};
   if (!(refine_params.min_inside_fraction >= 0.0 && refine_params.min_inside_fraction <= 1.0))
     return Error{"refine_params.min_inside_fraction must be in [0, 1]"};
   return {};
@@ -358,6 +361,7 @@ int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
   opt.refine_params = params_.refine_params;
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
   opt.polish = params_.polish;
+  opt.min_voted_coverage = voted_coverage_gate_;
   voter_rows_ = VoterRows(voters_);
   return static_cast<int>(peaks_.size());
 }
@@ -461,6 +465,9 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
     support.emplace_back(v.x, v.y);
   });
   Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};
+  if (options.min_voted_coverage > 0.0 &&
+      angular_coverage(seed, support) < options.min_voted_coverage)
+    return std::nullopt;
   if (const auto fit = fit_circle(support);
       fit && fast_hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)
     seed = *fit;
@@ -505,6 +512,13 @@ std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& i
   if (!coarse_) {
     PixelToPixelParams p = params_;
     p.coarse_to_fine = false;
+    // Each k keeps its meaning: a window of the same size in the scene, so the same radii
+    // pass the count rule (a window must hold an arc, not half of a small circle).
+    p.k_values.clear();
+    for (int k : params_.k_values)
+      if (const int half_k = (k + 1) / 2;
+          std::find(p.k_values.begin(), p.k_values.end(), half_k) == p.k_values.end())
+        p.k_values.push_back(half_k);
     p.min_radius_px = 0.5 * params_.min_radius_px;
     p.max_radius_px = 0.5 * params_.max_radius_px;
     p.min_separation_px = 0.5 * params_.min_separation_px;
@@ -515,44 +529,70 @@ std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& i
     p.polish = false;  // the full-resolution refinement polishes
     p.refine_params.camera.reset();
     p.refine_params.give_up_below = params_.coarse_min_score;
+    // Clutter is judged at full resolution, where the rings are measured on sharper edges.
+    p.refine_params.clutter_ring_per_radius = 0.0;
     coarse_ = std::make_unique<PixelToPixelDetector>(p);
+    coarse_->voted_coverage_gate_ = params_.coarse_min_voted_coverage;
   }
   // An even size halves exactly (each pixel the mean of a 2x2 block: OpenCV's fast path).
   const cv::Mat even = image(cv::Rect(0, 0, image.cols & ~1, image.rows & ~1));
   cv::resize(even, half_, cv::Size(even.cols / 2, even.rows / 2), 0.0, 0.0, cv::INTER_AREA);
   const std::vector<Circle> candidates = coarse_->detect(half_);
   diag_ = coarse_->diag_;  // the halved image's edges and votes
+  // Each candidate's window: its circle at full resolution and a margin.
+  std::vector<Circle> seeds;
+  std::vector<cv::Rect> windows;
+  const cv::Rect whole(0, 0, image.cols, image.rows);
+  cv::Rect span;
+  double total_area = 0.0;
+  for (const Circle& c : candidates) {
+    // Pixel (i, j) of the halved image is the mean of pixels 2i, 2i + 1 (and 2j, 2j + 1).
+    const Circle seed{2.0 * c.x_px + 0.5, 2.0 * c.y_px + 0.5, 2.0 * c.radius_px, 0.0};
+    const double reach = seed.radius_px * (1.0 + kWindowMarginPerRadius) + kWindowMarginPx;
+    const cv::Point top_left(static_cast<int>(std::floor(seed.x_px - reach)),
+                             static_cast<int>(std::floor(seed.y_px - reach)));
+    const cv::Point bottom_right(static_cast<int>(std::ceil(seed.x_px + reach)) + 1,
+                                 static_cast<int>(std::ceil(seed.y_px + reach)) + 1);
+    const cv::Rect window = cv::Rect(top_left, bottom_right) & whole;
+    if (window.width < 3 || window.height < 3) continue;
+    seeds.push_back(seed);
+    windows.push_back(window);
+    span = span.area() == 0 ? window : (span | window);
+    total_area += window.area();
+  }
   std::vector<Circle> found;
-  for (const Circle& c : candidates)
-    if (const auto fine = refine_at_full_resolution(image, c)) found.push_back(*fine);
+  if (seeds.empty()) return found;
+  // Many or large windows: one edge map of the region they span costs less than one each
+  // (the per-map overhead), and its thresholds are then those of that region.
+  const bool one_map = span.area() <= total_area;
+  if (one_map) compute_edge_map(image(span), params_.edge, window_edges_);
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    const cv::Rect& window = one_map ? span : windows[i];
+    // A window's own edge thresholds: it holds the outline and its surroundings, whose
+    // contrast is what the outline must stand out from.
+    if (!one_map) compute_edge_map(image(window), params_.edge, window_edges_);
+    if (const auto fine = refine_in_window(window_edges_, window, seeds[i])) found.push_back(*fine);
+  }
   return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
 }
 
-std::optional<Circle> PixelToPixelDetector::refine_at_full_resolution(const cv::Mat& image,
-                                                                      const Circle& coarse) {
-  // Pixel (i, j) of the halved image is the mean of pixels 2i, 2i + 1 (and 2j, 2j + 1).
-  Circle seed{2.0 * coarse.x_px + 0.5, 2.0 * coarse.y_px + 0.5, 2.0 * coarse.radius_px, 0.0};
-  const double reach = seed.radius_px * (1.0 + kWindowMarginPerRadius) + kWindowMarginPx;
-  const cv::Point top_left(static_cast<int>(std::floor(seed.x_px - reach)),
-                           static_cast<int>(std::floor(seed.y_px - reach)));
-  const cv::Point bottom_right(static_cast<int>(std::ceil(seed.x_px + reach)) + 1,
-                               static_cast<int>(std::ceil(seed.y_px + reach)) + 1);
-  const cv::Rect window = cv::Rect(top_left, bottom_right) & cv::Rect(0, 0, image.cols, image.rows);
-  if (window.width < 3 || window.height < 3) return std::nullopt;
-  // The window's own edge thresholds: it holds the outline and its surroundings, whose
-  // contrast is what the outline must stand out from.
-  compute_edge_map(image(window), params_.edge, window_edges_);
+std::optional<Circle> PixelToPixelDetector::refine_in_window(const EdgeMap& edges,
+                                                             const cv::Rect& window,
+                                                             Circle seed) const {
   seed.x_px -= window.x;
   seed.y_px -= window.y;
   RefineParams refine = params_.refine_params;
   refine.give_up_below = std::max(refine.give_up_below, params_.min_score);
-  std::optional<Circle> c = refine_circle(window_edges_, seed, refine);
-  if (!c || c->score < params_.min_score) return std::nullopt;
+  // The seed is within a pixel or two (the halved image's refined circle): with polish on,
+  // the polish's robust refinement from its wider band is the only one needed, in two rounds
+  // (4 px, then 2 px) before scoring.
   if (params_.polish) {
-    std::vector<Circle> one{*c};
-    polish_circles(window_edges_, refine, params_.min_score, one);
-    c = one.front();
+    refine.first_band_px = PixelToPixelParams::kPolishFirstBandPx;
+    refine.robust_fit_floor_px = PixelToPixelParams::kPolishRobustFloorPx;
+    refine.iterations = kFineRefineRounds;
   }
+  std::optional<Circle> c = refine_circle(edges, seed, refine);
+  if (!c || c->score < params_.min_score) return std::nullopt;
   if (c->radius_px < params_.min_radius_px || c->radius_px > params_.max_radius_px)
     return std::nullopt;
   c->x_px += window.x;
