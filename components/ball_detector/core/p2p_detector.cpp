@@ -9,6 +9,8 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdint>
+#include <numbers>
 
 namespace stereoball::ball_detector {
 namespace {
@@ -34,6 +36,37 @@ double median_of(std::vector<double>& v) {
   return *mid;
 }
 
+// CandidateOptions::voter_mode_radius: the 3-px ring of distances holding the most voters per
+// pixel of radius (circumference), then the mean distance of the voters in it.
+double densest_radius(const std::vector<double>& radii, double min_r, double max_r) {
+  const int r0 = std::max(1, static_cast<int>(std::floor(min_r)));
+  const int r1 = std::max(r0, static_cast<int>(std::ceil(max_r)));
+  std::vector<int> hist(static_cast<std::size_t>(r1 + 2), 0);
+  for (double r : radii)
+    ++hist[static_cast<std::size_t>(std::clamp(static_cast<int>(r + 0.5), 0, r1 + 1))];
+  int best_bin = -1;
+  double best = 0.0;
+  for (int b = r0; b <= r1; ++b) {
+    const double ring = hist[b - 1] + hist[b] + hist[b + 1];
+    if (ring >= 3 && ring / b > best) {
+      best = ring / b;
+      best_bin = b;
+    }
+  }
+  if (best_bin < 0) {
+    std::vector<double> copy = radii;
+    return median_of(copy);
+  }
+  double sum = 0.0;
+  int n = 0;
+  for (double r : radii)
+    if (std::abs(r - best_bin) <= 1.5) {
+      sum += r;
+      ++n;
+    }
+  return sum / n;
+}
+
 constexpr int kOrientationBins = 8;
 constexpr int kOrientationSlackBins = 2;
 
@@ -47,6 +80,14 @@ int orientation_bin(int gx, int gy) {
   const float ax = static_cast<float>(gx < 0 ? -gx : gx), fy = static_cast<float>(gy);
   const int b = fy < 0.41421356f * ax ? 0 : fy < ax ? 1 : fy < 2.41421356f * ax ? 2 : 3;
   return gx >= 0 ? b : 7 - b;
+}
+
+// Sectors of the directions from a peak to its voters (CandidateOptions::min_voted_coverage).
+constexpr int kVoterSectors = 16;
+int voter_sector(double px, double py) {
+  const double a = std::atan2(py, px) + std::numbers::pi;  // [0, 2 pi]
+  return std::min(kVoterSectors - 1,
+                  static_cast<int>(a * (kVoterSectors / (2.0 * std::numbers::pi))));
 }
 
 bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_sep) {
@@ -362,6 +403,7 @@ int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
   opt.polish = params_.polish;
   opt.min_voted_coverage = voted_coverage_gate_;
+  opt.voter_mode_radius = voter_mode_radius_;
   voter_rows_ = VoterRows(voters_);
   return static_cast<int>(peaks_.size());
 }
@@ -441,6 +483,7 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
                                        const CandidateOptions& options) {
   std::vector<double> radii;
   std::vector<cv::Point2d> support;
+  std::uint32_t voted_sectors = 0;  // bit s: a voter lies in sector s around the peak
   // A voter passing the tests below is at most this far from the peak (t <= max radius and
   // the line within tolerance), plus a pixel for float rounding.
   const double reach_px = options.max_radius_px + options.line_tolerance_px + 1.0;
@@ -450,9 +493,19 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
     if (t < options.min_radius_px || t > options.max_radius_px) return;
     if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
     radii.push_back(std::sqrt(px * px + py * py));
+    if (options.min_voted_coverage > 0.0) voted_sectors |= 1u << voter_sector(px, py);
   });
   if (radii.size() < 3) return std::nullopt;
-  const double r0 = median_of(radii);
+  // A ball's outline votes from all sides, texture from one: judged on every voter of the
+  // peak (not only those at the median distance, which other lines passing by can skew).
+  if (options.min_voted_coverage > 0.0 &&
+      std::popcount(voted_sectors) < options.min_voted_coverage * kVoterSectors)
+    return std::nullopt;
+  const double r0 = options.voter_mode_radius
+                        ? densest_radius(radii, options.min_radius_px, options.max_radius_px)
+                        : median_of(radii);
+  // voter_mode_radius: the median is the second seed (nth_element may reorder radii now).
+  const double median_r = options.voter_mode_radius ? median_of(radii) : r0;
   // The voters' own positions on the circle seed the fit (they are edge points).
   const double support_reach_px = 1.2 * r0 + 2.0;
   rows.for_each(voters, peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
@@ -465,9 +518,6 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
     support.emplace_back(v.x, v.y);
   });
   Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};
-  if (options.min_voted_coverage > 0.0 &&
-      angular_coverage(seed, support) < options.min_voted_coverage)
-    return std::nullopt;
   if (const auto fit = fit_circle(support);
       fit && fast_hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)
     seed = *fit;
@@ -480,7 +530,14 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
   std::optional<Circle> c = refine_seed(seed);
   // Second seed only when the first is weak: the ring of edge points around the peak.
   // Voters from texture inside a ball can drag the voters' median radius; the ring cannot.
-  if (!c || c->score < kRingSeedBelowScore) {
+  if (options.voter_mode_radius && (!c || c->score < kRingSeedBelowScore) &&
+      std::abs(median_r - seed.radius_px) > 1.5) {
+    // The densest ring may be round texture inside a ball: its outline is then the median.
+    const auto alt = refine_seed(
+        Circle{static_cast<double>(peak.x), static_cast<double>(peak.y), median_r, 0.0});
+    if (alt && (!c || alt->score > c->score)) c = alt;
+  }
+  if (!options.voter_mode_radius && (!c || c->score < kRingSeedBelowScore)) {
     if (const auto ring_r =
             estimate_radius(edges, peak.x, peak.y, options.min_radius_px, options.max_radius_px);
         ring_r && std::abs(*ring_r - seed.radius_px) > 1.5) {
@@ -533,6 +590,7 @@ std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& i
     p.refine_params.clutter_ring_per_radius = 0.0;
     coarse_ = std::make_unique<PixelToPixelDetector>(p);
     coarse_->voted_coverage_gate_ = params_.coarse_min_voted_coverage;
+    coarse_->voter_mode_radius_ = true;
   }
   // An even size halves exactly (each pixel the mean of a 2x2 block: OpenCV's fast path).
   const cv::Mat even = image(cv::Rect(0, 0, image.cols & ~1, image.rows & ~1));
@@ -583,13 +641,13 @@ std::optional<Circle> PixelToPixelDetector::refine_in_window(const EdgeMap& edge
   seed.y_px -= window.y;
   RefineParams refine = params_.refine_params;
   refine.give_up_below = std::max(refine.give_up_below, params_.min_score);
-  // The seed is within a pixel or two (the halved image's refined circle): with polish on,
-  // the polish's robust refinement from its wider band is the only one needed, in two rounds
-  // (4 px, then 2 px) before scoring.
+  // The seed is within a pixel or two (the halved image's refined circle): two rounds before
+  // scoring. With polish on they are the polish's robust rounds from its wider band (the only
+  // refinement needed), else least squares from first_band_px.
+  refine.iterations = kFineRefineRounds;
   if (params_.polish) {
     refine.first_band_px = PixelToPixelParams::kPolishFirstBandPx;
     refine.robust_fit_floor_px = PixelToPixelParams::kPolishRobustFloorPx;
-    refine.iterations = kFineRefineRounds;
   }
   std::optional<Circle> c = refine_circle(edges, seed, refine);
   if (!c || c->score < params_.min_score) return std::nullopt;

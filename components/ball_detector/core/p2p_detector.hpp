@@ -147,9 +147,14 @@ struct CandidateOptions {
   bool refine = true;
   RefineParams refine_params;
   bool polish = false;  ///< PixelToPixelParams::polish
-  /// > 0: a peak whose voters (the edge points whose lines pass it, at about the median
-  /// distance) cover less than this fraction of the angular sectors around it is not refined.
+  /// > 0: a peak whose voters (the edge points whose lines pass it, within the radius range)
+  /// lie in less than this fraction of 16 angular sectors around it is not refined.
   double min_voted_coverage = 0.0;
+  /// true: the seed radius is the distance most voters share per unit of circumference (a
+  /// small circle's voters outnumber, per pixel of its outline, the lines of other edges that
+  /// merely pass its centre), and the ring-of-edge-points second seed is not tried; false: the
+  /// voters' median distance, then the ring seed for weak candidates.
+  bool voter_mode_radius = false;
 };
 
 /// Pixel-to-Pixel: thin edge map -> per-window chord rules -> concave-side lines -> box filter
@@ -247,7 +252,9 @@ class PixelToPixelDetector final : public CircleDetector {
   // coarse_to_fine: the detector of the halved image, the halved image and a window's edges.
   std::unique_ptr<PixelToPixelDetector> coarse_;
   cv::Mat half_;
-  double voted_coverage_gate_ = 0.0;  // CandidateOptions::min_voted_coverage (the coarse one's)
+  double voted_coverage_gate_ = 0.0;
+  bool voter_mode_radius_ = false;  // CandidateOptions::voter_mode_radius (the coarse one's)  //
+                                    // CandidateOptions::min_voted_coverage (the coarse one's)
   EdgeMap window_edges_;
   mutable DetectionDiagnostics diag_;
   mutable bool peak_ratio_done_ = false;
