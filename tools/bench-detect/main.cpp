@@ -159,19 +159,22 @@ std::vector<stereoball::bench_detect::Family> real_families() {
       for (double clutter : {0.0, 0.1})
         for (int peaks : {kRealMaxCircles / 2, 2 * kRealMaxCircles})
           for (bool polish : {true, false})
-            p2p.settings.push_back(
-                {cv::format("c2f k=%s score>=%.2f clutter=%.1f peaks=%d%s", k_list(ks).c_str(),
-                            score, clutter, peaks, polish ? "" : " no-polish"),
-                 [ks, score, clutter, peaks, polish](cv::Size s) {
-                   auto p = p2p_params(s, ks);
-                   p.coarse_to_fine = true;
-                   p.polish = polish;
-                   p.min_score = score;
-                   p.refine_params.clutter_ring_per_radius = clutter;
-                   p.max_circles = kRealMaxCircles;
-                   p.max_peaks_examined = peaks;
-                   return std::make_unique<bd::PixelToPixelDetector>(p);
-                 }});
+            for (double band : {0.025, 0.035})
+              p2p.settings.push_back(
+                  {cv::format("c2f k=%s score>=%.2f clutter=%.1f peaks=%d band=%.3fr%s",
+                              k_list(ks).c_str(), score, clutter, peaks, band,
+                              polish ? "" : " no-polish"),
+                   [ks, score, clutter, peaks, polish, band](cv::Size s) {
+                     auto p = p2p_params(s, ks);
+                     p.coarse_to_fine = true;
+                     p.polish = polish;
+                     p.refine_params.band_per_radius = band;
+                     p.min_score = score;
+                     p.refine_params.clutter_ring_per_radius = clutter;
+                     p.max_circles = kRealMaxCircles;
+                     p.max_peaks_examined = peaks;
+                     return std::make_unique<bd::PixelToPixelDetector>(p);
+                   }});
   f.push_back(p2p);
   const std::vector<std::vector<int>> k_sets = {{5}, {5, 8, 15}, {3, 5, 8, 15}};
   Family paper{"p2p paper rule", {}};
