@@ -29,7 +29,7 @@ constexpr int kCoarseMinSidePx = 64;
 constexpr double kWindowMarginPerRadius = 0.15;
 constexpr double kWindowMarginPx = 5.0;
 constexpr int kFineRefineRounds = 2;
-constexpr double kEdgeMapOverheadPx = 4096.0;  // measured: 3000 (grey) to 7700 (colour)
+constexpr double kEdgeMapOverheadPx = 2048.0;  // measured: 1500 (colour) to 3100 (grey)
 
 double median_of(std::vector<double>& v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
