@@ -65,6 +65,20 @@ TEST(DetectTool, GivenAGoodImageThenTheBallIsFound) {
   EXPECT_NE(r.out.find("1 circle(s)"), std::string::npos) << r.out;
 }
 
+TEST(DetectTool, GivenCoarseThenTheBallIsFoundAtTheSamePlace) {
+  // Given the same image searched whole and from the halved image (--coarse)
+  const auto dir = sb::testing::temp_dir();
+  const std::string path = write(dir, "ball.png", encode(".png"));
+  const DetectRun r = detect({"--coarse", path});
+  // Then the one ball is reported at its centre and radius
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("1 circle(s)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("x=320."), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("y=240."), std::string::npos) << r.out;
+  EXPECT_TRUE(r.out.find("r=59.") != std::string::npos || r.out.find("r=60.") != std::string::npos)
+      << r.out;
+}
+
 // Issue 22: a 28 KB JPEG or 1.1 MB PNG whose header says 20000x20000 ran past 30 s at 4-5 GB.
 TEST(DetectTool, GivenHeadersClaiming20000x20000ThenItFailsFastNamingTheLimit) {
   const auto dir = sb::testing::temp_dir();

@@ -150,23 +150,33 @@ std::string k_list(const std::vector<int>& ks) {
 std::vector<stereoball::bench_detect::Family> real_families() {
   using stereoball::bench_detect::Family;
   std::vector<Family> f;
+  // p2p coarse to fine (PixelToPixelParams::coarse_to_fine); k as at full resolution (halved
+  // for the halved image).
   Family p2p{"p2p", {}};
-  const std::vector<std::vector<int>> k_sets = {{5}, {5, 8, 15}, {3, 5, 8, 15}};
-  for (const auto& ks : k_sets)
+  const std::vector<std::vector<int>> coarse_k_sets = {{3}, {5}, {3, 5}, {3, 5, 8}};
+  for (const auto& ks : coarse_k_sets)
     for (double score : {0.35, 0.45, 0.55})
       for (double clutter : {0.0, 0.1})
         for (int peaks : {kRealMaxCircles / 2, 2 * kRealMaxCircles})
-          p2p.settings.push_back({cv::format("k=%s score>=%.2f clutter=%.1f peaks=%d",
-                                             k_list(ks).c_str(), score, clutter, peaks),
-                                  [ks, score, clutter, peaks](cv::Size s) {
-                                    auto p = p2p_params(s, ks);
-                                    p.min_score = score;
-                                    p.refine_params.clutter_ring_per_radius = clutter;
-                                    p.max_circles = kRealMaxCircles;
-                                    p.max_peaks_examined = peaks;
-                                    return std::make_unique<bd::PixelToPixelDetector>(p);
-                                  }});
+          for (bool polish : {true, false})
+            for (double band : {0.025, 0.035})
+              p2p.settings.push_back(
+                  {cv::format("c2f k=%s score>=%.2f clutter=%.1f peaks=%d band=%.3fr%s",
+                              k_list(ks).c_str(), score, clutter, peaks, band,
+                              polish ? "" : " no-polish"),
+                   [ks, score, clutter, peaks, polish, band](cv::Size s) {
+                     auto p = p2p_params(s, ks);
+                     p.coarse_to_fine = true;
+                     p.polish = polish;
+                     p.refine_params.band_per_radius = band;
+                     p.min_score = score;
+                     p.refine_params.clutter_ring_per_radius = clutter;
+                     p.max_circles = kRealMaxCircles;
+                     p.max_peaks_examined = peaks;
+                     return std::make_unique<bd::PixelToPixelDetector>(p);
+                   }});
   f.push_back(p2p);
+  const std::vector<std::vector<int>> k_sets = {{5}, {5, 8, 15}, {3, 5, 8, 15}};
   Family paper{"p2p paper rule", {}};
   for (const auto& ks : k_sets)
     paper.settings.push_back({"k=" + k_list(ks), [ks](cv::Size s) {

@@ -96,6 +96,9 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check(CLI::Range(1, 31));
+  app.add_flag("--coarse", opt.coarse_to_fine,
+               "p2p: find candidates on the image halved, refine and score them at full "
+               "resolution (faster on photographs)");
   app.add_option("--max", opt.max_circles, "Most circles reported per image")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));

@@ -54,6 +54,7 @@ struct DetectorOptions {
   double min_separation_px = 10.0;  ///< closest two returned centres may be, pixels
   double min_score = 0.55;          ///< candidates below this score are dropped, [0, 1]
   double opencv_param2 = -1.0;      ///< OpenCV param2 override (<0: method default)
+  bool coarse_to_fine = false;      ///< p2p: PixelToPixelParams::coarse_to_fine (single images)
 };
 
 /// Method names the factory knows, in display order.

@@ -340,7 +340,9 @@ double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& 
   gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
   const double coverage =
       angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch);
-  if (params.clutter_ring_per_radius <= 0.0 || coverage <= 0.0) return coverage;
+  // Below the caller's threshold already: the score can only drop (it is dropped either way).
+  if (params.clutter_ring_per_radius <= 0.0 || coverage <= 0.0 || coverage < params.give_up_below)
+    return coverage;
   // Texture covers any circle drawn through it about as well as the outline does: subtract
   // the coverage of the same circle grown and shrunk by a few pixels.
   const double step = std::max(2.0, params.clutter_ring_per_radius * round.radius_px);
@@ -372,6 +374,11 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
     // can start wider: it sees both and keeps to the majority).
     const double band = std::max(scoring_band_px(round, params), params.first_band_px / (1 << it));
     gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
+    // The widest band's coverage bounds the score from above (give_up_below).
+    if (it == 0 && params.give_up_below > 0.0 &&
+        angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch) <
+            params.give_up_below)
+      return std::nullopt;
     const auto fit = fit_circle(pts, params.robust_fit_floor_px);
     if (!fit) return std::nullopt;
     const Circle next = unround_circle(*fit, {c.x_px, c.y_px}, stretch);

@@ -40,6 +40,12 @@ struct RefineParams {
   /// circles this fraction of the radius (at least 2 px) larger and smaller, so that dense
   /// texture, which covers every circle through it, does not score as an outline. 0 = off.
   double clutter_ring_per_radius = 0.0;
+  /// Addition (speed): when > 0, a caller that drops circles scoring below this says so, and
+  /// refinement stops early on a candidate that cannot reach it: after the first (widest)
+  /// round, if the coverage of the points gathered is below it (the score is coverage in a
+  /// narrower band, so it is about the most the candidate can reach), and the clutter rings
+  /// are not measured when the coverage alone is below it. 0 = refine every candidate fully.
+  double give_up_below = 0.0;
   /// A circle cut by the image border scores 0 unless this fraction of it is inside, [0, 1].
   double min_inside_fraction = 0.5;
   /// Addition: the (rectified, undistorted) camera of the whole image, when known. A sphere off

@@ -103,6 +103,35 @@ TEST(RefineCircle, GivenARoughSeedOnADiscThenRefinementIsSubPixelAndScoresHigh) 
   EXPECT_GT(c->score, 0.9);
 }
 
+TEST(RefineCircle, GivenGiveUpBelowThenOnlyCandidatesThatCannotReachItAreDropped) {
+  // Given a full disc and a disc whose outline shows over a third of its circumference only
+  // (the rest hidden in a same-coloured region)
+  cv::Mat img(200, 400, CV_8UC3, cv::Scalar(60, 60, 60));
+  cv::circle(img, {100, 100}, 40, cv::Scalar(200, 200, 200), cv::FILLED, cv::LINE_AA);
+  cv::circle(img, {300, 100}, 40, cv::Scalar(200, 200, 200), cv::FILLED, cv::LINE_AA);
+  cv::rectangle(img, cv::Rect(240, 40, 80, 120), cv::Scalar(200, 200, 200), cv::FILLED);
+  EdgeMap e;
+  compute_edge_map(img, EdgeParams{}, e);
+  RefineParams plain, giving_up;
+  giving_up.give_up_below = 0.5;
+  giving_up.clutter_ring_per_radius = plain.clutter_ring_per_radius = 0.1;
+  // When both refine the same seeds
+  const auto full_plain = refine_circle(e, Circle{101, 99, 38, 0}, plain);
+  const auto full_giving_up = refine_circle(e, Circle{101, 99, 38, 0}, giving_up);
+  const auto part_plain = refine_circle(e, Circle{301, 99, 38, 0}, plain);
+  const auto part_giving_up = refine_circle(e, Circle{301, 99, 38, 0}, giving_up);
+  // Then the full disc is refined to the same circle and score, and the partial one, which
+  // scores below the threshold when refined fully, is given up
+  ASSERT_TRUE(full_plain && full_giving_up);
+  EXPECT_EQ(full_plain->x_px, full_giving_up->x_px);
+  EXPECT_EQ(full_plain->radius_px, full_giving_up->radius_px);
+  EXPECT_EQ(full_plain->score, full_giving_up->score);
+  EXPECT_GT(full_giving_up->score, 0.9);
+  ASSERT_TRUE(part_plain.has_value());
+  EXPECT_LT(part_plain->score, 0.5);
+  EXPECT_FALSE(part_giving_up.has_value());
+}
+
 TEST(ScoreCircle, GivenTheRightCircleThenScoreIsHighAndForAWrongOneLow) {
   cv::Mat img(200, 200, CV_8U, cv::Scalar(60));
   cv::circle(img, {100, 100}, 40, cv::Scalar(200), cv::FILLED, cv::LINE_AA);

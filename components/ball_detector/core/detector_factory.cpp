@@ -40,6 +40,7 @@ std::unique_ptr<CircleDetector> make_detector(const std::string& method, const D
     auto p = with_common_options(PixelToPixelParams{}, o);
     p.k_values = o.k_values;
     p.min_score = o.min_score;
+    p.coarse_to_fine = o.coarse_to_fine;
     if (auto e = p.validate(); !e) return fail("p2p: " + e.error());
     return std::make_unique<PixelToPixelDetector>(p);
   }

@@ -285,6 +285,28 @@ SB_AVX2_CLONE void strongest_sobel_row(
   }
 }
 
+// One BGR row into three planes.
+SB_AVX2_CLONE void split_row(const std::uint8_t* __restrict bgr, std::uint8_t* __restrict b,
+                             std::uint8_t* __restrict g, std::uint8_t* __restrict r, int n) {
+  for (int x = 0; x < n; ++x) {
+    b[x] = bgr[3 * x];
+    g[x] = bgr[3 * x + 1];
+    r[x] = bgr[3 * x + 2];
+  }
+}
+
+// Whether every pixel of a CV_8UC3 image has B == G == R (a grey image read as colour). Row by
+// row, so a colour image is told apart within its first rows.
+bool channels_equal(const cv::Mat& bgr) {
+  for (int y = 0; y < bgr.rows; ++y) {
+    const std::uint8_t* p = bgr.ptr<std::uint8_t>(y);
+    unsigned diff = 0;
+    for (int x = 0; x < bgr.cols; ++x, p += 3) diff |= (p[0] ^ p[1]) | (p[0] ^ p[2]);
+    if (diff != 0) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
@@ -300,24 +322,37 @@ void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
   const int bottom = std::min(1, whole.height - at.y - bgr.rows);
   cv::Mat padded = bgr;
   if (left || top || right || bottom) padded.adjustROI(top, bottom, left, right);
+  if (channels_equal(padded)) {
+    // A grey image read as colour (common for photographs): every channel's gradient is the
+    // same, and ties keep B, so B's Sobel alone gives the same bits at a third of the cost.
+    // The crop keeps its one pixel of parent around it as a ROI of the extracted plane.
+    cv::extractChannel(padded, planes[0], 0);
+    grey_sobel(planes[0](cv::Rect(left, top, bgr.cols, bgr.rows)), dx, dy);
+    return;
+  }
   // Planes of the padded image with one more replicated pixel on every side: the row loop
   // then reads x - 1 and x + 1 everywhere without a border case.
   const int pw = padded.cols, ph = padded.rows;
-  std::array<cv::Mat, 3> inner;
-  for (int c = 0; c < 3; ++c) {
-    planes[c].create(ph + 2, pw + 2, CV_8UC1);
-    inner[c] = planes[c](cv::Rect(1, 1, pw, ph));
+  for (int c = 0; c < 3; ++c) planes[c].create(ph + 2, pw + 2, CV_8UC1);
+  // Split by hand, row by row: cv::split and row copies cost more in call overhead than in
+  // work on the small windows refinement asks for.
+  for (int y = 0; y < ph; ++y) {
+    std::uint8_t* b = planes[0].ptr<std::uint8_t>(y + 1);
+    std::uint8_t* g = planes[1].ptr<std::uint8_t>(y + 1);
+    std::uint8_t* r = planes[2].ptr<std::uint8_t>(y + 1);
+    split_row(padded.ptr<std::uint8_t>(y), b + 1, g + 1, r + 1, pw);
+    b[0] = b[1];
+    g[0] = g[1];
+    r[0] = r[1];
+    b[pw + 1] = b[pw];
+    g[pw + 1] = g[pw];
+    r[pw + 1] = r[pw];
   }
-  cv::split(padded, inner.data());
   for (int c = 0; c < 3; ++c) {
     cv::Mat& p = planes[c];
-    for (int y = 1; y <= ph; ++y) {
-      std::uint8_t* row = p.ptr<std::uint8_t>(y);
-      row[0] = row[1];
-      row[pw + 1] = row[pw];
-    }
-    p.row(1).copyTo(p.row(0));
-    p.row(ph).copyTo(p.row(ph + 1));
+    std::memcpy(p.ptr<std::uint8_t>(0), p.ptr<std::uint8_t>(1), static_cast<std::size_t>(pw + 2));
+    std::memcpy(p.ptr<std::uint8_t>(ph + 1), p.ptr<std::uint8_t>(ph),
+                static_cast<std::size_t>(pw + 2));
   }
   dx.create(bgr.size(), CV_16S);
   dy.create(bgr.size(), CV_16S);

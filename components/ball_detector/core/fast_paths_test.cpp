@@ -160,6 +160,38 @@ TEST(StrongestChannelGradient, GivenRealColourImagesAndCropsThenItEqualsThreeSob
   EXPECT_GE(compared, 80);
 }
 
+TEST(StrongestChannelGradient, GivenGreyImagesReadAsColourThenTheOneChannelPathGivesTheSameBits) {
+  // Given grey images as three equal channels (the one-channel shortcut), and the same images
+  // with one pixel of one channel changed in the last row or the crop's surrounding pixel (the
+  // three-channel path must then run, on the whole image and on a crop whose parent differs)
+  const auto greys = real_greys();
+  ASSERT_GE(greys.size(), 10u) << "expected the OpenCV sample images in " << SB_SHARED_DATA_DIR;
+  std::array<cv::Mat, 3> planes;
+  int compared = 0;
+  for (const auto& grey : greys) {
+    if (grey.cols < 40 || grey.rows < 40) continue;
+    cv::Mat equal;
+    cv::cvtColor(grey, equal, cv::COLOR_GRAY2BGR);
+    cv::Mat last_row_differs = equal.clone();
+    last_row_differs.at<cv::Vec3b>(grey.rows - 1, grey.cols - 1)[2] ^= 0x40;
+    cv::Mat border_differs = equal.clone();
+    const cv::Rect box(10, 10, 20, 20);
+    border_differs.at<cv::Vec3b>(box.y - 1, box.x + 5)[1] ^= 0x40;  // just above the crop
+    for (const cv::Mat& whole : {equal, last_row_differs, border_differs})
+      for (const cv::Rect& r : {cv::Rect(cv::Point(), whole.size()), box}) {
+        // When both compute the gradient
+        cv::Mat dx, dy, ref_dx, ref_dy;
+        strongest_channel_gradient(whole(r), dx, dy, planes);
+        reference_strongest_gradient(whole(r), ref_dx, ref_dy);
+        // Then every pixel agrees
+        ASSERT_EQ(cv::countNonZero(dx != ref_dx), 0) << r;
+        ASSERT_EQ(cv::countNonZero(dy != ref_dy), 0) << r;
+        ++compared;
+      }
+  }
+  EXPECT_GE(compared, 60);
+}
+
 // The same circles, bit for bit, in the same order.
 void expect_same_circles(const std::vector<Circle>& a, const std::vector<Circle>& b) {
   ASSERT_EQ(a.size(), b.size());

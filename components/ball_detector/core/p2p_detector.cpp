@@ -9,6 +9,8 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdint>
+#include <numbers>
 
 namespace stereoball::ball_detector {
 namespace {
@@ -21,11 +23,49 @@ inline double fast_hypot(double a, double b) {
 constexpr int kMaxK = 31;                 // window rows are read as one 63-bit slice
 constexpr int kMaxCentreMarginPx = 4000;  // as max_radius_px: no centre is farther out
 constexpr double kRingSeedBelowScore = 0.8;
+// coarse_to_fine: smaller images are searched whole; a candidate's full-resolution window
+// reaches this far beyond its circle (the clutter rings and the first refinement band fit).
+constexpr int kCoarseMinSidePx = 64;
+constexpr double kWindowMarginPerRadius = 0.15;
+constexpr double kWindowMarginPx = 5.0;
+constexpr int kFineRefineRounds = 2;
+constexpr double kEdgeMapOverheadPx = 2048.0;  // measured: 1500 (colour) to 3100 (grey)
 
 double median_of(std::vector<double>& v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
+}
+
+// CandidateOptions::voter_mode_radius: the 3-px ring of distances holding the most voters per
+// pixel of radius (circumference), then the mean distance of the voters in it.
+double densest_radius(const std::vector<double>& radii, double min_r, double max_r) {
+  const int r0 = std::max(1, static_cast<int>(std::floor(min_r)));
+  const int r1 = std::max(r0, static_cast<int>(std::ceil(max_r)));
+  std::vector<int> hist(static_cast<std::size_t>(r1 + 2), 0);
+  for (double r : radii)
+    ++hist[static_cast<std::size_t>(std::clamp(static_cast<int>(r + 0.5), 0, r1 + 1))];
+  int best_bin = -1;
+  double best = 0.0;
+  for (int b = r0; b <= r1; ++b) {
+    const double ring = hist[b - 1] + hist[b] + hist[b + 1];
+    if (ring >= 3 && ring / b > best) {
+      best = ring / b;
+      best_bin = b;
+    }
+  }
+  if (best_bin < 0) {
+    std::vector<double> copy = radii;
+    return median_of(copy);
+  }
+  double sum = 0.0;
+  int n = 0;
+  for (double r : radii)
+    if (std::abs(r - best_bin) <= 1.5) {
+      sum += r;
+      ++n;
+    }
+  return sum / n;
 }
 
 constexpr int kOrientationBins = 8;
@@ -41,6 +81,14 @@ int orientation_bin(int gx, int gy) {
   const float ax = static_cast<float>(gx < 0 ? -gx : gx), fy = static_cast<float>(gy);
   const int b = fy < 0.41421356f * ax ? 0 : fy < ax ? 1 : fy < 2.41421356f * ax ? 2 : 3;
   return gx >= 0 ? b : 7 - b;
+}
+
+// Sectors of the directions from a peak to its voters (CandidateOptions::min_voted_coverage).
+constexpr int kVoterSectors = 16;
+int voter_sector(double px, double py) {
+  const double a = std::atan2(py, px) + std::numbers::pi;  // [0, 2 pi]
+  return std::min(kVoterSectors - 1,
+                  static_cast<int>(a * (kVoterSectors / (2.0 * std::numbers::pi))));
 }
 
 bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_sep) {
@@ -98,6 +146,12 @@ Status PixelToPixelParams::validate() const {
     return Error{"refine_params.first_band_px must be in (0, 20]"};
   if (!(refine_params.robust_fit_floor_px >= 0.0 && refine_params.robust_fit_floor_px <= 10.0))
     return Error{"refine_params.robust_fit_floor_px must be in [0, 10]"};
+  if (!(refine_params.give_up_below >= 0.0 && refine_params.give_up_below <= 1.0))
+    return Error{"refine_params.give_up_below must be in [0, 1]"};
+  if (!(coarse_min_score >= 0.0 && coarse_min_score <= 1.0))
+    return Error{"coarse_min_score must be in [0, 1]"};
+  if (!(coarse_min_voted_coverage >= 0.0 && coarse_min_voted_coverage <= 1.0))
+    return Error{"coarse_min_voted_coverage must be in [0, 1]"};
   if (!(refine_params.min_inside_fraction >= 0.0 && refine_params.min_inside_fraction <= 1.0))
     return Error{"refine_params.min_inside_fraction must be in [0, 1]"};
   return {};
@@ -228,6 +282,9 @@ void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
 }
 
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
+  if (params_.coarse_to_fine && bgr_or_grey.cols >= kCoarseMinSidePx &&
+      bgr_or_grey.rows >= kCoarseMinSidePx)
+    return detect_coarse_to_fine(bgr_or_grey);
   if (!cast_votes(bgr_or_grey)) return {};
   return circles_of_votes();
 }
@@ -346,6 +403,8 @@ int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
   opt.refine_params = params_.refine_params;
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
   opt.polish = params_.polish;
+  opt.min_voted_coverage = voted_coverage_gate_;
+  opt.voter_mode_radius = voter_mode_radius_;
   voter_rows_ = VoterRows(voters_);
   return static_cast<int>(peaks_.size());
 }
@@ -374,6 +433,11 @@ const DetectionDiagnostics* PixelToPixelDetector::diagnostics() const {
 
 namespace {
 
+void sort_by_score(std::vector<Circle>& circles) {
+  std::stable_sort(circles.begin(), circles.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+}
+
 // PixelToPixelParams::polish: each circle refined again, robustly from a wider band; kept as it
 // was when that fails (too few points, wandered off) or scores below min_score, then the list
 // re-sorted by score. The robust fit's score is taken even when lower: the least-squares circle
@@ -387,8 +451,20 @@ void polish_circles(const EdgeMap& edges, const RefineParams& refine, double min
     const auto polished = refine_circle(edges, c, robust);
     if (polished && polished->score >= min_score) c = *polished;
   }
-  std::stable_sort(circles.begin(), circles.end(),
-                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  sort_by_score(circles);
+}
+
+// The best circles first, none within min_separation_px of a better one, at most max_circles.
+std::vector<Circle> best_separated(std::vector<Circle> found, double min_separation_px,
+                                   int max_circles) {
+  sort_by_score(found);
+  std::vector<Circle> kept;
+  for (const auto& c : found) {
+    if (static_cast<int>(kept.size()) >= max_circles) break;
+    // Two peaks of one ball (e.g. its seam) refine onto the same circle: keep the better.
+    if (far_from_all(kept, c, std::max(min_separation_px, 1.0))) kept.push_back(c);
+  }
+  return kept;
 }
 
 }  // namespace
@@ -408,6 +484,7 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
                                        const CandidateOptions& options) {
   std::vector<double> radii;
   std::vector<cv::Point2d> support;
+  std::uint32_t voted_sectors = 0;  // bit s: a voter lies in sector s around the peak
   // A voter passing the tests below is at most this far from the peak (t <= max radius and
   // the line within tolerance), plus a pixel for float rounding.
   const double reach_px = options.max_radius_px + options.line_tolerance_px + 1.0;
@@ -417,9 +494,19 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
     if (t < options.min_radius_px || t > options.max_radius_px) return;
     if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
     radii.push_back(std::sqrt(px * px + py * py));
+    if (options.min_voted_coverage > 0.0) voted_sectors |= 1u << voter_sector(px, py);
   });
   if (radii.size() < 3) return std::nullopt;
-  const double r0 = median_of(radii);
+  // A ball's outline votes from all sides, texture from one: judged on every voter of the
+  // peak (not only those at the median distance, which other lines passing by can skew).
+  if (options.min_voted_coverage > 0.0 &&
+      std::popcount(voted_sectors) < options.min_voted_coverage * kVoterSectors)
+    return std::nullopt;
+  const double r0 = options.voter_mode_radius
+                        ? densest_radius(radii, options.min_radius_px, options.max_radius_px)
+                        : median_of(radii);
+  // voter_mode_radius: the median is the second seed (nth_element may reorder radii now).
+  const double median_r = options.voter_mode_radius ? median_of(radii) : r0;
   // The voters' own positions on the circle seed the fit (they are edge points).
   const double support_reach_px = 1.2 * r0 + 2.0;
   rows.for_each(voters, peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
@@ -444,7 +531,14 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
   std::optional<Circle> c = refine_seed(seed);
   // Second seed only when the first is weak: the ring of edge points around the peak.
   // Voters from texture inside a ball can drag the voters' median radius; the ring cannot.
-  if (!c || c->score < kRingSeedBelowScore) {
+  if (options.voter_mode_radius && (!c || c->score < kRingSeedBelowScore) &&
+      std::abs(median_r - seed.radius_px) > 1.5) {
+    // The densest ring may be round texture inside a ball: its outline is then the median.
+    const auto alt = refine_seed(
+        Circle{static_cast<double>(peak.x), static_cast<double>(peak.y), median_r, 0.0});
+    if (alt && (!c || alt->score > c->score)) c = alt;
+  }
+  if (!options.voter_mode_radius && (!c || c->score < kRingSeedBelowScore)) {
     if (const auto ring_r =
             estimate_radius(edges, peak.x, peak.y, options.min_radius_px, options.max_radius_px);
         ring_r && std::abs(*ring_r - seed.radius_px) > 1.5) {
@@ -461,17 +555,110 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
 
 std::vector<Circle> select_circles(const EdgeMap& edges, std::vector<Circle> found,
                                    const CandidateOptions& options) {
-  std::stable_sort(found.begin(), found.end(),
-                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
-  std::vector<Circle> kept;
-  for (const auto& c : found) {
-    if (static_cast<int>(kept.size()) >= options.max_circles) break;
-    // Two peaks of one ball (e.g. its seam) refine onto the same circle: keep the better.
-    if (far_from_all(kept, c, std::max(options.min_separation_px, 1.0))) kept.push_back(c);
-  }
+  std::vector<Circle> kept =
+      best_separated(std::move(found), options.min_separation_px, options.max_circles);
   if (options.refine && options.polish)
     polish_circles(edges, options.refine_params, options.min_score, kept);
   return kept;
+}
+
+std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& image) {
+  start(std::nullopt);
+  edges_ready_ = false;  // no full-resolution map of the whole image: redetect finds nothing
+  orientation_ready_ = false;
+  if (!validate_image(image).ok()) return {};
+  if (!coarse_) {
+    PixelToPixelParams p = params_;
+    p.coarse_to_fine = false;
+    // Each k keeps its meaning: a window of the same size in the scene, so the same radii
+    // pass the count rule (a window must hold an arc, not half of a small circle).
+    p.k_values.clear();
+    for (int k : params_.k_values)
+      if (const int half_k = (k + 1) / 2;
+          std::find(p.k_values.begin(), p.k_values.end(), half_k) == p.k_values.end())
+        p.k_values.push_back(half_k);
+    p.min_radius_px = 0.5 * params_.min_radius_px;
+    p.max_radius_px = 0.5 * params_.max_radius_px;
+    p.min_separation_px = 0.5 * params_.min_separation_px;
+    p.min_peak_votes = (params_.min_peak_votes + 1) / 2;  // half the circumference votes
+    p.min_score = params_.coarse_min_score;
+    // Every candidate goes on to full resolution, where the best max_circles are kept.
+    p.max_circles = std::max(params_.max_circles, params_.max_peaks_examined);
+    p.polish = false;  // the full-resolution refinement polishes
+    p.refine_params.camera.reset();
+    p.refine_params.give_up_below = params_.coarse_min_score;
+    // Clutter is judged at full resolution, where the rings are measured on sharper edges.
+    p.refine_params.clutter_ring_per_radius = 0.0;
+    coarse_ = std::make_unique<PixelToPixelDetector>(p);
+    coarse_->voted_coverage_gate_ = params_.coarse_min_voted_coverage;
+    coarse_->voter_mode_radius_ = true;
+  }
+  // An even size halves exactly (each pixel the mean of a 2x2 block: OpenCV's fast path).
+  const cv::Mat even = image(cv::Rect(0, 0, image.cols & ~1, image.rows & ~1));
+  cv::resize(even, half_, cv::Size(even.cols / 2, even.rows / 2), 0.0, 0.0, cv::INTER_AREA);
+  const std::vector<Circle> candidates = coarse_->detect(half_);
+  diag_ = coarse_->diag_;  // the halved image's edges and votes
+  // Each candidate's window: its circle at full resolution and a margin.
+  std::vector<Circle> seeds;
+  std::vector<cv::Rect> windows;
+  const cv::Rect whole(0, 0, image.cols, image.rows);
+  cv::Rect span;
+  double total_area = 0.0;
+  for (const Circle& c : candidates) {
+    // Pixel (i, j) of the halved image is the mean of pixels 2i, 2i + 1 (and 2j, 2j + 1).
+    const Circle seed{2.0 * c.x_px + 0.5, 2.0 * c.y_px + 0.5, 2.0 * c.radius_px, 0.0};
+    const double reach = seed.radius_px * (1.0 + kWindowMarginPerRadius) + kWindowMarginPx;
+    const cv::Point top_left(static_cast<int>(std::floor(seed.x_px - reach)),
+                             static_cast<int>(std::floor(seed.y_px - reach)));
+    const cv::Point bottom_right(static_cast<int>(std::ceil(seed.x_px + reach)) + 1,
+                                 static_cast<int>(std::ceil(seed.y_px + reach)) + 1);
+    const cv::Rect window = cv::Rect(top_left, bottom_right) & whole;
+    if (window.width < 3 || window.height < 3) continue;
+    seeds.push_back(seed);
+    windows.push_back(window);
+    span = span.area() == 0 ? window : (span | window);
+    total_area += window.area();
+  }
+  std::vector<Circle> found;
+  if (seeds.empty()) return found;
+  // Many or large windows: one edge map of the region they span costs less than one each,
+  // each map costing about as much as kEdgeMapOverheadPx more pixels (calls, allocations,
+  // histogram); its thresholds are then those of that region.
+  const bool one_map =
+      span.area() <= total_area + kEdgeMapOverheadPx * static_cast<double>(seeds.size());
+  if (one_map) compute_edge_map(image(span), params_.edge, window_edges_);
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    const cv::Rect& window = one_map ? span : windows[i];
+    // A window's own edge thresholds: it holds the outline and its surroundings, whose
+    // contrast is what the outline must stand out from.
+    if (!one_map) compute_edge_map(image(window), params_.edge, window_edges_);
+    if (const auto fine = refine_in_window(window_edges_, window, seeds[i])) found.push_back(*fine);
+  }
+  return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
+}
+
+std::optional<Circle> PixelToPixelDetector::refine_in_window(const EdgeMap& edges,
+                                                             const cv::Rect& window,
+                                                             Circle seed) const {
+  seed.x_px -= window.x;
+  seed.y_px -= window.y;
+  RefineParams refine = params_.refine_params;
+  refine.give_up_below = std::max(refine.give_up_below, params_.min_score);
+  // The seed is within a pixel or two (the halved image's refined circle): two rounds before
+  // scoring. With polish on they are the polish's robust rounds from its wider band (the only
+  // refinement needed), else least squares from first_band_px.
+  refine.iterations = kFineRefineRounds;
+  if (params_.polish) {
+    refine.first_band_px = PixelToPixelParams::kPolishFirstBandPx;
+    refine.robust_fit_floor_px = PixelToPixelParams::kPolishRobustFloorPx;
+  }
+  std::optional<Circle> c = refine_circle(edges, seed, refine);
+  if (!c || c->score < params_.min_score) return std::nullopt;
+  if (c->radius_px < params_.min_radius_px || c->radius_px > params_.max_radius_px)
+    return std::nullopt;
+  c->x_px += window.x;
+  c->y_px += window.y;
+  return c;
 }
 
 }  // namespace stereoball::ball_detector

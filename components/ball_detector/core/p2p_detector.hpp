@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -58,6 +59,19 @@ struct PixelToPixelParams {
   bool polish = true;
   static constexpr double kPolishFirstBandPx = 4.0;
   static constexpr double kPolishRobustFloorPx = 0.6;
+  /// Addition (speed, the single-image detect(image) only): candidates are found on the image
+  /// halved (every step a quarter of the pixels; radii, separation and each k halved, k
+  /// rounded up, so a k sees the same scene window either way), those scoring
+  /// at least coarse_min_score there are refined and scored at full resolution on the edges of
+  /// a window around each (its own edge thresholds), and kept if they reach min_score. The
+  /// calls with thresholds or hints (the stereo node's) and redetect are unchanged. Off = the
+  /// whole image at full resolution.
+  bool coarse_to_fine = false;
+  double coarse_min_score = 0.45;  ///< a halved-image candidate needs this score, [0, 1]
+  /// A halved-image peak is refined only when its voters lie around it, covering at least this
+  /// fraction of the circle's angular sectors (a ball's outline votes from all sides; a blob
+  /// of texture from one), [0, 1].
+  double coarse_min_voted_coverage = 0.2;
 
   /// Success, or an error naming the first bad field and its allowed range.
   Status validate() const;
@@ -133,6 +147,14 @@ struct CandidateOptions {
   bool refine = true;
   RefineParams refine_params;
   bool polish = false;  ///< PixelToPixelParams::polish
+  /// > 0: a peak whose voters (the edge points whose lines pass it, within the radius range)
+  /// lie in less than this fraction of 16 angular sectors around it is not refined.
+  double min_voted_coverage = 0.0;
+  /// true: the seed radius is the distance most voters share per unit of circumference (a
+  /// small circle's voters outnumber, per pixel of its outline, the lines of other edges that
+  /// merely pass its centre), and the ring-of-edge-points second seed is not tried; false: the
+  /// voters' median distance, then the ring seed for weak candidates.
+  bool voter_mode_radius = false;
 };
 
 /// Pixel-to-Pixel: thin edge map -> per-window chord rules -> concave-side lines -> box filter
@@ -198,6 +220,9 @@ class PixelToPixelDetector final : public CircleDetector {
                                  std::span<std::uint64_t> mask);
   void build_orientation_planes();
   std::vector<Circle> detect_on_edges();
+  std::vector<Circle> detect_coarse_to_fine(const cv::Mat& image);
+  std::optional<Circle> refine_in_window(const EdgeMap& edges, const cv::Rect& window,
+                                         Circle seed) const;
   void vote_on_edges();
   std::vector<Circle> circles_on(const EdgeMap& edges);
   int peaks_on(const EdgeMap& edges);
@@ -224,6 +249,13 @@ class PixelToPixelDetector final : public CircleDetector {
   const EdgeMap* peak_edges_ = nullptr;
   CandidateOptions candidate_options_;
   VoterRows voter_rows_;
+  // coarse_to_fine: the detector of the halved image, the halved image and a window's edges.
+  std::unique_ptr<PixelToPixelDetector> coarse_;
+  cv::Mat half_;
+  double voted_coverage_gate_ = 0.0;
+  bool voter_mode_radius_ = false;  // CandidateOptions::voter_mode_radius (the coarse one's)  //
+                                    // CandidateOptions::min_voted_coverage (the coarse one's)
+  EdgeMap window_edges_;
   mutable DetectionDiagnostics diag_;
   mutable bool peak_ratio_done_ = false;
 };

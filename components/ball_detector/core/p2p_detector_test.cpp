@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -46,6 +47,109 @@ TEST(PixelToPixel, GivenTwoColourBallsThenTheCentreIsStillFound) {
     hits += !found.empty() && centre_error(found[0], scene.truth[0]) < 1.0;
   }
   EXPECT_GE(hits, 5);
+}
+
+TEST(PixelToPixel, GivenCoarseToFineThenBallsAreFoundAtFullResolutionAccuracy) {
+  // Given plain, two-colour and several-ball scenes at 640x480, and the detector searching the
+  // halved image first (coarse_to_fine) beside the full-resolution one
+  PixelToPixelParams p = multi_k();
+  p.max_circles = 8;
+  PixelToPixelDetector full(p);
+  p.coarse_to_fine = true;
+  PixelToPixelDetector coarse_to_fine(p);
+  int balls = 0, found_by_both = 0;
+  for (const SceneKind kind : {SceneKind::kPlain, SceneKind::kTwoColour, SceneKind::kMultiple})
+    for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+      const auto scene = make_scene(kind, {640, 480}, seed);
+      // When both detect
+      const auto a = full.detect(scene.image);
+      const auto b = coarse_to_fine.detect(scene.image);
+      for (const Circle& truth : scene.truth) {
+        ++balls;
+        auto nearest = [&](const std::vector<Circle>& found) -> const Circle* {
+          const Circle* best = nullptr;
+          for (const Circle& c : found)
+            if (centre_error(c, truth) < 2.0 &&
+                (!best || centre_error(c, truth) < centre_error(*best, truth)))
+              best = &c;
+          return best;
+        };
+        const Circle* fa = nearest(a);
+        const Circle* fb = nearest(b);
+        if (!fa) continue;
+        // Then every ball the full search finds is found, with full-resolution accuracy: the
+        // centre within 0.5 px of the full search's (not the 2 px of the halved image's grid)
+        ASSERT_NE(fb, nullptr) << scene_kind_name(kind) << " seed " << seed;
+        EXPECT_LT(centre_error(*fa, *fb), 0.5) << scene_kind_name(kind) << " seed " << seed;
+        EXPECT_NEAR(fa->radius_px, fb->radius_px, 0.5) << scene_kind_name(kind) << " seed " << seed;
+        EXPECT_GE(fb->score, p.min_score);
+        ++found_by_both;
+      }
+    }
+  EXPECT_GE(found_by_both, balls * 3 / 4);
+}
+
+TEST(PixelToPixel, GivenCoarseToFineAndSmallDiscsAmongLargeOnesThenTheSmallOnesAreFound) {
+  // Given 640x480, radii searched from 12 px, and discs of 13-14 px (6.5-7 px in the halved
+  // image) packed between large discs whose edge lines pass near the small ones' centres
+  cv::Mat image(480, 640, CV_8UC3, cv::Scalar(40, 40, 40));
+  std::vector<Circle> small;
+  for (int i = 0; i < 6; ++i) {
+    const Circle c{80.0 + 95.0 * i, 240.0, 13.0 + 0.2 * i, 0.0};
+    cv::circle(image, {80 + 95 * i, 120}, 60, cv::Scalar(200, 200, 200), cv::FILLED, cv::LINE_AA);
+    cv::circle(image, {80 + 95 * i, 360}, 60, cv::Scalar(200, 200, 200), cv::FILLED, cv::LINE_AA);
+    cv::circle(image, {static_cast<int>(c.x_px * 16), static_cast<int>(c.y_px * 16)},
+               static_cast<int>(c.radius_px * 16), cv::Scalar(180, 180, 180), cv::FILLED,
+               cv::LINE_AA, 4);
+    small.push_back(c);
+  }
+  PixelToPixelParams p;
+  p.k_values = {3};
+  p.min_radius_px = 12.0;
+  p.max_radius_px = 96.0;
+  p.max_circles = 20;
+  p.coarse_to_fine = true;
+  PixelToPixelDetector det(p);
+  // When it detects
+  const auto found = det.detect(image);
+  // Then every small disc is found within a pixel
+  for (const Circle& c : small) {
+    const bool hit = std::any_of(found.begin(), found.end(), [&](const Circle& f) {
+      return centre_error(f, c) < 1.0 && std::abs(f.radius_px - c.radius_px) < 1.0;
+    });
+    EXPECT_TRUE(hit) << c.x_px;
+  }
+}
+
+TEST(PixelToPixel, GivenCoarseToFineOnImagesWithoutCirclesThenFalseCirclesAreAsRareAsAtFullSize) {
+  // Given lines and corners only, at both suite sizes (corners of thin lines can make a small
+  // round-looking outline: the full-resolution search reports one on 2 of these 16 images)
+  PixelToPixelParams p = multi_k();
+  PixelToPixelDetector full(p);
+  p.coarse_to_fine = true;
+  PixelToPixelDetector coarse_to_fine(p);
+  std::size_t false_full = 0, false_coarse = 0;
+  for (const cv::Size size : {cv::Size(352, 288), cv::Size(640, 480)})
+    for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+      const auto scene = make_scene(SceneKind::kLinesOnly, size, seed);
+      // When both detect
+      false_full += full.detect(scene.image).size();
+      false_coarse += coarse_to_fine.detect(scene.image).size();
+    }
+  // Then the search from the halved image reports at most one more false circle in all
+  EXPECT_LE(false_coarse, false_full + 1);
+  EXPECT_LE(false_coarse, 3u);
+}
+
+TEST(PixelToPixel, GivenCoarseToFineAndAnInvalidCoarseScoreThenValidationNamesIt) {
+  PixelToPixelParams p;
+  p.coarse_min_score = 1.5;
+  const auto status = p.validate();
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.error().find("coarse_min_score"), std::string::npos);
+  p = PixelToPixelParams{};
+  p.refine_params.give_up_below = -0.1;
+  EXPECT_FALSE(p.validate().ok());
 }
 
 // A striped ball: a disc whose stripe boundaries (another colour) end on its outline, meeting
