@@ -57,6 +57,8 @@ const char* status_name(stereoball_msg_DetectionStatus s) {
       return "BAD_FRAME";
     case stereoball_msg_DETECTION_OFF_FLOOR:
       return "OFF_FLOOR";
+    case stereoball_msg_DETECTION_INTERIOR_MISMATCH:
+      return "INTERIOR_MISMATCH";
   }
   return "?";
 }

@@ -31,6 +31,8 @@ stereoball_msg_DetectionStatus to_message(DetectionStatus status) {
       return stereoball_msg_DETECTION_BAD_FRAME;
     case DetectionStatus::kOffFloor:
       return stereoball_msg_DETECTION_OFF_FLOOR;
+    case DetectionStatus::kInteriorMismatch:
+      return stereoball_msg_DETECTION_INTERIOR_MISMATCH;
   }
   return stereoball_msg_DETECTION_BAD_FRAME;
 }

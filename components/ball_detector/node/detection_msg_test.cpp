@@ -66,6 +66,10 @@ TEST(DetectionMessage, GivenEveryStatus_ThenDistinctIdlValues) {
   EXPECT_EQ(sb::ball_detector::to_message(DetectionStatus::kOffFloor),
             stereoball_msg_DETECTION_OFF_FLOOR);
   EXPECT_STREQ(sb::ball_detector::to_string(DetectionStatus::kOffFloor), "off_floor");
+  EXPECT_EQ(sb::ball_detector::to_message(DetectionStatus::kInteriorMismatch),
+            stereoball_msg_DETECTION_INTERIOR_MISMATCH);
+  EXPECT_STREQ(sb::ball_detector::to_string(DetectionStatus::kInteriorMismatch),
+               "interior_mismatch");
 }
 
 // Given a following ball/track sample, then its position, velocity and stamp are kept; a

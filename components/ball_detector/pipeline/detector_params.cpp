@@ -117,6 +117,23 @@ std::vector<params::Field<P>> appearance_fields() {
   };
 }
 
+std::vector<params::Field<P>> interior_depth_fields() {
+  using I = InteriorDepthParams;
+  const I core;
+  const auto in = [](auto member) { return at(&P::interior_depth, member); };
+  return {
+      flag("interior_depth.enabled", in(&I::enabled), core.enabled,
+           "reject a found pair whose textured inside matches between the eyes at another depth "
+           "than its outline (a round pattern on a surface, not a ball)"),
+      number("interior_depth.min_texture", in(&I::min_texture), core.min_texture, {0.0, 255.0},
+             "grey levels", "insides with less texture (standard deviation) are not matched"),
+      number("interior_depth.min_match", in(&I::min_match), core.min_match, {0.0, 1.0}, "",
+             "the inside's best match elsewhere (normalised cross-correlation) must reach this"),
+      number("interior_depth.min_margin", in(&I::min_margin), core.min_margin, {0.0, 2.0}, "",
+             "... and beat its best match at the ball's own depths by this"),
+  };
+}
+
 std::vector<params::Field<P>> p2p_fields() {
   const P2P core;  // the detector's own defaults, where the pipeline keeps them
   const auto p2p = [](auto member) { return at(&P::p2p, member); };
@@ -154,7 +171,7 @@ std::vector<params::Field<P>> p2p_fields() {
 
 params::FieldTable<P> make_table() {
   params::FieldTable<P> t{pipeline_fields(), cross_check};
-  for (const auto& part : {appearance_fields(), p2p_fields()}) {
+  for (const auto& part : {appearance_fields(), interior_depth_fields(), p2p_fields()}) {
     t.fields.insert(t.fields.end(), part.begin(), part.end());
   }
   return t;

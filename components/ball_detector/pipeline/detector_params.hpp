@@ -9,6 +9,7 @@
 #include <string>
 
 #include "ball_detector/core/appearance_model.hpp"
+#include "ball_detector/pipeline/interior_depth.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "common/params/field_table.hpp"
 #include "common/util/result.hpp"
@@ -83,6 +84,9 @@ struct BallDetectorParams {
   /// Addition: the followed ball's colour, learnt while the tracker follows it, ranks the left
   /// candidates and rejects round things of another colour; forgotten after a long loss.
   AppearanceParams appearance;
+  /// Addition: a found pair whose textured inside matches between the eyes at another depth
+  /// than its outline is a round pattern on a surface, not a ball (interior_depth.hpp).
+  InteriorDepthParams interior_depth;
   /// Largest image a calibration (and so every frame) may have: a larger stereo/calibration is
   /// refused before its rectification tables are allocated.
   int max_image_width_px;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 
 namespace stereoball::ball_detector {
 namespace {
@@ -129,6 +130,8 @@ const char* to_string(DetectionStatus status) {
       return "bad_frame";
     case DetectionStatus::kOffFloor:
       return "off_floor";
+    case DetectionStatus::kInteriorMismatch:
+      return "interior_mismatch";
   }
   return "unknown";
 }
@@ -294,6 +297,8 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   out.candidates_right = static_cast<int>(right_candidates_.size());
 
   fill_result(*pairing, out);
+  if (out.status == DetectionStatus::kFound && params_.interior_depth.enabled)
+    check_interior(left_channel, right_channel, rectified, out);
   out.rejected_by_colour = rejected_by_colour_;
   if (params_.right_eye_partner_boxes && left_candidates_.empty())
     out.reason =
@@ -614,6 +619,61 @@ void StereoPipeline::fill_result(const PairingResult& pairing, StereoDetection& 
   } else if (!left_candidates_.empty()) {
     out.left = left_candidates_.front();  // best single-eye circle, for display
   }
+}
+
+ShiftWindow StereoPipeline::shift_window(const StereoDetection& found) const {
+  const stereo::Triangulator& tri = *triangulator_;
+  const double offset_px = tri.principal_left_px().x - tri.principal_right_px().x;
+  const double fb = tri.focal_px() * tri.baseline_m();
+  const double depth_m = found.position_m[2];
+  const double radius_m = 0.5 * params_.ball_diameter_m;
+  const double measured_px = found.left.x_px - found.right.x_px;
+  ShiftWindow w;
+  w.ball_lo_px = std::min(measured_px, offset_px + fb / depth_m);
+  // The nearest surface (the front of the ball) is one radius closer than the centre.
+  w.ball_hi_px =
+      std::max(measured_px, offset_px + fb / std::max(depth_m - radius_m, 0.5 * depth_m));
+  // Everything from far away up to well in front of the ball: what the texture may belong to.
+  w.search_lo_px = std::min(offset_px, 0.0);
+  w.search_hi_px = 1.5 * w.ball_hi_px + 8.0;
+  return w;
+}
+
+void StereoPipeline::check_interior(const cv::Mat& left_channel, const cv::Mat& right_channel,
+                                    bool rectified, StereoDetection& found) {
+  const cv::Size size = rectifier_->calibration().image_size;
+  const ShiftWindow window = shift_window(found);
+  const cv::Rect left_region = interior_rows_region(found.left, size);
+  const cv::Rect right_region = interior_search_region(left_region, window, size);
+  if (left_region.empty() || right_region.empty()) return;
+  const cv::Mat* left = &left_channel;
+  const cv::Mat* right = &right_channel;
+  if (!rectified) {  // only the regions read, not the whole eyes
+    interior_left_.create(size, left_channel.type());
+    interior_right_.create(size, right_channel.type());
+    rectifier_->rectify_eye_region(stereo::Eye::kLeft, left_channel, left_region, interior_left_);
+    rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, right_region,
+                                   interior_right_);
+    left = &interior_left_;
+    right = &interior_right_;
+  }
+  const InteriorDepth d = interior_depth(*left, *right, found.left, window, params_.interior_depth);
+  if (!d.contradicts) return;
+  const double fb = triangulator_->focal_px() * triangulator_->baseline_m();
+  const double offset_px =
+      triangulator_->principal_left_px().x - triangulator_->principal_right_px().x;
+  const double surface_shift_px = d.best_shift_px - offset_px;
+  char where[32] = "far away";
+  if (surface_shift_px > 0.0) std::snprintf(where, sizeof where, "%.2f m", fb / surface_shift_px);
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "texture inside the circle matches at disparity %.0f px (%s), not at the "
+                "outline's %.0f px (%.2f m; correlation %.2f vs %.2f): a round pattern on a "
+                "surface, not a ball",
+                surface_shift_px, where, found.left.x_px - found.right.x_px - offset_px,
+                found.position_m[2], d.best_match, d.ball_match);
+  found.status = DetectionStatus::kInteriorMismatch;
+  found.reason = text;
 }
 
 void StereoPipeline::raw_left_px(const std::vector<cv::Point2d>& rectified_px,

@@ -16,6 +16,7 @@
 #include "ball_detector/core/appearance_model.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/pipeline/detector_params.hpp"
+#include "ball_detector/pipeline/interior_depth.hpp"
 #include "ball_detector/pipeline/pairing.hpp"
 #include "common/util/result.hpp"
 #include "stereo/core/calibration.hpp"
@@ -49,7 +50,10 @@ enum class DetectionStatus {
   kSizeInconsistent,
   kNoCalibration,
   kBadFrame,
-  kOffFloor
+  kOffFloor,
+  /// A ball-sized pair on the floor whose inside is textured and matches between the eyes at
+  /// another depth than its outline: a round pattern on a surface (interior_depth.hpp).
+  kInteriorMismatch
 };
 
 /// Short name of a status ("found", "no_candidate", ...).
@@ -186,6 +190,9 @@ class StereoPipeline {
   PairingResult pair_with_predicted_partners(const PairingContext& ctx,
                                              const std::optional<PositionPrior>& prior);
   void fill_result(const PairingResult& pairing, StereoDetection& out) const;
+  ShiftWindow shift_window(const StereoDetection& found) const;
+  void check_interior(const cv::Mat& left_channel, const cv::Mat& right_channel, bool rectified,
+                      StereoDetection& found);
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
   void raw_left_px(const std::vector<cv::Point2d>& rectified_px, std::vector<cv::Point2d>& raw_px);
   std::optional<ColourHistogram> colour_of(const Circle& left);
@@ -202,6 +209,7 @@ class StereoPipeline {
   std::optional<stereo::Triangulator> triangulator_;
   cv::Matx33d patch_ray_from_pixel_;  // rectified pixel -> ray in the raw left camera
   cv::Mat grey_left_, grey_right_, rect_left_, rect_right_;
+  cv::Mat interior_left_, interior_right_;  // rectified regions the interior check reads
   cv::Mat patch_map_, patch_bgr_;
   std::vector<cv::Point3d> patch_rays_;
   std::vector<cv::Point2d> patch_raw_px_;

@@ -50,6 +50,8 @@ std::string status_name(std::int32_t s) {
       return "bad_frame";
     case stereoball_msg_DETECTION_OFF_FLOOR:
       return "off_floor";
+    case stereoball_msg_DETECTION_INTERIOR_MISMATCH:
+      return "interior_mismatch";
   }
   return "unknown(" + std::to_string(s) + ")";
 }
