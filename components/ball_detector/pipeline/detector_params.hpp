@@ -9,8 +9,8 @@
 #include <string>
 
 #include "ball_detector/core/appearance_model.hpp"
-#include "ball_detector/pipeline/interior_depth.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/pipeline/interior_depth.hpp"
 #include "common/params/field_table.hpp"
 #include "common/util/result.hpp"
 

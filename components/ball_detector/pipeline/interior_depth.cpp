@@ -9,13 +9,15 @@
 namespace stereoball::ball_detector {
 namespace {
 
-// The square inside the outline, half side 0.55 r: its corners (0.78 r from the centre) stay
-// clear of the rim, whose pixels mix the ball with what is behind it.
-constexpr double kHalfSidePerRadius = 0.55;
+// The disc inside the outline, 0.8 r: the rim's pixels mix the ball with what is behind it.
+// Its front part is the ball's surface between its centre's depth and its nearest point.
+constexpr double kInsidePerRadius = 0.8;
 // Rows matched: enough texture for a clear correlation peak at any radius, and a bounded cost
-// (about 12 x 2 x 0.55 r x shifts products) for the largest circles.
+// (about 12 x 3 x 1.6 r x shifts products) for the largest circles.
 constexpr int kMaxRows = 12;
 constexpr int kMinWidthPx = 8;
+// A row cut to what the right eye sees keeps at least this many pixels (a few texture blobs).
+constexpr int kMinCutWidthPx = 24;
 // Real rigs rectify to within a pixel: each row is matched one row up and down as well.
 constexpr int kRowSlackPx = 1;
 // Shifts this close to the ball's own range count as the ball's (sub-pixel outline, rounding).
@@ -31,28 +33,45 @@ double mean_std(const cv::Mat& m) {
   return sum / m.channels();
 }
 
-std::vector<int> sample_rows(const cv::Rect& region) {
-  const int top = region.y + kRowSlackPx, bottom = region.y + region.height - 1 - kRowSlackPx;
-  std::vector<int> rows;
-  if (bottom < top) return rows;
-  const int n = std::min(kMaxRows, bottom - top + 1);
-  for (int i = 0; i < n; ++i) rows.push_back(n == 1 ? top : top + i * (bottom - top) / (n - 1));
-  return rows;
-}
+// One sampled row of the inside: columns [x, x + width) of row y.
+struct RowSpan {
+  int y = 0, x = 0, width = 0;
+};
 
+// Up to kMaxRows rows evenly over the part of the inside disc in the image (one row of slack
+// from the top and bottom borders), each the disc's chord there clipped to the image. A circle
+// whose centre is below the image (a chance circle on close carpet, a ball passing under the
+// camera) is judged on the part of its inside that shows.
+std::vector<RowSpan> interior_spans(const Circle& circle, cv::Size size) {
+  std::vector<RowSpan> spans;
+  const double reach = kInsidePerRadius * circle.radius_px;
+  if (!(reach > 0.0) || !std::isfinite(circle.x_px) || !std::isfinite(circle.y_px) ||
+      !std::isfinite(reach))
+    return spans;
+  const double top_d = std::max(std::ceil(circle.y_px - reach), double{kRowSlackPx});
+  const double bottom_d =
+      std::min(std::floor(circle.y_px + reach), static_cast<double>(size.height - 1 - kRowSlackPx));
+  if (bottom_d < top_d) return spans;
+  const int top = static_cast<int>(top_d), bottom = static_cast<int>(bottom_d);
+  const int n = std::min(kMaxRows, bottom - top + 1);
+  for (int i = 0; i < n; ++i) {
+    const int y = n == 1 ? top : top + i * (bottom - top) / (n - 1);
+    const double dy = y - circle.y_px;
+    const double half = std::sqrt(std::max(0.0, reach * reach - dy * dy));
+    const int x0 = std::max(0, static_cast<int>(std::ceil(circle.x_px - half)));
+    const int x1 = std::min(size.width, static_cast<int>(std::floor(circle.x_px + half)) + 1);
+    if (x1 - x0 >= kMinWidthPx) spans.push_back({y, x0, x1 - x0});
+  }
+  return spans;
+}
 
 }  // namespace
 
 cv::Rect interior_rows_region(const Circle& circle, cv::Size size) {
-  const double h = kHalfSidePerRadius * circle.radius_px;
-  if (!(h > 0.0) || !std::isfinite(circle.x_px) || !std::isfinite(circle.y_px)) return {};
-  const cv::Point tl(static_cast<int>(std::ceil(circle.x_px - h)),
-                     static_cast<int>(std::ceil(circle.y_px - h)) - kRowSlackPx);
-  const cv::Point br(static_cast<int>(std::floor(circle.x_px + h)) + 1,
-                     static_cast<int>(std::floor(circle.y_px + h)) + 1 + kRowSlackPx);
-  const cv::Rect region = cv::Rect(tl, br) & cv::Rect(cv::Point(0, 0), size);
-  if (region.width < kMinWidthPx || region.height < 1 + 2 * kRowSlackPx) return {};
-  return region;
+  cv::Rect box;
+  for (const RowSpan& s : interior_spans(circle, size))
+    box |= cv::Rect(s.x, s.y - kRowSlackPx, s.width, 1 + 2 * kRowSlackPx);
+  return box & cv::Rect(cv::Point(0, 0), size);
 }
 
 cv::Rect interior_search_region(const cv::Rect& left_region, const ShiftWindow& window,
@@ -69,6 +88,7 @@ namespace {
 
 struct RowMatch {
   bool textured = false;
+  bool ball_in_view = false;
   double best_shift_px = 0.0, best_match = -1.0, ball_match = -1.0;
 };
 
@@ -76,24 +96,49 @@ struct RowMatch {
 // in [s_lo, s_hi]: each row on its own, because a floor seen by a level rig has one disparity
 // per row and a different one on the next (a joint template over a slanted floor matches
 // nowhere).
-RowMatch match_row(const cv::Mat& left, const cv::Mat& right, int y, const cv::Rect& region,
-                   int s_lo, int s_hi, const ShiftWindow& window, const InteriorDepthParams& p,
+// The part of span matched: near the left border a close ball's inside is partly left of
+// anything the right eye sees at its disparity (its partner cut off), and nothing there can be
+// matched at any shift larger than its column. The row is cut where the ball's own shifts stay
+// in view, or as far as keeps kMinCutWidthPx pixels (shifts up to the cut can be tested).
+RowSpan cut_to_right_view(const RowSpan& span, const ShiftWindow& window) {
+  const int end = span.x + span.width;
+  const int first =
+      std::min(static_cast<int>(std::ceil(window.ball_hi_px + kBallSlackPx)), end - kMinCutWidthPx);
+  if (span.x >= first) return span;
+  return {span.y, first, end - first};
+}
+
+RowMatch match_row(const cv::Mat& left, const cv::Mat& right, const RowSpan& whole,
+                   const ShiftWindow& window, const InteriorDepthParams& p,
                    std::vector<float>& match) {
   RowMatch out;
-  const cv::Mat templ = left(cv::Rect(region.x, y, region.width, 1));
+  const RowSpan span = cut_to_right_view(whole, window);
+  // Whole shifts s keep the row's columns [x - s, x + width - s) inside the right image.
+  const int s_lo =
+      std::max(static_cast<int>(std::ceil(window.search_lo_px)), span.x + span.width - right.cols);
+  const int s_hi = std::min(static_cast<int>(std::floor(window.search_hi_px)), span.x);
+  if (s_hi < s_lo) return out;
+  // The ball's own shifts may put this row outside the right image (a close ball at the left
+  // border, its partner mostly cut off): then only a strong match elsewhere counts.
+  out.ball_in_view =
+      s_hi >= window.ball_lo_px - kBallSlackPx && s_lo <= window.ball_hi_px + kBallSlackPx;
+  const cv::Mat templ = left(cv::Rect(span.x, span.y, span.width, 1));
   if (mean_std(templ) < p.min_texture) return out;
   out.textured = true;
   match.assign(static_cast<std::size_t>(s_hi - s_lo + 1), -1.0f);
   cv::Mat result;
-  const int strip_x = region.x - s_hi, strip_width = region.width + (s_hi - s_lo);
-  for (int dy = -kRowSlackPx; dy <= kRowSlackPx; ++dy) {
-    const int yr = std::clamp(y + dy, 0, right.rows - 1);
-    cv::matchTemplate(right(cv::Rect(strip_x, yr, strip_width, 1)), templ, result,
-                      cv::TM_CCOEFF_NORMED);
-    // result column j: the row at strip_x + j in the right eye, i.e. shift s_hi - j.
+  const int strip_x = span.x - s_hi, strip_width = span.width + (s_hi - s_lo);
+  // One call over the rows y-1..y+1 (spans keep a row of slack from the image borders).
+  const int y0 = std::max(span.y - kRowSlackPx, 0);
+  const int y1 = std::min(span.y + kRowSlackPx, right.rows - 1);
+  cv::matchTemplate(right(cv::Rect(strip_x, y0, strip_width, y1 - y0 + 1)), templ, result,
+                    cv::TM_CCOEFF_NORMED);
+  // result column j: the row at strip_x + j in the right eye, i.e. shift s_hi - j.
+  for (int i = 0; i < result.rows; ++i) {
+    const float* row = result.ptr<float>(i);
     for (int j = 0; j < result.cols; ++j) {
       float& m = match[static_cast<std::size_t>(s_hi - j - s_lo)];
-      m = std::max(m, result.at<float>(0, j));
+      m = std::max(m, row[j]);
     }
   }
   for (int s = s_lo; s <= s_hi; ++s) {
@@ -111,6 +156,7 @@ RowMatch match_row(const cv::Mat& left, const cv::Mat& right, int y, const cv::R
 bool row_elsewhere(const RowMatch& r, const ShiftWindow& window, const InteriorDepthParams& p) {
   const bool outside = r.best_shift_px < window.ball_lo_px - kBallSlackPx ||
                        r.best_shift_px > window.ball_hi_px + kBallSlackPx;
+  if (!r.ball_in_view) return outside && r.best_match >= std::min(0.95, p.min_match + p.min_margin);
   return outside && r.best_match >= p.min_match && r.best_match - r.ball_match >= p.min_margin;
 }
 
@@ -122,18 +168,10 @@ InteriorDepth interior_depth(const cv::Mat& left, const cv::Mat& right, const Ci
   if (left.empty() || left.type() != right.type() || left.size() != right.size() ||
       left.depth() != CV_8U)
     return out;
-  const cv::Rect region = interior_rows_region(circle, left.size());
-  const std::vector<int> rows = sample_rows(region);
-  if (rows.empty()) return out;
-  // Whole shifts s keep the row's columns [x - s, x + width - s) inside the right image.
-  const int s_lo = std::max(static_cast<int>(std::ceil(window.search_lo_px)),
-                            region.br().x - right.cols);
-  const int s_hi = std::min(static_cast<int>(std::floor(window.search_hi_px)), region.x);
-  if (s_hi < s_lo) return out;
   std::vector<float> match;
   std::vector<RowMatch> elsewhere;
-  for (const int y : rows) {
-    const RowMatch r = match_row(left, right, y, region, s_lo, s_hi, window, params, match);
+  for (const RowSpan& span : interior_spans(circle, left.size())) {
+    const RowMatch r = match_row(left, right, span, window, params, match);
     if (!r.textured) continue;
     ++out.rows_textured;
     if (row_elsewhere(r, window, params)) elsewhere.push_back(r);
@@ -142,10 +180,9 @@ InteriorDepth interior_depth(const cv::Mat& left, const cv::Mat& right, const Ci
   out.rows_elsewhere = static_cast<int>(elsewhere.size());
   if (elsewhere.empty()) return out;
   // The reason quotes the median row that lies elsewhere.
-  std::nth_element(elsewhere.begin(), elsewhere.begin() + elsewhere.size() / 2, elsewhere.end(),
-                   [](const RowMatch& a, const RowMatch& b) {
-                     return a.best_shift_px < b.best_shift_px;
-                   });
+  std::nth_element(
+      elsewhere.begin(), elsewhere.begin() + elsewhere.size() / 2, elsewhere.end(),
+      [](const RowMatch& a, const RowMatch& b) { return a.best_shift_px < b.best_shift_px; });
   const RowMatch& median = elsewhere[elsewhere.size() / 2];
   out.best_shift_px = median.best_shift_px;
   out.best_match = median.best_match;

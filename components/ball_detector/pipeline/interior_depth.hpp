@@ -44,8 +44,9 @@ struct InteriorDepth {
   bool contradicts = false;    ///< most textured rows lie clearly at another depth
 };
 
-/// The left rectified pixels whose rows the check samples: the square inside circle (half side
-/// 0.55 r) clipped to an image of size, one row of margin above and below. Empty if too small.
+/// The left rectified pixels the check reads: up to 12 rows evenly over the disc of 0.8 r inside
+/// circle, each its chord, clipped to an image of size, one row of margin above and below
+/// (bounding box). Empty if nothing of the inside is in the image.
 cv::Rect interior_rows_region(const Circle& circle, cv::Size size);
 
 /// The right rectified pixels the check reads for window (the region's columns moved by every
@@ -53,7 +54,8 @@ cv::Rect interior_rows_region(const Circle& circle, cv::Size size);
 cv::Rect interior_search_region(const cv::Rect& left_region, const ShiftWindow& window,
                                 cv::Size size);
 
-/// Matches each of up to 12 rows of the interior of circle (left) along the same row of right
+/// Matches each of up to 12 rows (chords of the 0.8 r disc) of the interior of circle (left) along
+/// the same row of right
 /// (+-1 row) at every whole shift of window's search range, by normalised cross-correlation;
 /// contradicts when more than half of the textured rows (at least 3) match clearly better off
 /// the ball's shifts. left and right: rectified 8-bit images of one type (1 or 3 channels),

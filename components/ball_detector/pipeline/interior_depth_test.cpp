@@ -28,7 +28,9 @@ cv::Mat shifted(const cv::Mat& left, int shift_px) {
   return right;
 }
 
-bd::ShiftWindow ball_at(double lo, double hi) { return {lo, hi, 0.0, 1.5 * hi + 8.0}; }
+bd::ShiftWindow ball_at(double lo, double hi) {
+  return {lo, hi, 0.0, 1.5 * hi + 8.0};
+}
 
 }  // namespace
 
@@ -52,7 +54,8 @@ TEST(InteriorDepth, CircleOnASlantedFloorContradicts) {
   cv::Mat right(left.size(), left.type(), cv::Scalar::all(0));
   for (int y = 0; y < left.rows; ++y) {
     const int shift = 20 + (y * 60) / left.rows;  // 20 px at the top, 80 px at the bottom
-    left(cv::Rect(shift, y, left.cols - shift, 1)).copyTo(right(cv::Rect(0, y, left.cols - shift, 1)));
+    left(cv::Rect(shift, y, left.cols - shift, 1))
+        .copyTo(right(cv::Rect(0, y, left.cols - shift, 1)));
   }
   const bd::Circle circle{400.0, 420.0, 180.0, 0.9};
   const bd::InteriorDepth d = bd::interior_depth(left, right, circle, ball_at(200, 260), {});
@@ -116,13 +119,62 @@ TEST(InteriorDepth, CircleMostlyBelowTheImageIsJudgedOnItsVisibleInside) {
   EXPECT_TRUE(d.contradicts);
 }
 
+TEST(InteriorDepth, CircleWhoseCentreIsFarBelowTheImageIsJudgedOnItsTopChords) {
+  // Seen on development seed 202: centre 120 px below the image, radius 220 px, on carpet.
+  const cv::Mat left = texture(9);
+  const cv::Mat right = shifted(left, 90);
+  const bd::Circle circle{370.0, 600.0, 220.0, 0.9};
+  ASSERT_FALSE(bd::interior_rows_region(circle, left.size()).empty());
+  const bd::InteriorDepth d = bd::interior_depth(left, right, circle, ball_at(220, 280), {});
+  EXPECT_TRUE(d.textured);
+  EXPECT_NEAR(d.best_shift_px, 90.0, 0.5);
+  EXPECT_TRUE(d.contradicts);
+}
+
+TEST(InteriorDepth, NearTheLeftBorderTheRowsAreCutToWhatTheRightEyeSees) {
+  // Seen on development seed 202: centre x 139, radius 188, partner 163 px to the left (mostly
+  // outside the right image); the carpet under it is at 60 px.
+  const cv::Mat left = texture(12);
+  const cv::Mat right = shifted(left, 60);
+  const bd::Circle circle{139.0, 300.0, 150.0, 0.9};
+  const bd::InteriorDepth d = bd::interior_depth(left, right, circle, ball_at(163, 200), {});
+  EXPECT_TRUE(d.textured);
+  EXPECT_NEAR(d.best_shift_px, 60.0, 0.5);
+  EXPECT_TRUE(d.contradicts);
+  // The same place holding a textured ball at its own 163-200 px stands.
+  const cv::Mat ball_right = shifted(left, 170);
+  const bd::InteriorDepth ball =
+      bd::interior_depth(left, ball_right, circle, ball_at(163, 200), {});
+  EXPECT_FALSE(ball.contradicts);
+}
+
+TEST(InteriorDepth, WhereTheBallsOwnDepthIsOutOfViewOnlyAStrongMatchElsewhereCounts) {
+  // The ball's shift would put its inside beyond the right image's left border: no match at
+  // the ball's depth to compare with. An exact copy of the texture elsewhere still tells...
+  const cv::Mat left = texture(10);
+  const cv::Mat right = shifted(left, 20);
+  const bd::Circle circle{120.0, 240.0, 60.0, 0.9};
+  const bd::InteriorDepth exact = bd::interior_depth(left, right, circle, ball_at(200, 230), {});
+  EXPECT_TRUE(exact.textured);
+  EXPECT_NEAR(exact.best_shift_px, 20.0, 0.5);
+  EXPECT_TRUE(exact.contradicts);
+  // ... a weak resemblance (correlation about 0.6) does not.
+  cv::Mat noise(right.size(), CV_16SC3);
+  cv::RNG(11).fill(noise, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(45));
+  cv::Mat noisy;
+  cv::add(right, noise, noisy, cv::noArray(), CV_8UC3);
+  const bd::InteriorDepth weak = bd::interior_depth(left, noisy, circle, ball_at(200, 230), {});
+  EXPECT_TRUE(weak.textured);
+  EXPECT_FALSE(weak.contradicts) << weak.best_match;
+}
+
 TEST(InteriorDepth, UnusableInputGivesNoVerdictInsteadOfACrash) {
   const cv::Mat left = texture(7);
   const bd::ShiftWindow w = ball_at(20, 30);
   const bd::Circle inside{320.0, 240.0, 50.0, 0.9};
   cv::Mat grey;
   cv::cvtColor(left, grey, cv::COLOR_BGR2GRAY);
-  EXPECT_FALSE(bd::interior_depth(left, grey, inside, w, {}).textured);         // types differ
+  EXPECT_FALSE(bd::interior_depth(left, grey, inside, w, {}).textured);  // types differ
   EXPECT_FALSE(bd::interior_depth(left, left(cv::Rect(0, 0, 100, 100)), inside, w, {}).textured);
   EXPECT_FALSE(bd::interior_depth(left, left, {-500.0, 240.0, 50.0, 0.9}, w, {}).textured);
   EXPECT_FALSE(bd::interior_depth(left, left, {320.0, 240.0, 2.0, 0.9}, w, {}).textured);
@@ -133,7 +185,12 @@ TEST(InteriorDepth, UnusableInputGivesNoVerdictInsteadOfACrash) {
 TEST(InteriorDepth, SearchRegionCoversEveryShiftAndStaysInTheImage) {
   const cv::Rect left_region = bd::interior_rows_region({320.0, 240.0, 100.0, 0.9}, {640, 480});
   ASSERT_FALSE(left_region.empty());
-  EXPECT_EQ(left_region.width, 111);  // columns 265..375
+  // Within the 0.8 r disc (columns 240..400), its widest sampled chord near the centre row.
+  EXPECT_GE(left_region.x, 240);
+  EXPECT_LE(left_region.br().x, 401);
+  EXPECT_GE(left_region.width, 150);
+  EXPECT_GE(left_region.y, 159);
+  EXPECT_LE(left_region.br().y, 322);
   const cv::Rect r = bd::interior_search_region(left_region, {60, 70, 0, 113}, {640, 480});
   EXPECT_EQ(r.x, left_region.x - 113);
   EXPECT_EQ(r.br().x, left_region.br().x);
