@@ -359,7 +359,7 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
     left_candidates_.push_back(c);
   }
   right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, true);
-  PairingResult pairing = pair_with_predicted_partners(ctx, prior);
+  PairingResult pairing = pair_with_predicted_partners(ctx, prior, true);
   ++frames_since_full_search_;
   // Only a ball where the track expects it ends the search; anything else needs the frame.
   if (pairing.status == PairingStatus::kFound &&
@@ -399,7 +399,7 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
       right_candidates_ = right_detector_.detect(rect_right_);
       right_edges_box_ = cv::Rect(cv::Point(0, 0), rect_right_.size());
     }
-    pairing = pair_with_predicted_partners(ctx, prior);
+    pairing = pair_with_predicted_partners(ctx, prior, false);
     paired = pairing.status == PairingStatus::kFound;
   });
   if (band_left && !paired) *band_left = std::move(bands);
@@ -490,19 +490,27 @@ PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
       right_candidates_.push_back(c);
     }
   }
-  PairingResult pairing = pair_with_predicted_partners(ctx, prior);
+  PairingResult pairing = pair_with_predicted_partners(ctx, prior, false);
   return pairing;
 }
 
 PairingResult StereoPipeline::pair_with_predicted_partners(
-    const PairingContext& ctx, const std::optional<PositionPrior>& prior) {
+    const PairingContext& ctx, const std::optional<PositionPrior>& prior, bool near_prior) {
   rejected_by_colour_ += apply_appearance();
   PairingResult pairing = pair_candidates(ctx, left_candidates_, right_candidates_, prior);
   if (!params_.predicted_partner || pairing.status == PairingStatus::kFound) return pairing;
   // The left circle passed its own border rule; the right eye sees the ball shifted by the
   // disparity, often farther out of the image, and its outline has one free parameter left:
   // a smaller part in view suffices.
-  const auto predicted = predicted_partners(ctx, params_.predicted_partner_min_inside_fraction);
+  // Only where the track expects the ball: elsewhere (a new track starts there) the right outline
+  // needs the detector's own border rule, for a left circle at the left border whose partner is
+  // mostly outside the right image has too little of it in view to tell a ball from a chance
+  // circle in dense texture (development seed 202: most of the carpet circles still followed).
+  const double min_inside =
+      near_prior ? params_.predicted_partner_min_inside_fraction
+                 : std::max(params_.predicted_partner_min_inside_fraction,
+                            params_.detector_params().refine_params.min_inside_fraction);
+  const auto predicted = predicted_partners(ctx, min_inside);
   if (predicted.empty()) return pairing;
   right_candidates_.insert(right_candidates_.end(), predicted.begin(), predicted.end());
   return pair_candidates(ctx, left_candidates_, right_candidates_, prior);

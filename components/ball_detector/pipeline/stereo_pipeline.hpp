@@ -188,7 +188,8 @@ class StereoPipeline {
                                             bool rectified, bool near_prior);
   std::vector<Circle> predicted_partners(const PairingContext& ctx, double min_inside_fraction);
   PairingResult pair_with_predicted_partners(const PairingContext& ctx,
-                                             const std::optional<PositionPrior>& prior);
+                                             const std::optional<PositionPrior>& prior,
+                                             bool near_prior);
   void fill_result(const PairingResult& pairing, StereoDetection& out) const;
   ShiftWindow shift_window(const StereoDetection& found) const;
   void check_interior(const cv::Mat& left_channel, const cv::Mat& right_channel, bool rectified,

@@ -288,22 +288,33 @@ sb::ball_detector::StereoDetection step_with_prior(StereoPipeline& pipe, const R
 
 // Given a ball 0.38 m away whose lower part lies below both images and, in the right eye, its
 // left side beyond the left border: the right eye holds too little of it for a circle of its
-// own; then the right partner is found along the left circle's epipolar line as the outline
-// its ball makes there, on the whole frame and near a prior, with the position within 2 % of
-// the distance; without that search no pair is found on the whole frame.
-TEST(StereoPipeline, GivenABallCutByTheBorder_ThenPredictedPartnerFindsIt) {
+// own. Near a prior (the tracker follows it) the right partner is found along the left
+// circle's epipolar line as the outline its ball makes there (predicted_partner: 20 % of it in
+// view suffices), with the position within 2 % of the distance. On the whole frame, where a
+// new track would start, a predicted outline needs the detector's own border rule (half in
+// view): a chance circle in dense texture at the left border pairs that way with almost any
+// disparity, so no pair; with a lenient p2p.min_inside_fraction the whole frame pairs it too.
+// Without the search no pair is found on the whole frame.
+TEST(StereoPipeline, GivenABallCutByTheBorder_ThenPredictedPartnerFindsItNearThePrior) {
   const Rendered r = render_close_ball(0.44, 0.10);
   ASSERT_TRUE(r.frame.truth.ball_visible_left && r.frame.truth.ball_visible_right);
   const cv::Vec3d truth = truth_m(r.frame.truth);
   StereoPipeline pipe(close_ball_params());
   ASSERT_TRUE(pipe.set_calibration(r.calib).ok());
   const auto whole = pipe.step(r.frame.left, r.frame.right, false);
-  ASSERT_EQ(whole.status, DetectionStatus::kFound) << whole.reason;
-  EXPECT_LT(norm3(whole.position_m - truth), 0.02 * truth[2]);
-  EXPECT_LT(whole.row_residual_px, 0.5);
+  EXPECT_NE(whole.status, DetectionStatus::kFound) << whole.reason;
   const auto near = step_with_prior(pipe, r);
   ASSERT_EQ(near.status, DetectionStatus::kFound) << near.reason;
   EXPECT_LT(norm3(near.position_m - truth), 0.02 * truth[2]);
+  EXPECT_LT(near.row_residual_px, 0.5);
+
+  auto lenient = close_ball_params();
+  lenient.p2p.refine_params.min_inside_fraction = 0.2;
+  StereoPipeline lenient_pipe(lenient);
+  ASSERT_TRUE(lenient_pipe.set_calibration(r.calib).ok());
+  const auto lenient_whole = lenient_pipe.step(r.frame.left, r.frame.right, false);
+  ASSERT_EQ(lenient_whole.status, DetectionStatus::kFound) << lenient_whole.reason;
+  EXPECT_LT(norm3(lenient_whole.position_m - truth), 0.02 * truth[2]);
 
   auto off = close_ball_params();
   off.predicted_partner = false;
