@@ -54,6 +54,11 @@ cv::Rect interior_rows_region(const Circle& circle, cv::Size size);
 cv::Rect interior_search_region(const cv::Rect& left_region, const ShiftWindow& window,
                                 cv::Size size);
 
+/// cv::matchTemplate(image, templ, result, TM_CCOEFF_NORMED) for a one-row 8-bit template
+/// (1 or 3 channels, as image): summed directly when that is small, which skips OpenCV's DFT
+/// set-up; flat windows give 0.
+void row_template_correlation(const cv::Mat& image, const cv::Mat& templ, cv::Mat& result);
+
 /// Matches each of up to 12 rows (chords of the 0.8 r disc) of the interior of circle (left) along
 /// the same row of right
 /// (+-1 row) at every whole shift of window's search range, by normalised cross-correlation;

@@ -199,3 +199,25 @@ TEST(InteriorDepth, SearchRegionCoversEveryShiftAndStaysInTheImage) {
   const cv::Rect clipped = bd::interior_search_region(left_region, {60, 70, 0, 900}, {640, 480});
   EXPECT_EQ(clipped.x, 0);
 }
+
+TEST(RowTemplateCorrelation, GivenSmallOrLargeRows_ThenAsMatchTemplate) {
+  cv::RNG rng(21);
+  for (const int type : {CV_8UC1, CV_8UC3}) {
+    for (const cv::Size strip : {cv::Size(90, 3), cv::Size(900, 3)}) {
+      cv::Mat image(strip, type), templ(1, strip.width / 3, type);
+      rng.fill(image, cv::RNG::UNIFORM, cv::Scalar::all(0), cv::Scalar::all(256));
+      image(cv::Rect(0, 0, templ.cols, 1)).copyTo(templ);
+      image(cv::Rect(strip.width / 2, 1, strip.width / 2, 1)).setTo(cv::Scalar::all(77));  // flat
+      cv::Mat expected, got;
+      cv::matchTemplate(image, templ, expected, cv::TM_CCOEFF_NORMED);
+      bd::row_template_correlation(image, templ, got);
+      ASSERT_EQ(got.size(), expected.size());
+      EXPECT_NEAR(got.at<float>(0, 0), 1.0f, 1e-5);  // the template's own place
+      double worst = 0.0;
+      for (int r = 0; r < got.rows; ++r)
+        for (int c = 0; c < got.cols; ++c)
+          worst = std::max(worst, double{std::abs(got.at<float>(r, c) - expected.at<float>(r, c))});
+      EXPECT_LT(worst, 1e-4) << "type " << type << " width " << strip.width;
+    }
+  }
+}
