@@ -63,8 +63,11 @@ TEST(RogueHost, ThirdNamespaceMovesNothingAndClearsNoStop) {
       [&] {
         const auto log = system.robot_log();
         if (log.truths.size() < 10) return false;
+        // At rest in both: a robot searching when the stop came still turns while its
+        // angular speed ramps down, after its linear speed is already 0.
         for (size_t i = log.truths.size() - 10; i < log.truths.size(); ++i) {
           if (std::abs(log.truths[i].linear_mps) > 1e-6) return false;
+          if (std::abs(log.truths[i].angular_radps) > 1e-6) return false;
         }
         return true;
       },
