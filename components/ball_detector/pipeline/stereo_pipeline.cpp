@@ -631,18 +631,17 @@ void StereoPipeline::fill_result(const PairingResult& pairing, StereoDetection& 
 
 ShiftWindow StereoPipeline::shift_window(const StereoDetection& found) const {
   const stereo::Triangulator& tri = *triangulator_;
-  const double offset_px = tri.principal_left_px().x - tri.principal_right_px().x;
-  const double fb = tri.focal_px() * tri.baseline_m();
   const double depth_m = found.position_m[2];
   const double radius_m = 0.5 * params_.ball_diameter_m;
   const double measured_px = found.left.x_px - found.right.x_px;
   ShiftWindow w;
-  w.ball_lo_px = std::min(measured_px, offset_px + fb / depth_m);
+  w.ball_lo_px = std::min(measured_px, tri.disparity_for_depth_px(depth_m));
   // The nearest surface (the front of the ball) is one radius closer than the centre.
-  w.ball_hi_px =
-      std::max(measured_px, offset_px + fb / std::max(depth_m - radius_m, 0.5 * depth_m));
-  // Everything from far away up to well in front of the ball: what the texture may belong to.
-  w.search_lo_px = std::min(offset_px, 0.0);
+  w.ball_hi_px = std::max(measured_px,
+                          tri.disparity_for_depth_px(std::max(depth_m - radius_m, 0.5 * depth_m)));
+  // Everything from far away (the principal points' offset, or 0) up to well in front of the
+  // ball: what the texture may belong to.
+  w.search_lo_px = std::min(tri.principal_left_px().x - tri.principal_right_px().x, 0.0);
   w.search_hi_px = 1.5 * w.ball_hi_px + 8.0;
   return w;
 }
@@ -667,19 +666,17 @@ void StereoPipeline::check_interior(const cv::Mat& left_channel, const cv::Mat& 
   }
   const InteriorDepth d = interior_depth(*left, *right, found.left, window, params_.interior_depth);
   if (!d.contradicts) return;
-  const double fb = triangulator_->focal_px() * triangulator_->baseline_m();
-  const double offset_px =
-      triangulator_->principal_left_px().x - triangulator_->principal_right_px().x;
-  const double surface_shift_px = d.best_shift_px - offset_px;
+  // Disparities as x_left - x_right, as the pairing's reasons give them.
   char where[32] = "far away";
-  if (surface_shift_px > 0.0) std::snprintf(where, sizeof where, "%.2f m", fb / surface_shift_px);
+  if (const auto depth_m = triangulator_->depth_from_disparity_m(d.best_shift_px))
+    std::snprintf(where, sizeof where, "%.2f m", *depth_m);
   char text[256];
   std::snprintf(text, sizeof text,
                 "texture inside the circle matches at disparity %.0f px (%s), not at the "
                 "outline's %.0f px (%.2f m; correlation %.2f vs %.2f): a round pattern on a "
                 "surface, not a ball",
-                surface_shift_px, where, found.left.x_px - found.right.x_px - offset_px,
-                found.position_m[2], d.best_match, d.ball_match);
+                d.best_shift_px, where, found.left.x_px - found.right.x_px, found.position_m[2],
+                d.best_match, d.ball_match);
   found.status = DetectionStatus::kInteriorMismatch;
   found.reason = text;
 }

@@ -53,6 +53,11 @@ std::optional<double> Triangulator::depth_from_disparity_m(double disparity_px) 
   return q_(2, 3) / w;
 }
 
+double Triangulator::disparity_for_depth_px(double depth_m) const {
+  // depth = q23 / (q32 d + q33)  <=>  d = (q23 / depth - q33) / q32
+  return (q_(2, 3) / depth_m - q_(3, 3)) / q_(3, 2);
+}
+
 double expected_radius_px(double focal_px, double diameter_m, double depth_m) {
   const double r = 0.5 * diameter_m;
   if (depth_m <= r) return 0.0;

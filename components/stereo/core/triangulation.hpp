@@ -25,6 +25,9 @@ class Triangulator {
 
   /// Depth (z) for a disparity x_left - x_right, metres; nullopt if not in front.
   std::optional<double> depth_from_disparity_m(double disparity_px) const;
+  /// Disparity x_left - x_right of a point depth_m ahead (> 0), pixels: depth_from_disparity_m
+  /// inverted.
+  double disparity_for_depth_px(double depth_m) const;
 
   /// Centre of a sphere of radius_m, left rectified frame, metres, from the centres of its
   /// image outlines (rectified pixels, rows averaged): each eye's centre is moved to the

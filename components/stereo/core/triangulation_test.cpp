@@ -25,6 +25,7 @@ TEST(Triangulator, GivenDisparityWhenTriangulatedThenDepthIsFocalTimesBaselineOv
   EXPECT_NEAR((*p)[0], 0.1, 1e-9);
   EXPECT_NEAR((*p)[1], 0.0, 1e-9);
   EXPECT_NEAR(*tri.depth_from_disparity_m(25.0), 2.0, 1e-9);
+  EXPECT_NEAR(tri.disparity_for_depth_px(2.0), 25.0, 1e-9);
   EXPECT_NEAR(tri.baseline_m(), 0.1, 1e-12);
 }
 
@@ -33,6 +34,16 @@ TEST(Triangulator, GivenZeroOrNegativeDisparityWhenTriangulatedThenNone) {
   EXPECT_FALSE(tri.point_m(300.0, 300.0, 240.0).has_value());
   EXPECT_FALSE(tri.point_m(300.0, 310.0, 240.0).has_value());
   EXPECT_FALSE(tri.depth_from_disparity_m(0.0).has_value());
+}
+
+TEST(Triangulator, GivenADepthThenItsDisparityTriangulatesBackToIt) {
+  // Principal points that differ between the eyes (as after real rectification) included.
+  const Triangulator tri = Triangulator::create(default_synthetic_rig().calibration()).value();
+  for (const double depth_m : {0.3, 1.0, 2.5, 7.0}) {
+    const auto back = tri.depth_from_disparity_m(tri.disparity_for_depth_px(depth_m));
+    ASSERT_TRUE(back.has_value()) << depth_m;
+    EXPECT_NEAR(*back, depth_m, 1e-9 * depth_m);
+  }
 }
 
 TEST(Triangulator, GivenInvalidCalibrationWhenCreatedThenErrorNamesField) {
