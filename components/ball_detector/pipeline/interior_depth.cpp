@@ -62,8 +62,11 @@ std::vector<RowSpan> interior_spans(const Circle& circle, cv::Size size) {
     const int y = n == 1 ? top : top + i * (bottom - top) / (n - 1);
     const double dy = y - circle.y_px;
     const double half = std::sqrt(std::max(0.0, reach * reach - dy * dy));
-    const int x0 = std::max(0, static_cast<int>(std::ceil(circle.x_px - half)));
-    const int x1 = std::min(size.width, static_cast<int>(std::floor(circle.x_px + half)) + 1);
+    // Clamped as doubles: a huge radius or a centre far off the image must not overflow int.
+    const int x0 = static_cast<int>(
+        std::clamp(std::ceil(circle.x_px - half), 0.0, static_cast<double>(size.width)));
+    const int x1 = static_cast<int>(
+        std::clamp(std::floor(circle.x_px + half) + 1.0, 0.0, static_cast<double>(size.width)));
     if (x1 - x0 >= kMinWidthPx) spans.push_back({y, x0, x1 - x0});
   }
   return spans;

@@ -180,6 +180,11 @@ TEST(InteriorDepth, UnusableInputGivesNoVerdictInsteadOfACrash) {
   EXPECT_FALSE(bd::interior_depth(left, left, {320.0, 240.0, 2.0, 0.9}, w, {}).textured);
   EXPECT_FALSE(bd::interior_depth(left, left, {NAN, 240.0, 50.0, 0.9}, w, {}).textured);
   EXPECT_TRUE(bd::interior_rows_region({-500.0, 240.0, 50.0, 0.9}, left.size()).empty());
+  // Huge or infinite radii and far-off centres: bounded to the image, no overflow.
+  EXPECT_FALSE(bd::interior_depth(left, left, {320.0, 240.0, INFINITY, 0.9}, w, {}).textured);
+  EXPECT_LE(bd::interior_depth(left, left, {1e300, 240.0, 1e299, 0.9}, w, {}).rows_textured, 12);
+  const cv::Rect huge = bd::interior_rows_region({320.0, 240.0, 1e200, 0.9}, left.size());
+  EXPECT_TRUE((huge & cv::Rect(0, 0, 640, 480)) == huge);
 }
 
 TEST(InteriorDepth, SearchRegionCoversEveryShiftAndStaysInTheImage) {
