@@ -91,6 +91,13 @@ int voter_sector(double px, double py) {
                   static_cast<int>(a * (kVoterSectors / (2.0 * std::numbers::pi))));
 }
 
+// The refinement options of PixelToPixelParams::polish (and rescue_weak_from).
+RefineParams polish_refine_params(RefineParams refine) {
+  refine.first_band_px = PixelToPixelParams::kPolishFirstBandPx;
+  refine.robust_fit_floor_px = PixelToPixelParams::kPolishRobustFloorPx;
+  return refine;
+}
+
 bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_sep) {
   return std::none_of(kept.begin(), kept.end(), [&](const Circle& k) {
     return fast_hypot(k.x_px - c.x_px, k.y_px - c.y_px) < min_sep;
@@ -148,6 +155,8 @@ Status PixelToPixelParams::validate() const {
     return Error{"refine_params.robust_fit_floor_px must be in [0, 10]"};
   if (!(refine_params.give_up_below >= 0.0 && refine_params.give_up_below <= 1.0))
     return Error{"refine_params.give_up_below must be in [0, 1]"};
+  if (!(rescue_weak_from >= 0.0 && rescue_weak_from <= 1.0))
+    return Error{"rescue_weak_from must be in [0, 1]"};
   if (!(coarse_min_score >= 0.0 && coarse_min_score <= 1.0))
     return Error{"coarse_min_score must be in [0, 1]"};
   if (!(coarse_min_voted_coverage >= 0.0 && coarse_min_voted_coverage <= 1.0))
@@ -403,6 +412,7 @@ int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
   opt.refine_params = params_.refine_params;
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
   opt.polish = params_.polish;
+  opt.rescue_weak_from = params_.rescue_weak_from;
   opt.min_voted_coverage = voted_coverage_gate_;
   opt.voter_mode_radius = voter_mode_radius_;
   voter_rows_ = VoterRows(voters_);
@@ -444,9 +454,7 @@ void sort_by_score(std::vector<Circle>& circles) {
 // pulled between outline and texture can cover more of both than the outline alone.
 void polish_circles(const EdgeMap& edges, const RefineParams& refine, double min_score,
                     std::vector<Circle>& circles) {
-  RefineParams robust = refine;
-  robust.first_band_px = PixelToPixelParams::kPolishFirstBandPx;
-  robust.robust_fit_floor_px = PixelToPixelParams::kPolishRobustFloorPx;
+  const RefineParams robust = polish_refine_params(refine);
   for (Circle& c : circles) {
     const auto polished = refine_circle(edges, c, robust);
     if (polished && polished->score >= min_score) c = *polished;
@@ -546,6 +554,12 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
           Circle{static_cast<double>(peak.x), static_cast<double>(peak.y), *ring_r, 0.0});
       if (alt && (!c || alt->score > c->score)) c = alt;
     }
+  }
+  // PixelToPixelParams::rescue_weak_from: a weak circle may be an outline the fit was pulled off.
+  if (options.refine && c && c->score >= options.rescue_weak_from && c->score < options.min_score) {
+    if (const auto robust = refine_circle(edges, *c, polish_refine_params(options.refine_params));
+        robust && robust->score > c->score)
+      c = robust;
   }
   if (!c || c->score < options.min_score) return std::nullopt;
   if (c->radius_px < options.min_radius_px || c->radius_px > options.max_radius_px)

@@ -59,6 +59,13 @@ struct PixelToPixelParams {
   bool polish = true;
   static constexpr double kPolishFirstBandPx = 4.0;
   static constexpr double kPolishRobustFloorPx = 0.6;
+  /// Addition (with refine): a candidate whose least-squares refinement scores at least this
+  /// but below min_score is refined once more as polish does (wider first band, robust fit) and
+  /// kept if that reaches min_score. A ball whose panel or stripe boundaries, or a floor line
+  /// crossing it, pull the least-squares circle off its outline scores low for the pull, not
+  /// for a missing outline; texture has no outline for the robust fit to find. In [0, 1];
+  /// >= min_score = off.
+  double rescue_weak_from = 0.4;
   /// Addition (speed, the single-image detect(image) only): candidates are found on the image
   /// halved (every step a quarter of the pixels; radii, separation and each k halved, k
   /// rounded up, so a k sees the same scene window either way), those scoring
@@ -146,7 +153,8 @@ struct CandidateOptions {
   int max_circles = 5;
   bool refine = true;
   RefineParams refine_params;
-  bool polish = false;  ///< PixelToPixelParams::polish
+  bool polish = false;            ///< PixelToPixelParams::polish
+  double rescue_weak_from = 1.0;  ///< PixelToPixelParams::rescue_weak_from
   /// > 0: a peak whose voters (the edge points whose lines pass it, within the radius range)
   /// lie in less than this fraction of 16 angular sectors around it is not refined.
   double min_voted_coverage = 0.0;

@@ -324,6 +324,83 @@ TEST(ColourEdges, GivenABallOfAnotherHueAtEqualBrightnessThenColourFindsItAndGre
   EXPECT_TRUE(PixelToPixelDetector(grey_params).detect(img).empty());
 }
 
+// A small two-panel ball on a planked floor, as the simulator's randomised scenes show it: one
+// panel contrasts well, the other is close to the floor's colour, and the boundary between
+// them curves a few pixels inside the rim. Two plank joints pass behind it.
+cv::Mat two_panel_ball_on_planks(cv::Point centre, int radius_px, int pale_step, int shift_px,
+                                 int joint_width_px) {
+  const cv::Scalar floor(90, 105, 95);
+  cv::Mat img(120, 160, CV_8UC3, floor);
+  const cv::Scalar joint(40, 50, 42);
+  cv::line(img, {0, 30}, {160, 90}, joint, joint_width_px, cv::LINE_AA);
+  cv::line(img, {0, 75}, {160, 45}, joint, joint_width_px, cv::LINE_AA);
+  cv::Mat ball(img.size(), CV_8UC3, cv::Scalar(110, 30, 150));
+  cv::Mat pale(img.size(), CV_8U, cv::Scalar(0));
+  cv::circle(pale, {centre.x + shift_px, centre.y - 2}, radius_px, 255, cv::FILLED, cv::LINE_AA);
+  ball.setTo(floor + cv::Scalar::all(pale_step), pale);
+  cv::Mat disc(img.size(), CV_8U, cv::Scalar(0));
+  cv::circle(disc, centre, radius_px, 255, cv::FILLED, cv::LINE_AA);
+  ball.copyTo(img, disc);
+  cv::Mat noise(img.size(), CV_16SC3);
+  cv::RNG rng(3);
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
+  cv::Mat noisy;
+  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
+  return noisy;
+}
+
+TEST(PixelToPixel, GivenSmallTwoPanelBallsOnPlanksThenTheRobustRescueFindsMoreAndLosesNone) {
+  // Given 96 such balls (radius, pale panel's step above the floor, boundary, joint width)
+  const cv::Point centre(80, 60);
+  auto found_with = [&](double rescue_weak_from, const cv::Mat& img, int radius_px) {
+    PixelToPixelParams p;
+    p.rescue_weak_from = rescue_weak_from;
+    for (const Circle& c : PixelToPixelDetector(p).detect(img))
+      // cv::circle's anti-aliased disc of radius r has its outline about 1 px outside r.
+      if (std::hypot(c.x_px - centre.x, c.y_px - centre.y) < 1.0 &&
+          std::abs(c.radius_px - (radius_px + 1.0)) < 1.0)
+        return true;
+    return false;
+  };
+  int with_rescue = 0, without = 0;
+  for (const int radius_px : {8, 10, 12, 14})
+    for (const int pale_step : {8, 14, 20, 30})
+      for (const int shift_px : {3, 5, 8})
+        for (const int joint_px : {1, 2}) {
+          const cv::Mat img =
+              two_panel_ball_on_planks(centre, radius_px, pale_step, shift_px, joint_px);
+          // When the detector runs with the rescue (the default) and without it (1.0 = off)
+          const bool rescued = found_with(PixelToPixelParams{}.rescue_weak_from, img, radius_px);
+          const bool plain = found_with(1.0, img, radius_px);
+          with_rescue += rescued;
+          without += plain;
+          // Then a ball found without the rescue is still found with it
+          EXPECT_TRUE(rescued || !plain) << "r " << radius_px << " step " << pale_step << " shift "
+                                         << shift_px << " joint " << joint_px;
+        }
+  // And the rescue finds clearly more (a fit pulled off a weak outline is its case)
+  EXPECT_GE(with_rescue, without + 5) << "with " << with_rescue << ", without " << without;
+}
+
+TEST(PixelToPixel, GivenImagesWithoutBallsThenTheRobustRescueAddsNoCircle) {
+  // Given lines and corners, clutter and ball-free scenes at both suite sizes
+  PixelToPixelParams p = multi_k();
+  PixelToPixelDetector rescue(p);
+  p.rescue_weak_from = 1.0;
+  PixelToPixelDetector no_rescue(p);
+  std::size_t with = 0, without = 0;
+  for (const SceneKind kind : {SceneKind::kLinesOnly, SceneKind::kNoBall})
+    for (const cv::Size size : {cv::Size(352, 288), cv::Size(640, 480)})
+      for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+        const auto scene = make_scene(kind, size, seed);
+        // When both detect
+        with += rescue.detect(scene.image).size();
+        without += no_rescue.detect(scene.image).size();
+      }
+  // Then the rescue reports no circle that the plain refinement does not
+  EXPECT_EQ(with, without);
+}
+
 TEST(PixelToPixel, GivenSpotsJustInsideTheRimThenTheBestCircleStaysOnTheRimWithOrWithoutPolishing) {
   // An orange ball with white spots reaching to a pixel or two of its rim on grey: colour
   // edges see each spot's boundary beside the outline.

@@ -153,6 +153,10 @@ std::vector<params::Field<P>> p2p_fields() {
              {0.0, 4000.0}, "px", "closest two candidates of one eye may be"),
       number("p2p.min_score", p2p(&P2P::min_score), core.min_score, {0.0, 1.0}, "",
              "candidates below this score (circumference coverage) are dropped"),
+      number("p2p.rescue_weak_from", p2p(&P2P::rescue_weak_from), core.rescue_weak_from, {0.0, 1.0},
+             "",
+             "candidates scoring from this to min_score are refitted robustly (a ball's outline "
+             "that patterns or floor lines pulled the fit off); >= min_score = off"),
       number("p2p.max_peaks_examined", p2p(&P2P::max_peaks_examined), core.max_peaks_examined,
              {1, 1000}, "", "accumulator peaks scored as candidates per eye, strongest first"),
       number("p2p.edge_min_threshold", at(&P::p2p, &P2P::edge, &EdgeParams::min_high_threshold),

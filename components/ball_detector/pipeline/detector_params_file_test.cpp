@@ -90,6 +90,7 @@ TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {
       {"edge_min_threshold: 24", "edge_min_threshold: -3", "p2p.edge_min_threshold"},
       {"max_candidates_per_eye: 5", "max_candidates_per_eye: 0", "max_candidates_per_eye"},
       {"min_score: 0.55", "min_score: 1.5", "p2p.min_score"},
+      {"rescue_weak_from: 0.4", "rescue_weak_from: nan", "p2p.rescue_weak_from"},
       {"max_candidates_per_eye: 5", "max_candidates_per_eye: 5\nunknown_key: 1", "unknown_key"},
   };
   for (const auto& c : cases) {
