@@ -292,7 +292,7 @@ TEST(Redetect, GivenPeaksRefinedOneByOneInReverseThenTheSameCirclesAsCirclesOfVo
     ASSERT_TRUE(whole.cast_votes(images[i]));
     // When one refines its peaks one by one, last first (as tasks may finish), and selects
     const int n = parts.find_peaks_of_votes();
-    std::vector<std::optional<Circle>> per_peak(static_cast<std::size_t>(n));
+    std::vector<PeakCircles> per_peak(static_cast<std::size_t>(n));
     for (int p = n - 1; p >= 0; --p) per_peak[static_cast<std::size_t>(p)] = parts.refine_peak(p);
     const auto found = parts.select_circles(per_peak);
     // Then it keeps exactly what the other's circles_of_votes keeps
@@ -301,8 +301,8 @@ TEST(Redetect, GivenPeaksRefinedOneByOneInReverseThenTheSameCirclesAsCirclesOfVo
   }
   EXPECT_GT(circles, 0);
   // And a peak index out of range refines to nothing
-  EXPECT_FALSE(parts.refine_peak(-1).has_value());
-  EXPECT_FALSE(parts.refine_peak(1000).has_value());
+  EXPECT_TRUE(parts.refine_peak(-1).empty());
+  EXPECT_TRUE(parts.refine_peak(1000).empty());
 }
 
 TEST(Redetect, GivenNoImageOrAnInvalidOneThenItFindsNothing) {

@@ -23,6 +23,9 @@ inline double fast_hypot(double a, double b) {
 constexpr int kMaxK = 31;                 // window rows are read as one 63-bit slice
 constexpr int kMaxCentreMarginPx = 4000;  // as max_radius_px: no centre is farther out
 constexpr double kRingSeedBelowScore = 0.8;
+// nested_circle: the voters at another distance must be this many, and this share of all.
+constexpr double kNestedMinVoters = 12.0;
+constexpr double kNestedMinShare = 0.25;
 // coarse_to_fine: smaller images are searched whole; a candidate's full-resolution window
 // reaches this far beyond its circle (the clutter rings and the first refinement band fit).
 constexpr int kCoarseMinSidePx = 64;
@@ -98,9 +101,14 @@ RefineParams polish_refine_params(RefineParams refine) {
   return refine;
 }
 
+// Two circles are one when their centres are closer than min_sep and their radii differ by
+// less than PixelToPixelParams::kSameCircleRadiusRatio of the larger.
 bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_sep) {
   return std::none_of(kept.begin(), kept.end(), [&](const Circle& k) {
-    return fast_hypot(k.x_px - c.x_px, k.y_px - c.y_px) < min_sep;
+    const double larger = std::max(k.radius_px, c.radius_px);
+    return fast_hypot(k.x_px - c.x_px, k.y_px - c.y_px) < min_sep &&
+           std::abs(k.radius_px - c.radius_px) <
+               PixelToPixelParams::kSameCircleRadiusRatio * larger;
   });
 }
 
@@ -370,7 +378,7 @@ void PixelToPixelDetector::vote_on_edges() {
 
 std::vector<Circle> PixelToPixelDetector::circles_on(const EdgeMap& edges) {
   const int n = peaks_on(edges);
-  std::vector<std::optional<Circle>> per_peak(static_cast<std::size_t>(n));
+  std::vector<PeakCircles> per_peak(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) per_peak[static_cast<std::size_t>(i)] = refine_peak(i);
   return select_circles(per_peak);
 }
@@ -413,23 +421,23 @@ int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
   opt.polish = params_.polish;
   opt.rescue_weak_from = params_.rescue_weak_from;
+  opt.nested_circles = true;
   opt.min_voted_coverage = voted_coverage_gate_;
   opt.voter_mode_radius = voter_mode_radius_;
   voter_rows_ = VoterRows(voters_);
   return static_cast<int>(peaks_.size());
 }
 
-std::optional<Circle> PixelToPixelDetector::refine_peak(int i) const {
-  if (i < 0 || i >= static_cast<int>(peaks_.size()) || !peak_edges_) return std::nullopt;
+PeakCircles PixelToPixelDetector::refine_peak(int i) const {
+  if (i < 0 || i >= static_cast<int>(peaks_.size()) || !peak_edges_) return {};
   return circle_from_peak(*peak_edges_, voters_, voter_rows_, peaks_[static_cast<std::size_t>(i)],
                           candidate_options_);
 }
 
 std::vector<Circle> PixelToPixelDetector::select_circles(
-    const std::vector<std::optional<Circle>>& per_peak) const {
+    const std::vector<PeakCircles>& per_peak) const {
   std::vector<Circle> found;
-  for (const auto& c : per_peak)
-    if (c) found.push_back(*c);
+  for (const auto& circles : per_peak) found.insert(found.end(), circles.begin(), circles.end());
   return ball_detector::select_circles(*peak_edges_, std::move(found), candidate_options_);
 }
 
@@ -469,7 +477,10 @@ std::vector<Circle> best_separated(std::vector<Circle> found, double min_separat
   std::vector<Circle> kept;
   for (const auto& c : found) {
     if (static_cast<int>(kept.size()) >= max_circles) break;
-    // Two peaks of one ball (e.g. its seam) refine onto the same circle: keep the better.
+    // Two peaks of one ball (e.g. its seam) refine onto the same circle: keep the better. A
+    // circle of another size around about the same centre is kept beside it: a striped ball's
+    // stripe round its cap is a full circle too, often better contrasted than the outline,
+    // and only the outline has the ball's size.
     if (far_from_all(kept, c, std::max(min_separation_px, 1.0))) kept.push_back(c);
   }
   return kept;
@@ -482,14 +493,58 @@ std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<V
                                        const CandidateOptions& options) {
   const VoterRows rows(voters);
   std::vector<Circle> found;
-  for (const auto& peak : peaks)
-    if (auto c = circle_from_peak(edges, voters, rows, peak, options)) found.push_back(*c);
+  for (const auto& peak : peaks) {
+    const PeakCircles circles = circle_from_peak(edges, voters, rows, peak, options);
+    found.insert(found.end(), circles.begin(), circles.end());
+  }
   return select_circles(edges, std::move(found), options);
 }
 
-std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
-                                       const VoterRows& rows, const Peak& peak,
-                                       const CandidateOptions& options) {
+namespace {
+
+std::optional<Circle> refine_or_score(const EdgeMap& edges, const Circle& seed,
+                                      const CandidateOptions& options) {
+  if (options.refine) return refine_circle(edges, seed, options.refine_params);
+  Circle unrefined = seed;
+  unrefined.score = score_circle(edges, seed, options.refine_params);
+  return unrefined;
+}
+
+bool same_size(double a_px, double b_px) {
+  return std::abs(a_px - b_px) < PixelToPixelParams::kSameCircleRadiusRatio * std::max(a_px, b_px);
+}
+
+bool acceptable(const std::optional<Circle>& c, const CandidateOptions& options) {
+  return c && c->score >= options.min_score && c->radius_px >= options.min_radius_px &&
+         c->radius_px <= options.max_radius_px;
+}
+
+// A striped ball's stripe round its cap is a full circle a few pixels off its outline's centre:
+// the two peaks merge into one, whose voters lie at two distances. The distance most voters
+// away from the circle found share (another size: kSameCircleRadiusRatio or more) seeds a
+// second circle. Only around a circle found: texture peaks have voters at every distance.
+std::optional<Circle> nested_circle(const EdgeMap& edges, const Peak& peak,
+                                    const std::vector<double>& radii, const Circle& found,
+                                    const CandidateOptions& options) {
+  std::vector<double> other;
+  for (const double r : radii)
+    if (!same_size(r, found.radius_px)) other.push_back(r);
+  if (static_cast<double>(other.size()) <
+      std::max(kNestedMinVoters, kNestedMinShare * radii.size()))
+    return std::nullopt;
+  const double r = densest_radius(other, options.min_radius_px, options.max_radius_px);
+  const auto nested = refine_or_score(
+      edges, Circle{static_cast<double>(peak.x), static_cast<double>(peak.y), r, 0.0}, options);
+  if (!acceptable(nested, options) || same_size(nested->radius_px, found.radius_px))
+    return std::nullopt;
+  return nested;
+}
+
+}  // namespace
+
+PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
+                             const VoterRows& rows, const Peak& peak,
+                             const CandidateOptions& options) {
   std::vector<double> radii;
   std::vector<cv::Point2d> support;
   std::uint32_t voted_sectors = 0;  // bit s: a voter lies in sector s around the peak
@@ -504,12 +559,12 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
     radii.push_back(std::sqrt(px * px + py * py));
     if (options.min_voted_coverage > 0.0) voted_sectors |= 1u << voter_sector(px, py);
   });
-  if (radii.size() < 3) return std::nullopt;
+  if (radii.size() < 3) return {};
   // A ball's outline votes from all sides, texture from one: judged on every voter of the
   // peak (not only those at the median distance, which other lines passing by can skew).
   if (options.min_voted_coverage > 0.0 &&
       std::popcount(voted_sectors) < options.min_voted_coverage * kVoterSectors)
-    return std::nullopt;
+    return {};
   const double r0 = options.voter_mode_radius
                         ? densest_radius(radii, options.min_radius_px, options.max_radius_px)
                         : median_of(radii);
@@ -530,12 +585,7 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
   if (const auto fit = fit_circle(support);
       fit && fast_hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)
     seed = *fit;
-  auto refine_seed = [&](const Circle& s) -> std::optional<Circle> {
-    if (options.refine) return refine_circle(edges, s, options.refine_params);
-    Circle unrefined = s;
-    unrefined.score = score_circle(edges, s, options.refine_params);
-    return unrefined;
-  };
+  auto refine_seed = [&](const Circle& s) { return refine_or_score(edges, s, options); };
   std::optional<Circle> c = refine_seed(seed);
   // Second seed only when the first is weak: the ring of edge points around the peak.
   // Voters from texture inside a ball can drag the voters' median radius; the ring cannot.
@@ -556,15 +606,18 @@ std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<V
     }
   }
   // PixelToPixelParams::rescue_weak_from: a weak circle may be an outline the fit was pulled off.
+  // Only a refit that can still reach min_score is worth its later rounds (give_up_below).
   if (options.refine && c && c->score >= options.rescue_weak_from && c->score < options.min_score) {
-    if (const auto robust = refine_circle(edges, *c, polish_refine_params(options.refine_params));
-        robust && robust->score > c->score)
-      c = robust;
+    RefineParams robust = polish_refine_params(options.refine_params);
+    robust.give_up_below = std::max(robust.give_up_below, options.min_score);
+    if (const auto refit = refine_circle(edges, *c, robust); refit && refit->score > c->score)
+      c = refit;
   }
-  if (!c || c->score < options.min_score) return std::nullopt;
-  if (c->radius_px < options.min_radius_px || c->radius_px > options.max_radius_px)
-    return std::nullopt;
-  return c;
+  if (!acceptable(c, options)) return {};
+  PeakCircles out{*c};
+  if (options.nested_circles)
+    if (auto nested = nested_circle(edges, peak, radii, *c, options)) out.push_back(*nested);
+  return out;
 }
 
 std::vector<Circle> select_circles(const EdgeMap& edges, std::vector<Circle> found,

@@ -25,9 +25,13 @@ struct PixelToPixelParams {
   EdgeParams edge;             ///< edge-map step
   int box_size_px = 5;         ///< accumulator smoothing window (odd), pixels
   double min_radius_px = 4.0;  ///< votes start this far along each line, pixels
-  double max_radius_px = 120.0;     ///< votes stop this far along each line, pixels
-  int max_circles = 5;              ///< most circles returned (addition)
-  double min_separation_px = 10.0;  ///< closest two returned centres may be (addition), pixels
+  double max_radius_px = 120.0;  ///< votes stop this far along each line, pixels
+  int max_circles = 5;           ///< most circles returned (addition)
+  /// Closest two returned centres of circles of about one size may be (addition), pixels:
+  /// circles whose radii differ by kSameCircleRadiusRatio of the larger or more are kept
+  /// around one centre (a striped ball's cap and its outline).
+  double min_separation_px = 10.0;
+  static constexpr double kSameCircleRadiusRatio = 0.2;
   double min_score = 0.55;          ///< circles scoring below are dropped (addition), [0, 1]
   int min_peak_votes = 12;          ///< smallest smoothed peak examined (votes in the box)
   double min_relative_peak = 0.15;  ///< peaks below this fraction of the strongest are ignored
@@ -142,6 +146,10 @@ class VoterRows {
   std::vector<float> prefix_max_, suffix_min_;
 };
 
+/// The circles one accumulator peak gives, best first: none, one, or one and a circle of another
+/// size nested around it (CandidateOptions::nested_circles).
+using PeakCircles = std::vector<Circle>;
+
 /// Candidates turned into circles for any 2D line-voting detector: consistent voters give the
 /// radius, least-squares refinement gives the sub-pixel centre, angular coverage the score.
 struct CandidateOptions {
@@ -155,6 +163,10 @@ struct CandidateOptions {
   RefineParams refine_params;
   bool polish = false;            ///< PixelToPixelParams::polish
   double rescue_weak_from = 1.0;  ///< PixelToPixelParams::rescue_weak_from
+  /// true: a peak whose circle is found also gives a circle of another size around about its
+  /// centre when enough of its voters lie at that distance (a striped ball's cap and outline,
+  /// whose peaks merge).
+  bool nested_circles = false;
   /// > 0: a peak whose voters (the edge points whose lines pass it, within the radius range)
   /// lie in less than this fraction of 16 angular sectors around it is not refined.
   double min_voted_coverage = 0.0;
@@ -192,8 +204,8 @@ class PixelToPixelDetector final : public CircleDetector {
   /// at once (it changes nothing); select_circles() of the results in peak order gives exactly
   /// circles_of_votes().
   int find_peaks_of_votes();
-  std::optional<Circle> refine_peak(int i) const;
-  std::vector<Circle> select_circles(const std::vector<std::optional<Circle>>& per_peak) const;
+  PeakCircles refine_peak(int i) const;
+  std::vector<Circle> select_circles(const std::vector<PeakCircles>& per_peak) const;
   /// detect() once more on the last image's edge map with other hints, without the edge step
   /// or the window rules (the lines they gave are plotted again over the new radii: the same
   /// image searched radius band by radius band); empty before the first image.
@@ -274,15 +286,15 @@ std::vector<Circle> circles_from_votes(const EdgeMap& edges, const std::vector<V
                                        const std::vector<Peak>& peaks,
                                        const CandidateOptions& options);
 
-/// One peak of circles_from_votes refined and scored; nullopt when it gives no circle (too few
+/// One peak of circles_from_votes refined and scored; empty when it gives no circle (too few
 /// voters, score or radius out of range). rows indexes voters.
-std::optional<Circle> circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
-                                       const VoterRows& rows, const Peak& peak,
-                                       const CandidateOptions& options);
+PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
+                             const VoterRows& rows, const Peak& peak,
+                             const CandidateOptions& options);
 
 /// The circles circles_from_votes keeps of the peaks' circles (in peak order): best score
-/// first, none within min_separation_px of a better one, at most max_circles; then polished on
-/// edges when options.polish (PixelToPixelParams::polish).
+/// first, none within min_separation_px of a better one of about its size, at most max_circles;
+/// then polished on edges when options.polish (PixelToPixelParams::polish).
 std::vector<Circle> select_circles(const EdgeMap& edges, std::vector<Circle> found,
                                    const CandidateOptions& options);
 

@@ -411,7 +411,7 @@ std::vector<Circle> StereoPipeline::left_circles_of_votes(bool peaks_at_once) {
   // independent. When the band search runs beside it, it has the other core to itself.
   if (!peaks_at_once) return left_detector_.circles_of_votes();
   const int n = left_detector_.find_peaks_of_votes();
-  std::vector<std::optional<Circle>> per_peak(static_cast<std::size_t>(n));
+  std::vector<PeakCircles> per_peak(static_cast<std::size_t>(n));
   run_tasks_(n,
              [&](int i) { per_peak[static_cast<std::size_t>(i)] = left_detector_.refine_peak(i); });
   return left_detector_.select_circles(per_peak);
