@@ -341,19 +341,21 @@ double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& 
   const double coverage =
       angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch);
   // Below the caller's threshold already: the score can only drop (it is dropped either way).
-  if (params.clutter_ring_per_radius <= 0.0 || coverage <= 0.0 || coverage < params.give_up_below)
+  if (params.clutter_ring_per_radius <= 0.0 || coverage <= 0.0 || coverage < params.give_up_below ||
+      round.radius_px < params.clutter_min_radius_px)
     return coverage;
   // Texture covers any circle drawn through it about as well as the outline does: subtract
-  // the coverage of the same circle grown and shrunk by a few pixels.
+  // the coverage of the same circle grown and shrunk by a few pixels, the cleaner of the two
+  // (texture surrounds a chance circle on both sides; a ball's outline has a cleaner side).
   const double step = std::max(2.0, params.clutter_ring_per_radius * round.radius_px);
-  double clutter = 0.0;
+  if (round.radius_px - step < 2.0) return coverage;  // no inner ring: nothing to compare
+  double clutter = 1.0;
   std::vector<cv::Point2d> ring_pts;
   for (double d : {-step, step}) {
     Circle ring = round;
     ring.radius_px += d;
-    if (ring.radius_px < 2.0) continue;
     gather_outline_points(edges, ring, stretch, band, params.min_radial_cos, ring_pts);
-    clutter = std::max(clutter, angular_coverage_in_frame(ring, ring_pts, edges.frame_px,
+    clutter = std::min(clutter, angular_coverage_in_frame(ring, ring_pts, edges.frame_px,
                                                           params.min_inside_fraction, stretch));
   }
   return std::max(0.0, coverage - clutter);

@@ -36,10 +36,17 @@ struct RefineParams {
   double first_band_px = 2.5;
   /// Addition: the fit's robust cut floor, px (fit_circle's robust_floor_px; 0 = least squares).
   double robust_fit_floor_px = 0.0;
-  /// Addition: when > 0, the score is the outline's coverage minus the larger coverage of the
+  /// Addition: when > 0, the score is the outline's coverage minus the smaller coverage of the
   /// circles this fraction of the radius (at least 2 px) larger and smaller, so that dense
-  /// texture, which covers every circle through it, does not score as an outline. 0 = off.
+  /// texture, which covers every circle through it, does not score as an outline. A ball's
+  /// outline has the ball on one side and the floor on the other, and at least one of them is
+  /// cleaner than texture around a chance circle: patterned ball on a plain floor, plain ball on
+  /// carpet. 0 = off.
   double clutter_ring_per_radius = 0.0;
+  /// Addition: the clutter rings apply only to circles at least this large, pixels. The scoring
+  /// band grows with the radius (band_per_radius), and a wide band over texture collects edge
+  /// points in most sectors by chance; a small circle's band is narrow.
+  double clutter_min_radius_px = 0.0;
   /// Addition (speed): when > 0, a caller that drops circles scoring below this says so, and
   /// refinement stops early on a candidate that cannot reach it: after the first (widest)
   /// round, if the coverage of the points gathered is below it (the score is coverage in a

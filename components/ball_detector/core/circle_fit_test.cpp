@@ -183,5 +183,34 @@ TEST(ClutterRings, GivenDenseTextureThenACircleThroughItScoresLowOnlyWithTheRing
   EXPECT_GT(score_circle(ball_edges, c, rings), 0.9);  // a clean outline keeps its score
 }
 
+TEST(ClutterRings, GivenAPlainBallOnATexturedFloorThenItKeepsItsScoreAndOnlyLargeCirclesAreJudged) {
+  // Given a bright plain disc on dense dark texture: the ring outside it lies on texture, the ring
+  // inside on the plain ball
+  cv::Mat floor(300, 300, CV_8UC1);
+  cv::RNG rng(5);
+  rng.fill(floor, cv::RNG::UNIFORM, 0, 120);
+  cv::GaussianBlur(floor, floor, cv::Size(0, 0), 0.8);
+  cv::circle(floor, {80, 80}, 40, cv::Scalar(230), cv::FILLED, cv::LINE_AA);
+  EdgeParams ep;
+  ep.max_high_threshold = 30.0;  // keep the texture's edges beside the outline's
+  EdgeMap edges;
+  compute_edge_map(floor, ep, edges);
+  const Circle ball{80.0, 80.0, 40.5, 0.0};
+  RefineParams plain, rings;
+  rings.clutter_ring_per_radius = 0.1;
+  // When scored with the rings, Then the cleaner (inner) ring takes almost nothing off
+  const double without = score_circle(edges, ball, plain);
+  ASSERT_GT(without, 0.8);
+  EXPECT_GT(score_circle(edges, ball, rings), without - 0.15);
+  // And a large chance circle in the texture loses most of its score, only while it is at
+  // least clutter_min_radius_px large
+  const Circle chance{200.0, 200.0, 70.0, 0.0};
+  const double chance_plain = score_circle(edges, chance, plain);
+  ASSERT_GT(chance_plain, 0.3);
+  EXPECT_LT(score_circle(edges, chance, rings), 0.5 * chance_plain);
+  rings.clutter_min_radius_px = 71.0;
+  EXPECT_DOUBLE_EQ(score_circle(edges, chance, rings), chance_plain);
+}
+
 }  // namespace
 }  // namespace stereoball::ball_detector

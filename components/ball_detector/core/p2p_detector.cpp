@@ -161,6 +161,12 @@ Status PixelToPixelParams::validate() const {
     return Error{"refine_params.first_band_px must be in (0, 20]"};
   if (!(refine_params.robust_fit_floor_px >= 0.0 && refine_params.robust_fit_floor_px <= 10.0))
     return Error{"refine_params.robust_fit_floor_px must be in [0, 10]"};
+  if (!(refine_params.clutter_ring_per_radius >= 0.0 &&
+        refine_params.clutter_ring_per_radius <= 1.0))
+    return Error{"refine_params.clutter_ring_per_radius must be in [0, 1]"};
+  if (!(refine_params.clutter_min_radius_px >= 0.0 &&
+        refine_params.clutter_min_radius_px <= 4000.0))
+    return Error{"refine_params.clutter_min_radius_px must be in [0, 4000]"};
   if (!(refine_params.give_up_below >= 0.0 && refine_params.give_up_below <= 1.0))
     return Error{"refine_params.give_up_below must be in [0, 1]"};
   if (!(rescue_weak_from >= 0.0 && rescue_weak_from <= 1.0))

@@ -158,6 +158,16 @@ std::vector<params::Field<P>> p2p_fields() {
              "",
              "candidates scoring from this to min_score are refitted robustly (a ball's outline "
              "that patterns or floor lines pulled the fit off); >= min_score = off"),
+      number("p2p.clutter_ring_per_radius",
+             at(&P::p2p, &P2P::refine_params, &RefineParams::clutter_ring_per_radius), 0.1,
+             {0.0, 1.0}, "",
+             "a circle's score loses the edge coverage of the cleaner of the circles this "
+             "fraction of its radius larger and smaller (texture covers both; 0 = off)"),
+      number("p2p.clutter_min_radius_px",
+             at(&P::p2p, &P2P::refine_params, &RefineParams::clutter_min_radius_px), 30.0,
+             {0.0, 4000.0}, "px",
+             "the clutter rings apply to circles at least this large (their scoring band is wide "
+             "enough to cover texture by chance)"),
       number("p2p.max_peaks_examined", p2p(&P2P::max_peaks_examined), core.max_peaks_examined,
              {1, 1000}, "", "accumulator peaks scored as candidates per eye, strongest first"),
       number("p2p.edge_min_threshold", at(&P::p2p, &P2P::edge, &EdgeParams::min_high_threshold),
