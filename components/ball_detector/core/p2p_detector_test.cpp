@@ -15,6 +15,16 @@
 namespace stereoball::ball_detector {
 namespace {
 
+// img with Gaussian noise of 2 grey levels per channel, as a camera adds (seeded).
+cv::Mat with_sensor_noise(const cv::Mat& img, int seed) {
+  cv::Mat noise(img.size(), CV_16SC3);
+  cv::RNG rng(static_cast<std::uint64_t>(seed));
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
+  cv::Mat noisy;
+  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
+  return noisy;
+}
+
 double centre_error(const Circle& a, const Circle& b) {
   return std::hypot(a.x_px - b.x_px, a.y_px - b.y_px);
 }
@@ -239,12 +249,7 @@ cv::Mat ball_with_striped_cap(cv::Point centre, int radius_px, cv::Point cap_cen
   cv::Mat img(240, 320, CV_8UC3, cv::Scalar(120, 120, 120));
   cv::circle(img, centre, radius_px, cv::Scalar(60, 200, 70), cv::FILLED, cv::LINE_AA);
   cv::circle(img, cap_centre, cap_radius_px, cv::Scalar(230, 200, 240), cv::FILLED, cv::LINE_AA);
-  cv::Mat noise(img.size(), CV_16SC3);
-  cv::RNG rng(11);
-  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
-  cv::Mat noisy;
-  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
-  return noisy;
+  return with_sensor_noise(img, 11);
 }
 
 TEST(PixelToPixel, GivenAStripedBallsCapNearItsCentreThenBothTheCapAndTheOutlineAreReturned) {
@@ -329,12 +334,7 @@ TEST(PixelToPixel, GivenGreyAndBgrVersionsOfOneImageThenResultsAgree) {
 cv::Mat ball_on_floor(cv::Scalar floor, cv::Scalar ball) {
   cv::Mat img(240, 320, CV_8UC3, floor);
   cv::circle(img, {150, 110}, 40, ball, cv::FILLED, cv::LINE_AA);
-  cv::Mat noise(img.size(), CV_16SC3);
-  cv::RNG rng(7);
-  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
-  cv::Mat noisy;
-  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
-  return noisy;
+  return with_sensor_noise(img, 7);
 }
 
 void expect_ball_found(const cv::Mat& img, const std::string& what) {
@@ -388,12 +388,7 @@ cv::Mat two_panel_ball_on_planks(cv::Point centre, int radius_px, int pale_step,
   cv::Mat disc(img.size(), CV_8U, cv::Scalar(0));
   cv::circle(disc, centre, radius_px, 255, cv::FILLED, cv::LINE_AA);
   ball.copyTo(img, disc);
-  cv::Mat noise(img.size(), CV_16SC3);
-  cv::RNG rng(3);
-  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
-  cv::Mat noisy;
-  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
-  return noisy;
+  return with_sensor_noise(img, 3);
 }
 
 TEST(PixelToPixel, GivenSmallTwoPanelBallsOnPlanksThenTheRobustRescueFindsMoreAndLosesNone) {
