@@ -585,6 +585,9 @@ std::vector<Circle> StereoPipeline::predicted_partners(const PairingContext& ctx
   const PixelToPixelParams p2p = params_.detector_params();
   RefineParams scoring = p2p.refine_params;
   scoring.min_inside_fraction = min_inside_fraction;
+  // The outline is scored where its left circle, already past the clutter rings, predicts it:
+  // not a chance circle found in texture. The rings there cost balls on textured floors.
+  scoring.clutter_ring_per_radius = 0.0;
   if (params_.perspective_outline)
     scoring.camera =
         stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()};
