@@ -101,14 +101,16 @@ RefineParams polish_refine_params(RefineParams refine) {
   return refine;
 }
 
-// Two circles are one when their centres are closer than min_sep and their radii differ by
-// less than PixelToPixelParams::kSameCircleRadiusRatio of the larger.
+// Radii that differ by less than PixelToPixelParams::kSameCircleRadiusRatio of the larger.
+bool same_size(double a_px, double b_px) {
+  return std::abs(a_px - b_px) < PixelToPixelParams::kSameCircleRadiusRatio * std::max(a_px, b_px);
+}
+
+// Two circles are one when their centres are closer than min_sep and they are of one size.
 bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_sep) {
   return std::none_of(kept.begin(), kept.end(), [&](const Circle& k) {
-    const double larger = std::max(k.radius_px, c.radius_px);
     return fast_hypot(k.x_px - c.x_px, k.y_px - c.y_px) < min_sep &&
-           std::abs(k.radius_px - c.radius_px) <
-               PixelToPixelParams::kSameCircleRadiusRatio * larger;
+           same_size(k.radius_px, c.radius_px);
   });
 }
 
@@ -514,10 +516,6 @@ std::optional<Circle> refine_or_score(const EdgeMap& edges, const Circle& seed,
   Circle unrefined = seed;
   unrefined.score = score_circle(edges, seed, options.refine_params);
   return unrefined;
-}
-
-bool same_size(double a_px, double b_px) {
-  return std::abs(a_px - b_px) < PixelToPixelParams::kSameCircleRadiusRatio * std::max(a_px, b_px);
 }
 
 bool acceptable(const std::optional<Circle>& c, const CandidateOptions& options) {

@@ -32,6 +32,13 @@ bd::ShiftWindow ball_at(double lo, double hi) {
   return {lo, hi, 0.0, 1.5 * hi + 8.0};
 }
 
+// The verdict on texture that lies at shift_px instead of the ball's depth.
+void expect_elsewhere(const bd::InteriorDepth& d, double shift_px) {
+  EXPECT_TRUE(d.textured);
+  EXPECT_NEAR(d.best_shift_px, shift_px, 0.5);
+  EXPECT_TRUE(d.contradicts);
+}
+
 }  // namespace
 
 TEST(InteriorDepth, CircleInTextureAtAnotherDepthContradicts) {
@@ -114,9 +121,7 @@ TEST(InteriorDepth, CircleMostlyBelowTheImageIsJudgedOnItsVisibleInside) {
   const cv::Mat right = shifted(left, 90);
   const bd::Circle circle{384.0, 520.0, 150.0, 0.9};
   const bd::InteriorDepth d = bd::interior_depth(left, right, circle, ball_at(150, 190), {});
-  EXPECT_TRUE(d.textured);
-  EXPECT_NEAR(d.best_shift_px, 90.0, 0.5);
-  EXPECT_TRUE(d.contradicts);
+  expect_elsewhere(d, 90.0);
 }
 
 TEST(InteriorDepth, CircleWhoseCentreIsFarBelowTheImageIsJudgedOnItsTopChords) {
@@ -126,9 +131,7 @@ TEST(InteriorDepth, CircleWhoseCentreIsFarBelowTheImageIsJudgedOnItsTopChords) {
   const bd::Circle circle{370.0, 600.0, 220.0, 0.9};
   ASSERT_FALSE(bd::interior_rows_region(circle, left.size()).empty());
   const bd::InteriorDepth d = bd::interior_depth(left, right, circle, ball_at(220, 280), {});
-  EXPECT_TRUE(d.textured);
-  EXPECT_NEAR(d.best_shift_px, 90.0, 0.5);
-  EXPECT_TRUE(d.contradicts);
+  expect_elsewhere(d, 90.0);
 }
 
 TEST(InteriorDepth, NearTheLeftBorderTheRowsAreCutToWhatTheRightEyeSees) {
@@ -138,9 +141,7 @@ TEST(InteriorDepth, NearTheLeftBorderTheRowsAreCutToWhatTheRightEyeSees) {
   const cv::Mat right = shifted(left, 60);
   const bd::Circle circle{139.0, 300.0, 150.0, 0.9};
   const bd::InteriorDepth d = bd::interior_depth(left, right, circle, ball_at(163, 200), {});
-  EXPECT_TRUE(d.textured);
-  EXPECT_NEAR(d.best_shift_px, 60.0, 0.5);
-  EXPECT_TRUE(d.contradicts);
+  expect_elsewhere(d, 60.0);
   // The same place holding a textured ball at its own 163-200 px stands.
   const cv::Mat ball_right = shifted(left, 170);
   const bd::InteriorDepth ball =
@@ -155,9 +156,7 @@ TEST(InteriorDepth, WhereTheBallsOwnDepthIsOutOfViewOnlyAStrongMatchElsewhereCou
   const cv::Mat right = shifted(left, 20);
   const bd::Circle circle{120.0, 240.0, 60.0, 0.9};
   const bd::InteriorDepth exact = bd::interior_depth(left, right, circle, ball_at(200, 230), {});
-  EXPECT_TRUE(exact.textured);
-  EXPECT_NEAR(exact.best_shift_px, 20.0, 0.5);
-  EXPECT_TRUE(exact.contradicts);
+  expect_elsewhere(exact, 20.0);
   // ... a weak resemblance (correlation about 0.6) does not.
   cv::Mat noise(right.size(), CV_16SC3);
   cv::RNG(11).fill(noise, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(45));
