@@ -60,6 +60,16 @@ bool any_on_outline(const std::vector<bd::Circle>& cs, double x_px, double y_px,
                      [&](const bd::Circle& c) { return on_outline(c, x_px, y_px, r_px); });
 }
 
+// Whether refinement seeded with the true circle itself stays on the outline and scores
+// min_score: if so, a miss comes from the peaks (none on the ball, or one merged into a
+// neighbour); if not, the refinement is pulled off even from a perfect seed.
+bool refines_onto_outline(const bd::EdgeMap& edges, const bd::Circle& truth,
+                          const bd::RefineParams& scoring, double min_score) {
+  const auto refined = bd::refine_circle(edges, truth, scoring);
+  return refined && refined->score >= min_score &&
+         on_outline(*refined, truth.x_px, truth.y_px, truth.radius_px);
+}
+
 // Where the chain lost a fully visible ball (FrameRecord::miss_cause).
 void diagnose_miss(const bd::StereoPipeline& pipeline, const bd::BallDetectorParams& params,
                    const simulator::GroundTruth& g, const bd::StereoDetection& d, FrameRecord& r) {
@@ -86,7 +96,10 @@ void diagnose_miss(const bd::StereoPipeline& pipeline, const bd::BallDetectorPar
   const double right_x = centre.x + (g.ball_right_px.x - g.ball_left_px.x);
   const bool right_ok = any_on_outline(pipeline.right_candidates(), right_x, centre.y, r_px);
   if (!left_ok) {
-    r.miss_cause = r.truth_coverage < params.p2p.min_score ? "left_edges" : "left_peaks";
+    r.miss_cause = r.truth_coverage < params.p2p.min_score ? "left_edges"
+                   : refines_onto_outline(edges, truth, scoring, params.p2p.min_score)
+                       ? "left_peaks"
+                       : "left_refine";
   } else if (!right_ok) {
     r.miss_cause = "right_search";
   } else if (d.status != bd::DetectionStatus::kFound) {

@@ -47,8 +47,10 @@ struct FrameRecord {
   std::string track_state;       ///< the tracker's state after the frame
   /// Why a frame with the whole ball in view was not accepted on the ball (empty otherwise):
   /// left_edges (the true outline's coverage on the left edge map below the detector's
-  /// min_score), left_peaks (covered, yet no left candidate on it: not among the examined
-  /// peaks, refined elsewhere, or dropped for its colour), right_search (a left
+  /// min_score), left_peaks (covered, and refinement seeded with the true circle stays on
+  /// it, yet no left candidate on it: no examined peak there, or dropped for its colour),
+  /// left_refine (covered, but even that perfect seed refines off the outline or below
+  /// min_score: stripes, floor lines pull the fit), right_search (a left
   /// candidate on the ball, none in the right eye), pair_<status> (both eyes had it, the
   /// pairing checks said status), pair_other (another pair won), tracker (found, not accepted).
   std::string miss_cause;
