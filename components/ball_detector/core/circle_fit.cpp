@@ -358,7 +358,14 @@ double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& 
     clutter = std::min(clutter, angular_coverage_in_frame(ring, ring_pts, edges.frame_px,
                                                           params.min_inside_fraction, stretch));
   }
-  return std::max(0.0, coverage - clutter);
+  // The rings weigh in gradually from clutter_min_radius_px to twice that: a wider band
+  // collects more texture by chance, and a patterned ball on textured ground (both rings
+  // covered) keeps its mid-sized outline.
+  const double weight =
+      params.clutter_min_radius_px > 0.0
+          ? std::clamp(round.radius_px / params.clutter_min_radius_px - 1.0, 0.0, 1.0)
+          : 1.0;
+  return std::max(0.0, coverage - weight * clutter);
 }
 
 }  // namespace

@@ -43,9 +43,11 @@ struct RefineParams {
   /// cleaner than texture around a chance circle: patterned ball on a plain floor, plain ball on
   /// carpet. 0 = off.
   double clutter_ring_per_radius = 0.0;
-  /// Addition: the clutter rings apply only to circles at least this large, pixels. The scoring
-  /// band grows with the radius (band_per_radius), and a wide band over texture collects edge
-  /// points in most sectors by chance; a small circle's band is narrow.
+  /// Addition: the clutter rings apply only to circles at least this large, pixels, and weigh
+  /// in gradually up to twice this radius (weight r / clutter_min_radius_px - 1; 0 = full
+  /// weight at every radius). The scoring band grows with the radius (band_per_radius), and a
+  /// wide band over texture collects edge points in most sectors by chance; a small circle's
+  /// band is narrow, and a patterned ball on textured ground has texture on both sides.
   double clutter_min_radius_px = 0.0;
   /// Addition (speed): when > 0, a caller that drops circles scoring below this says so, and
   /// refinement stops early on a candidate that cannot reach it: after the first (widest)

@@ -212,5 +212,33 @@ TEST(ClutterRings, GivenAPlainBallOnATexturedFloorThenItKeepsItsScoreAndOnlyLarg
   EXPECT_DOUBLE_EQ(score_circle(edges, chance, rings), chance_plain);
 }
 
+TEST(ClutterRings, GivenRadiiBetweenOnceAndTwiceTheMinRadiusThenTheRingsWeighInGradually) {
+  // Given the chance circle of radius 70 in dense texture and its score with the rings at
+  // full weight
+  cv::Mat floor(300, 300, CV_8UC1);
+  cv::RNG rng(5);
+  rng.fill(floor, cv::RNG::UNIFORM, 0, 120);
+  cv::GaussianBlur(floor, floor, cv::Size(0, 0), 0.8);
+  EdgeParams ep;
+  ep.max_high_threshold = 30.0;
+  EdgeMap edges;
+  compute_edge_map(floor, ep, edges);
+  const Circle chance{150.0, 150.0, 70.0, 0.0};
+  RefineParams rings;
+  rings.clutter_ring_per_radius = 0.1;
+  const double plain = score_circle(edges, chance, RefineParams{});
+  const double full = score_circle(edges, chance, rings);
+  ASSERT_LT(full, plain - 0.1);
+  // When the radius is twice the min radius or more, Then the rings count fully
+  rings.clutter_min_radius_px = 35.0;
+  EXPECT_DOUBLE_EQ(score_circle(edges, chance, rings), full);
+  // When it is 1.5 times the min radius, Then they take half of what they take at full weight
+  rings.clutter_min_radius_px = 70.0 / 1.5;
+  EXPECT_NEAR(score_circle(edges, chance, rings), plain - 0.5 * (plain - full), 1e-9);
+  // When it is 1.25 times, a quarter
+  rings.clutter_min_radius_px = 70.0 / 1.25;
+  EXPECT_NEAR(score_circle(edges, chance, rings), plain - 0.25 * (plain - full), 1e-9);
+}
+
 }  // namespace
 }  // namespace stereoball::ball_detector

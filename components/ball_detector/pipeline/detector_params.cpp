@@ -166,8 +166,8 @@ std::vector<params::Field<P>> p2p_fields() {
       number("p2p.clutter_min_radius_px",
              at(&P::p2p, &P2P::refine_params, &RefineParams::clutter_min_radius_px), 30.0,
              {0.0, 4000.0}, "px",
-             "the clutter rings apply to circles at least this large (their scoring band is wide "
-             "enough to cover texture by chance)"),
+             "the clutter rings weigh in from this radius, fully at twice it (a wider scoring "
+             "band covers texture by chance)"),
       number("p2p.max_peaks_examined", p2p(&P2P::max_peaks_examined), core.max_peaks_examined,
              {1, 1000}, "", "accumulator peaks scored as candidates per eye, strongest first"),
       number("p2p.edge_min_threshold", at(&P::p2p, &P2P::edge, &EdgeParams::min_high_threshold),
