@@ -143,8 +143,9 @@ std::vector<params::Field<P>> p2p_fields() {
                      input_of,
                      "image P2P runs on (colour: edges from the channel that changes most at each "
                      "pixel; the others are expert overrides)"),
-      list("p2p.k_values", p2p(&P2P::k_values), core.k_values, {1, 31}, "px",
-           "half window sizes k (window 2k+1)"),
+      list("p2p.k_values", p2p(&P2P::k_values), std::vector<int>{3, 5}, {1, 31}, "px",
+           "half window sizes k (window 2k+1); k = 3 adds the votes of small and patterned "
+           "balls"),
       number("p2p.min_radius_px", p2p(&P2P::min_radius_px), core.min_radius_px, {0.0, 4000.0}, "px",
              "smallest radius searched"),
       number("p2p.max_radius_px", p2p(&P2P::max_radius_px), 250.0, {1.0, 4000.0}, "px",

@@ -46,7 +46,7 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
   EXPECT_EQ(p->p2p.max_peaks_examined, 16);
   EXPECT_DOUBLE_EQ(p->track_prior_gate_m, 0.3);
   EXPECT_EQ(p->track_prior_max_age_ns, 500'000'000);
-  EXPECT_EQ(p->p2p.k_values, std::vector<int>{5});
+  EXPECT_EQ(p->p2p.k_values, (std::vector<int>{3, 5}));
   EXPECT_TRUE(p->right_eye_partner_boxes);
   EXPECT_TRUE(p->predicted_partner);
   EXPECT_DOUBLE_EQ(p->predicted_partner_min_inside_fraction, 0.2);
@@ -55,7 +55,7 @@ TEST(DetectorParamsFile, GivenShippedConfig_ThenLoadsWithTheSimulatorBall) {
 
 TEST(DetectorParamsFile, GivenChangedValues_ThenTheyAreUsed) {
   std::string text = replace(shipped_config(), "tolerance_px: 2.0", "tolerance_px: 1.5");
-  text = replace(text, "k_values: [5]", "k_values: [3, 8]");
+  text = replace(text, "k_values: [3, 5]", "k_values: [3, 8]");
   text = replace(text, "input: colour", "input: grey");
   text = replace(text, "max_peaks_examined: 16", "max_peaks_examined: 7");
   text = replace(text, "edge_min_threshold: 24", "edge_min_threshold: 40");
@@ -83,7 +83,7 @@ TEST(DetectorParamsFile, GivenBadValues_ThenErrorNamesFileAndKey) {
       {"enabled: true", "enabled: maybe", "predicted_partner.enabled"},
       {"min_inside_fraction: 0.2 ", "min_inside_fraction: 1.5 ",
        "predicted_partner.min_inside_fraction"},
-      {"k_values: [5]", "k_values: [2.5]", "p2p.k_values"},
+      {"k_values: [3, 5]", "k_values: [2.5]", "p2p.k_values"},
       {"input: colour", "input: purple", "input"},
       {"max_peaks_examined: 16", "max_peaks_examined: 0", "p2p.max_peaks_examined"},
       {"gate_m: 0.3", "gate_m: -1", "track_prior.gate_m"},
