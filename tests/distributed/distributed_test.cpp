@@ -13,6 +13,8 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <thread>
 
 #include "common/node/node_runner.hpp"
@@ -101,6 +103,27 @@ std::string histogram(const std::vector<T>& items, Key key) {
          << ")";
 }
 
+// Why following did not resume after the link came back: what the robot side received since.
+std::string resume_failure(sd::TwoHostSystem& system, int64_t restore_ns) {
+  const auto log = system.robot_log();
+  double max_linear_mps = 0.0, last_range_m = -1.0;
+  for (const auto& c : log.commands)
+    if (c.rx_ns > restore_ns) max_linear_mps = std::max(max_linear_mps, c.linear_mps);
+  for (const auto& g : log.truths)
+    if (g.rx_ns > restore_ns)
+      last_range_m = std::hypot(g.ball_x_m - g.robot_x_m, g.ball_y_m - g.robot_y_m);
+  std::vector<sd::TrackRx> since;
+  std::copy_if(log.tracks.begin(), log.tracks.end(), std::back_inserter(since),
+               [&](const sd::TrackRx& t) { return t.rx_ns > restore_ns; });
+  std::ostringstream out;
+  out << "following did not resume after the link came back (since then: track states "
+         "idle/following/searching "
+      << histogram(since, [](const sd::TrackRx& t) { return t.state; })
+      << ", largest forward command " << max_linear_mps << " m/s, last ball range " << last_range_m
+      << " m)";
+  return out.str();
+}
+
 // Given the robot following across the link: cut the robot's end of the link, check the
 // stop, restore it, check following resumes (nothing restarted).
 void cut_and_restore_link(sd::TwoHostSystem& system) {
@@ -160,7 +183,7 @@ void cut_and_restore_link(sd::TwoHostSystem& system) {
            std::any_of(log.commands.begin(), log.commands.end(), [&](const sd::CommandRx& c) {
              return c.rx_ns > restore_ns && c.linear_mps > 0.05;
            });
-  })) << "following did not resume after the link came back";
+  })) << resume_failure(system, restore_ns);
   const auto log = system.robot_log();
   for (const auto& t : log.tracks) {
     if (t.rx_ns > restore_ns && t.state == sd::kTrackFollowing) {
