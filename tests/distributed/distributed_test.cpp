@@ -109,9 +109,10 @@ std::string resume_failure(sd::TwoHostSystem& system, int64_t restore_ns) {
   double max_linear_mps = 0.0, last_range_m = -1.0;
   for (const auto& c : log.commands)
     if (c.rx_ns > restore_ns) max_linear_mps = std::max(max_linear_mps, c.linear_mps);
-  for (const auto& g : log.truths)
-    if (g.rx_ns > restore_ns)
-      last_range_m = std::hypot(g.ball_x_m - g.robot_x_m, g.ball_y_m - g.robot_y_m);
+  if (!log.truths.empty() && log.truths.back().rx_ns > restore_ns) {
+    const auto& g = log.truths.back();
+    last_range_m = std::hypot(g.ball_x_m - g.robot_x_m, g.ball_y_m - g.robot_y_m);
+  }
   std::vector<sd::TrackRx> since;
   std::copy_if(log.tracks.begin(), log.tracks.end(), std::back_inserter(since),
                [&](const sd::TrackRx& t) { return t.rx_ns > restore_ns; });

@@ -340,9 +340,15 @@ double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& 
   gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
   const double coverage =
       angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch);
+  // The rings weigh in gradually from clutter_min_radius_px to twice that: a wider band
+  // collects more texture by chance, and a patterned ball on textured ground (both rings
+  // covered) keeps its mid-sized outline.
+  const double weight = params.clutter_min_radius_px > 0.0
+                            ? std::min(1.0, round.radius_px / params.clutter_min_radius_px - 1.0)
+                            : 1.0;
   // Below the caller's threshold already: the score can only drop (it is dropped either way).
-  if (params.clutter_ring_per_radius <= 0.0 || coverage <= 0.0 || coverage < params.give_up_below ||
-      round.radius_px < params.clutter_min_radius_px)
+  if (params.clutter_ring_per_radius <= 0.0 || weight <= 0.0 || coverage <= 0.0 ||
+      coverage < params.give_up_below)
     return coverage;
   // Texture covers any circle drawn through it about as well as the outline does: subtract
   // the coverage of the same circle grown and shrunk by a few pixels, the cleaner of the two
@@ -358,13 +364,6 @@ double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& 
     clutter = std::min(clutter, angular_coverage_in_frame(ring, ring_pts, edges.frame_px,
                                                           params.min_inside_fraction, stretch));
   }
-  // The rings weigh in gradually from clutter_min_radius_px to twice that: a wider band
-  // collects more texture by chance, and a patterned ball on textured ground (both rings
-  // covered) keeps its mid-sized outline.
-  const double weight =
-      params.clutter_min_radius_px > 0.0
-          ? std::clamp(round.radius_px / params.clutter_min_radius_px - 1.0, 0.0, 1.0)
-          : 1.0;
   return std::max(0.0, coverage - weight * clutter);
 }
 

@@ -183,18 +183,30 @@ TEST(ClutterRings, GivenDenseTextureThenACircleThroughItScoresLowOnlyWithTheRing
   EXPECT_GT(score_circle(ball_edges, c, rings), 0.9);  // a clean outline keeps its score
 }
 
-TEST(ClutterRings, GivenAPlainBallOnATexturedFloorThenItKeepsItsScoreAndOnlyLargeCirclesAreJudged) {
-  // Given a bright plain disc on dense dark texture: the ring outside it lies on texture, the ring
-  // inside on the plain ball
+// A 300x300 floor of dense dark texture (grey levels 0-120, blurred a little).
+cv::Mat dark_textured_floor() {
   cv::Mat floor(300, 300, CV_8UC1);
   cv::RNG rng(5);
   rng.fill(floor, cv::RNG::UNIFORM, 0, 120);
   cv::GaussianBlur(floor, floor, cv::Size(0, 0), 0.8);
-  cv::circle(floor, {80, 80}, 40, cv::Scalar(230), cv::FILLED, cv::LINE_AA);
+  return floor;
+}
+
+// Edges of image with a low Canny ceiling, so that texture keeps its edges beside an outline's.
+EdgeMap texture_keeping_edges(const cv::Mat& image) {
   EdgeParams ep;
-  ep.max_high_threshold = 30.0;  // keep the texture's edges beside the outline's
+  ep.max_high_threshold = 30.0;
   EdgeMap edges;
-  compute_edge_map(floor, ep, edges);
+  compute_edge_map(image, ep, edges);
+  return edges;
+}
+
+TEST(ClutterRings, GivenAPlainBallOnATexturedFloorThenItKeepsItsScoreAndOnlyLargeCirclesAreJudged) {
+  // Given a bright plain disc on dense dark texture: the ring outside it lies on texture, the ring
+  // inside on the plain ball
+  cv::Mat floor = dark_textured_floor();
+  cv::circle(floor, {80, 80}, 40, cv::Scalar(230), cv::FILLED, cv::LINE_AA);
+  const EdgeMap edges = texture_keeping_edges(floor);
   const Circle ball{80.0, 80.0, 40.5, 0.0};
   RefineParams plain, rings;
   rings.clutter_ring_per_radius = 0.1;
@@ -215,14 +227,7 @@ TEST(ClutterRings, GivenAPlainBallOnATexturedFloorThenItKeepsItsScoreAndOnlyLarg
 TEST(ClutterRings, GivenRadiiBetweenOnceAndTwiceTheMinRadiusThenTheRingsWeighInGradually) {
   // Given the chance circle of radius 70 in dense texture and its score with the rings at
   // full weight
-  cv::Mat floor(300, 300, CV_8UC1);
-  cv::RNG rng(5);
-  rng.fill(floor, cv::RNG::UNIFORM, 0, 120);
-  cv::GaussianBlur(floor, floor, cv::Size(0, 0), 0.8);
-  EdgeParams ep;
-  ep.max_high_threshold = 30.0;
-  EdgeMap edges;
-  compute_edge_map(floor, ep, edges);
+  const EdgeMap edges = texture_keeping_edges(dark_textured_floor());
   const Circle chance{150.0, 150.0, 70.0, 0.0};
   RefineParams rings;
   rings.clutter_ring_per_radius = 0.1;
