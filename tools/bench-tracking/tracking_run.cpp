@@ -21,6 +21,7 @@ FrameRecord judge(const simulator::GroundTruth& g, const bd::StereoDetection& d,
   r.accepted = tracker::is_accepted(track.verdict);
   r.stamp_ns = static_cast<std::int64_t>(std::llround(g.sim_time_s * 1e9));
   r.detection_status = bd::to_string(d.status);
+  r.search = bd::to_string(d.search);
   r.detection_reason = d.reason;
   r.verdict = std::string(tracker::to_string(track.verdict));
   r.verdict_reason = track.reason;

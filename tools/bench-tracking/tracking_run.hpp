@@ -45,6 +45,7 @@ struct FrameRecord {
   std::string verdict;           ///< the tracker's verdict name
   std::string verdict_reason;    ///< the tracker's reason for it
   std::string track_state;       ///< the tracker's state after the frame
+  std::string search;            ///< the pipeline's search that answered (SearchPath name)
   /// Why a frame with the whole ball in view was not accepted on the ball (empty otherwise):
   /// left_edges (the true outline's coverage on the left edge map below the detector's
   /// min_score), left_peaks (covered, and refinement seeded with the true circle stays on

@@ -344,13 +344,20 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
                                                  const EdgeThresholds& thresholds,
                                                  const SearchHints& hints) {
+  if (!edges_with_hints(bgr_or_grey, thresholds, hints)) return {};
+  return detect_on_edges();
+}
+
+bool PixelToPixelDetector::edges_with_hints(const cv::Mat& bgr_or_grey,
+                                            const EdgeThresholds& thresholds,
+                                            const SearchHints& hints) {
   start(hints);
   edges_ready_ = false;
   orientation_ready_ = false;  // planes of the previous edge map
-  if (!validate_image(bgr_or_grey).ok() || !(radii_.max_px > radii_.min_px)) return {};
+  if (!validate_image(bgr_or_grey).ok() || !(radii_.max_px > radii_.min_px)) return false;
   compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
   edges_ready_ = true;
-  return detect_on_edges();
+  return true;
 }
 
 std::vector<Circle> PixelToPixelDetector::redetect(const SearchHints& hints) {
@@ -730,6 +737,32 @@ std::optional<Circle> PixelToPixelDetector::refine_in_window(const EdgeMap& edge
   c->x_px += window.x;
   c->y_px += window.y;
   return c;
+}
+
+std::vector<Circle> PixelToPixelDetector::detect_at_seeds(const cv::Mat& bgr_or_grey,
+                                                          const EdgeThresholds& thresholds,
+                                                          const SearchHints& hints,
+                                                          std::span<const Circle> seeds) {
+  if (!edges_with_hints(bgr_or_grey, thresholds, hints)) return {};
+  RefineParams refine = params_.refine_params;
+  refine.min_inside_fraction = min_inside_fraction_;
+  // The robust fit from the wider band: a prediction is off by a few pixels, a peak by one or
+  // two; a seed that cannot reach min_score is dropped at its first round.
+  RefineParams robust = polish_refine_params(refine);
+  robust.give_up_below = std::max(robust.give_up_below, params_.min_score);
+  std::vector<Circle> found;
+  for (const Circle& seed : seeds) {
+    std::optional<Circle> c = params_.refine ? refine_circle(edges_, seed, robust) : seed;
+    if (!params_.refine) c->score = score_circle(edges_, seed, refine);
+    if (c && params_.refine && params_.polish)
+      if (const auto polished = refine_circle(edges_, *c, robust);
+          polished && polished->score >= params_.min_score)
+        c = polished;
+    if (c && c->score >= params_.min_score && c->radius_px >= radii_.min_px &&
+        c->radius_px <= radii_.max_px)
+      found.push_back(*c);
+  }
+  return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
 }
 
 }  // namespace stereoball::ball_detector

@@ -192,6 +192,15 @@ class PixelToPixelDetector final : public CircleDetector {
   /// faster, and nothing of another size can win), and its border rule.
   std::vector<Circle> detect(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
                              const SearchHints& hints);
+  /// Addition (tracking): circles where the caller expects them, without voting. Each seed (a
+  /// predicted outline a few pixels at most off the ball's, image coordinates) is refined on the
+  /// image's edges by the robust fit from the polish's wider first band, polished as kept circles
+  /// are, and kept if it scores min_score with a radius in hints.radii; best first, as detect()
+  /// returns them. Where a tracked ball's position is predicted the voting and its peaks are
+  /// most of the search's time, and a seed the prediction misses gives nothing (the caller then
+  /// searches by voting).
+  std::vector<Circle> detect_at_seeds(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
+                                      const SearchHints& hints, std::span<const Circle> seeds);
   /// detect(bgr_or_grey) in two halves, for a caller that runs other work beside the second:
   /// the edge step and the voting (false for an invalid image: nothing to find); after it,
   /// other detectors may redetect_from() this one while it runs circles_of_votes().
@@ -240,6 +249,9 @@ class PixelToPixelDetector final : public CircleDetector {
                                  std::span<std::uint64_t> mask);
   void build_orientation_planes();
   std::vector<Circle> detect_on_edges();
+  /// The edge step of detect(image, thresholds, hints) (false: nothing to search).
+  bool edges_with_hints(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
+                        const SearchHints& hints);
   std::vector<Circle> detect_coarse_to_fine(const cv::Mat& image);
   std::optional<Circle> refine_in_window(const EdgeMap& edges, const cv::Rect& window,
                                          Circle seed) const;

@@ -593,6 +593,43 @@ TEST(PixelToPixel, GivenACentreMarginThenACircleCentredOutsideTheImageIsFound) {
   EXPECT_EQ(det.raw_accumulator().rows, 300 + 2 * 120);
 }
 
+// Given seeds a few pixels off balls in textured and two-colour scenes (as a tracker's
+// prediction is), then detect_at_seeds refines each onto its ball as closely as the voting
+// search does; a seed farther off than the first band, or a ball outside the hinted radii,
+// gives nothing.
+TEST(PixelToPixel, GivenSeedsNearTheBallThenDetectAtSeedsFindsWhatVotingFindsWithoutVoting) {
+  PixelToPixelDetector det(PixelToPixelParams{});
+  const SearchHints any{{4.0, 120.0}};
+  for (const SceneKind kind : {SceneKind::kPlain, SceneKind::kTwoColour, SceneKind::kClutter}) {
+    for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+      const auto scene = make_scene(kind, {352, 288}, seed);
+      const std::string what =
+          "kind " + std::to_string(static_cast<int>(kind)) + " seed " + std::to_string(seed);
+      const Circle& truth = scene.truth[0];
+      EdgeMap whole;
+      compute_edge_map(scene.image, PixelToPixelParams{}.edge, whole);
+      const EdgeThresholds thresholds = thresholds_of(whole);
+      const auto voted = det.detect(scene.image, thresholds, any);
+      ASSERT_FALSE(voted.empty()) << what;
+      const Circle off{truth.x_px + 3.0, truth.y_px - 2.0, truth.radius_px + 1.5, 0.0};
+      const auto seeded = det.detect_at_seeds(scene.image, thresholds, any, {&off, 1});
+      ASSERT_EQ(seeded.size(), 1u) << what;
+      EXPECT_LT(centre_error(seeded[0], truth), 1.0) << what;
+      EXPECT_NEAR(seeded[0].radius_px, truth.radius_px, 1.5) << what;
+      EXPECT_LT(centre_error(seeded[0], voted[0]), 0.5) << what;
+      EXPECT_GE(seeded[0].score, PixelToPixelParams{}.min_score) << what;
+      // Nothing votes: the accumulator is not touched.
+      EXPECT_EQ(det.diagnostics()->voters, 0) << what;
+
+      const Circle far{truth.x_px + 12.0, truth.y_px, truth.radius_px, 0.0};
+      EXPECT_TRUE(det.detect_at_seeds(scene.image, thresholds, any, {&far, 1}).empty()) << what;
+      const SearchHints other_radii{{truth.radius_px + 10.0, 200.0}};
+      EXPECT_TRUE(det.detect_at_seeds(scene.image, thresholds, other_radii, {&off, 1}).empty())
+          << what;
+    }
+  }
+}
+
 // Voters of a circle outline with isolated dots scattered around it, for one isolation setting.
 std::int64_t voters_with_dots(bool isolate, double max_points_factor) {
   cv::Mat image = cv::Mat::zeros(200, 200, CV_8UC1);

@@ -93,6 +93,9 @@ std::vector<params::Field<P>> pipeline_fields() {
              "", "there, a ball cut by the image border counts with this much of it inside"),
       flag("track_prior.window", at(&P::prior_window), true,
            "search first only where the prior says (whole frame if not found there)"),
+      flag("track_prior.seeded", at(&P::prior_seeded), true,
+           "there, first refine the outlines the prior predicts in each eye (no voting; the "
+           "box is searched by voting if they pair nothing)"),
   };
 }
 

@@ -63,6 +63,9 @@ struct BallDetectorParams {
   /// With a prior, search first only the left box where the expected ball can appear (and its
   /// right partner boxes); the whole frame only if no pair turns up within the gate there.
   bool prior_window;
+  /// With prior_window, first refine the outlines the prior predicts in each eye (no voting);
+  /// the box is searched by voting only when that pairs nothing within the gate.
+  bool prior_seeded;
   std::int64_t track_prior_max_age_ns;  ///< against the frame's capture stamp
   /// Where the prior says the ball is, a circle cut by the image border counts with this much
   /// of it inside (elsewhere p2p.min_inside_fraction applies).

@@ -152,6 +152,19 @@ cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior,
   return cv::Rect(tl, br) & cv::Rect(cv::Point(0, 0), image);
 }
 
+std::optional<ExpectedOutlines> prior_outlines(const PairingContext& ctx,
+                                               const PositionPrior& prior) {
+  const stereo::Triangulator& tri = ctx.triangulator;
+  const double r_m = 0.5 * ctx.size.ball_diameter_m;
+  const cv::Vec3d in_right = prior.position_m - cv::Vec3d(tri.baseline_m(), 0.0, 0.0);
+  const auto left = stereo::sphere_outline(left_camera(tri), prior.position_m, r_m);
+  const auto right = stereo::sphere_outline(right_camera(tri), in_right, r_m);
+  if (!left || !right || !(prior.position_m[2] > r_m)) return std::nullopt;
+  return ExpectedOutlines{
+      Circle{left->centre_px.x, left->centre_px.y, left->mean_radius_px(), 0.0},
+      Circle{right->centre_px.x, right->centre_px.y, right->mean_radius_px(), 0.0}};
+}
+
 RadiusRange prior_radius_range(const PairingContext& ctx, const PositionPrior& prior) {
   const double slack_m = prior_slack_m(prior);
   const double tol = ctx.size.max_relative_error;

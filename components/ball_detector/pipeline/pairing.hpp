@@ -102,6 +102,16 @@ std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int
 cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior, cv::Size image,
                           int margin_px);
 
+/// The outlines of the ball exactly where prior expects it, as circles (outline centre, mean
+/// radius; score 0) in the left and right rectified images.
+struct ExpectedOutlines {
+  Circle left;
+  Circle right;
+};
+/// nullopt if the prior is not in front of both cameras by more than the ball's radius.
+std::optional<ExpectedOutlines> prior_outlines(const PairingContext& ctx,
+                                               const PositionPrior& prior);
+
 /// Radii (mean outline radius, pixels) the left eye can see the ball expected at prior with:
 /// from a third of the gate farther to a third nearer, within the size tolerance, the
 /// ellipse's semi-axes included (votes reach its centre from either).

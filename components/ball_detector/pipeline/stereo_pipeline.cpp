@@ -114,6 +114,20 @@ void run_tasks_in_turn(int n, const std::function<void(int)>& task) {
   for (int i = 0; i < n; ++i) task(i);
 }
 
+const char* to_string(SearchPath path) {
+  switch (path) {
+    case SearchPath::kExpectedOutlines:
+      return "expected_outlines";
+    case SearchPath::kPriorWindow:
+      return "prior_window";
+    case SearchPath::kWholeFrame:
+      return "whole_frame";
+    case SearchPath::kRadiusBands:
+      return "radius_bands";
+  }
+  return "?";
+}
+
 const char* to_string(DetectionStatus status) {
   switch (status) {
     case DetectionStatus::kFound:
@@ -237,6 +251,20 @@ void StereoPipeline::rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool
   }
 }
 
+void StereoPipeline::clear_rectified(const cv::Mat& channel, cv::Mat& out) const {
+  out.create(rectifier_->calibration().image_size, channel.type());
+  out.setTo(0);
+}
+
+void StereoPipeline::rectify_box(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                                 const cv::Rect& box, cv::Mat& out) const {
+  if (rectified) {
+    channel(box).copyTo(out(box));
+  } else {
+    rectifier_->rectify_eye_region(eye, channel, box, out);
+  }
+}
+
 StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, bool rectified,
                                      const std::optional<PositionPrior>& prior,
                                      std::int64_t stamp_ns) {
@@ -268,6 +296,7 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     // it, see pair_candidates), so the whole frame is not searched in the frame's time; only its
     // thresholds are measured again now and then, after the answer (finish_frame).
     if (pairing && frames_since_full_search_ >= kFullSearchEveryFrames) refresh_due_ = true;
+    if (pairing) out.search = near_prior_path_;
   }
   bool whole_frame = false;
   std::optional<std::vector<Circle>> band_left;  // the left eye's radius bands, when due
@@ -286,6 +315,7 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     if (!band_left) band_left = detect_left_in_bands(nullptr);
     PairingResult banded =
         search_radius_bands(ctx, std::move(*band_left), right_channel, rectified, prior);
+    out.search = SearchPath::kRadiusBands;
     if (banded.status == PairingStatus::kFound) {
       pairing = std::move(banded);
     } else {  // the report stays the whole frame's
@@ -340,19 +370,25 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
   const cv::Size size = rectifier_->calibration().image_size;
   const cv::Rect box = prior_search_box(ctx, prior, size, window_margin_px());
   if (box.width < 8 || box.height < 8) return std::nullopt;
-  rect_left_.create(size, left_channel.type());
-  rect_left_.setTo(0);
-  if (rectified) {
-    left_channel(box).copyTo(rect_left_(box));
-  } else {
-    rectifier_->rectify_eye_region(stereo::Eye::kLeft, left_channel, box, rect_left_);
-  }
+  clear_rectified(left_channel, rect_left_);
+  rectify_box(left_channel, stereo::Eye::kLeft, rectified, box, rect_left_);
   left_candidates_.clear();
   // The tracker expects the ball here: a ball it follows out of the view is still scored on
   // what is left of it in the image.
   SearchHints hints{prior_radius_range(ctx, prior), params_.prior_min_inside_fraction};
   // A ball the tracker follows out of the view may have its centre outside the image.
   hints.centre_margin_px = prior_centre_margin_px(ctx, prior, size);
+  if (params_.prior_seeded) {
+    const int rejected_before = rejected_by_colour_;
+    auto seeded = pair_at_expected_outlines(ctx, right_channel, rectified, prior, box, hints);
+    if (seeded) {
+      ++frames_since_full_search_;
+      near_prior_path_ = SearchPath::kExpectedOutlines;
+      return seeded;
+    }
+    left_candidates_.clear();  // the box is searched as if that had not been tried
+    rejected_by_colour_ = rejected_before;
+  }
   for (Circle c : left_detector_.detect(rect_left_(box), *left_thresholds_, hints)) {
     c.x_px += box.x;
     c.y_px += box.y;
@@ -361,7 +397,68 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
   right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, true);
   PairingResult pairing = pair_with_predicted_partners(ctx, prior, true);
   ++frames_since_full_search_;
+  near_prior_path_ = SearchPath::kPriorWindow;
   // Only a ball where the track expects it ends the search; anything else needs the frame.
+  if (pairing.status == PairingStatus::kFound &&
+      cv::norm(pairing.best->position_m - prior.position_m) <= prior.gate_m)
+    return pairing;
+  return std::nullopt;
+}
+
+namespace {
+
+// The box an outline refined from seed can reach: the polish's first band beyond the seed
+// (prediction error), the ellipse of an off-axis ball, and a pixel of rounding.
+cv::Rect seed_box(const Circle& seed, double tolerance, cv::Size image) {
+  const double reach =
+      (1.0 + tolerance) * seed.radius_px + PixelToPixelParams::kPolishFirstBandPx + 2.0;
+  const cv::Point tl(static_cast<int>(std::floor(seed.x_px - reach)),
+                     static_cast<int>(std::floor(seed.y_px - reach)));
+  const cv::Point br(static_cast<int>(std::ceil(seed.x_px + reach)) + 1,
+                     static_cast<int>(std::ceil(seed.y_px + reach)) + 1);
+  return cv::Rect(tl, br) & cv::Rect(cv::Point(0, 0), image);
+}
+
+Circle shifted(Circle c, cv::Point by) {
+  c.x_px += by.x;
+  c.y_px += by.y;
+  return c;
+}
+
+}  // namespace
+
+std::optional<PairingResult> StereoPipeline::pair_at_expected_outlines(
+    const PairingContext& ctx, const cv::Mat& right_channel, bool rectified,
+    const PositionPrior& prior, const cv::Rect& left_box, const SearchHints& left_hints) {
+  const auto expected = prior_outlines(ctx, prior);
+  if (!expected) return std::nullopt;
+  const Circle left_seed = shifted(expected->left, -left_box.tl());
+  left_candidates_.clear();
+  for (const Circle& c : left_detector_.detect_at_seeds(rect_left_(left_box), *left_thresholds_,
+                                                        left_hints, {&left_seed, 1}))
+    left_candidates_.push_back(shifted(c, left_box.tl()));
+  if (left_candidates_.empty()) return std::nullopt;
+  // The prediction errs alike in both eyes: the right seed is the left circle found, moved as
+  // the expected outline moves from eye to eye.
+  const Circle& left = left_candidates_.front();
+  const Circle right_seed{left.x_px + expected->right.x_px - expected->left.x_px,
+                          left.y_px + expected->right.y_px - expected->left.y_px,
+                          left.radius_px * expected->right.radius_px / expected->left.radius_px,
+                          0.0};
+  const cv::Size size = rectifier_->calibration().image_size;
+  const cv::Rect box = seed_box(right_seed, ctx.size.max_relative_error, size);
+  if (box.width < 8 || box.height < 8) return std::nullopt;
+  clear_rectified(right_channel, rect_right_);
+  rectify_box(right_channel, stereo::Eye::kRight, rectified, box, rect_right_);
+  right_edges_box_ = box;
+  SearchHints right_hints{partner_radius_range(ctx, left_candidates_),
+                          params_.prior_min_inside_fraction};
+  const Circle seed_in_box = shifted(right_seed, -box.tl());
+  right_candidates_.clear();
+  for (const Circle& c : right_detector_.detect_at_seeds(rect_right_(box), *left_thresholds_,
+                                                         right_hints, {&seed_in_box, 1}))
+    right_candidates_.push_back(shifted(c, box.tl()));
+  PairingResult pairing = pair_with_predicted_partners(ctx, prior, true);
   if (pairing.status == PairingStatus::kFound &&
       cv::norm(pairing.best->position_m - prior.position_m) <= prior.gate_m)
     return pairing;
@@ -471,17 +568,12 @@ PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
   // Each left circle's partner box with only the radii its partner can have: one box searched
   // for the union of every candidate's radii is crowded out by clutter just like the left eye.
   const cv::Size size = rectifier_->calibration().image_size;
-  rect_right_.create(size, right_channel.type());
-  rect_right_.setTo(0);
+  clear_rectified(right_channel, rect_right_);
   right_candidates_.clear();
   for (const Circle& left : left_candidates_) {
     const cv::Rect box = partner_search_box(ctx, left, size, window_margin_px());
     if (box.width < 8 || box.height < 8) continue;
-    if (rectified) {
-      right_channel(box).copyTo(rect_right_(box));
-    } else {
-      rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, box, rect_right_);
-    }
+    rectify_box(right_channel, stereo::Eye::kRight, rectified, box, rect_right_);
     right_edges_box_ = box;
     const SearchHints hints{partner_radius_range(ctx, {left})};
     for (Circle c : right_detector_.detect(rect_right_(box), thresholds, hints)) {
@@ -548,8 +640,7 @@ std::vector<cv::Rect> StereoPipeline::partner_boxes(const PairingContext& ctx) c
 std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& ctx,
                                                           const cv::Mat& right_channel,
                                                           bool rectified, bool near_prior) {
-  rect_right_.create(rectifier_->calibration().image_size, right_channel.type());
-  rect_right_.setTo(0);
+  clear_rectified(right_channel, rect_right_);
   right_edges_box_ = {};
   std::vector<Circle> found;
   SearchHints hints{partner_radius_range(ctx, left_candidates_)};
@@ -559,11 +650,7 @@ std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& 
         partner_centre_margin_px(ctx, left_candidates_, rectifier_->calibration().image_size);
   }
   for (const cv::Rect& box : partner_boxes(ctx)) {
-    if (rectified) {
-      right_channel(box).copyTo(rect_right_(box));
-    } else {
-      rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, box, rect_right_);
-    }
+    rectify_box(right_channel, stereo::Eye::kRight, rectified, box, rect_right_);
     right_edges_box_ = box;
     // The left image's thresholds: the box's own statistics depend on what it holds.
     for (Circle c : right_detector_.detect(rect_right_(box),

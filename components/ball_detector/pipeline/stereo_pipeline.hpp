@@ -91,6 +91,17 @@ constexpr int kPatchBytes = kPatchSide * kPatchSide * 3;
 void extract_patch(const cv::Mat& image, double x_px, double y_px,
                    std::array<std::uint8_t, kPatchBytes>& out);
 
+/// Which search of a frame gave its answer.
+enum class SearchPath {
+  kExpectedOutlines,  ///< the prior's predicted outlines refined in each eye (no voting)
+  kPriorWindow,       ///< voting in the box around the prior
+  kWholeFrame,        ///< voting over the whole left eye
+  kRadiusBands,       ///< the whole left eye again, radius band by radius band
+};
+
+/// Short name of a search path ("expected_outlines", ...).
+const char* to_string(SearchPath path);
+
 /// What the pipeline found in one stereo frame.
 struct StereoDetection {
   DetectionStatus status = DetectionStatus::kNoCandidate;
@@ -103,7 +114,8 @@ struct StereoDetection {
   int candidates_left = 0;         ///< circles found in the left eye
   int candidates_right = 0;        ///< circles found in the right eye
   int rejected_by_colour = 0;      ///< left circles the followed ball's appearance rejected
-  bool patch_valid = false;        ///< patch_rgb holds the block around the left centre
+  SearchPath search = SearchPath::kWholeFrame;  ///< the last search the frame needed
+  bool patch_valid = false;  ///< patch_rgb holds the block around the left centre
   std::array<std::uint8_t, kPatchBytes> patch_rgb{};  ///< 21x21 R,G,B row-major, borders clamped
 };
 
@@ -165,12 +177,26 @@ class StereoPipeline {
   Status check_input(const cv::Mat& left, const cv::Mat& right) const;
   void refresh_thresholds(const cv::Mat& left_channel, bool rectified);
   void rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified, cv::Mat& out) const;
+  /// out: a zero image of the calibration's size and channel's type (boxes are then rectified
+  /// into it with rectify_box; the rest stays zero).
+  void clear_rectified(const cv::Mat& channel, cv::Mat& out) const;
+  void rectify_box(const cv::Mat& channel, stereo::Eye eye, bool rectified, const cv::Rect& box,
+                   cv::Mat& out) const;
   const cv::Mat& detector_channel(const cv::Mat& raw, cv::Mat& grey) const;
   std::vector<cv::Rect> partner_boxes(const PairingContext& ctx) const;
+  /// search_near_prior: which of its searches answered (kExpectedOutlines or kPriorWindow).
+  SearchPath near_prior_path_ = SearchPath::kPriorWindow;
   std::optional<PairingResult> search_near_prior(const PairingContext& ctx,
                                                  const cv::Mat& left_channel,
                                                  const cv::Mat& right_channel, bool rectified,
                                                  const PositionPrior& prior);
+  /// The pair at the prior's expected outlines refined (left in left_box, already rectified),
+  /// or nullopt when that gives no pair within the gate.
+  std::optional<PairingResult> pair_at_expected_outlines(const PairingContext& ctx,
+                                                         const cv::Mat& right_channel,
+                                                         bool rectified, const PositionPrior& prior,
+                                                         const cv::Rect& left_box,
+                                                         const SearchHints& left_hints);
   PairingResult search_whole_frame(const PairingContext& ctx, const cv::Mat& left_channel,
                                    const cv::Mat& right_channel, bool rectified,
                                    const std::optional<PositionPrior>& prior,
