@@ -130,7 +130,9 @@ TEST(BenchTrackingTool, FramesCsvHasOneRowPerFrameAndPngDirTheChosenFrames) {
     return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
   };
   const std::size_t cause = column("miss_cause"), left_dx = column("left_dx_px");
-  int rows = 0, startup_misses = 0, on_ball_small_error = 0;
+  const std::size_t search = column("search");
+  ASSERT_LT(search, names.size()) << header;
+  int rows = 0, startup_misses = 0, on_ball_small_error = 0, startup_whole = 0, predicted = 0;
   while (std::getline(in, line)) {
     EXPECT_EQ(line.rfind("ball_still_plain," + std::to_string(rows) + ",", 0), 0u) << line;
     const auto row = fields(line);
@@ -140,11 +142,17 @@ TEST(BenchTrackingTool, FramesCsvHasOneRowPerFrameAndPngDirTheChosenFrames) {
     if (rows < 5) startup_misses += row[cause] == "tracker";
     // The plain ball's left circle lies on its true outline (a fraction of a pixel)
     on_ball_small_error += std::abs(std::stod(row[left_dx])) < 0.5;
+    // Without a track the whole frame is searched; once the tracker follows the ball, its
+    // predicted outlines answer
+    if (rows < 5) startup_whole += row[search] == "whole_frame";
+    predicted += row[search] == "expected_outlines";
     ++rows;
   }
   EXPECT_EQ(rows, 30);
   EXPECT_EQ(startup_misses, 5);
   EXPECT_GE(on_ball_small_error, 25);
+  EXPECT_EQ(startup_whole, 5);
+  EXPECT_GE(predicted, 20);
   // And exactly frames 3 and 4 of each eye were written
   for (const char* eye : {"left", "right"})
     for (int f = 0; f <= 5; ++f) {
