@@ -19,6 +19,24 @@ bool register_consistent(const StatsCheck& c) {
   return c.register_full && c.steps_plausible && (c.static_cluster || c.clean_line);
 }
 
+// A line of positions with one stray detection in it can still pass as clean (its RMS spreads
+// the stray's offset over every position), yet the stray tilts the line enough to reject the
+// next ball position: a position farther than the tolerance from the line of the others marks
+// it (the others' line: a stray at an end pulls the line of all through itself).
+bool holds_stray(std::span<const StampedPosition> points, const TrackerParams& params) {
+  std::vector<StampedPosition> others;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    others.clear();
+    for (std::size_t j = 0; j < points.size(); ++j)
+      if (j != i) others.push_back(points[j]);
+    const auto stats = compute_stats(others);
+    if (stats && distance_to_line(points[i].position_m, stats->mean_m, stats->line_direction) >
+                     params.line_tolerance_m)
+      return true;
+  }
+  return false;
+}
+
 std::string describe(const StatsCheck& c, int size, int capacity) {
   char buf[256];
   if (!c.register_full) {
@@ -85,7 +103,8 @@ StatsCheck check_position(const PositionRegister& reg, const Eigen::Vector3d& p,
   if (enough) c = check_points(reg.entries(), p, stamp_ns, params);
   // A consistent register that rejects p has spoken; only a register spoiled
   // by one stray detection is given a second look without it.
-  if (reg.full() && !register_consistent(c) && max_outliers > 0) {
+  if (reg.full() && !c.accepted && max_outliers > 0 &&
+      (!register_consistent(c) || holds_stray(reg.entries(), params))) {
     const auto& all = reg.entries();
     std::vector<StampedPosition> rest;
     for (std::size_t skip = 0; skip < all.size(); ++skip) {

@@ -174,6 +174,30 @@ TEST(StatisticalVerifier, GivenOneStrayInRegister_WhenOneOutlierAllowed_ThenJudg
   }
 }
 
+// A register of a rolling ball with one detection 12 cm off its path (a mis-paired frame):
+// its line still passes as clean, and the stray tilts it.
+TEST(StatisticalVerifier,
+     GivenOneStrayTheCleanLineHides_WhenOneOutlierAllowed_ThenJudgedWithoutIt) {
+  for (const int stray : {1, 2, 3, 4}) {
+    PositionRegister reg(5);
+    for (int i = 0; i < 5; ++i)
+      reg.push(Eigen::Vector3d(-0.5 + i / 30.0, 0.1, 2.0 + (i == stray ? 0.12 : 0.0)), frame(i));
+    const Eigen::Vector3d next(-0.5 + 6 / 30.0, 0.1, 2.0);
+    const auto strict = check_position(reg, next, frame(6), TrackerParams{}, 0);
+    // The register as it is passes as a line (not "inconsistent") and rejects the ball
+    ASSERT_LE(strict.line_rms_m, TrackerParams{}.line_tolerance_m) << "stray " << stray;
+    EXPECT_FALSE(strict.accepted) << "stray " << stray << ": " << strict.reason;
+    const auto lenient = check_position(reg, next, frame(6), TrackerParams{}, 1);
+    EXPECT_TRUE(lenient.accepted) << "stray " << stray << ": " << lenient.reason;
+    EXPECT_EQ(lenient.outlier_left_out, stray);
+    // A position 15 cm off the four good ones' path (across the stray's offset) is still refused
+    EXPECT_FALSE(check_position(reg, Eigen::Vector3d(-0.5 + 6 / 30.0, 0.25, 2.0), frame(6),
+                                TrackerParams{}, 1)
+                     .accepted)
+        << "stray " << stray;
+  }
+}
+
 TEST(StatisticalVerifier, GivenTwoStraysInRegister_ThenNothingAccepted) {
   const auto reg = rolling_with_strays({1, 3});
   const auto c =
