@@ -184,8 +184,6 @@ class StereoPipeline {
                    cv::Mat& out) const;
   const cv::Mat& detector_channel(const cv::Mat& raw, cv::Mat& grey) const;
   std::vector<cv::Rect> partner_boxes(const PairingContext& ctx) const;
-  /// search_near_prior: which of its searches answered (kExpectedOutlines or kPriorWindow).
-  SearchPath near_prior_path_ = SearchPath::kPriorWindow;
   std::optional<PairingResult> search_near_prior(const PairingContext& ctx,
                                                  const cv::Mat& left_channel,
                                                  const cv::Mat& right_channel, bool rectified,
@@ -241,8 +239,10 @@ class StereoPipeline {
   std::vector<cv::Point3d> patch_rays_;
   std::vector<cv::Point2d> patch_raw_px_;
   std::vector<Circle> left_candidates_, right_candidates_;
-  EdgeMap partner_edges_;                          // right-eye edges around one predicted partner
-  cv::Rect right_edges_box_;                       // the box of the right detector's last edge map
+  EdgeMap partner_edges_;     // right-eye edges around one predicted partner
+  cv::Rect right_edges_box_;  // the box of the right detector's last edge map
+  // search_near_prior: which of its searches answered (kExpectedOutlines or kPriorWindow).
+  SearchPath near_prior_path_ = SearchPath::kPriorWindow;
   std::optional<EdgeThresholds> left_thresholds_;  // of the last whole left frame
   std::optional<FloorModel> floor_;                // none when the floor check is off
   AppearanceModel appearance_;

@@ -101,8 +101,9 @@ StatsCheck check_position(const PositionRegister& reg, const Eigen::Vector3d& p,
   const bool enough = reg.size() >= needed;
   StatsCheck c;
   if (enough) c = check_points(reg.entries(), p, stamp_ns, params);
-  // A consistent register that rejects p has spoken; only a register spoiled
-  // by one stray detection is given a second look without it.
+  // A clean register that rejects p has spoken; only a register spoiled by one stray
+  // detection (inconsistent, or holding a position off the line of the others) is given a
+  // second look without it.
   if (reg.full() && !c.accepted && max_outliers > 0 &&
       (!register_consistent(c) || holds_stray(reg.entries(), params))) {
     const auto& all = reg.entries();
