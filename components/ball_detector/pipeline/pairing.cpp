@@ -137,6 +137,14 @@ std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int
   return PositionPrior{track.position_m + track.velocity_mps * dt_s, gate_m};
 }
 
+cv::Rect box_around(const cv::Point2d& centre, double reach_px, cv::Size image) {
+  const cv::Point tl(static_cast<int>(std::floor(centre.x - reach_px)),
+                     static_cast<int>(std::floor(centre.y - reach_px)));
+  const cv::Point br(static_cast<int>(std::ceil(centre.x + reach_px)) + 1,
+                     static_cast<int>(std::ceil(centre.y + reach_px)) + 1);
+  return cv::Rect(tl, br) & cv::Rect(cv::Point(0, 0), image);
+}
+
 cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior, cv::Size image,
                           int margin_px) {
   // Off the axis the outline is an ellipse: its semi-major axis is the reach.
@@ -145,11 +153,7 @@ cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior,
   const cv::Point2d centre = near->outline.centre_px;
   const double reach = (1.0 + ctx.size.max_relative_error) * near->outline.semi_major_px +
                        near->slack_px + static_cast<double>(margin_px);
-  const cv::Point tl(static_cast<int>(std::floor(centre.x - reach)),
-                     static_cast<int>(std::floor(centre.y - reach)));
-  const cv::Point br(static_cast<int>(std::ceil(centre.x + reach)) + 1,
-                     static_cast<int>(std::ceil(centre.y + reach)) + 1);
-  return cv::Rect(tl, br) & cv::Rect(cv::Point(0, 0), image);
+  return box_around(centre, reach, image);
 }
 
 std::optional<ExpectedOutlines> prior_outlines(const PairingContext& ctx,

@@ -96,6 +96,9 @@ struct TrackedBall {
 std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int64_t frame_stamp_ns,
                                               double gate_m, std::int64_t max_age_ns);
 
+/// The pixels within reach_px of centre (a square, rounded outwards), clipped to image.
+cv::Rect box_around(const cv::Point2d& centre, double reach_px, cv::Size image);
+
 /// The left rectified-image box where the ball expected at prior can appear: its disc (a third
 /// of the gate nearer, at the size tolerance) plus a third of the gate sideways, padded by
 /// margin_px and clipped; empty if the prior is not in front of the camera.

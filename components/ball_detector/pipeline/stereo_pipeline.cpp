@@ -412,11 +412,7 @@ namespace {
 cv::Rect seed_box(const Circle& seed, double tolerance, cv::Size image) {
   const double reach =
       (1.0 + tolerance) * seed.radius_px + PixelToPixelParams::kPolishFirstBandPx + 2.0;
-  const cv::Point tl(static_cast<int>(std::floor(seed.x_px - reach)),
-                     static_cast<int>(std::floor(seed.y_px - reach)));
-  const cv::Point br(static_cast<int>(std::ceil(seed.x_px + reach)) + 1,
-                     static_cast<int>(std::ceil(seed.y_px + reach)) + 1);
-  return cv::Rect(tl, br) & cv::Rect(cv::Point(0, 0), image);
+  return box_around({seed.x_px, seed.y_px}, reach, image);
 }
 
 Circle shifted(Circle c, cv::Point by) {
