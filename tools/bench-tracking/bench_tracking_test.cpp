@@ -195,6 +195,50 @@ TEST(BenchTrackingTool, RandomisedSceneIsReportedPerSceneCategoryAndInTotal) {
   }
 }
 
+TEST(BenchTrackingTool, SeveralSeedsRunAtOnceReportEachSceneAsItsOwnSeedAlone) {
+  // Given one randomised scene of one simulated second from each of two scene sets
+  const auto run = [](std::vector<std::string> seeds_and_jobs) {
+    std::vector<std::string> args = {st::bin("stereoball-bench-tracking"),
+                                     "--randomize",
+                                     "1",
+                                     "--seconds",
+                                     "1",
+                                     "--drive",
+                                     "controller"};
+    args.insert(args.end(), seeds_and_jobs.begin(), seeds_and_jobs.end());
+    return st::run(args, 100s);
+  };
+  // When both sets run together, two at once, and each set runs alone
+  const auto [code, both] = run({"--seed", "3", "--seed", "4", "--jobs", "2"});
+  const auto [code3, alone3] = run({"--seed", "3"});
+  const auto [code4, alone4] = run({"--seed", "4"});
+  ASSERT_EQ(code, 0) << both;
+  ASSERT_EQ(code3, 0) << alone3;
+  ASSERT_EQ(code4, 0) << alone4;
+  // Then each scene has the row it has alone, the total counts both, and the times say they
+  // were not one-core times
+  EXPECT_FALSE(row(both, "rand3_0").empty()) << both;
+  EXPECT_EQ(row(both, "rand3_0"), row(alone3, "rand3_0")) << both << alone3;
+  EXPECT_EQ(row(both, "rand4_0"), row(alone4, "rand4_0")) << both << alone4;
+  EXPECT_EQ(row(both, "TOTAL").at(0), 2.0) << both;
+  EXPECT_NE(both.find("2 scenes ran at once"), std::string::npos) << both;
+  EXPECT_EQ(alone3.find("scenes ran at once"), std::string::npos) << alone3;
+}
+
+TEST(BenchTrackingTool, RepeatedOrDuplicateSeedsAreOneClearError) {
+  // Given one scene set twice, or two seeds without --randomize, Then exit code 2 names why
+  const auto [code, out] = st::run(
+      {st::bin("stereoball-bench-tracking"), "--randomize", "1", "--seed", "5", "--seed", "5"},
+      30s);
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(out.find("--seed 5 is given twice"), std::string::npos) << out;
+  const auto [code2, out2] = st::run(
+      {st::bin("stereoball-bench-tracking"), "--seed", "1", "--seed", "2", "--scenario", "no_ball"},
+      30s);
+  EXPECT_EQ(code2, 2);
+  EXPECT_NE(out2.find("--seed more than once needs --randomize"), std::string::npos) << out2;
+}
+
 TEST(BenchTrackingTool, BadRangeFileOrScenarioWithRandomizeIsOneClearError) {
   const std::string path = ::testing::TempDir() + "bad_ranges.yaml";
   std::ofstream(path) << "duration_s: 10\n";

@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "common/util/install_layout.hpp"
@@ -34,6 +36,7 @@ struct Options {
   sl::LoopCli loop;
   std::string drive = "script";
   int threads = 1;
+  int jobs = 1;
   std::string frames_csv;
   std::string png_dir;
   std::pair<std::int64_t, std::int64_t> png_frames{0, -1};
@@ -138,11 +141,14 @@ void print_time_by_search(const std::vector<bt::RunResult>& runs) {
                 sl::percentile(ms, 0.95));
 }
 
-void print_time(const std::vector<bt::RunResult>& runs, int threads) {
+void print_time(const std::vector<bt::RunResult>& runs, int threads, int jobs) {
   std::printf(
       "\nDetector time per stereo frame (640x480 raw, rectification included, %d OpenCV "
       "thread(s))\n",
       threads);
+  if (jobs > 1)
+    std::printf("(%d scenes ran at once: these times share the machine, not one-core figures)\n",
+                jobs);
   std::printf("%-22s %7s %13s %10s %14s %11s\n", "scenario", "frames", "CPU median ms",
               "CPU p95 ms", "wall median ms", "wall p95 ms");
   std::vector<double> all_cpu, all_wall;
@@ -201,6 +207,52 @@ stereoball::Status write_frames_csv(std::FILE* f, const std::string& path,
   return {};
 }
 
+// Scenario si of selected, with its frames written as PNG where asked.
+stereoball::Result<bt::RunResult> run_one(const sl::LoopSelection& selected, std::size_t si,
+                                          const Options& o, bt::Drive drive) {
+  const auto& scenario = selected.scenarios[si];
+  bt::RunConfig config = sl::config_for(selected, si);
+  config.drive = drive;
+  config.seconds = sl::run_seconds(o.loop, scenario);
+  std::string png_error;
+  auto dump = [&](std::int64_t i, const sl::LoopFrame& f) {
+    if (o.png_dir.empty() || i < o.png_frames.first || i > o.png_frames.second) return;
+    for (const auto& [eye, image] : {std::pair{"left", &f.left_raw}, {"right", &f.right_raw}}) {
+      const std::string path = cv::format("%s/%s_%s_%06lld.png", o.png_dir.c_str(),
+                                          scenario.name.c_str(), eye, static_cast<long long>(i));
+      if (png_error.empty() && !cv::imwrite(path, *image)) png_error = "cannot write " + path;
+    }
+  };
+  auto out = bt::run_scenario(config, dump);
+  if (!png_error.empty()) return stereoball::Error{png_error};
+  if (!out.error.empty()) return stereoball::Error{out.error};
+  std::fprintf(stderr, "  %s: %zu frames\n", out.result.scenario.c_str(), out.result.frames.size());
+  return std::move(out.result);
+}
+
+// Every selected scenario, o.jobs at a time (each run is independent: its own simulator,
+// pipeline and tracker), in selection order; the first error in that order stops the report.
+stereoball::Result<std::vector<bt::RunResult>> run_all(const sl::LoopSelection& selected,
+                                                       const Options& o, bt::Drive drive) {
+  const std::size_t n = selected.scenarios.size();
+  std::vector<std::optional<stereoball::Result<bt::RunResult>>> results(n);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t si = next++; si < n; si = next++)
+      results[si] = run_one(selected, si, o, drive);
+  };
+  std::vector<std::thread> threads;
+  for (int j = 1; j < std::min<int>(o.jobs, static_cast<int>(n)); ++j) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  std::vector<bt::RunResult> runs;
+  for (auto& r : results) {
+    if (!r->ok()) return stereoball::Error{r->error()};
+    runs.push_back(std::move(*r).value());
+  }
+  return runs;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -220,6 +272,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"script", "controller"}))
       ->capture_default_str();
   app.add_option("--threads", o.threads, "OpenCV threads (1 = one core, the target)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  app.add_option("--jobs", o.jobs,
+                 "scenes run at once, each on a thread of its own (the figures are the same; "
+                 "the times are then not one-core times)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
   app.add_option("--frames-csv", o.frames_csv,
@@ -248,33 +305,14 @@ int main(int argc, char** argv) {
               selected->scenarios.size(), base.sim.width_px, base.sim.height_px,
               base.sim.frame_rate_hz, o.drive.c_str(),
               o.loop.plain ? ", plain room and one-colour ball" : "");
-  std::vector<bt::RunResult> runs;
-  for (std::size_t si = 0; si < selected->scenarios.size(); ++si) {
-    const auto& scenario = selected->scenarios[si];
-    bt::RunConfig config = sl::config_for(*selected, si);
-    config.drive = drive;
-    config.seconds = sl::run_seconds(o.loop, scenario);
-    std::string png_error;
-    auto dump = [&](std::int64_t i, const sl::LoopFrame& f) {
-      if (o.png_dir.empty() || i < o.png_frames.first || i > o.png_frames.second) return;
-      for (const auto& [eye, image] : {std::pair{"left", &f.left_raw}, {"right", &f.right_raw}}) {
-        const std::string path = cv::format("%s/%s_%s_%06lld.png", o.png_dir.c_str(),
-                                            scenario.name.c_str(), eye, static_cast<long long>(i));
-        if (png_error.empty() && !cv::imwrite(path, *image)) png_error = "cannot write " + path;
-      }
-    };
-    auto out = bt::run_scenario(config, dump);
-    if (!png_error.empty()) return fail(png_error);
-    if (!out.error.empty()) return fail(out.error);
-    std::fprintf(stderr, "  %s: %zu frames\n", out.result.scenario.c_str(),
-                 out.result.frames.size());
-    runs.push_back(std::move(out.result));
-  }
+  const auto ran = run_all(*selected, o, drive);
+  if (!ran) return fail(ran.error());
+  const std::vector<bt::RunResult>& runs = ran.value();
   if (!selected->random.empty()) print_scene_report(stdout, runs, selected->random);
   print_absent(runs);
   print_visible(runs);
   print_error(runs);
-  print_time(runs, o.threads);
+  print_time(runs, o.threads, o.jobs);
   if (csv) {
     if (auto e = write_frames_csv(csv, o.frames_csv, runs); !e) return fail(e.error());
     std::fprintf(stderr, "  per-frame CSV: %s\n", o.frames_csv.c_str());

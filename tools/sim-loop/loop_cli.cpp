@@ -3,6 +3,8 @@
 #include "loop_config.hpp"
 #include "simulator/io/randomize_file.hpp"
 
+#include <algorithm>
+
 namespace stereoball::sim_loop {
 
 void add_loop_options(CLI::App& app, LoopCli& o) {
@@ -22,9 +24,12 @@ void add_loop_options(CLI::App& app, LoopCli& o) {
                  "run N randomised scenes (ranges from --ranges) instead of the scenario files; "
                  "the detector gets only each scene's ball diameter")
       ->check(CLI::Range(1, 100000));
-  app.add_option("--seed", o.seed,
-                 "with --randomize: the scene set (default 1); otherwise: override every "
-                 "scenario's seed (sensor noise)");
+  app.add_option("--seed", o.seeds,
+                 "with --randomize: the scene set (default 1; repeat for several, N scenes from "
+                 "each, reported together); otherwise: override every scenario's seed (sensor "
+                 "noise)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_option("--ranges", o.ranges,
                  "with --randomize: range file (default CONFIG_DIR/randomize.yaml)");
 }
@@ -43,11 +48,18 @@ Result<LoopSelection> select_random(const LoopCli& o, LoopSelection out) {
   auto ranges = simulator::load_randomize_ranges(o.ranges.empty() ? o.config_dir + "/randomize.yaml"
                                                                   : o.ranges);
   if (!ranges) return Error{ranges.error()};
-  out.random = simulator::draw_scenes(ranges.value(), o.seed.value_or(1), o.randomize);
-  for (auto& scene : out.random) {
-    if (o.plain) make_plain(scene.scenario);
-    out.scenarios.push_back(scene.scenario);
-  }
+  const std::vector<std::uint64_t> seeds =
+      o.seeds.empty() ? std::vector<std::uint64_t>{1} : o.seeds;
+  for (std::size_t i = 0; i < seeds.size(); ++i)
+    if (std::find(seeds.begin(), seeds.begin() + static_cast<std::ptrdiff_t>(i), seeds[i]) !=
+        seeds.begin() + static_cast<std::ptrdiff_t>(i))
+      return Error{"--seed " + std::to_string(seeds[i]) + " is given twice"};
+  for (const std::uint64_t seed : seeds)
+    for (auto& scene : simulator::draw_scenes(ranges.value(), seed, o.randomize)) {
+      if (o.plain) make_plain(scene.scenario);
+      out.scenarios.push_back(scene.scenario);
+      out.random.push_back(std::move(scene));
+    }
   return out;
 }
 
@@ -59,6 +71,7 @@ Result<LoopSelection> select_runs(const LoopCli& o) {
   LoopSelection out{loaded.value(), {}, {}};
   if (o.randomize > 0) return select_random(o, std::move(out));
   if (!o.ranges.empty()) return Error{"--ranges needs --randomize N"};
+  if (o.seeds.size() > 1) return Error{"--seed more than once needs --randomize N"};
   const std::string dir = o.config_dir + "/scenarios";
   std::vector<std::string> names = o.scenarios;
   if (names.empty()) names = scenario_names(dir);
@@ -66,7 +79,7 @@ Result<LoopSelection> select_runs(const LoopCli& o) {
   for (const auto& name : names) {
     auto s = load_scenario(name, dir, o.plain);
     if (!s) return Error{s.error()};
-    if (o.seed) s->seed = *o.seed;
+    if (!o.seeds.empty()) s->seed = o.seeds.front();
     out.scenarios.push_back(s.value());
   }
   return out;

@@ -23,7 +23,9 @@ struct LoopCli {
   double seconds = -1.0;               ///< simulated seconds per run; <= 0 = scenario duration
   bool plain = false;                  ///< plain room and one-colour ball
   int randomize = 0;                   ///< > 0: that many randomised scenes instead of scenarios
-  std::optional<std::uint64_t> seed;   ///< randomised: the scene set; else every scenario's seed
+  /// Randomised: the scene sets (N scenes from each, in order; default {1}); else at most one,
+  /// every scenario's seed.
+  std::vector<std::uint64_t> seeds;
   std::string ranges;  ///< randomised: range file (default config_dir/randomize.yaml)
 };
 
