@@ -3,7 +3,7 @@
 #include "loop_config.hpp"
 #include "simulator/io/randomize_file.hpp"
 
-#include <algorithm>
+#include <set>
 
 namespace stereoball::sim_loop {
 
@@ -50,10 +50,10 @@ Result<LoopSelection> select_random(const LoopCli& o, LoopSelection out) {
   if (!ranges) return Error{ranges.error()};
   const std::vector<std::uint64_t> seeds =
       o.seeds.empty() ? std::vector<std::uint64_t>{1} : o.seeds;
-  for (std::size_t i = 0; i < seeds.size(); ++i)
-    if (std::find(seeds.begin(), seeds.begin() + static_cast<std::ptrdiff_t>(i), seeds[i]) !=
-        seeds.begin() + static_cast<std::ptrdiff_t>(i))
-      return Error{"--seed " + std::to_string(seeds[i]) + " is given twice"};
+  std::set<std::uint64_t> seen;
+  for (const std::uint64_t seed : seeds)
+    if (!seen.insert(seed).second)
+      return Error{"--seed " + std::to_string(seed) + " is given twice"};
   for (const std::uint64_t seed : seeds)
     for (auto& scene : simulator::draw_scenes(ranges.value(), seed, o.randomize)) {
       if (o.plain) make_plain(scene.scenario);
