@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "process.hpp"
@@ -85,4 +86,28 @@ TEST(BenchClosedLoopTool, BadFlagValueIsRejected) {
   const auto [code, out] = st::run({st::bin("stereoball-bench-closed-loop"), "--seeds", "0"}, 30s);
   EXPECT_EQ(code, 2) << out;
   EXPECT_NE(out.find("--seeds"), std::string::npos) << out;
+}
+
+TEST(BenchClosedLoopTool, RunsSideBySideGiveTheFiguresOfRunsOneAfterAnother) {
+  // Given two scenarios with two seeds each, 3 simulated seconds
+  const auto run = [](const char* jobs) {
+    return st::run({st::bin("stereoball-bench-closed-loop"), "--scenario", "ball_still_plain",
+                    "--scenario", "no_ball", "--seconds", "3", "--seeds", "2", "--jobs", jobs},
+                   100s);
+  };
+  // When they run one after another and two at a time, Then the reports are the same
+  const auto [code1, one] = run("1");
+  const auto [code2, two] = run("2");
+  ASSERT_EQ(code1, 0) << one;
+  ASSERT_EQ(code2, 0) << two;
+  // (but for the progress lines, whose wall times and order differ)
+  const auto report = [](const std::string& out) {
+    std::istringstream in(out);
+    std::string line, kept;
+    while (std::getline(in, line))
+      if (line.find(" frames in ") == std::string::npos) kept += line + "\n";
+    return kept;
+  };
+  EXPECT_NE(one.find("\nTOTAL "), std::string::npos) << one;
+  EXPECT_EQ(report(one), report(two));
 }

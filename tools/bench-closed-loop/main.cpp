@@ -19,6 +19,7 @@
 #include "common/util/install_layout.hpp"
 #include "loop_cli.hpp"
 #include "report.hpp"
+#include "run_each.hpp"
 #include "simulator/core/randomize.hpp"
 
 namespace bc = stereoball::bench_closed_loop;
@@ -29,6 +30,7 @@ namespace {
 struct Options {
   sl::LoopCli loop;
   int seeds = 3;
+  int jobs = 1;
   std::string json_path;
   std::string trace_dir;
   double settle_s = 2.0;
@@ -45,6 +47,10 @@ void add_options(CLI::App& app, Options& o) {
   sl::add_loop_options(app, o.loop);
   app.add_option("--seeds", o.seeds, "runs per scenario; run i uses the scenario's seed + i")
       ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  app.add_option("--jobs", o.jobs,
+                 "runs at once, each on a thread of its own (the same figures as one at a time)")
+      ->check(CLI::Range(1, 64))
       ->capture_default_str();
   app.add_option("--json", o.json_path, "also write every figure as JSON to this file");
   app.add_option("--trace", o.trace_dir,
@@ -129,32 +135,34 @@ int main(int argc, char** argv) {
       "%.0f Hz, target %.2f m%s\n",
       scenarios.size(), o.seeds, base.sim.frame_rate_hz, base.controller_rate_hz,
       base.controller.target_distance_m, o.loop.plain ? ", plain room and one-colour ball" : "");
-  std::vector<bc::JudgedRun> runs;
-  for (std::size_t si = 0; si < scenarios.size(); ++si) {
+  // Run k is scenario k / seeds with its seed + k % seeds.
+  std::vector<bc::JudgedRun> runs(scenarios.size() * static_cast<std::size_t>(o.seeds));
+  const auto status = sl::run_each(runs.size(), o.jobs, [&](std::size_t k) -> stereoball::Status {
+    const std::size_t si = k / static_cast<std::size_t>(o.seeds);
     const auto& scenario = scenarios[si];
-    for (int i = 0; i < o.seeds; ++i) {
-      sl::LoopConfig config = sl::config_for(*selected, si);
-      config.scenario.seed = scenario.seed + static_cast<std::uint64_t>(i);
-      config.seconds = sl::run_seconds(o.loop, scenario);
-      const auto t0 = std::chrono::steady_clock::now();
-      auto samples = bc::run_closed_loop(config);
-      if (!samples) return fail(samples.error());
-      if (!o.trace_dir.empty()) {
-        const std::string path = o.trace_dir + "/" + scenario.name + "_seed" +
-                                 std::to_string(config.scenario.seed) + ".csv";
-        std::FILE* f = std::fopen(path.c_str(), "w");
-        if (!f) return fail("cannot write trace file " + path);
-        bc::write_trace(f, samples.value());
-        std::fclose(f);
-      }
-      bc::JudgedRun r{scenario.name, config.scenario.seed, samples->size(),
-                      bc::judge_run(scenario.name, samples.value(), params)};
-      std::fprintf(stderr, "  %s seed %llu: %zu frames in %.1f s\n", scenario.name.c_str(),
-                   static_cast<unsigned long long>(r.seed), r.frames,
-                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      runs.push_back(std::move(r));
+    sl::LoopConfig config = sl::config_for(*selected, si);
+    config.scenario.seed = scenario.seed + k % static_cast<std::size_t>(o.seeds);
+    config.seconds = sl::run_seconds(o.loop, scenario);
+    const auto t0 = std::chrono::steady_clock::now();
+    auto samples = bc::run_closed_loop(config);
+    if (!samples) return stereoball::Error{samples.error()};
+    if (!o.trace_dir.empty()) {
+      const std::string path = o.trace_dir + "/" + scenario.name + "_seed" +
+                               std::to_string(config.scenario.seed) + ".csv";
+      std::FILE* f = std::fopen(path.c_str(), "w");
+      if (!f) return stereoball::Error{"cannot write trace file " + path};
+      bc::write_trace(f, samples.value());
+      std::fclose(f);
     }
-  }
+    bc::JudgedRun& r = runs[k];
+    r = bc::JudgedRun{scenario.name, config.scenario.seed, samples->size(),
+                      bc::judge_run(scenario.name, samples.value(), params)};
+    std::fprintf(stderr, "  %s seed %llu: %zu frames in %.1f s\n", scenario.name.c_str(),
+                 static_cast<unsigned long long>(r.seed), r.frames,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    return {};
+  });
+  if (!status) return fail(status.error());
   std::vector<bc::Summary> summaries;
   std::vector<const bc::JudgedRun*> all;
   for (const auto& scenario : scenarios) {

@@ -8,7 +8,6 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -16,13 +15,13 @@
 #include <map>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "common/util/install_layout.hpp"
 #include "common/util/result.hpp"
 #include "loop_cli.hpp"
 #include "loop_config.hpp"
+#include "run_each.hpp"
 #include "scene_report.hpp"
 #include "tracking_run.hpp"
 
@@ -231,30 +230,17 @@ stereoball::Result<bt::RunResult> run_one(const sl::LoopSelection& selected, std
 }
 
 // Every selected scenario, o.jobs at a time (each run is independent: its own simulator,
-// pipeline and tracker), in selection order. A failed run stops the others from starting (as
-// one at a time, nothing after it runs) and its error, the first in selection order, is the
-// answer.
+// pipeline and tracker), in selection order (sim_loop::run_each).
 stereoball::Result<std::vector<bt::RunResult>> run_all(const sl::LoopSelection& selected,
                                                        const Options& o, bt::Drive drive) {
-  const std::size_t n = selected.scenarios.size();
-  std::vector<std::optional<stereoball::Result<bt::RunResult>>> results(n);
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  auto worker = [&] {
-    for (std::size_t si = next++; si < n && !failed; si = next++) {
-      results[si] = run_one(selected, si, o, drive);
-      if (!results[si]->ok()) failed = true;
-    }
-  };
-  std::vector<std::thread> threads;
-  for (int j = 1; j < std::min<int>(o.jobs, static_cast<int>(n)); ++j) threads.emplace_back(worker);
-  worker();
-  for (auto& t : threads) t.join();
-  // Scenes are claimed in order, so every scene before the first failure has run.
-  for (const auto& r : results)
-    if (r && !r->ok()) return stereoball::Error{r->error()};
-  std::vector<bt::RunResult> runs;
-  for (auto& r : results) runs.push_back(std::move(*r).value());
+  std::vector<bt::RunResult> runs(selected.scenarios.size());
+  const auto status = sl::run_each(runs.size(), o.jobs, [&](std::size_t si) -> stereoball::Status {
+    auto r = run_one(selected, si, o, drive);
+    if (!r) return stereoball::Error{r.error()};
+    runs[si] = std::move(r).value();
+    return {};
+  });
+  if (!status) return stereoball::Error{status.error()};
   return runs;
 }
 

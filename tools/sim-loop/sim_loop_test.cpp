@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <string>
 
 #include "loop_config.hpp"
+#include "run_each.hpp"
 #include "sim_loop.hpp"
 
 namespace stereoball::sim_loop {
@@ -149,3 +151,38 @@ TEST(Percentile, GivenTenValues_ThenNearestRankOfSortedCopy) {
 
 }  // namespace
 }  // namespace stereoball::sim_loop
+
+// Given 40 runs writing their own slot, then with 1, 3 or more jobs than runs every slot holds
+// its own index; given failures at 7 and 21, then one job runs nothing after 7 and the answer
+// is 7's error, and 4 jobs also answer with 7's (every run claimed before it has run) and start
+// few runs after it.
+TEST(RunEach, GivenJobsThenEveryRunOnceAndTheFirstFailureInOrderAnswers) {
+  namespace sl = stereoball::sim_loop;
+  for (const int jobs : {1, 3, 64}) {
+    std::vector<int> slot(40, -1);
+    const auto status = sl::run_each(slot.size(), jobs, [&](std::size_t i) -> stereoball::Status {
+      slot[i] = static_cast<int>(i);
+      return {};
+    });
+    ASSERT_TRUE(status.ok());
+    for (std::size_t i = 0; i < slot.size(); ++i) EXPECT_EQ(slot[i], static_cast<int>(i)) << jobs;
+  }
+  for (const int jobs : {1, 4}) {
+    std::atomic<int> ran{0}, ran_after{0};
+    const auto status = sl::run_each(40, jobs, [&](std::size_t i) -> stereoball::Status {
+      ++ran;
+      if (i > 7) ++ran_after;
+      if (i == 7 || i == 21) return stereoball::Error{"run " + std::to_string(i) + " failed"};
+      return {};
+    });
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error(), "run 7 failed") << jobs;
+    if (jobs == 1) {
+      EXPECT_EQ(ran_after.load(), 0);
+    }
+    EXPECT_LT(ran.load(), 40) << jobs;
+  }
+  EXPECT_TRUE(sl::run_each(0, 4, [](std::size_t) -> stereoball::Status {
+                return stereoball::Error{"never called"};
+              }).ok());
+}
