@@ -239,6 +239,21 @@ TEST(BenchTrackingTool, RepeatedOrDuplicateSeedsAreOneClearError) {
   EXPECT_NE(out2.find("--seed more than once needs --randomize"), std::string::npos) << out2;
 }
 
+TEST(BenchTrackingTool, NegativeOrTooLargeSeedIsRefusedNotWrapped) {
+  // Given a seed CLI11 alone would turn into 2^64 - 1 without a word, Then the tool refuses it
+  // before any run, naming the flag and why
+  for (const auto& [seed, why] : {std::pair{"-1", ">= 0"},
+                                  {"99999999999999999999999", "at most 18446744073709551615"},
+                                  {"3x", ">= 0"}}) {
+    const auto [code, out] =
+        st::run({st::bin("stereoball-bench-tracking"), "--randomize", "1", "--seed", seed}, 30s);
+    EXPECT_NE(code, 0) << seed;
+    EXPECT_NE(out.find("--seed"), std::string::npos) << out;
+    EXPECT_NE(out.find(why), std::string::npos) << out;
+    EXPECT_EQ(out.find("frames"), std::string::npos) << "a run started: " << out;
+  }
+}
+
 TEST(BenchTrackingTool, BadRangeFileOrScenarioWithRandomizeIsOneClearError) {
   const std::string path = ::testing::TempDir() + "bad_ranges.yaml";
   std::ofstream(path) << "duration_s: 10\n";

@@ -1,5 +1,6 @@
 #include "loop_cli.hpp"
 
+#include "common/util/cli_checks.hpp"
 #include "loop_config.hpp"
 #include "simulator/io/randomize_file.hpp"
 
@@ -29,7 +30,8 @@ void add_loop_options(CLI::App& app, LoopCli& o) {
                  "each, reported together); otherwise: override every scenario's seed (sensor "
                  "noise)")
       ->expected(1)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->check(cli::unsigned_64());
   app.add_option("--ranges", o.ranges,
                  "with --randomize: range file (default CONFIG_DIR/randomize.yaml)");
 }

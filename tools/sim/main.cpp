@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "common/util/cli_checks.hpp"
 #include "common/util/install_layout.hpp"
 #include "simulator/core/randomize.hpp"
 #include "simulator/core/simulator.hpp"
@@ -156,7 +157,9 @@ int main(int argc, char** argv) {
                  "run N randomised scenes (ranges from --ranges) instead of --scenario; with "
                  "--png-dir each scene goes to its own subfolder")
       ->check(CLI::Range(1, 100000));
-  app.add_option("--seed", o.seed, "with --randomize: which scene set")->capture_default_str();
+  app.add_option("--seed", o.seed, "with --randomize: which scene set")
+      ->check(stereoball::cli::unsigned_64())
+      ->capture_default_str();
   app.add_option("--ranges", o.ranges, "with --randomize: range file")->capture_default_str();
   app.add_option("--width", o.width_px, "override image width, pixels");
   app.add_option("--height", o.height_px, "override image height, pixels");
