@@ -8,8 +8,10 @@
 #include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <string>
@@ -152,7 +154,11 @@ int main(int argc, char** argv) {
       std::FILE* f = std::fopen(path.c_str(), "w");
       if (!f) return stereoball::Error{"cannot write trace file " + path};
       bc::write_trace(f, samples.value());
-      std::fclose(f);
+      // A full disk or a vanished folder shows at the flush: the figures must not rest on a
+      // silently cut trace.
+      const bool written = std::fflush(f) == 0 && !std::ferror(f);
+      if (std::fclose(f) != 0 || !written)
+        return stereoball::Error{"writing trace file " + path + " failed: " + std::strerror(errno)};
     }
     bc::JudgedRun& r = runs[k];
     r = bc::JudgedRun{scenario.name, config.scenario.seed, samples->size(),
