@@ -18,6 +18,7 @@ struct Sample {
   demo::TrackSample track;          ///< tracker state, acceptance, position (camera frame)
   bool searching = false;           ///< the controller command in force is in searching mode
   double angular_radps = 0.0;       ///< that command's yaw rate, rad/s, positive = turn left
+  double linear_mps = 0.0;          ///< that command's forward speed, m/s
 };
 
 /// Thresholds of the criteria; defaults are the figures and the shipped controller.

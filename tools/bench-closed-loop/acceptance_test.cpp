@@ -2,10 +2,15 @@
 // 30 frames per second).
 
 #include "acceptance.hpp"
+#include "report.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
 
 namespace stereoball::bench_closed_loop {
 namespace {
@@ -187,6 +192,69 @@ TEST(JudgeRun, GivenNoBallAndFollowingForOneSecond_ThenLongestFollowingIsMeasure
   EXPECT_NEAR(r.longest_following_no_ball_s, 29 * kDt, 1e-9);
   EXPECT_EQ(r.keep.reachable_s, 0.0);
   EXPECT_TRUE(r.leaves.empty());
+}
+
+TEST(Summary, GivenEventsCutOffByTheRunsEnd_ThenTheirSearchTurnsAreCountedApartFromTheJudged) {
+  // Given one run with a judged event and three cut off by the run's end: one searched toward
+  // the side the ball left on, one the other way, one never searched
+  JudgedRun run;
+  run.result.ball_present = true;
+  LeaveEvent judged;
+  judged.side = judged.turned = Side::kLeft;
+  judged.right_way = judged.reacquired = true;
+  LeaveEvent toward, away, no_search;
+  toward.cut_off = away.cut_off = no_search.cut_off = true;
+  toward.side = toward.turned = Side::kRight;
+  away.side = Side::kLeft;
+  away.turned = Side::kRight;
+  no_search.side = Side::kRight;
+  run.result.leaves = {judged, toward, away, no_search};
+  const Summary s = summarize("all", {&run}, {});
+  // Then (b) judges only the first; the cut-off ones count apart: 2 searched, 1 the right way
+  EXPECT_EQ(s.leave_events, 1);
+  EXPECT_EQ(s.leave_ok_runs, 1);
+  EXPECT_EQ(s.cut_off_events, 3);
+  EXPECT_EQ(s.cut_off_searched, 2);
+  EXPECT_EQ(s.cut_off_right_way, 1);
+  // And the verdict line and the JSON say so
+  char* text = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&text, &size);
+  ASSERT_NE(out, nullptr);
+  print_report(out, {s}, s, {});
+  std::fclose(out);
+  const std::string report(text, size);
+  std::free(text);
+  EXPECT_NE(report.find("3 event(s) cut off by the run's end; of those, 2 searched: 1 toward the "
+                        "side the ball left on"),
+            std::string::npos)
+      << report;
+  const nlohmann::json j = to_json({}, {s}, s, {});
+  EXPECT_EQ(j["total"]["b"]["cut_off_searched"], 2);
+  EXPECT_EQ(j["total"]["b"]["cut_off_right_way"], 1);
+}
+
+TEST(Trace, GivenSamples_ThenOneCsvLinePerFrameWithTheCommandInForce) {
+  // Given two frames, the second answered by a search command turning right and backing off
+  std::vector<Sample> run = {frame(0, 1.0, 0.0, true), frame(1, 1.0, 0.0, false)};
+  run[1].searching = true;
+  run[1].angular_radps = -0.8;
+  run[1].linear_mps = -0.1;
+  char* text = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&text, &size);
+  ASSERT_NE(out, nullptr);
+  write_trace(out, run);
+  std::fclose(out);
+  const std::string csv(text, size);
+  std::free(text);
+  // Then a header naming both command columns and the command in the last frame's line
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "t_s,ball_present,visible,ball_speed_mps,distance_m,bearing_deg,detected,track_state,"
+            "accepted,track_x_m,track_z_m,searching,angular_radps,linear_mps");
+  EXPECT_NE(csv.find("0.0333,1,0,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",1,-0.8000,-0.1000\n"), std::string::npos) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
 }
 
 }  // namespace

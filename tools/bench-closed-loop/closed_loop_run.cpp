@@ -30,6 +30,7 @@ Sample to_sample(const sim_loop::LoopFrame& f) {
   if (f.command) {
     s.searching = f.command->mode == motion_controller::Mode::kSearching;
     s.angular_radps = f.command->angular_radps;
+    s.linear_mps = f.command->linear_mps;
   }
   return s;
 }

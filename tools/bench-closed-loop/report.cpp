@@ -48,6 +48,11 @@ void add_leaves(Summary& s, const std::vector<LeaveEvent>& leaves) {
   const std::size_t judged = judged_leaves(leaves);
   s.leave_events += static_cast<int>(judged);
   s.cut_off_events += static_cast<int>(leaves.size() - judged);
+  for (const auto& e : leaves) {
+    if (!e.cut_off || e.turned == Side::kNone) continue;
+    ++s.cut_off_searched;
+    s.cut_off_right_way += e.turned == e.side ? 1 : 0;
+  }
   if (judged == 0) return;
   ++s.leave_runs;
   bool right = true, reacquired = true;
@@ -87,6 +92,15 @@ const char* verdict(bool met) {
   return met ? "MET" : "NOT MET";
 }
 
+// "N event(s) cut off by the run's end; of those, S searched: R toward the side the ball left
+// on" (the second part only when there were some).
+std::string cut_off_note(const Summary& t) {
+  std::string note = std::to_string(t.cut_off_events) + " event(s) cut off by the run's end";
+  if (t.cut_off_events == 0) return note;
+  return note + "; of those, " + std::to_string(t.cut_off_searched) +
+         " searched: " + std::to_string(t.cut_off_right_way) + " toward the side the ball left on";
+}
+
 void print_verdicts(std::FILE* out, const Summary& t, const AcceptanceParams& p) {
   const KeepFigures& k = t.keep;
   if (k.reachable_s > 0) {
@@ -102,14 +116,15 @@ void print_verdicts(std::FILE* out, const Summary& t, const AcceptanceParams& p)
     std::fprintf(out,
                  "(b) %d of %d runs with a judged leave event turned the right way and reacquired "
                  "within %.0f s = %.1f%% (target >= 95%%): %s  [right way %d/%d, reacquired %d/%d, "
-                 "%d event(s) cut off by the run's end]\n",
+                 "%s]\n",
                  t.leave_ok_runs, t.leave_runs, p.reacquire_limit_s, 100.0 * ok,
                  verdict(ok >= 0.95), t.right_way_runs, t.leave_runs, t.reacquired_runs,
-                 t.leave_runs, t.cut_off_events);
+                 t.leave_runs, cut_off_note(t).c_str());
   } else {
-    std::fprintf(out,
-                 "(b) not measured: the ball did not leave the view (for >= %.1f s) in any run%s\n",
-                 p.min_gap_s, t.cut_off_events ? " long enough before the end to judge it" : "");
+    std::fprintf(
+        out, "(b) not measured: the ball did not leave the view (for >= %.1f s) in any run%s%s\n",
+        p.min_gap_s, t.cut_off_events ? " long enough before the end to judge it" : "",
+        t.cut_off_events ? (" [" + cut_off_note(t) + "]").c_str() : "");
   }
   if (t.no_ball_runs > 0) {
     std::fprintf(
@@ -160,6 +175,8 @@ nlohmann::json summary_json(const Summary& s) {
             {"ok_fraction", fraction(s.leave_ok_runs, s.leave_runs)},
             {"judged_events", s.leave_events},
             {"cut_off_events", s.cut_off_events},
+            {"cut_off_searched", s.cut_off_searched},
+            {"cut_off_right_way", s.cut_off_right_way},
             {"reacquire_median_s",
              s.reacquire_s.empty() ? nlohmann::json()
                                    : nlohmann::json(sim_loop::percentile(s.reacquire_s, 0.5))}}},
@@ -287,14 +304,14 @@ void print_details(std::FILE* out, const std::vector<Summary>& scenarios,
 void write_trace(std::FILE* out, const std::vector<Sample>& samples) {
   std::fprintf(out,
                "t_s,ball_present,visible,ball_speed_mps,distance_m,bearing_deg,detected,"
-               "track_state,accepted,track_x_m,track_z_m,searching,angular_radps\n");
+               "track_state,accepted,track_x_m,track_z_m,searching,angular_radps,linear_mps\n");
   for (const Sample& s : samples) {
-    std::fprintf(out, "%.4f,%d,%d,%.3f,%.4f,%.3f,%d,%d,%d,%.4f,%.4f,%d,%.4f\n", s.truth.t_s,
+    std::fprintf(out, "%.4f,%d,%d,%.3f,%.4f,%.3f,%d,%d,%d,%.4f,%.4f,%d,%.4f,%.4f\n", s.truth.t_s,
                  s.truth.ball_present, s.truth.visible, s.ball_speed_mps,
                  demo::robot_ball_distance_m(s.truth),
                  demo::robot_ball_bearing_rad(s.truth) * kRadToDeg, s.detection.found,
                  static_cast<int>(s.track.state), s.track.accepted, s.track.position_m[0],
-                 s.track.position_m[2], s.searching, s.angular_radps);
+                 s.track.position_m[2], s.searching, s.angular_radps, s.linear_mps);
   }
 }
 

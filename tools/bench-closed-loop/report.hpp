@@ -34,6 +34,9 @@ struct Summary {
   int reacquired_runs = 0;      ///< ... whose judged events were all reacquired in time
   int leave_ok_runs = 0;        ///< ... passing (b): both
   int leave_events = 0, cut_off_events = 0;
+  /// Cut-off events are not judged, but the way their search turned is known: how many searched,
+  /// and how many of those turned toward the side the ball left on.
+  int cut_off_searched = 0, cut_off_right_way = 0;
   std::vector<double> reacquire_s;  ///< reacquisition times of the judged events
   int no_ball_runs = 0, no_ball_ok_runs = 0;
   double longest_following_no_ball_s = 0.0;  ///< max over the no-ball runs
