@@ -30,6 +30,9 @@ struct MotionControllerParams {
   double max_reverse_mps;  ///< a positive number
   double max_angular_radps;
   double max_linear_accel_mps2;
+  /// Slowing down may be harder than speeding up: the robot must stop short of a ball that
+  /// turned toward it.
+  double max_linear_brake_mps2;
   double max_angular_accel_radps2;
   double max_linear_jerk_mps3;
   double max_angular_jerk_radps3;

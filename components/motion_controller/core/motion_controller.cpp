@@ -1,5 +1,7 @@
 #include "motion_controller/core/motion_controller.hpp"
 
+#include "motion_controller/core/lost_ball.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -15,9 +17,10 @@ double deadband(double value, double band) {
 MotionController::MotionController(const MotionControllerParams& params)
     : params_(params),
       linear_({params.max_linear_mps, -params.max_reverse_mps, params.max_linear_accel_mps2,
-               params.max_linear_jerk_mps3}),
+               params.max_linear_jerk_mps3, params.max_linear_brake_mps2}),
       angular_({params.max_angular_radps, -params.max_angular_radps,
-                params.max_angular_accel_radps2, params.max_angular_jerk_radps3}) {}
+                params.max_angular_accel_radps2, params.max_angular_jerk_radps3,
+                params.max_angular_accel_radps2}) {}
 
 StampCheck MotionController::check_stamp(std::int64_t capture_stamp_ns, std::int64_t now_ns) const {
   if (capture_stamp_ns <= 0) return StampCheck::kZero;
@@ -118,15 +121,20 @@ bool MotionController::search_left(const TrackSample& t, std::int64_t now_ns) co
   constexpr double kMinDistanceM = 0.05;  // closer is no usable position
   if (!t.position_valid || t.distance_m < kMinDistanceM) return left;
   // Where the ball is now as seen from the robot's centre (the tracker's side is the left
-  // camera's image side: a close ball right of the camera axis can be left of the robot):
-  // its last bearing, moved on by its own bearing rate and by the robot's turn since then.
+  // camera's image side: a close ball right of the camera axis can be left of the robot).
   const std::int64_t age_ns =
       std::max<std::int64_t>(0, t.capture_stamp_ns - t.last_accepted_stamp_ns);
-  const double age_s = static_cast<double>(age_ns) * 1e-9;
-  const Velocity own = own_motion_behind(t, now_ns);
-  const double turned_rad = history_.mean(now_ns - age_ns, now_ns).angular_radps * age_s;
-  const double predicted =
-      robot_bearing_rad(t) + (t.bearing_rate_radps - own.angular_radps) * age_s + turned_rad;
+  LostBall ball;
+  const PlaneVector camera_m{t.distance_m * std::sin(t.bearing_rad),
+                             t.distance_m * std::cos(t.bearing_rad)};
+  ball.last_m = {camera_m.x + params_.camera_right_offset_m,
+                 camera_m.z + params_.camera_forward_offset_m};
+  ball.seen_velocity_mps = plane_velocity(camera_m, {t.bearing_rate_radps, t.distance_rate_mps});
+  ball.own_while_seen = own_motion_behind(t, now_ns);
+  ball.age_s = static_cast<double>(age_ns) * 1e-9;
+  ball.own_since = history_.mean(now_ns - age_ns, now_ns);
+  const PlaneVector now_m = predict_lost_ball(ball);
+  const double predicted = std::atan2(now_m.x, now_m.z);
   if (std::abs(predicted) < params_.bearing_deadband_rad) return left;  // too close to call
   return predicted < 0.0;                                               // positive bearing = right
 }

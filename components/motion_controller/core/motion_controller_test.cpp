@@ -43,6 +43,13 @@ MotionControllerParams centred() {
   return p;
 }
 
+// The linear acceleration limit between two commands: braking while the speed drops.
+double linear_accel_bound(const MotionControllerParams& p, double v_prev, double v) {
+  const bool slowing = std::abs(v) < std::abs(v_prev) || v * v_prev < 0.0;
+  return slowing ? std::max(p.max_linear_brake_mps2, p.max_linear_accel_mps2)
+                 : p.max_linear_accel_mps2;
+}
+
 // A controller ticking at 20 Hz; every tick may deliver a fresh track first.
 class Harness {
  public:
@@ -152,7 +159,7 @@ TEST(MotionController, GivenLargeErrors_ThenSpeedAccelAndJerkLimited) {
     const Command c = h.tick(following(bearing, 10.0, kT0 + i * kTickNs));
     const double av = (c.linear_mps - v_prev) / 0.05;
     const double aw = (c.angular_radps - w_prev) / 0.05;
-    ASSERT_LE(std::abs(av), p.max_linear_accel_mps2 + 1e-6) << i;
+    ASSERT_LE(std::abs(av), linear_accel_bound(p, v_prev, c.linear_mps) + 1e-6) << i;
     ASSERT_LE(std::abs(aw), p.max_angular_accel_radps2 + 1e-6) << i;
     ASSERT_LE(std::abs(av - av_prev) / 0.05, p.max_linear_jerk_mps3 + 1e-3) << i;
     ASSERT_LE(std::abs(aw - aw_prev) / 0.05, p.max_angular_jerk_radps3 + 1e-3) << i;
@@ -166,6 +173,28 @@ TEST(MotionController, GivenLargeErrors_ThenSpeedAccelAndJerkLimited) {
   EXPECT_LE(max_v, p.max_linear_mps + 1e-9);
   EXPECT_GT(max_v, 0.1);  // it did drive
   EXPECT_LE(max_w, p.max_angular_radps + 1e-9);
+}
+
+// Ticks from full speed to standing still when a far ball is suddenly at the target distance.
+int ticks_to_stop(double brake_mps2) {
+  MotionControllerParams p = centred();
+  p.max_linear_brake_mps2 = brake_mps2;
+  Harness h(p);
+  h.run(following(0.0, 3.0, kT0), 60);
+  EXPECT_NEAR(h.controller().step(h.now()).linear_mps, p.max_linear_mps, 1e-9);
+  int ticks = 0;
+  while (ticks < 200 && h.tick(following(0.0, p.target_distance_m, kT0)).linear_mps > 0.0) ++ticks;
+  return ticks;
+}
+
+TEST(MotionController, GivenBallSuddenlyAtTargetDistance_ThenBrakesHarderThanItAccelerates) {
+  // Given full speed (0.8 m/s; acceleration 0.8 m/s^2) toward a ball that is suddenly close:
+  // with the brake limit at the acceleration limit, then at 2 m/s^2
+  const int same = ticks_to_stop(0.8);
+  const int harder = ticks_to_stop(2.0);
+  // Then the harder brake stops in fewer control periods (jerk-limited both times)
+  EXPECT_GE(same, 20);
+  EXPECT_LE(harder, same - 4);
 }
 
 TEST(MotionController, GivenSearchingAfterBallLeftRight_ThenRotatesClockwiseInPlace) {
@@ -220,6 +249,24 @@ TEST(MotionController, GivenBallLostWhileMovingLeftFast_ThenSearchesWhereItWent)
   t.bearing_rate_radps = -1.0;
   const Command c = h.run(t, 30);
   // Then the search turns left, not toward the side of the last fix
+  EXPECT_NEAR(c.angular_radps, 0.8, 1e-9);
+}
+
+TEST(MotionController,
+     GivenBallRollingPastTheRobotsLeftSide_ThenSearchesLeftThoughTheCameraSawItDriftRight) {
+  // Given the shipped rig (left camera 6 cm left of the centreline, 10 cm ahead of the centre)
+  // and a ball last seen 0.2 m ahead of the camera, 1 cm right of its axis, rolling at 0.9 m/s
+  // almost straight back past the robot's left side, lost 0.5 s ago (the robot still). From
+  // the camera its bearing grows to the right; a bearing moved on at that rate points right.
+  Harness h(MotionControllerParams{});
+  TrackSample t = searching_at(0.01, 0.2, Side::kRight, kT0, 500'000'000);
+  const PolarRates seen = polar_rates(0.01, 0.2, 0.03, -0.9);
+  ASSERT_GT(seen.bearing_radps, 0.3);
+  t.bearing_rate_radps = seen.bearing_radps;
+  t.distance_rate_mps = seen.range_mps;
+  const Command c = h.run(t, 30);
+  // Then the search turns left: the ball is now behind the robot on its left
+  EXPECT_EQ(c.mode, Mode::kSearching);
   EXPECT_NEAR(c.angular_radps, 0.8, 1e-9);
 }
 
@@ -582,7 +629,9 @@ TEST(MotionControllerEvents, GivenTracksAtIrregularTimes_ThenAccelerationLimitsH
     ASSERT_TRUE(r.command.has_value());
     // Then the velocity never changes faster than the acceleration limits over the real step
     const double dt_s = static_cast<double>(dt_ns) * 1e-9;
-    EXPECT_LE(std::abs(r.command->linear_mps - v_prev) / dt_s, p.max_linear_accel_mps2 + 1e-6) << i;
+    EXPECT_LE(std::abs(r.command->linear_mps - v_prev) / dt_s,
+              linear_accel_bound(p, v_prev, r.command->linear_mps) + 1e-6)
+        << i;
     EXPECT_LE(std::abs(r.command->angular_radps - w_prev) / dt_s, p.max_angular_accel_radps2 + 1e-6)
         << i;
     v_prev = r.command->linear_mps;

@@ -31,8 +31,22 @@ double SmoothAxis::step(double target, double dt_s) {
   const double e = std::abs(error);
   const double a = sign * accel_;
   const double h = limits_.max_jerk * dt_s;
-  const double lo = std::max(a - h, -limits_.max_accel);
-  const double hi = std::min(a + h, limits_.max_accel);
+  // Toward the target (+) slows the axis down when the velocity points away from it, and
+  // away from the target (-) when it points toward it.
+  const double toward = sign * velocity_;
+  const double up_cap = toward < 0.0 ? limits_.max_brake : limits_.max_accel;
+  const double down_cap = toward > 0.0 ? limits_.max_brake : limits_.max_accel;
+  double lo = std::max(a - h, -down_cap);
+  double hi = std::min(a + h, up_cap);
+  // Braking harder than max_accel when the velocity passes zero: the acceleration ramps down
+  // to the new bound at the jerk limit instead of jumping.
+  if (lo > hi) {
+    if (a > 0.0) {
+      hi = lo;
+    } else {
+      lo = hi;
+    }
+  }
   // The largest acceleration this step from which a jerk-limited ramp to zero
   // still does not pass the target (travel() is increasing in a).
   double chosen = lo;

@@ -1,6 +1,8 @@
 #pragma once
 // A velocity that follows its target within velocity, acceleration and jerk
-// limits: the command never jumps, and its acceleration never jumps either.
+// limits: the command never jumps, and its acceleration never jumps either. Slowing down may
+// use a harder limit than speeding up (a base brakes harder than it accelerates, and a robot
+// closing in on a ball that turned toward it must stop short of it).
 
 namespace stereoball::motion_controller {
 
@@ -8,14 +10,15 @@ namespace stereoball::motion_controller {
 struct AxisLimits {
   double max_velocity = 1.0;   ///< highest velocity
   double min_velocity = -1.0;  ///< lowest velocity (negative for reverse)
-  double max_accel = 1.0;      ///< |acceleration| bound, > 0
+  double max_accel = 1.0;      ///< |acceleration| bound while |velocity| grows, > 0
   double max_jerk = 10.0;      ///< |jerk| bound, > 0
+  double max_brake = 1.0;      ///< |acceleration| bound while |velocity| drops, > 0
 };
 
 /// Jerk-limited tracking of a velocity target by one axis.
 class SmoothAxis {
  public:
-  /// limits: max_accel and max_jerk must be > 0, min_velocity <= max_velocity.
+  /// limits: max_accel, max_brake and max_jerk must be > 0, min_velocity <= max_velocity.
   explicit SmoothAxis(const AxisLimits& limits) : limits_(limits) {}
 
   /// Advances by dt_s seconds toward target (clamped to the limits); returns the velocity.

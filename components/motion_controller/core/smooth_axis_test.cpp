@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -12,10 +13,17 @@ namespace {
 constexpr double kDt = 0.05;  // 20 Hz
 
 AxisLimits limits() {
-  return {1.0, -0.5, 2.0, 10.0};
+  return {1.0, -0.5, 2.0, 10.0, 2.0};
 }
 
-// Runs the axis toward a target sequence and checks every limit on every step.
+// Speeding up at most 1 m/s^2, braking up to 3 m/s^2.
+AxisLimits brakes_harder() {
+  return {1.0, -0.5, 1.0, 10.0, 3.0};
+}
+
+// Runs the axis toward a target sequence and checks every limit on every step: max_accel
+// while the speed grows, max_brake while it drops (or passes zero), and an acceleration above
+// the bound that now applies only ramping down from the step before.
 void expect_within_limits(const std::vector<double>& targets, const AxisLimits& lim) {
   SmoothAxis axis(lim);
   double v_prev = 0.0;
@@ -25,11 +33,24 @@ void expect_within_limits(const std::vector<double>& targets, const AxisLimits& 
     const double a = (v - v_prev) / kDt;
     ASSERT_LE(v, lim.max_velocity + 1e-9) << "step " << i;
     ASSERT_GE(v, lim.min_velocity - 1e-9) << "step " << i;
-    ASSERT_LE(std::abs(a), lim.max_accel + 1e-6) << "step " << i;
+    const bool slowing = std::abs(v) < std::abs(v_prev) || v * v_prev < 0.0;
+    const double cap = slowing ? lim.max_brake : lim.max_accel;
+    ASSERT_LE(std::abs(a), std::max(cap, std::abs(a_prev)) + 1e-6) << "step " << i;
+    ASSERT_LE(std::abs(a), std::max(lim.max_accel, lim.max_brake) + 1e-6) << "step " << i;
     ASSERT_LE(std::abs(a - a_prev) / kDt, lim.max_jerk + 1e-4) << "step " << i;
     v_prev = v;
     a_prev = a;
   }
+}
+
+// Steps toward target until the velocity reaches it (at most 400 steps); returns the count.
+int steps_to(SmoothAxis& axis, double target) {
+  int steps = 0;
+  while (std::abs(axis.velocity() - target) > 1e-9 && steps < 400) {
+    axis.step(target, kDt);
+    ++steps;
+  }
+  return steps;
 }
 
 TEST(SmoothAxis, GivenStepTarget_ThenReachesItWithoutOvershoot) {
@@ -76,6 +97,37 @@ TEST(SmoothAxis, GivenRandomTargets_ThenLimitsHold) {
   std::vector<double> targets;
   for (int i = 0; i < 2000; ++i) targets.push_back(u(rng));
   expect_within_limits(targets, limits());
+}
+
+TEST(SmoothAxis, GivenHarderBrake_ThenStopsInFewerStepsThanItTookToStartAndNeverReverses) {
+  SmoothAxis axis(brakes_harder());
+  const int start = steps_to(axis, 0.9);
+  ASSERT_NEAR(axis.velocity(), 0.9, 1e-9);
+  double lowest = axis.velocity();
+  int stop = 0;
+  while (std::abs(axis.velocity()) > 1e-9 && stop < 400) {
+    lowest = std::min(lowest, axis.step(0.0, kDt));
+    ++stop;
+  }
+  // 0.9 m/s at 1 m/s^2 takes at least 0.9 s; braking at 3 m/s^2 and the jerk ramps ~0.5 s
+  EXPECT_GE(start, 18);
+  EXPECT_LT(stop, start * 3 / 4);
+  EXPECT_GE(lowest, -1e-9);  // stopped, not backed up
+}
+
+TEST(SmoothAxis, GivenHarderBrakeAndReversals_ThenEachBoundHoldsInItsDirection) {
+  std::vector<double> targets;
+  for (int i = 0; i < 40; ++i) targets.push_back(1.0);
+  for (int i = 0; i < 40; ++i) targets.push_back(-0.5);
+  for (int i = 0; i < 10; ++i) targets.push_back(0.3);
+  for (int i = 0; i < 3; ++i) targets.push_back(-0.2);
+  for (int i = 0; i < 40; ++i) targets.push_back(0.0);
+  expect_within_limits(targets, brakes_harder());
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  targets.clear();
+  for (int i = 0; i < 2000; ++i) targets.push_back(u(rng));
+  expect_within_limits(targets, brakes_harder());
 }
 
 TEST(SmoothAxis, GivenReset_ThenZeroAtOnce) {
