@@ -25,11 +25,11 @@ PlaneVector apparent_velocity(const PlaneVector& p, const Velocity& own) {
 
 PlaneVector predict_lost_ball(const LostBall& ball) {
   const PlaneVector apparent = apparent_velocity(ball.last_m, ball.own_while_seen);
-  const PlaneVector own_velocity{ball.seen_velocity_mps.x - apparent.x,
-                                 ball.seen_velocity_mps.z - apparent.z};
+  const PlaneVector ball_velocity{ball.seen_velocity_mps.x - apparent.x,
+                                  ball.seen_velocity_mps.z - apparent.z};
   // Where the ball is now, in the robot's frame of the last sighting.
-  const PlaneVector moved{ball.last_m.x + own_velocity.x * ball.age_s,
-                          ball.last_m.z + own_velocity.z * ball.age_s};
+  const PlaneVector moved{ball.last_m.x + ball_velocity.x * ball.age_s,
+                          ball.last_m.z + ball_velocity.z * ball.age_s};
   // The robot's arc since then: a chord of length driven * sin(turn / 2) / (turn / 2), leaning
   // half the turn to the left.
   const double driven_m = ball.own_since.linear_mps * ball.age_s;

@@ -81,22 +81,32 @@ TEST(SmoothAxis, GivenTargetsBeyondLimits_ThenVelocityClamped) {
   EXPECT_NEAR(axis.velocity(), -0.5, 1e-9);
 }
 
-TEST(SmoothAxis, GivenStepsAndReversals_ThenAccelAndJerkNeverExceedLimits) {
+// Full speed ahead, full reverse, and short hops either way, ending at rest.
+std::vector<double> steps_and_reversals() {
   std::vector<double> targets;
   for (int i = 0; i < 40; ++i) targets.push_back(1.0);
   for (int i = 0; i < 40; ++i) targets.push_back(-0.5);
   for (int i = 0; i < 10; ++i) targets.push_back(0.3);
   for (int i = 0; i < 3; ++i) targets.push_back(-0.2);
   for (int i = 0; i < 40; ++i) targets.push_back(0.0);
-  expect_within_limits(targets, limits());
+  return targets;
 }
 
-TEST(SmoothAxis, GivenRandomTargets_ThenLimitsHold) {
-  std::mt19937 rng(4);
+// 2000 targets uniform in [-2, 2], beyond the limits both ways.
+std::vector<double> random_targets(unsigned seed) {
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-2.0, 2.0);
   std::vector<double> targets;
   for (int i = 0; i < 2000; ++i) targets.push_back(u(rng));
-  expect_within_limits(targets, limits());
+  return targets;
+}
+
+TEST(SmoothAxis, GivenStepsAndReversals_ThenAccelAndJerkNeverExceedLimits) {
+  expect_within_limits(steps_and_reversals(), limits());
+}
+
+TEST(SmoothAxis, GivenRandomTargets_ThenLimitsHold) {
+  expect_within_limits(random_targets(4), limits());
 }
 
 TEST(SmoothAxis, GivenHarderBrake_ThenStopsInFewerStepsThanItTookToStartAndNeverReverses) {
@@ -116,18 +126,8 @@ TEST(SmoothAxis, GivenHarderBrake_ThenStopsInFewerStepsThanItTookToStartAndNever
 }
 
 TEST(SmoothAxis, GivenHarderBrakeAndReversals_ThenEachBoundHoldsInItsDirection) {
-  std::vector<double> targets;
-  for (int i = 0; i < 40; ++i) targets.push_back(1.0);
-  for (int i = 0; i < 40; ++i) targets.push_back(-0.5);
-  for (int i = 0; i < 10; ++i) targets.push_back(0.3);
-  for (int i = 0; i < 3; ++i) targets.push_back(-0.2);
-  for (int i = 0; i < 40; ++i) targets.push_back(0.0);
-  expect_within_limits(targets, brakes_harder());
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-2.0, 2.0);
-  targets.clear();
-  for (int i = 0; i < 2000; ++i) targets.push_back(u(rng));
-  expect_within_limits(targets, brakes_harder());
+  expect_within_limits(steps_and_reversals(), brakes_harder());
+  expect_within_limits(random_targets(7), brakes_harder());
 }
 
 TEST(SmoothAxis, GivenReset_ThenZeroAtOnce) {
