@@ -744,6 +744,10 @@ std::vector<Circle> PixelToPixelDetector::detect_at_seeds(const cv::Mat& bgr_or_
                                                           const SearchHints& hints,
                                                           std::span<const Circle> seeds) {
   if (!edges_with_hints(bgr_or_grey, thresholds, hints)) return {};
+  return refine_seeds(seeds);
+}
+
+std::vector<Circle> PixelToPixelDetector::refine_seeds(std::span<const Circle> seeds) const {
   RefineParams refine = params_.refine_params;
   refine.min_inside_fraction = min_inside_fraction_;
   // The robust fit from the wider band: a prediction is off by a few pixels, a peak by one or

@@ -201,6 +201,9 @@ class PixelToPixelDetector final : public CircleDetector {
   /// searches by voting).
   std::vector<Circle> detect_at_seeds(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
                                       const SearchHints& hints, std::span<const Circle> seeds);
+  /// detect_at_seeds() on the edges of the last image (cast_votes() or a detect()), with its
+  /// radius range: for seeds found some other way than by this detector's votes.
+  std::vector<Circle> refine_seeds(std::span<const Circle> seeds) const;
   /// detect(bgr_or_grey) in two halves, for a caller that runs other work beside the second:
   /// the edge step and the voting (false for an invalid image: nothing to find); after it,
   /// other detectors may redetect_from() this one while it runs circles_of_votes().
@@ -235,6 +238,8 @@ class PixelToPixelDetector final : public CircleDetector {
   const std::vector<Voter>& voters() const { return voters_; }
   /// Edge map of the last image.
   const EdgeMap& edge_map() const { return edges_; }
+  /// Radii searched in the last image: the params' range, or the caller's hints within it.
+  RadiusRange radius_range() const { return radii_; }
 
  private:
   // One line the window rules let vote: its start C (on the half-pixel grid, exact in float)

@@ -120,6 +120,23 @@ std::vector<params::Field<P>> appearance_fields() {
   };
 }
 
+std::vector<params::Field<P>> colour_seed_fields() {
+  using C = ColourSeedParams;
+  const C core;
+  const auto in = [](auto member) { return at(&P::colour_seeds, member); };
+  return {
+      flag("colour_seeds.enabled", in(&C::enabled), core.enabled,
+           "in a whole-frame search, regions of outstanding colour seed left candidates the "
+           "votes missed (refined and scored on the edges like any other)"),
+      number("colour_seeds.max_seeds", in(&C::max_seeds), core.max_seeds, {1, 50}, "",
+             "the largest such regions refined per frame"),
+      number("colour_seeds.min_chroma", in(&C::min_chroma), core.min_chroma, {0.0, 255.0},
+             "grey levels", "a region's chroma (max - min of B, G, R) must exceed this"),
+      number("colour_seeds.spread_factor", in(&C::spread_factor), core.spread_factor,
+             {0.0, 100.0}, "", "... and the image's median chroma by this many robust sigmas"),
+  };
+}
+
 std::vector<params::Field<P>> interior_depth_fields() {
   using I = InteriorDepthParams;
   const I core;
@@ -190,7 +207,8 @@ std::vector<params::Field<P>> p2p_fields() {
 
 params::FieldTable<P> make_table() {
   params::FieldTable<P> t{pipeline_fields(), cross_check};
-  for (const auto& part : {appearance_fields(), interior_depth_fields(), p2p_fields()}) {
+  for (const auto& part :
+       {appearance_fields(), colour_seed_fields(), interior_depth_fields(), p2p_fields()}) {
     t.fields.insert(t.fields.end(), part.begin(), part.end());
   }
   return t;

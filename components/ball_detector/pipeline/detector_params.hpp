@@ -9,6 +9,7 @@
 #include <string>
 
 #include "ball_detector/core/appearance_model.hpp"
+#include "ball_detector/core/colour_seeds.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/pipeline/interior_depth.hpp"
 #include "common/params/field_table.hpp"
@@ -87,6 +88,10 @@ struct BallDetectorParams {
   /// Addition: the followed ball's colour, learnt while the tracker follows it, ranks the left
   /// candidates and rejects round things of another colour; forgotten after a long loss.
   AppearanceParams appearance;
+  /// Addition: in a whole-frame search, regions of outstanding colour seed left candidates the
+  /// votes missed (a two-tone ball whose light half matches the floor); refined and scored on
+  /// the edges as every candidate is (colour_seeds.hpp).
+  ColourSeedParams colour_seeds;
   /// Addition: a found pair whose textured inside matches between the eyes at another depth
   /// than its outline is a round pattern on a surface, not a ball (interior_depth.hpp).
   InteriorDepthParams interior_depth;

@@ -1,5 +1,7 @@
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 
+#include "ball_detector/core/colour_seeds.hpp"
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -483,6 +485,7 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
       return;
     }
     left_candidates_ = voted ? left_circles_of_votes(!band_left) : std::vector<Circle>{};
+    if (voted && params_.colour_seeds.enabled) add_colour_seeded_candidates();
     left_thresholds_ = thresholds_of(left_detector_.edge_map());
     frames_since_full_search_ = 0;
     if (params_.right_eye_partner_boxes) {
@@ -497,6 +500,21 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
   });
   if (band_left && !paired) *band_left = std::move(bands);
   return pairing;
+}
+
+void StereoPipeline::add_colour_seeded_candidates() {
+  if (rect_left_.type() != CV_8UC3) return;
+  const RadiusRange radii = left_detector_.radius_range();
+  const std::vector<Circle> seeds =
+      colour_blob_seeds(rect_left_, radii.min_px, radii.max_px, params_.colour_seeds);
+  for (const Circle& c : left_detector_.refine_seeds(seeds)) {
+    const bool known = std::any_of(left_candidates_.begin(), left_candidates_.end(),
+                                   [&](const Circle& k) {
+                                     return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) <
+                                            0.5 * std::max(k.radius_px, c.radius_px);
+                                   });
+    if (!known) left_candidates_.push_back(c);
+  }
 }
 
 std::vector<Circle> StereoPipeline::left_circles_of_votes(bool peaks_at_once) {

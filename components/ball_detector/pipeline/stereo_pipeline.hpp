@@ -207,6 +207,8 @@ class StereoPipeline {
   std::vector<Circle> detect_left_in_bands(const std::atomic<bool>* stop);
   /// The left detector's last votes turned into circles, each peak a task or all in turn.
   std::vector<Circle> left_circles_of_votes(bool peaks_at_once);
+  // Left candidates refined from colour-region seeds (colour_seeds.hpp) that the votes missed.
+  void add_colour_seeded_candidates();
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified, bool near_prior);

@@ -1,0 +1,87 @@
+#include "ball_detector/core/colour_seeds.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <array>
+
+namespace stereoball::ball_detector {
+namespace {
+
+// Chroma per pixel: max - min of the three channels.
+cv::Mat chroma_of(const cv::Mat& bgr) {
+  cv::Mat channels[3];
+  cv::split(bgr, channels);
+  cv::Mat hi, lo;
+  cv::max(channels[0], channels[1], hi);
+  cv::max(hi, channels[2], hi);
+  cv::min(channels[0], channels[1], lo);
+  cv::min(lo, channels[2], lo);
+  return hi - lo;
+}
+
+// Median and median absolute deviation of an 8-bit image, from its histogram.
+std::pair<int, int> median_and_mad(const cv::Mat& u8) {
+  std::array<int, 256> hist{};
+  for (int y = 0; y < u8.rows; ++y) {
+    const auto* row = u8.ptr<std::uint8_t>(y);
+    for (int x = 0; x < u8.cols; ++x) ++hist[row[x]];
+  }
+  const long half = (static_cast<long>(u8.total()) + 1) / 2;
+  auto median_of = [&](const std::array<int, 256>& h) {
+    long seen = 0;
+    for (int v = 0; v < 256; ++v)
+      if ((seen += h[static_cast<std::size_t>(v)]) >= half) return v;
+    return 255;
+  };
+  const int median = median_of(hist);
+  std::array<int, 256> dev{};
+  for (int v = 0; v < 256; ++v) dev[static_cast<std::size_t>(std::abs(v - median))] += hist[static_cast<std::size_t>(v)];
+  return {median, median_of(dev)};
+}
+
+}  // namespace
+
+std::vector<Circle> colour_blob_seeds(const cv::Mat& bgr, double min_radius_px,
+                                      double max_radius_px, const ColourSeedParams& params) {
+  if (bgr.empty() || bgr.type() != CV_8UC3 || bgr.cols < 4 || bgr.rows < 4) return {};
+  cv::Mat half;
+  cv::resize(bgr, half, cv::Size(bgr.cols / 2, bgr.rows / 2), 0, 0, cv::INTER_AREA);
+  const cv::Mat chroma = chroma_of(half);
+  const auto [median, mad] = median_and_mad(chroma);
+  const double threshold =
+      std::max(params.min_chroma, median + params.spread_factor * 1.4826 * mad);
+  cv::Mat mask = chroma > threshold;
+  // Stripes of one colour with light ones between: one region.
+  cv::morphologyEx(mask, mask, cv::MORPH_CLOSE,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+  struct Region {
+    Circle circle;
+    int area = 0;
+  };
+  std::vector<Region> regions;
+  for (int i = 1; i < n; ++i) {
+    const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+    const int area = stats.at<int>(i, cv::CC_STAT_AREA);
+    const double radius = std::max(w, h);  // half-resolution diameter = full-resolution radius
+    if (radius < min_radius_px || radius > max_radius_px) continue;
+    if (std::max(w, h) > params.max_aspect * std::min(w, h)) continue;
+    if (area < params.min_fill * w * h) continue;
+    // Half-resolution pixel (x, y) covers full-resolution [2x, 2x + 2): its centre is 2x + 0.5.
+    const double cx = 2.0 * (stats.at<int>(i, cv::CC_STAT_LEFT) + 0.5 * w) - 0.5;
+    const double cy = 2.0 * (stats.at<int>(i, cv::CC_STAT_TOP) + 0.5 * h) - 0.5;
+    regions.push_back({Circle{cx, cy, radius, 0.0}, area});
+  }
+  std::sort(regions.begin(), regions.end(),
+            [](const Region& a, const Region& b) { return a.area > b.area; });
+  std::vector<Circle> seeds;
+  for (const Region& r : regions) {
+    if (static_cast<int>(seeds.size()) >= params.max_seeds) break;
+    seeds.push_back(r.circle);
+  }
+  return seeds;
+}
+
+}  // namespace stereoball::ball_detector
