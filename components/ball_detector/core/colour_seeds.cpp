@@ -36,7 +36,8 @@ std::pair<int, int> median_and_mad(const cv::Mat& u8) {
   };
   const int median = median_of(hist);
   std::array<int, 256> dev{};
-  for (int v = 0; v < 256; ++v) dev[static_cast<std::size_t>(std::abs(v - median))] += hist[static_cast<std::size_t>(v)];
+  for (int v = 0; v < 256; ++v)
+    dev[static_cast<std::size_t>(std::abs(v - median))] += hist[static_cast<std::size_t>(v)];
   return {median, median_of(dev)};
 }
 

@@ -15,12 +15,12 @@
 namespace stereoball::ball_detector {
 
 struct ColourSeedParams {
-  bool enabled = true;           ///< (for callers: whether to look for seeds at all)
-  int max_seeds = 4;             ///< the largest regions kept
-  double min_chroma = 40.0;      ///< chroma (max - min of B, G, R) a region must exceed at least
-  double spread_factor = 6.0;    ///< ... and the image's median plus this many robust sigmas
-  double min_fill = 0.35;        ///< region area / bounding box area (a disc: 0.785)
-  double max_aspect = 2.0;       ///< longer / shorter side of the bounding box
+  bool enabled = true;         ///< (for callers: whether to look for seeds at all)
+  int max_seeds = 4;           ///< the largest regions kept
+  double min_chroma = 40.0;    ///< chroma (max - min of B, G, R) a region must exceed at least
+  double spread_factor = 6.0;  ///< ... and the image's median plus this many robust sigmas
+  double min_fill = 0.35;      ///< region area / bounding box area (a disc: 0.785)
+  double max_aspect = 2.0;     ///< longer / shorter side of the bounding box
 };
 
 /// Circles around the regions of outstanding chroma in a BGR image (searched at half

@@ -21,8 +21,10 @@ const Circle kBall{150.0, 130.0, 24.0, 0.0};
 // A light-grey tiled floor (darker joints every 24 px) with sensor noise.
 cv::Mat tiled_floor(cv::Size size, int seed) {
   cv::Mat img(size, CV_8UC3, kFloor);
-  for (int x = 12; x < size.width; x += 24) cv::line(img, {x, 0}, {x, size.height}, {120, 120, 120});
-  for (int y = 12; y < size.height; y += 24) cv::line(img, {0, y}, {size.width, y}, {120, 120, 120});
+  for (int x = 12; x < size.width; x += 24)
+    cv::line(img, {x, 0}, {x, size.height}, {120, 120, 120});
+  for (int y = 12; y < size.height; y += 24)
+    cv::line(img, {0, y}, {size.width, y}, {120, 120, 120});
   cv::Mat noise(size, CV_16SC3);
   cv::RNG rng(static_cast<std::uint64_t>(seed));
   rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
@@ -39,9 +41,9 @@ void draw_striped_ball(cv::Mat& img, const Circle& c) {
       if (dx * dx + dy * dy > c.radius_px * c.radius_px) continue;
       const bool purple = static_cast<int>(std::floor((dx + dy + 1000.0) / 6.0)) % 2 == 0;
       const cv::Scalar& s = purple ? kPurple : kWhite;
-      img.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<std::uint8_t>(s[0]),
-                                          static_cast<std::uint8_t>(s[1]),
-                                          static_cast<std::uint8_t>(s[2]));
+      img.at<cv::Vec3b>(y, x) =
+          cv::Vec3b(static_cast<std::uint8_t>(s[0]), static_cast<std::uint8_t>(s[1]),
+                    static_cast<std::uint8_t>(s[2]));
     }
 }
 
@@ -84,8 +86,7 @@ TEST(ColourSeeds, GivenGreyBallOrRegionsOfTheWrongSizeOrShape_ThenNoSeed) {
 
 TEST(ColourSeeds, GivenManyColouredRegions_ThenAtMostMaxSeedsLargestFirst) {
   cv::Mat img = tiled_floor({320, 240}, 6);
-  for (int i = 0; i < 6; ++i)
-    cv::circle(img, {30 + 50 * i, 60}, 6 + 2 * i, kPurple, cv::FILLED);
+  for (int i = 0; i < 6; ++i) cv::circle(img, {30 + 50 * i, 60}, 6 + 2 * i, kPurple, cv::FILLED);
   ColourSeedParams p;
   p.max_seeds = 3;
   const auto seeds = colour_blob_seeds(img, 4.0, 120.0, p);

@@ -132,8 +132,8 @@ std::vector<params::Field<P>> colour_seed_fields() {
              "the largest such regions refined per frame"),
       number("colour_seeds.min_chroma", in(&C::min_chroma), core.min_chroma, {0.0, 255.0},
              "grey levels", "a region's chroma (max - min of B, G, R) must exceed this"),
-      number("colour_seeds.spread_factor", in(&C::spread_factor), core.spread_factor,
-             {0.0, 100.0}, "", "... and the image's median chroma by this many robust sigmas"),
+      number("colour_seeds.spread_factor", in(&C::spread_factor), core.spread_factor, {0.0, 100.0},
+             "", "... and the image's median chroma by this many robust sigmas"),
   };
 }
 

@@ -508,11 +508,11 @@ void StereoPipeline::add_colour_seeded_candidates() {
   const std::vector<Circle> seeds =
       colour_blob_seeds(rect_left_, radii.min_px, radii.max_px, params_.colour_seeds);
   for (const Circle& c : left_detector_.refine_seeds(seeds)) {
-    const bool known = std::any_of(left_candidates_.begin(), left_candidates_.end(),
-                                   [&](const Circle& k) {
-                                     return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) <
-                                            0.5 * std::max(k.radius_px, c.radius_px);
-                                   });
+    const bool known =
+        std::any_of(left_candidates_.begin(), left_candidates_.end(), [&](const Circle& k) {
+          return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) <
+                 0.5 * std::max(k.radius_px, c.radius_px);
+        });
     if (!known) left_candidates_.push_back(c);
   }
 }
