@@ -1,7 +1,5 @@
 #include "motion_controller/core/motion_controller.hpp"
 
-#include "motion_controller/core/lost_ball.hpp"
-
 #include <algorithm>
 #include <cmath>
 
@@ -10,6 +8,11 @@ namespace {
 
 double deadband(double value, double band) {
   return std::abs(value) < band ? 0.0 : value;
+}
+
+// The track's position in the left camera's floor plane (x right, z forward), metres.
+PlaneVector camera_position_m(const TrackSample& t) {
+  return {t.distance_m * std::sin(t.bearing_rad), t.distance_m * std::cos(t.bearing_rad)};
 }
 
 }  // namespace
@@ -108,10 +111,8 @@ Velocity MotionController::own_motion_behind(const TrackSample& t, std::int64_t 
   return history_.slope_weighted_mean(end_ns - params_.track_velocity_window_ns, end_ns);
 }
 
-double MotionController::robot_bearing_rad(const TrackSample& t) const {
-  const double right_m = t.distance_m * std::sin(t.bearing_rad) + params_.camera_right_offset_m;
-  const double forward_m = t.distance_m * std::cos(t.bearing_rad) + params_.camera_forward_offset_m;
-  return std::atan2(right_m, forward_m);
+PlaneVector MotionController::from_robot_centre(const PlaneVector& camera_m) const {
+  return {camera_m.x + params_.camera_right_offset_m, camera_m.z + params_.camera_forward_offset_m};
 }
 
 bool MotionController::search_left(const TrackSample& t, std::int64_t now_ns) const {
@@ -125,10 +126,8 @@ bool MotionController::search_left(const TrackSample& t, std::int64_t now_ns) co
   const std::int64_t age_ns =
       std::max<std::int64_t>(0, t.capture_stamp_ns - t.last_accepted_stamp_ns);
   LostBall ball;
-  const PlaneVector camera_m{t.distance_m * std::sin(t.bearing_rad),
-                             t.distance_m * std::cos(t.bearing_rad)};
-  ball.last_m = {camera_m.x + params_.camera_right_offset_m,
-                 camera_m.z + params_.camera_forward_offset_m};
+  const PlaneVector camera_m = camera_position_m(t);
+  ball.last_m = from_robot_centre(camera_m);
   ball.seen_velocity_mps = plane_velocity(camera_m, {t.bearing_rate_radps, t.distance_rate_mps});
   ball.own_while_seen = own_motion_behind(t, now_ns);
   ball.age_s = static_cast<double>(age_ns) * 1e-9;
@@ -148,10 +147,9 @@ MotionController::Target MotionController::following_target(const TrackSample& t
   }
   out.mode = Mode::kFollowing;
   // Steer the robot's centreline, not the left camera's optical axis, at the ball.
-  const double right_m = t.distance_m * std::sin(t.bearing_rad) + params_.camera_right_offset_m;
-  const double forward_m = t.distance_m * std::cos(t.bearing_rad) + params_.camera_forward_offset_m;
-  const double bearing_rad = robot_bearing_rad(t);
-  const double distance_m = std::hypot(right_m, forward_m);
+  const PlaneVector ball_m = from_robot_centre(camera_position_m(t));
+  const double bearing_rad = std::atan2(ball_m.x, ball_m.z);
+  const double distance_m = std::hypot(ball_m.x, ball_m.z);
   // Camera x points right: a ball to the right (positive bearing) needs a
   // clockwise (negative) turn.
   // The camera sees the ball's own bearing rate plus the robot's turn (turning

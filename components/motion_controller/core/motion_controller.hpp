@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "motion_controller/core/controller_params.hpp"
+#include "motion_controller/core/lost_ball.hpp"
 #include "motion_controller/core/own_motion.hpp"
 #include "motion_controller/core/smooth_axis.hpp"
 #include "motion_controller/core/types.hpp"
@@ -63,7 +64,8 @@ class MotionController {
   Command hard_stop(Mode mode);
   Command record(const Command& c, std::int64_t now_ns);
   Velocity own_motion_behind(const TrackSample& t, std::int64_t received_ns) const;
-  double robot_bearing_rad(const TrackSample& t) const;
+  // A point of the left camera's floor plane as seen from the robot's centre (same axes).
+  PlaneVector from_robot_centre(const PlaneVector& camera_m) const;
   bool search_left(const TrackSample& t, std::int64_t now_ns) const;
 
   MotionControllerParams params_;
