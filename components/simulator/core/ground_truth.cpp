@@ -31,8 +31,12 @@ bool disc_inside(const Point2& px, double radius_px, int w, int h) {
          px.y + radius_px <= h - 1.0;
 }
 
+bool blocked(const Occluders& occluders, const Vec3d& a, const Vec3d& b) {
+  return segment_blocked(occluders.boxes, a, b) || segment_blocked(occluders.spheres, a, b);
+}
+
 // Whether the lines of sight from camera to four points just inside the ball's rim are clear.
-bool rim_unblocked(const std::vector<SolidBox>& occluders, const Vec3d& camera, const Vec3d& ball,
+bool rim_unblocked(const Occluders& occluders, const Vec3d& camera, const Vec3d& ball,
                    double radius_m) {
   const Vec3d u = (ball - camera).normalized();
   Vec3d side{-u.y, u.x, 0.0};  // horizontal, across the line of sight
@@ -42,7 +46,7 @@ bool rim_unblocked(const std::vector<SolidBox>& occluders, const Vec3d& camera, 
                  u.x * side.y - u.y * side.x};
   const double r = 0.95 * radius_m;
   for (const Vec3d& e : {side, side * -1.0, up, up * -1.0})
-    if (segment_blocked(occluders, camera, ball + e * r)) return false;
+    if (blocked(occluders, camera, ball + e * r)) return false;
   return true;
 }
 
@@ -72,6 +76,22 @@ bool segment_blocked(const std::vector<SolidBox>& boxes, const Vec3d& a, const V
   return false;
 }
 
+bool segment_blocked(const std::vector<SphereSpec>& spheres, const Vec3d& a, const Vec3d& b) {
+  const Vec3d d = b - a;
+  const double length2 = d.dot(d);
+  for (const SphereSpec& s : spheres) {
+    // The segment's point closest to the centre decides.
+    const double t = length2 > 0.0 ? std::clamp((s.center_m - a).dot(d) / length2, 0.0, 1.0) : 0.0;
+    const Vec3d closest = a + d * t;
+    if ((closest - s.center_m).norm() < s.radius_m) return true;
+  }
+  return false;
+}
+
+Occluders occluders_of(const Scenario& s) {
+  return {solid_boxes(s), s.spheres};
+}
+
 Vec3d world_to_camera(const StereoRig& rig, Eye eye, const RobotState& robot,
                       const Vec3d& p_world) {
   const Mat3 rz = Mat3::rot_z(robot.yaw_rad);
@@ -81,8 +101,7 @@ Vec3d world_to_camera(const StereoRig& rig, Eye eye, const RobotState& robot,
 }
 
 GroundTruth make_ground_truth(const StereoRig& rig, const RobotState& robot, const BallState& ball,
-                              uint64_t frame_seq, int64_t sim_time_ns,
-                              const std::vector<SolidBox>& occluders) {
+                              uint64_t frame_seq, int64_t sim_time_ns, const Occluders& occluders) {
   GroundTruth g;
   g.frame_seq = frame_seq;
   g.sim_time_s = sim_time_ns * 1e-9;
@@ -101,10 +120,10 @@ GroundTruth make_ground_truth(const StereoRig& rig, const RobotState& robot, con
   g.ball_right_px = project_rectified(c.p2, g.ball_camera_m);
   g.ball_visible_left =
       rect[2] > 1e-3 && visible(rig, Eye::kLeft, left, g.ball_left_px) &&
-      !segment_blocked(occluders, camera_centre_world(rig, Eye::kLeft, robot), ball.position_m);
+      !blocked(occluders, camera_centre_world(rig, Eye::kLeft, robot), ball.position_m);
   g.ball_visible_right =
       rect[2] > 1e-3 && visible(rig, Eye::kRight, right, g.ball_right_px) &&
-      !segment_blocked(occluders, camera_centre_world(rig, Eye::kRight, robot), ball.position_m);
+      !blocked(occluders, camera_centre_world(rig, Eye::kRight, robot), ball.position_m);
   const double z = rect[2];
   if (z > ball.radius_m) {
     const int w = rig.width_px(), h = rig.height_px();

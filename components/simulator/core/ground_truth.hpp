@@ -33,13 +33,26 @@ struct GroundTruth {
 /// Ball centre in a camera's own (unrectified) frame, metres.
 Vec3d world_to_camera(const StereoRig& rig, Eye eye, const RobotState& robot, const Vec3d& p_world);
 
+/// What can hide the ball from a camera: solid boxes (boxes, door frames) and the distractor
+/// spheres (other balls, round things on boxes). Plates hang on walls, behind any ball.
+struct Occluders {
+  std::vector<SolidBox> boxes;
+  std::vector<SphereSpec> spheres;
+};
+
+/// Every solid box and every sphere of the scenario.
+Occluders occluders_of(const Scenario& s);
+
 /// Ground truth for the given state; visibility requires the centre in front of the eye,
 /// inside both its raw and rectified image, and not hidden behind any of occluders.
 GroundTruth make_ground_truth(const StereoRig& rig, const RobotState& robot, const BallState& ball,
                               uint64_t frame_seq, int64_t sim_time_ns,
-                              const std::vector<SolidBox>& occluders = {});
+                              const Occluders& occluders = {});
 
 /// True if the segment from a to b (world, metres) passes through any of the boxes.
 bool segment_blocked(const std::vector<SolidBox>& boxes, const Vec3d& a, const Vec3d& b);
+
+/// True if the segment from a to b (world, metres) passes through any of the spheres.
+bool segment_blocked(const std::vector<SphereSpec>& spheres, const Vec3d& a, const Vec3d& b);
 
 }  // namespace stereoball::simulator

@@ -183,7 +183,7 @@ TEST(Renderer, BoxHidesTheBallBehindIt) {
   r.render(Eye::kLeft, RobotState{}, ball_at(s), s.lighting[0], img);
   // Then no red ball pixels are visible, and the ground truth says the ball is hidden
   EXPECT_FALSE(red_centroid(img).has_value());
-  const GroundTruth g = make_ground_truth(rig, RobotState{}, ball_at(s), 0, 0, solid_boxes(s));
+  const GroundTruth g = make_ground_truth(rig, RobotState{}, ball_at(s), 0, 0, occluders_of(s));
   EXPECT_FALSE(g.ball_visible_left);
   EXPECT_FALSE(g.ball_visible_right);
   // While without the occluders it would project inside both images
@@ -328,9 +328,39 @@ TEST(GroundTruth, FullyVisibleOnlyWhenTheWholeBallIsInViewAndUnblocked) {
   // A box hiding part of the ball (not its centre): visible, not fully
   ball.position_m = {2.0, 0.0, 0.11};
   const std::vector<SolidBox> half{{{1.0, 0.06, 0.0}, {1.1, 0.5, 0.5}, {}}};
-  g = make_ground_truth(rig, RobotState{}, ball, 0, 0, half);
+  g = make_ground_truth(rig, RobotState{}, ball, 0, 0, {half, {}});
   EXPECT_TRUE(g.ball_visible_left);
   EXPECT_FALSE(g.ball_fully_visible_left);
+}
+
+TEST(GroundTruth, AnotherBallInFrontHidesPartOfTheBallAndOneBehindItHidesNothing) {
+  const SimParams params;
+  const StereoRig rig(params);
+  BallState ball;
+  ball.present = true;
+  ball.radius_m = 0.11;
+  ball.position_m = {2.0, 0.0, 0.11};
+  const Vec3d eye = rig.pose(Eye::kLeft).position_m;  // robot at the origin: world = robot frame
+  // Given a small sphere halfway along the left eye's line of sight to the ball's left rim
+  SphereSpec in_front;
+  in_front.center_m = eye + (ball.position_m + Vec3d{0.0, ball.radius_m, 0.0} - eye) * 0.5;
+  in_front.radius_m = 0.03;
+  GroundTruth g = make_ground_truth(rig, RobotState{}, ball, 0, 0, {{}, {in_front}});
+  // Then the ball's centre is in view but not the whole ball
+  EXPECT_TRUE(g.ball_visible_left);
+  EXPECT_FALSE(g.ball_fully_visible_left);
+  // Given a large sphere just behind the ball instead, the whole ball is in view
+  SphereSpec behind;
+  behind.center_m = ball.position_m + (ball.position_m - eye).normalized() * 0.3;
+  behind.radius_m = 0.15;
+  g = make_ground_truth(rig, RobotState{}, ball, 0, 0, {{}, {behind}});
+  EXPECT_TRUE(g.ball_fully_visible_left && g.ball_fully_visible_right);
+  // And a sphere on the line of sight to the centre hides the ball
+  SphereSpec on_axis;
+  on_axis.center_m = eye + (ball.position_m - eye) * 0.5;
+  on_axis.radius_m = 0.05;
+  g = make_ground_truth(rig, RobotState{}, ball, 0, 0, {{}, {on_axis}});
+  EXPECT_FALSE(g.ball_visible_left);
 }
 
 }  // namespace

@@ -23,7 +23,7 @@ Simulator::Simulator(const SimParams& params, const Scenario& scenario)
       world_(with_scenario_base(params, scenario), scenario_),
       renderer_(rig_, scenario_, params.left.gain, params.right.gain),
       sensor_(params.sensor.noise_sigma_dn, scenario.seed),
-      occluders_(solid_boxes(scenario)) {}
+      occluders_(occluders_of(scenario)) {}
 
 Status Simulator::check(const SimParams& params, const Scenario& scenario) {
   if (auto st = params.validate(); !st) return Error{"simulator params: " + st.error()};

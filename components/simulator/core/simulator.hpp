@@ -77,7 +77,7 @@ class Simulator {
   World world_;
   Renderer renderer_;
   Sensor sensor_;
-  std::vector<SolidBox> occluders_;
+  Occluders occluders_;
   uint64_t seq_ = 0;
   cv::Mat sub_[2], acc_[2];  // per eye
 };
