@@ -110,10 +110,11 @@ void diagnose_miss(const bd::StereoPipeline& pipeline, const bd::BallDetectorPar
   }
 }
 
-// For an on-ball detection: how far each eye's circle lies from the true outline there.
+// For a detection with the ball in view, on it or not: how far each eye's circle lies from the
+// true outline there (off the ball, this tells which eye's circle took the pair off it).
 void measure_outline_errors(const bd::StereoPipeline& pipeline, const simulator::GroundTruth& g,
                             const bd::StereoDetection& d, FrameRecord& r) {
-  if (!r.raw_on_ball || !r.ball_visible) return;
+  if (!r.raw_found || !r.ball_visible) return;
   const auto& c = g.ball_camera_m;
   const cv::Vec3d centre_left(c.x, c.y, c.z);
   const auto left_camera = pipeline.left_camera();
