@@ -41,6 +41,37 @@ std::pair<int, int> median_and_mad(const cv::Mat& u8) {
   return {median, median_of(dev)};
 }
 
+// The most of the image the rare colours may cover together.
+constexpr double kMaxRareCover = 0.1;
+
+// Pixels whose colour, quantised to 8 levels per channel, covers less than rare_fraction of the
+// image: a ball whose hue the floor shares in brightness (chroma) but not in colour.
+cv::Mat rare_colour_mask(const cv::Mat& bgr, double rare_fraction) {
+  std::array<int, 512> hist{};
+  const auto bin = [](const std::uint8_t* p) {
+    return (p[0] >> 5) << 6 | (p[1] >> 5) << 3 | (p[2] >> 5);
+  };
+  for (int y = 0; y < bgr.rows; ++y) {
+    const auto* row = bgr.ptr<std::uint8_t>(y);
+    for (int x = 0; x < bgr.cols; ++x) ++hist[static_cast<std::size_t>(bin(row + 3 * x))];
+  }
+  const double rare_count = rare_fraction * static_cast<double>(bgr.total());
+  double rare_pixels = 0.0;
+  for (const int count : hist)
+    if (count < rare_count) rare_pixels += count;
+  // Colours that are each rare but together cover much of the image (colourful texture) are
+  // the image's own, not something standing out from it.
+  cv::Mat mask(bgr.size(), CV_8U, cv::Scalar(0));
+  if (rare_pixels > kMaxRareCover * static_cast<double>(bgr.total())) return mask;
+  for (int y = 0; y < bgr.rows; ++y) {
+    const auto* row = bgr.ptr<std::uint8_t>(y);
+    auto* out = mask.ptr<std::uint8_t>(y);
+    for (int x = 0; x < bgr.cols; ++x)
+      out[x] = hist[static_cast<std::size_t>(bin(row + 3 * x))] < rare_count ? 255 : 0;
+  }
+  return mask;
+}
+
 }  // namespace
 
 std::vector<Circle> colour_blob_seeds(const cv::Mat& bgr, double min_radius_px,
@@ -53,6 +84,8 @@ std::vector<Circle> colour_blob_seeds(const cv::Mat& bgr, double min_radius_px,
   const double threshold =
       std::max(params.min_chroma, median + params.spread_factor * 1.4826 * mad);
   cv::Mat mask = chroma > threshold;
+  if (params.rare_fraction > 0.0)
+    mask |= (chroma > params.min_chroma) & rare_colour_mask(half, params.rare_fraction);
   // Stripes of one colour with light ones between: one region.
   cv::morphologyEx(mask, mask, cv::MORPH_CLOSE,
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));

@@ -3,8 +3,9 @@
 // from the image's own, about as wide as tall and as large as a ball may be. A two-tone ball
 // whose light half matches the floor has only part of its outline, and the edges of its stripes
 // inside, so the accumulator ranks its centre below thousands of chance peaks; its coloured half
-// still stands out as a region. The seeds are refined and scored on the edges as any candidate
-// is: colour only says where to look.
+// still stands out as a region. A ball whose chroma the floor shares (blue stripes on brown
+// planks) stands out by its colour instead: a colour the image has little of. The seeds are
+// refined and scored on the edges as any candidate is: colour only says where to look.
 
 #include <opencv2/core.hpp>
 
@@ -19,8 +20,11 @@ struct ColourSeedParams {
   int max_seeds = 4;           ///< the largest regions kept
   double min_chroma = 40.0;    ///< chroma (max - min of B, G, R) a region must exceed at least
   double spread_factor = 6.0;  ///< ... and the image's median plus this many robust sigmas
-  double min_fill = 0.35;      ///< region area / bounding box area (a disc: 0.785)
-  double max_aspect = 2.0;     ///< longer / shorter side of the bounding box
+  /// ... or have a colour (8 levels per channel) covering less than this fraction of the image
+  /// (0 = off)
+  double rare_fraction = 0.01;
+  double min_fill = 0.35;   ///< region area / bounding box area (a disc: 0.785)
+  double max_aspect = 2.0;  ///< longer / shorter side of the bounding box
 };
 
 /// Circles around the regions of outstanding chroma in a BGR image (searched at half

@@ -1,5 +1,6 @@
 // Colour-region seeds on hand-built images: a two-tone ball whose light half is the floor's
-// grey, grey and badly shaped regions, a colourful floor, and bad input.
+// grey, grey and badly shaped regions, a colourful floor, a ball of a colour brown planks lack,
+// and bad input.
 
 #include "ball_detector/core/colour_seeds.hpp"
 
@@ -102,6 +103,41 @@ TEST(ColourSeeds, GivenAColourfulFloor_ThenTheThresholdFollowsTheImageAndNothing
   cv::RNG rng(7);
   rng.fill(img, cv::RNG::UNIFORM, 0, 256);
   EXPECT_TRUE(colour_blob_seeds(img, 4.0, 120.0).empty());
+}
+
+// Brown planks 20 px wide in three shades with dark seams, and sensor noise: a floor whose own
+// chroma is high and varies.
+cv::Mat plank_floor(cv::Size size, int seed) {
+  const cv::Scalar shades[3] = {{60, 100, 160}, {45, 80, 135}, {75, 120, 185}};
+  cv::Mat img(size, CV_8UC3);
+  for (int x = 0; x < size.width; x += 20)
+    cv::rectangle(img, cv::Rect(x, 0, 20, size.height), shades[(x / 20) % 3], cv::FILLED);
+  for (int x = 0; x < size.width; x += 20) cv::line(img, {x, 0}, {x, size.height}, {25, 40, 60});
+  cv::Mat noise(size, CV_16SC3);
+  cv::RNG rng(static_cast<std::uint64_t>(seed));
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
+  cv::Mat noisy;
+  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
+  return noisy;
+}
+
+TEST(ColourSeeds, GivenABallOfAColourTheFloorLacksButNoMoreChroma_ThenRarityAloneSeedsIt) {
+  // Given a blue ball on brown planks: its chroma does not stand out from the planks'
+  cv::Mat img = plank_floor({320, 240}, 8);
+  cv::circle(img, {150, 130}, 12, {170, 90, 40}, cv::FILLED);  // 0.6 % of the image
+  ColourSeedParams chroma_only;
+  chroma_only.rare_fraction = 0.0;
+  const auto by_chroma = colour_blob_seeds(img, 4.0, 120.0, chroma_only);
+  EXPECT_TRUE(by_chroma.empty()) << by_chroma.size() << " seed(s) from chroma alone";
+  // Then its colour, which no plank has, seeds it
+  const auto seeds = colour_blob_seeds(img, 4.0, 120.0);
+  ASSERT_EQ(seeds.size(), 1u);
+  EXPECT_LT(std::hypot(seeds[0].x_px - 150.0, seeds[0].y_px - 130.0), 4.0);
+  EXPECT_NEAR(seeds[0].radius_px, 12.0, 4.0);
+  // And a ball of the planks' own colour is not seeded
+  cv::Mat brown = plank_floor({320, 240}, 9);
+  cv::circle(brown, {150, 130}, 12, {75, 120, 185}, cv::FILLED);
+  EXPECT_TRUE(colour_blob_seeds(brown, 4.0, 120.0).empty());
 }
 
 TEST(ColourSeeds, GivenEmptyGreyOrTinyImages_ThenNoSeedsAndNoCrash) {

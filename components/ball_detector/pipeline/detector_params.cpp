@@ -134,6 +134,9 @@ std::vector<params::Field<P>> colour_seed_fields() {
              "grey levels", "a region's chroma (max - min of B, G, R) must exceed this"),
       number("colour_seeds.spread_factor", in(&C::spread_factor), core.spread_factor, {0.0, 100.0},
              "", "... and the image's median chroma by this many robust sigmas"),
+      number("colour_seeds.rare_fraction", in(&C::rare_fraction), core.rare_fraction, {0.0, 0.5},
+             "", "... or have a colour (8 levels per channel) covering less than this fraction of "
+                 "the image (0 = off)"),
   };
 }
 
