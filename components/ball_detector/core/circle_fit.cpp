@@ -112,7 +112,8 @@ double robust_cut_px(std::span<const cv::Point2d> points, const cv::Point2d& mea
 
 }  // namespace
 
-std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double robust_floor_px) {
+std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double robust_floor_px,
+                                 double fixed_radius_px) {
   const int n = static_cast<int>(points.size());
   if (n < 3) return std::nullopt;
   cv::Point2d mean(0, 0);
@@ -135,7 +136,8 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double rob
   double cx = -sol[0] / 2.0, cy = -sol[1] / 2.0;
   const double r2 = cx * cx + cy * cy - sol[2];
   if (!(r2 > 0.0)) return std::nullopt;
-  double r = std::sqrt(r2);
+  const bool hold_radius = fixed_radius_px > 0.0;
+  double r = hold_radius ? fixed_radius_px : std::sqrt(r2);
   // Geometric refinement: Kasa is biased on short arcs and noisy points.
   const int rounds = robust_floor_px > 0.0 ? 8 : 5;  // reweighting converges more slowly
   std::vector<double> residuals;
@@ -158,8 +160,15 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double rob
         for (int b = 0; b < 3; ++b) jtj(a, b) += w * j[a] * j[b];
       }
     }
-    cv::Vec3d delta;
-    if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) break;
+    cv::Vec3d delta(0, 0, 0);
+    if (hold_radius) {  // the centre only: the upper-left 2 x 2 block
+      const cv::Matx22d jtj2(jtj(0, 0), jtj(0, 1), jtj(1, 0), jtj(1, 1));
+      cv::Vec2d d2;
+      if (!cv::solve(jtj2, cv::Vec2d(-jtr[0], -jtr[1]), d2, cv::DECOMP_CHOLESKY)) break;
+      delta = {d2[0], d2[1], 0.0};
+    } else if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) {
+      break;
+    }
     cx += delta[0];
     cy += delta[1];
     r += delta[2];
@@ -387,7 +396,8 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
         angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch) <
             params.give_up_below)
       return std::nullopt;
-    const auto fit = fit_circle(pts, params.robust_fit_floor_px);
+    const auto fit =
+        fit_circle(pts, params.robust_fit_floor_px, params.hold_radius ? round.radius_px : 0.0);
     if (!fit) return std::nullopt;
     const Circle next = unround_circle(*fit, {c.x_px, c.y_px}, stretch);
     // A fit that wanders far from its seed has locked onto some other structure.

@@ -20,7 +20,10 @@ namespace stereoball::ball_detector {
 /// distance to the circle, with a cut at max(robust_floor_px, 4.7 x the residuals' robust
 /// sigma), so a minority of points off the outline (texture arcs just inside a ball's rim) no
 /// longer pulls the fit; 0 = plain least squares.
-std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double robust_floor_px = 0.0);
+/// fixed_radius_px > 0: the radius is held at it and only the centre is fitted (the Kasa
+/// centre, then Gauss-Newton on the centre).
+std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double robust_floor_px = 0.0,
+                                 double fixed_radius_px = 0.0);
 
 /// Options of the annulus gathering and scoring.
 struct RefineParams {
@@ -55,6 +58,10 @@ struct RefineParams {
   /// narrower band, so it is about the most the candidate can reach), and the clutter rings
   /// are not measured when the coverage alone is below it. 0 = refine every candidate fully.
   double give_up_below = 0.0;
+  /// Addition: the rough circle's radius is held and only the centre is refined. For an outline
+  /// whose radius is known from elsewhere (the other eye's view of the same sphere): texture
+  /// just inside a rim can no longer shrink the circle onto itself on one side.
+  bool hold_radius = false;
   /// A circle cut by the image border scores 0 unless this fraction of it is inside, [0, 1].
   double min_inside_fraction = 0.5;
   /// Addition: the (rectified, undistorted) camera of the whole image, when known. A sphere off

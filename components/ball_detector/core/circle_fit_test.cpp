@@ -59,6 +59,42 @@ TEST(FitCircle, GivenAnInnerArcBesideTheOutlineThenTheRobustFitKeepsToTheOutline
   EXPECT_NEAR(robust->radius_px, 40.0, 0.05);
 }
 
+TEST(FitCircle, GivenAHeldRadiusThenOnlyTheCentreMovesAndAnInnerArcNoLongerShrinksTheCircle) {
+  // A small patterned ball: its rim over 240 degrees, and over the rest a stripe boundary
+  // 1.4 px inside the rim instead of the rim itself
+  auto pts = arc(30.0, 20.0, 9.0, -2.0 * std::numbers::pi / 3.0, 2.0 * std::numbers::pi / 3.0, 48);
+  const auto inner = arc(30.0, 20.0, 7.6, 2.2, 4.1, 24);
+  pts.insert(pts.end(), inner.begin(), inner.end());
+  // Free, the circle shrinks onto the boundary on that side and its centre moves away from it
+  const auto free_fit = fit_circle(pts, 0.6);
+  ASSERT_TRUE(free_fit.has_value());
+  EXPECT_GT(std::abs(free_fit->x_px - 30.0), 0.3);
+  EXPECT_LT(free_fit->radius_px, 8.8);
+  // Held at the rim's radius, the circle keeps to the rim
+  const auto held = fit_circle(pts, 0.6, 9.0);
+  ASSERT_TRUE(held.has_value());
+  EXPECT_EQ(held->radius_px, 9.0);
+  EXPECT_NEAR(held->x_px, 30.0, 0.1);
+  EXPECT_NEAR(held->y_px, 20.0, 0.1);
+}
+
+TEST(RefineCircle, GivenHoldRadiusThenTheSeedsRadiusIsKeptAndTheCentreRefined) {
+  const cv::Mat img = spotted_disc_image({120, 120}, {60, 60}, 20, 0, 0);
+  EdgeMap e;
+  compute_edge_map(img, EdgeParams{}, e);
+  // The radius the edges give (a stereo partner's fit has the same edge-position bias)
+  const auto free_fit = refine_circle(e, Circle{60.0, 60.0, 20.0, 0.0}, RefineParams{});
+  ASSERT_TRUE(free_fit.has_value());
+  RefineParams held;
+  held.hold_radius = true;
+  const auto c = refine_circle(e, Circle{61.0, 60.6, free_fit->radius_px, 0.0}, held);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_DOUBLE_EQ(c->radius_px, free_fit->radius_px);
+  EXPECT_NEAR(c->x_px, 60.0, 0.15);
+  EXPECT_NEAR(c->y_px, 60.0, 0.15);
+  EXPECT_GE(c->score, free_fit->score - 0.05) << "free fit " << free_fit->score;
+}
+
 TEST(RefineCircle, GivenAPanelTouchingTheRimOfAColourDiscThenTheRobustFitFindsTheRim) {
   // An orange disc with white spots just inside its rim on grey, as colour edges see a
   // panelled ball: each spot's boundary runs beside the outline a pixel or two inside it.

@@ -79,6 +79,9 @@ std::vector<params::Field<P>> pipeline_fields() {
              "Pixel-to-Pixel circles kept per eye"),
       flag("right_eye_partner_boxes", at(&P::right_eye_partner_boxes), true,
            "search the right eye only where a ball-sized partner of a left circle can be"),
+      flag("balance_radii", at(&P::balance_radii), true,
+           "a found pair whose outline radii disagree beyond what the two views explain has the "
+           "eye with the smaller refitted at the radius the other implies, centre only"),
       flag("predicted_partner.enabled", at(&P::predicted_partner), true,
            "a left circle no right circle pairs with: look along its epipolar line for the "
            "outline its ball makes in the right eye"),
@@ -135,8 +138,9 @@ std::vector<params::Field<P>> colour_seed_fields() {
       number("colour_seeds.spread_factor", in(&C::spread_factor), core.spread_factor, {0.0, 100.0},
              "", "... and the image's median chroma by this many robust sigmas"),
       number("colour_seeds.rare_fraction", in(&C::rare_fraction), core.rare_fraction, {0.0, 0.5},
-             "", "... or have a colour (8 levels per channel) covering less than this fraction of "
-                 "the image (0 = off)"),
+             "",
+             "... or have a colour (8 levels per channel) covering less than this fraction of "
+             "the image (0 = off)"),
   };
 }
 

@@ -50,6 +50,10 @@ struct BallDetectorParams {
   /// can lie (rows within the epipolar tolerance, disparity from the ball size at the size
   /// tolerance); false = the whole right image.
   bool right_eye_partner_boxes;
+  /// Addition: a found pair whose two outline radii disagree beyond what the two views explain
+  /// has the eye with the smaller refitted, centre only, at the radius the other implies
+  /// (radius_balance in pairing.hpp): the disparity of a small ball far away depends on it.
+  bool balance_radii;
   /// Addition: when no right circle pairs with a left one, look for the right outline the left
   /// circle's ball makes along its epipolar line (scored against the right edges, p2p.min_score
   /// to pass). For a ball cut by the border each eye sees a different part and fits a different

@@ -355,6 +355,21 @@ bool may_rest_on_floor(const PairingContext& ctx, const LeftCone& cone,
 
 }  // namespace
 
+std::optional<RadiusBalance> radius_balance(const stereo::Triangulator& tri, const Circle& left,
+                                            const Circle& right, const cv::Vec3d& position_m,
+                                            double ball_radius_m, double min_px, double fraction) {
+  const double expected_left = outline_radius_px(left_camera(tri), position_m, ball_radius_m);
+  const cv::Vec3d in_right = position_m - cv::Vec3d(tri.baseline_m(), 0.0, 0.0);
+  const double expected_right = outline_radius_px(right_camera(tri), in_right, ball_radius_m);
+  if (!(expected_left > 0.0) || !(expected_right > 0.0)) return std::nullopt;
+  // The left radius as the right eye would see it.
+  const double left_seen_right = left.radius_px * expected_right / expected_left;
+  const double difference = left_seen_right - right.radius_px;
+  if (std::abs(difference) <= std::max(min_px, fraction * right.radius_px)) return std::nullopt;
+  if (difference > 0.0) return RadiusBalance{true, left_seen_right};
+  return RadiusBalance{false, right.radius_px * expected_left / expected_right};
+}
+
 std::optional<Circle> predicted_partner(const PairingContext& ctx, const Circle& left,
                                         const OutlineScorer& score, double min_score) {
   const auto cone = left_cone(ctx, left);

@@ -66,6 +66,22 @@ struct PairingContext {
   std::optional<FloorModel> floor;  ///< no floor check without one
 };
 
+/// Addition: one eye's outline of a pair to fit again with the radius the other eye's implies.
+/// Both eyes see one sphere, so their outline radii differ only as their views do (the sphere
+/// outlines at position_m). A larger difference means texture just inside one rim, a panel or
+/// stripe boundary, pulled that eye's fit inwards on one side: its radius is the smaller, and
+/// its centre, and with it the disparity, moved by up to the difference.
+struct RadiusBalance {
+  bool right_eye = false;  ///< the eye whose outline is refitted (false: the left)
+  double radius_px = 0.0;  ///< the radius to hold there, pixels
+};
+
+/// The refit a pair needs: when its radii, the view difference allowed for, differ by more than
+/// max(min_px, fraction x radius), the eye with the smaller; nullopt otherwise.
+std::optional<RadiusBalance> radius_balance(const stereo::Triangulator& tri, const Circle& left,
+                                            const Circle& right, const cv::Vec3d& position_m,
+                                            double ball_radius_m, double min_px, double fraction);
+
 /// The rectified right-image box where a size-consistent partner of left can lie: the ball
 /// size gives the depth (within the size tolerance), the depth the disparity, the epipolar
 /// tolerance the rows; padded by margin_px (the detector's window) and clipped to image. Empty

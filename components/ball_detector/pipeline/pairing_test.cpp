@@ -367,3 +367,28 @@ TEST_F(Pairing, GivenAFloorThenPredictedPartnerIsSoughtOnlyForBallsThatCanRestOn
   EXPECT_EQ(calls, 0);
   EXPECT_TRUE(predicted_partner(ctx_, pl, counting, 0.55).has_value());  // no floor model
 }
+
+TEST_F(Pairing, GivenOutlineRadiiThatDisagreeThenTheSmallerEyeIsRefittedAtTheOthersRadius) {
+  using sb::ball_detector::radius_balance;
+  // A ball off the axis: the eyes' outlines differ a little, as their views do
+  const cv::Vec3d at(0.4, 0.1, 2.5);
+  auto [l, r] = ball_at(at[0], at[1], at[2]);
+  EXPECT_FALSE(radius_balance(tri_, l, r, at, 0.11, 0.3, 0.02).has_value());
+  // The right fit pulled 0.8 px inwards: the right eye, at the radius its outline has
+  Circle pulled = r;
+  pulled.radius_px -= 0.8;
+  auto b = radius_balance(tri_, l, pulled, at, 0.11, 0.3, 0.02);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_TRUE(b->right_eye);
+  EXPECT_NEAR(b->radius_px, r.radius_px, 0.01);
+  // The left one pulled: the left eye
+  pulled = l;
+  pulled.radius_px -= 0.8;
+  b = radius_balance(tri_, pulled, r, at, 0.11, 0.3, 0.02);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_FALSE(b->right_eye);
+  EXPECT_NEAR(b->radius_px, l.radius_px, 0.01);
+  // A difference within the fit's noise: nothing to refit
+  pulled.radius_px = l.radius_px - 0.2;
+  EXPECT_FALSE(radius_balance(tri_, pulled, r, at, 0.11, 0.3, 0.02).has_value());
+}

@@ -331,6 +331,8 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   fill_result(*pairing, out);
   if (out.status == DetectionStatus::kFound && params_.interior_depth.enabled)
     check_interior(left_channel, right_channel, rectified, out);
+  if (out.status == DetectionStatus::kFound && params_.balance_radii)
+    balance_radii(left_channel, right_channel, rectified, out);
   out.rejected_by_colour = rejected_by_colour_;
   if (params_.right_eye_partner_boxes && left_candidates_.empty())
     out.reason =
@@ -783,6 +785,88 @@ void StereoPipeline::check_interior(const cv::Mat& left_channel, const cv::Mat& 
                 d.best_match, d.ball_match);
   found.status = DetectionStatus::kInteriorMismatch;
   found.reason = text;
+}
+
+namespace {
+
+// Whether all of c lies in an image of size.
+bool circle_inside(const Circle& c, cv::Size size) {
+  return c.x_px - c.radius_px >= 0.0 && c.y_px - c.radius_px >= 0.0 &&
+         c.x_px + c.radius_px <= size.width - 1.0 && c.y_px + c.radius_px <= size.height - 1.0;
+}
+
+// Radii that differ by less than this (or kBalanceFraction of the radius) are fit noise.
+constexpr double kBalanceMinPx = 0.3;
+constexpr double kBalanceFraction = 0.02;
+
+}  // namespace
+
+void StereoPipeline::balance_radii(const cv::Mat& left_channel, const cv::Mat& right_channel,
+                                   bool rectified, StereoDetection& found) {
+  // A ball cut by the border shows each eye a different part: its fits may differ in radius.
+  const cv::Size size = rectifier_->calibration().image_size;
+  if (!circle_inside(found.left, size) || !circle_inside(found.right, size)) return;
+  const double ball_radius_m = 0.5 * params_.ball_diameter_m;
+  const auto balance = radius_balance(*triangulator_, found.left, found.right, found.position_m,
+                                      ball_radius_m, kBalanceMinPx, kBalanceFraction);
+  if (!balance) return;
+  const stereo::Eye eye = balance->right_eye ? stereo::Eye::kRight : stereo::Eye::kLeft;
+  Circle& pulled = balance->right_eye ? found.right : found.left;
+  const auto refit = refit_at_radius(balance->right_eye ? right_channel : left_channel, eye,
+                                     rectified, pulled, balance->radius_px);
+  if (!refit) return;
+  Circle left = found.left, right = found.right;
+  (balance->right_eye ? right : left) = *refit;
+  const auto centre = triangulator_->sphere_centre_m({left.x_px, left.y_px},
+                                                     {right.x_px, right.y_px}, ball_radius_m);
+  if (!centre || !((*centre)[2] > 0.0)) return;
+  pulled = *refit;
+  found.position_m = *centre;
+  found.reason += balance->right_eye ? "; right outline refitted at the left's radius"
+                                     : "; left outline refitted at the right's radius";
+}
+
+std::optional<Circle> StereoPipeline::refit_at_radius(const cv::Mat& channel, stereo::Eye eye,
+                                                      bool rectified, const Circle& circle,
+                                                      double radius_px) {
+  const cv::Size size = rectifier_->calibration().image_size;
+  // The outline and the first refinement band around it.
+  const int margin =
+      static_cast<int>(std::ceil(radius_px + PixelToPixelParams::kPolishFirstBandPx)) + 2;
+  const cv::Rect region =
+      cv::Rect(static_cast<int>(circle.x_px) - margin, static_cast<int>(circle.y_px) - margin,
+               2 * margin + 1, 2 * margin + 1) &
+      cv::Rect(cv::Point(), size);
+  if (region.width < 8 || region.height < 8) return std::nullopt;
+  const cv::Mat* image = &channel;
+  if (!rectified) {
+    balance_rect_.create(size, channel.type());
+    rectifier_->rectify_eye_region(eye, channel, region, balance_rect_);
+    image = &balance_rect_;
+  }
+  const PixelToPixelParams p2p = params_.detector_params();
+  const EdgeThresholds thresholds =
+      left_thresholds_ ? *left_thresholds_ : thresholds_of(left_detector_.edge_map());
+  compute_edge_map((*image)(region), p2p.edge, thresholds.canny, thresholds.denoise,
+                   balance_edges_);
+  RefineParams refine = p2p.refine_params;
+  refine.hold_radius = true;
+  refine.first_band_px = PixelToPixelParams::kPolishFirstBandPx;
+  refine.robust_fit_floor_px = PixelToPixelParams::kPolishRobustFloorPx;
+  if (params_.perspective_outline)
+    refine.camera = stereo::PinholeCamera{
+        triangulator_->focal_px(), eye == stereo::Eye::kLeft ? triangulator_->principal_left_px()
+                                                             : triangulator_->principal_right_px()};
+  const Circle seed{circle.x_px - region.x, circle.y_px - region.y, radius_px, 0.0};
+  auto refit = refine_circle(balance_edges_, seed, refine);
+  // The refit must stand as an outline on its own, near where the free fit put it.
+  if (!refit || refit->score < p2p.min_score ||
+      std::hypot(refit->x_px - seed.x_px, refit->y_px - seed.y_px) >
+          std::abs(radius_px - circle.radius_px) + 1.0)
+    return std::nullopt;
+  refit->x_px += region.x;
+  refit->y_px += region.y;
+  return refit;
 }
 
 void StereoPipeline::raw_left_px(const std::vector<cv::Point2d>& rectified_px,

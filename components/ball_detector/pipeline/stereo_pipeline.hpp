@@ -220,6 +220,10 @@ class StereoPipeline {
   ShiftWindow shift_window(const StereoDetection& found) const;
   void check_interior(const cv::Mat& left_channel, const cv::Mat& right_channel, bool rectified,
                       StereoDetection& found);
+  void balance_radii(const cv::Mat& left_channel, const cv::Mat& right_channel, bool rectified,
+                     StereoDetection& found);
+  std::optional<Circle> refit_at_radius(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                                        const Circle& circle, double radius_px);
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
   void raw_left_px(const std::vector<cv::Point2d>& rectified_px, std::vector<cv::Point2d>& raw_px);
   std::optional<ColourHistogram> colour_of(const Circle& left);
@@ -237,6 +241,8 @@ class StereoPipeline {
   cv::Matx33d patch_ray_from_pixel_;  // rectified pixel -> ray in the raw left camera
   cv::Mat grey_left_, grey_right_, rect_left_, rect_right_;
   cv::Mat interior_left_, interior_right_;  // rectified regions the interior check reads
+  cv::Mat balance_rect_;                    // the region balance_radii refits, rectified
+  EdgeMap balance_edges_;                   // ... and its edges
   cv::Mat patch_map_, patch_bgr_;
   std::vector<cv::Point3d> patch_rays_;
   std::vector<cv::Point2d> patch_raw_px_;
