@@ -2,7 +2,8 @@
 // gradient vs three cv::Sobel passes and a select, redetect vs detect, canny_l1 vs cv::Canny, the
 // packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
 // breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
-// brute-force scan, and circles_from_votes independent of the order its voters come in.
+// brute-force scan, plot_ray vs a bounds test per cell, and circles_from_votes independent of
+// the order its voters come in.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -11,6 +12,8 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
+#include <cstdint>
 #include <deque>
 #include <filesystem>
 #include <random>
@@ -592,6 +595,74 @@ TEST(FindPeaks, GivenAMapWhoseRowsAreMostlyBelowTheFloorThenPeaksEqualABruteForc
     const auto peaks = find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20);
     // Then they are the brute-force local maxima, strongest first
     expect_brute_force_peaks(smoothed, floor_value, peaks);
+  }
+}
+
+// The ray plotting as it was before its bounds were counted up front: a bounds test per cell.
+std::int64_t plot_ray_reference(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
+                                double dir_y, double t0_px, double t1_px) {
+  const auto round_half_away = [](double x) { return static_cast<std::int64_t>(std::llround(x)); };
+  const double norm = std::sqrt(dir_x * dir_x + dir_y * dir_y);
+  if (norm <= 0.0 || t1_px < t0_px) return 0;
+  const double ux = dir_x / norm, uy = dir_y / norm;
+  const double sx = start_x + ux * t0_px, sy = start_y + uy * t0_px;
+  const bool x_major = std::abs(ux) >= std::abs(uy);
+  const double major = x_major ? ux : uy;
+  const int steps = static_cast<int>((t1_px - t0_px) * std::abs(major));
+  const int step = major > 0 ? 1 : -1;
+  const double slope = (x_major ? uy : ux) / std::abs(major);
+  int m = static_cast<int>(round_half_away(x_major ? sx : sy));
+  const double minor0 = (x_major ? sy : sx) + (m - (x_major ? sx : sy)) * slope * step;
+  std::int64_t minor_fp = round_half_away((minor0 + 0.5) * 65536.0);
+  const std::int64_t dminor = round_half_away(slope * 65536.0);
+  std::int64_t done = 0;
+  for (int i = 0; i <= steps; ++i, m += step, minor_fp += dminor) {
+    const int n = static_cast<int>(minor_fp >> 16);
+    const int x = x_major ? m : n, y = x_major ? n : m;
+    if (x < 0 || y < 0 || x >= accumulator.cols || y >= accumulator.rows) break;
+    std::uint16_t& cell = accumulator.at<std::uint16_t>(y, x);
+    if (cell != 0xFFFF) ++cell;
+    ++done;
+  }
+  return done;
+}
+
+TEST(PlotRay, GivenRandomRaysInAndAroundTheMapThenCellsAndCountsEqualABoundsTestPerCell) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    // Given a vote map (a view into a larger one, so rows have a stride; some cells already
+    // full or one short of it) and rays starting inside, on the border and outside, with the
+    // detector's integer and arbitrary real directions, steep, flat and diagonal
+    cv::Mat parent(70 + trial, 90 + 2 * trial, CV_16UC1);
+    cv::randu(parent, 0, 3);
+    cv::Mat acc = parent(cv::Rect(3, 2, parent.cols - 7, parent.rows - 5));
+    cv::Mat ref_parent = parent.clone();
+    cv::Mat ref = ref_parent(cv::Rect(3, 2, parent.cols - 7, parent.rows - 5));
+    for (int i = 0; i < 40; ++i) {
+      const cv::Point p(static_cast<int>(rng() % acc.cols), static_cast<int>(rng() % acc.rows));
+      acc.at<std::uint16_t>(p) = ref.at<std::uint16_t>(p) =
+          static_cast<std::uint16_t>(0xFFFE + i % 2);
+    }
+    for (int ray = 0; ray < 400; ++ray) {
+      const double x = -20.0 + unit(rng) * (acc.cols + 40);
+      const double y = -20.0 + unit(rng) * (acc.rows + 40);
+      double dx = static_cast<int>(rng() % 21) - 10, dy = static_cast<int>(rng() % 21) - 10;
+      if (ray % 3 == 0) {
+        dx = unit(rng) * 2.0 - 1.0;
+        dy = unit(rng) * 2.0 - 1.0;
+      }
+      if (ray % 17 == 0) dy = 0.0;
+      if (ray % 19 == 0) dx = 0.0;
+      if (ray % 23 == 0) dx = dy;
+      const double t0 = unit(rng) * 10.0, t1 = t0 + unit(rng) * 150.0 - 5.0;
+      // When both plot it
+      const auto ours = plot_ray(acc, x, y, dx, dy, t0, t1);
+      const auto reference = plot_ray_reference(ref, x, y, dx, dy, t0, t1);
+      // Then the same cells got a vote, none outside the map
+      ASSERT_EQ(ours, reference) << "trial " << trial << " ray " << ray;
+    }
+    ASSERT_EQ(cv::countNonZero(parent != ref_parent), 0) << "trial " << trial;
   }
 }
 
