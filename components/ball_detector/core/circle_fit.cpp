@@ -1,9 +1,15 @@
 #include "ball_detector/core/circle_fit.hpp"
 
+#include "ball_detector/core/cpu_dispatch.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <numbers>
+
+#if SB_HAVE_AVX2_KERNELS
+#include <immintrin.h>
+#endif
 
 namespace stereoball::ball_detector {
 namespace {
@@ -276,26 +282,108 @@ double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> p
   return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / inside_count;
 }
 
+namespace {
+
+// estimate_radius's ring of a point: the bin its distance from (cx, cy) rounds to, if that is
+// in [r0, r1] and its gradient is about radial, else discard.
+struct RingBinner {
+  double cx, cy;
+  int r0, r1, discard;
+
+  int bin_of(int x, int y, double gx, double gy) const {
+    const double rx = x - cx, ry = y - cy;
+    const double d2 = rx * rx + ry * ry;
+    const int bin = static_cast<int>(std::sqrt(d2) + 0.5);  // lround of a distance >= 0
+    // Loose radial test, |g . r| >= 0.7 |g| |r|, squared (no roots): the centre is only known
+    // to a pixel or two here.
+    const double g_dot_r = gx * rx + gy * ry;
+    const double g2 = gx * gx + gy * gy;
+    const bool counts = (bin >= r0) & (bin <= r1) & !(g_dot_r * g_dot_r < 0.49 * g2 * d2);
+    return counts ? bin : discard;
+  }
+};
+
+// Counts points [begin, end) into hist by RingBinner (no branch on a point: whether one counts
+// is a coin toss to the branch predictor).
+void count_ring_bins(const EdgePoints& p, std::size_t begin, std::size_t end,
+                     const RingBinner& binner, int* hist) {
+  for (std::size_t i = begin; i < end; ++i) ++hist[binner.bin_of(p.x[i], p.y[i], p.gx[i], p.gy[i])];
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// count_ring_bins four points at a time: the same double operations in the same order (no
+// fused multiply-add), so the same bins.
+SB_TARGET_AVX2 void count_ring_bins_avx2(const EdgePoints& p, std::size_t begin, std::size_t end,
+                                         const RingBinner& binner, int* hist) {
+  const __m256d cx = _mm256_set1_pd(binner.cx), cy = _mm256_set1_pd(binner.cy);
+  const __m256d half = _mm256_set1_pd(0.5), radial2 = _mm256_set1_pd(0.49);
+  const __m128i below = _mm_set1_epi32(binner.r0 - 1), above = _mm_set1_epi32(binner.r1 + 1);
+  const __m128i discard = _mm_set1_epi32(binner.discard);
+  // The low 32 bits of each 64-bit compare mask, as four 32-bit lanes.
+  const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
+  std::size_t i = begin;
+  alignas(16) int bins[4];
+  for (; i + 4 <= end; i += 4) {
+    const __m256d rx = _mm256_sub_pd(
+        _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.x[i]))), cx);
+    const __m256d ry = _mm256_sub_pd(
+        _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.y[i]))), cy);
+    const __m256d gx = _mm256_cvtepi32_pd(
+        _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&p.gx[i]))));
+    const __m256d gy = _mm256_cvtepi32_pd(
+        _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&p.gy[i]))));
+    const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry));
+    const __m128i bin = _mm256_cvttpd_epi32(_mm256_add_pd(_mm256_sqrt_pd(d2), half));
+    const __m256d g_dot_r = _mm256_add_pd(_mm256_mul_pd(gx, rx), _mm256_mul_pd(gy, ry));
+    const __m256d g2 = _mm256_add_pd(_mm256_mul_pd(gx, gx), _mm256_mul_pd(gy, gy));
+    const __m256d off_radial = _mm256_cmp_pd(
+        _mm256_mul_pd(g_dot_r, g_dot_r), _mm256_mul_pd(_mm256_mul_pd(radial2, g2), d2), _CMP_LT_OQ);
+    const __m128i off32 = _mm256_castsi256_si128(
+        _mm256_permutevar8x32_epi32(_mm256_castpd_si256(off_radial), low_halves));
+    const __m128i in_range =
+        _mm_and_si128(_mm_cmpgt_epi32(bin, below), _mm_cmpgt_epi32(above, bin));
+    const __m128i counts = _mm_andnot_si128(off32, in_range);
+    _mm_store_si128(reinterpret_cast<__m128i*>(bins), _mm_blendv_epi8(discard, bin, counts));
+    ++hist[bins[0]];
+    ++hist[bins[1]];
+    ++hist[bins[2]];
+    ++hist[bins[3]];
+  }
+  count_ring_bins(p, i, end, binner, hist);
+}
+#endif
+
+}  // namespace
+
 std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy,
                                       double min_radius_px, double max_radius_px) {
   const int r0 = std::max(1, static_cast<int>(std::floor(min_radius_px)));
   const int r1 = static_cast<int>(std::ceil(max_radius_px));
   if (r1 <= r0) return std::nullopt;
-  std::vector<int> hist(r1 + 2, 0);
-  // Pixels rounding to a bin in [r0, r1] lie in this annulus.
-  for_each_edge_in_annulus(
-      edges, cx, cy, r0 - 1.0, r1 + 1.0, [&](int x, int y, short gx, short gy) {
-        const double rx = x - cx, ry = y - cy;
-        const double d2 = rx * rx + ry * ry;
-        const int bin = static_cast<int>(std::sqrt(d2) + 0.5);  // lround of a distance >= 0
-        if (bin < r0 || bin > r1) return;
-        // Loose radial test, |g . r| >= 0.7 |g| |r|, squared (no roots): the centre is only known
-        // to a pixel or two here.
-        const double g_dot_r = gx * rx + gy * ry;
-        const double g2 = static_cast<double>(gx) * gx + static_cast<double>(gy) * gy;
-        if (g_dot_r * g_dot_r < 0.49 * g2 * d2) return;
-        ++hist[bin];
-      });
+  // Bins r0 - 1 ... r1 + 1 are read; points that do not count go to r1 + 2.
+  std::vector<int> hist(r1 + 3, 0);
+  // A map made by hand (bits only) is listed here.
+  EdgePoints listed;
+  const bool has_list =
+      edges.points.row_start.size() == static_cast<std::size_t>(edges.bits.height()) + 1;
+  if (!has_list) list_edge_points(edges.bits, edges.dx, edges.dy, listed);
+  const EdgePoints& points = has_list ? edges.points : listed;
+  // Pixels rounding to a bin in [r0, r1] lie within r1 + 1 of the centre, but the search
+  // reaches most of the image: every point of those rows goes through the tests (the counts do
+  // not depend on the order), which vector code does faster than finding each row's annulus.
+  const double outer = r1 + 1.0;
+  const int y0 = std::max(0, static_cast<int>(std::floor(cy - outer)));
+  const int y1 = std::min(edges.bits.height() - 1, static_cast<int>(std::ceil(cy + outer)));
+  if (y0 > y1) return std::nullopt;
+  const auto begin = static_cast<std::size_t>(points.row_start[static_cast<std::size_t>(y0)]);
+  const auto end = static_cast<std::size_t>(points.row_start[static_cast<std::size_t>(y1) + 1]);
+  const RingBinner binner{cx, cy, r0, r1, r1 + 2};
+#if SB_HAVE_AVX2_KERNELS
+  if (cpu_has_avx2())
+    count_ring_bins_avx2(points, begin, end, binner, hist.data());
+  else
+#endif
+    count_ring_bins(points, begin, end, binner, hist.data());
   double best = 0.0;
   std::optional<double> best_r;
   for (int r = r0; r <= r1; ++r) {

@@ -394,6 +394,7 @@ void canny_and_thin(const EdgeParams& params, const CannyThresholds& t, EdgeMap&
   canny_l1(out.dx, out.dy, t.low, t.high, out.edges, out.canny_work);
   out.bits.assign(out.edges);
   out.removed_staircase = params.thin ? thin_staircase(out.edges, out.bits) : 0;
+  list_edge_points(out.bits, out.dx, out.dy, out.points);
 }
 
 }  // namespace
@@ -423,6 +424,29 @@ void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
 }
 
 }  // namespace
+
+void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy, EdgePoints& out) {
+  out.x.clear();
+  out.y.clear();
+  out.gx.clear();
+  out.gy.clear();
+  out.row_start.assign(static_cast<std::size_t>(bits.height()) + 1, 0);
+  for (int y = 0; y < bits.height(); ++y) {
+    out.row_start[static_cast<std::size_t>(y)] = static_cast<int>(out.x.size());
+    const std::uint64_t* row = bits.row(y);
+    const short* gx = dx.ptr<short>(y);
+    const short* gy = dy.ptr<short>(y);
+    for (int w = 0; w * 64 < bits.width(); ++w)
+      for (std::uint64_t word = row[w]; word != 0; word &= word - 1) {
+        const int x = w * 64 + std::countr_zero(word);
+        out.x.push_back(x);
+        out.y.push_back(y);
+        out.gx.push_back(gx[x]);
+        out.gy.push_back(gy[x]);
+      }
+  }
+  out.row_start.back() = static_cast<int>(out.x.size());
+}
 
 EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& params,
                                        EdgeMap& work) {

@@ -2,8 +2,8 @@
 // gradient vs three cv::Sobel passes and a select, redetect vs detect, canny_l1 vs cv::Canny, the
 // packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
 // breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
-// brute-force scan, plot_ray vs a bounds test per cell, and circles_from_votes independent of
-// the order its voters come in.
+// brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge
+// pixel, and circles_from_votes independent of the order its voters come in.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -16,10 +16,13 @@
 #include <cstdint>
 #include <deque>
 #include <filesystem>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "ball_detector/core/canny.hpp"
+#include "ball_detector/core/circle_fit.hpp"
+#include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
 #include "ball_detector/core/synthetic.hpp"
@@ -664,6 +667,72 @@ TEST(PlotRay, GivenRandomRaysInAndAroundTheMapThenCellsAndCountsEqualABoundsTest
     }
     ASSERT_EQ(cv::countNonZero(parent != ref_parent), 0) << "trial " << trial;
   }
+}
+
+// estimate_radius written plainly: every edge pixel of the image, the same tests and rings.
+std::optional<double> estimate_radius_reference(const EdgeMap& edges, double cx, double cy,
+                                                double min_radius_px, double max_radius_px) {
+  const int r0 = std::max(1, static_cast<int>(std::floor(min_radius_px)));
+  const int r1 = static_cast<int>(std::ceil(max_radius_px));
+  if (r1 <= r0) return std::nullopt;
+  std::vector<int> hist(r1 + 2, 0);
+  for (int y = 0; y < edges.edges.rows; ++y)
+    for (int x = 0; x < edges.edges.cols; ++x) {
+      if (edges.edges.at<std::uint8_t>(y, x) == 0) continue;
+      const double rx = x - cx, ry = y - cy;
+      const double d2 = rx * rx + ry * ry;
+      const int bin = static_cast<int>(std::sqrt(d2) + 0.5);
+      if (bin < r0 || bin > r1) continue;
+      const double gx = edges.dx.at<short>(y, x), gy = edges.dy.at<short>(y, x);
+      const double g_dot_r = gx * rx + gy * ry;
+      if (g_dot_r * g_dot_r < 0.49 * (gx * gx + gy * gy) * d2) continue;
+      ++hist[static_cast<std::size_t>(bin)];
+    }
+  double best = 0.0;
+  std::optional<double> best_r;
+  for (int r = r0; r <= r1; ++r) {
+    const int ring = hist[static_cast<std::size_t>(r)] + hist[static_cast<std::size_t>(r - 1)] +
+                     hist[static_cast<std::size_t>(r + 1)];
+    if (ring >= 8 && ring / static_cast<double>(r) > best) {
+      best = ring / static_cast<double>(r);
+      best_r = r;
+    }
+  }
+  return best_r;
+}
+
+TEST(EstimateRadius, GivenRealEdgeMapsAndCentresAnywhereThenTheRingEqualsAPlainScan) {
+  // Given the real images' edge maps (colour edges), and centres inside, near the border and
+  // outside the image, whole and fractional, with narrow and wide radius ranges
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u);
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int found = 0;
+  for (const auto& image : images) {
+    EdgeMap edges;
+    compute_edge_map(image, EdgeParams{}, edges);
+    for (int trial = 0; trial < 30; ++trial) {
+      double cx = -30.0 + unit(rng) * (image.cols + 60), cy = -30.0 + unit(rng) * (image.rows + 60);
+      if (trial % 2 == 0) {
+        cx = std::round(cx);
+        cy = std::round(cy);
+      }
+      const double lo = trial % 3 == 0 ? 0.5 : 4.0 + unit(rng) * 30.0;
+      const double hi = lo + (trial % 4 == 0 ? 3.0 : unit(rng) * 250.0);
+      // When the ring is estimated both ways
+      const auto ours = estimate_radius(edges, cx, cy, lo, hi);
+      const auto reference = estimate_radius_reference(edges, cx, cy, lo, hi);
+      // Then they agree exactly
+      ASSERT_EQ(ours.has_value(), reference.has_value())
+          << cx << " " << cy << " " << lo << " " << hi;
+      if (ours) {
+        EXPECT_EQ(*ours, *reference);
+        ++found;
+      }
+    }
+  }
+  EXPECT_GE(found, 100);
 }
 
 TEST(CirclesFromVotes, GivenTheSameVotersInAnyOrderThenTheSameCirclesAreFound) {
