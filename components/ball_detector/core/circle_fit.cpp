@@ -3,6 +3,7 @@
 #include "ball_detector/core/cpu_dispatch.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <numbers>
@@ -19,14 +20,30 @@ inline double fast_hypot(double a, double b) {
   return std::sqrt(a * a + b * b);
 }
 
-inline int l1_at(const cv::Mat& dx, const cv::Mat& dy, int x, int y) {
-  return std::abs(dx.at<short>(y, x)) + std::abs(dy.at<short>(y, x));
-}
+// The derivative planes as plain pointers: read per gathered point, where cv::Mat::at would
+// reload the Mat's fields after every point stored (a stored double may alias them).
+struct GradientPlanes {
+  const short* dx;
+  const short* dy;
+  std::ptrdiff_t step;  // in shorts
+  int cols, rows;
+
+  explicit GradientPlanes(const EdgeMap& e)
+      : dx(e.dx.ptr<short>(0)),
+        dy(e.dy.ptr<short>(0)),
+        step(static_cast<std::ptrdiff_t>(e.dx.step1())),
+        cols(e.dx.cols),
+        rows(e.dx.rows) {}
+  int l1_at(int x, int y) const {
+    const std::ptrdiff_t i = y * step + x;
+    return std::abs(dx[i]) + std::abs(dy[i]);
+  }
+};
 
 // Sub-pixel edge position: parabola through the gradient magnitude at the pixel and its two
 // neighbours along the (8-direction quantised) gradient.
-cv::Point2d subpixel_edge(const EdgeMap& e, int x, int y, int gx, int gy) {
-  if (x < 1 || y < 1 || x >= e.dx.cols - 1 || y >= e.dx.rows - 1) return {double(x), double(y)};
+cv::Point2d subpixel_edge(const GradientPlanes& g, int x, int y, int gx, int gy) {
+  if (x < 1 || y < 1 || x >= g.cols - 1 || y >= g.rows - 1) return {double(x), double(y)};
   const int ax = std::abs(gx), ay = std::abs(gy);
   // tan(22.5 deg) ~ 0.4142 ~ 53/128: integer sector test.
   int sx = 0, sy = 0;
@@ -38,9 +55,9 @@ cv::Point2d subpixel_edge(const EdgeMap& e, int x, int y, int gx, int gy) {
     sx = 1;
     sy = (gx > 0) == (gy > 0) ? 1 : -1;
   }
-  const double m0 = l1_at(e.dx, e.dy, x, y);
-  const double mm = l1_at(e.dx, e.dy, x - sx, y - sy);
-  const double mp = l1_at(e.dx, e.dy, x + sx, y + sy);
+  const double m0 = g.l1_at(x, y);
+  const double mm = g.l1_at(x - sx, y - sy);
+  const double mp = g.l1_at(x + sx, y + sy);
   const double denom = mm - 2.0 * m0 + mp;
   if (denom >= 0.0) return {double(x), double(y)};
   const double t = std::clamp(0.5 * (mm - mp) / denom, -0.5, 0.5);
@@ -49,7 +66,8 @@ cv::Point2d subpixel_edge(const EdgeMap& e, int x, int y, int gx, int gy) {
 
 // Calls f(x, y, gx, gy) for the edge pixels of row y in columns [x0, x1] (clipped), in order.
 template <typename F>
-void for_each_edge_in_row(const EdgeMap& edges, int y, int x0, int x1, F&& f) {
+[[gnu::always_inline]] inline void for_each_edge_in_row(const EdgeMap& edges, int y, int x0, int x1,
+                                                        F&& f) {
   const BitImage& bits = edges.bits;
   x0 = std::max(0, x0);
   x1 = std::min(bits.width() - 1, x1);
@@ -70,23 +88,36 @@ void for_each_edge_in_row(const EdgeMap& edges, int y, int x0, int x1, F&& f) {
   }
 }
 
+// static_cast<int>(std::floor(v)) and of std::ceil for |v| < 2^31, without the library call
+// the baseline instruction set needs (four per row of an annulus added up).
+inline int floor_int(double v) {
+  const int t = static_cast<int>(v);
+  return t - (v < t);
+}
+
+inline int ceil_int(double v) {
+  const int t = static_cast<int>(v);
+  return t + (v > t);
+}
+
 // Calls f for the edge pixels that may lie in the annulus inner <= d <= outer around (cx, cy):
 // per row, only the one or two column ranges the annulus covers (plus a pixel of slack for
 // rounding), left to right, so callers see the pixels in raster order as with a box scan.
 template <typename F>
-void for_each_edge_in_annulus(const EdgeMap& edges, double cx, double cy, double inner,
-                              double outer, F&& f) {
+[[gnu::always_inline]] inline void for_each_edge_in_annulus(const EdgeMap& edges, double cx,
+                                                            double cy, double inner, double outer,
+                                                            F&& f) {
   const int y0 = std::max(0, static_cast<int>(std::floor(cy - outer)));
   const int y1 = std::min(edges.bits.height() - 1, static_cast<int>(std::ceil(cy + outer)));
   for (int y = y0; y <= y1; ++y) {
     const double dy2 = (y - cy) * (y - cy);
     if (dy2 > outer * outer) continue;
     const double half_out = std::sqrt(outer * outer - dy2);
-    const int left_out = static_cast<int>(std::floor(cx - half_out)) - 1;
-    const int right_out = static_cast<int>(std::ceil(cx + half_out)) + 1;
+    const int left_out = floor_int(cx - half_out) - 1;
+    const int right_out = ceil_int(cx + half_out) + 1;
     const double half_in = dy2 < inner * inner ? std::sqrt(inner * inner - dy2) : 0.0;
-    const int left_in = static_cast<int>(std::ceil(cx - half_in)) + 1;
-    const int right_in = static_cast<int>(std::floor(cx + half_in)) - 1;
+    const int left_in = ceil_int(cx - half_in) + 1;
+    const int right_in = floor_int(cx + half_in) - 1;
     if (left_in >= right_in) {  // no hole in this row (or too small to skip): one range
       for_each_edge_in_row(edges, y, left_out, right_out, f);
       continue;
@@ -205,31 +236,78 @@ void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
   gather_outline_points(edges, c, OutlineStretch{}, band_px, min_radial_cos, out);
 }
 
+namespace {
+
+// An edge point of the band with a radial gradient, waiting for its sub-pixel position.
+struct BandPoint {
+  int x, y;
+  short gx, gy;
+};
+
+}  // namespace
+
 void gather_outline_points(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
                            double band_px, double min_radial_cos, std::vector<cv::Point2d>& out) {
   out.clear();
+  // Every value the per-point tests read is a local (the helpers above are inlined): the
+  // points stored are doubles, which may alias the fields of the arguments, and the compiler
+  // would read them again, and divide again, for every point. The arithmetic is that of
+  // OutlineStretch's to_round / gradient_to_round, expression by expression.
+  const double cx = round.x_px, cy = round.y_px;
   const double outer = round.radius_px + band_px;
   const double inner = std::max(0.0, round.radius_px - band_px);
+  const double outer2 = outer * outer, inner2 = inner * inner;
   const double cos2 = min_radial_cos * min_radial_cos;
-  const cv::Point2d centre(round.x_px, round.y_px);
+  const bool identity = stretch.identity();
+  const double ax = stretch.axis.x, ay = stretch.axis.y;
+  const double to_round = 1.0 / stretch.ratio - 1.0;
+  const double from_round = stretch.ratio - 1.0;
+  const GradientPlanes planes(edges);
+  // Two stages: the band and gradient tests keep about a quarter of the pixels visited, in no
+  // pattern a branch predictor can learn, so the pixels that pass are written down without a
+  // branch (kept counts them), and only those get their sub-pixel position. Raster order stays.
+  std::array<BandPoint, 256> passed;
+  int kept = 0;
+  const auto place = [&] {
+    for (int i = 0; i < kept; ++i) {
+      const BandPoint& b = passed[static_cast<std::size_t>(i)];
+      cv::Point2d p = subpixel_edge(planes, b.x, b.y, b.gx, b.gy);
+      if (!identity) {
+        const double sx = p.x - cx, sy = p.y - cy;
+        const double k = to_round * (sx * ax + sy * ay);
+        p = {cx + (sx + ax * k), cy + (sy + ay * k)};
+      }
+      // The band applies to the sub-pixel position, which is what the fit uses.
+      const double sd = fast_hypot(p.x - cx, p.y - cy);
+      if (sd > outer || sd < inner) continue;
+      out.push_back(p);
+    }
+    kept = 0;
+  };
   // In the image the band reaches ratio times farther along the major axis.
-  for_each_edge_in_annulus(
-      edges, round.x_px, round.y_px, inner, stretch.ratio * outer,
-      [&](int x, int y, short gx, short gy) {
-        const cv::Point2d r = stretch.to_round({x - round.x_px, y - round.y_px});
-        const double d2 = r.x * r.x + r.y * r.y;
-        if (d2 > outer * outer || d2 < inner * inner) return;
-        const cv::Point2d g = stretch.gradient_to_round({double(gx), double(gy)});
-        const double g_dot_r = g.x * r.x + g.y * r.y;
-        const double g2 = g.x * g.x + g.y * g.y;
-        if (g_dot_r * g_dot_r < cos2 * g2 * d2) return;
-        const cv::Point2d sub = subpixel_edge(edges, x, y, gx, gy);
-        const cv::Point2d p = stretch.identity() ? sub : centre + stretch.to_round(sub - centre);
-        // The band applies to the sub-pixel position, which is what the fit uses.
-        const double sd = fast_hypot(p.x - round.x_px, p.y - round.y_px);
-        if (sd > outer || sd < inner) return;
-        out.push_back(p);
-      });
+  for_each_edge_in_annulus(edges, cx, cy, inner, stretch.ratio * outer,
+                           [&](int x, int y, short gx, short gy) {
+                             double rx = x - cx, ry = y - cy;
+                             if (!identity) {
+                               const double k = to_round * (rx * ax + ry * ay);
+                               rx = rx + ax * k;
+                               ry = ry + ay * k;
+                             }
+                             const double d2 = rx * rx + ry * ry;
+                             double g_x = gx, g_y = gy;
+                             if (!identity) {
+                               const double k = from_round * (g_x * ax + g_y * ay);
+                               g_x = g_x + ax * k;
+                               g_y = g_y + ay * k;
+                             }
+                             const double g_dot_r = g_x * rx + g_y * ry;
+                             const double g2 = g_x * g_x + g_y * g_y;
+                             passed[static_cast<std::size_t>(kept)] = {x, y, gx, gy};
+                             kept += static_cast<int>(!(d2 > outer2) & !(d2 < inner2) &
+                                                      !(g_dot_r * g_dot_r < cos2 * g2 * d2));
+                             if (kept == static_cast<int>(passed.size())) place();
+                           });
+  place();
 }
 
 namespace {
