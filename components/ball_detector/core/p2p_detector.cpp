@@ -559,17 +559,30 @@ PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& vot
   std::vector<double> radii;
   std::vector<cv::Point2d> support;
   std::uint32_t voted_sectors = 0;  // bit s: a voter lies in sector s around the peak
+  // Whether a voter's line passes the peak is a coin toss to the branch predictor: the cheap
+  // tests of each loop below write the voters that pass down without a branch (n counts them),
+  // in their order, and only those go on.
+  std::vector<std::uint32_t> passing(voters.size());
+  std::size_t n = 0;
+  const auto index_of = [&](const Voter& v) {
+    return static_cast<std::uint32_t>(&v - voters.data());
+  };
   // A voter passing the tests below is at most this far from the peak (t <= max radius and
   // the line within tolerance), plus a pixel for float rounding.
   const double reach_px = options.max_radius_px + options.line_tolerance_px + 1.0;
   rows.for_each(voters, peak.y - reach_px, peak.y + reach_px, [&](const Voter& v) {
     const double px = peak.x - v.x, py = peak.y - v.y;
     const double t = px * v.ux + py * v.uy;
-    if (t < options.min_radius_px || t > options.max_radius_px) return;
-    if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
+    passing[n] = index_of(v);
+    n += static_cast<std::size_t>(!(t < options.min_radius_px) & !(t > options.max_radius_px) &
+                                  !(std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px));
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    const Voter& v = voters[passing[i]];
+    const double px = peak.x - v.x, py = peak.y - v.y;
     radii.push_back(std::sqrt(px * px + py * py));
     if (options.min_voted_coverage > 0.0) voted_sectors |= 1u << voter_sector(px, py);
-  });
+  }
   if (radii.size() < 3) return {};
   // A ball's outline votes from all sides, texture from one: judged on every voter of the
   // peak (not only those at the median distance, which other lines passing by can skew).
@@ -583,15 +596,20 @@ PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& vot
   const double median_r = options.voter_mode_radius ? median_of(radii) : r0;
   // The voters' own positions on the circle seed the fit (they are edge points).
   const double support_reach_px = 1.2 * r0 + 2.0;
+  n = 0;
   rows.for_each(voters, peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
     const double px = peak.x - v.x, py = peak.y - v.y;
-    // The cheap tests first: most voters in the band fail the line test, and need no root.
-    if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
-    if (px * v.ux + py * v.uy <= 0.0) return;
-    const double d = std::sqrt(px * px + py * py);
-    if (std::abs(d - r0) > 0.2 * r0 + 1.0) return;
-    support.emplace_back(v.x, v.y);
+    passing[n] = index_of(v);
+    n += static_cast<std::size_t>(!(std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) &
+                                  !(px * v.ux + py * v.uy <= 0.0));
   });
+  for (std::size_t i = 0; i < n; ++i) {
+    const Voter& v = voters[passing[i]];
+    const double px = peak.x - v.x, py = peak.y - v.y;
+    const double d = std::sqrt(px * px + py * py);
+    if (std::abs(d - r0) > 0.2 * r0 + 1.0) continue;
+    support.emplace_back(v.x, v.y);
+  }
   Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};
   if (const auto fit = fit_circle(support);
       fit && fast_hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)
