@@ -339,7 +339,17 @@ double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> p
   const int sectors = sector_count(c);
   std::vector<unsigned char> inside(sectors, 0);
   int inside_count = 0;
-  for (int s = 0; s < sectors; ++s) {
+  // The outline lies within ratio * r of the centre: when that square, a pixel wider for
+  // rounding, is in the frame, every sector is, without a sine and cosine each.
+  const double reach = stretch.ratio * c.radius_px + 1.0;
+  const bool all_inside = c.x_px - reach >= frame.x + 1.0 && c.y_px - reach >= frame.y + 1.0 &&
+                          c.x_px + reach <= frame.x + frame.width - 2.0 &&
+                          c.y_px + reach <= frame.y + frame.height - 2.0;
+  if (all_inside) {
+    std::fill(inside.begin(), inside.end(), 1);
+    inside_count = sectors;
+  }
+  for (int s = 0; s < sectors && !all_inside; ++s) {
     const double a = (s + 0.5) * 2.0 * std::numbers::pi / sectors - std::numbers::pi;
     const cv::Point2d on_outline =
         stretch.from_round({c.radius_px * std::cos(a), c.radius_px * std::sin(a)});

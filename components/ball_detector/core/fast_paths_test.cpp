@@ -3,7 +3,8 @@
 // packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
 // breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
 // brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge
-// pixel, and circles_from_votes independent of the order its voters come in.
+// pixel, angular_coverage_in_frame vs every sector tested, and circles_from_votes
+// independent of the order its voters come in.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -16,6 +17,7 @@
 #include <cstdint>
 #include <deque>
 #include <filesystem>
+#include <numbers>
 #include <optional>
 #include <random>
 #include <vector>
@@ -733,6 +735,67 @@ TEST(EstimateRadius, GivenRealEdgeMapsAndCentresAnywhereThenTheRingEqualsAPlainS
     }
   }
   EXPECT_GE(found, 100);
+}
+
+// angular_coverage_in_frame as it was: every sector's midpoint tested against the frame.
+double coverage_in_frame_reference(const Circle& c, std::span<const cv::Point2d> points,
+                                   const cv::Rect2d& frame, double min_inside,
+                                   const OutlineStretch& stretch) {
+  const double pi = std::numbers::pi;
+  const int sectors = std::clamp(static_cast<int>(2.0 * pi * c.radius_px / 3.0), 8, 180);
+  std::vector<unsigned char> inside(static_cast<std::size_t>(sectors), 0);
+  int inside_count = 0;
+  for (int s = 0; s < sectors; ++s) {
+    const double a = (s + 0.5) * 2.0 * pi / sectors - pi;
+    const cv::Point2d on =
+        stretch.from_round({c.radius_px * std::cos(a), c.radius_px * std::sin(a)});
+    const double x = c.x_px + on.x, y = c.y_px + on.y;
+    if (x >= frame.x + 1.0 && y >= frame.y + 1.0 && x <= frame.x + frame.width - 2.0 &&
+        y <= frame.y + frame.height - 2.0) {
+      inside[static_cast<std::size_t>(s)] = 1;
+      ++inside_count;
+    }
+  }
+  if (inside_count == 0 || inside_count < min_inside * sectors) return 0.0;
+  std::vector<unsigned char> hit(static_cast<std::size_t>(sectors), 0);
+  for (const auto& p : points) {
+    const double a = std::atan2(p.y - c.y_px, p.x - c.x_px) + pi;
+    const int s = std::min(sectors - 1, static_cast<int>(a / (2.0 * pi) * sectors));
+    hit[static_cast<std::size_t>(s)] = inside[static_cast<std::size_t>(s)];
+  }
+  return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / inside_count;
+}
+
+TEST(CoverageInFrame, GivenCirclesInsideAcrossAndNearTheBorderThenCoverageEqualsEverySectorTested) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const cv::Rect2d frame(-3.0, -2.0, 320.0, 240.0);
+  int whole = 0, cut = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    // Given a circle anywhere around the frame (many just inside or just across its border),
+    // a stretch (none or up to 1.6 along any axis) and points near its outline
+    const Circle c{frame.x - 40.0 + unit(rng) * (frame.width + 80.0),
+                   frame.y - 40.0 + unit(rng) * (frame.height + 80.0), 2.0 + unit(rng) * 60.0, 0.0};
+    OutlineStretch stretch;
+    if (trial % 2 == 1) {
+      const double angle = unit(rng) * std::numbers::pi;
+      stretch = OutlineStretch{{std::cos(angle), std::sin(angle)}, 1.0 + 0.6 * unit(rng)};
+    }
+    std::vector<cv::Point2d> points;
+    for (int i = 0; i < 40; ++i) {
+      const double a = unit(rng) * 2.0 * std::numbers::pi;
+      points.emplace_back(c.x_px + c.radius_px * std::cos(a), c.y_px + c.radius_px * std::sin(a));
+    }
+    const double min_inside = trial % 3 == 0 ? 0.0 : 0.5;
+    // When coverage is measured both ways
+    const double ours = angular_coverage_in_frame(c, points, frame, min_inside, stretch);
+    const double reference = coverage_in_frame_reference(c, points, frame, min_inside, stretch);
+    // Then it is the same number
+    ASSERT_EQ(ours, reference) << "trial " << trial;
+    (reference > 0.0 && reference == angular_coverage(c, points) ? whole : cut) += 1;
+  }
+  EXPECT_GE(whole, 300);
+  EXPECT_GE(cut, 300);
 }
 
 TEST(CirclesFromVotes, GivenTheSameVotersInAnyOrderThenTheSameCirclesAreFound) {
