@@ -7,7 +7,8 @@
 #include <cstring>
 
 // The vector path needs SSSE3 (a byte shuffle), picked at run time: the build targets baseline
-// x86-64. Elsewhere, and with SB_NO_CPU_DISPATCH (CMake SB_CPU_DISPATCH=OFF), the plain path.
+// x86-64. Elsewhere, and with SB_NO_CPU_DISPATCH (CMake
+// SB_CPU_DISPATCH=OFF), the plain path.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(SB_NO_CPU_DISPATCH)
 #define SB_REMAP_SSSE3 1
 #include <immintrin.h>
@@ -69,72 +70,110 @@ bool cpu_has_ssse3() {
   return has;
 }
 
-// Per fraction index, the weights of a source row's left and right pixel as the two 16-bit
-// halves of a word: the multiply-add instruction's operand.
-struct WeightPairs {
-  std::array<std::uint32_t, kFractionMask + 1> top, bottom;
+// Per fraction index, the weights of a source row's left and right pixel in the 16-bit lanes
+// the multiply-add meets them in (left, right for each of B, G, R, then 0, 0): loaded whole, no
+// shuffle spent on spreading them (the shuffle unit is what the pixel loop waits on).
+struct WeightRows {
+  alignas(16) std::array<std::array<std::int16_t, 8>, kFractionMask + 1> top, bottom;
 };
 
-const WeightPairs& weight_pairs() {
-  static const WeightPairs pairs = [] {
-    WeightPairs p{};
+const WeightRows& weight_rows() {
+  static const WeightRows rows = [] {
+    WeightRows r{};
     for (int f = 0; f <= kFractionMask; ++f) {
       const Weights w = weights_of(f);
-      p.top[f] = static_cast<std::uint32_t>(w.top_left) | static_cast<std::uint32_t>(w.top_right)
-                                                              << 16;
-      p.bottom[f] = static_cast<std::uint32_t>(w.bottom_left) |
-                    static_cast<std::uint32_t>(w.bottom_right) << 16;
+      const auto left_right = [](int left, int right) {
+        const auto l = static_cast<std::int16_t>(left), r = static_cast<std::int16_t>(right);
+        return std::array<std::int16_t, 8>{l, r, l, r, l, r, 0, 0};
+      };
+      r.top[static_cast<std::size_t>(f)] = left_right(w.top_left, w.top_right);
+      r.bottom[static_cast<std::size_t>(f)] = left_right(w.bottom_left, w.bottom_right);
     }
-    return p;
+    return r;
   }();
-  return pairs;
+  return rows;
 }
 
-// remap_row with one pixel per few vector instructions where its 2x2 neighbourhood lies inside
-// src with two bytes to spare (two 8-byte loads, one per source row); the border pixels and the
-// row's last one (whose 4-byte store would reach past it) go through remap_pixel.
+// The source image as the vector paths read it: pixel (x, y) at data + y * step + 3 * x.
+// Pixels whose 2x2 neighbourhood lies inside with two bytes to spare (sx <= cols - 3: the
+// 8-byte load from pixel sx stays in its row) take a vector path.
+struct Source {
+  const std::uint8_t* data;
+  std::ptrdiff_t step;
+  int fast_cols, fast_rows;
+
+  explicit Source(const cv::Mat& src)
+      : data(src.data),
+        step(static_cast<std::ptrdiff_t>(src.step)),
+        fast_cols(src.cols - 2),
+        fast_rows(src.rows - 1) {}
+  bool fast(int sx, int sy) const { return sx >= 0 && sy >= 0 && sx < fast_cols && sy < fast_rows; }
+  const std::uint8_t* at(int sx, int sy) const { return data + sy * step + 3 * sx; }
+};
+
+// Bytes 0-7: a pixel's top row B0 G0 R0 B1 G1 R1 (and two more), 8-15 its bottom row; as 16-bit
+// lanes B0 B1 G0 G1 R0 R1 0 0, so that one multiply-add gives each channel's row sum.
+#define SB_TOP_ORDER 0, -1, 3, -1, 1, -1, 4, -1, 2, -1, 5, -1, -1, -1, -1, -1
+#define SB_BOTTOM_ORDER 8, -1, 11, -1, 9, -1, 12, -1, 10, -1, 13, -1, -1, -1, -1, -1
+
+// A pixel's top and bottom source row bytes (blend_one's layout).
+__attribute__((target("ssse3"))) inline __m128i rows_of(const Source& s, int sx, int sy) {
+  const std::uint8_t* p = s.at(sx, sy);
+  return _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)),
+                            _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p + s.step)));
+}
+
+// One pixel on the vector path: its two source rows' bytes, weighted and rounded; writes four
+// bytes (the fourth is the next pixel's first: the caller writes that one afterwards).
+__attribute__((target("ssse3"))) inline void blend_one(const Source& s, int sx, int sy, int f,
+                                                       const WeightRows& weights,
+                                                       std::uint8_t* out) {
+  const auto index = static_cast<std::size_t>(f);
+  const __m128i both = rows_of(s, sx, sy);
+  const __m128i top =
+      _mm_madd_epi16(_mm_shuffle_epi8(both, _mm_setr_epi8(SB_TOP_ORDER)),
+                     _mm_load_si128(reinterpret_cast<const __m128i*>(weights.top[index].data())));
+  const __m128i bottom = _mm_madd_epi16(
+      _mm_shuffle_epi8(both, _mm_setr_epi8(SB_BOTTOM_ORDER)),
+      _mm_load_si128(reinterpret_cast<const __m128i*>(weights.bottom[index].data())));
+  const __m128i sum = _mm_srai_epi32(
+      _mm_add_epi32(_mm_add_epi32(top, bottom), _mm_set1_epi32(kRounding)), kWeightShift);
+  // Each channel's value (<= 255) is the low byte of its 32-bit lane.
+  const int bgr = _mm_cvtsi128_si32(_mm_shuffle_epi8(
+      sum, _mm_setr_epi8(0, 4, 8, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1)));
+  std::memcpy(out, &bgr, 4);
+}
+
+// remap_row with one pixel per few vector instructions on the vector path; the border pixels
+// and the row's last one (whose 4-byte store would reach past it) go through remap_pixel.
 __attribute__((target("ssse3"))) void remap_row_ssse3(const cv::Mat& src, const short* xy,
                                                       const std::uint16_t* fraction,
                                                       std::uint8_t* out, int n) {
-  const WeightPairs& pairs = weight_pairs();
-  const auto step = static_cast<std::ptrdiff_t>(src.step);
-  // Bytes 0-7: the top row's B0 G0 R0 B1 G1 R1 (and two more), 8-15 the bottom row's; as 16-bit
-  // lanes B0 B1 G0 G1 R0 R1 0 0, so that one multiply-add gives each channel's row sum.
-  const __m128i top_order = _mm_setr_epi8(0, -1, 3, -1, 1, -1, 4, -1, 2, -1, 5, -1, -1, -1, -1, -1);
-  const __m128i bottom_order =
-      _mm_setr_epi8(8, -1, 11, -1, 9, -1, 12, -1, 10, -1, 13, -1, -1, -1, -1, -1);
-  const __m128i rounding = _mm_set1_epi32(kRounding);
-  // sx <= cols - 3: the 8 bytes from pixel sx stay in its row.
-  const int fast_cols = src.cols - 2, fast_rows = src.rows - 1;
+  const WeightRows& weights = weight_rows();
+  const Source s(src);
   for (int x = 0; x < n; ++x) {
     const int sx = xy[2 * x], sy = xy[2 * x + 1];
     const int f = fraction[x] & kFractionMask;
-    if (sx < 0 || sy < 0 || sx >= fast_cols || sy >= fast_rows || x + 1 == n) {
+    if (s.fast(sx, sy) && x + 1 < n)
+      blend_one(s, sx, sy, f, weights, out + 3 * x);
+    else
       remap_pixel(src, sx, sy, f, out + 3 * x);
-      continue;
-    }
-    const std::uint8_t* p = src.data + sy * step + 3 * sx;
-    const __m128i both =
-        _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)),
-                           _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p + step)));
-    const __m128i top = _mm_madd_epi16(_mm_shuffle_epi8(both, top_order),
-                                       _mm_set1_epi32(static_cast<int>(pairs.top[f])));
-    const __m128i bottom = _mm_madd_epi16(_mm_shuffle_epi8(both, bottom_order),
-                                          _mm_set1_epi32(static_cast<int>(pairs.bottom[f])));
-    const __m128i sum =
-        _mm_srai_epi32(_mm_add_epi32(_mm_add_epi32(top, bottom), rounding), kWeightShift);
-    const __m128i bytes = _mm_packus_epi16(_mm_packs_epi32(sum, sum), sum);
-    // Four bytes: the fourth is the next pixel's first, written next.
-    const int bgr = _mm_cvtsi128_si32(bytes);
-    std::memcpy(out + 3 * x, &bgr, 4);
   }
 }
+
+#undef SB_TOP_ORDER
+#undef SB_BOTTOM_ORDER
 
 #endif
 
 }  // namespace
 
 void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const cv::Mat& frac) {
+  remap_bilinear(src, dst, xy, frac, RemapPath::kSsse3);
+}
+
+void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const cv::Mat& frac,
+                    RemapPath fastest) {
   const bool shares = dst.datastart != nullptr && dst.datastart == src.datastart;
   if (src.type() != CV_8UC3 || src.empty() || xy.type() != CV_16SC2 || frac.type() != CV_16UC1 ||
       xy.size() != frac.size() || shares) {
@@ -142,18 +181,23 @@ void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const c
     return;
   }
   dst.create(xy.size(), src.type());
-  for (int y = 0; y < xy.rows; ++y) {
-    const short* map = xy.ptr<short>(y);
-    const auto* fraction = frac.ptr<std::uint16_t>(y);
-    auto* out = dst.ptr<std::uint8_t>(y);
 #if SB_REMAP_SSSE3
-    if (cpu_has_ssse3()) {
-      remap_row_ssse3(src, map, fraction, out, xy.cols);
-      continue;
-    }
+  const bool vector_path = fastest >= RemapPath::kSsse3 && cpu_has_ssse3();
+#else
+  const bool vector_path = false;
 #endif
-    remap_row(src, map, fraction, out, xy.cols);
+  // Without the vector path OpenCV's own remap is the faster way to the same bits (the plain
+  // loop is the reference, and the border pixels' path).
+  if (!vector_path && fastest != RemapPath::kPlain) {
+    cv::remap(src, dst, xy, frac, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    return;
   }
+  auto row = remap_row;
+#if SB_REMAP_SSSE3
+  if (vector_path) row = remap_row_ssse3;
+#endif
+  for (int y = 0; y < xy.rows; ++y)
+    row(src, xy.ptr<short>(y), frac.ptr<std::uint16_t>(y), dst.ptr<std::uint8_t>(y), xy.cols);
 }
 
 }  // namespace stereoball::stereo

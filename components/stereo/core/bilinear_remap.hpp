@@ -1,6 +1,6 @@
 #pragma once
 // The rectification's bilinear look-up (cv::remap with fixed-point maps) for colour frames,
-// several times faster than OpenCV 4.6's own, which does not vectorise three channels.
+// faster than OpenCV 4.6's own, which does not vectorise three channels.
 
 #include <opencv2/core.hpp>
 
@@ -12,5 +12,13 @@ namespace stereoball::stereo {
 /// (and src sharing memory with dst) goes to cv::remap. dst may be a view (a region of a
 /// larger image): only its own pixels are written.
 void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const cv::Mat& frac);
+
+/// How remap_bilinear works: the plain loop, or its SSSE3 path where the CPU has it (else
+/// cv::remap).
+enum class RemapPath { kPlain, kSsse3 };
+
+/// remap_bilinear by the given path: the same bits whichever runs (tests compare them).
+void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const cv::Mat& frac,
+                    RemapPath fastest);
 
 }  // namespace stereoball::stereo

@@ -17,6 +17,8 @@ cv::Mat opencv_remap(const cv::Mat& src, const cv::Mat& xy, const cv::Mat& frac)
   return out;
 }
 
+constexpr RemapPath kPaths[] = {RemapPath::kPlain, RemapPath::kSsse3};
+
 int differing(const cv::Mat& a, const cv::Mat& b) {
   if (a.size() != b.size() || a.type() != b.type()) return -1;
   return cv::countNonZero(a.reshape(1) != b.reshape(1));
@@ -46,11 +48,15 @@ TEST(RemapBilinear, GivenRandomColourImagesAndMapsInAndAroundThemThenItEqualsCvR
     cv::randu(src, 0, 256);
     cv::Mat xy, frac;
     random_maps(src_size, cv::Size(40 + trial, 30 + trial), 3.0f, rng, xy, frac);
-    // When both remap it
-    cv::Mat ours;
-    remap_bilinear(src, ours, xy, frac);
-    // Then every byte agrees
-    ASSERT_EQ(differing(ours, opencv_remap(src, xy, frac)), 0) << "trial " << trial;
+    // When both remap it (ours by each of its paths the CPU has)
+    const cv::Mat expected = opencv_remap(src, xy, frac);
+    for (const RemapPath path : kPaths) {
+      cv::Mat ours;
+      remap_bilinear(src, ours, xy, frac, path);
+      // Then every byte agrees
+      ASSERT_EQ(differing(ours, expected), 0)
+          << "trial " << trial << " path " << static_cast<int>(path);
+    }
   }
 }
 
@@ -71,11 +77,14 @@ TEST(RemapBilinear, GivenEveryFractionOnFullPixelsThenItEqualsCvRemap) {
             cv::Vec2s(static_cast<short>(position % 9), static_cast<short>(position / 9));
         frac.at<std::uint16_t>(y, x) = static_cast<std::uint16_t>(y * 32 + x % 32);
       }
-    // When both remap it
-    cv::Mat ours;
-    remap_bilinear(src, ours, xy, frac);
-    // Then every byte agrees
-    EXPECT_EQ(differing(ours, opencv_remap(src, xy, frac)), 0) << "saturated " << saturated;
+    // When both remap it (ours by each of its paths the CPU has)
+    for (const RemapPath path : kPaths) {
+      cv::Mat ours;
+      remap_bilinear(src, ours, xy, frac, path);
+      // Then every byte agrees
+      EXPECT_EQ(differing(ours, opencv_remap(src, xy, frac)), 0)
+          << "saturated " << saturated << " path " << static_cast<int>(path);
+    }
   }
 }
 
@@ -101,6 +110,11 @@ TEST(RemapBilinear, GivenARegionOfALargerImageAsOutputThenOnlyItIsWrittenAsCvRem
   cv::Mat whole;
   remap_bilinear(raw, whole, xy, frac);
   EXPECT_EQ(differing(whole, opencv_remap(raw, xy, frac)), 0);
+  for (const RemapPath path : kPaths) {
+    cv::Mat by_path;
+    remap_bilinear(raw, by_path, xy, frac, path);
+    EXPECT_EQ(differing(by_path, whole), 0) << "path " << static_cast<int>(path);
+  }
   EXPECT_EQ(differing(out(roi), whole(roi)), 0);
   cv::Mat outside = out.clone();
   outside(roi).setTo(cv::Scalar(1, 2, 3));
