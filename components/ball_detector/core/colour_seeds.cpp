@@ -53,6 +53,9 @@ std::vector<Circle> colour_blob_seeds(const cv::Mat& bgr, double min_radius_px,
   const double threshold =
       std::max(params.min_chroma, median + params.spread_factor * 1.4826 * mad);
   cv::Mat mask = chroma > threshold;
+  // Nothing stands out (a scene without an outstanding colour): no region, and labelling an
+  // empty mask would cost more than everything above.
+  if (cv::countNonZero(mask) == 0) return {};
   // Stripes of one colour with light ones between: one region.
   cv::morphologyEx(mask, mask, cv::MORPH_CLOSE,
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
