@@ -649,6 +649,7 @@ TEST(PlotRay, GivenRandomRaysInAndAroundTheMapThenCellsAndCountsEqualABoundsTest
       acc.at<std::uint16_t>(p) = ref.at<std::uint16_t>(p) =
           static_cast<std::uint16_t>(0xFFFE + i % 2);
     }
+    cv::Mat fresh = cv::Mat::zeros(acc.size(), CV_16UC1), fresh_ref = fresh.clone();
     for (int ray = 0; ray < 400; ++ray) {
       const double x = -20.0 + unit(rng) * (acc.cols + 40);
       const double y = -20.0 + unit(rng) * (acc.rows + 40);
@@ -661,13 +662,18 @@ TEST(PlotRay, GivenRandomRaysInAndAroundTheMapThenCellsAndCountsEqualABoundsTest
       if (ray % 19 == 0) dx = 0.0;
       if (ray % 23 == 0) dx = dy;
       const double t0 = unit(rng) * 10.0, t1 = t0 + unit(rng) * 150.0 - 5.0;
-      // When both plot it
+      // When both plot it, and ours again without the saturation test on a map with no full
+      // cell
       const auto ours = plot_ray(acc, x, y, dx, dy, t0, t1);
       const auto reference = plot_ray_reference(ref, x, y, dx, dy, t0, t1);
+      const auto unsaturated = plot_ray(fresh, x, y, dx, dy, t0, t1, false);
+      plot_ray_reference(fresh_ref, x, y, dx, dy, t0, t1);
       // Then the same cells got a vote, none outside the map
       ASSERT_EQ(ours, reference) << "trial " << trial << " ray " << ray;
+      ASSERT_EQ(unsaturated, reference) << "trial " << trial << " ray " << ray;
     }
     ASSERT_EQ(cv::countNonZero(parent != ref_parent), 0) << "trial " << trial;
+    ASSERT_EQ(cv::countNonZero(fresh != fresh_ref), 0) << "trial " << trial;
   }
 }
 

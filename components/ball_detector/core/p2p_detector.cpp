@@ -238,9 +238,12 @@ void PixelToPixelDetector::vote(int k) {
 }
 
 void PixelToPixelDetector::plot(const VoteLineAt& line) {
+  // A ray meets a cell once: while fewer rays than a cell holds have gone into the zeroed map,
+  // none is full and the increments need no saturation test.
+  const bool may_be_full = rays_plotted_++ >= 0xFFFF;
   diag_.increments += plot_ray(accumulator_, static_cast<double>(line.cx) + margin_px_,
                                static_cast<double>(line.cy) + margin_px_, line.nx, line.ny,
-                               radii_.min_px, radii_.max_px);
+                               radii_.min_px, radii_.max_px, may_be_full);
   const float norm = fast_hypot(static_cast<float>(line.nx), static_cast<float>(line.ny));
   voters_.push_back({line.cx, line.cy, line.nx / norm, line.ny / norm});
 }
@@ -373,6 +376,7 @@ std::vector<Circle> PixelToPixelDetector::redetect_from(const PixelToPixelDetect
   const cv::Size size = source.edges_.edges.size();
   accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
+  rays_plotted_ = 0;
   for (const VoteLineAt& line : source.lines_) plot(line);
   return circles_on(source.edges_);
 }
@@ -386,6 +390,7 @@ void PixelToPixelDetector::vote_on_edges() {
   const cv::Size size = edges_.edges.size();
   accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
+  rays_plotted_ = 0;
   lines_.clear();
   for (int k : params_.k_values) vote(k);
   votes_ready_ = true;

@@ -50,19 +50,24 @@ inline std::int64_t fixed_steps_inside(std::int64_t f0, std::int64_t df, int siz
 }
 
 // One vote in each of count cells from p on, moving by major_stride per step and by minor_stride
-// per unit of the fixed-point minor coordinate; a full cell stays full, without a branch.
+// per unit of the fixed-point minor coordinate; with Saturate a full cell stays full, without a
+// branch.
+template <bool Saturate>
 inline void add_votes(std::uint16_t* p, std::ptrdiff_t major_stride, std::ptrdiff_t minor_stride,
                       std::int64_t minor_fp, std::int64_t dminor, std::int64_t count) {
   for (std::int64_t i = 0; i < count; ++i, p += major_stride, minor_fp += dminor) {
     std::uint16_t& cell = p[(minor_fp >> 16) * minor_stride];
-    cell = static_cast<std::uint16_t>(cell + (cell != 0xFFFF));
+    if constexpr (Saturate)
+      cell = static_cast<std::uint16_t>(cell + (cell != 0xFFFF));
+    else
+      ++cell;
   }
 }
 
 }  // namespace
 
 std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
-                      double dir_y, double t0_px, double t1_px) {
+                      double dir_y, double t0_px, double t1_px, bool saturate) {
   // Not std::hypot: no overflow to guard against here, and it is several times slower.
   const double norm = std::sqrt(dir_x * dir_x + dir_y * dir_y);
   if (norm <= 0.0 || t1_px < t0_px) return 0;
@@ -92,11 +97,13 @@ std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, doub
   if (count <= 0) return 0;
   const auto stride = static_cast<std::ptrdiff_t>(accumulator.step1());
   auto* data = accumulator.ptr<std::uint16_t>(0);
-  if (x_major)
-    add_votes(data + m, step, stride, minor_fp, dminor, count);
+  std::uint16_t* const first = x_major ? data + m : data + static_cast<std::ptrdiff_t>(m) * stride;
+  const std::ptrdiff_t major_stride = x_major ? step : step * stride;
+  const std::ptrdiff_t minor_stride = x_major ? stride : 1;
+  if (saturate)
+    add_votes<true>(first, major_stride, minor_stride, minor_fp, dminor, count);
   else
-    add_votes(data + static_cast<std::ptrdiff_t>(m) * stride, step * stride, 1, minor_fp, dminor,
-              count);
+    add_votes<false>(first, major_stride, minor_stride, minor_fp, dminor, count);
   return count;
 }
 
