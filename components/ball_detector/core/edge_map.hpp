@@ -56,6 +56,8 @@ class BitImage {
     if (o + n > 64) v |= r[w + 1] << (64 - o);
     return v & ((std::uint64_t{1} << n) - 1);
   }
+  /// Writable words of row y (bits past the width must stay clear).
+  std::uint64_t* mutable_row(int y) { return words_.data() + static_cast<size_t>(y) * stride_; }
   /// Whether pixel (x, y) is set; no bounds check.
   bool test(int x, int y) const { return (row(y)[x >> 6] >> (x & 63)) & 1u; }
   /// Makes an all-clear image of that size; reuses storage when the size is unchanged.

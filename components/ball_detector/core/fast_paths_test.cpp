@@ -3,8 +3,8 @@
 // packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
 // breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
 // brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge
-// pixel, angular_coverage_in_frame vs every sector tested, and circles_from_votes
-// independent of the order its voters come in.
+// pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs points set one
+// by one, and circles_from_votes independent of the order its voters come in.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -802,6 +802,36 @@ TEST(CoverageInFrame, GivenCirclesInsideAcrossAndNearTheBorderThenCoverageEquals
   }
   EXPECT_GE(whole, 300);
   EXPECT_GE(cut, 300);
+}
+
+TEST(NearOrientationPlanes, GivenRealEdgeMapsThenEachPlaneHoldsThePointsWithinTheSlackOfItsBin) {
+  // Given the real images' colour edge maps
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u);
+  for (const auto& image : images) {
+    EdgeMap edges;
+    compute_edge_map(image, EdgeParams{}, edges);
+    // When the planes are built word by word
+    std::array<BitImage, kOrientationBins> planes;
+    near_orientation_planes(edges, planes);
+    // Then they equal the planes set point by point
+    std::array<BitImage, kOrientationBins> reference;
+    for (BitImage& plane : reference) plane.reset(edges.bits.width(), edges.bits.height());
+    for (int y = 0; y < edges.edges.rows; ++y)
+      for (int x = 0; x < edges.edges.cols; ++x) {
+        if (!edges.bits.test(x, y)) continue;
+        const int bin = orientation_bin(edges.dx.at<short>(y, x), edges.dy.at<short>(y, x));
+        for (int d = -kOrientationSlackBins; d <= kOrientationSlackBins; ++d)
+          reference[static_cast<std::size_t>((bin + d + kOrientationBins) % kOrientationBins)].set(
+              x, y);
+      }
+    for (int b = 0; b < kOrientationBins; ++b)
+      for (int y = 0; y < edges.bits.height(); ++y)
+        for (int wi = 0; wi * 64 < edges.bits.width(); ++wi)
+          ASSERT_EQ(planes[static_cast<std::size_t>(b)].row(y)[wi],
+                    reference[static_cast<std::size_t>(b)].row(y)[wi])
+              << "bin " << b << " row " << y;
+  }
 }
 
 TEST(CirclesFromVotes, GivenTheSameVotersInAnyOrderThenTheSameCirclesAreFound) {

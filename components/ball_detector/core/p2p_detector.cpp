@@ -71,21 +71,6 @@ double densest_radius(const std::vector<double>& radii, double min_r, double max
   return sum / n;
 }
 
-constexpr int kOrientationBins = 8;
-constexpr int kOrientationSlackBins = 2;
-
-// Orientation of a gradient modulo 180 degrees in 8 bins of 22.5 degrees, without atan2:
-// tan(22.5) and tan(67.5) split each quadrant.
-int orientation_bin(int gx, int gy) {
-  if (gy < 0 || (gy == 0 && gx < 0)) {
-    gx = -gx;
-    gy = -gy;
-  }
-  const float ax = static_cast<float>(gx < 0 ? -gx : gx), fy = static_cast<float>(gy);
-  const int b = fy < 0.41421356f * ax ? 0 : fy < ax ? 1 : fy < 2.41421356f * ax ? 2 : 3;
-  return gx >= 0 ? b : 7 - b;
-}
-
 // Sectors of the directions from a peak to its voters (CandidateOptions::min_voted_coverage).
 constexpr int kVoterSectors = 16;
 int voter_sector(double px, double py) {
@@ -249,23 +234,7 @@ void PixelToPixelDetector::plot(const VoteLineAt& line) {
 }
 
 void PixelToPixelDetector::build_orientation_planes() {
-  const BitImage& bits = edges_.bits;
-  const int w = bits.width(), h = bits.height();
-  for (BitImage& plane : near_orientation_) plane.reset(w, h);
-  for (int y = 0; y < h; ++y) {
-    const std::uint64_t* row = bits.row(y);
-    const short* gx = edges_.dx.ptr<short>(y);
-    const short* gy = edges_.dy.ptr<short>(y);
-    for (int wi = 0; wi * 64 < w; ++wi)
-      for (std::uint64_t word = row[wi]; word; word &= word - 1) {
-        const int x = wi * 64 + std::countr_zero(word);
-        const int bin = orientation_bin(gx[x], gy[x]);
-        for (int d = -kOrientationSlackBins; d <= kOrientationSlackBins; ++d)
-          near_orientation_[static_cast<std::size_t>((bin + d + kOrientationBins) %
-                                                     kOrientationBins)]
-              .set(x, y);
-      }
-  }
+  near_orientation_planes(edges_, near_orientation_);
   orientation_ready_ = true;
 }
 
