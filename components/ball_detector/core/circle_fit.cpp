@@ -1,9 +1,16 @@
 #include "ball_detector/core/circle_fit.hpp"
 
+#include "ball_detector/core/cpu_dispatch.hpp"
+
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <numbers>
+
+#if SB_HAVE_AVX2_KERNELS
+#include <immintrin.h>
+#endif
 
 namespace stereoball::ball_detector {
 namespace {
@@ -13,14 +20,30 @@ inline double fast_hypot(double a, double b) {
   return std::sqrt(a * a + b * b);
 }
 
-inline int l1_at(const cv::Mat& dx, const cv::Mat& dy, int x, int y) {
-  return std::abs(dx.at<short>(y, x)) + std::abs(dy.at<short>(y, x));
-}
+// The derivative planes as plain pointers: read per gathered point, where cv::Mat::at would
+// reload the Mat's fields after every point stored (a stored double may alias them).
+struct GradientPlanes {
+  const short* dx;
+  const short* dy;
+  std::ptrdiff_t step;  // in shorts
+  int cols, rows;
+
+  explicit GradientPlanes(const EdgeMap& e)
+      : dx(e.dx.ptr<short>(0)),
+        dy(e.dy.ptr<short>(0)),
+        step(static_cast<std::ptrdiff_t>(e.dx.step1())),
+        cols(e.dx.cols),
+        rows(e.dx.rows) {}
+  int l1_at(int x, int y) const {
+    const std::ptrdiff_t i = y * step + x;
+    return std::abs(dx[i]) + std::abs(dy[i]);
+  }
+};
 
 // Sub-pixel edge position: parabola through the gradient magnitude at the pixel and its two
 // neighbours along the (8-direction quantised) gradient.
-cv::Point2d subpixel_edge(const EdgeMap& e, int x, int y, int gx, int gy) {
-  if (x < 1 || y < 1 || x >= e.dx.cols - 1 || y >= e.dx.rows - 1) return {double(x), double(y)};
+cv::Point2d subpixel_edge(const GradientPlanes& g, int x, int y, int gx, int gy) {
+  if (x < 1 || y < 1 || x >= g.cols - 1 || y >= g.rows - 1) return {double(x), double(y)};
   const int ax = std::abs(gx), ay = std::abs(gy);
   // tan(22.5 deg) ~ 0.4142 ~ 53/128: integer sector test.
   int sx = 0, sy = 0;
@@ -32,9 +55,9 @@ cv::Point2d subpixel_edge(const EdgeMap& e, int x, int y, int gx, int gy) {
     sx = 1;
     sy = (gx > 0) == (gy > 0) ? 1 : -1;
   }
-  const double m0 = l1_at(e.dx, e.dy, x, y);
-  const double mm = l1_at(e.dx, e.dy, x - sx, y - sy);
-  const double mp = l1_at(e.dx, e.dy, x + sx, y + sy);
+  const double m0 = g.l1_at(x, y);
+  const double mm = g.l1_at(x - sx, y - sy);
+  const double mp = g.l1_at(x + sx, y + sy);
   const double denom = mm - 2.0 * m0 + mp;
   if (denom >= 0.0) return {double(x), double(y)};
   const double t = std::clamp(0.5 * (mm - mp) / denom, -0.5, 0.5);
@@ -43,7 +66,8 @@ cv::Point2d subpixel_edge(const EdgeMap& e, int x, int y, int gx, int gy) {
 
 // Calls f(x, y, gx, gy) for the edge pixels of row y in columns [x0, x1] (clipped), in order.
 template <typename F>
-void for_each_edge_in_row(const EdgeMap& edges, int y, int x0, int x1, F&& f) {
+[[gnu::always_inline]] inline void for_each_edge_in_row(const EdgeMap& edges, int y, int x0, int x1,
+                                                        F&& f) {
   const BitImage& bits = edges.bits;
   x0 = std::max(0, x0);
   x1 = std::min(bits.width() - 1, x1);
@@ -64,23 +88,36 @@ void for_each_edge_in_row(const EdgeMap& edges, int y, int x0, int x1, F&& f) {
   }
 }
 
+// static_cast<int>(std::floor(v)) and of std::ceil for |v| < 2^31, without the library call
+// the baseline instruction set needs (four per row of an annulus added up).
+inline int floor_int(double v) {
+  const int t = static_cast<int>(v);
+  return t - (v < t);
+}
+
+inline int ceil_int(double v) {
+  const int t = static_cast<int>(v);
+  return t + (v > t);
+}
+
 // Calls f for the edge pixels that may lie in the annulus inner <= d <= outer around (cx, cy):
 // per row, only the one or two column ranges the annulus covers (plus a pixel of slack for
 // rounding), left to right, so callers see the pixels in raster order as with a box scan.
 template <typename F>
-void for_each_edge_in_annulus(const EdgeMap& edges, double cx, double cy, double inner,
-                              double outer, F&& f) {
+[[gnu::always_inline]] inline void for_each_edge_in_annulus(const EdgeMap& edges, double cx,
+                                                            double cy, double inner, double outer,
+                                                            F&& f) {
   const int y0 = std::max(0, static_cast<int>(std::floor(cy - outer)));
   const int y1 = std::min(edges.bits.height() - 1, static_cast<int>(std::ceil(cy + outer)));
   for (int y = y0; y <= y1; ++y) {
     const double dy2 = (y - cy) * (y - cy);
     if (dy2 > outer * outer) continue;
     const double half_out = std::sqrt(outer * outer - dy2);
-    const int left_out = static_cast<int>(std::floor(cx - half_out)) - 1;
-    const int right_out = static_cast<int>(std::ceil(cx + half_out)) + 1;
+    const int left_out = floor_int(cx - half_out) - 1;
+    const int right_out = ceil_int(cx + half_out) + 1;
     const double half_in = dy2 < inner * inner ? std::sqrt(inner * inner - dy2) : 0.0;
-    const int left_in = static_cast<int>(std::ceil(cx - half_in)) + 1;
-    const int right_in = static_cast<int>(std::floor(cx + half_in)) - 1;
+    const int left_in = ceil_int(cx - half_in) + 1;
+    const int right_in = floor_int(cx + half_in) - 1;
     if (left_in >= right_in) {  // no hole in this row (or too small to skip): one range
       for_each_edge_in_row(edges, y, left_out, right_out, f);
       continue;
@@ -208,31 +245,78 @@ void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
   gather_outline_points(edges, c, OutlineStretch{}, band_px, min_radial_cos, out);
 }
 
+namespace {
+
+// An edge point of the band with a radial gradient, waiting for its sub-pixel position.
+struct BandPoint {
+  int x, y;
+  short gx, gy;
+};
+
+}  // namespace
+
 void gather_outline_points(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
                            double band_px, double min_radial_cos, std::vector<cv::Point2d>& out) {
   out.clear();
+  // Every value the per-point tests read is a local (the helpers above are inlined): the
+  // points stored are doubles, which may alias the fields of the arguments, and the compiler
+  // would read them again, and divide again, for every point. The arithmetic is that of
+  // OutlineStretch's to_round / gradient_to_round, expression by expression.
+  const double cx = round.x_px, cy = round.y_px;
   const double outer = round.radius_px + band_px;
   const double inner = std::max(0.0, round.radius_px - band_px);
+  const double outer2 = outer * outer, inner2 = inner * inner;
   const double cos2 = min_radial_cos * min_radial_cos;
-  const cv::Point2d centre(round.x_px, round.y_px);
+  const bool identity = stretch.identity();
+  const double ax = stretch.axis.x, ay = stretch.axis.y;
+  const double to_round = 1.0 / stretch.ratio - 1.0;
+  const double from_round = stretch.ratio - 1.0;
+  const GradientPlanes planes(edges);
+  // Two stages: the band and gradient tests keep about a quarter of the pixels visited, in no
+  // pattern a branch predictor can learn, so the pixels that pass are written down without a
+  // branch (kept counts them), and only those get their sub-pixel position. Raster order stays.
+  std::array<BandPoint, 256> passed;
+  int kept = 0;
+  const auto place = [&] {
+    for (int i = 0; i < kept; ++i) {
+      const BandPoint& b = passed[static_cast<std::size_t>(i)];
+      cv::Point2d p = subpixel_edge(planes, b.x, b.y, b.gx, b.gy);
+      if (!identity) {
+        const double sx = p.x - cx, sy = p.y - cy;
+        const double k = to_round * (sx * ax + sy * ay);
+        p = {cx + (sx + ax * k), cy + (sy + ay * k)};
+      }
+      // The band applies to the sub-pixel position, which is what the fit uses.
+      const double sd = fast_hypot(p.x - cx, p.y - cy);
+      if (sd > outer || sd < inner) continue;
+      out.push_back(p);
+    }
+    kept = 0;
+  };
   // In the image the band reaches ratio times farther along the major axis.
-  for_each_edge_in_annulus(
-      edges, round.x_px, round.y_px, inner, stretch.ratio * outer,
-      [&](int x, int y, short gx, short gy) {
-        const cv::Point2d r = stretch.to_round({x - round.x_px, y - round.y_px});
-        const double d2 = r.x * r.x + r.y * r.y;
-        if (d2 > outer * outer || d2 < inner * inner) return;
-        const cv::Point2d g = stretch.gradient_to_round({double(gx), double(gy)});
-        const double g_dot_r = g.x * r.x + g.y * r.y;
-        const double g2 = g.x * g.x + g.y * g.y;
-        if (g_dot_r * g_dot_r < cos2 * g2 * d2) return;
-        const cv::Point2d sub = subpixel_edge(edges, x, y, gx, gy);
-        const cv::Point2d p = stretch.identity() ? sub : centre + stretch.to_round(sub - centre);
-        // The band applies to the sub-pixel position, which is what the fit uses.
-        const double sd = fast_hypot(p.x - round.x_px, p.y - round.y_px);
-        if (sd > outer || sd < inner) return;
-        out.push_back(p);
-      });
+  for_each_edge_in_annulus(edges, cx, cy, inner, stretch.ratio * outer,
+                           [&](int x, int y, short gx, short gy) {
+                             double rx = x - cx, ry = y - cy;
+                             if (!identity) {
+                               const double k = to_round * (rx * ax + ry * ay);
+                               rx = rx + ax * k;
+                               ry = ry + ay * k;
+                             }
+                             const double d2 = rx * rx + ry * ry;
+                             double g_x = gx, g_y = gy;
+                             if (!identity) {
+                               const double k = from_round * (g_x * ax + g_y * ay);
+                               g_x = g_x + ax * k;
+                               g_y = g_y + ay * k;
+                             }
+                             const double g_dot_r = g_x * rx + g_y * ry;
+                             const double g2 = g_x * g_x + g_y * g_y;
+                             passed[static_cast<std::size_t>(kept)] = {x, y, gx, gy};
+                             kept += static_cast<int>(!(d2 > outer2) & !(d2 < inner2) &
+                                                      !(g_dot_r * g_dot_r < cos2 * g2 * d2));
+                             if (kept == static_cast<int>(passed.size())) place();
+                           });
+  place();
 }
 
 namespace {
@@ -264,7 +348,17 @@ double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> p
   const int sectors = sector_count(c);
   std::vector<unsigned char> inside(sectors, 0);
   int inside_count = 0;
-  for (int s = 0; s < sectors; ++s) {
+  // The outline lies within ratio * r of the centre: when that square, a pixel wider for
+  // rounding, is in the frame, every sector is, without a sine and cosine each.
+  const double reach = stretch.ratio * c.radius_px + 1.0;
+  const bool all_inside = c.x_px - reach >= frame.x + 1.0 && c.y_px - reach >= frame.y + 1.0 &&
+                          c.x_px + reach <= frame.x + frame.width - 2.0 &&
+                          c.y_px + reach <= frame.y + frame.height - 2.0;
+  if (all_inside) {
+    std::fill(inside.begin(), inside.end(), 1);
+    inside_count = sectors;
+  }
+  for (int s = 0; s < sectors && !all_inside; ++s) {
     const double a = (s + 0.5) * 2.0 * std::numbers::pi / sectors - std::numbers::pi;
     const cv::Point2d on_outline =
         stretch.from_round({c.radius_px * std::cos(a), c.radius_px * std::sin(a)});
@@ -285,26 +379,108 @@ double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> p
   return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / inside_count;
 }
 
+namespace {
+
+// estimate_radius's ring of a point: the bin its distance from (cx, cy) rounds to, if that is
+// in [r0, r1] and its gradient is about radial, else discard.
+struct RingBinner {
+  double cx, cy;
+  int r0, r1, discard;
+
+  int bin_of(int x, int y, double gx, double gy) const {
+    const double rx = x - cx, ry = y - cy;
+    const double d2 = rx * rx + ry * ry;
+    const int bin = static_cast<int>(std::sqrt(d2) + 0.5);  // lround of a distance >= 0
+    // Loose radial test, |g . r| >= 0.7 |g| |r|, squared (no roots): the centre is only known
+    // to a pixel or two here.
+    const double g_dot_r = gx * rx + gy * ry;
+    const double g2 = gx * gx + gy * gy;
+    const bool counts = (bin >= r0) & (bin <= r1) & !(g_dot_r * g_dot_r < 0.49 * g2 * d2);
+    return counts ? bin : discard;
+  }
+};
+
+// Counts points [begin, end) into hist by RingBinner (no branch on a point: whether one counts
+// is a coin toss to the branch predictor).
+void count_ring_bins(const EdgePoints& p, std::size_t begin, std::size_t end,
+                     const RingBinner& binner, int* hist) {
+  for (std::size_t i = begin; i < end; ++i) ++hist[binner.bin_of(p.x[i], p.y[i], p.gx[i], p.gy[i])];
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// count_ring_bins four points at a time: the same double operations in the same order (no
+// fused multiply-add), so the same bins.
+SB_TARGET_AVX2 void count_ring_bins_avx2(const EdgePoints& p, std::size_t begin, std::size_t end,
+                                         const RingBinner& binner, int* hist) {
+  const __m256d cx = _mm256_set1_pd(binner.cx), cy = _mm256_set1_pd(binner.cy);
+  const __m256d half = _mm256_set1_pd(0.5), radial2 = _mm256_set1_pd(0.49);
+  const __m128i below = _mm_set1_epi32(binner.r0 - 1), above = _mm_set1_epi32(binner.r1 + 1);
+  const __m128i discard = _mm_set1_epi32(binner.discard);
+  // The low 32 bits of each 64-bit compare mask, as four 32-bit lanes.
+  const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
+  std::size_t i = begin;
+  alignas(16) int bins[4];
+  for (; i + 4 <= end; i += 4) {
+    const __m256d rx = _mm256_sub_pd(
+        _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.x[i]))), cx);
+    const __m256d ry = _mm256_sub_pd(
+        _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(&p.y[i]))), cy);
+    const __m256d gx = _mm256_cvtepi32_pd(
+        _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&p.gx[i]))));
+    const __m256d gy = _mm256_cvtepi32_pd(
+        _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&p.gy[i]))));
+    const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry));
+    const __m128i bin = _mm256_cvttpd_epi32(_mm256_add_pd(_mm256_sqrt_pd(d2), half));
+    const __m256d g_dot_r = _mm256_add_pd(_mm256_mul_pd(gx, rx), _mm256_mul_pd(gy, ry));
+    const __m256d g2 = _mm256_add_pd(_mm256_mul_pd(gx, gx), _mm256_mul_pd(gy, gy));
+    const __m256d off_radial = _mm256_cmp_pd(
+        _mm256_mul_pd(g_dot_r, g_dot_r), _mm256_mul_pd(_mm256_mul_pd(radial2, g2), d2), _CMP_LT_OQ);
+    const __m128i off32 = _mm256_castsi256_si128(
+        _mm256_permutevar8x32_epi32(_mm256_castpd_si256(off_radial), low_halves));
+    const __m128i in_range =
+        _mm_and_si128(_mm_cmpgt_epi32(bin, below), _mm_cmpgt_epi32(above, bin));
+    const __m128i counts = _mm_andnot_si128(off32, in_range);
+    _mm_store_si128(reinterpret_cast<__m128i*>(bins), _mm_blendv_epi8(discard, bin, counts));
+    ++hist[bins[0]];
+    ++hist[bins[1]];
+    ++hist[bins[2]];
+    ++hist[bins[3]];
+  }
+  count_ring_bins(p, i, end, binner, hist);
+}
+#endif
+
+}  // namespace
+
 std::optional<double> estimate_radius(const EdgeMap& edges, double cx, double cy,
                                       double min_radius_px, double max_radius_px) {
   const int r0 = std::max(1, static_cast<int>(std::floor(min_radius_px)));
   const int r1 = static_cast<int>(std::ceil(max_radius_px));
   if (r1 <= r0) return std::nullopt;
-  std::vector<int> hist(r1 + 2, 0);
-  // Pixels rounding to a bin in [r0, r1] lie in this annulus.
-  for_each_edge_in_annulus(
-      edges, cx, cy, r0 - 1.0, r1 + 1.0, [&](int x, int y, short gx, short gy) {
-        const double rx = x - cx, ry = y - cy;
-        const double d2 = rx * rx + ry * ry;
-        const int bin = static_cast<int>(std::sqrt(d2) + 0.5);  // lround of a distance >= 0
-        if (bin < r0 || bin > r1) return;
-        // Loose radial test, |g . r| >= 0.7 |g| |r|, squared (no roots): the centre is only known
-        // to a pixel or two here.
-        const double g_dot_r = gx * rx + gy * ry;
-        const double g2 = static_cast<double>(gx) * gx + static_cast<double>(gy) * gy;
-        if (g_dot_r * g_dot_r < 0.49 * g2 * d2) return;
-        ++hist[bin];
-      });
+  // Bins r0 - 1 ... r1 + 1 are read; points that do not count go to r1 + 2.
+  std::vector<int> hist(r1 + 3, 0);
+  // A map made by hand (bits only) is listed here.
+  EdgePoints listed;
+  const bool has_list =
+      edges.points.row_start.size() == static_cast<std::size_t>(edges.bits.height()) + 1;
+  if (!has_list) list_edge_points(edges.bits, edges.dx, edges.dy, listed);
+  const EdgePoints& points = has_list ? edges.points : listed;
+  // Pixels rounding to a bin in [r0, r1] lie within r1 + 1 of the centre, but the search
+  // reaches most of the image: every point of those rows goes through the tests (the counts do
+  // not depend on the order), which vector code does faster than finding each row's annulus.
+  const double outer = r1 + 1.0;
+  const int y0 = std::max(0, static_cast<int>(std::floor(cy - outer)));
+  const int y1 = std::min(edges.bits.height() - 1, static_cast<int>(std::ceil(cy + outer)));
+  if (y0 > y1) return std::nullopt;
+  const auto begin = static_cast<std::size_t>(points.row_start[static_cast<std::size_t>(y0)]);
+  const auto end = static_cast<std::size_t>(points.row_start[static_cast<std::size_t>(y1) + 1]);
+  const RingBinner binner{cx, cy, r0, r1, r1 + 2};
+#if SB_HAVE_AVX2_KERNELS
+  if (cpu_has_avx2())
+    count_ring_bins_avx2(points, begin, end, binner, hist.data());
+  else
+#endif
+    count_ring_bins(points, begin, end, binner, hist.data());
   double best = 0.0;
   std::optional<double> best_r;
   for (int r = r0; r <= r1; ++r) {

@@ -27,6 +27,9 @@ struct ColourSeedParams {
   double max_aspect = 2.0;  ///< longer / shorter side of the bounding box
 };
 
+/// Chroma per pixel of a BGR image: max - min of B, G and R (CV_8UC1, same size).
+cv::Mat colour_chroma(const cv::Mat& bgr);
+
 /// Circles around the regions of outstanding chroma in a BGR image (searched at half
 /// resolution), with radii in [min_radius_px, max_radius_px], largest region first; empty for a
 /// grey or empty image.

@@ -140,6 +140,25 @@ TEST(ColourSeeds, GivenABallOfAColourTheFloorLacksButNoMoreChroma_ThenRarityAlon
   EXPECT_TRUE(colour_blob_seeds(brown, 4.0, 120.0).empty());
 }
 
+TEST(ColourSeeds, GivenRandomColourImagesAndCrops_ThenChromaEqualsMaxMinusMinOfTheSplitPlanes) {
+  cv::RNG rng(3);
+  for (int trial = 0; trial < 20; ++trial) {
+    // Given a random BGR image of any width, or a crop of one (rows with a stride)
+    cv::Mat image(17 + trial * 7, 1 + trial * 13, CV_8UC3);
+    rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+    const cv::Mat bgr = trial % 2 ? image : image(cv::Rect(0, 1, image.cols, image.rows - 2));
+    // When its chroma is taken in one pass and by OpenCV's planes
+    cv::Mat planes[3], hi, lo;
+    cv::split(bgr, planes);
+    cv::max(planes[0], planes[1], hi);
+    cv::max(hi, planes[2], hi);
+    cv::min(planes[0], planes[1], lo);
+    cv::min(lo, planes[2], lo);
+    // Then they are equal
+    EXPECT_EQ(cv::countNonZero(colour_chroma(bgr) != hi - lo), 0) << "trial " << trial;
+  }
+}
+
 TEST(ColourSeeds, GivenEmptyGreyOrTinyImages_ThenNoSeedsAndNoCrash) {
   EXPECT_TRUE(colour_blob_seeds(cv::Mat(), 4.0, 120.0).empty());
   EXPECT_TRUE(colour_blob_seeds(cv::Mat(240, 320, CV_8UC1, cv::Scalar(90)), 4.0, 120.0).empty());

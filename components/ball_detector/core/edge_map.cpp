@@ -249,13 +249,17 @@ void grey_sobel(const cv::Mat& grey, cv::Mat& dx, cv::Mat& dy) {
 }
 
 // 3x3 Sobel at column x of three rows (above, this, below), each readable at x - 1 and x + 1.
+// The results fit in 16 bits (|gx|, |gy| <= 1020, l1 <= 2040): kept at that width, the
+// vectorised loops below work on twice as many pixels per instruction as in int.
 [[gnu::always_inline]] inline void sobel_at(const std::uint8_t* __restrict up,
                                             const std::uint8_t* __restrict mid,
-                                            const std::uint8_t* __restrict down, int x, int& gx,
-                                            int& gy, int& l1) {
-  gx = (up[x + 1] - up[x - 1]) + 2 * (mid[x + 1] - mid[x - 1]) + (down[x + 1] - down[x - 1]);
-  gy = (down[x - 1] + 2 * down[x] + down[x + 1]) - (up[x - 1] + 2 * up[x] + up[x + 1]);
-  l1 = (gx < 0 ? -gx : gx) + (gy < 0 ? -gy : gy);
+                                            const std::uint8_t* __restrict down, int x,
+                                            std::int16_t& gx, std::int16_t& gy, std::int16_t& l1) {
+  gx = static_cast<std::int16_t>((up[x + 1] - up[x - 1]) + 2 * (mid[x + 1] - mid[x - 1]) +
+                                 (down[x + 1] - down[x - 1]));
+  gy = static_cast<std::int16_t>((down[x - 1] + 2 * down[x] + down[x + 1]) -
+                                 (up[x - 1] + 2 * up[x] + up[x + 1]));
+  l1 = static_cast<std::int16_t>((gx < 0 ? -gx : gx) + (gy < 0 ? -gy : gy));
 }
 
 // One output row of the strongest-channel Sobel gradient from three rows (above, this, below)
@@ -269,19 +273,19 @@ SB_AVX2_CLONE void strongest_sobel_row(
     const std::uint8_t* __restrict r0, const std::uint8_t* __restrict r1,
     const std::uint8_t* __restrict r2, short* __restrict dx, short* __restrict dy, int n) {
   for (int x = 0; x < n; ++x) {
-    int bx, by, bm, gx, gy, gm, rx, ry, rm;
+    std::int16_t bx, by, bm, gx, gy, gm, rx, ry, rm;
     sobel_at(b0, b1, b2, x, bx, by, bm);
     sobel_at(g0, g1, g2, x, gx, gy, gm);
     sobel_at(r0, r1, r2, x, rx, ry, rm);
     const bool take_g = gm > bm;
-    int best = take_g ? gm : bm;
-    int sx = take_g ? gx : bx;
-    int sy = take_g ? gy : by;
+    const std::int16_t best = take_g ? gm : bm;
+    std::int16_t sx = take_g ? gx : bx;
+    std::int16_t sy = take_g ? gy : by;
     const bool take_r = rm > best;
     sx = take_r ? rx : sx;
     sy = take_r ? ry : sy;
-    dx[x] = static_cast<short>(sx);
-    dy[x] = static_cast<short>(sy);
+    dx[x] = sx;
+    dy[x] = sy;
   }
 }
 
@@ -394,6 +398,7 @@ void canny_and_thin(const EdgeParams& params, const CannyThresholds& t, EdgeMap&
   canny_l1(out.dx, out.dy, t.low, t.high, out.edges, out.canny_work);
   out.bits.assign(out.edges);
   out.removed_staircase = params.thin ? thin_staircase(out.edges, out.bits) : 0;
+  list_edge_points(out.bits, out.dx, out.dy, out.points);
 }
 
 }  // namespace
@@ -423,6 +428,29 @@ void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
 }
 
 }  // namespace
+
+void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy, EdgePoints& out) {
+  out.x.clear();
+  out.y.clear();
+  out.gx.clear();
+  out.gy.clear();
+  out.row_start.assign(static_cast<std::size_t>(bits.height()) + 1, 0);
+  for (int y = 0; y < bits.height(); ++y) {
+    out.row_start[static_cast<std::size_t>(y)] = static_cast<int>(out.x.size());
+    const std::uint64_t* row = bits.row(y);
+    const short* gx = dx.ptr<short>(y);
+    const short* gy = dy.ptr<short>(y);
+    for (int w = 0; w * 64 < bits.width(); ++w)
+      for (std::uint64_t word = row[w]; word != 0; word &= word - 1) {
+        const int x = w * 64 + std::countr_zero(word);
+        out.x.push_back(x);
+        out.y.push_back(y);
+        out.gx.push_back(gx[x]);
+        out.gy.push_back(gy[x]);
+      }
+  }
+  out.row_start.back() = static_cast<int>(out.x.size());
+}
 
 EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& params,
                                        EdgeMap& work) {

@@ -56,6 +56,8 @@ class BitImage {
     if (o + n > 64) v |= r[w + 1] << (64 - o);
     return v & ((std::uint64_t{1} << n) - 1);
   }
+  /// Writable words of row y (bits past the width must stay clear).
+  std::uint64_t* mutable_row(int y) { return words_.data() + static_cast<size_t>(y) * stride_; }
   /// Whether pixel (x, y) is set; no bounds check.
   bool test(int x, int y) const { return (row(y)[x >> 6] >> (x & 63)) & 1u; }
   /// Makes an all-clear image of that size; reuses storage when the size is unchanged.
@@ -78,6 +80,17 @@ class BitImage {
   int stride_ = 0;
 };
 
+/// The edge pixels of a map listed in raster order, one array per field (loops over every
+/// point of a region run as vector code), and where each row's points start.
+struct EdgePoints {
+  std::vector<int> x, y;             ///< pixel coordinates
+  std::vector<std::int16_t> gx, gy;  ///< Sobel derivatives there (EdgeMap::dx, dy)
+  std::vector<int> row_start;        ///< row y's points are [row_start[y], row_start[y + 1])
+};
+
+/// Lists the set pixels of bits with their derivatives from dx, dy (CV_16S, same size).
+void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy, EdgePoints& out);
+
 /// The edge map of one image and the by-products other steps reuse.
 struct EdgeMap {
   cv::Mat grey;                  ///< CV_8U image the gradient came from (grey input or colour off)
@@ -85,6 +98,7 @@ struct EdgeMap {
   cv::Mat dx, dy;                ///< CV_16S Sobel derivatives
   cv::Mat edges;                 ///< CV_8U, 255 on edge pixels, thin
   BitImage bits;                 ///< packed copy of edges
+  EdgePoints points;             ///< the pixels of edges listed (made with bits)
   double low_threshold = 0.0;    ///< Canny low threshold used (Sobel L1 units)
   double high_threshold = 0.0;   ///< Canny high threshold used (Sobel L1 units)
   double median_gradient = 0.0;  ///< median |dx|+|dy| of the image (noise level), Sobel L1 units

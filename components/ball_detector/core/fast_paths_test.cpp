@@ -2,7 +2,9 @@
 // gradient vs three cv::Sobel passes and a select, redetect vs detect, canny_l1 vs cv::Canny, the
 // packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
 // breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
-// brute-force scan, and circles_from_votes independent of the order its voters come in.
+// brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge
+// pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs points set one
+// by one, and circles_from_votes independent of the order its voters come in.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -11,12 +13,18 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
+#include <cstdint>
 #include <deque>
 #include <filesystem>
+#include <numbers>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "ball_detector/core/canny.hpp"
+#include "ball_detector/core/circle_fit.hpp"
+#include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
 #include "ball_detector/core/synthetic.hpp"
@@ -592,6 +600,237 @@ TEST(FindPeaks, GivenAMapWhoseRowsAreMostlyBelowTheFloorThenPeaksEqualABruteForc
     const auto peaks = find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20);
     // Then they are the brute-force local maxima, strongest first
     expect_brute_force_peaks(smoothed, floor_value, peaks);
+  }
+}
+
+// The ray plotting as it was before its bounds were counted up front: a bounds test per cell.
+std::int64_t plot_ray_reference(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
+                                double dir_y, double t0_px, double t1_px) {
+  const auto round_half_away = [](double x) { return static_cast<std::int64_t>(std::llround(x)); };
+  const double norm = std::sqrt(dir_x * dir_x + dir_y * dir_y);
+  if (norm <= 0.0 || t1_px < t0_px) return 0;
+  const double ux = dir_x / norm, uy = dir_y / norm;
+  const double sx = start_x + ux * t0_px, sy = start_y + uy * t0_px;
+  const bool x_major = std::abs(ux) >= std::abs(uy);
+  const double major = x_major ? ux : uy;
+  const int steps = static_cast<int>((t1_px - t0_px) * std::abs(major));
+  const int step = major > 0 ? 1 : -1;
+  const double slope = (x_major ? uy : ux) / std::abs(major);
+  int m = static_cast<int>(round_half_away(x_major ? sx : sy));
+  const double minor0 = (x_major ? sy : sx) + (m - (x_major ? sx : sy)) * slope * step;
+  std::int64_t minor_fp = round_half_away((minor0 + 0.5) * 65536.0);
+  const std::int64_t dminor = round_half_away(slope * 65536.0);
+  std::int64_t done = 0;
+  for (int i = 0; i <= steps; ++i, m += step, minor_fp += dminor) {
+    const int n = static_cast<int>(minor_fp >> 16);
+    const int x = x_major ? m : n, y = x_major ? n : m;
+    if (x < 0 || y < 0 || x >= accumulator.cols || y >= accumulator.rows) break;
+    std::uint16_t& cell = accumulator.at<std::uint16_t>(y, x);
+    if (cell != 0xFFFF) ++cell;
+    ++done;
+  }
+  return done;
+}
+
+TEST(PlotRay, GivenRandomRaysInAndAroundTheMapThenCellsAndCountsEqualABoundsTestPerCell) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    // Given a vote map (a view into a larger one, so rows have a stride; some cells already
+    // full or one short of it) and rays starting inside, on the border and outside, with the
+    // detector's integer and arbitrary real directions, steep, flat and diagonal
+    cv::Mat parent(70 + trial, 90 + 2 * trial, CV_16UC1);
+    cv::randu(parent, 0, 3);
+    cv::Mat acc = parent(cv::Rect(3, 2, parent.cols - 7, parent.rows - 5));
+    cv::Mat ref_parent = parent.clone();
+    cv::Mat ref = ref_parent(cv::Rect(3, 2, parent.cols - 7, parent.rows - 5));
+    for (int i = 0; i < 40; ++i) {
+      const cv::Point p(static_cast<int>(rng() % acc.cols), static_cast<int>(rng() % acc.rows));
+      acc.at<std::uint16_t>(p) = ref.at<std::uint16_t>(p) =
+          static_cast<std::uint16_t>(0xFFFE + i % 2);
+    }
+    cv::Mat fresh = cv::Mat::zeros(acc.size(), CV_16UC1), fresh_ref = fresh.clone();
+    for (int ray = 0; ray < 400; ++ray) {
+      const double x = -20.0 + unit(rng) * (acc.cols + 40);
+      const double y = -20.0 + unit(rng) * (acc.rows + 40);
+      double dx = static_cast<int>(rng() % 21) - 10, dy = static_cast<int>(rng() % 21) - 10;
+      if (ray % 3 == 0) {
+        dx = unit(rng) * 2.0 - 1.0;
+        dy = unit(rng) * 2.0 - 1.0;
+      }
+      if (ray % 17 == 0) dy = 0.0;
+      if (ray % 19 == 0) dx = 0.0;
+      if (ray % 23 == 0) dx = dy;
+      const double t0 = unit(rng) * 10.0, t1 = t0 + unit(rng) * 150.0 - 5.0;
+      // When both plot it, and ours again without the saturation test on a map with no full
+      // cell
+      const auto ours = plot_ray(acc, x, y, dx, dy, t0, t1);
+      const auto reference = plot_ray_reference(ref, x, y, dx, dy, t0, t1);
+      const auto unsaturated = plot_ray(fresh, x, y, dx, dy, t0, t1, false);
+      plot_ray_reference(fresh_ref, x, y, dx, dy, t0, t1);
+      // Then the same cells got a vote, none outside the map
+      ASSERT_EQ(ours, reference) << "trial " << trial << " ray " << ray;
+      ASSERT_EQ(unsaturated, reference) << "trial " << trial << " ray " << ray;
+    }
+    ASSERT_EQ(cv::countNonZero(parent != ref_parent), 0) << "trial " << trial;
+    ASSERT_EQ(cv::countNonZero(fresh != fresh_ref), 0) << "trial " << trial;
+  }
+}
+
+// estimate_radius written plainly: every edge pixel of the image, the same tests and rings.
+std::optional<double> estimate_radius_reference(const EdgeMap& edges, double cx, double cy,
+                                                double min_radius_px, double max_radius_px) {
+  const int r0 = std::max(1, static_cast<int>(std::floor(min_radius_px)));
+  const int r1 = static_cast<int>(std::ceil(max_radius_px));
+  if (r1 <= r0) return std::nullopt;
+  std::vector<int> hist(r1 + 2, 0);
+  for (int y = 0; y < edges.edges.rows; ++y)
+    for (int x = 0; x < edges.edges.cols; ++x) {
+      if (edges.edges.at<std::uint8_t>(y, x) == 0) continue;
+      const double rx = x - cx, ry = y - cy;
+      const double d2 = rx * rx + ry * ry;
+      const int bin = static_cast<int>(std::sqrt(d2) + 0.5);
+      if (bin < r0 || bin > r1) continue;
+      const double gx = edges.dx.at<short>(y, x), gy = edges.dy.at<short>(y, x);
+      const double g_dot_r = gx * rx + gy * ry;
+      if (g_dot_r * g_dot_r < 0.49 * (gx * gx + gy * gy) * d2) continue;
+      ++hist[static_cast<std::size_t>(bin)];
+    }
+  double best = 0.0;
+  std::optional<double> best_r;
+  for (int r = r0; r <= r1; ++r) {
+    const int ring = hist[static_cast<std::size_t>(r)] + hist[static_cast<std::size_t>(r - 1)] +
+                     hist[static_cast<std::size_t>(r + 1)];
+    if (ring >= 8 && ring / static_cast<double>(r) > best) {
+      best = ring / static_cast<double>(r);
+      best_r = r;
+    }
+  }
+  return best_r;
+}
+
+TEST(EstimateRadius, GivenRealEdgeMapsAndCentresAnywhereThenTheRingEqualsAPlainScan) {
+  // Given the real images' edge maps (colour edges), and centres inside, near the border and
+  // outside the image, whole and fractional, with narrow and wide radius ranges
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u);
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int found = 0;
+  for (const auto& image : images) {
+    EdgeMap edges;
+    compute_edge_map(image, EdgeParams{}, edges);
+    for (int trial = 0; trial < 30; ++trial) {
+      double cx = -30.0 + unit(rng) * (image.cols + 60), cy = -30.0 + unit(rng) * (image.rows + 60);
+      if (trial % 2 == 0) {
+        cx = std::round(cx);
+        cy = std::round(cy);
+      }
+      const double lo = trial % 3 == 0 ? 0.5 : 4.0 + unit(rng) * 30.0;
+      const double hi = lo + (trial % 4 == 0 ? 3.0 : unit(rng) * 250.0);
+      // When the ring is estimated both ways
+      const auto ours = estimate_radius(edges, cx, cy, lo, hi);
+      const auto reference = estimate_radius_reference(edges, cx, cy, lo, hi);
+      // Then they agree exactly
+      ASSERT_EQ(ours.has_value(), reference.has_value())
+          << cx << " " << cy << " " << lo << " " << hi;
+      if (ours) {
+        EXPECT_EQ(*ours, *reference);
+        ++found;
+      }
+    }
+  }
+  EXPECT_GE(found, 100);
+}
+
+// angular_coverage_in_frame as it was: every sector's midpoint tested against the frame.
+double coverage_in_frame_reference(const Circle& c, std::span<const cv::Point2d> points,
+                                   const cv::Rect2d& frame, double min_inside,
+                                   const OutlineStretch& stretch) {
+  const double pi = std::numbers::pi;
+  const int sectors = std::clamp(static_cast<int>(2.0 * pi * c.radius_px / 3.0), 8, 180);
+  std::vector<unsigned char> inside(static_cast<std::size_t>(sectors), 0);
+  int inside_count = 0;
+  for (int s = 0; s < sectors; ++s) {
+    const double a = (s + 0.5) * 2.0 * pi / sectors - pi;
+    const cv::Point2d on =
+        stretch.from_round({c.radius_px * std::cos(a), c.radius_px * std::sin(a)});
+    const double x = c.x_px + on.x, y = c.y_px + on.y;
+    if (x >= frame.x + 1.0 && y >= frame.y + 1.0 && x <= frame.x + frame.width - 2.0 &&
+        y <= frame.y + frame.height - 2.0) {
+      inside[static_cast<std::size_t>(s)] = 1;
+      ++inside_count;
+    }
+  }
+  if (inside_count == 0 || inside_count < min_inside * sectors) return 0.0;
+  std::vector<unsigned char> hit(static_cast<std::size_t>(sectors), 0);
+  for (const auto& p : points) {
+    const double a = std::atan2(p.y - c.y_px, p.x - c.x_px) + pi;
+    const int s = std::min(sectors - 1, static_cast<int>(a / (2.0 * pi) * sectors));
+    hit[static_cast<std::size_t>(s)] = inside[static_cast<std::size_t>(s)];
+  }
+  return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / inside_count;
+}
+
+TEST(CoverageInFrame, GivenCirclesInsideAcrossAndNearTheBorderThenCoverageEqualsEverySectorTested) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const cv::Rect2d frame(-3.0, -2.0, 320.0, 240.0);
+  int whole = 0, cut = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    // Given a circle anywhere around the frame (many just inside or just across its border),
+    // a stretch (none or up to 1.6 along any axis) and points near its outline
+    const Circle c{frame.x - 40.0 + unit(rng) * (frame.width + 80.0),
+                   frame.y - 40.0 + unit(rng) * (frame.height + 80.0), 2.0 + unit(rng) * 60.0, 0.0};
+    OutlineStretch stretch;
+    if (trial % 2 == 1) {
+      const double angle = unit(rng) * std::numbers::pi;
+      stretch = OutlineStretch{{std::cos(angle), std::sin(angle)}, 1.0 + 0.6 * unit(rng)};
+    }
+    std::vector<cv::Point2d> points;
+    for (int i = 0; i < 40; ++i) {
+      const double a = unit(rng) * 2.0 * std::numbers::pi;
+      points.emplace_back(c.x_px + c.radius_px * std::cos(a), c.y_px + c.radius_px * std::sin(a));
+    }
+    const double min_inside = trial % 3 == 0 ? 0.0 : 0.5;
+    // When coverage is measured both ways
+    const double ours = angular_coverage_in_frame(c, points, frame, min_inside, stretch);
+    const double reference = coverage_in_frame_reference(c, points, frame, min_inside, stretch);
+    // Then it is the same number
+    ASSERT_EQ(ours, reference) << "trial " << trial;
+    (reference > 0.0 && reference == angular_coverage(c, points) ? whole : cut) += 1;
+  }
+  EXPECT_GE(whole, 300);
+  EXPECT_GE(cut, 300);
+}
+
+TEST(NearOrientationPlanes, GivenRealEdgeMapsThenEachPlaneHoldsThePointsWithinTheSlackOfItsBin) {
+  // Given the real images' colour edge maps
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u);
+  for (const auto& image : images) {
+    EdgeMap edges;
+    compute_edge_map(image, EdgeParams{}, edges);
+    // When the planes are built word by word
+    std::array<BitImage, kOrientationBins> planes;
+    near_orientation_planes(edges, planes);
+    // Then they equal the planes set point by point
+    std::array<BitImage, kOrientationBins> reference;
+    for (BitImage& plane : reference) plane.reset(edges.bits.width(), edges.bits.height());
+    for (int y = 0; y < edges.edges.rows; ++y)
+      for (int x = 0; x < edges.edges.cols; ++x) {
+        if (!edges.bits.test(x, y)) continue;
+        const int bin = orientation_bin(edges.dx.at<short>(y, x), edges.dy.at<short>(y, x));
+        for (int d = -kOrientationSlackBins; d <= kOrientationSlackBins; ++d)
+          reference[static_cast<std::size_t>((bin + d + kOrientationBins) % kOrientationBins)].set(
+              x, y);
+      }
+    for (int b = 0; b < kOrientationBins; ++b)
+      for (int y = 0; y < edges.bits.height(); ++y)
+        for (int wi = 0; wi * 64 < edges.bits.width(); ++wi)
+          ASSERT_EQ(planes[static_cast<std::size_t>(b)].row(y)[wi],
+                    reference[static_cast<std::size_t>(b)].row(y)[wi])
+              << "bin " << b << " row " << y;
   }
 }
 

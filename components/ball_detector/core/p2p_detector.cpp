@@ -71,21 +71,6 @@ double densest_radius(const std::vector<double>& radii, double min_r, double max
   return sum / n;
 }
 
-constexpr int kOrientationBins = 8;
-constexpr int kOrientationSlackBins = 2;
-
-// Orientation of a gradient modulo 180 degrees in 8 bins of 22.5 degrees, without atan2:
-// tan(22.5) and tan(67.5) split each quadrant.
-int orientation_bin(int gx, int gy) {
-  if (gy < 0 || (gy == 0 && gx < 0)) {
-    gx = -gx;
-    gy = -gy;
-  }
-  const float ax = static_cast<float>(gx < 0 ? -gx : gx), fy = static_cast<float>(gy);
-  const int b = fy < 0.41421356f * ax ? 0 : fy < ax ? 1 : fy < 2.41421356f * ax ? 2 : 3;
-  return gx >= 0 ? b : 7 - b;
-}
-
 // Sectors of the directions from a peak to its voters (CandidateOptions::min_voted_coverage).
 constexpr int kVoterSectors = 16;
 int voter_sector(double px, double py) {
@@ -238,31 +223,18 @@ void PixelToPixelDetector::vote(int k) {
 }
 
 void PixelToPixelDetector::plot(const VoteLineAt& line) {
+  // A ray meets a cell once: while fewer rays than a cell holds have gone into the zeroed map,
+  // none is full and the increments need no saturation test.
+  const bool may_be_full = rays_plotted_++ >= 0xFFFF;
   diag_.increments += plot_ray(accumulator_, static_cast<double>(line.cx) + margin_px_,
                                static_cast<double>(line.cy) + margin_px_, line.nx, line.ny,
-                               radii_.min_px, radii_.max_px);
+                               radii_.min_px, radii_.max_px, may_be_full);
   const float norm = fast_hypot(static_cast<float>(line.nx), static_cast<float>(line.ny));
   voters_.push_back({line.cx, line.cy, line.nx / norm, line.ny / norm});
 }
 
 void PixelToPixelDetector::build_orientation_planes() {
-  const BitImage& bits = edges_.bits;
-  const int w = bits.width(), h = bits.height();
-  for (BitImage& plane : near_orientation_) plane.reset(w, h);
-  for (int y = 0; y < h; ++y) {
-    const std::uint64_t* row = bits.row(y);
-    const short* gx = edges_.dx.ptr<short>(y);
-    const short* gy = edges_.dy.ptr<short>(y);
-    for (int wi = 0; wi * 64 < w; ++wi)
-      for (std::uint64_t word = row[wi]; word; word &= word - 1) {
-        const int x = wi * 64 + std::countr_zero(word);
-        const int bin = orientation_bin(gx[x], gy[x]);
-        for (int d = -kOrientationSlackBins; d <= kOrientationSlackBins; ++d)
-          near_orientation_[static_cast<std::size_t>((bin + d + kOrientationBins) %
-                                                     kOrientationBins)]
-              .set(x, y);
-      }
-  }
+  near_orientation_planes(edges_, near_orientation_);
   orientation_ready_ = true;
 }
 
@@ -373,6 +345,7 @@ std::vector<Circle> PixelToPixelDetector::redetect_from(const PixelToPixelDetect
   const cv::Size size = source.edges_.edges.size();
   accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
+  rays_plotted_ = 0;
   for (const VoteLineAt& line : source.lines_) plot(line);
   return circles_on(source.edges_);
 }
@@ -386,6 +359,7 @@ void PixelToPixelDetector::vote_on_edges() {
   const cv::Size size = edges_.edges.size();
   accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
+  rays_plotted_ = 0;
   lines_.clear();
   for (int k : params_.k_values) vote(k);
   votes_ready_ = true;
@@ -559,17 +533,30 @@ PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& vot
   std::vector<double> radii;
   std::vector<cv::Point2d> support;
   std::uint32_t voted_sectors = 0;  // bit s: a voter lies in sector s around the peak
+  // Whether a voter's line passes the peak is a coin toss to the branch predictor: the cheap
+  // tests of each loop below write the voters that pass down without a branch (n counts them),
+  // in their order, and only those go on.
+  std::vector<std::uint32_t> passing(voters.size());
+  std::size_t n = 0;
+  const auto index_of = [&](const Voter& v) {
+    return static_cast<std::uint32_t>(&v - voters.data());
+  };
   // A voter passing the tests below is at most this far from the peak (t <= max radius and
   // the line within tolerance), plus a pixel for float rounding.
   const double reach_px = options.max_radius_px + options.line_tolerance_px + 1.0;
   rows.for_each(voters, peak.y - reach_px, peak.y + reach_px, [&](const Voter& v) {
     const double px = peak.x - v.x, py = peak.y - v.y;
     const double t = px * v.ux + py * v.uy;
-    if (t < options.min_radius_px || t > options.max_radius_px) return;
-    if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
+    passing[n] = index_of(v);
+    n += static_cast<std::size_t>(!(t < options.min_radius_px) & !(t > options.max_radius_px) &
+                                  !(std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px));
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    const Voter& v = voters[passing[i]];
+    const double px = peak.x - v.x, py = peak.y - v.y;
     radii.push_back(std::sqrt(px * px + py * py));
     if (options.min_voted_coverage > 0.0) voted_sectors |= 1u << voter_sector(px, py);
-  });
+  }
   if (radii.size() < 3) return {};
   // A ball's outline votes from all sides, texture from one: judged on every voter of the
   // peak (not only those at the median distance, which other lines passing by can skew).
@@ -583,15 +570,20 @@ PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& vot
   const double median_r = options.voter_mode_radius ? median_of(radii) : r0;
   // The voters' own positions on the circle seed the fit (they are edge points).
   const double support_reach_px = 1.2 * r0 + 2.0;
+  n = 0;
   rows.for_each(voters, peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
     const double px = peak.x - v.x, py = peak.y - v.y;
-    // The cheap tests first: most voters in the band fail the line test, and need no root.
-    if (std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) return;
-    if (px * v.ux + py * v.uy <= 0.0) return;
-    const double d = std::sqrt(px * px + py * py);
-    if (std::abs(d - r0) > 0.2 * r0 + 1.0) return;
-    support.emplace_back(v.x, v.y);
+    passing[n] = index_of(v);
+    n += static_cast<std::size_t>(!(std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) &
+                                  !(px * v.ux + py * v.uy <= 0.0));
   });
+  for (std::size_t i = 0; i < n; ++i) {
+    const Voter& v = voters[passing[i]];
+    const double px = peak.x - v.x, py = peak.y - v.y;
+    const double d = std::sqrt(px * px + py * py);
+    if (std::abs(d - r0) > 0.2 * r0 + 1.0) continue;
+    support.emplace_back(v.x, v.y);
+  }
   Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};
   if (const auto fit = fit_circle(support);
       fit && fast_hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)

@@ -278,7 +278,8 @@ class PixelToPixelDetector final : public CircleDetector {
   std::array<BitImage, 8> near_orientation_;
   bool orientation_ready_ = false;
   cv::Mat accumulator_;
-  cv::Mat smoothed_;  // box-filtered accumulator_, buffer kept across images
+  std::int64_t rays_plotted_ = 0;  // into accumulator_ since it was zeroed
+  cv::Mat smoothed_;               // box-filtered accumulator_, buffer kept across images
   std::vector<Voter> voters_;
   std::vector<VoteLineAt> lines_;  // every line of edges_, in voting order (redetect replays)
   // The peaks being refined (find_peaks_of_votes), the edges and options they are refined with.

@@ -117,6 +117,44 @@ int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::
   return count;
 }
 
+int orientation_bin(int gx, int gy) {
+  if (gy < 0 || (gy == 0 && gx < 0)) {
+    gx = -gx;
+    gy = -gy;
+  }
+  const float ax = static_cast<float>(gx < 0 ? -gx : gx), fy = static_cast<float>(gy);
+  const int b = fy < 0.41421356f * ax ? 0 : fy < ax ? 1 : fy < 2.41421356f * ax ? 2 : 3;
+  return gx >= 0 ? b : 7 - b;
+}
+
+void near_orientation_planes(const EdgeMap& edges, std::array<BitImage, kOrientationBins>& planes) {
+  const BitImage& bits = edges.bits;
+  const int w = bits.width(), h = bits.height();
+  for (BitImage& plane : planes) plane.reset(w, h);
+  for (int y = 0; y < h; ++y) {
+    const std::uint64_t* row = bits.row(y);
+    const short* gx = edges.dx.ptr<short>(y);
+    const short* gy = edges.dy.ptr<short>(y);
+    for (int wi = 0; wi * 64 < w; ++wi) {
+      if (row[wi] == 0) continue;
+      // The word's points by bin, then each plane's word at once: one store per plane and word
+      // instead of one per plane and point.
+      std::array<std::uint64_t, kOrientationBins> by_bin{};
+      for (std::uint64_t word = row[wi]; word != 0; word &= word - 1) {
+        const int bit = std::countr_zero(word);
+        const int x = wi * 64 + bit;
+        by_bin[static_cast<std::size_t>(orientation_bin(gx[x], gy[x]))] |= std::uint64_t{1} << bit;
+      }
+      for (int b = 0; b < kOrientationBins; ++b) {
+        std::uint64_t near = 0;
+        for (int d = -kOrientationSlackBins; d <= kOrientationSlackBins; ++d)
+          near |= by_bin[static_cast<std::size_t>((b + d + kOrientationBins) % kOrientationBins)];
+        planes[static_cast<std::size_t>(b)].mutable_row(y)[wi] = near;
+      }
+    }
+  }
+}
+
 int connected_window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows,
                           int stop_above) {
   const int n = 2 * k + 1;

@@ -6,6 +6,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <optional>
 #include <span>
 
@@ -101,6 +102,19 @@ std::optional<VoteLine> analyse_window_rows(std::span<const std::uint64_t> rows,
 /// Steps 5-7 of analyse_window_rows, for a caller that has already counted the window's points
 /// (the count rule holds).
 std::optional<VoteLine> vote_line_of_rows(std::span<const std::uint64_t> rows, int k);
+
+/// Orientation isolation (addition): orientation bins of 22.5 degrees (modulo 180), and how
+/// many bins either side count as aligned.
+constexpr int kOrientationBins = 8;
+constexpr int kOrientationSlackBins = 2;
+
+/// Bin in [0, 8) of gradient (gx, gy)'s orientation modulo 180 degrees, without atan2:
+/// tan(22.5) and tan(67.5) split each quadrant.
+int orientation_bin(int gx, int gy);
+
+/// Plane b: the edge points of edges whose orientation bin lies within kOrientationSlackBins of
+/// b (circularly); planes are sized to the map.
+void near_orientation_planes(const EdgeMap& edges, std::array<BitImage, kOrientationBins>& planes);
 
 /// Step 9: smoothing by an all-ones square mask: each cell becomes the sum of votes in the
 /// size_px x size_px box around it (CV_16U in, CV_32S out, zero outside the image).

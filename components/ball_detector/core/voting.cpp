@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 namespace stereoball::ball_detector {
@@ -29,8 +30,44 @@ SB_AVX2_CLONE int row_maximum(const int* __restrict row, int w) {
   return best;
 }
 
+namespace {
+
+// How many of the steps i = 0, 1, ... keep coordinate c0 + i * dir (dir = +1 or -1) in
+// [0, size): all steps up to the first outside.
+inline std::int64_t steps_inside(int c0, int dir, int size) {
+  if (c0 < 0 || c0 >= size) return 0;
+  return dir > 0 ? size - c0 : c0 + 1;
+}
+
+// The same for the 16.16 fixed-point coordinate (f0 + i * df) >> 16 in [0, size): exact
+// integer arithmetic, so the count is the loop's own first exit.
+inline std::int64_t fixed_steps_inside(std::int64_t f0, std::int64_t df, int size) {
+  const std::int64_t end = static_cast<std::int64_t>(size) << 16;
+  if (f0 < 0 || f0 >= end) return 0;
+  if (df > 0) return (end - f0 + df - 1) / df;
+  if (df < 0) return f0 / -df + 1;
+  return std::numeric_limits<std::int64_t>::max();
+}
+
+// One vote in each of count cells from p on, moving by major_stride per step and by minor_stride
+// per unit of the fixed-point minor coordinate; with Saturate a full cell stays full, without a
+// branch.
+template <bool Saturate>
+inline void add_votes(std::uint16_t* p, std::ptrdiff_t major_stride, std::ptrdiff_t minor_stride,
+                      std::int64_t minor_fp, std::int64_t dminor, std::int64_t count) {
+  for (std::int64_t i = 0; i < count; ++i, p += major_stride, minor_fp += dminor) {
+    std::uint16_t& cell = p[(minor_fp >> 16) * minor_stride];
+    if constexpr (Saturate)
+      cell = static_cast<std::uint16_t>(cell + (cell != 0xFFFF));
+    else
+      ++cell;
+  }
+}
+
+}  // namespace
+
 std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
-                      double dir_y, double t0_px, double t1_px) {
+                      double dir_y, double t0_px, double t1_px, bool saturate) {
   // Not std::hypot: no overflow to guard against here, and it is several times slower.
   const double norm = std::sqrt(dir_x * dir_x + dir_y * dir_y);
   if (norm <= 0.0 || t1_px < t0_px) return 0;
@@ -45,25 +82,29 @@ std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, doub
   const int step = major > 0 ? 1 : -1;
   // Minor coordinate in 16.16 fixed point: integer stepping, no per-cell rounding.
   const double slope = (x_major ? uy : ux) / std::abs(major);
-  int m = static_cast<int>(round_half_away(x_major ? sx : sy));
+  const int m = static_cast<int>(round_half_away(x_major ? sx : sy));
   const double minor0 = (x_major ? sy : sx) + (m - (x_major ? sx : sy)) * slope * step;
-  std::int64_t minor_fp = round_half_away((minor0 + 0.5) * 65536.0);
+  const std::int64_t minor_fp = round_half_away((minor0 + 0.5) * 65536.0);
   const std::int64_t dminor = round_half_away(slope * 65536.0);
-  const unsigned w = static_cast<unsigned>(accumulator.cols);
-  const unsigned h = static_cast<unsigned>(accumulator.rows);
+  const int w = accumulator.cols;
+  const int h = accumulator.rows;
+  // A ray leaves the image once and never comes back (both coordinates are monotonic): the
+  // cells plotted are the steps before the first one outside, counted up front so that the
+  // loop has no bounds test.
+  const std::int64_t count =
+      std::min({static_cast<std::int64_t>(steps) + 1, steps_inside(m, step, x_major ? w : h),
+                fixed_steps_inside(minor_fp, dminor, x_major ? h : w)});
+  if (count <= 0) return 0;
+  const auto stride = static_cast<std::ptrdiff_t>(accumulator.step1());
   auto* data = accumulator.ptr<std::uint16_t>(0);
-  const size_t stride = accumulator.step1();
-  std::int64_t done = 0;
-  for (int i = 0; i <= steps; ++i, m += step, minor_fp += dminor) {
-    const int n = static_cast<int>(minor_fp >> 16);
-    const unsigned x = static_cast<unsigned>(x_major ? m : n);
-    const unsigned y = static_cast<unsigned>(x_major ? n : m);
-    if (x >= w || y >= h) break;  // a ray leaves the image once and never comes back
-    std::uint16_t& cell = data[y * stride + x];
-    if (cell != 0xFFFF) ++cell;
-    ++done;
-  }
-  return done;
+  std::uint16_t* const first = x_major ? data + m : data + static_cast<std::ptrdiff_t>(m) * stride;
+  const std::ptrdiff_t major_stride = x_major ? step : step * stride;
+  const std::ptrdiff_t minor_stride = x_major ? stride : 1;
+  if (saturate)
+    add_votes<true>(first, major_stride, minor_stride, minor_fp, dminor, count);
+  else
+    add_votes<false>(first, major_stride, minor_stride, minor_fp, dminor, count);
+  return count;
 }
 
 namespace {

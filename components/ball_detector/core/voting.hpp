@@ -9,9 +9,12 @@
 namespace stereoball::ball_detector {
 
 /// Adds one vote to each CV_16U accumulator cell on the ray start + t * dir, t in [t0, t1]
-/// (dir need not be unit; t in pixels along it); clipped to the image. Returns cells incremented.
+/// (dir need not be unit; t in pixels along it); clipped to the image; a full cell (65535) stays
+/// full. Returns cells incremented. saturate = false: the caller knows no cell on the ray is full
+/// (e.g. fewer than 65535 rays plotted into a zeroed map: a ray meets a cell once), and the
+/// cells get plain increments, the same votes for less work.
 std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
-                      double dir_y, double t0_px, double t1_px);
+                      double dir_y, double t0_px, double t1_px, bool saturate = true);
 
 /// Largest of row[0, w), or 0 if all are below (vote maps hold no negative value).
 int row_maximum(const int* row, int w);

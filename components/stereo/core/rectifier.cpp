@@ -1,5 +1,7 @@
 #include "stereo/core/rectifier.hpp"
 
+#include "stereo/core/bilinear_remap.hpp"
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -46,7 +48,7 @@ Status Rectifier::check_size(Eye eye, const cv::Mat& raw) const {
 Status Rectifier::rectify_eye(Eye eye, const cv::Mat& raw, cv::Mat& out) const {
   if (auto error = check_size(eye, raw); !error) return error;
   const EyeMaps& m = maps(eye);
-  cv::remap(raw, out, m.xy, m.frac, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  remap_bilinear(raw, out, m.xy, m.frac);
   return {};
 }
 
@@ -61,7 +63,7 @@ Status Rectifier::rectify_eye_region(Eye eye, const cv::Mat& raw, cv::Rect roi,
   const EyeMaps& m = maps(eye);
   cv::Mat target = out(roi);
   // The LUT rows/columns of the region map it from anywhere in the raw frame.
-  cv::remap(raw, target, m.xy(roi), m.frac(roi), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  remap_bilinear(raw, target, m.xy(roi), m.frac(roi));
   return {};
 }
 
