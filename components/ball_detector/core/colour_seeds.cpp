@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace stereoball::ball_detector {
@@ -44,16 +45,19 @@ std::pair<int, int> median_and_mad(const cv::Mat& u8) {
 // The most of the image the rare colours may cover together.
 constexpr double kMaxRareCover = 0.1;
 
-// Pixels whose colour, quantised to 8 levels per channel, covers less than rare_fraction of the
-// image: a ball whose hue the floor shares in brightness (chroma) but not in colour.
-cv::Mat rare_colour_mask(const cv::Mat& bgr, double rare_fraction) {
+// Pixels of chroma above min_chroma whose colour, quantised to 8 levels per channel, covers less
+// than rare_fraction of the image: a ball whose chroma the floor shares but not its colour.
+cv::Mat rare_colour_mask(const cv::Mat& bgr, const cv::Mat& chroma, double min_chroma,
+                         double rare_fraction) {
   std::array<int, 512> hist{};
-  const auto bin = [](const std::uint8_t* p) {
-    return (p[0] >> 5) << 6 | (p[1] >> 5) << 3 | (p[2] >> 5);
-  };
+  cv::Mat bins(bgr.size(), CV_16U);
   for (int y = 0; y < bgr.rows; ++y) {
-    const auto* row = bgr.ptr<std::uint8_t>(y);
-    for (int x = 0; x < bgr.cols; ++x) ++hist[static_cast<std::size_t>(bin(row + 3 * x))];
+    const auto* p = bgr.ptr<std::uint8_t>(y);
+    auto* b = bins.ptr<std::uint16_t>(y);
+    for (int x = 0; x < bgr.cols; ++x, p += 3) {
+      b[x] = static_cast<std::uint16_t>((p[0] >> 5) << 6 | (p[1] >> 5) << 3 | (p[2] >> 5));
+      ++hist[b[x]];
+    }
   }
   const double rare_count = rare_fraction * static_cast<double>(bgr.total());
   double rare_pixels = 0.0;
@@ -63,11 +67,12 @@ cv::Mat rare_colour_mask(const cv::Mat& bgr, double rare_fraction) {
   // the image's own, not something standing out from it.
   cv::Mat mask(bgr.size(), CV_8U, cv::Scalar(0));
   if (rare_pixels > kMaxRareCover * static_cast<double>(bgr.total())) return mask;
+  const auto least = static_cast<int>(std::floor(min_chroma));  // chroma > min_chroma
   for (int y = 0; y < bgr.rows; ++y) {
-    const auto* row = bgr.ptr<std::uint8_t>(y);
+    const auto* b = bins.ptr<std::uint16_t>(y);
+    const auto* c = chroma.ptr<std::uint8_t>(y);
     auto* out = mask.ptr<std::uint8_t>(y);
-    for (int x = 0; x < bgr.cols; ++x)
-      out[x] = hist[static_cast<std::size_t>(bin(row + 3 * x))] < rare_count ? 255 : 0;
+    for (int x = 0; x < bgr.cols; ++x) out[x] = c[x] > least && hist[b[x]] < rare_count ? 255 : 0;
   }
   return mask;
 }
@@ -93,8 +98,15 @@ std::vector<Circle> colour_blob_seeds(const cv::Mat& bgr, double min_radius_px,
   const double threshold =
       std::max(params.min_chroma, median + params.spread_factor * 1.4826 * mad);
   cv::Mat mask = chroma > threshold;
-  if (params.rare_fraction > 0.0)
-    mask |= (chroma > params.min_chroma) & rare_colour_mask(half, params.rare_fraction);
+  if (params.rare_fraction > 0.0) {
+    cv::Mat rare = rare_colour_mask(half, chroma, params.min_chroma, params.rare_fraction);
+    // Specks of a rare colour in texture or on edges are not regions: a 3x3 opening keeps
+    // what holds a 3x3 square (a ball of 4 px radius and more at full resolution).
+    if (cv::countNonZero(rare) > 0) {
+      cv::morphologyEx(rare, rare, cv::MORPH_OPEN, cv::Mat::ones(3, 3, CV_8U));
+      mask |= rare;
+    }
+  }
   // Nothing stands out (a scene without an outstanding colour): no region, and labelling an
   // empty mask would cost more than everything above.
   if (cv::countNonZero(mask) == 0) return {};
