@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/core/synthetic.hpp"
 
 namespace stereoball::ball_detector {
 namespace {
@@ -26,12 +27,7 @@ cv::Mat tiled_floor(cv::Size size, int seed) {
     cv::line(img, {x, 0}, {x, size.height}, {120, 120, 120});
   for (int y = 12; y < size.height; y += 24)
     cv::line(img, {0, y}, {size.width, y}, {120, 120, 120});
-  cv::Mat noise(size, CV_16SC3);
-  cv::RNG rng(static_cast<std::uint64_t>(seed));
-  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
-  cv::Mat noisy;
-  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
-  return noisy;
+  return with_sensor_noise(img, seed);
 }
 
 // Purple and near-floor-white diagonal stripes, 6 px wide, filling circle c.
@@ -113,12 +109,7 @@ cv::Mat plank_floor(cv::Size size, int seed) {
   for (int x = 0; x < size.width; x += 20)
     cv::rectangle(img, cv::Rect(x, 0, 20, size.height), shades[(x / 20) % 3], cv::FILLED);
   for (int x = 0; x < size.width; x += 20) cv::line(img, {x, 0}, {x, size.height}, {25, 40, 60});
-  cv::Mat noise(size, CV_16SC3);
-  cv::RNG rng(static_cast<std::uint64_t>(seed));
-  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
-  cv::Mat noisy;
-  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
-  return noisy;
+  return with_sensor_noise(img, seed);
 }
 
 TEST(ColourSeeds, GivenABallOfAColourTheFloorLacksButNoMoreChroma_ThenRarityAloneSeedsIt) {

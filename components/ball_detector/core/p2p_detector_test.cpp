@@ -15,16 +15,6 @@
 namespace stereoball::ball_detector {
 namespace {
 
-// img with Gaussian noise of 2 grey levels per channel, as a camera adds (seeded).
-cv::Mat with_sensor_noise(const cv::Mat& img, int seed) {
-  cv::Mat noise(img.size(), CV_16SC3);
-  cv::RNG rng(static_cast<std::uint64_t>(seed));
-  rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
-  cv::Mat noisy;
-  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
-  return noisy;
-}
-
 double centre_error(const Circle& a, const Circle& b) {
   return std::hypot(a.x_px - b.x_px, a.y_px - b.y_px);
 }

@@ -260,4 +260,13 @@ cv::Mat spotted_disc_image(cv::Size size, cv::Point centre_px, int radius_px, in
   return img;
 }
 
+cv::Mat with_sensor_noise(const cv::Mat& img, int seed, double sigma) {
+  cv::Mat noise(img.size(), CV_16SC3);
+  cv::RNG rng(static_cast<std::uint64_t>(seed));
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, sigma);
+  cv::Mat noisy;
+  cv::add(img, noise, noisy, cv::noArray(), CV_8UC3);
+  return noisy;
+}
+
 }  // namespace stereoball::ball_detector

@@ -72,6 +72,10 @@ struct SyntheticScene {
 /// One scene of the given kind; deterministic in (kind, size, seed).
 SyntheticScene make_scene(SceneKind kind, cv::Size size, std::uint32_t seed);
 
+/// A 3-channel 8-bit img with Gaussian noise of sigma grey levels per channel, as a camera adds
+/// (seeded: the same seed gives the same noise).
+cv::Mat with_sensor_noise(const cv::Mat& img, int seed, double sigma = 2.0);
+
 /// The bench suite: per_kind scenes of every kind at the given size.
 std::vector<SyntheticScene> make_suite(cv::Size size, int per_kind, std::uint32_t seed);
 

@@ -306,14 +306,20 @@ TEST(Renderer, DistractorSphereIsDrawnInItsColourAndHidesTheWall) {
   EXPECT_GT(p[0], 2 * p[2]) << p;
 }
 
-TEST(GroundTruth, FullyVisibleOnlyWhenTheWholeBallIsInViewAndUnblocked) {
-  const SimParams params;
-  const StereoRig rig(params);
+// A ball of 0.11 m radius on the floor 2 m straight ahead of the robot at the origin.
+BallState ball_2m_ahead() {
   BallState ball;
   ball.present = true;
   ball.radius_m = 0.11;
-  // A ball 2 m ahead is fully visible
   ball.position_m = {2.0, 0.0, 0.11};
+  return ball;
+}
+
+TEST(GroundTruth, FullyVisibleOnlyWhenTheWholeBallIsInViewAndUnblocked) {
+  const SimParams params;
+  const StereoRig rig(params);
+  // A ball 2 m ahead is fully visible
+  BallState ball = ball_2m_ahead();
   GroundTruth g = make_ground_truth(rig, RobotState{}, ball, 0, 0);
   EXPECT_TRUE(g.ball_fully_visible_left && g.ball_fully_visible_right);
   // Its centre in view but its outline across the left border: visible, not fully
@@ -336,10 +342,7 @@ TEST(GroundTruth, FullyVisibleOnlyWhenTheWholeBallIsInViewAndUnblocked) {
 TEST(GroundTruth, AnotherBallInFrontHidesPartOfTheBallAndOneBehindItHidesNothing) {
   const SimParams params;
   const StereoRig rig(params);
-  BallState ball;
-  ball.present = true;
-  ball.radius_m = 0.11;
-  ball.position_m = {2.0, 0.0, 0.11};
+  const BallState ball = ball_2m_ahead();
   const Vec3d eye = rig.pose(Eye::kLeft).position_m;  // robot at the origin: world = robot frame
   // Given a small sphere halfway along the left eye's line of sight to the ball's left rim
   SphereSpec in_front;
