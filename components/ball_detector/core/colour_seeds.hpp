@@ -21,7 +21,7 @@ struct ColourSeedParams {
   double min_chroma = 40.0;    ///< chroma (max - min of B, G, R) a region must exceed at least
   double spread_factor = 6.0;  ///< ... and the image's median plus this many robust sigmas
   /// ... or have a colour (8 levels per channel) covering less than this fraction of the image
-  /// (0 = off)
+  /// and a chroma at least the image's median (0 = off)
   double rare_fraction = 0.01;
   double min_fill = 0.35;   ///< region area / bounding box area (a disc: 0.785)
   double max_aspect = 2.0;  ///< longer / shorter side of the bounding box

@@ -140,7 +140,7 @@ std::vector<params::Field<P>> colour_seed_fields() {
       number("colour_seeds.rare_fraction", in(&C::rare_fraction), core.rare_fraction, {0.0, 0.5},
              "",
              "... or have a colour (8 levels per channel) covering less than this fraction of "
-             "the image (0 = off)"),
+             "the image and a chroma at least its median (0 = off)"),
   };
 }
 
