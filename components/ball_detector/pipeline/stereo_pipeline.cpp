@@ -267,6 +267,16 @@ void StereoPipeline::rectify_box(const cv::Mat& channel, stereo::Eye eye, bool r
   }
 }
 
+const cv::Mat& StereoPipeline::rectified_region(const cv::Mat& channel, stereo::Eye eye,
+                                                bool rectified, const cv::Rect& region) {
+  if (rectified) return channel;
+  // Only the region read, not the whole eye, into the eye's scratch image.
+  cv::Mat& out = eye == stereo::Eye::kLeft ? region_left_ : region_right_;
+  out.create(rectifier_->calibration().image_size, channel.type());
+  rectifier_->rectify_eye_region(eye, channel, region, out);
+  return out;
+}
+
 StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, bool rectified,
                                      const std::optional<PositionPrior>& prior,
                                      std::int64_t stamp_ns) {
@@ -759,18 +769,10 @@ void StereoPipeline::check_interior(const cv::Mat& left_channel, const cv::Mat& 
   const cv::Rect left_region = interior_rows_region(found.left, size);
   const cv::Rect right_region = interior_search_region(left_region, window, size);
   if (left_region.empty() || right_region.empty()) return;
-  const cv::Mat* left = &left_channel;
-  const cv::Mat* right = &right_channel;
-  if (!rectified) {  // only the regions read, not the whole eyes
-    interior_left_.create(size, left_channel.type());
-    interior_right_.create(size, right_channel.type());
-    rectifier_->rectify_eye_region(stereo::Eye::kLeft, left_channel, left_region, interior_left_);
-    rectifier_->rectify_eye_region(stereo::Eye::kRight, right_channel, right_region,
-                                   interior_right_);
-    left = &interior_left_;
-    right = &interior_right_;
-  }
-  const InteriorDepth d = interior_depth(*left, *right, found.left, window, params_.interior_depth);
+  const cv::Mat& left = rectified_region(left_channel, stereo::Eye::kLeft, rectified, left_region);
+  const cv::Mat& right =
+      rectified_region(right_channel, stereo::Eye::kRight, rectified, right_region);
+  const InteriorDepth d = interior_depth(left, right, found.left, window, params_.interior_depth);
   if (!d.contradicts) return;
   // Disparities as x_left - x_right, as the pairing's reasons give them.
   char where[32] = "far away";
@@ -838,17 +840,11 @@ std::optional<Circle> StereoPipeline::refit_at_radius(const cv::Mat& channel, st
                2 * margin + 1, 2 * margin + 1) &
       cv::Rect(cv::Point(), size);
   if (region.width < 8 || region.height < 8) return std::nullopt;
-  const cv::Mat* image = &channel;
-  if (!rectified) {
-    balance_rect_.create(size, channel.type());
-    rectifier_->rectify_eye_region(eye, channel, region, balance_rect_);
-    image = &balance_rect_;
-  }
+  const cv::Mat& image = rectified_region(channel, eye, rectified, region);
   const PixelToPixelParams p2p = params_.detector_params();
   const EdgeThresholds thresholds =
       left_thresholds_ ? *left_thresholds_ : thresholds_of(left_detector_.edge_map());
-  compute_edge_map((*image)(region), p2p.edge, thresholds.canny, thresholds.denoise,
-                   balance_edges_);
+  compute_edge_map(image(region), p2p.edge, thresholds.canny, thresholds.denoise, balance_edges_);
   RefineParams refine = p2p.refine_params;
   refine.hold_radius = true;
   refine.first_band_px = PixelToPixelParams::kPolishFirstBandPx;

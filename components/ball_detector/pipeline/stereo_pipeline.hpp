@@ -218,6 +218,10 @@ class StereoPipeline {
                                              bool near_prior);
   void fill_result(const PairingResult& pairing, StereoDetection& out) const;
   ShiftWindow shift_window(const StereoDetection& found) const;
+  /// channel (a raw eye, or rectified already) rectified at least over region: channel itself
+  /// when rectified, else the eye's scratch image with region rectified into it.
+  const cv::Mat& rectified_region(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                                  const cv::Rect& region);
   void check_interior(const cv::Mat& left_channel, const cv::Mat& right_channel, bool rectified,
                       StereoDetection& found);
   void balance_radii(const cv::Mat& left_channel, const cv::Mat& right_channel, bool rectified,
@@ -240,9 +244,8 @@ class StereoPipeline {
   std::optional<stereo::Triangulator> triangulator_;
   cv::Matx33d patch_ray_from_pixel_;  // rectified pixel -> ray in the raw left camera
   cv::Mat grey_left_, grey_right_, rect_left_, rect_right_;
-  cv::Mat interior_left_, interior_right_;  // rectified regions the interior check reads
-  cv::Mat balance_rect_;                    // the region balance_radii refits, rectified
-  EdgeMap balance_edges_;                   // ... and its edges
+  cv::Mat region_left_, region_right_;  // rectified_region's scratch images, one per eye
+  EdgeMap balance_edges_;               // the edges of the region balance_radii refits
   cv::Mat patch_map_, patch_bgr_;
   std::vector<cv::Point3d> patch_rays_;
   std::vector<cv::Point2d> patch_raw_px_;
