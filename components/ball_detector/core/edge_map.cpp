@@ -403,14 +403,14 @@ void canny_and_thin(const EdgeParams& params, const CannyThresholds& t, EdgeMap&
 
 }  // namespace
 
-namespace {
-
 cv::Rect2d frame_of(const cv::Mat& image) {
   cv::Size whole;
   cv::Point offset;
   image.locateROI(whole, offset);
   return cv::Rect2d(-offset.x, -offset.y, whole.width, whole.height);
 }
+
+namespace {
 
 // Sets the image the gradient is taken of: the colour image, or grey.
 void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {

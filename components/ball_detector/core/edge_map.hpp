@@ -111,6 +111,10 @@ struct EdgeMap {
   std::array<cv::Mat, 3> colour_planes;  ///< B, G, R planes with a border (colour), reused
 };
 
+/// The whole camera image in image's coordinates (EdgeMap::frame_px): image itself, or for a
+/// crop (a cv::Mat ROI view) its parent image.
+cv::Rect2d frame_of(const cv::Mat& image);
+
 /// Converts a CV_8UC1/3/4 image to CV_8U grey (no copy for grey input).
 cv::Mat to_grey(const cv::Mat& image);
 

@@ -1,5 +1,6 @@
 #include "ball_detector/core/p2p_detector.hpp"
 
+#include "ball_detector/core/colour_seeds.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
 #include "ball_detector/core/voting.hpp"
 
@@ -736,6 +737,20 @@ std::vector<Circle> PixelToPixelDetector::detect_at_seeds(const cv::Mat& bgr_or_
                                                           const SearchHints& hints,
                                                           std::span<const Circle> seeds) {
   if (!edges_with_hints(bgr_or_grey, thresholds, hints)) return {};
+  return refine_seeds(seeds);
+}
+
+std::vector<Circle> PixelToPixelDetector::detect_at_seeds_without_brightness(
+    const cv::Mat& bgr, const SearchHints& hints, std::span<const Circle> seeds) {
+  start(hints);
+  edges_ready_ = false;
+  orientation_ready_ = false;
+  if (bgr.type() != CV_8UC3 || !validate_image(bgr).ok() || !(radii_.max_px > radii_.min_px))
+    return {};
+  remove_brightness(bgr, brightness_free_);
+  compute_edge_map(brightness_free_, params_.edge, edges_);
+  edges_.frame_px = frame_of(bgr);  // a crop of the camera image: borders and camera as bgr's
+  edges_ready_ = true;
   return refine_seeds(seeds);
 }
 

@@ -204,6 +204,15 @@ class PixelToPixelDetector final : public CircleDetector {
   /// detect_at_seeds() on the edges of the last image (cast_votes() or a detect()), with its
   /// radius range: for seeds found some other way than by this detector's votes.
   std::vector<Circle> refine_seeds(std::span<const Circle> seeds) const;
+  /// Addition (colour seeds): detect_at_seeds() on bgr (CV_8UC3) with its brightness removed
+  /// (remove_brightness in colour_seeds.hpp), with thresholds measured on that image itself
+  /// (bgr is a box around the seeds: its statistics are the ball's and its surroundings'). A
+  /// ball whose rim differs from the floor in hue but hardly in brightness, on a floor whose
+  /// brightness texture sets the frame's thresholds, has its outline here. Empty for an image
+  /// that is not colour.
+  std::vector<Circle> detect_at_seeds_without_brightness(const cv::Mat& bgr,
+                                                         const SearchHints& hints,
+                                                         std::span<const Circle> seeds);
   /// detect(bgr_or_grey) in two halves, for a caller that runs other work beside the second:
   /// the edge step and the voting (false for an invalid image: nothing to find); after it,
   /// other detectors may redetect_from() this one while it runs circles_of_votes().
@@ -290,6 +299,7 @@ class PixelToPixelDetector final : public CircleDetector {
   // coarse_to_fine: the detector of the halved image, the halved image and a window's edges.
   std::unique_ptr<PixelToPixelDetector> coarse_;
   cv::Mat half_;
+  cv::Mat brightness_free_;  // detect_at_seeds_without_brightness's image, reused
   double voted_coverage_gate_ = 0.0;
   bool voter_mode_radius_ = false;  // CandidateOptions::voter_mode_radius (the coarse one's)  //
                                     // CandidateOptions::min_voted_coverage (the coarse one's)

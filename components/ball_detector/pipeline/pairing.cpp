@@ -145,6 +145,18 @@ cv::Rect box_around(const cv::Point2d& centre, double reach_px, cv::Size image) 
   return cv::Rect(tl, br) & cv::Rect(cv::Point(0, 0), image);
 }
 
+cv::Rect seed_box(const Circle& seed, double tolerance, cv::Size image) {
+  const double reach =
+      (1.0 + tolerance) * seed.radius_px + PixelToPixelParams::kPolishFirstBandPx + 2.0;
+  return box_around({seed.x_px, seed.y_px}, reach, image);
+}
+
+Circle shifted(Circle c, cv::Point by) {
+  c.x_px += by.x;
+  c.y_px += by.y;
+  return c;
+}
+
 cv::Rect prior_search_box(const PairingContext& ctx, const PositionPrior& prior, cv::Size image,
                           int margin_px) {
   // Off the axis the outline is an ellipse: its semi-major axis is the reach.

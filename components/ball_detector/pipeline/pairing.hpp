@@ -115,6 +115,14 @@ std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int
 /// The pixels within reach_px of centre (a square, rounded outwards), clipped to image.
 cv::Rect box_around(const cv::Point2d& centre, double reach_px, cv::Size image);
 
+/// The box an outline refined from seed can reach: the polish's first band beyond the seed
+/// (prediction error), the radius at the size tolerance (an off-axis ball's ellipse), and a
+/// pixel of rounding; clipped to image.
+cv::Rect seed_box(const Circle& seed, double tolerance, cv::Size image);
+
+/// c moved by the vector by (between a box's and the image's coordinates).
+Circle shifted(Circle c, cv::Point by);
+
 /// The left rectified-image box where the ball expected at prior can appear: its disc (a third
 /// of the gate nearer, at the size tolerance) plus a third of the gate sideways, padded by
 /// margin_px and clipped; empty if the prior is not in front of the camera.

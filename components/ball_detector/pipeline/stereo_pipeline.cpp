@@ -126,6 +126,8 @@ const char* to_string(SearchPath path) {
       return "whole_frame";
     case SearchPath::kRadiusBands:
       return "radius_bands";
+    case SearchPath::kBrightnessFree:
+      return "brightness_free";
   }
   return "?";
 }
@@ -156,6 +158,7 @@ StereoPipeline::StereoPipeline(const BallDetectorParams& params)
     : params_(params),
       left_detector_(params.detector_params()),
       right_detector_(params.detector_params()),
+      seed_detector_(params.detector_params()),
       epipolar_(stereo::EpipolarParams{params.epipolar_tolerance_px}),
       size_{params.ball_diameter_m, params.size_max_relative_error},
       appearance_(params.appearance) {
@@ -283,6 +286,7 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   StereoDetection out;
   left_candidates_.clear();
   right_candidates_.clear();
+  colour_seeds_.clear();
   appearance_.tick(stamp_ns);
   frame_left_ = &left;
   frame_rectified_ = rectified;
@@ -331,6 +335,18 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     if (banded.status == PairingStatus::kFound) {
       pairing = std::move(banded);
     } else {  // the report stays the whole frame's
+      left_candidates_ = std::move(whole_left);
+      right_candidates_ = std::move(whole_right);
+    }
+  }
+  if (whole_frame && pairing->status != PairingStatus::kFound && !colour_seeds_.empty() &&
+      params_.colour_seeds.chroma_outlines) {
+    auto whole_left = left_candidates_, whole_right = right_candidates_;
+    PairingResult seeded = pair_seeds_without_brightness(ctx, right_channel, rectified, prior);
+    if (seeded.status == PairingStatus::kFound) {
+      pairing = std::move(seeded);
+      out.search = SearchPath::kBrightnessFree;
+    } else {  // the report stays the earlier searches'
       left_candidates_ = std::move(whole_left);
       right_candidates_ = std::move(whole_right);
     }
@@ -419,24 +435,6 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
   return std::nullopt;
 }
 
-namespace {
-
-// The box an outline refined from seed can reach: the polish's first band beyond the seed
-// (prediction error), the ellipse of an off-axis ball, and a pixel of rounding.
-cv::Rect seed_box(const Circle& seed, double tolerance, cv::Size image) {
-  const double reach =
-      (1.0 + tolerance) * seed.radius_px + PixelToPixelParams::kPolishFirstBandPx + 2.0;
-  return box_around({seed.x_px, seed.y_px}, reach, image);
-}
-
-Circle shifted(Circle c, cv::Point by) {
-  c.x_px += by.x;
-  c.y_px += by.y;
-  return c;
-}
-
-}  // namespace
-
 std::optional<PairingResult> StereoPipeline::pair_at_expected_outlines(
     const PairingContext& ctx, const cv::Mat& right_channel, bool rectified,
     const PositionPrior& prior, const cv::Rect& left_box, const SearchHints& left_hints) {
@@ -517,9 +515,8 @@ PairingResult StereoPipeline::search_whole_frame(const PairingContext& ctx,
 void StereoPipeline::add_colour_seeded_candidates() {
   if (rect_left_.type() != CV_8UC3) return;
   const RadiusRange radii = left_detector_.radius_range();
-  const std::vector<Circle> seeds =
-      colour_blob_seeds(rect_left_, radii.min_px, radii.max_px, params_.colour_seeds);
-  for (const Circle& c : left_detector_.refine_seeds(seeds)) {
+  colour_seeds_ = colour_blob_seeds(rect_left_, radii.min_px, radii.max_px, params_.colour_seeds);
+  for (const Circle& c : left_detector_.refine_seeds(colour_seeds_)) {
     const bool known =
         std::any_of(left_candidates_.begin(), left_candidates_.end(), [&](const Circle& k) {
           return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) <
@@ -691,12 +688,8 @@ std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& 
   return found;
 }
 
-std::vector<Circle> StereoPipeline::predicted_partners(const PairingContext& ctx,
-                                                       double min_inside_fraction) {
-  const cv::Size size = rectifier_->calibration().image_size;
-  const EdgeThresholds thresholds = thresholds_of(left_detector_.edge_map());
-  const PixelToPixelParams p2p = params_.detector_params();
-  RefineParams scoring = p2p.refine_params;
+RefineParams StereoPipeline::partner_scoring(double min_inside_fraction) const {
+  RefineParams scoring = params_.detector_params().refine_params;
   scoring.min_inside_fraction = min_inside_fraction;
   // The outline is scored where its left circle, already past the clutter rings, predicts it:
   // not a chance circle found in texture. The rings there cost balls on textured floors.
@@ -704,6 +697,15 @@ std::vector<Circle> StereoPipeline::predicted_partners(const PairingContext& ctx
   if (params_.perspective_outline)
     scoring.camera =
         stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_right_px()};
+  return scoring;
+}
+
+std::vector<Circle> StereoPipeline::predicted_partners(const PairingContext& ctx,
+                                                       double min_inside_fraction) {
+  const cv::Size size = rectifier_->calibration().image_size;
+  const EdgeThresholds thresholds = thresholds_of(left_detector_.edge_map());
+  const PixelToPixelParams p2p = params_.detector_params();
+  const RefineParams scoring = partner_scoring(min_inside_fraction);
   std::vector<Circle> found;
   for (const Circle& left : left_candidates_) {
     const cv::Rect box = partner_search_box(ctx, left, size, window_margin_px());

@@ -97,6 +97,8 @@ enum class SearchPath {
   kPriorWindow,       ///< voting in the box around the prior
   kWholeFrame,        ///< voting over the whole left eye
   kRadiusBands,       ///< the whole left eye again, radius band by radius band
+  /// the colour seeds' outlines on the images with their brightness removed, in both eyes
+  kBrightnessFree,
 };
 
 /// Short name of a search path ("expected_outlines", ...).
@@ -207,8 +209,26 @@ class StereoPipeline {
   std::vector<Circle> detect_left_in_bands(const std::atomic<bool>* stop);
   /// The left detector's last votes turned into circles, each peak a task or all in turn.
   std::vector<Circle> left_circles_of_votes(bool peaks_at_once);
-  // Left candidates refined from colour-region seeds (colour_seeds.hpp) that the votes missed.
+  // Left candidates refined from colour-region seeds (colour_seeds.hpp) that the votes missed;
+  // the seeds are kept for pair_seeds_without_brightness.
   void add_colour_seeded_candidates();
+  /// The last whole-frame search's colour seeds refined on the left image with its brightness
+  /// removed, each found circle's right outline looked for the same way, and the pairs checked
+  /// as any are: a ball whose rim differs from the floor in hue, hardly in brightness, on a floor
+  /// whose brightness texture sets the frame's edge thresholds
+  /// (stereo_pipeline_brightness_free.cpp).
+  PairingResult pair_seeds_without_brightness(const PairingContext& ctx,
+                                              const cv::Mat& right_channel, bool rectified,
+                                              const std::optional<PositionPrior>& prior);
+  /// The right outline of left's ball along its epipolar line, scored on the right partner box
+  /// with its brightness removed (edges at thresholds, the left box's).
+  std::optional<Circle> right_outline_without_brightness(const PairingContext& ctx,
+                                                         const cv::Mat& right_channel,
+                                                         bool rectified, const Circle& left,
+                                                         const EdgeThresholds& thresholds);
+  /// How a right outline predicted from a left circle is scored (min_inside_fraction of it in
+  /// view): no clutter rings, the right camera's perspective.
+  RefineParams partner_scoring(double min_inside_fraction) const;
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified, bool near_prior);
@@ -237,6 +257,9 @@ class StereoPipeline {
   PixelToPixelDetector left_detector_;
   PixelToPixelDetector right_detector_;
   std::vector<PixelToPixelDetector> band_detectors_;  // one per radius band of the left eye
+  PixelToPixelDetector seed_detector_;  // pair_seeds_without_brightness's left searches
+  std::vector<Circle> colour_seeds_;    // the last whole-frame search's (left rectified px)
+  cv::Mat brightness_free_right_;       // right_outline_without_brightness's image
   RunTasks run_tasks_ = run_tasks_in_turn;
   stereo::EpipolarCheck epipolar_;
   stereo::SizeCheckParams size_;

@@ -1,0 +1,61 @@
+// StereoPipeline's last resort for colour seeds: their outlines searched again on the images
+// with their brightness removed (colour_seeds.hpp, remove_brightness).
+
+#include "ball_detector/core/circle_fit.hpp"
+#include "ball_detector/core/colour_seeds.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
+
+namespace stereoball::ball_detector {
+
+std::optional<Circle> StereoPipeline::right_outline_without_brightness(
+    const PairingContext& ctx, const cv::Mat& right_channel, bool rectified, const Circle& left,
+    const EdgeThresholds& thresholds) {
+  const cv::Rect box =
+      partner_search_box(ctx, left, rectifier_->calibration().image_size, window_margin_px());
+  if (box.width < 8 || box.height < 8) return std::nullopt;
+  if (rect_right_.size() != rectifier_->calibration().image_size ||
+      rect_right_.type() != right_channel.type())
+    clear_rectified(right_channel, rect_right_);
+  rectify_box(right_channel, stereo::Eye::kRight, rectified, box, rect_right_);
+  // The left box's thresholds: the partner box is mostly floor, and its own statistics would
+  // depend on how much of it the ball covers.
+  remove_brightness(rect_right_(box), brightness_free_right_);
+  const PixelToPixelParams p2p = params_.detector_params();
+  compute_edge_map(brightness_free_right_, p2p.edge, thresholds.canny, thresholds.denoise,
+                   partner_edges_);
+  partner_edges_.frame_px = frame_of(rect_right_(box));  // the right camera's image
+  const double min_inside = std::max(params_.predicted_partner_min_inside_fraction,
+                                     p2p.refine_params.min_inside_fraction);
+  const RefineParams scoring = partner_scoring(min_inside);
+  const auto score = [&](const Circle& c) {
+    return score_circle(partner_edges_, shifted(c, -box.tl()), scoring);
+  };
+  return predicted_partner(ctx, left, score, p2p.min_score);
+}
+
+PairingResult StereoPipeline::pair_seeds_without_brightness(
+    const PairingContext& ctx, const cv::Mat& right_channel, bool rectified,
+    const std::optional<PositionPrior>& prior) {
+  left_candidates_.clear();
+  right_candidates_.clear();
+  const cv::Size size = rectifier_->calibration().image_size;
+  const SearchHints hints{left_detector_.radius_range()};
+  for (const Circle& seed : colour_seeds_) {
+    const cv::Rect box = seed_box(seed, size_.max_relative_error, size);
+    if (box.width < 8 || box.height < 8) continue;
+    const Circle seed_in_box = shifted(seed, -box.tl());
+    for (const Circle& c : seed_detector_.detect_at_seeds_without_brightness(rect_left_(box), hints,
+                                                                             {&seed_in_box, 1})) {
+      const Circle left = shifted(c, box.tl());
+      const auto right = right_outline_without_brightness(ctx, right_channel, rectified, left,
+                                                          thresholds_of(seed_detector_.edge_map()));
+      if (!right) continue;
+      left_candidates_.push_back(left);
+      right_candidates_.push_back(*right);
+    }
+  }
+  rejected_by_colour_ += apply_appearance();
+  return pair_candidates(ctx, left_candidates_, right_candidates_, prior);
+}
+
+}  // namespace stereoball::ball_detector
