@@ -62,8 +62,14 @@ uint64_t seq_of(const std::vector<uint8_t>& cdr) {
 
 void publish_commands(const std::string& partition, int count, int64_t period_ns) {
   sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  // The commands' own history is one deep (only the latest matters to a base): a command not
+  // yet acknowledged when the next is written is replaced, and a sanitised recorder sharing a
+  // loaded machine then misses it. These tests are about what the recorder does with what it
+  // receives, so the writer keeps them all.
+  sb::topics::QosSpec qos = sb::topics::kVelocityCommand.spec.qos;
+  qos.history_depth = count;
   sb::dds::DataWriter<stereoball_msg_VelocityCommand> writer(participant,
-                                                             sb::topics::kVelocityCommand);
+                                                             sb::topics::kVelocityCommand, qos);
   ASSERT_TRUE(writer.wait_for_readers(1, 10'000'000'000));
   char source[] = "test";
   for (int i = 0; i < count; ++i) {
