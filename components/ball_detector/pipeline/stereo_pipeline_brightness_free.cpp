@@ -12,7 +12,7 @@ std::optional<Circle> StereoPipeline::right_outline_without_brightness(
     const EdgeThresholds& thresholds) {
   const cv::Rect box =
       partner_search_box(ctx, left, rectifier_->calibration().image_size, window_margin_px());
-  if (box.width < 8 || box.height < 8) return std::nullopt;
+  if (box.width < 8 || box.height < 8 || right_channel.type() != CV_8UC3) return std::nullopt;
   if (rect_right_.size() != rectifier_->calibration().image_size ||
       rect_right_.type() != right_channel.type())
     clear_rectified(right_channel, rect_right_);
