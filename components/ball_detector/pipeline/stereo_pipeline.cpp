@@ -322,35 +322,36 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
                                  bands_due ? &band_left : nullptr);
     whole_frame = true;
   }
+  // A later search after nothing paired: its pair if it finds one; otherwise the report keeps
+  // the earlier searches' candidates.
+  const auto fall_back_to = [&](const auto& search) {
+    auto earlier_left = left_candidates_, earlier_right = right_candidates_;
+    PairingResult later = search();
+    if (later.status == PairingStatus::kFound) {
+      pairing = std::move(later);
+      return true;
+    }
+    left_candidates_ = std::move(earlier_left);
+    right_candidates_ = std::move(earlier_right);
+    return false;
+  };
   // Nothing paired over the whole frame: the left eye again radius band by radius band, each
   // circle's right box with its own radii (kBandSearchEveryFrames: costly, so not every frame).
   if (pairing->status == PairingStatus::kFound) frames_without_pair_ = 0;
   if (whole_frame && pairing->status != PairingStatus::kFound &&
       frames_without_pair_++ % kBandSearchEveryFrames == 0) {
-    auto whole_left = left_candidates_, whole_right = right_candidates_;
-    if (!band_left) band_left = detect_left_in_bands(nullptr);
-    PairingResult banded =
-        search_radius_bands(ctx, std::move(*band_left), right_channel, rectified, prior);
     out.search = SearchPath::kRadiusBands;
-    if (banded.status == PairingStatus::kFound) {
-      pairing = std::move(banded);
-    } else {  // the report stays the whole frame's
-      left_candidates_ = std::move(whole_left);
-      right_candidates_ = std::move(whole_right);
-    }
+    fall_back_to([&] {
+      if (!band_left) band_left = detect_left_in_bands(nullptr);
+      return search_radius_bands(ctx, std::move(*band_left), right_channel, rectified, prior);
+    });
   }
+  // Still nothing: the colour seeds' outlines without brightness (a hue-only rim).
   if (whole_frame && pairing->status != PairingStatus::kFound && !colour_seeds_.empty() &&
-      params_.colour_seeds.chroma_outlines) {
-    auto whole_left = left_candidates_, whole_right = right_candidates_;
-    PairingResult seeded = pair_seeds_without_brightness(ctx, right_channel, rectified, prior);
-    if (seeded.status == PairingStatus::kFound) {
-      pairing = std::move(seeded);
-      out.search = SearchPath::kBrightnessFree;
-    } else {  // the report stays the earlier searches'
-      left_candidates_ = std::move(whole_left);
-      right_candidates_ = std::move(whole_right);
-    }
-  }
+      params_.colour_seeds.chroma_outlines && fall_back_to([&] {
+        return pair_seeds_without_brightness(ctx, right_channel, rectified, prior);
+      }))
+    out.search = SearchPath::kBrightnessFree;
   out.candidates_left = static_cast<int>(left_candidates_.size());
   out.candidates_right = static_cast<int>(right_candidates_.size());
 
