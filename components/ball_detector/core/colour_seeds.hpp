@@ -25,8 +25,9 @@ struct ColourSeedParams {
   double rare_fraction = 0.01;
   double min_fill = 0.35;   ///< region area / bounding box area (a disc: 0.785)
   double max_aspect = 2.0;  ///< longer / shorter side of the bounding box
-  /// (for callers) a seed whose outline the frame's edges miss is searched again on the image
-  /// with its brightness removed (remove_brightness), in both eyes
+  /// (for callers) a seed whose outline the frame's edges miss, and a track's expected outline,
+  /// are searched again on the image with its brightness removed (remove_brightness), in both
+  /// eyes
   bool chroma_outlines = true;
 };
 

@@ -142,9 +142,9 @@ std::vector<params::Field<P>> colour_seed_fields() {
              "... or have a colour (8 levels per channel) covering less than this fraction of "
              "the image and a chroma at least its median (0 = off)"),
       flag("colour_seeds.chroma_outlines", in(&C::chroma_outlines), core.chroma_outlines,
-           "when nothing pairs, the seeds' outlines are searched again in both eyes on the "
-           "images with their brightness removed (a hue step the floor's brightness texture "
-           "drowns)"),
+           "when nothing pairs, the seeds' outlines (and a track's expected outline) are "
+           "searched again in both eyes on the images with their brightness removed (a hue step "
+           "the floor's brightness texture drowns)"),
   };
 }
 

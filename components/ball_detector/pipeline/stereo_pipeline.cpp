@@ -349,7 +349,8 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   // Still nothing: the colour seeds' outlines without brightness (a hue-only rim).
   if (whole_frame && pairing->status != PairingStatus::kFound && !colour_seeds_.empty() &&
       params_.colour_seeds.chroma_outlines && fall_back_to([&] {
-        return pair_seeds_without_brightness(ctx, right_channel, rectified, prior);
+        return pair_seeds_without_brightness(ctx, left_channel, right_channel, rectified, prior,
+                                             colour_seeds_);
       }))
     out.search = SearchPath::kBrightnessFree;
   out.candidates_left = static_cast<int>(left_candidates_.size());
@@ -433,6 +434,15 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
   if (pairing.status == PairingStatus::kFound &&
       cv::norm(pairing.best->position_m - prior.position_m) <= prior.gate_m)
     return pairing;
+  // The expected outline once more without brightness (a hue-only rim), before the frame.
+  if (params_.colour_seeds.chroma_outlines) {
+    auto seeded =
+        pair_expected_without_brightness(ctx, left_channel, right_channel, rectified, prior);
+    if (seeded) {
+      near_prior_path_ = SearchPath::kBrightnessFree;
+      return seeded;
+    }
+  }
   return std::nullopt;
 }
 

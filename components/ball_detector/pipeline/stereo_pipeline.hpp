@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -212,14 +213,22 @@ class StereoPipeline {
   // Left candidates refined from colour-region seeds (colour_seeds.hpp) that the votes missed;
   // the seeds are kept for pair_seeds_without_brightness.
   void add_colour_seeded_candidates();
-  /// The last whole-frame search's colour seeds refined on the left image with its brightness
-  /// removed, each found circle's right outline looked for the same way, and the pairs checked
-  /// as any are: a ball whose rim differs from the floor in hue, hardly in brightness, on a floor
-  /// whose brightness texture sets the frame's edge thresholds
-  /// (stereo_pipeline_brightness_free.cpp).
+  /// Seeds (left rectified px) refined on the left image with its brightness removed, each found
+  /// circle's right outline looked for the same way, and the pairs checked as any are: a ball
+  /// whose rim differs from the floor in hue, hardly in brightness, on a floor whose brightness
+  /// texture sets the frame's edge thresholds (stereo_pipeline_brightness_free.cpp). Nothing
+  /// for grey input.
   PairingResult pair_seeds_without_brightness(const PairingContext& ctx,
+                                              const cv::Mat& left_channel,
                                               const cv::Mat& right_channel, bool rectified,
-                                              const std::optional<PositionPrior>& prior);
+                                              const std::optional<PositionPrior>& prior,
+                                              std::span<const Circle> seeds);
+  /// The same from the prior's expected left outline; only a pair within the gate counts.
+  std::optional<PairingResult> pair_expected_without_brightness(const PairingContext& ctx,
+                                                                const cv::Mat& left_channel,
+                                                                const cv::Mat& right_channel,
+                                                                bool rectified,
+                                                                const PositionPrior& prior);
   /// The right outline of left's ball along its epipolar line, scored on the right partner box
   /// with its brightness removed (edges at thresholds, the left box's).
   std::optional<Circle> right_outline_without_brightness(const PairingContext& ctx,

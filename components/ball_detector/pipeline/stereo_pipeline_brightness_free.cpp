@@ -1,5 +1,6 @@
-// StereoPipeline's last resort for colour seeds: their outlines searched again on the images
-// with their brightness removed (colour_seeds.hpp, remove_brightness).
+// StereoPipeline's last resort for a hue-only rim: the colour seeds' outlines, or a track's
+// expected outline, searched again on the images with their brightness removed (colour_seeds.hpp,
+// remove_brightness).
 
 #include "ball_detector/core/circle_fit.hpp"
 #include "ball_detector/core/colour_seeds.hpp"
@@ -34,15 +35,20 @@ std::optional<Circle> StereoPipeline::right_outline_without_brightness(
 }
 
 PairingResult StereoPipeline::pair_seeds_without_brightness(
-    const PairingContext& ctx, const cv::Mat& right_channel, bool rectified,
-    const std::optional<PositionPrior>& prior) {
+    const PairingContext& ctx, const cv::Mat& left_channel, const cv::Mat& right_channel,
+    bool rectified, const std::optional<PositionPrior>& prior, std::span<const Circle> seeds) {
   left_candidates_.clear();
   right_candidates_.clear();
   const cv::Size size = rectifier_->calibration().image_size;
   const SearchHints hints{left_detector_.radius_range()};
-  for (const Circle& seed : colour_seeds_) {
+  if (left_channel.type() != CV_8UC3 || rect_left_.size() != size ||
+      rect_left_.type() != left_channel.type())
+    return pair_candidates(ctx, left_candidates_, right_candidates_, prior);
+  for (const Circle& seed : seeds) {
     const cv::Rect box = seed_box(seed, size_.max_relative_error, size);
     if (box.width < 8 || box.height < 8) continue;
+    // A search near the prior rectified its own box only.
+    rectify_box(left_channel, stereo::Eye::kLeft, rectified, box, rect_left_);
     const Circle seed_in_box = shifted(seed, -box.tl());
     for (const Circle& c : seed_detector_.detect_at_seeds_without_brightness(rect_left_(box), hints,
                                                                              {&seed_in_box, 1})) {
@@ -56,6 +62,19 @@ PairingResult StereoPipeline::pair_seeds_without_brightness(
   }
   rejected_by_colour_ += apply_appearance();
   return pair_candidates(ctx, left_candidates_, right_candidates_, prior);
+}
+
+std::optional<PairingResult> StereoPipeline::pair_expected_without_brightness(
+    const PairingContext& ctx, const cv::Mat& left_channel, const cv::Mat& right_channel,
+    bool rectified, const PositionPrior& prior) {
+  const auto expected = prior_outlines(ctx, prior);
+  if (!expected) return std::nullopt;
+  PairingResult pairing = pair_seeds_without_brightness(ctx, left_channel, right_channel, rectified,
+                                                        prior, {&expected->left, 1});
+  if (pairing.status == PairingStatus::kFound &&
+      cv::norm(pairing.best->position_m - prior.position_m) <= prior.gate_m)
+    return pairing;
+  return std::nullopt;
 }
 
 }  // namespace stereoball::ball_detector
