@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "ball_detector/core/colour_seeds.hpp"
+#include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/synthetic.hpp"
 

@@ -21,19 +21,6 @@ SB_AVX2_CLONE void chroma_row(const std::uint8_t* __restrict bgr, std::uint8_t* 
   }
 }
 
-// One BGR row with its brightness removed (remove_brightness). Three times a channel minus the
-// sum is three times its difference from the mean: integers throughout, one division.
-SB_AVX2_CLONE void brightness_free_row(const std::uint8_t* __restrict bgr,
-                                       std::uint8_t* __restrict out, int n) {
-  for (int i = 0; i < 3 * n; i += 3) {
-    const int sum = bgr[i] + bgr[i + 1] + bgr[i + 2];
-    for (int c = 0; c < 3; ++c) {
-      const int v = 128 + kBrightnessFreeGain * (3 * bgr[i + c] - sum) / 3;
-      out[i + c] = static_cast<std::uint8_t>(std::clamp(v, 0, 255));
-    }
-  }
-}
-
 // Median and median absolute deviation of an 8-bit image, from its histogram.
 std::pair<int, int> median_and_mad(const cv::Mat& u8) {
   std::array<int, 256> hist{};
@@ -113,13 +100,6 @@ cv::Mat colour_chroma(const cv::Mat& bgr) {
   for (int y = 0; y < bgr.rows; ++y)
     chroma_row(bgr.ptr<std::uint8_t>(y), chroma.ptr<std::uint8_t>(y), bgr.cols);
   return chroma;
-}
-
-void remove_brightness(const cv::Mat& bgr, cv::Mat& out) {
-  CV_Assert(bgr.type() == CV_8UC3);
-  out.create(bgr.size(), CV_8UC3);
-  for (int y = 0; y < bgr.rows; ++y)
-    brightness_free_row(bgr.ptr<std::uint8_t>(y), out.ptr<std::uint8_t>(y), bgr.cols);
 }
 
 std::vector<Circle> colour_blob_seeds(const cv::Mat& bgr, double min_radius_px,

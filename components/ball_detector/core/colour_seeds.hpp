@@ -26,21 +26,10 @@ struct ColourSeedParams {
   double min_fill = 0.35;   ///< region area / bounding box area (a disc: 0.785)
   double max_aspect = 2.0;  ///< longer / shorter side of the bounding box
   /// (for callers) a seed whose outline the frame's edges miss, and a track's expected outline,
-  /// are searched again on the image with its brightness removed (remove_brightness), in both
-  /// eyes
+  /// are searched again on the image with its brightness removed (remove_brightness in
+  /// edge_map.hpp), in both eyes
   bool chroma_outlines = true;
 };
-
-/// How much remove_brightness amplifies each channel's difference from the pixel's mean: a hue
-/// step of a few grey levels (a dull lilac rim on grey carpet) clears the edge step's floor of
-/// 6 grey levels, and a saturated colour clips only on the far side of 128.
-constexpr int kBrightnessFreeGain = 2;
-
-/// The colour image with its brightness taken out: each channel becomes 128 + gain * (channel -
-/// mean of the pixel's three), clipped to [0, 255] (CV_8UC3, same size; out is reused). Grey of
-/// any brightness maps to (128, 128, 128), so the brightness texture of a grey or evenly
-/// tinted floor vanishes while a hue step keeps its edge.
-void remove_brightness(const cv::Mat& bgr, cv::Mat& out);
 
 /// Chroma per pixel of a BGR image: max - min of B, G and R (CV_8UC1, same size).
 cv::Mat colour_chroma(const cv::Mat& bgr);

@@ -177,4 +177,27 @@ EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& p
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, const CannyThresholds& fixed,
                       bool denoise, EdgeMap& out);
 
+/// How much remove_brightness amplifies each channel's difference from the pixel's mean: a hue
+/// step of a few grey levels (a dull lilac rim on grey carpet) clears the edge step's floor of
+/// 6 grey levels, and a saturated colour clips only on the far side of 128.
+constexpr int kBrightnessFreeGain = 2;
+
+/// The colour image with its brightness taken out: each channel becomes 128 + gain * (channel -
+/// mean of the pixel's three), clipped to [0, 255] (CV_8UC3, same size; out is reused). Grey of
+/// any brightness maps to (128, 128, 128), so the brightness texture of a grey or evenly
+/// tinted floor vanishes while a hue step keeps its edge.
+void remove_brightness(const cv::Mat& bgr, cv::Mat& out);
+
+/// compute_edge_map() of bgr (CV_8UC3, may be a crop of a camera image) with its brightness
+/// removed (into scratch, reused): only hue steps leave edges. frame_px is bgr's, as if bgr
+/// itself had been mapped (scratch is an image of its own, not a crop: its frame would be the
+/// box, which puts a crop's border rule and its camera's perspective in the wrong place).
+/// Thresholds measured on that image.
+void compute_brightness_free_edge_map(const cv::Mat& bgr, const EdgeParams& params,
+                                      cv::Mat& scratch, EdgeMap& out);
+/// Same with the thresholds and the pre-blur decision taken elsewhere.
+void compute_brightness_free_edge_map(const cv::Mat& bgr, const EdgeParams& params,
+                                      const CannyThresholds& fixed, bool denoise, cv::Mat& scratch,
+                                      EdgeMap& out);
+
 }  // namespace stereoball::ball_detector

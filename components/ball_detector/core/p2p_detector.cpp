@@ -1,6 +1,5 @@
 #include "ball_detector/core/p2p_detector.hpp"
 
-#include "ball_detector/core/colour_seeds.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
 #include "ball_detector/core/voting.hpp"
 
@@ -747,9 +746,7 @@ std::vector<Circle> PixelToPixelDetector::detect_at_seeds_without_brightness(
   orientation_ready_ = false;
   if (bgr.type() != CV_8UC3 || !validate_image(bgr).ok() || !(radii_.max_px > radii_.min_px))
     return {};
-  remove_brightness(bgr, brightness_free_);
-  compute_edge_map(brightness_free_, params_.edge, edges_);
-  edges_.frame_px = frame_of(bgr);  // a crop of the camera image: borders and camera as bgr's
+  compute_brightness_free_edge_map(bgr, params_.edge, brightness_free_, edges_);
   edges_ready_ = true;
   return refine_seeds(seeds);
 }

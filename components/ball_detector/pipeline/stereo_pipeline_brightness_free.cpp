@@ -1,9 +1,8 @@
 // StereoPipeline's last resort for a hue-only rim: the colour seeds' outlines, or a track's
-// expected outline, searched again on the images with their brightness removed (colour_seeds.hpp,
-// remove_brightness).
+// expected outline, searched again on the images with their brightness removed (edge_map.hpp,
+// compute_brightness_free_edge_map).
 
 #include "ball_detector/core/circle_fit.hpp"
-#include "ball_detector/core/colour_seeds.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 
 namespace stereoball::ball_detector {
@@ -20,11 +19,9 @@ std::optional<Circle> StereoPipeline::right_outline_without_brightness(
   rectify_box(right_channel, stereo::Eye::kRight, rectified, box, rect_right_);
   // The left box's thresholds: the partner box is mostly floor, and its own statistics would
   // depend on how much of it the ball covers.
-  remove_brightness(rect_right_(box), brightness_free_right_);
   const PixelToPixelParams p2p = params_.detector_params();
-  compute_edge_map(brightness_free_right_, p2p.edge, thresholds.canny, thresholds.denoise,
-                   partner_edges_);
-  partner_edges_.frame_px = frame_of(rect_right_(box));  // the right camera's image
+  compute_brightness_free_edge_map(rect_right_(box), p2p.edge, thresholds.canny, thresholds.denoise,
+                                   brightness_free_right_, partner_edges_);
   const double min_inside = std::max(params_.predicted_partner_min_inside_fraction,
                                      p2p.refine_params.min_inside_fraction);
   const RefineParams scoring = partner_scoring(min_inside);
