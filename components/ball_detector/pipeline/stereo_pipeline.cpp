@@ -632,11 +632,7 @@ PairingResult StereoPipeline::pair_with_predicted_partners(
   // needs the detector's own border rule, for a left circle at the left border whose partner is
   // mostly outside the right image has too little of it in view to tell a ball from a chance
   // circle in dense texture (development seed 202: most of the carpet circles still followed).
-  const double min_inside =
-      near_prior ? params_.predicted_partner_min_inside_fraction
-                 : std::max(params_.predicted_partner_min_inside_fraction,
-                            params_.detector_params().refine_params.min_inside_fraction);
-  const auto predicted = predicted_partners(ctx, min_inside);
+  const auto predicted = predicted_partners(ctx, partner_min_inside_fraction(near_prior));
   if (predicted.empty()) return pairing;
   right_candidates_.insert(right_candidates_.end(), predicted.begin(), predicted.end());
   return pair_candidates(ctx, left_candidates_, right_candidates_, prior);
@@ -699,6 +695,22 @@ std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& 
   return found;
 }
 
+double StereoPipeline::partner_min_inside_fraction(bool near_prior) const {
+  return near_prior ? params_.predicted_partner_min_inside_fraction
+                    : std::max(params_.predicted_partner_min_inside_fraction,
+                               params_.p2p.refine_params.min_inside_fraction);
+}
+
+std::optional<Circle> StereoPipeline::partner_on_edges(const PairingContext& ctx,
+                                                       const Circle& left, const EdgeMap& edges,
+                                                       cv::Point origin,
+                                                       const RefineParams& scoring) const {
+  const auto score = [&](const Circle& c) {
+    return score_circle(edges, shifted(c, -origin), scoring);
+  };
+  return predicted_partner(ctx, left, score, params_.p2p.min_score);
+}
+
 RefineParams StereoPipeline::partner_scoring(double min_inside_fraction) const {
   RefineParams scoring = params_.detector_params().refine_params;
   scoring.min_inside_fraction = min_inside_fraction;
@@ -731,13 +743,7 @@ std::vector<Circle> StereoPipeline::predicted_partners(const PairingContext& ctx
       edges = &partner_edges_;
       origin = box.tl();
     }
-    const auto score = [&](const Circle& c) {
-      Circle in_box = c;
-      in_box.x_px -= origin.x;
-      in_box.y_px -= origin.y;
-      return score_circle(*edges, in_box, scoring);
-    };
-    if (auto partner = predicted_partner(ctx, left, score, p2p.min_score))
+    if (auto partner = partner_on_edges(ctx, left, *edges, origin, scoring))
       found.push_back(*partner);
   }
   return found;

@@ -238,6 +238,14 @@ class StereoPipeline {
   /// How a right outline predicted from a left circle is scored (min_inside_fraction of it in
   /// view): no clutter rings, the right camera's perspective.
   RefineParams partner_scoring(double min_inside_fraction) const;
+  /// How much of a predicted right outline must be in view: near a track's prior the predicted
+  /// partner's own fraction, elsewhere also the detector's border rule.
+  double partner_min_inside_fraction(bool near_prior) const;
+  /// The right outline of left's ball along its epipolar line (predicted_partner), scored on
+  /// edges whose pixel (0, 0) is origin in the rectified right image; p2p.min_score to pass.
+  std::optional<Circle> partner_on_edges(const PairingContext& ctx, const Circle& left,
+                                         const EdgeMap& edges, cv::Point origin,
+                                         const RefineParams& scoring) const;
   int window_margin_px() const;
   std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
                                             bool rectified, bool near_prior);

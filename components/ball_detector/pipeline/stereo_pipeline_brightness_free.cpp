@@ -22,13 +22,9 @@ std::optional<Circle> StereoPipeline::right_outline_without_brightness(
   const PixelToPixelParams p2p = params_.detector_params();
   compute_brightness_free_edge_map(rect_right_(box), p2p.edge, thresholds.canny, thresholds.denoise,
                                    brightness_free_right_, partner_edges_);
-  const double min_inside = std::max(params_.predicted_partner_min_inside_fraction,
-                                     p2p.refine_params.min_inside_fraction);
-  const RefineParams scoring = partner_scoring(min_inside);
-  const auto score = [&](const Circle& c) {
-    return score_circle(partner_edges_, shifted(c, -box.tl()), scoring);
-  };
-  return predicted_partner(ctx, left, score, p2p.min_score);
+  // As away from a track (the search near a prior gets no laxer border rule here).
+  return partner_on_edges(ctx, left, partner_edges_, box.tl(),
+                          partner_scoring(partner_min_inside_fraction(false)));
 }
 
 PairingResult StereoPipeline::pair_seeds_without_brightness(
