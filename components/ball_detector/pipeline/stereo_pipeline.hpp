@@ -72,7 +72,8 @@ constexpr double kRadiusBandRatio = 2.5;
 /// The band search costs about 7 ms of CPU on a 640x480 frame (red input; 45 ms when each band
 /// redid the edge step, 13 ms when it redid the window rules); frames after frames without a
 /// pair get it on the first of them and then every this many (at 30 Hz a ball coming into
-/// view is looked for band by band within 0.17 s).
+/// view is looked for band by band within 0.17 s). A band search that pairs starts the count
+/// again: the next frame without a pair gets the bands at once.
 constexpr int kBandSearchEveryFrames = 5;
 
 /// Runs task(0) .. task(n - 1), possibly at the same time, and returns once all are done. Each
