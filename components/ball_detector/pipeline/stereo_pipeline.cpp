@@ -341,8 +341,9 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   if (whole_frame && pairing->status != PairingStatus::kFound &&
       frames_without_pair_++ % kBandSearchEveryFrames == 0) {
     out.search = SearchPath::kRadiusBands;
-    // The bands found the ball the whole range missed (one that clutter outscores): the next
-    // frame without a pair tries them again at once, not kBandSearchEveryFrames later.
+    // The bands paired what the whole range missed (a ball that clutter outscores in one
+    // accumulator): the next frame without a pair tries them again at once, not
+    // kBandSearchEveryFrames later.
     if (fall_back_to([&] {
           if (!band_left) band_left = detect_left_in_bands(nullptr);
           return search_radius_bands(ctx, std::move(*band_left), right_channel, rectified, prior);
