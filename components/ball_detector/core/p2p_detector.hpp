@@ -205,8 +205,8 @@ class PixelToPixelDetector final : public CircleDetector {
   /// radius range: for seeds found some other way than by this detector's votes.
   std::vector<Circle> refine_seeds(std::span<const Circle> seeds) const;
   /// Addition (colour seeds): detect_at_seeds() on bgr (CV_8UC3) with its brightness removed
-  /// (compute_brightness_free_edge_map in edge_map.hpp), with thresholds measured on that image itself
-  /// (bgr is a box around the seeds: its statistics are the ball's and its surroundings'). A
+  /// (compute_brightness_free_edge_map in edge_map.hpp), with thresholds measured on that image
+  /// itself (bgr is a box around the seeds: its statistics are the ball's and its surroundings'). A
   /// ball whose rim differs from the floor in hue but hardly in brightness, on a floor whose
   /// brightness texture sets the frame's thresholds, has its outline here. Empty for an image
   /// that is not colour.
