@@ -323,13 +323,17 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey,
 bool PixelToPixelDetector::edges_with_hints(const cv::Mat& bgr_or_grey,
                                             const EdgeThresholds& thresholds,
                                             const SearchHints& hints) {
-  start(hints);
-  edges_ready_ = false;
-  orientation_ready_ = false;  // planes of the previous edge map
-  if (!validate_image(bgr_or_grey).ok() || !(radii_.max_px > radii_.min_px)) return false;
+  if (!begin_edge_step(bgr_or_grey, hints)) return false;
   compute_edge_map(bgr_or_grey, params_.edge, thresholds.canny, thresholds.denoise, edges_);
   edges_ready_ = true;
   return true;
+}
+
+bool PixelToPixelDetector::begin_edge_step(const cv::Mat& image, const SearchHints& hints) {
+  start(hints);
+  edges_ready_ = false;
+  orientation_ready_ = false;  // planes of the previous edge map
+  return validate_image(image).ok() && radii_.max_px > radii_.min_px;
 }
 
 std::vector<Circle> PixelToPixelDetector::redetect(const SearchHints& hints) {
@@ -741,11 +745,7 @@ std::vector<Circle> PixelToPixelDetector::detect_at_seeds(const cv::Mat& bgr_or_
 
 std::vector<Circle> PixelToPixelDetector::detect_at_seeds_without_brightness(
     const cv::Mat& bgr, const SearchHints& hints, std::span<const Circle> seeds) {
-  start(hints);
-  edges_ready_ = false;
-  orientation_ready_ = false;
-  if (bgr.type() != CV_8UC3 || !validate_image(bgr).ok() || !(radii_.max_px > radii_.min_px))
-    return {};
+  if (!begin_edge_step(bgr, hints) || bgr.type() != CV_8UC3) return {};
   compute_brightness_free_edge_map(bgr, params_.edge, brightness_free_, edges_);
   edges_ready_ = true;
   return refine_seeds(seeds);

@@ -266,6 +266,9 @@ class PixelToPixelDetector final : public CircleDetector {
   /// The edge step of detect(image, thresholds, hints) (false: nothing to search).
   bool edges_with_hints(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
                         const SearchHints& hints);
+  // The edge step's start: the hints taken, the last edge map forgotten; false when image or
+  // the radius range leaves nothing to find.
+  bool begin_edge_step(const cv::Mat& image, const SearchHints& hints);
   std::vector<Circle> detect_coarse_to_fine(const cv::Mat& image);
   std::optional<Circle> refine_in_window(const EdgeMap& edges, const cv::Rect& window,
                                          Circle seed) const;

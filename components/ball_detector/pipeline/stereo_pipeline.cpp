@@ -425,11 +425,8 @@ std::optional<PairingResult> StereoPipeline::search_near_prior(const PairingCont
     left_candidates_.clear();  // the box is searched as if that had not been tried
     rejected_by_colour_ = rejected_before;
   }
-  for (Circle c : left_detector_.detect(rect_left_(box), *left_thresholds_, hints)) {
-    c.x_px += box.x;
-    c.y_px += box.y;
-    left_candidates_.push_back(c);
-  }
+  for (const Circle& c : left_detector_.detect(rect_left_(box), *left_thresholds_, hints))
+    left_candidates_.push_back(shifted(c, box.tl()));
   right_candidates_ = detect_right_in_boxes(ctx, right_channel, rectified, true);
   PairingResult pairing = pair_with_predicted_partners(ctx, prior, true);
   ++frames_since_full_search_;
@@ -614,11 +611,8 @@ PairingResult StereoPipeline::search_radius_bands(const PairingContext& ctx,
     rectify_box(right_channel, stereo::Eye::kRight, rectified, box, rect_right_);
     right_edges_box_ = box;
     const SearchHints hints{partner_radius_range(ctx, {left})};
-    for (Circle c : right_detector_.detect(rect_right_(box), thresholds, hints)) {
-      c.x_px += box.x;
-      c.y_px += box.y;
-      right_candidates_.push_back(c);
-    }
+    for (const Circle& c : right_detector_.detect(rect_right_(box), thresholds, hints))
+      right_candidates_.push_back(shifted(c, box.tl()));
   }
   PairingResult pairing = pair_with_predicted_partners(ctx, prior, false);
   return pairing;
@@ -687,12 +681,9 @@ std::vector<Circle> StereoPipeline::detect_right_in_boxes(const PairingContext& 
     rectify_box(right_channel, stereo::Eye::kRight, rectified, box, rect_right_);
     right_edges_box_ = box;
     // The left image's thresholds: the box's own statistics depend on what it holds.
-    for (Circle c : right_detector_.detect(rect_right_(box),
-                                           thresholds_of(left_detector_.edge_map()), hints)) {
-      c.x_px += box.x;
-      c.y_px += box.y;
-      found.push_back(c);
-    }
+    for (const Circle& c :
+         right_detector_.detect(rect_right_(box), thresholds_of(left_detector_.edge_map()), hints))
+      found.push_back(shifted(c, box.tl()));
   }
   std::stable_sort(found.begin(), found.end(),
                    [](const Circle& a, const Circle& b) { return a.score > b.score; });
@@ -883,9 +874,7 @@ std::optional<Circle> StereoPipeline::refit_at_radius(const cv::Mat& channel, st
       std::hypot(refit->x_px - seed.x_px, refit->y_px - seed.y_px) >
           std::abs(radius_px - circle.radius_px) + 1.0)
     return std::nullopt;
-  refit->x_px += region.x;
-  refit->y_px += region.y;
-  return refit;
+  return shifted(*refit, region.tl());
 }
 
 void StereoPipeline::raw_left_px(const std::vector<cv::Point2d>& rectified_px,

@@ -99,7 +99,8 @@ enum class SearchPath {
   kPriorWindow,       ///< voting in the box around the prior
   kWholeFrame,        ///< voting over the whole left eye
   kRadiusBands,       ///< the whole left eye again, radius band by radius band
-  /// the colour seeds' outlines on the images with their brightness removed, in both eyes
+  /// the colour seeds' outlines, or near a prior its expected outline, on the images with
+  /// their brightness removed, in both eyes
   kBrightnessFree,
 };
 
