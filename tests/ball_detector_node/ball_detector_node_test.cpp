@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ball_detector/node/detection_msg.hpp"
@@ -413,6 +414,26 @@ TEST_F(BallDetectorNodeTest, GivenBurstOfFrames_ThenSkippedFramesCountedAndNewes
   EXPECT_EQ(answered.size() + *dropped, static_cast<size_t>(kBurst))
       << answered.size() << " answered, " << *dropped << " dropped";
   EXPECT_GE(answered.size(), 1u);
+}
+
+// Given a calibrated node that is idle between frames,
+// when frames arrive two sequence numbers apart (the frames between were never sent, as if the
+// transport had lost them),
+// then the heartbeat counts them as lost in transport (not as replaced while busy) and the node
+// warns with the remedies.
+TEST_F(BallDetectorNodeTest, GivenSequenceGapsWhileIdle_ThenFramesLostInTransportCounted) {
+  publish_calibration();
+  sb::testing::eventually(
+      [&] { return send(good_frame()).msg.status != stereoball_msg_DETECTION_NO_CALIBRATION; },
+      10s);
+  for (int i = 0; i < 3; ++i) {
+    seq_ += 2;                          // two frames never published
+    std::this_thread::sleep_for(50ms);  // the node has answered and waits
+    EXPECT_NE(send(good_frame()).msg.frame_seq, 0u);
+  }
+  EXPECT_TRUE(heartbeat_counter_at_least("frames_lost_in_transport", 6)) << node_->output();
+  EXPECT_TRUE(node_->wait_for_output("published but never received", 5s)) << node_->output();
+  EXPECT_NE(node_->output().find("frame_encoding: jpeg"), std::string::npos) << node_->output();
 }
 
 // Given a running node, when it receives SIGTERM, then it exits cleanly with code 0.

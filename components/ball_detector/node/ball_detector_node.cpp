@@ -3,6 +3,7 @@
 #include <string>
 
 #include "ball_detector/node/detection_msg.hpp"
+#include "common/dds/shared_memory.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
 namespace stereoball::ball_detector {
@@ -13,6 +14,9 @@ const std::string kCalibrationTopic(topics::kStereoCalibration.spec.name);
 const std::string kDetectionTopic(topics::kBallDetection.spec.name);
 // No frame for this long makes the node report itself unhealthy.
 constexpr std::int64_t kInputTimeoutNs = 2'000'000'000;
+// A frame handed over later than this after the previous frame's work ended was not waiting in
+// the reader: the detector was idle, so frames missing before it never arrived.
+constexpr std::int64_t kIdleNs = 2'000'000;
 
 }  // namespace
 
@@ -28,7 +32,10 @@ BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParam
       [this](int n, const std::function<void(int)>& task) { helper_.run(n, task); });
   runner_.on_data(calibration_.handle(), [this] { on_calibration(); });
   runner_.on_data(frames_.handle(), [this] { on_frames(); });
-  runner_.every(1'000'000'000, [this](std::int64_t now_ns) { check_input(now_ns); });
+  runner_.every(1'000'000'000, [this](std::int64_t now_ns) {
+    check_input(now_ns);
+    report_gaps(now_ns);
+  });
   runner_.health().set_state(false, "waiting for stereo/calibration");
 }
 
@@ -97,9 +104,57 @@ void BallDetectorNode::on_frames() {
   runner_.health().count(kFrameTopic, valid);
   last_frame_ns_ = node::now_ns();
   const stereoball_msg_StereoFrame& frame = loaned[*latest];
+  const std::int64_t arrived_ns = node::monotonic_ns();
+  gaps_.step(frame.seq, idle_since_ns_ == 0 || arrived_ns - idle_since_ns_ > kIdleNs);
   count_skipped(frame.seq, valid - 1);
+  check_transport(frame);
   check_frame_size(frame);
   process(frame);
+  idle_since_ns_ = node::monotonic_ns();
+}
+
+// At the first frame (and whenever a frame is larger than any before): does such a sample fit
+// the socket receive buffer? A frame that does not is reported once with the remedies.
+void BallDetectorNode::check_transport(const stereoball_msg_StereoFrame& frame) {
+  const std::uint64_t sample =
+      stereo::frame_sample_bytes(frame.left.data._length, frame.right.data._length);
+  if (sample <= largest_sample_bytes_) return;
+  largest_sample_bytes_ = sample;
+  if (!transport_) {
+    transport_ = stereo::read_transport_limits(dds::ensure_shared_memory_usable() ==
+                                               dds::SharedMemoryState::kOn);
+    runner_.health().set_counter("receive_buffer_bytes", transport_->receive_buffer_bytes());
+  }
+  runner_.health().set_counter("frame_sample_bytes", sample);
+  if (oversize_reported_) return;
+  const std::string what = std::string(frame.encoding ? frame.encoding : "?") + " " +
+                           std::to_string(frame.left.width_px) + "x" +
+                           std::to_string(frame.left.height_px) + " frames received";
+  if (auto warning = stereo::oversize_warning(sample, *transport_, what)) {
+    oversize_reported_ = true;
+    log::warn(*warning);
+    runner_.health().error("frame_too_large", *warning);
+  }
+}
+
+// Once a second: frames published but never received; a warning (at most once a minute) when
+// they are frequent.
+void BallDetectorNode::report_gaps(std::int64_t now_ns) {
+  const FrameGapPeriod period = gaps_.take_period();
+  runner_.health().set_counter("frames_lost_in_transport", gaps_.lost());
+  runner_.health().set_counter("frames_replaced_while_busy", gaps_.replaced_while_busy());
+  if (!frequent_losses(period) || !gap_log_.allow(now_ns)) return;
+  char share[16];
+  std::snprintf(share, sizeof share, "%.0f %%",
+                100.0 * static_cast<double>(period.lost) /
+                    static_cast<double>(period.received + period.lost));
+  const std::uint64_t buffer = transport_ ? transport_->receive_buffer_bytes() : 0;
+  log::warn("stereo/frame: ", period.lost, " of ", period.received + period.lost,
+            " frames of the last second (", share,
+            ") were published but never received (sequence gaps while the detector waited); "
+            "largest sample ",
+            largest_sample_bytes_, " bytes, socket receive buffer ", buffer, " bytes. ",
+            stereo::transport_remedies(largest_sample_bytes_));
 }
 
 void BallDetectorNode::count_skipped(std::uint64_t seq, std::uint64_t batch_skipped) {

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "ball_detector/node/frame_gaps.hpp"
 #include "ball_detector/node/task_helper.hpp"
 #include "ball_detector/pipeline/calibration_gate.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
@@ -15,6 +16,7 @@
 #include "common/util/log.hpp"
 #include "stereo/core/eye_order.hpp"
 #include "stereo/frame/frame_decoder.hpp"
+#include "stereo/frame/frame_transport.hpp"
 
 namespace stereoball::ball_detector {
 
@@ -40,6 +42,8 @@ class BallDetectorNode {
   void check_eye_order(const cv::Mat& left, const cv::Mat& right, bool rectified);
   std::optional<PositionPrior> prior_for(std::int64_t frame_stamp_ns);
   void count_skipped(std::uint64_t seq, std::uint64_t batch_skipped);
+  void check_transport(const stereoball_msg_StereoFrame& frame);
+  void report_gaps(std::int64_t now_ns);
   void report_problem(const StereoDetection& det, std::uint64_t seq, std::int64_t now_ns);
   void publish(const StereoDetection& det, const stereoball_msg_StereoFrame& frame,
                std::int64_t start_mono_ns);
@@ -69,6 +73,13 @@ class BallDetectorNode {
   log::Throttle bad_frame_log_{1'000'000'000};
   log::Throttle uncalibrated_log_{1'000'000'000};
   std::uint64_t bad_frames_logged_ = 0;
+  // Frames that do not cross the transport: sample size vs receive buffer, and seq gaps.
+  FrameGaps gaps_;
+  std::int64_t idle_since_ns_ = 0;  // monotonic end of the last frame's work (0 = none yet)
+  std::optional<stereo::TransportLimits> transport_;  // read at the first frame
+  std::uint64_t largest_sample_bytes_ = 0;
+  bool oversize_reported_ = false;
+  log::Throttle gap_log_{60'000'000'000};
 };
 
 }  // namespace stereoball::ball_detector

@@ -26,6 +26,25 @@ Status check_controls(const C& c) {
                                     "or 0 = leave"));
 }
 
+// A publish width scales decoded images down: smaller than the capture, even, not tiny.
+Status check_publish_width(const P& p) {
+  const uint32_t w = p.publish_width_px;
+  if (w == 0) return {};
+  const std::string key = "key 'publish_width_px': " + std::to_string(w);
+  if (w % 2 != 0) return error(key + " must be even (0 = publish as captured)");
+  if (w < 16) return error(key + " is below 16 px (0 = publish as captured)");
+  if (p.source == "v4l2" && w >= p.width_px) {
+    return error(key + " must be smaller than width_px (" + std::to_string(p.width_px) +
+                 "): frames are only scaled down (0 = publish as captured)");
+  }
+  if (p.source == "v4l2" && p.publish_encoding == "native") {
+    return error(key +
+                 " needs decoded images: set publish_encoding to bgr8 (native yuyv/jpeg "
+                 "frames are published as captured and cannot be scaled)");
+  }
+  return {};
+}
+
 // The rules between fields: pixel layout, source-specific inputs, decoded images where needed.
 Status check_rules(const P& p) {
   if (p.width_px % 2 != 0) {
@@ -36,6 +55,7 @@ Status check_rules(const P& p) {
                  " needs decoded images: set publish_encoding to bgr8 (native yuyv/jpeg frames "
                  "are published as captured)");
   }
+  if (auto st = check_publish_width(p); !st) return st;
   if (auto st = check_controls(p.controls); !st) return st;
   if (p.reopen_max_s < p.reopen_initial_s) {
     return error(params::out_of_range("reopen_max_s", p.reopen_max_s, {p.reopen_initial_s, 600.0},
@@ -104,6 +124,10 @@ std::vector<params::Field<P>> capture_fields() {
           number("buffer_count", at(&P::buffer_count), 4u, {2, 32}, "", "mmap buffers per camera")),
       optional(choice("publish_encoding", at(&P::publish_encoding), "bgr8", {"bgr8", "native"},
                       "bgr8 (converted) or native (yuyv/jpeg as captured)")),
+      optional(number("publish_width_px", at(&P::publish_width_px), 0u, {0, 8192}, "px",
+                      "each eye scaled (area interpolation) to this width before publishing, "
+                      "height in proportion, calibration scaled with it; even, smaller than the "
+                      "capture; 0 = as captured")),
   };
 }
 

@@ -41,6 +41,7 @@ struct CameraServerParams {
   int64_t max_skew_ns;
   uint32_t buffer_count;
   std::string publish_encoding;
+  uint32_t publish_width_px;  ///< eyes scaled to this width before publishing (0 = as captured)
   stereo::FrameCodecParams output;  ///< frame_encoding (raw|jpeg|png) and jpeg_quality
   CameraControls controls;          ///< applied to both cameras
   double reopen_initial_s;

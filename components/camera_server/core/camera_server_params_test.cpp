@@ -50,6 +50,31 @@ TEST(CameraServerParams, GivenBadFieldsWhenValidatedThenEachIsNamed) {
                     "publish_encoding"));
 }
 
+TEST(CameraServerParams, GivenAPublishWidthThatCannotBeUsedWhenValidatedThenTheKeyIsNamed) {
+  auto error_after = [](auto mutate) {
+    CameraServerParams p;  // 640x480 cameras, bgr8
+    mutate(p);
+    return p.validate();
+  };
+  // Given widths that are odd, tiny, not smaller than the capture, or native passthrough
+  EXPECT_TRUE(names(error_after([](auto& p) { p.publish_width_px = 321; }), "must be even"));
+  EXPECT_TRUE(names(error_after([](auto& p) { p.publish_width_px = 8; }), "publish_width_px"));
+  EXPECT_TRUE(names(error_after([](auto& p) { p.publish_width_px = 640; }), "smaller than"));
+  EXPECT_TRUE(names(error_after([](auto& p) { p.publish_width_px = 1280; }), "publish_width_px"));
+  EXPECT_TRUE(names(error_after([](auto& p) { p.publish_width_px = 9000; }), "publish_width_px"));
+  EXPECT_TRUE(names(error_after([](auto& p) {
+                      p.publish_width_px = 320;
+                      p.publish_encoding.assign("native");
+                    }),
+                    "publish_width_px"));
+  // Then a half width of decoded frames, or 0 (as captured), is accepted
+  CameraServerParams p;
+  p.publish_width_px = 320;
+  EXPECT_TRUE(p.validate()) << p.validate().error();
+  p.publish_width_px = 0;
+  EXPECT_TRUE(p.validate()) << p.validate().error();
+}
+
 TEST(CameraServerParams, GivenFileSourceWhenInputsAmbiguousOrMissingThenError) {
   CameraServerParams p;
   p.source = "files";

@@ -1,7 +1,10 @@
 #include "camera_server/node/camera_server_node.hpp"
 
+#include "camera_server/core/format_negotiation.hpp"
 #include "camera_server/io/v4l2_device.hpp"
+#include "common/dds/shared_memory.hpp"
 #include "common/util/log.hpp"
+#include "stereo/core/calibration_scaling.hpp"
 #include "stereo/core/eye_order.hpp"
 #include "stereo/frame/frame_msg.hpp"
 #include "stereo/io/calibration_file.hpp"
@@ -55,21 +58,74 @@ Status CameraServerNode::open_source() {
     size = files_->image_size();
     log::info("file source: ", files_->size(), " pairs, ", size_text(size), " ", files_->encoding(),
               ", ", params_.rate_hz, " Hz");
-  } else {
-    source_name_ = "v4l2:" + params_.left_device + "+" + params_.right_device;
-    capture_ = std::make_unique<StereoCapture>(params_,
-                                               [](Eye) { return std::make_unique<V4l2Device>(); });
-    // Check the calibration before touching the cameras: a wrong size is a config error.
+    if (auto st = open_scaler(size); !st) return st;
     if (auto st = open_calibration(size); !st) return st;
-    const DeviceStatus st = capture_->start();
-    if (!st.ok()) return Error{st.message};
-    for (const auto& line : capture_->take_log()) log::warn(line);
-    const auto h = capture_->health();
-    log::info("streaming ", source_name_, " as ", fourcc_text(h.eyes[0].format.fourcc), " ",
-              size_text(size), " at ", params_.rate_hz, " Hz");
+    check_transport(files_->encoding());
     return {};
   }
-  return open_calibration(size);
+  source_name_ = "v4l2:" + params_.left_device + "+" + params_.right_device;
+  capture_ =
+      std::make_unique<StereoCapture>(params_, [](Eye) { return std::make_unique<V4l2Device>(); });
+  // Check the calibration before touching the cameras: a wrong size is a config error.
+  if (auto st = open_scaler(size); !st) return st;
+  if (auto st = open_calibration(size); !st) return st;
+  const DeviceStatus st = capture_->start();
+  if (!st.ok()) return Error{st.message};
+  for (const auto& line : capture_->take_log()) log::warn(line);
+  const auto h = capture_->health();
+  log::info("streaming ", source_name_, " as ", fourcc_text(h.eyes[0].format.fourcc), " ",
+            size_text(size), " at ", params_.rate_hz, " Hz");
+  const bool native = params_.publish_encoding == "native";
+  check_transport(!native ? "bgr8" : h.eyes[0].format.fourcc == kFourccYuyv ? "yuyv" : "jpeg");
+  return {};
+}
+
+Status CameraServerNode::open_scaler(cv::Size capture_size) {
+  publish_size_ = capture_size;
+  const uint32_t w = params_.publish_width_px;
+  if (w == 0) return {};
+  if (w >= static_cast<uint32_t>(capture_size.width)) {
+    return Error{"key 'publish_width_px': " + std::to_string(w) +
+                 " must be smaller than the captured width (" + size_text(capture_size) +
+                 "): frames are only scaled down (0 = publish as captured)"};
+  }
+  scaler_.emplace(static_cast<int>(w));
+  publish_size_ = scaler_->output_size(capture_size);
+  log::info("publishing ", size_text(publish_size_), " eyes scaled from ", size_text(capture_size),
+            " (publish_width_px)", params_.calibration_file.empty() ? "" : " with the calibration");
+  return {};
+}
+
+// Raw frames have a known size: compare it with the receive buffer once, at start. Compressed
+// frames are checked as they are published (check_sample).
+void CameraServerNode::check_transport(const std::string& raw_encoding) {
+  transport_ = stereo::read_transport_limits(dds::ensure_shared_memory_usable() ==
+                                             dds::SharedMemoryState::kOn);
+  runner_.health().set_counter("receive_buffer_bytes", transport_.receive_buffer_bytes());
+  if (params_.output.compressed() || raw_encoding == "jpeg") return;
+  const uint64_t bytes_per_px = raw_encoding == "bgr8" ? 3 : raw_encoding == "yuyv" ? 2 : 1;
+  const uint64_t eye = static_cast<uint64_t>(publish_size_.area()) * bytes_per_px;
+  const uint64_t sample = stereo::frame_sample_bytes(eye, eye);
+  runner_.health().set_counter("frame_sample_bytes", sample);
+  report_oversize(sample, "raw " + size_text(publish_size_) + " " + raw_encoding + " frames");
+}
+
+void CameraServerNode::report_oversize(uint64_t sample_bytes, const std::string& what) {
+  if (oversize_reported_) return;
+  const auto warning = stereo::oversize_warning(sample_bytes, transport_, what);
+  if (!warning) return;
+  oversize_reported_ = true;
+  log::warn(*warning);
+  runner_.health().error("frame_too_large", *warning);
+}
+
+void CameraServerNode::check_sample(const stereo::FrameView& view) {
+  const uint64_t sample = stereo::frame_sample_bytes(view.left.bytes, view.right.bytes);
+  if (sample <= largest_sample_bytes_) return;
+  largest_sample_bytes_ = sample;
+  runner_.health().set_counter("frame_sample_bytes", sample);
+  report_oversize(sample,
+                  view.encoding + " " + size_text(publish_size_) + " frames (largest so far)");
 }
 
 Status CameraServerNode::open_calibration(cv::Size capture_size) {
@@ -86,8 +142,14 @@ Status CameraServerNode::open_calibration(cv::Size capture_size) {
     return Error{"calibration " + params_.calibration_file + ": " + swapped.error() + "; " +
                  kHowToSwap + " and calibrate again (stereoball calibrate)"};
   }
+  if (scaler_) {
+    auto scaled = stereo::scale_calibration(*calib, publish_size_);
+    if (!scaled) return Error{params_.calibration_file + ": " + scaled.error()};
+    calib = std::move(scaled);
+  }
   calibration_.emplace(std::move(calib).value());
-  // Also without `rectify`: the eye-order check of the first frames rectifies them.
+  // Also without `rectify`: the eye-order check of the first frames rectifies them (at the
+  // published size: frames are scaled before they are rectified).
   auto r = stereo::Rectifier::create(*calibration_);
   if (!r) return Error{params_.calibration_file + ": " + r.error()};
   rectifier_.emplace(std::move(r).value());
@@ -103,8 +165,11 @@ void CameraServerNode::start() {
   }
   if (!calibration_) log::warn("no calibration_file: stereo/calibration is not published");
   if (calibration_) {
+    const std::string source =
+        scaler_ ? params_.calibration_file + " scaled to " + size_text(publish_size_)
+                : params_.calibration_file;
     calibration_writer_.write(
-        stereo::calibration_to_message(*calibration_, node::now_ns(), params_.calibration_file));
+        stereo::calibration_to_message(*calibration_, node::now_ns(), source));
     runner_.health().count(std::string(topics::kStereoCalibration.spec.name));
   }
   if (files_) {
@@ -142,6 +207,7 @@ void CameraServerNode::capture_loop() {
       if (line.find(" lost: ") != std::string::npos) runner_.health().error("camera_lost", line);
     }
     for (const auto& pair : pairs) {
+      skew_.add(pair.left_stamp_ns, pair.right_stamp_ns);
       auto view = builder_.step(pair);
       if (!view) {
         runner_.health().error("bad_frame", view.error());
@@ -150,6 +216,17 @@ void CameraServerNode::capture_loop() {
       publish(*view);
     }
     update_capture_health();
+    update_skew_health(node::monotonic_ns());
+  }
+}
+
+void CameraServerNode::update_skew_health(int64_t now_ns) {
+  if (skew_period_ns_ == 0) skew_period_ns_ = now_ns;
+  if (now_ns - skew_period_ns_ < 1'000'000'000) return;
+  skew_period_ns_ = now_ns;
+  if (const auto s = skew_.take()) {
+    runner_.health().set_counter("eye_skew_us_p50", s->p50_us);
+    runner_.health().set_counter("eye_skew_us_max", s->max_us);
   }
 }
 
@@ -223,12 +300,32 @@ void CameraServerNode::check_eye_order(const stereo::FrameView& view) {
   }
 }
 
-void CameraServerNode::publish(const stereo::FrameView& view) {
+// The view scaled to publish_width_px in storage, the view itself without a publish width, or
+// nullptr when it could not be scaled (counted in health).
+const stereo::FrameView* CameraServerNode::scale(const stereo::FrameView& view,
+                                                 stereo::FrameView& storage) {
+  if (!scaler_) return &view;
+  auto v = scaler_->step(view);
+  if (!v) {
+    runner_.health().error("scale", v.error());
+    return nullptr;
+  }
+  storage = *v;
+  return &storage;
+}
+
+void CameraServerNode::publish(const stereo::FrameView& captured) {
+  // Scaled first: the eye-order check, rectification and compression all work at the published
+  // size with the published (scaled) calibration.
+  stereo::FrameView scaled, rectified, compressed;
+  const stereo::FrameView* in = scale(captured, scaled);
+  if (in == nullptr) return;
+  const stereo::FrameView& view = *in;
   check_eye_order(view);
-  stereo::FrameView rectified, compressed;
   const stereo::FrameView* out = rectify(view, rectified);
   if (out != nullptr) out = compress(*out, compressed);
   if (out == nullptr) return;
+  check_sample(*out);
   stereoball_msg_StereoFrame msg{};
   stereo::fill_frame_message(*out, source_name_, msg);
   frame_writer_.write(msg);

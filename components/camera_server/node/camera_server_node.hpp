@@ -9,7 +9,9 @@
 #include <thread>
 
 #include "camera_server/core/camera_server_params.hpp"
+#include "camera_server/core/eye_skew.hpp"
 #include "camera_server/core/frame_builder.hpp"
+#include "camera_server/core/frame_scaler.hpp"
 #include "camera_server/io/file_source.hpp"
 #include "camera_server/io/stereo_capture.hpp"
 #include "common/dds/writer.hpp"
@@ -17,6 +19,7 @@
 #include "stereo/core/eye_order.hpp"
 #include "stereo/core/rectifier.hpp"
 #include "stereo/frame/frame_compressor.hpp"
+#include "stereo/frame/frame_transport.hpp"
 #include "stereo/frame/preview_publisher.hpp"
 
 namespace stereoball::camera_server {
@@ -36,15 +39,21 @@ class CameraServerNode {
   CameraServerNode(const CameraServerParams& params, node::Runner& runner);
   Status open_source();
   Status open_calibration(cv::Size capture_size);
+  Status open_scaler(cv::Size capture_size);
+  void check_transport(const std::string& raw_encoding);
+  void report_oversize(uint64_t sample_bytes, const std::string& what);
+  void check_sample(const stereo::FrameView& view);
   void start();
   void publish_file_pair(int64_t now_ns);
   void capture_loop();
   void publish(const stereo::FrameView& view);
   void offer_preview(const stereo::FrameView& view);
   void check_eye_order(const stereo::FrameView& view);
+  const stereo::FrameView* scale(const stereo::FrameView& view, stereo::FrameView& storage);
   const stereo::FrameView* rectify(const stereo::FrameView& view, stereo::FrameView& storage);
   const stereo::FrameView* compress(const stereo::FrameView& view, stereo::FrameView& storage);
   void update_capture_health();
+  void update_skew_health(int64_t now_ns);
 
   CameraServerParams params_;
   node::Runner& runner_;
@@ -55,7 +64,9 @@ class CameraServerNode {
   std::unique_ptr<StereoCapture> capture_;
   FrameBuilder builder_;
   std::optional<stereo::StereoCalibration> calibration_;
-  std::optional<stereo::Rectifier> rectifier_;  // with a calibration (rectify, eye order)
+  std::optional<stereo::Rectifier> rectifier_;  // of the published size (rectify, eye order)
+  std::optional<FrameScaler> scaler_;           // publish_width_px
+  cv::Size publish_size_;                       // eyes as published (before compression)
   stereo::EyeOrderWatch eye_order_;             // first frames: are the cameras swapped?
   cv::Mat rectified_[2];
   std::optional<stereo::FrameCompressor> compressor_;  // frame_encoding jpeg/png
@@ -65,6 +76,11 @@ class CameraServerNode {
   uint64_t file_seq_ = 0;
   bool files_done_ = false;
   uint64_t reported_drops_ = 0;
+  stereo::TransportLimits transport_;
+  bool oversize_reported_ = false;  // one warning per process
+  uint64_t largest_sample_bytes_ = 0;
+  EyeSkewStats skew_;           // V4L2: both capture stamps of every published pair
+  int64_t skew_period_ns_ = 0;  // monotonic start of the skew statistic's period
   std::atomic<bool> stop_{false};
   std::thread capture_thread_;
 };

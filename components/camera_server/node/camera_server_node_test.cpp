@@ -6,9 +6,13 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
+
+#include <opencv2/imgproc.hpp>
 
 #include "common/dds/reader.hpp"
 #include "process.hpp"
@@ -24,6 +28,9 @@ namespace {
 const std::string kSamples = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples";
 const std::string kCalibration =
     sb::testing::source_path("config/calibration/opencv_samples_stereo.yaml");
+
+const std::string kRig = std::string(SB_SHARED_DATA_DIR) + "/real-stereo-basketball";
+const std::string kRigCalibration = kRig + "/calibration/rig_2304x1296.yaml";
 
 std::string write_config(const std::string& body) {
   const std::string path = sb::testing::temp_dir() + "/camera_server.yaml";
@@ -414,6 +421,159 @@ TEST(CameraServerNode, GivenBadFrameEncodingOrQualityWhenStartedThenOneLineNamin
                     {"--frame-encoding", "gif"});
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("--frame-encoding"), std::string::npos) << out;
+}
+
+}  // namespace
+
+namespace {
+
+// Two real pairs of the 2304x1296 basketball rig, grey, with its calibration.
+std::string rig_config(const std::string& extra) {
+  return write_config(
+      "source: files\nleft_glob: " + kRig + "/left/left_0[12].jpg\nright_glob: " + kRig +
+      "/right/right_0[12].jpg\nfile_encoding: mono8\nwidth_px: 2304\n" +
+      "height_px: 1296\nrate_hz: 10\ncalibration_file: " + kRigCalibration + "\n" + extra);
+}
+
+// The latest value of a counter in camera_server's heartbeat, once it is at least min.
+std::optional<uint64_t> camera_counter(sb::dds::DataReader<stereoball_msg_ComponentStatus>& status,
+                                       const std::string& name, uint64_t min) {
+  std::optional<uint64_t> value;
+  sb::testing::eventually(
+      [&] {
+        for (auto& s : status.take()) {
+          if (!s->component || std::string(s->component) != "camera_server") continue;
+          for (uint32_t i = 0; i < s->counters._length; ++i) {
+            const auto& c = s->counters._buffer[i];
+            if (c.name && name == c.name) value = c.value;
+          }
+        }
+        return value && *value >= min;
+      },
+      10s);
+  return value;
+}
+
+TEST(CameraServerPublishWidth, GivenTheRealRigAtHalfWidthThenFramesAndCalibrationAreScaled) {
+  // Given the real rig's pairs (2304x1296) played with publish_width_px: 1152
+  auto full = sb::stereo::load_calibration(kRigCalibration);
+  ASSERT_TRUE(full.ok()) << full.error();
+  const cv::Mat left = cv::imread(kRig + "/left/left_01.jpg", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(left.empty());
+  cv::Mat left_half;
+  cv::resize(left, left_half, {1152, 648}, 0, 0, cv::INTER_AREA);
+  const std::string partition = sb::testing::unique_partition();
+  Process node = start_node(rig_config("publish_width_px: 1152\n"), partition);
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
+  sb::dds::DataReader<stereoball_msg_StereoCalibration> calib(participant,
+                                                              sb::topics::kStereoCalibration);
+  // When frames arrive, Then both eyes are 1152x648 and the left one is the area-scaled file
+  int checked = 0;
+  sb::testing::eventually(
+      [&] {
+        for (auto& f : frames.take()) {
+          EXPECT_STREQ(f->encoding, "mono8");
+          for (const auto* eye : {&f->left, &f->right}) {
+            EXPECT_EQ(eye->width_px, 1152u);
+            EXPECT_EQ(eye->height_px, 648u);
+            EXPECT_EQ(eye->step_bytes, 1152u);
+            EXPECT_EQ(eye->data._length, 1152u * 648u);
+          }
+          if (f->seq % 2 == 0 && f->left.data._length == 1152u * 648u) {
+            EXPECT_TRUE(same_pixels(f->left, left_half)) << "seq " << f->seq;
+          }
+          ++checked;
+        }
+        return checked >= 4;
+      },
+      30s);
+  ASSERT_GE(checked, 4) << node.output();
+  // And the calibration is the rig's scaled by one half (pixel centres kept: c' = c/2 - 1/4)
+  bool got = false;
+  sb::testing::eventually(
+      [&] {
+        for (auto& c : calib.take()) {
+          got = true;
+          EXPECT_EQ(c->width_px, 1152u);
+          EXPECT_EQ(c->height_px, 648u);
+          EXPECT_NEAR(c->k1[0], 0.5 * full->k1(0, 0), 1e-9);
+          EXPECT_NEAR(c->k1[2], 0.5 * full->k1(0, 2) - 0.25, 1e-9);
+          EXPECT_NEAR(c->k2[4], 0.5 * full->k2(1, 1), 1e-9);
+          EXPECT_NEAR(c->p1[0], 0.5 * full->p1(0, 0), 1e-9);
+          EXPECT_NEAR(c->p2[3], 0.5 * full->p2(0, 3), 1e-9);  // -f*B: the baseline is kept
+          EXPECT_NEAR(c->p2[6], 0.5 * full->p2(1, 2) - 0.25, 1e-9);
+          EXPECT_NEAR(c->q[11], 0.5 * full->q(2, 3), 1e-9);  // the focal length in Q
+          EXPECT_DOUBLE_EQ(c->q[14], full->q(3, 2));         // -1/Tx
+          EXPECT_EQ(c->d1._length, full->d1.size());
+          for (uint32_t i = 0; i < c->d1._length && i < full->d1.size(); ++i) {
+            EXPECT_EQ(c->d1._buffer[i], full->d1[i]);
+          }
+          EXPECT_DOUBLE_EQ(c->t[0], full->t[0]);
+          EXPECT_DOUBLE_EQ(c->r1[1], full->r1(0, 1));
+          EXPECT_NE(std::string(c->source).find("scaled to 1152x648"), std::string::npos);
+        }
+        return got;
+      },
+      10s);
+  EXPECT_TRUE(got) << node.output();
+  node.signal(SIGINT);
+  EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
+}
+
+TEST(CameraServerPublishWidth, GivenAWidthNotBelowTheImagesOrOddThenAnErrorNamingTheKey) {
+  // Given an odd width: refused with the parameters, one line
+  const auto [code, out] = run_node(rig_config("publish_width_px: 1151\n"));
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("key 'publish_width_px': 1151 must be even"), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  // Given the images' own width (known once the files are read): the last line says why
+  const auto [code2, out2] = run_node(rig_config("publish_width_px: 2304\n"));
+  EXPECT_EQ(code2, 2) << out2;
+  EXPECT_NE(out2.find("camera_server: key 'publish_width_px': 2304 must be smaller than the "
+                      "captured width (2304x1296)"),
+            std::string::npos)
+      << out2;
+}
+
+TEST(CameraServerTransport, GivenRawFramesLargerThanTheReceiveBufferThenWarnedAtStartAndInHealth) {
+  // Given raw 640x480 bgr8 frames (1.8 MB samples) and a Cyclone configuration whose socket
+  // receive buffer request is 1 MB (whatever the kernel's rmem_max, the buffer is at most that)
+  const char* uri = std::getenv("CYCLONEDDS_URI");
+  const std::string small_buffer = std::string(uri ? uri : "") + (uri ? "," : "") +
+                                   "<Internal><SocketReceiveBufferSize max=\"1MB\"/></Internal>";
+  const std::string partition = sb::testing::unique_partition();
+  const std::string config = write_config(
+      "source: files\nleft_glob: " + kSamples + "/left0*.jpg\nright_glob: " + kSamples +
+      "/right0*.jpg\nfile_encoding: bgr8\nwidth_px: 640\n" + "height_px: 480\nrate_hz: 5\n");
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DataReader<stereoball_msg_ComponentStatus> status(participant,
+                                                             sb::topics::kComponentStatus);
+  // (the child inherits this process's environment: changed for the start only)
+  const std::string saved = uri ? uri : "";
+  ::setenv("CYCLONEDDS_URI", small_buffer.c_str(), 1);
+  Process node =
+      Process::start({sb::testing::bin("camera_server"), "--config", config, "--domain",
+                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  if (uri) {
+    ::setenv("CYCLONEDDS_URI", saved.c_str(), 1);
+  } else {
+    ::unsetenv("CYCLONEDDS_URI");
+  }
+  // When it starts, Then one warning names the sizes and the remedies
+  EXPECT_TRUE(node.wait_for_output("most frames will be lost in transport", 20s)) << node.output();
+  const std::string out = node.output();
+  for (const char* part :
+       {"raw 640x480 bgr8 frames", "1.8 MB", "frame_encoding: jpeg", "publish_width_px", "shm.xml",
+        "net.core.rmem_max", "90-stereoball-net.conf"}) {
+    EXPECT_NE(out.find(part), std::string::npos) << part << " in:\n" << out;
+  }
+  // And the heartbeat carries it: the error counter, the sample and buffer sizes
+  EXPECT_EQ(camera_counter(status, "frame_too_large", 1), 1u) << node.output();
+  EXPECT_EQ(camera_counter(status, "frame_sample_bytes", 1), 2u * 640 * 480 * 3 + 1024);
+  EXPECT_EQ(camera_counter(status, "receive_buffer_bytes", 1).value_or(0) <= (1u << 20), true);
+  node.signal(SIGINT);
+  EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
 }
 
 }  // namespace

@@ -1,0 +1,61 @@
+#pragma once
+// Will a stereo/frame sample cross the transport? Cyclone sends a large best-effort sample as a
+// burst of datagrams that the reader's socket receive buffer must hold at once; a sample larger
+// than that buffer mostly never arrives, and nothing else says so. The buffer is what Cyclone
+// asks for (SocketReceiveBufferSize in the configuration in force, CYCLONEDDS_URI) capped by the
+// kernel at net.core.rmem_max. Frame publishers (camera_server) and readers (ball_detector)
+// check their samples against it and name the remedies.
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace stereoball::stereo {
+
+/// Cyclone's request when its configuration sets no SocketReceiveBufferSize (Cyclone 0.10's
+/// built-in minimum of 1 MiB; an assumption, documented in components/stereo/README.md).
+inline constexpr uint64_t kCycloneDefaultReceiveBufferBytes = 1u << 20;
+
+/// The socket receive buffer a reader of this process gets.
+struct TransportLimits {
+  uint64_t requested_bytes = kCycloneDefaultReceiveBufferBytes;  ///< Cyclone's request
+  std::string requested_from = "Cyclone's default";              ///< where the request comes from
+  uint64_t rmem_max_bytes = 0;                                   ///< net.core.rmem_max; 0 = unknown
+  bool shared_memory = false;                                    ///< iceoryx carries local samples
+
+  /// The buffer granted: the request capped at rmem_max (the request when the cap is unknown).
+  uint64_t receive_buffer_bytes() const;
+};
+
+/// Bytes of a Cyclone size value ("16MB", "1MiB", "64kB", "65500B", "4194304"; Cyclone's units
+/// are binary: kB = KiB = 1024 B); nullopt for "default", a ${VAR} or anything unparsable.
+std::optional<uint64_t> parse_cyclone_size(const std::string& text);
+
+/// The SocketReceiveBufferSize request of a CYCLONEDDS_URI value (comma-separated file:// paths,
+/// plain paths or inline XML; a later entry overrides an earlier one): the max attribute, else
+/// the min attribute; nullopt when none sets one. read_file returns a file's text.
+std::optional<std::pair<uint64_t, std::string>> configured_receive_buffer(
+    const std::string& uri,
+    const std::function<std::optional<std::string>(const std::string&)>& read_file);
+
+/// The limits in force for this process: CYCLONEDDS_URI and /proc/sys/net/core/rmem_max.
+/// shared_memory: whether the caller's DDS layer runs over iceoryx (dds::SharedMemoryState).
+TransportLimits read_transport_limits(bool shared_memory);
+
+/// Serialized size of a stereo/frame sample with eyes of these pixel byte counts (the pixels
+/// plus the fixed fields and strings, rounded up).
+uint64_t frame_sample_bytes(uint64_t left_bytes, uint64_t right_bytes);
+
+/// The remedies for frames that do not cross the transport, one sentence ("Remedies: ...");
+/// sample_bytes sizes the net.core.rmem_max to ask for.
+std::string transport_remedies(uint64_t sample_bytes);
+
+/// One line when a sample of sample_bytes will not fit the receive buffer (rule: the sample is
+/// larger than the granted buffer), naming the remedies: frame_encoding: jpeg, shared memory,
+/// a lower publish_width_px, a larger net.core.rmem_max. `what` names the frames ("raw
+/// 2304x1296 bgr8 frames"). nullopt when it fits or shared memory carries it.
+std::optional<std::string> oversize_warning(uint64_t sample_bytes, const TransportLimits& limits,
+                                            const std::string& what);
+
+}  // namespace stereoball::stereo

@@ -1,0 +1,83 @@
+#include "stereo/frame/frame_transport.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+namespace stereoball::stereo {
+namespace {
+
+TEST(ParseCycloneSize, GivenCycloneSizeTextsWhenParsedThenBinaryUnitsOrNothing) {
+  EXPECT_EQ(parse_cyclone_size("16MB"), 16u << 20);
+  EXPECT_EQ(parse_cyclone_size("1MiB"), 1u << 20);
+  EXPECT_EQ(parse_cyclone_size("64kB"), 64u << 10);
+  EXPECT_EQ(parse_cyclone_size("65500B"), 65500u);
+  EXPECT_EQ(parse_cyclone_size("4194304"), 4194304u);
+  EXPECT_EQ(parse_cyclone_size("2 GB"), 2ull << 30);
+  EXPECT_EQ(parse_cyclone_size("default"), std::nullopt);
+  EXPECT_EQ(parse_cyclone_size("${SIZE}"), std::nullopt);
+  EXPECT_EQ(parse_cyclone_size("12 parsecs"), std::nullopt);
+  EXPECT_EQ(parse_cyclone_size(""), std::nullopt);
+}
+
+TEST(ConfiguredReceiveBuffer, GivenTheProjectsConfigurationsWhenReadThenTheirMaxRequest) {
+  // Given the shipped loopback configuration, a min-only one and an inline override
+  const std::map<std::string, std::string> files = {
+      {"/cfg/loopback.xml",
+       R"(<CycloneDDS><Domain><Internal>
+            <SocketReceiveBufferSize min="default" max="16MB"/>
+          </Internal></Domain></CycloneDDS>)"},
+      {"/cfg/min.xml", R"(<Internal><SocketReceiveBufferSize min="2MB"/></Internal>)"},
+      {"/cfg/none.xml", "<CycloneDDS/>"}};
+  auto read = [&](const std::string& path) -> std::optional<std::string> {
+    const auto it = files.find(path);
+    if (it == files.end()) return std::nullopt;
+    return it->second;
+  };
+  // When the request is read, Then max wins over min, later entries override earlier ones
+  const auto loopback = configured_receive_buffer("file:///cfg/loopback.xml", read);
+  ASSERT_TRUE(loopback.has_value());
+  EXPECT_EQ(loopback->first, 16u << 20);
+  EXPECT_EQ(loopback->second, "/cfg/loopback.xml");
+  EXPECT_EQ(configured_receive_buffer("/cfg/min.xml", read)->first, 2u << 20);
+  EXPECT_EQ(configured_receive_buffer(
+                "file:///cfg/loopback.xml,<SocketReceiveBufferSize max=\"32MB\"/>", read)
+                ->first,
+            32u << 20);
+  EXPECT_EQ(configured_receive_buffer("file:///cfg/none.xml", read), std::nullopt);
+  EXPECT_EQ(configured_receive_buffer("file:///missing.xml", read), std::nullopt);
+}
+
+TEST(OversizeWarning, GivenRawFramesLargerThanTheGrantedBufferThenOneLineNamesEveryRemedy) {
+  // Given the shipped loopback request (16 MB) capped by this kind of kernel at 4 MB
+  TransportLimits limits;
+  limits.requested_bytes = 16u << 20;
+  limits.requested_from = "SocketReceiveBufferSize in loopback.xml";
+  limits.rmem_max_bytes = 4194304;
+  EXPECT_EQ(limits.receive_buffer_bytes(), 4194304u);
+  // When raw 2304x1296 bgr8 frames (17.9 MB) are checked
+  const uint64_t raw = frame_sample_bytes(2304u * 1296 * 3, 2304u * 1296 * 3);
+  const auto warning = oversize_warning(raw, limits, "raw 2304x1296 bgr8 frames");
+  // Then one line names the sizes and the remedies
+  ASSERT_TRUE(warning.has_value());
+  EXPECT_EQ(warning->find('\n'), std::string::npos);
+  for (const char* part :
+       {"raw 2304x1296 bgr8 frames", "17.9 MB", "4.2 MB", "rmem_max = 4194304",
+        "frame_encoding: jpeg", "publish_width_px", "shm.xml", "90-stereoball-net.conf"}) {
+    EXPECT_NE(warning->find(part), std::string::npos) << part << " in: " << *warning;
+  }
+  // And 640x480 bgr8 frames (1.8 MB) fit, as does anything over shared memory
+  EXPECT_EQ(oversize_warning(frame_sample_bytes(921600, 921600), limits, "x"), std::nullopt);
+  limits.shared_memory = true;
+  EXPECT_EQ(oversize_warning(raw, limits, "x"), std::nullopt);
+}
+
+TEST(TransportLimits, GivenAnUnknownKernelCapThenTheRequestIsTheBuffer) {
+  TransportLimits limits;
+  EXPECT_EQ(limits.receive_buffer_bytes(), kCycloneDefaultReceiveBufferBytes);
+  limits.rmem_max_bytes = 212992;
+  EXPECT_EQ(limits.receive_buffer_bytes(), 212992u);
+}
+
+}  // namespace
+}  // namespace stereoball::stereo
