@@ -24,9 +24,10 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string mb_text(uint64_t bytes) {
+// Cyclone's and the kernel's units: MiB.
+std::string mib_text(uint64_t bytes) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.1f MB", static_cast<double>(bytes) / 1e6);
+  std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
   return text;
 }
 
@@ -120,11 +121,12 @@ uint64_t frame_sample_bytes(uint64_t left_bytes, uint64_t right_bytes) {
 
 std::optional<std::string> oversize_warning(uint64_t sample_bytes, const TransportLimits& limits,
                                             const std::string& what) {
-  const uint64_t buffer = limits.receive_buffer_bytes();
-  if (limits.shared_memory || sample_bytes <= buffer) return std::nullopt;
-  std::string line = what + ": each stereo/frame sample is " + mb_text(sample_bytes) +
-                     " but a reader's socket receive buffer holds " + mb_text(buffer) + " (" +
-                     limits.requested_from + " asks " + mb_text(limits.requested_bytes);
+  if (limits.shared_memory || sample_bytes <= limits.capacity_bytes()) return std::nullopt;
+  std::string line = what + ": each stereo/frame sample is " + mib_text(sample_bytes) +
+                     " but a reader's socket takes about " + mib_text(limits.capacity_bytes()) +
+                     " at once (twice its " + mib_text(limits.receive_buffer_bytes()) +
+                     " receive buffer: " + limits.requested_from + " asks " +
+                     mib_text(limits.requested_bytes);
   if (limits.rmem_max_bytes != 0) {
     line += ", the kernel caps it at net.core.rmem_max = " + std::to_string(limits.rmem_max_bytes);
   }

@@ -48,13 +48,14 @@ TEST(ConfiguredReceiveBuffer, GivenTheProjectsConfigurationsWhenReadThenTheirMax
   EXPECT_EQ(configured_receive_buffer("file:///missing.xml", read), std::nullopt);
 }
 
-TEST(OversizeWarning, GivenRawFramesLargerThanTheGrantedBufferThenOneLineNamesEveryRemedy) {
-  // Given the shipped loopback request (16 MB) capped by this kind of kernel at 4 MB
+TEST(OversizeWarning, GivenRawFramesLargerThanTwiceTheGrantedBufferThenOneLineNamesEveryRemedy) {
+  // Given the shipped loopback request (16 MiB) capped by this kind of kernel at 4 MiB
   TransportLimits limits;
   limits.requested_bytes = 16u << 20;
   limits.requested_from = "SocketReceiveBufferSize in loopback.xml";
   limits.rmem_max_bytes = 4194304;
   EXPECT_EQ(limits.receive_buffer_bytes(), 4194304u);
+  EXPECT_EQ(limits.capacity_bytes(), 8388608u);
   // When raw 2304x1296 bgr8 frames (17.9 MB) are checked
   const uint64_t raw = frame_sample_bytes(2304u * 1296 * 3, 2304u * 1296 * 3);
   const auto warning = oversize_warning(raw, limits, "raw 2304x1296 bgr8 frames");
@@ -62,12 +63,18 @@ TEST(OversizeWarning, GivenRawFramesLargerThanTheGrantedBufferThenOneLineNamesEv
   ASSERT_TRUE(warning.has_value());
   EXPECT_EQ(warning->find('\n'), std::string::npos);
   for (const char* part :
-       {"raw 2304x1296 bgr8 frames", "17.9 MB", "4.2 MB", "rmem_max = 4194304",
-        "frame_encoding: jpeg", "publish_width_px", "shm.xml", "90-stereoball-net.conf"}) {
+       {"raw 2304x1296 bgr8 frames", "17.1 MiB", "about 8.0 MiB", "4.0 MiB receive buffer",
+        "asks 16.0 MiB", "rmem_max = 4194304", "frame_encoding: jpeg", "publish_width_px",
+        "shm.xml", "90-stereoball-net.conf", "at least 17916928"}) {
     EXPECT_NE(warning->find(part), std::string::npos) << part << " in: " << *warning;
   }
-  // And 640x480 bgr8 frames (1.8 MB) fit, as does anything over shared memory
-  EXPECT_EQ(oversize_warning(frame_sample_bytes(921600, 921600), limits, "x"), std::nullopt);
+  // And 1152x648 bgr8 frames (4.5 MB, all arrived in the measurement) fit; 1600x900 (8.6 MB,
+  // 17 of 40 arrived) do not
+  EXPECT_EQ(oversize_warning(frame_sample_bytes(1152u * 648 * 3, 1152u * 648 * 3), limits, "x"),
+            std::nullopt);
+  EXPECT_NE(oversize_warning(frame_sample_bytes(1600u * 900 * 3, 1600u * 900 * 3), limits, "x"),
+            std::nullopt);
+  // And nothing is reported over shared memory
   limits.shared_memory = true;
   EXPECT_EQ(oversize_warning(raw, limits, "x"), std::nullopt);
 }
