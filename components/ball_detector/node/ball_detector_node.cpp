@@ -30,11 +30,20 @@ BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParam
       detections_(runner.participant(), topics::kBallDetection) {
   pipeline_.set_task_runner(
       [this](int n, const std::function<void(int)>& task) { helper_.run(n, task); });
-  runner_.on_data(calibration_.handle(), [this] { on_calibration(); });
-  runner_.on_data(frames_.handle(), [this] { on_frames(); });
+  // Every callback ends by noting when the node became free: a frame taken right after that
+  // had been waiting (FrameGaps).
+  runner_.on_data(calibration_.handle(), [this] {
+    on_calibration();
+    idle_since_ns_ = node::monotonic_ns();
+  });
+  runner_.on_data(frames_.handle(), [this] {
+    on_frames();
+    idle_since_ns_ = node::monotonic_ns();
+  });
   runner_.every(1'000'000'000, [this](std::int64_t now_ns) {
     check_input(now_ns);
     report_gaps(now_ns);
+    idle_since_ns_ = node::monotonic_ns();
   });
   runner_.health().set_state(false, "waiting for stereo/calibration");
 }
@@ -110,7 +119,6 @@ void BallDetectorNode::on_frames() {
   check_transport(frame);
   check_frame_size(frame);
   process(frame);
-  idle_since_ns_ = node::monotonic_ns();
 }
 
 // At the first frame (and whenever a frame is larger than any before): does such a sample fit

@@ -75,7 +75,7 @@ class BallDetectorNode {
   std::uint64_t bad_frames_logged_ = 0;
   // Frames that do not cross the transport: sample size vs receive buffer, and seq gaps.
   FrameGaps gaps_;
-  std::int64_t idle_since_ns_ = 0;  // monotonic end of the last frame's work (0 = none yet)
+  std::int64_t idle_since_ns_ = 0;  // monotonic end of the last callback's work (0 = none yet)
   std::optional<stereo::TransportLimits> transport_;  // read at the first frame
   std::uint64_t largest_sample_bytes_ = 0;
   bool oversize_reported_ = false;
