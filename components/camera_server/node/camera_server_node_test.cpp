@@ -16,6 +16,7 @@
 
 #include "common/dds/reader.hpp"
 #include "process.hpp"
+#include "stereo/core/calibration_scaling.hpp"
 #include "stereo/core/rectifier.hpp"
 #include "stereo/io/calibration_file.hpp"
 
@@ -516,6 +517,50 @@ TEST(CameraServerPublishWidth, GivenTheRealRigAtHalfWidthThenFramesAndCalibratio
         return got;
       },
       10s);
+  EXPECT_TRUE(got) << node.output();
+  node.signal(SIGINT);
+  EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
+}
+
+TEST(CameraServerPublishWidth, GivenRectifyThenTheScaledEyesAreRectifiedWithTheScaledCalibration) {
+  // Given the rig's first pair at half width with rectify: true, and what that should give:
+  // the area-scaled eyes rectified with the calibration scaled to 1152x648
+  auto full = sb::stereo::load_calibration(kRigCalibration);
+  ASSERT_TRUE(full.ok()) << full.error();
+  const auto half = sb::stereo::scale_calibration(*full, {1152, 648});
+  ASSERT_TRUE(half.ok()) << half.error();
+  const auto rectifier = sb::stereo::Rectifier::create(*half);
+  ASSERT_TRUE(rectifier.ok()) << rectifier.error();
+  cv::Mat eyes[2], expected[2];
+  for (int e = 0; e < 2; ++e) {
+    const std::string name = e == 0 ? "/left/left_01.jpg" : "/right/right_01.jpg";
+    cv::resize(cv::imread(kRig + name, cv::IMREAD_GRAYSCALE), eyes[e], {1152, 648}, 0, 0,
+               cv::INTER_AREA);
+  }
+  ASSERT_TRUE(rectifier->rectify(eyes[0], eyes[1], expected[0], expected[1]).ok());
+  const std::string partition = sb::testing::unique_partition();
+  const std::string config =
+      write_config("source: files\nleft_glob: " + kRig + "/left/left_01.jpg\nright_glob: " + kRig +
+                   "/right/right_01.jpg\nfile_encoding: mono8\nwidth_px: 2304\nheight_px: 1296\n" +
+                   "rate_hz: 10\ncalibration_file: " + kRigCalibration +
+                   "\npublish_width_px: 1152\nrectify: true\n");
+  Process node = start_node(config, partition);
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
+  // When a frame arrives, Then it is rectified, 1152x648, exactly the expected eyes
+  bool got = false;
+  sb::testing::eventually(
+      [&] {
+        for (auto& f : frames.take()) {
+          got = true;
+          EXPECT_TRUE(f->rectified);
+          EXPECT_TRUE(same_pixels(f->left, expected[0]));
+          EXPECT_TRUE(same_pixels(f->right, expected[1]));
+          EXPECT_FALSE(same_pixels(f->left, eyes[0]));  // rectification changed the image
+        }
+        return got;
+      },
+      30s);
   EXPECT_TRUE(got) << node.output();
   node.signal(SIGINT);
   EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
