@@ -14,6 +14,7 @@
 
 #include "camera_server/core/format_negotiation.hpp"
 #include "camera_server/core/frame_builder.hpp"
+#include "camera_server/core/frame_scaler.hpp"
 #include "camera_server/core/pixel_convert.hpp"
 #include "camera_server/io/file_source.hpp"
 
@@ -165,6 +166,22 @@ void bench_v4l2_core_path(int iterations) {
   print("FrameBuilder::step", time_calls(iterations, [&] { (void)builder.step(pair); }));
 }
 
+// publish_width_px: both eyes of a real 2304x1296 rig pair scaled to 1152x648 (FrameScaler).
+void bench_publish_width(int iterations) {
+  const std::string dir = std::string(SB_SHARED_DATA_DIR) + "/real-stereo-basketball/";
+  const cv::Mat l = cv::imread(dir + "left/left_01.jpg", cv::IMREAD_COLOR);
+  const cv::Mat r = cv::imread(dir + "right/right_01.jpg", cv::IMREAD_COLOR);
+  if (l.empty() || r.empty()) {
+    std::printf("publish_width_px: %s not found, skipped\n", dir.c_str());
+    return;
+  }
+  const auto view = stereoball::stereo::view_of_images(l, r, 0, 0);
+  sc::FrameScaler scaler(1152);
+  std::printf("publish_width_px 1152 on a real %dx%d bgr8 pair (INTER_AREA, both eyes):\n", l.cols,
+              l.rows);
+  print("FrameScaler::step", time_calls(iterations, [&] { (void)scaler.step(*view); }));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -186,6 +203,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   bench_conversion(iterations);
   bench_v4l2_core_path(iterations);
+  bench_publish_width(std::max(1, iterations / 10));
   bench_file_source("as_read", rate_hz, seconds);
   bench_file_source("bgr8", rate_hz, seconds);
   return 0;
