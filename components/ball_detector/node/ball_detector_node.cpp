@@ -14,8 +14,8 @@ const std::string kCalibrationTopic(topics::kStereoCalibration.spec.name);
 const std::string kDetectionTopic(topics::kBallDetection.spec.name);
 // No frame for this long makes the node report itself unhealthy.
 constexpr std::int64_t kInputTimeoutNs = 2'000'000'000;
-// A frame handed over later than this after the previous frame's work ended was not waiting in
-// the reader: the detector was idle, so frames missing before it never arrived.
+// A frame handed over later than this after the previous callback ended was not waiting in the
+// reader: the detector was idle, so frames missing before it never arrived.
 constexpr std::int64_t kIdleNs = 2'000'000;
 
 }  // namespace
