@@ -69,6 +69,7 @@ class Listener {
     obs.self.host = host_name();
     obs.self.keyed = participant_.auth().keyed();
     obs.self.key_id = participant_.auth().signing_key_id();
+    obs.self.key_fingerprint = participant_.auth().signing_key_fingerprint();
     obs.self.dds_config = dds_config_text(obs.self.keyed);
     obs.listen_start_ns = node::now_ns();
     const int64_t start_mono = node::monotonic_ns();

@@ -246,7 +246,16 @@ Check check_cameras(const Observations& obs, const Limits& limits) {
           "frames lost between hosts (deploy/README.md, kernel settings)");
   }
   const bool is_camera_server = source && source->component == "camera_server";
-  if (is_camera_server && obs.camera_config) {
+  // The config found by the search order may not be the one camera_server runs with: the
+  // frames' source ("v4l2:..." / "files:...") must agree with its source before comparing.
+  const bool config_fits = !obs.camera_config || !obs.frames ||
+                           obs.frames->source.rfind(obs.camera_config->source + ":", 0) == 0;
+  if (is_camera_server && obs.camera_config && !config_fits) {
+    worse(Verdict::kWarn,
+          "the camera config found (" + obs.camera_config->path + ", source " +
+              obs.camera_config->source + ") is not the one running: mode and rate not compared",
+          "name the config camera_server runs with: --camera-config FILE or --profile NAME");
+  } else if (is_camera_server && obs.camera_config) {
     const auto& cfg = *obs.camera_config;
     seen.push_back("configured " + cfg.source + " " + size_text(cfg.width_px, cfg.height_px) +
                    " at " + fmt("%.1f", cfg.rate_hz) + " Hz (" + cfg.path + ")");
@@ -445,18 +454,36 @@ Check check_image(const Observations& obs, bool left, const Limits& limits) {
   return make(name, Verdict::kOk, seen);
 }
 
+namespace {
+// A key as nodes report it: id and fingerprint (0 when the node does not report one).
+struct KeyName {
+  uint32_t id = 0;
+  uint32_t fingerprint = 0;
+  auto operator<=>(const KeyName&) const = default;
+};
+std::string key_text(const KeyName& k) {
+  if (k.id == 0) return "no key";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "key %u (fingerprint %08x)", k.id, k.fingerprint);
+  return buf;
+}
+}  // namespace
+
 Check check_keys(const Observations& obs) {
-  std::map<uint32_t, std::vector<std::string>> by_key;
+  std::map<KeyName, std::vector<std::string>> by_key;
   std::vector<std::string> unknown;
   for (const auto& node : obs.nodes) {
-    if (auto id = counter(node, "auth_key_id"))
-      by_key[static_cast<uint32_t>(*id)].push_back(node_label(node));
-    else
+    if (auto id = counter(node, "auth_key_id")) {
+      const KeyName k{static_cast<uint32_t>(*id),
+                      static_cast<uint32_t>(counter(node, "auth_key_fingerprint").value_or(0))};
+      by_key[k].push_back(node_label(node));
+    } else {
       unknown.push_back(node_label(node));
+    }
   }
-  const std::string self = obs.self.keyed
-                               ? "doctor signs with key " + std::to_string(obs.self.key_id)
-                               : "doctor has no key";
+  const KeyName mine{obs.self.key_id, obs.self.key_fingerprint};
+  const std::string self =
+      obs.self.keyed ? "doctor signs with " + key_text(mine) : "doctor has no key";
   if (by_key.empty()) {
     return make(
         "keys", Verdict::kNa,
@@ -465,18 +492,17 @@ Check check_keys(const Observations& obs) {
             "; " + self);
   }
   std::vector<std::string> groups;
-  for (const auto& [id, nodes] : by_key)
-    groups.push_back((id == 0 ? std::string("no key") : "key " + std::to_string(id)) + ": " +
-                     join(nodes, ", "));
+  for (const auto& [k, nodes] : by_key) groups.push_back(key_text(k) + ": " + join(nodes, ", "));
   if (!unknown.empty()) groups.push_back("not reported: " + join(unknown, ", "));
   const std::string seen = join(groups, "; ") + "; " + self;
   const std::string fix =
       "give every node of every host the same deployment key file (--key-file or "
       "$STEREOBALL_KEY_FILE, as the systemd env file does; stereoball keys init makes one, "
-      "copy it with mode 0600); nodes signing with another key, or none, are ignored by the rest";
+      "copy it with mode 0600; stereoball keys show prints its fingerprint); nodes signing "
+      "with another key, or none, are ignored by the rest";
   if (by_key.size() > 1) return make("keys", Verdict::kFail, seen, fix);
-  const uint32_t id = by_key.begin()->first;
-  if (id == 0) {
+  const KeyName theirs = by_key.begin()->first;
+  if (theirs.id == 0) {
     if (obs.self.keyed)
       return make("keys", Verdict::kWarn, seen + " (the nodes are unauthenticated)",
                   "the nodes run without a key (loopback only, anything on the host can "
@@ -491,7 +517,7 @@ Check check_keys(const Observations& obs) {
                 "without it the tools (estop) cannot sign and the authenticated topics are "
                 "not checked");
   }
-  if (obs.self.key_id != id) {
+  if (mine.id != theirs.id || (theirs.fingerprint != 0 && mine.fingerprint != theirs.fingerprint)) {
     return make("keys", Verdict::kFail, seen + " (the doctor's key differs)",
                 "the doctor's key file is not the deployment's: use the key file the nodes use "
                 "(a stop signed with another key is refused by every node)");

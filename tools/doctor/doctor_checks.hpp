@@ -108,7 +108,8 @@ struct SelfObservation {
   std::string host;  ///< the doctor's host name
   bool keyed = false;
   uint32_t key_id = 0;
-  std::string dds_config;  ///< CYCLONEDDS_URI, or what the keyless participant uses
+  uint32_t key_fingerprint = 0;  ///< as the health counter auth_key_fingerprint (0 keyless)
+  std::string dds_config;        ///< CYCLONEDDS_URI, or what the keyless participant uses
   std::map<std::string, uint64_t> auth_counters;  ///< auth_<verdict>:<topic> of the doctor
 };
 
@@ -165,7 +166,8 @@ Check check_calibration_size(const Observations& obs);
 Check check_row_error(const Observations& obs, const Limits& limits);
 /// Exposure (mean, clipping) and blur (variance of the Laplacian) of one eye.
 Check check_image(const Observations& obs, bool left, const Limits& limits);
-/// The deployment key on every node (health counter auth_key_id) and the doctor's own.
+/// The deployment key on every node (health counters auth_key_id, auth_key_fingerprint) and
+/// the doctor's own.
 Check check_keys(const Observations& obs);
 /// Clock offset of each host against the doctor's (heartbeat stamp vs receive time).
 Check check_clock(const Observations& obs, const Limits& limits);

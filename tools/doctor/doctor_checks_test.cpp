@@ -21,6 +21,7 @@ NodeObservation node(const std::string& component, const std::string& host, doub
     n.beats.push_back({kT0 + i * kS + 2'000'000, kT0 + i * kS + 2'500'000});
   n.state = "running";
   n.counters["auth_key_id"] = 7;
+  n.counters["auth_key_fingerprint"] = 0xabcdef01;
   return n;
 }
 
@@ -35,6 +36,7 @@ Observations healthy() {
               .host = "robot",
               .keyed = true,
               .key_id = 7,
+              .key_fingerprint = 0xabcdef01,
               .dds_config = "file://lan.xml",
               .auth_counters = {}};
   NodeObservation cam = node("camera_server", "robot");
@@ -149,13 +151,28 @@ TEST(DoctorChecks, GivenKeysThatDifferOrAreMissingThenKeysFailOrWarn) {
   obs.nodes[2].counters["auth_key_id"] = 9;
   Check c = check_keys(obs);
   EXPECT_EQ(c.verdict, Verdict::kFail);
-  EXPECT_NE(c.seen.find("key 9: ball_detector@workstation"), std::string::npos) << c.seen;
+  EXPECT_NE(c.seen.find("key 9 (fingerprint abcdef01): ball_detector@workstation"),
+            std::string::npos)
+      << c.seen;
+  // A node with another key of the same id (two files made by `keys init`)
+  obs.nodes[2].counters["auth_key_id"] = 7;
+  obs.nodes[2].counters["auth_key_fingerprint"] = 0x12345678;
+  c = check_keys(obs);
+  EXPECT_EQ(c.verdict, Verdict::kFail);
+  EXPECT_NE(c.seen.find("key 7 (fingerprint 12345678): ball_detector@workstation"),
+            std::string::npos)
+      << c.seen;
+  obs.nodes[2].counters["auth_key_fingerprint"] = 0xabcdef01;
   // A node without a key among keyed ones
   obs.nodes[2].counters["auth_key_id"] = 0;
   EXPECT_EQ(check_keys(obs).verdict, Verdict::kFail);
-  // The nodes agree but the doctor signs with another key
+  // The nodes agree but the doctor signs with another key (another id, or the same id)
   obs.nodes[2].counters["auth_key_id"] = 7;
+  EXPECT_EQ(check_keys(obs).verdict, Verdict::kOk);
   obs.self.key_id = 8;
+  EXPECT_EQ(check_keys(obs).verdict, Verdict::kFail);
+  obs.self.key_id = 7;
+  obs.self.key_fingerprint = 0x12345678;
   EXPECT_EQ(check_keys(obs).verdict, Verdict::kFail);
   // The doctor has no key: a warning, not a failure
   obs.self.keyed = false;
@@ -205,7 +222,15 @@ TEST(DoctorChecks, GivenASlowOrWrongModeCameraThenCamerasWarnsOrFails) {
   obs.nodes[0].rates_hz["stereo/frame"] = 30;
   obs.frames->left_width_px = obs.frames->right_width_px = 320;
   EXPECT_EQ(check_cameras(obs, {}).verdict, Verdict::kFail);
+  // A config of another source than the one running: not compared, and said so
   obs.frames->left_width_px = obs.frames->right_width_px = 640;
+  obs.frames->source = "files:left*.png+right*.png";
+  obs.nodes[0].rates_hz["stereo/frame"] = 10;
+  Check other = check_cameras(obs, {});
+  EXPECT_EQ(other.verdict, Verdict::kWarn);
+  EXPECT_NE(other.seen.find("not the one running"), std::string::npos) << other.seen;
+  obs.frames->source = "v4l2:/dev/video0+/dev/video1";
+  obs.nodes[0].rates_hz["stereo/frame"] = 30;
   obs.nodes[0].counters["frames_right"] = 0;
   const Check c = check_cameras(obs, {});
   EXPECT_EQ(c.verdict, Verdict::kFail);
