@@ -191,10 +191,14 @@ TEST_F(Doctor, GivenAHealthyDeploymentThenEveryCheckPassesAndTheExitStatusIsZero
       doctor({"--camera-config", config, "--expect", "camera_server,motion_controller"});
   // Then nothing fails, and the live checks passed on real images
   EXPECT_EQ(code, 0) << out;
-  for (const char* name : {"discovery", "cameras", "eye order", "calibration size", "row error",
-                           "image left", "image right", "keys", "clock", "e-stop"}) {
+  for (const char* name : {"discovery", "eye order", "calibration size", "row error", "image left",
+                           "image right", "keys", "e-stop"}) {
     EXPECT_EQ(verdict(out, name), "ok") << name;
   }
+  // (rate and clock figures depend on the machine's load: they may warn, never fail)
+  for (const char* name : {"cameras", "clock", "node camera_server@", "node motion_controller@"})
+    EXPECT_NE(out.find(std::string("\"name\": \"") + name), std::string::npos) << name;
+  EXPECT_EQ(out.find("\"verdict\": \"FAIL\""), std::string::npos);
   EXPECT_EQ(verdict(out, "eye skew"), "n/a");  // this camera_server reports no skew (yet)
 }
 
@@ -279,10 +283,10 @@ TEST_F(Doctor, GivenASilentNodeAndAMissingOneThenBothAreNamed) {
                                            std::map<std::string, uint64_t>{});
   wait_for({"ball_detector"});
   std::thread stopper([&] {
-    std::this_thread::sleep_for(2s);
+    std::this_thread::sleep_for(3s);
     silent->stop();
   });
-  // When the doctor checks (listening 8 s: the node stops about 2 s in)
+  // When the doctor checks (listening 8 s: the node stops about 3 s in)
   auto [code, out] = doctor({"--expect", "tracker"}, true, true, 8);
   stopper.join();
   // Then the silent node and the missing one each fail
