@@ -3,8 +3,8 @@
 // a deployment key. The doctor passes the healthy deployment and finds each injected fault:
 // a silent and a missing node, swapped eyes, a calibration of another size, a node with
 // another key and a doctor without one, skewed eyes and a clock 2 s off (test heartbeats), and
-// a doctor on another partition or domain than the nodes. Each asserts the check's verdict and
-// the exit status.
+// a doctor on another partition or domain than the nodes; and an engaged stop. Each asserts the
+// check's verdict (and, for faults, the exit status).
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -200,6 +200,24 @@ TEST_F(Doctor, GivenAHealthyDeploymentThenEveryCheckPassesAndTheExitStatusIsZero
     EXPECT_NE(out.find(std::string("\"name\": \"") + name), std::string::npos) << name;
   EXPECT_EQ(out.find("\"verdict\": \"FAIL\""), std::string::npos);
   EXPECT_EQ(verdict(out, "eye skew"), "n/a");  // this camera_server reports no skew (yet)
+}
+
+TEST_F(Doctor, GivenAnEngagedStopThenEstopSaysSoWithTheRelease) {
+  // Given motion_controller holding a stop the operator engaged
+  start("motion_controller");
+  wait_for({"motion_controller"});
+  auto [estop_code, estop_out] = sb::testing::run(
+      {sb::testing::bin("stereoball-estop"), "engage", "--reason", "doctor test", "--domain",
+       std::to_string(sb::testing::test_domain()), "--partition", partition_},
+      30s, {"STEREOBALL_KEY_FILE=" + key_});
+  ASSERT_EQ(estop_code, 0) << estop_out;
+  // When the doctor checks
+  auto [code, out] = doctor({});
+  // Then the e-stop line warns that it is engaged, with its reason and the release command
+  EXPECT_EQ(verdict(out, "e-stop"), "warn");
+  EXPECT_NE(out.find("ENGAGED"), std::string::npos);
+  EXPECT_NE(out.find("doctor test"), std::string::npos);
+  EXPECT_NE(out.find("stereoball estop release"), std::string::npos);
 }
 
 TEST_F(Doctor, GivenSwappedEyesThenEyeOrderFails) {
