@@ -53,6 +53,9 @@ class AuthSession {
   std::map<std::string, uint64_t> counters() const;
   /// Key id that signs now (0 keyless).
   uint32_t signing_key_id();
+  /// First 4 bytes (big-endian) of the `stereoball keys show` fingerprint of the signing key,
+  /// so hosts can compare keys whose ids agree by chance (0 keyless).
+  uint32_t signing_key_fingerprint();
 
  private:
   void reload_if_changed();  // caller holds mutex_

@@ -124,6 +124,10 @@ void Runner::publish_heartbeat(int64_t now) {
   for (const auto& [name, value] : participant_->auth().counters())
     health_.set_counter(name, value);
   health_.set_counter("auth_keyed", participant_->auth().keyed() ? 1 : 0);
+  // Which deployment key signs (0 = unauthenticated; fingerprint: the first 8 hex digits of
+  // `stereoball keys show`): `stereoball doctor` compares nodes.
+  health_.set_counter("auth_key_id", participant_->auth().signing_key_id());
+  health_.set_counter("auth_key_fingerprint", participant_->auth().signing_key_fingerprint());
   const Health::Snapshot snap = health_.snapshot(now);
   std::vector<std::string> names;
   std::vector<stereoball_msg_TopicRate> rates;
