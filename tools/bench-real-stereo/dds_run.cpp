@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -120,6 +121,12 @@ struct Play {
   std::vector<std::string> errors;             // the play as a whole
 };
 
+std::string format_hz(double hz) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f Hz", hz);
+  return buf;
+}
+
 }  // namespace
 
 RunResult run_dds(const RealStereoSet& set, const DetectorConfig& config,
@@ -193,11 +200,19 @@ RunResult run_dds(const RealStereoSet& set, const DetectorConfig& config,
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
 
-    // Plays the rows once; every pair answered, refused, or left for the retry.
+    // Plays the rows once; every pair answered, refused, or left for the retry. The play
+    // starts with copies of its first pair (warm-up: the node's first frames of a calibration
+    // also check the eye order, seconds at this size on a busy machine) whose answers are not
+    // used, so the pairs themselves arrive at a detector that keeps up.
+    double slowest_ms = 0;
     auto play = [&](const std::vector<std::size_t>& rows, double rate_hz, int attempt) -> Play {
       Play p;
       const std::string dir = tmp.path() + "/play" + std::to_string(attempt);
-      if (auto st = link_pairs(set, rows, dir); !st) {
+      const std::size_t warmup =
+          std::max<std::size_t>(1, std::size_t(std::ceil(options.warmup_s * rate_hz)));
+      std::vector<std::size_t> played(warmup, rows.front());
+      played.insert(played.end(), rows.begin(), rows.end());
+      if (auto st = link_pairs(set, played, dir); !st) {
         p.errors.push_back(st.error());
         return p;
       }
@@ -216,24 +231,29 @@ RunResult run_dds(const RealStereoSet& set, const DetectorConfig& config,
         p.errors.push_back(camera.error());
         return p;
       }
-      const double play_s = double(rows.size()) / rate_hz;
+      const double play_s = double(played.size()) / rate_hz;
       const auto deadline =
           Clock::now() + std::chrono::milliseconds(int(
                              1000 * (options.start_timeout_s + play_s + options.pair_timeout_s)));
-      while (p.got.size() + p.refused.size() < rows.size()) {
+      // The detector works on the newest frame: once the last one is answered, every frame
+      // before it has been answered or overwritten, and nothing more will come.
+      bool last_answered = false;
+      while (p.got.size() + p.refused.size() < rows.size() && !last_answered) {
         for (auto& d : detections.take(SIZE_MAX)) {
           if (d->capture_stamp_ns < play_start_ns) continue;
-          if (d->frame_seq >= rows.size()) continue;
-          const std::size_t row = rows[d->frame_seq];
+          if (d->frame_seq + 1 == played.size()) last_answered = true;
+          if (d->frame_seq < warmup || d->frame_seq >= played.size()) continue;
+          const std::size_t row = played[d->frame_seq];
           if (p.got.count(row) || p.refused.count(row)) continue;
           if (is_refusal(d->status)) {
             p.refused[row] =
                 std::string(status_name(d->status)) + ": " + (d->reason ? d->reason : "");
           } else {
             p.got[row] = detection_from_message(*d);
+            slowest_ms = std::max(slowest_ms, double(d->processing_ms));
           }
         }
-        if (p.got.size() + p.refused.size() == rows.size()) break;
+        if (p.got.size() + p.refused.size() == rows.size() || last_answered) break;
         if (stopped()) {
           p.errors.push_back("interrupted");
           break;
@@ -260,8 +280,7 @@ RunResult run_dds(const RealStereoSet& set, const DetectorConfig& config,
         if (Clock::now() > deadline) break;
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
-      // Answers still on the way once the last pair was sent are waited for by the deadline
-      // above; camera_server has nothing left to do.
+      // camera_server has nothing left to do (loop: false).
       camera->stop(std::chrono::milliseconds(5000));
       return p;
     };
@@ -271,12 +290,15 @@ RunResult run_dds(const RealStereoSet& set, const DetectorConfig& config,
     std::map<std::size_t, std::string> refused;
     const int attempts = options.retry ? 2 : 1;
     for (int attempt = 1; attempt <= attempts && !pending.empty(); ++attempt) {
-      // A retry plays slower: the usual reason for a lost answer is a busy detector.
-      const double rate = attempt == 1 ? options.rate_hz : options.rate_hz / 2;
+      // A retry plays slower: the usual reason for a lost answer is a busy detector (at most
+      // half the rate, and two of the slowest frames so far per frame).
+      const double rate = attempt == 1
+                              ? options.rate_hz
+                              : std::min(options.rate_hz / 2,
+                                         slowest_ms > 0 ? 500.0 / slowest_ms : options.rate_hz / 2);
       if (attempt > 1)
         out.notes.push_back("retry: " + std::to_string(pending.size()) +
-                            " pair(s) without a detection played again at " + std::to_string(rate) +
-                            " Hz");
+                            " pair(s) without a detection played again at " + format_hz(rate));
       Play p = play(pending, rate, attempt);
       for (const auto& [row, det] : p.got) {
         out.pairs[row].detection = det;

@@ -93,6 +93,11 @@ int main(int argc, char** argv) {
                  "longest wait for the last answers after the last frame, s")
       ->check(CLI::Range(1.0, 600.0))
       ->capture_default_str();
+  app.add_option("--warmup-s", options.warmup_s,
+                 "the first pair is played this long before the set, answers unused: the "
+                 "detector's first frames of a calibration are slow")
+      ->check(CLI::Range(0.0, 120.0))
+      ->capture_default_str();
   app.add_flag("--no-retry", no_retry, "do not play pairs without a detection again");
   app.add_flag("--in-process", in_process,
                "run the detector's pipeline library in this process (fast tuning; NOT the DDS "

@@ -17,16 +17,17 @@ namespace stereoball::real_stereo {
 
 /// How the frames are played.
 struct RunOptions {
-  std::string frame_encoding = "jpeg";      ///< camera_server frame_encoding: raw | jpeg | png
-  int jpeg_quality = 90;                    ///< with jpeg
-  int width_px = 0;                         ///< camera_server publish_width_px (0 = native)
-  double rate_hz = 1.0;                     ///< camera_server playback rate (DDS)
-  int domain = 87;                          ///< private DDS domain (DDS)
-  std::string partition;                    ///< DDS partition ("" = one made from the pid)
-  std::string bin_dir;                      ///< folder of camera_server and ball_detector
-  double start_timeout_s = 20.0;            ///< a node's start (decode, discovery), s
-  double pair_timeout_s = 20.0;             ///< longest wait for one pair's detection, s
-  bool retry = true;                        ///< play the pairs without a detection once more
+  std::string frame_encoding = "jpeg";  ///< camera_server frame_encoding: raw | jpeg | png
+  int jpeg_quality = 90;                ///< with jpeg
+  int width_px = 0;                     ///< camera_server publish_width_px (0 = native)
+  double rate_hz = 1.0;                 ///< camera_server playback rate (DDS)
+  int domain = 87;                      ///< private DDS domain (DDS)
+  std::string partition;                ///< DDS partition ("" = one made from the pid)
+  std::string bin_dir;                  ///< folder of camera_server and ball_detector
+  double start_timeout_s = 20.0;        ///< a node's start (decode, discovery), s
+  double pair_timeout_s = 20.0;         ///< longest wait for the answers after the last frame, s
+  double warmup_s = 10.0;  ///< DDS: the first pair is played this long first (not scored), s
+  bool retry = true;       ///< play the pairs without a detection once more
   const std::atomic<bool>* stop = nullptr;  ///< set by SIGINT/SIGTERM: tear down and fail
 };
 
