@@ -288,6 +288,7 @@ RunResult run_dds(const RealStereoSet& set, const DetectorConfig& config,
     std::vector<std::size_t> pending(set.truth.size());
     for (std::size_t i = 0; i < pending.size(); ++i) pending[i] = i;
     std::map<std::size_t, std::string> refused;
+    bool run_stopped = false;
     const int attempts = options.retry ? 2 : 1;
     for (int attempt = 1; attempt <= attempts && !pending.empty(); ++attempt) {
       // A retry plays slower: the usual reason for a lost answer is a busy detector (at most
@@ -312,6 +313,7 @@ RunResult run_dds(const RealStereoSet& set, const DetectorConfig& config,
       }
       pending = still;
       if (!p.errors.empty()) {
+        run_stopped = true;
         for (auto& e : p.errors) out.errors.push_back(e);
         break;  // a node failed or the user stopped: retrying would fail the same way
       }
@@ -327,6 +329,8 @@ RunResult run_dds(const RealStereoSet& set, const DetectorConfig& config,
           e += " (frames of " + std::to_string(out.played_size.width) + "x" +
                std::to_string(out.played_size.height) + " need the detector's image_limit at " +
                "least that: --image-limit WxH)";
+      } else if (run_stopped) {
+        e += " (the run stopped: see the error above)";
       } else {
         e += " after " + std::to_string(out.pairs[row].attempts) + " play(s)";
       }

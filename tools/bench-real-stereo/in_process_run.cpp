@@ -6,6 +6,7 @@
 
 #include "ball_detector/node/detection_msg.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
+#include "common/util/bench_clock.hpp"
 #include "real_stereo_run.hpp"
 #include "stereo/frame/frame_compressor.hpp"
 #include "stereo/frame/frame_decoder.hpp"
@@ -130,6 +131,7 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
     // Timed as the node times it: decoding, the pipeline's step (finish_frame comes after the
     // answer and is not in processing_ms).
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = bench::thread_cpu_ms();
     ball_detector::StereoDetection det;
     cv::Mat l, r;
     if (auto st = decoder.decode(frame, pipeline.image_size(), l, r); !st) {
@@ -140,6 +142,7 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
     }
     const float ms =
         std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double cpu_ms = bench::thread_cpu_ms() - cpu_start;
     stereoball_msg_BallDetection msg_out{};
     ball_detector::to_message(det, ball_detector::FrameStamp{i, stamp_ns}, ms, stamp_ns, msg_out);
     if (is_refusal(msg_out.status)) {
@@ -148,6 +151,7 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
       continue;
     }
     out.pairs[i].detection = detection_from_message(msg_out);
+    out.pairs[i].detection->cpu_ms = cpu_ms;
     out.pairs[i].attempts = 1;
     if (!l.empty()) pipeline.finish_frame(l, frame.rectified);
   }

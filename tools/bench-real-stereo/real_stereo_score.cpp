@@ -308,8 +308,10 @@ std::string reason_kind(const std::string& status, const std::string& reason) {
 Summary summarize(const std::vector<PairScore>& pairs) {
   Summary s;
   for (Band b : {Band::kWithin2, Band::k2To10, Band::kOver10}) s.bands[b] = Counts{};
-  std::vector<double> ms;
+  std::vector<double> ms, cpu;
   for (const auto& p : pairs) {
+    if (std::isfinite(p.detection.cpu_ms) && p.detection.cpu_ms >= 0)
+      cpu.push_back(p.detection.cpu_ms);
     if (std::isfinite(p.detection.processing_ms) && p.detection.processing_ms >= 0)
       ms.push_back(p.detection.processing_ms);
     if (p.verdict == Verdict::kExcluded) {
@@ -324,6 +326,9 @@ Summary summarize(const std::vector<PairScore>& pairs) {
   s.timed_frames = ms.size();
   s.median_ms = median_of(ms);
   s.p90_ms = percentile_of(ms, 0.9);
+  s.cpu_frames = cpu.size();
+  s.median_cpu_ms = median_of(cpu);
+  s.p90_cpu_ms = percentile_of(cpu, 0.9);
   return s;
 }
 

@@ -3,6 +3,7 @@
 // radius per eye, row offset, depth, flags) and each pair's detection against it. Pure: no DDS,
 // no files (the caller reads the text), no clocks.
 
+#include <cmath>
 #include <cstddef>
 #include <map>
 #include <optional>
@@ -55,8 +56,9 @@ struct Detection {
   double left_x_px = 0;  ///< left circle centre, rectified px
   double left_y_px = 0;
   double left_r_px = 0;
-  double z_m = 0;            ///< position_m[2], metres
-  double processing_ms = 0;  ///< detector time for the frame, ms
+  double z_m = 0;                ///< position_m[2], metres
+  double processing_ms = 0;      ///< detector time for the frame, ms
+  double cpu_ms = std::nan("");  ///< in-process only: the thread's CPU time for it, ms
 };
 
 /// Outcome of one pair.
@@ -110,6 +112,9 @@ struct Summary {
   std::size_t timed_frames = 0;             ///< frames with a processing time
   double median_ms = 0;                     ///< detector ms per frame (scored and excluded)
   double p90_ms = 0;
+  std::size_t cpu_frames = 0;  ///< frames with a CPU time (in-process)
+  double median_cpu_ms = 0;
+  double p90_cpu_ms = 0;
 };
 
 /// Aggregates pair scores.
