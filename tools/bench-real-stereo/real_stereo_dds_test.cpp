@@ -117,3 +117,33 @@ TEST(RealStereoSet, GivenATruthRowNamingAMissingImageWhenOpenedThenTheErrorNames
   EXPECT_NE(set.error().find("ball_truth.csv:5:"), std::string::npos) << set.error();
   EXPECT_NE(set.error().find("left_10.jpg"), std::string::npos) << set.error();
 }
+
+TEST(DetectorConfig, GivenAnOverrideFileAndFlagsWhenComposedThenTheyApplyOverTheShippedFile) {
+  // Given an override file with two keys and the diameter flag
+  const std::string dir = stereoball::testing::temp_dir();
+  std::ofstream(dir + "/over.yaml") << "ball:\n  diameter_m: 0.30\np2p:\n  min_score: 0.5\n";
+  rs::DetectorOverrides o;
+  o.config_file = dir + "/over.yaml";
+  o.no_floor_check = true;
+  o.image_limit = cv::Size(2304, 1296);
+  const std::string shipped = std::string(SB_SOURCE_DIR) + "/config/ball_detector.yaml";
+  // When composed
+  auto c = rs::compose_detector_config(shipped, o);
+  ASSERT_TRUE(c.ok()) << c.error();
+  // Then the file's keys, the flags and the shipped rest are all in force
+  EXPECT_DOUBLE_EQ(c->params.ball_diameter_m, 0.30);
+  EXPECT_DOUBLE_EQ(c->params.floor_tolerance_m, 0.0);
+  EXPECT_EQ(c->params.max_image_size(), cv::Size(2304, 1296));
+  EXPECT_EQ(c->changes.size(), 3u);
+  // And the flag wins over the file
+  o.ball_diameter_m = 0.24;
+  c = rs::compose_detector_config(shipped, o);
+  ASSERT_TRUE(c.ok()) << c.error();
+  EXPECT_DOUBLE_EQ(c->params.ball_diameter_m, 0.24);
+  // And a key the detector does not know is refused, named
+  std::ofstream(dir + "/typo.yaml") << "ball:\n  diameter: 0.30\n";
+  o.config_file = dir + "/typo.yaml";
+  c = rs::compose_detector_config(shipped, o);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.error().find("ball.diameter"), std::string::npos) << c.error();
+}
