@@ -40,7 +40,11 @@ int main(int argc, char** argv) {
       "(overall, per |dy| band), misses by the detector's reason, detector ms per frame. "
       "Figures only: exit 0 when it ran, 1 on run errors, 2 on bad input.",
       "stereoball-bench-real-stereo"};
-  std::string set_dir = std::string(SB_DEFAULT_SHARED_DATA_DIR) + "/real-stereo-basketball";
+  // The shared development set beside a source tree (build-tree programs only): no source path
+  // is compiled in, an installed bench needs --set.
+  std::string set_dir;
+  if (const auto source = paths::default_roots().source_dir)
+    set_dir = (*source / ".." / "shared" / "data" / "real-stereo-basketball").lexically_normal();
   std::string truth, calibration;
   std::string detector_base = paths::shipped_config_path("ball_detector.yaml");
   DetectorOverrides overrides;
@@ -49,7 +53,9 @@ int main(int argc, char** argv) {
   RunOptions options;
   options.bin_dir = paths::executable_dir().string();
   bool in_process = false, verbose = false, json = false, no_retry = false;
-  app.add_option("--set", set_dir, "the real stereo set's folder (README.md: the set folder)")
+  app.add_option("--set", set_dir,
+                 "the real stereo set's folder (README.md: the set folder); default in a build "
+                 "tree: ../shared/data/real-stereo-basketball beside the source tree")
       ->capture_default_str();
   app.add_option("--truth", truth, "truth CSV (default: SET/ball_truth.csv)");
   app.add_option("--calibration", calibration,
@@ -112,6 +118,10 @@ int main(int argc, char** argv) {
     if (!size) return bad_input("--image-limit: " + size.error());
     overrides.image_limit = *size;
   }
+  if (set_dir.empty())
+    return bad_input(
+        "no set: give --set DIR (a folder with left/, right/, ball_truth.csv, "
+        "calibration/)");
   auto set = open_set(set_dir, truth, calibration);
   if (!set) return bad_input(set.error());
   auto config = compose_detector_config(detector_base, overrides);
