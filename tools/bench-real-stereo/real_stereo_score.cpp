@@ -218,9 +218,12 @@ Result<std::vector<TruthRow>> parse_truth(const std::string& text, const std::st
 
 TruthRow scaled(const TruthRow& row, double factor) {
   TruthRow s = row;
-  // dy_px stays in the truth file's pixels: the bands name the same pairs at every width.
-  for (double* v : {&s.left_cx, &s.left_cy, &s.left_r, &s.right_cx, &s.right_cy, &s.right_r})
-    *v *= factor;
+  // Pixel centres map as the image is area-scaled (camera_server's publish_width_px and its
+  // scaled calibration): x' = (x + 0.5) s - 0.5. dy_px stays in the truth file's pixels: the
+  // bands name the same pairs at every width.
+  for (double* v : {&s.left_cx, &s.left_cy, &s.right_cx, &s.right_cy})
+    *v = (*v + 0.5) * factor - 0.5;
+  for (double* v : {&s.left_r, &s.right_r}) *v *= factor;
   return s;
 }
 

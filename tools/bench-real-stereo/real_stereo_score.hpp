@@ -44,8 +44,9 @@ struct TruthRow {
 /// name is the file in error messages: "NAME:LINE: what is wrong".
 Result<std::vector<TruthRow>> parse_truth(const std::string& text, const std::string& name);
 
-/// The truth of a set played at another width: centres and radii scaled by factor (dy_px is
-/// kept: the |dy| bands are defined in the truth file's pixels).
+/// The truth of a set played at another width: centres scaled as pixel centres,
+/// (x + 0.5) factor - 0.5, radii by factor; dy_px is kept (the |dy| bands are defined in the
+/// truth file's pixels).
 TruthRow scaled(const TruthRow& row, double factor);
 
 /// What the detector said about one pair (the fields of ball/detection the scorer uses).

@@ -194,7 +194,7 @@ TEST(Bands, GivenRowOffsetsWhenBandedThenTheEdgesBelongBelow) {
 TEST(Scaling, GivenHalfWidthWhenScaledThenCentresAndRadiiHalveButTheBandStays) {
   const auto row = truth()[2];
   const auto half = rs::scaled(row, 0.5);
-  EXPECT_DOUBLE_EQ(half.left_cx, row.left_cx * 0.5);
+  EXPECT_DOUBLE_EQ(half.left_cx, (row.left_cx + 0.5) * 0.5 - 0.5);
   EXPECT_DOUBLE_EQ(half.left_r, row.left_r * 0.5);
   EXPECT_DOUBLE_EQ(half.dy_px, row.dy_px);
   EXPECT_EQ(rs::score_pair(half, found_at(row.left_cx * 0.5, row.left_cy * 0.5, 1.66)).verdict,
