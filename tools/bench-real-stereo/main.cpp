@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
   std::string image_limit;
   RunOptions options;
   options.bin_dir = paths::executable_dir().string();
+  std::vector<std::string> only_pairs;
   bool in_process = false, verbose = false, json = false, no_retry = false;
   app.add_option("--set", set_dir,
                  "the real stereo set's folder (README.md: the set folder); default in a build "
@@ -104,6 +106,9 @@ int main(int argc, char** argv) {
                  "detector's first frames of a calibration are slow")
       ->check(CLI::Range(0.0, 120.0))
       ->capture_default_str();
+  app.add_option("--pairs", only_pairs,
+                 "play only these pair ids of the truth (comma separated), e.g. 2,4,9")
+      ->delimiter(',');
   app.add_flag("--no-retry", no_retry, "do not play pairs without a detection again");
   app.add_flag("--in-process", in_process,
                "run the detector's pipeline library in this process (fast tuning; NOT the DDS "
@@ -124,6 +129,17 @@ int main(int argc, char** argv) {
         "calibration/)");
   auto set = open_set(set_dir, truth, calibration);
   if (!set) return bad_input(set.error());
+  if (!only_pairs.empty()) {
+    std::vector<TruthRow> kept;
+    for (const auto& id : only_pairs) {
+      auto it = std::find_if(set->truth.begin(), set->truth.end(),
+                             [&](const TruthRow& r) { return r.pair == id; });
+      if (it == set->truth.end())
+        return bad_input("--pairs: " + set->truth_path + " has no pair '" + id + "'");
+      kept.push_back(*it);
+    }
+    set->truth = std::move(kept);
+  }
   auto config = compose_detector_config(detector_base, overrides);
   if (!config) return bad_input(config.error());
   if (options.width_px % 2 != 0) return bad_input("--width-px must be even");
