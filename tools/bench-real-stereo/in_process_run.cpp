@@ -1,0 +1,161 @@
+// run_in_process and the ball/detection conversions both paths share.
+
+#include <chrono>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "ball_detector/node/detection_msg.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
+#include "common/util/bench_clock.hpp"
+#include "real_stereo_run.hpp"
+#include "stereo/frame/frame_compressor.hpp"
+#include "stereo/frame/frame_decoder.hpp"
+#include "stereo/frame/frame_msg.hpp"
+#include "stereo/io/calibration_file.hpp"
+#include "stereo/msg/calibration_msg.hpp"
+
+namespace stereoball::real_stereo {
+namespace {
+
+// An image as camera_server's file source reads it (file_encoding as_read).
+Result<cv::Mat> read_as_camera_server(const std::string& path) {
+  cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (m.empty()) return Error{path + ": cannot read or decode the image"};
+  if (m.depth() != CV_8U) return Error{path + ": only 8-bit images are supported"};
+  if (m.channels() == 4) cv::cvtColor(m, m, cv::COLOR_BGRA2BGR);
+  if (m.channels() != 1 && m.channels() != 3)
+    return Error{path + ": unsupported channel count " + std::to_string(m.channels())};
+  if (!m.isContinuous()) m = m.clone();
+  return m;
+}
+
+}  // namespace
+
+const char* status_name(stereoball_msg_DetectionStatus status) {
+  switch (status) {
+    case stereoball_msg_DETECTION_FOUND:
+      return "found";
+    case stereoball_msg_DETECTION_NO_CANDIDATE:
+      return "no_candidate";
+    case stereoball_msg_DETECTION_EPIPOLAR_MISMATCH:
+      return "epipolar_mismatch";
+    case stereoball_msg_DETECTION_SIZE_INCONSISTENT:
+      return "size_inconsistent";
+    case stereoball_msg_DETECTION_NO_CALIBRATION:
+      return "no_calibration";
+    case stereoball_msg_DETECTION_BAD_FRAME:
+      return "bad_frame";
+    case stereoball_msg_DETECTION_OFF_FLOOR:
+      return "off_floor";
+    case stereoball_msg_DETECTION_INTERIOR_MISMATCH:
+      return "interior_mismatch";
+  }
+  return "unknown";
+}
+
+bool is_refusal(stereoball_msg_DetectionStatus status) {
+  return status == stereoball_msg_DETECTION_NO_CALIBRATION ||
+         status == stereoball_msg_DETECTION_BAD_FRAME;
+}
+
+Detection detection_from_message(const stereoball_msg_BallDetection& msg) {
+  Detection d;
+  d.found = msg.status == stereoball_msg_DETECTION_FOUND;
+  d.status = status_name(msg.status);
+  d.reason = msg.reason ? msg.reason : "";
+  d.left_x_px = msg.left.x_px;
+  d.left_y_px = msg.left.y_px;
+  d.left_r_px = msg.left.radius_px;
+  d.z_m = msg.position_m[2];
+  d.processing_ms = msg.processing_ms;
+  return d;
+}
+
+RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
+                         const RunOptions& options) {
+  RunResult out;
+  out.mode = "in-process";
+  out.pairs.resize(set.truth.size());
+  auto fail_all = [&](const std::string& error) {
+    out.errors.push_back(error);
+    return out;
+  };
+  if (options.width_px != 0)
+    return fail_all(
+        "--width-px is a camera_server setting: the in-process path plays the set "
+        "at its own size (run without --in-process)");
+  // The calibration travels as its message and is read back with the node's image limit.
+  auto file_calib = stereo::load_calibration(set.calibration_path);
+  if (!file_calib) return fail_all(set.calibration_path + ": " + file_calib.error());
+  const auto msg = stereo::calibration_to_message(*file_calib, 0, set.calibration_path);
+  auto calib = stereo::calibration_from_message(msg, config.params.max_image_size());
+  if (!calib)
+    return fail_all("ball_detector would refuse the calibration: " + calib.error() +
+                    " (raise the detector's image_limit: --image-limit WxH)");
+  ball_detector::StereoPipeline pipeline(config.params);
+  if (auto st = pipeline.set_calibration(*calib); !st)
+    return fail_all("ball_detector would refuse the calibration: " + st.error());
+  out.played_size = pipeline.image_size();
+  stereo::FrameCodecParams codec;
+  codec.frame_encoding = options.frame_encoding;
+  codec.jpeg_quality = options.jpeg_quality;
+  std::optional<stereo::FrameCompressor> compressor;
+  if (codec.compressed()) compressor.emplace(codec);
+  stereo::FrameDecoder decoder;
+  for (std::size_t i = 0; i < set.truth.size(); ++i) {
+    if (options.stop && options.stop->load()) return fail_all("interrupted");
+    const TruthRow& row = set.truth[i];
+    auto left = read_as_camera_server(set.left_path(row));
+    auto right = read_as_camera_server(set.right_path(row));
+    if (!left || !right) {
+      out.errors.push_back("pair " + row.pair + ": " + (!left ? left.error() : right.error()));
+      continue;
+    }
+    const std::int64_t stamp_ns = static_cast<std::int64_t>(i) * 1'000'000'000;
+    auto view = stereo::view_of_images(*left, *right, i, stamp_ns);
+    if (!view) {
+      out.errors.push_back("pair " + row.pair + ": " + view.error());
+      continue;
+    }
+    stereo::FrameView sent = *view;
+    if (compressor) {
+      auto c = compressor->step(*view);
+      if (!c) {
+        out.errors.push_back("pair " + row.pair + ": " + c.error());
+        continue;
+      }
+      sent = *c;
+    }
+    stereoball_msg_StereoFrame frame{};
+    stereo::fill_frame_message(sent, "files", frame);
+    // Timed as the node times it: decoding, the pipeline's step (finish_frame comes after the
+    // answer and is not in processing_ms).
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = bench::thread_cpu_ms();
+    ball_detector::StereoDetection det;
+    cv::Mat l, r;
+    if (auto st = decoder.decode(frame, pipeline.image_size(), l, r); !st) {
+      det.status = ball_detector::DetectionStatus::kBadFrame;
+      det.reason = st.error();
+    } else {
+      det = pipeline.step(l, r, frame.rectified, std::nullopt, stamp_ns);
+    }
+    const float ms =
+        std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double cpu_ms = bench::thread_cpu_ms() - cpu_start;
+    stereoball_msg_BallDetection msg_out{};
+    ball_detector::to_message(det, ball_detector::FrameStamp{i, stamp_ns}, ms, stamp_ns, msg_out);
+    if (is_refusal(msg_out.status)) {
+      out.errors.push_back("pair " + row.pair + ": the detector refused the frame (" +
+                           status_name(msg_out.status) + ": " + det.reason + ")");
+      continue;
+    }
+    out.pairs[i].detection = detection_from_message(msg_out);
+    out.pairs[i].detection->cpu_ms = cpu_ms;
+    out.pairs[i].attempts = 1;
+    if (!l.empty()) pipeline.finish_frame(l, frame.rectified);
+  }
+  return out;
+}
+
+}  // namespace stereoball::real_stereo
