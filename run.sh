@@ -27,6 +27,7 @@ TEST_PACKAGES=(
   iproute2
   fastddsgen libfastrtps-dev libfastcdr-dev dpkg-dev file
   clang libclang-rt-14-dev
+  systemd  # systemd-analyze rates the units' sandbox in the package test
 )
 
 as_root() {

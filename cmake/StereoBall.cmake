@@ -59,7 +59,9 @@ function(sb_add_gtest name)
     set(A_TIMEOUT 120)
   endif()
   add_test(NAME ${name} COMMAND ${name} --gtest_color=no)
-  set(env "SB_BIN_DIR=${CMAKE_BINARY_DIR}/bin" "SB_SOURCE_DIR=${SB_SOURCE_ROOT}")
+  # STEREOBALL_ENV_FILE empty: no test reads the host's /etc/stereoball/stereoball.env.
+  set(env "SB_BIN_DIR=${CMAKE_BINARY_DIR}/bin" "SB_SOURCE_DIR=${SB_SOURCE_ROOT}"
+      "STEREOBALL_ENV_FILE=")
   if(A_DDS)
     get_property(domain GLOBAL PROPERTY SB_NEXT_DOMAIN_ID)
     math(EXPR next "${domain} + 1")

@@ -68,7 +68,14 @@ int publish(const sb::node::CommonOptions& common, bool engaged, const std::stri
     std::printf("warning: unauthenticated (no deployment key): loopback only\n");
   }
   if (readers == 0) {
-    return fail("no node obeys the stop on this domain/partition right now: nothing holds it", 3);
+    std::string dds = "Cyclone's defaults";
+    if (const char* uri = std::getenv("CYCLONEDDS_URI")) dds = uri;
+    if (!participant.auth().keyed()) dds = "built into keyless processes (loopback only)";
+    return fail("no node obeys the stop on domain " + std::to_string(common.domain_id) +
+                    (common.partition.empty() ? "" : ", partition " + common.partition) +
+                    " right now: nothing holds it (this tool used the DDS configuration " + dds +
+                    "; the nodes must use the same: see `stereoball launch`'s log)",
+                3);
   }
   return 0;
 }

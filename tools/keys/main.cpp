@@ -10,6 +10,7 @@
 #include <string>
 
 #include "common/auth/key_file.hpp"
+#include "common/util/deployment.hpp"
 
 namespace {
 
@@ -71,9 +72,13 @@ int main(int argc, char** argv) {
       "drop samples without a valid one. Without a key file nodes run on loopback only."};
   app.require_subcommand(1);
   app.fallthrough();  // the shared options may follow the subcommand
+  // On a host with a systemd role, its settings file names the key file.
+  stereoball::deployment::import_env_file();
   const char* env = std::getenv("STEREOBALL_KEY_FILE");
   std::string path = env ? env : "";
-  app.add_option("-f,--file", path, "key file (default: $STEREOBALL_KEY_FILE)");
+  app.add_option("-f,--file", path,
+                 "key file (default: $STEREOBALL_KEY_FILE, also from "
+                 "/etc/stereoball/stereoball.env)");
   bool force = false;
   auto* init_cmd = app.add_subcommand("init", "create a key file with a new random key");
   init_cmd->add_flag("--force", force, "overwrite an existing file");

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "common/node/node_runner.hpp"
+#include "common/util/deployment.hpp"
 #include "common/util/log.hpp"
 #include "installed_profile.hpp"
 #include "supervisor.hpp"
@@ -30,6 +31,8 @@ void on_signal(int) {
 int main(int argc, char** argv) {
   CLI::App app{"stereoball launch: start and supervise a deploy/ profile"};
   std::string profile_name, log_path = "stereoball-launch.log", partition;
+  // Run by hand on a host with a systemd role, the launcher sees its settings as the unit would.
+  sb::deployment::import_env_file();
   int domain = sb::dds::domain_from_env(0);
   double duration_s = 0;
   app.add_option("profile", profile_name, "profile name (deploy/NAME.yaml) or path")->required();
@@ -60,6 +63,10 @@ int main(int argc, char** argv) {
   sb::launch::Supervisor supervisor(*profile, options,
                                     [](const std::string& e) { sb::log::info(e); });
   sb::log::info("profile ", profile->name, ": ", profile->description, " (logs: ", log_path, ")");
+  sb::log::info("DDS configuration of the nodes: ",
+                profile->cyclonedds_config.empty()
+                    ? std::string("each node's own (the profile names none)")
+                    : sb::deployment::file_uri(profile->cyclonedds_config));
   if (auto started = supervisor.start_all(sb::node::monotonic_ns()); !started) {
     std::fprintf(stderr, "stereoball launch: %s\n", started.error().c_str());
     supervisor.stop_all();

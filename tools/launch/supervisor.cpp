@@ -13,6 +13,8 @@
 #include <string_view>
 #include <thread>
 
+#include "common/util/deployment.hpp"
+
 extern char** environ;
 
 namespace stereoball::launch {
@@ -57,7 +59,8 @@ pid_t Supervisor::spawn(const NodeSpec& spec) {
     if (profile_sets_uri && std::string_view(*e).rfind("CYCLONEDDS_URI=", 0) == 0) continue;
     env.emplace_back(*e);
   }
-  if (profile_sets_uri) env.push_back("CYCLONEDDS_URI=file://" + profile_.cyclonedds_config);
+  if (profile_sets_uri)
+    env.push_back("CYCLONEDDS_URI=" + deployment::file_uri(profile_.cyclonedds_config));
   std::vector<char*> c_args, c_env;
   for (auto& a : args) c_args.push_back(a.data());
   c_args.push_back(nullptr);

@@ -124,6 +124,12 @@ Status save_key_file(const std::string& path, const Keyring& ring) {
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) return Error{"cannot create " + tmp};
+  // A rotation run as root keeps the file the service user's (it must stay readable to the
+  // nodes, which run as that user); a failure here only means we are not root.
+  struct stat old_file {};
+  if (::stat(path.c_str(), &old_file) == 0) {
+    [[maybe_unused]] const int kept = ::fchown(fd, old_file.st_uid, old_file.st_gid);
+  }
   const std::string bytes = text.str();
   const bool written =
       ::write(fd, bytes.data(), bytes.size()) == static_cast<ssize_t>(bytes.size());

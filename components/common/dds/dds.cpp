@@ -21,6 +21,7 @@
 #include "common/dds/topic.hpp"
 #include "common/dds/waitset.hpp"
 #include "common/dds/writer.hpp"
+#include "common/util/deployment.hpp"
 #include "common/util/log.hpp"
 
 namespace stereoball::dds {
@@ -162,10 +163,19 @@ DomainParticipant::DomainParticipant(const ParticipantOptions& options) : option
     throw Error("domain id " + std::to_string(options.domain_id) + " (allowed 0..232)",
                 DDS_RETCODE_BAD_PARAMETER);
   }
-  // Before Cyclone reads its configuration: never wait for a RouDi daemon that is not there.
-  ensure_shared_memory_usable();
+  // The roles' settings file may name the key file (a tool run by hand on a robot).
+  deployment::import_env_file();
   // Throws std::runtime_error naming the key file and its problem (mode, syntax...).
   auth_ = std::make_shared<AuthSession>(resolve_key_file(options.key_file));
+  if (auth_->keyed()) {
+    // Before Cyclone reads its configuration: the deployment's, so that a tool reaches the
+    // nodes of a profile or a systemd role without being told which file they use.
+    if (const auto& config = deployment::use_deployment_dds_config(); !config) {
+      throw std::runtime_error(config.error() + " (or set CYCLONEDDS_URI)");
+    }
+  }
+  // Before Cyclone reads its configuration: never wait for a RouDi daemon that is not there.
+  ensure_shared_memory_usable();
   if (!auth_->keyed()) {
     warn_keyless_once();
     loopback_domain_ = loopback_only_domain(options.domain_id);

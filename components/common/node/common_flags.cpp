@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "common/dds/participant.hpp"
+#include "common/util/deployment.hpp"
 #include "common/util/install_layout.hpp"
 
 namespace stereoball::node {
@@ -16,6 +17,9 @@ std::string default_config_path(const std::string& file_name) {
 
 void add_common_flags(CLI::App& app, CommonOptions& options, const std::string& config_name,
                       bool with_config) {
+  // The roles' settings file fills what the environment lacks before the defaults below read
+  // it (a tool run by hand on a robot gets the role's domain, partition and key file).
+  deployment::import_env_file();
   options.domain_id = dds::domain_from_env(0);
   if (with_config) {
     app.add_option("-c,--config", options.config_path,

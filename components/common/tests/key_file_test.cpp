@@ -47,6 +47,23 @@ TEST_F(KeyFileTest, SavedWithMode0600AndReadBack) {
   EXPECT_TRUE(loaded->keys[0].signs);
 }
 
+// Given a key file owned by the service user, when root rewrites it (a rotation run as root),
+// then the new file still belongs to that user (the nodes run as it and must read it).
+TEST_F(KeyFileTest, RewritingKeepsTheOwner) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to give the file to another user";
+  ASSERT_TRUE(sa::save_key_file(path_, sa::new_keyring()).ok());
+  const uid_t service_uid = 61299;
+  ASSERT_EQ(::chown(path_.c_str(), service_uid, service_uid), 0);
+  auto ring = sa::load_key_file(path_);
+  ASSERT_TRUE(ring) << ring.error();
+  ASSERT_TRUE(sa::save_key_file(path_, sa::rotate(*ring, kNow, 600 * kSecond)).ok());
+  struct stat st {};
+  ASSERT_EQ(::stat(path_.c_str(), &st), 0);
+  EXPECT_EQ(st.st_uid, service_uid);
+  EXPECT_EQ(st.st_gid, service_uid);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+}
+
 TEST_F(KeyFileTest, ReadableByOthersIsRefusedWithTheFix) {
   ASSERT_TRUE(sa::save_key_file(path_, sa::new_keyring()).ok());
   for (mode_t mode : {0644, 0640, 0604, 0660}) {
