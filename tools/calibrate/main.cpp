@@ -7,16 +7,21 @@
 #include "stereo/io/calibration_file.hpp"
 
 #include <glob.h>
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace {
@@ -231,7 +236,33 @@ int run(const Options& o) {
 
 }  // namespace
 
+// `--live` hands the whole command line (less that flag) to stereoball-calibrate-live, which
+// sits beside this program (build/bin or libexec/stereoball).
+void exec_live_if_asked(int argc, char** argv) {
+  std::vector<std::string> args;
+  bool live = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::string_view(argv[i]) == "--live")
+      live = true;
+    else
+      args.emplace_back(argv[i]);
+  }
+  if (!live) return;
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const auto program =
+      (ec ? std::filesystem::path(argv[0]) : self).parent_path() / "stereoball-calibrate-live";
+  std::vector<char*> live_argv{const_cast<char*>(program.c_str())};
+  for (auto& a : args) live_argv.push_back(a.data());
+  live_argv.push_back(nullptr);
+  execv(program.c_str(), live_argv.data());
+  std::fprintf(stderr, "stereoball-calibrate: --live: cannot start %s (%s)\n", program.c_str(),
+               std::strerror(errno));
+  std::exit(2);
+}
+
 int main(int argc, char** argv) {
+  exec_live_if_asked(argc, argv);
   CLI::App app{
       "Stereo calibration from chessboard image pairs (sub-pixel corners, per-camera and joint "
       "stereo calibration, rectification). Writes one OpenCV FileStorage YAML with image size, "

@@ -1,0 +1,173 @@
+// `stereoball calibrate live` as a process on a private DDS domain, fed real chessboard pairs
+// (OpenCV's 13 stereo samples) as stereo/frame by this test acting as the cameras.
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "common/dds/writer.hpp"
+#include "common/node/node_runner.hpp"
+#include "process.hpp"
+#include "stereo/frame/frame_msg.hpp"
+#include "stereo/io/calibration_file.hpp"
+
+namespace stereoball {
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+
+struct Pair {
+  cv::Mat left, right;
+};
+
+std::vector<Pair> opencv_board_pairs() {
+  std::vector<Pair> pairs;
+  const std::string dir = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/";
+  for (int i : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14}) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%02d.jpg", i);
+    Pair p{cv::imread(dir + "left" + name, cv::IMREAD_GRAYSCALE),
+           cv::imread(dir + "right" + name, cv::IMREAD_GRAYSCALE)};
+    if (!p.left.empty() && !p.right.empty()) pairs.push_back(p);
+  }
+  return pairs;
+}
+
+// Publishes stereo/frame like a 30 Hz camera pair (mono8, both eyes stamped alike).
+class FakeCameras {
+ public:
+  FakeCameras()
+      : participant_({testing::test_domain(), testing::unique_partition(), ""}),
+        writer_(participant_, topics::kStereoFrame) {}
+
+  const std::string& partition() const { return partition_; }
+  bool wait_for_reader() { return writer_.wait_for_readers(1, 20'000'000'000); }
+
+  void publish(const Pair& pair) {
+    const int64_t stamp = node::now_ns();
+    stereo::FrameView view;
+    view.seq = seq_++;
+    view.stamp_ns = stamp;
+    view.encoding = "mono8";
+    view.left = stereo::eye_view(pair.left, stamp);
+    view.right = stereo::eye_view(pair.right, stamp);
+    stereoball_msg_StereoFrame msg{};
+    stereo::fill_frame_message(view, source_, msg);
+    writer_.write(msg);
+    std::this_thread::sleep_for(33ms);
+  }
+
+ private:
+  std::string partition_ = testing::unique_partition();
+  const std::string source_ = "test:opencv-samples";  // the message points at it
+  dds::DomainParticipant participant_;
+  dds::DataWriter<stereoball_msg_StereoFrame> writer_;
+  uint64_t seq_ = 0;
+};
+
+std::vector<std::string> tool_args(const std::string& partition, const std::string& out,
+                                   std::vector<std::string> extra) {
+  std::vector<std::string> argv{testing::bin("stereoball-calibrate-live"),
+                                "--domain",
+                                std::to_string(testing::test_domain()),
+                                "--partition",
+                                partition,
+                                "-o",
+                                out};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  return argv;
+}
+
+class CalibrateLive : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    pairs_ = opencv_board_pairs();
+    if (pairs_.size() < 13) GTEST_SKIP() << "../shared/data/opencv-samples not found";
+    dir_ = fs::temp_directory_path() /
+           ("calibrate_live_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::vector<Pair> pairs_;
+  fs::path dir_;
+};
+
+TEST_F(CalibrateLive, HeldBoardsGiveTheCalibrationTheFileToolGives) {
+  // Given the tool listening and the board held still at each of the 13 sample poses
+  FakeCameras cameras;
+  const std::string out = (dir_ / "live.yaml").string();
+  auto tool = testing::Process::start(
+      tool_args(cameras.partition(), out, {"--poses", "10", "--timeout-s", "60"}));
+  ASSERT_TRUE(cameras.wait_for_reader()) << tool.output();
+  // When each pair is shown for a second, with a blank between poses
+  const cv::Mat blank(pairs_[0].left.size(), CV_8UC1, cv::Scalar(128));
+  for (const auto& pair : pairs_) {
+    if (!tool.running()) break;
+    for (int f = 0; f < 30 && tool.running(); ++f) cameras.publish(pair);
+    for (int f = 0; f < 3 && tool.running(); ++f) cameras.publish({blank, blank});
+  }
+  const auto code = tool.wait_for_exit(30s);
+  // Then it takes ten poses, passes the verdict and writes a calibration whose baseline and
+  // focal agree with stereoball calibrate on all 13 files
+  ASSERT_TRUE(code.has_value()) << tool.output();
+  EXPECT_EQ(*code, 0) << tool.output();
+  EXPECT_NE(tool.output().find("pose 10 taken"), std::string::npos) << tool.output();
+  EXPECT_NE(tool.output().find("verdict: PASS"), std::string::npos);
+  auto live = stereo::load_calibration(out);
+  ASSERT_TRUE(live) << live.error();
+  const std::string files = (dir_ / "files.yaml").string();
+  const std::string data = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/";
+  auto [file_code, file_out] = testing::run(
+      {testing::bin("stereoball-calibrate"), "--pairs", data + "stereo_calib.xml", "-o", files},
+      120s);
+  ASSERT_EQ(file_code, 0) << file_out;
+  auto reference = stereo::load_calibration(files);
+  ASSERT_TRUE(reference) << reference.error();
+  EXPECT_NEAR(std::abs(live->t[0]), std::abs(reference->t[0]), 0.02 * std::abs(reference->t[0]));
+  EXPECT_NEAR(live->k1(0, 0), reference->k1(0, 0), 0.02 * reference->k1(0, 0));
+}
+
+TEST_F(CalibrateLive, ABoardThatNeverStandsStillWritesNothingAndSaysWhy) {
+  // Given a board that changes pose every frame
+  FakeCameras cameras;
+  const std::string out = (dir_ / "never.yaml").string();
+  auto tool = testing::Process::start(
+      tool_args(cameras.partition(), out, {"--poses", "6", "--timeout-s", "5"}));
+  ASSERT_TRUE(cameras.wait_for_reader()) << tool.output();
+  // When frames arrive until the tool gives up
+  for (int f = 0; tool.running() && f < 400; ++f) cameras.publish(pairs_[f % pairs_.size()]);
+  const auto code = tool.wait_for_exit(20s);
+  // Then it exits 1, names the missing still poses and writes no file
+  ASSERT_TRUE(code.has_value()) << tool.output();
+  EXPECT_EQ(*code, 1) << tool.output();
+  EXPECT_NE(tool.output().find("still poses taken"), std::string::npos) << tool.output();
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CalibrateLive, ABoardOfAnotherSizeIsNamedAndNothingIsWritten) {
+  // Given the tool told the board has 7x5 inner corners while the cameras show 9x6
+  FakeCameras cameras;
+  const std::string out = (dir_ / "size.yaml").string();
+  auto tool = testing::Process::start(
+      tool_args(cameras.partition(), out, {"--board", "7x5", "--timeout-s", "4"}));
+  ASSERT_TRUE(cameras.wait_for_reader()) << tool.output();
+  // When a held board is shown
+  for (int f = 0; tool.running() && f < 300; ++f) cameras.publish(pairs_[0]);
+  const auto code = tool.wait_for_exit(20s);
+  // Then the console says no 7x5 board was found and no file is written
+  ASSERT_TRUE(code.has_value()) << tool.output();
+  EXPECT_EQ(*code, 1);
+  EXPECT_NE(tool.output().find("no 7x5 board found"), std::string::npos) << tool.output();
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
+}  // namespace stereoball
