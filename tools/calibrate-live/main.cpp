@@ -53,15 +53,6 @@ int fail(const std::string& message, int code = 2) {
   return code;
 }
 
-std::optional<cv::Size> parse_board(const std::string& text) {
-  int cols = 0, rows = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &cols, &x, &rows, &extra) != 3 || x != 'x')
-    return std::nullopt;
-  if (cols < 2 || rows < 2 || cols > 50 || rows > 50) return std::nullopt;
-  return cv::Size(cols, rows);
-}
-
 // Board corners in one eye: searched on a copy at most 800 px wide (fast on large sensors),
 // refined to sub-pixel on the full image. Empty when the whole board is not seen.
 std::vector<cv::Point2f> find_corners(const cv::Mat& eye,
@@ -279,7 +270,7 @@ int main(int argc, char** argv) {
   app.add_option("--save-poses", o.save_poses_dir,
                  "also save each pose's images here (for stereoball calibrate on files)");
   CLI11_PARSE(app, argc, argv);
-  const auto board = parse_board(o.board);
+  const auto board = stereoball::stereo::parse_board_size(o.board);
   if (!board)
     return fail("--board '" + o.board + "': expected COLSxROWS of inner corners, e.g. 9x6");
   live::LiveParams params;

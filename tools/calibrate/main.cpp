@@ -51,15 +51,6 @@ int fail(const std::string& message) {
   return 1;
 }
 
-std::optional<cv::Size> parse_board(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
-    return std::nullopt;
-  }
-  return cv::Size(w, h);
-}
-
 std::vector<std::string> expand_glob(const std::string& pattern) {
   glob_t g{};
   std::vector<std::string> out;
@@ -179,7 +170,7 @@ stereoball::Status save_rectified(const std::string& dir, const PairList& pairs,
 }
 
 int run(const Options& o) {
-  const auto board = parse_board(o.board);
+  const auto board = stereoball::stereo::parse_board_size(o.board);
   if (!board)
     return fail("--board '" + o.board + "': expected COLSxROWS of inner corners, e.g. 9x6");
   BoardCalibrationParams params;

@@ -64,6 +64,14 @@ Status BoardCalibrationParams::validate() const {
   return {};
 }
 
+std::optional<cv::Size> parse_board_size(const std::string& text) {
+  int cols = 0, rows = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &cols, &x, &rows, &extra) != 3) return std::nullopt;
+  if ((x != 'x' && x != 'X') || cols < 2 || rows < 2 || cols > 50 || rows > 50) return std::nullopt;
+  return cv::Size(cols, rows);
+}
+
 std::optional<std::vector<cv::Point2f>> find_board_corners(const cv::Mat& image,
                                                            const BoardCalibrationParams& params) {
   if (image.empty()) return std::nullopt;

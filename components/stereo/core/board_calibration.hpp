@@ -61,6 +61,10 @@ struct BoardCalibrationResult {
   double all_pairs_max_row_error_px = 0;   ///< max row error with every pair, pixels
 };
 
+/// A board's inner-corner count from "COLSxROWS" (e.g. "9x6"; x or X), each 2-50; nullopt
+/// for anything else.
+std::optional<cv::Size> parse_board_size(const std::string& text);
+
 /// Finds the inner chessboard corners with sub-pixel refinement in a grey or BGR image;
 /// nullopt if the whole board is not found.
 std::optional<std::vector<cv::Point2f>> find_board_corners(const cv::Mat& image,

@@ -230,5 +230,15 @@ TEST(BoardCalibrationParams, GivenBadValuesWhenValidatedThenFieldNamed) {
   EXPECT_EQ(p.validate().error().rfind("outlier_min_px", 0), 0u);
 }
 
+TEST(ParseBoardSize, ReadsColsByRowsAndRefusesTheRest) {
+  EXPECT_EQ(parse_board_size("9x6"), cv::Size(9, 6));
+  EXPECT_EQ(parse_board_size("8X6"), cv::Size(8, 6));
+  EXPECT_FALSE(parse_board_size("9"));
+  EXPECT_FALSE(parse_board_size("9x6x"));
+  EXPECT_FALSE(parse_board_size("1x6"));
+  EXPECT_FALSE(parse_board_size("9x51"));
+  EXPECT_FALSE(parse_board_size("9*6"));
+}
+
 }  // namespace
 }  // namespace stereoball::stereo
