@@ -18,6 +18,18 @@ std::string prose_of(const std::string& line) {
   return out;
 }
 
+// True when the prose before position AT ends with a comparison (a target or bound, "<= 5 ms").
+bool after_comparison(const std::string& prose, std::size_t at) {
+  std::string before = prose.substr(0, at);
+  while (!before.empty() && before.back() == ' ') before.pop_back();
+  for (const char* op : {"<", ">", "≤", "≥", "<=", ">="}) {
+    const std::string o = op;
+    if (before.size() >= o.size() && before.compare(before.size() - o.size(), o.size(), o) == 0)
+      return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<DocFigure> find_figures(const std::string& markdown) {
@@ -60,6 +72,8 @@ std::vector<DocFigure> find_figures(const std::string& markdown) {
       const auto& m = *it;
       const bool range = m[2].matched;
       if (!range && !m[7].matched) continue;  // one whole number: a setting
+      const auto first = static_cast<std::size_t>(m.position(0) + m[1].length());
+      if (after_comparison(prose, first)) continue;  // a target: "<= 0.5 %"
       DocFigure f{number, m.str().substr(m[1].length()), {}};
       if (range) f.numbers.push_back(m[3].str());
       f.numbers.push_back(m[6].str());

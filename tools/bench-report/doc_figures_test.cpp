@@ -43,7 +43,8 @@ TEST(FindFigures, SettingsCodeTablesAndLinksAreNotFigures) {
       "```\nbench printed 97.5 %\n```\n"
       "<!-- params:begin -->\n| a | 0.25 % |\n<!-- params:end -->\n"
       "See [the figures](docs/x_1.5x.md) and <!-- 2.5 ms -->.\n"
-      "Version 1.2.3 ms-free, 0.5 s stale, 640x480 images.\n";
+      "Version 1.2.3 ms-free, 0.5 s stale, 640x480 images.\n"
+      "Targets <= 0.1 % and ≥ 98.5 %, p99 < 2.5 ms.\n";
   // When figures are looked for
   // Then none is found
   const auto f = br::find_figures(md);
