@@ -87,18 +87,25 @@ br::MachineInfo machine_info(const std::string& commit, const std::string& repor
   return m;
 }
 
-// The saved outputs of ENTRY in DIR (NAME.txt, NAME.cmd, NAME.json), if any.
+// The saved outputs of ENTRY in DIR (NAME.txt, NAME.cmd, NAME.json), if any. Without NAME.txt a
+// NAME.json the bench wrote with --json stands in for its printed tables.
 br::BenchOutcome read_saved(const br::BenchEntry& entry, const fs::path& dir) {
   br::BenchOutcome o;
   o.entry = &entry;
   const fs::path txt = dir / (entry.name + ".txt");
-  if (!fs::exists(txt)) {
+  const fs::path json = dir / (entry.name + ".json");
+  if (fs::exists(txt)) {
+    o.output = read_file(txt);
+  } else if (entry.writes_json && fs::exists(json)) {
+    o.output = read_file(json);
+    o.output_is_json = true;
+  } else {
     o.reason = "no output saved";
     return o;
   }
   o.state = br::BenchOutcome::State::kRan;
-  o.output = read_file(txt);
   o.command = br::user_command(entry);
+  if (o.output_is_json) o.command += " --json " + entry.name + ".json";
   std::ifstream meta(dir / (entry.name + ".cmd"));
   std::string status, seconds;
   if (std::getline(meta, o.command) && std::getline(meta, o.date_utc) &&
@@ -109,7 +116,7 @@ br::BenchOutcome read_saved(const br::BenchEntry& entry, const fs::path& dir) {
     }
     o.seconds = std::atof(seconds.c_str());
   }
-  if (fs::exists(dir / (entry.name + ".json"))) o.json_file = entry.name + ".json";
+  if (!o.output_is_json && fs::exists(json)) o.json_file = entry.name + ".json";
   return o;
 }
 

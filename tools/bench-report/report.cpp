@@ -66,7 +66,7 @@ std::string render_report(const MachineInfo& machine, const std::vector<BenchOut
       md << "**Failed**: " << o.reason << ". Its output up to then:\n\n";
     if (o.json_file) md << "JSON: `" << *o.json_file << "` beside the outputs.\n\n";
     const std::string fence = fence_for(o.output);
-    md << fence << "text\n" << o.output;
+    md << fence << (o.output_is_json ? "json" : "text") << "\n" << o.output;
     if (!o.output.empty() && o.output.back() != '\n') md << "\n";
     md << fence << "\n\n";
   }

@@ -26,7 +26,8 @@ struct BenchOutcome {
   std::string command;        // the exact command that produced `output` (empty: not run)
   std::string date_utc;       // when it ran
   double seconds = 0.0;       // wall time of the run (0 when unknown)
-  std::string output;         // the bench's standard output, as printed
+  std::string output;         // the bench's standard output, as printed (or its JSON)
+  bool output_is_json = false;  // only the bench's --json file was saved
   std::string reason;         // why it failed or was not run
   std::optional<std::string> json_file;  // name of its JSON file beside the outputs, if any
 };

@@ -93,6 +93,20 @@ TEST(RenderReport, OutputWithBackticksCannotCloseItsBlock) {
   EXPECT_NE(md.find("````text\n```\nline\n````"), std::string::npos);
 }
 
+TEST(RenderReport, OutputReadFromJsonIsShownAsJson) {
+  // Given a bench whose only saved output is its --json file
+  br::BenchOutcome o;
+  o.entry = br::find_bench("closed-loop");
+  o.state = br::BenchOutcome::State::kRan;
+  o.command = "stereoball bench closed-loop --jobs 2 --json closed-loop.json";
+  o.output = "{\"total\": 0.95}\n";
+  o.output_is_json = true;
+  // When the report is rendered
+  const std::string md = br::render_report(machine(), {o});
+  // Then the JSON is printed as JSON under its command
+  EXPECT_NE(md.find("```json\n{\"total\": 0.95}\n```"), std::string::npos);
+}
+
 TEST(RenderReport, AFailedBenchSaysWhy) {
   // Given a bench that exited with an error
   br::BenchOutcome o;
