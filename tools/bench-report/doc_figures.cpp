@@ -101,7 +101,8 @@ bool report_holds(const std::string& text, const std::string& number) {
   return false;
 }
 
-std::vector<DocFigure> figures_missing_from(const std::string& markdown, const std::string& report) {
+std::vector<DocFigure> figures_missing_from(const std::string& markdown,
+                                            const std::string& report) {
   std::vector<DocFigure> missing;
   for (auto& f : find_figures(markdown)) {
     for (const auto& n : f.numbers) {

@@ -3,10 +3,11 @@
 // A benchmark figure is a number with a fractional part (98.38, 0.6, 5.8), or a range of two
 // numbers (289-352, 98.31-98.35), written in the prose of a document and directly followed (one
 // space allowed) by a unit that only a measurement produces: `%`, `ms`, `µs`, `us`, `x` (a
-// speed ratio), `fps`, `MB/s`, `Mbit/s`; or an F1 score (`F1 0.811`). Prose is everything outside fenced code blocks, inline code spans, HTML
-// comments, link targets and the generated parameter tables (between `<!-- params:begin -->`
-// and `<!-- params:end -->`). Whole numbers (`200 ms`, `10 %`) are settings and limits, not
-// figures; a setting with a fraction is written as code (`deadline_s: 0.2`).
+// speed ratio), `fps`, `MB/s`, `Mbit/s`; or an F1 score (`F1 0.811`). Prose is everything outside
+// fenced code blocks, inline code spans, HTML comments, link targets and the generated parameter
+// tables (between `<!-- params:begin -->` and `<!-- params:end -->`). Whole numbers (`200 ms`, `10
+// %`) are settings and limits, not figures; a setting with a fraction is written as code
+// (`deadline_s: 0.2`).
 #pragma once
 
 #include <string>
@@ -16,7 +17,7 @@ namespace stereoball::bench_report {
 
 // One figure found in a document.
 struct DocFigure {
-  int line = 0;          // 1-based line in the document
+  int line = 0;                      // 1-based line in the document
   std::string text;                  // as written, e.g. "98.38 %" or "289-352 ms"
   std::vector<std::string> numbers;  // the number(s) alone, e.g. {"98.38"} or {"289", "352"}
 };

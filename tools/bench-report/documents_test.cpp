@@ -87,8 +87,8 @@ TEST(Documents, RelativeLinksLeadToExistingFiles) {
         target = target.substr(0, target.find('#'));
         // When a link is resolved against the document's folder
         if (!fs::exists(doc.parent_path() / target))
-          problems += fs::relative(doc, kRoot).string() + ":" + std::to_string(n) + ": " +
-                      target + "\n";
+          problems +=
+              fs::relative(doc, kRoot).string() + ":" + std::to_string(n) + ": " + target + "\n";
       }
     }
   }
@@ -122,7 +122,8 @@ TEST(Documents, UserDocumentsStayShort) {
   EXPECT_LE(line_count(read(kRoot / "README.md")), 250);
   for (const auto& doc : documents()) {
     const std::string rel = fs::relative(doc, kRoot).string();
-    if (rel.rfind("components/", 0) == 0 || rel.rfind("tools/", 0) == 0)
+    if (rel.rfind("components/", 0) == 0 || rel.rfind("tools/", 0) == 0) {
       EXPECT_LE(line_count(read(doc)), 400) << rel;
+    }
   }
 }

@@ -1,17 +1,17 @@
 // stereoball bench report: runs the acceptance benchmarks (or reads their saved output) and
 // writes docs/benchmarks.md with the machine, date, commit and each table's exact command.
 
-#include <CLI/CLI.hpp>
+#include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
-#include <fcntl.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -66,7 +66,8 @@ br::MachineInfo machine_info(const std::string& commit, const std::string& repor
   for (std::string line; std::getline(cpuinfo, line);) {
     if (line.rfind("model name", 0) == 0) {
       const auto colon = line.find(':');
-      if (colon != std::string::npos) m.cpu_model = line.substr(line.find_first_not_of(' ', colon + 1));
+      if (colon != std::string::npos)
+        m.cpu_model = line.substr(line.find_first_not_of(' ', colon + 1));
       break;
     }
   }
@@ -79,8 +80,10 @@ br::MachineInfo machine_info(const std::string& commit, const std::string& repor
   m.commit = commit;
   if (m.commit.empty()) {
     m.commit = first_line_of_command("git rev-parse --short=12 HEAD 2>/dev/null");
-    if (m.commit.empty()) m.commit = "unknown";
-    else if (!first_line_of_command("git status --porcelain --untracked-files=no 2>/dev/null").empty())
+    if (m.commit.empty())
+      m.commit = "unknown";
+    else if (!first_line_of_command("git status --porcelain --untracked-files=no 2>/dev/null")
+                  .empty())
       m.commit += "-dirty";
   }
   m.report_command = report_command;

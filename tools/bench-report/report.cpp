@@ -57,7 +57,8 @@ std::string render_report(const MachineInfo& machine, const std::vector<BenchOut
        << "Data: " << e.data << "\n\n";
     if (o.state == BenchOutcome::State::kNotRun) {
       md << "**Not run** for this report" << (o.reason.empty() ? "" : " (" + o.reason + ")")
-         << ". Command:\n\n```sh\n" << user_command(e) << "\n```\n\n";
+         << ". Command:\n\n```sh\n"
+         << user_command(e) << "\n```\n\n";
       continue;
     }
     md << "Command" << (o.date_utc.empty() ? "" : " (" + o.date_utc + ")") << ":\n\n```sh\n"

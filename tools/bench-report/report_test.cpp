@@ -62,8 +62,7 @@ TEST(RenderReport, HeaderNamesMachineDateCommitAndTheReportCommand) {
   EXPECT_NE(md.find("2026-12-05 18:00 UTC"), std::string::npos);
   EXPECT_NE(md.find("`abc123`"), std::string::npos);
   EXPECT_NE(md.find("`stereoball bench report --only tracking`"), std::string::npos);
-  EXPECT_NE(md.find("```sh\nstereoball bench tracking --drive controller\n```"),
-            std::string::npos);
+  EXPECT_NE(md.find("```sh\nstereoball bench tracking --drive controller\n```"), std::string::npos);
   EXPECT_NE(md.find("```text\naccepted 98.38 %\n```"), std::string::npos);
 }
 
