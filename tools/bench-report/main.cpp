@@ -60,6 +60,23 @@ std::string first_line_of_command(const std::string& command) {
   return out;
 }
 
+// /proc/loadavg's first three fields, or "" where there is none.
+std::string load_average() {
+  std::ifstream loadavg("/proc/loadavg");
+  std::string a, b, c;
+  if (loadavg >> a >> b >> c) return a + " " + b + " " + c;
+  return "";
+}
+
+// The commit of the sources here, with "-dirty" when tracked files are modified.
+std::string current_commit() {
+  std::string commit = first_line_of_command("git rev-parse --short=12 HEAD 2>/dev/null");
+  if (commit.empty()) return "unknown";
+  if (!first_line_of_command("git status --porcelain --untracked-files=no 2>/dev/null").empty())
+    commit += "-dirty";
+  return commit;
+}
+
 br::MachineInfo machine_info(const std::string& commit, const std::string& report_command) {
   br::MachineInfo m;
   std::ifstream cpuinfo("/proc/cpuinfo");
@@ -73,19 +90,10 @@ br::MachineInfo machine_info(const std::string& commit, const std::string& repor
   }
   if (m.cpu_model.empty()) m.cpu_model = "unknown CPU";
   m.cores = static_cast<int>(std::thread::hardware_concurrency());
-  std::ifstream loadavg("/proc/loadavg");
-  std::string a, b, c;
-  if (loadavg >> a >> b >> c) m.load = a + " " + b + " " + c;
+  m.load = load_average();
   m.date_utc = utc_now();
   m.commit = commit;
-  if (m.commit.empty()) {
-    m.commit = first_line_of_command("git rev-parse --short=12 HEAD 2>/dev/null");
-    if (m.commit.empty())
-      m.commit = "unknown";
-    else if (!first_line_of_command("git status --porcelain --untracked-files=no 2>/dev/null")
-                  .empty())
-      m.commit += "-dirty";
-  }
+  if (m.commit.empty()) m.commit = current_commit();
   m.report_command = report_command;
   return m;
 }
@@ -118,6 +126,8 @@ br::BenchOutcome read_saved(const br::BenchEntry& entry, const fs::path& dir) {
       o.reason = status;
     }
     o.seconds = std::atof(seconds.c_str());
+    std::getline(meta, o.load);  // absent in outputs saved before these were recorded
+    std::getline(meta, o.commit);
   }
   if (!o.output_is_json && fs::exists(json)) o.json_file = entry.name + ".json";
   return o;
@@ -157,6 +167,8 @@ br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
   std::fprintf(stderr, "stereoball-bench-report: running %s\n", command.c_str());
   const std::string date = utc_now();
+  const std::string load = load_average();
+  const std::string commit = current_commit();
   const auto start = std::chrono::steady_clock::now();
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
@@ -189,7 +201,12 @@ br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::ofstream meta(dir / (entry.name + ".cmd"));
-  meta << command << "\n" << date << "\n" << status << "\n" << seconds << "\n";
+  meta << command << "\n"
+       << date << "\n"
+       << status << "\n"
+       << seconds << "\n"
+       << load << "\n"
+       << commit << "\n";
   meta.close();
   return read_saved(entry, dir);
 }
@@ -214,7 +231,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--from", from,
                  "run nothing unless --only says so: read the outputs saved in this folder "
-                 "(NAME.txt, and NAME.cmd with command, date, status, seconds)");
+                 "(NAME.txt, and NAME.cmd with command, date, status, seconds, load)");
   app.add_option("--only", only, "run only these benches (repeatable; see --list)");
   app.add_flag("--all", all, "run every bench, the slow ones too (hours)");
   app.add_flag("--list", list, "print the benches and their commands, then exit");
@@ -249,8 +266,11 @@ int main(int argc, char** argv) {
     const bool chosen = !only.empty() ? std::find(only.begin(), only.end(), e.name) != only.end()
                                       : from.empty() && (all || e.cheap);
     br::BenchOutcome o = chosen ? run_bench(e, bin_dir, dir, timeout_min) : read_saved(e, dir);
-    if (!chosen && o.state == br::BenchOutcome::State::kNotRun)
-      o.reason = e.cheap ? "not selected" : "slow: minutes to hours on two cores; --only " + e.name;
+    if (!chosen && o.state == br::BenchOutcome::State::kNotRun) {
+      o.reason = !from.empty() ? "no output saved in " + from
+                 : e.cheap     ? "not selected"
+                               : "slow: minutes to hours on two cores; --only " + e.name;
+    }
     outcomes.push_back(std::move(o));
   }
   const fs::path out_path(out);

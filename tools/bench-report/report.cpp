@@ -61,7 +61,10 @@ std::string render_report(const MachineInfo& machine, const std::vector<BenchOut
          << user_command(e) << "\n```\n\n";
       continue;
     }
-    md << "Command" << (o.date_utc.empty() ? "" : " (" + o.date_utc + ")") << ":\n\n```sh\n"
+    std::string when = o.date_utc;
+    if (!o.load.empty()) when += (when.empty() ? "" : ", ") + std::string("load average ") + o.load;
+    if (!o.commit.empty() && o.commit != machine.commit) when += ", commit " + o.commit;
+    md << "Command" << (when.empty() ? "" : " (" + when + ")") << ":\n\n```sh\n"
        << o.command << "\n```\n\n";
     if (o.state == BenchOutcome::State::kFailed)
       md << "**Failed**: " << o.reason << ". Its output up to then:\n\n";

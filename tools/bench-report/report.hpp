@@ -25,6 +25,8 @@ struct BenchOutcome {
   enum class State { kRan, kFailed, kNotRun } state = State::kNotRun;
   std::string command;          // the exact command that produced `output` (empty: not run)
   std::string date_utc;         // when it ran
+  std::string load;             // load average (1, 5, 15 min) when it started, if recorded
+  std::string commit;           // commit it ran at, if recorded and not the report's
   double seconds = 0.0;         // wall time of the run (0 when unknown)
   std::string output;           // the bench's standard output, as printed (or its JSON)
   bool output_is_json = false;  // only the bench's --json file was saved

@@ -54,6 +54,8 @@ TEST(RenderReport, HeaderNamesMachineDateCommitAndTheReportCommand) {
   o.entry = br::find_bench("tracking");
   o.state = br::BenchOutcome::State::kRan;
   o.command = "stereoball bench tracking --drive controller";
+  o.date_utc = "2026-12-05 18:05 UTC";
+  o.load = "3.00 2.00 1.00";
   o.output = "accepted 98.38 %\n";
   // When the report is rendered
   const std::string md = br::render_report(machine(), {o});
@@ -62,7 +64,9 @@ TEST(RenderReport, HeaderNamesMachineDateCommitAndTheReportCommand) {
   EXPECT_NE(md.find("2026-12-05 18:00 UTC"), std::string::npos);
   EXPECT_NE(md.find("`abc123`"), std::string::npos);
   EXPECT_NE(md.find("`stereoball bench report --only tracking`"), std::string::npos);
-  EXPECT_NE(md.find("```sh\nstereoball bench tracking --drive controller\n```"), std::string::npos);
+  EXPECT_NE(md.find("Command (2026-12-05 18:05 UTC, load average 3.00 2.00 1.00):\n\n```sh\n"
+                    "stereoball bench tracking --drive controller\n```"),
+            std::string::npos);
   EXPECT_NE(md.find("```text\naccepted 98.38 %\n```"), std::string::npos);
 }
 
@@ -104,6 +108,21 @@ TEST(RenderReport, OutputReadFromJsonIsShownAsJson) {
   const std::string md = br::render_report(machine(), {o});
   // Then the JSON is printed as JSON under its command
   EXPECT_NE(md.find("```json\n{\"total\": 0.95}\n```"), std::string::npos);
+}
+
+TEST(RenderReport, ABenchRunAtAnotherCommitNamesIt) {
+  // Given a saved output from another commit than the report's
+  br::BenchOutcome o;
+  o.entry = br::find_bench("stereo");
+  o.state = br::BenchOutcome::State::kRan;
+  o.command = "stereoball bench stereo";
+  o.date_utc = "2026-12-05 17:00 UTC";
+  o.commit = "0123456789ab";
+  o.output = "x\n";
+  // When the report is rendered
+  const std::string md = br::render_report(machine(), {o});
+  // Then its command line names that commit
+  EXPECT_NE(md.find("Command (2026-12-05 17:00 UTC, commit 0123456789ab):"), std::string::npos);
 }
 
 TEST(RenderReport, AFailedBenchSaysWhy) {
