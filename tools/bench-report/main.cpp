@@ -68,16 +68,19 @@ std::string load_average() {
   return "";
 }
 
-// The commit of the sources here, with "-dirty" when tracked files are modified.
-std::string current_commit() {
+// The commit of the sources here, with "-dirty" when tracked files other than the report being
+// written (OUT) are modified.
+std::string current_commit(const std::string& out) {
   std::string commit = first_line_of_command("git rev-parse --short=12 HEAD 2>/dev/null");
   if (commit.empty()) return "unknown";
-  if (!first_line_of_command("git status --porcelain --untracked-files=no 2>/dev/null").empty())
-    commit += "-dirty";
+  const std::string status =
+      "git status --porcelain --untracked-files=no -- . ':(exclude)" + out + "' 2>/dev/null";
+  if (!first_line_of_command(status).empty()) commit += "-dirty";
   return commit;
 }
 
-br::MachineInfo machine_info(const std::string& commit, const std::string& report_command) {
+br::MachineInfo machine_info(const std::string& commit, const std::string& report_command,
+                             const std::string& out) {
   br::MachineInfo m;
   std::ifstream cpuinfo("/proc/cpuinfo");
   for (std::string line; std::getline(cpuinfo, line);) {
@@ -93,7 +96,7 @@ br::MachineInfo machine_info(const std::string& commit, const std::string& repor
   m.load = load_average();
   m.date_utc = utc_now();
   m.commit = commit;
-  if (m.commit.empty()) m.commit = current_commit();
+  if (m.commit.empty()) m.commit = current_commit(out);
   m.report_command = report_command;
   return m;
 }
@@ -133,9 +136,11 @@ br::BenchOutcome read_saved(const br::BenchEntry& entry, const fs::path& dir) {
   return o;
 }
 
-// Runs ENTRY's program from BIN_DIR with its output saved in DIR; then reads it back.
+// Runs ENTRY's program from BIN_DIR with its output saved in DIR; then reads it back. REPORT_PATH
+// is the report being written (not a modification of the sources).
 br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
-                           const fs::path& dir, double timeout_min) {
+                           const std::string& report_path, const fs::path& dir,
+                           double timeout_min) {
   br::BenchOutcome o;
   o.entry = &entry;
   const fs::path program = bin_dir / entry.program;
@@ -168,7 +173,7 @@ br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
   std::fprintf(stderr, "stereoball-bench-report: running %s\n", command.c_str());
   const std::string date = utc_now();
   const std::string load = load_average();
-  const std::string commit = current_commit();
+  const std::string commit = current_commit(report_path);
   const auto start = std::chrono::steady_clock::now();
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
@@ -259,13 +264,13 @@ int main(int argc, char** argv) {
 
   std::string report_command = "stereoball bench report";
   for (int i = 1; i < argc; ++i) report_command += std::string(" ") + argv[i];
-  const br::MachineInfo machine = machine_info(commit, report_command);
+  const br::MachineInfo machine = machine_info(commit, report_command, out);
 
   std::vector<br::BenchOutcome> outcomes;
   for (const auto& e : br::bench_table()) {
     const bool chosen = !only.empty() ? std::find(only.begin(), only.end(), e.name) != only.end()
                                       : from.empty() && (all || e.cheap);
-    br::BenchOutcome o = chosen ? run_bench(e, bin_dir, dir, timeout_min) : read_saved(e, dir);
+    br::BenchOutcome o = chosen ? run_bench(e, bin_dir, out, dir, timeout_min) : read_saved(e, dir);
     if (!chosen && o.state == br::BenchOutcome::State::kNotRun) {
       o.reason = !from.empty() ? "no output saved in " + from
                  : e.cheap     ? "not selected"
