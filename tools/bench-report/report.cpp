@@ -35,8 +35,9 @@ std::string render_report(const MachineInfo& machine, const std::vector<BenchOut
      << "| date | " << machine.date_utc << " |\n"
      << "| commit | `" << machine.commit << "` |\n"
      << "| machine | " << machine.cpu_model << ", " << machine.cores << " logical cores |\n"
-     << "| load average at the start | " << machine.load
-     << " (timings from a shared machine are noisy: compare ratios taken in one run) |\n\n";
+     << "| load average when the report was written | " << machine.load
+     << " (each bench gives its own below; timings from a shared machine are noisy: compare ratios "
+        "taken in one run) |\n\n";
 
   md << "| bench | command | state |\n|---|---|---|\n";
   for (const auto& o : outcomes) {
