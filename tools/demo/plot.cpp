@@ -49,6 +49,7 @@ cv::Mat render(const Chart& chart, cv::Size size) {
   for (const auto& s : chart.series) {
     for (const auto& p : s.points) xr.add(p.x), yr.add(p.y);
   }
+  for (const auto& m : chart.markers) xr.add(m.x);
   if (!chart.y_tick_names.empty()) yr.add(0), yr.add(chart.y_tick_names.size() - 1.0);
   xr.finish();
   yr.finish();
@@ -89,6 +90,12 @@ cv::Mat render(const Chart& chart, cv::Size size) {
     }
   }
   cv::rectangle(img, area, black, 1);
+  // Event lines (dashed) under the series, their labels above them.
+  for (const auto& m : chart.markers) {
+    const int px = to_px({m.x, yr.lo}).x;
+    for (int y = area.y; y < area.y + area.height; y += 10)
+      cv::line(img, {px, y}, {px, std::min(y + 6, area.y + area.height)}, m.colour, 2);
+  }
   for (const auto& s : chart.series) {
     std::vector<cv::Point> pts;
     for (size_t i = 0; i < s.points.size(); ++i) {
@@ -97,6 +104,17 @@ cv::Mat render(const Chart& chart, cv::Size size) {
     }
     if (pts.size() == 1) cv::circle(img, pts[0], 4, s.colour, cv::FILLED);
     if (pts.size() > 1) cv::polylines(img, pts, false, s.colour, 2, cv::LINE_AA);
+  }
+  for (size_t i = 0; i < chart.markers.size(); ++i) {
+    const auto& m = chart.markers[i];
+    const int px = to_px({m.x, yr.lo}).x;
+    const int width = cv::getTextSize(m.label, cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, nullptr).width;
+    // Right of the line, or left of it near the right edge; staggered so neighbours don't overlap.
+    const int tx = px + 4 + width > area.x + area.width ? px - 4 - width : px + 4;
+    const int ty = area.y + 32 + 14 * static_cast<int>(i % 3);
+    cv::rectangle(img, {tx - 1, ty - 11}, {tx + width + 1, ty + 3}, cv::Scalar(255, 255, 255),
+                  cv::FILLED);
+    cv::putText(img, m.label, {tx, ty}, cv::FONT_HERSHEY_SIMPLEX, 0.4, m.colour, 1, cv::LINE_AA);
   }
   int lx = area.x + 10;
   for (const auto& s : chart.series) {

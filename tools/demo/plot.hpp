@@ -15,11 +15,19 @@ struct Series {
   bool step = false;  ///< draw as a step function (states)
 };
 
+/// A vertical line across the plot area at x, labelled near its top (an event on a time axis).
+struct Marker {
+  double x = 0;
+  std::string label;
+  cv::Scalar colour;
+};
+
 struct Chart {
   std::string title, x_label, y_label;
   std::vector<Series> series;
   bool equal_aspect = false;              ///< for top views (metres on both axes)
   std::vector<std::string> y_tick_names;  ///< names for integer y ticks (states), optional
+  std::vector<Marker> markers;            ///< vertical event lines, optional
 };
 
 /// Renders chart into an image of the given size.
