@@ -137,7 +137,17 @@ void write_plots(const fs::path& out, const std::string& scenario, const Recorde
     robot.points.emplace_back(t.robot_world_m[0], t.robot_world_m[1]);
     if (t.ball_present) ball.points.emplace_back(t.ball_world_m[0], t.ball_world_m[1]);
   }
-  top.series = {robot, ball};
+  // Where the robot was when the track lost the ball and when it followed it again.
+  Series lost{"robot at loss", {}, cv::Scalar(0, 0, 210), false, true};
+  Series found{"at reacquisition", {}, cv::Scalar(0, 150, 0), false, true};
+  for (const auto& e : events) {
+    for (const auto& t : rec.truth) {
+      if (t.t_s == e.t_s) lost.points.emplace_back(t.robot_world_m[0], t.robot_world_m[1]);
+      if (e.reacquired && t.t_s == e.reacquired_t_s)
+        found.points.emplace_back(t.robot_world_m[0], t.robot_world_m[1]);
+    }
+  }
+  top.series = {robot, ball, lost, found};
   cv::imwrite((out / (scenario + "_topview.png")).string(), sb::demo::render(top, {700, 700}));
 
   Chart dist{"distance to ball", "time (s)", "m", {}, false, {}, markers};

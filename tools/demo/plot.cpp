@@ -34,6 +34,7 @@ double nice_step(double span) {
 }
 
 std::string label(double v) {
+  if (v == 0) v = 0;  // no "-0" for a tick at -0.0
   char buf[32];
   std::snprintf(buf, sizeof buf, std::abs(v) < 10 ? "%.2g" : "%.0f", v);
   return buf;
@@ -101,6 +102,10 @@ cv::Mat render(const Chart& chart, cv::Size size) {
     for (size_t i = 0; i < s.points.size(); ++i) {
       if (s.step && i > 0) pts.push_back(to_px({s.points[i].x, s.points[i - 1].y}));
       pts.push_back(to_px(s.points[i]));
+    }
+    if (s.dots) {
+      for (const auto& p : pts) cv::circle(img, p, 6, s.colour, cv::FILLED);
+      continue;
     }
     if (pts.size() == 1) cv::circle(img, pts[0], 4, s.colour, cv::FILLED);
     if (pts.size() > 1) cv::polylines(img, pts, false, s.colour, 2, cv::LINE_AA);

@@ -13,6 +13,7 @@ struct Series {
   std::vector<cv::Point2d> points;
   cv::Scalar colour;
   bool step = false;  ///< draw as a step function (states)
+  bool dots = false;  ///< draw each point as a dot, unconnected (events on a path)
 };
 
 /// A vertical line across the plot area at x, labelled near its top (an event on a time axis).
