@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
+#include <vector>
 
 namespace stereoball::demo {
 namespace {
@@ -110,13 +112,22 @@ cv::Mat render(const Chart& chart, cv::Size size) {
     if (pts.size() == 1) cv::circle(img, pts[0], 4, s.colour, cv::FILLED);
     if (pts.size() > 1) cv::polylines(img, pts, false, s.colour, 2, cv::LINE_AA);
   }
-  for (size_t i = 0; i < chart.markers.size(); ++i) {
-    const auto& m = chart.markers[i];
+  // Marker labels: each in the highest row where it overlaps no label placed before it.
+  std::vector<std::vector<std::pair<int, int>>> rows;  // per row, the [x0, x1] spans taken
+  for (const auto& m : chart.markers) {
     const int px = to_px({m.x, yr.lo}).x;
     const int width = cv::getTextSize(m.label, cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, nullptr).width;
-    // Right of the line, or left of it near the right edge; staggered so neighbours don't overlap.
+    // Right of the line, or left of it near the right edge.
     const int tx = px + 4 + width > area.x + area.width ? px - 4 - width : px + 4;
-    const int ty = area.y + 32 + 14 * static_cast<int>(i % 3);
+    size_t row = 0;
+    for (; row < rows.size(); ++row) {
+      bool free = true;
+      for (const auto& [x0, x1] : rows[row]) free = free && (tx + width + 6 < x0 || tx > x1 + 6);
+      if (free) break;
+    }
+    if (row == rows.size()) rows.emplace_back();
+    rows[row].emplace_back(tx, tx + width);
+    const int ty = area.y + 32 + 14 * static_cast<int>(row);
     cv::rectangle(img, {tx - 1, ty - 11}, {tx + width + 1, ty + 3}, cv::Scalar(255, 255, 255),
                   cv::FILLED);
     cv::putText(img, m.label, {tx, ty}, cv::FONT_HERSHEY_SIMPLEX, 0.4, m.colour, 1, cv::LINE_AA);
