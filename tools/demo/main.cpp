@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
@@ -102,21 +103,55 @@ void drain(Readers& r, Recorded& rec) {
   for (auto& s : r.command.take(256)) rec.commands.emplace_back(s->linear_mps, s->angular_radps);
 }
 
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+// Each leave event as two vertical lines: the track going SEARCHING (with the side searched and
+// the side the ball left by) and the track following again.
+std::vector<sb::demo::Marker> event_markers(const std::vector<sb::demo::LeaveEvent>& events) {
+  std::vector<sb::demo::Marker> out;
+  for (const auto& e : events) {
+    out.push_back({e.t_s,
+                   std::string("lost: searches ") + sb::demo::side_name(e.searched) +
+                       " (ball went " + sb::demo::side_name(e.ball_side) + ")",
+                   cv::Scalar(0, 0, 210)});
+    if (e.reacquired) {
+      out.push_back({e.reacquired_t_s, "reacquired after " + fmt("%.2f s", e.reacquire_s),
+                     cv::Scalar(0, 150, 0)});
+    }
+  }
+  return out;
+}
+
 void write_plots(const fs::path& out, const std::string& scenario, const Recorded& rec,
-                 double target_m) {
+                 double target_m, const std::vector<sb::demo::LeaveEvent>& events) {
   using sb::demo::Chart;
   using sb::demo::Series;
-  Chart top{"top view: " + scenario, "x (m)", "y (m)", {}, true, {}};
+  const auto markers = event_markers(events);
+  Chart top{"top view: " + scenario, "x (m)", "y (m)", {}, true, {}, {}};
   Series robot{"robot", {}, cv::Scalar(200, 80, 0)}, ball{"ball", {}, cv::Scalar(0, 120, 255)};
   for (const auto& t : rec.truth) {
     robot.points.emplace_back(t.robot_world_m[0], t.robot_world_m[1]);
     if (t.ball_present) ball.points.emplace_back(t.ball_world_m[0], t.ball_world_m[1]);
   }
-  top.series = {robot, ball};
+  // Where the robot was when the track lost the ball and when it followed it again.
+  Series lost{"robot at loss", {}, cv::Scalar(0, 0, 210), false, true};
+  Series found{"at reacquisition", {}, cv::Scalar(0, 150, 0), false, true};
+  for (const auto& e : events) {
+    for (const auto& t : rec.truth) {
+      if (t.t_s == e.t_s) lost.points.emplace_back(t.robot_world_m[0], t.robot_world_m[1]);
+      if (e.reacquired && t.t_s == e.reacquired_t_s)
+        found.points.emplace_back(t.robot_world_m[0], t.robot_world_m[1]);
+    }
+  }
+  top.series = {robot, ball, lost, found};
   cv::imwrite((out / (scenario + "_topview.png")).string(), sb::demo::render(top, {700, 700}));
 
-  Chart dist{"distance to ball", "time (s)", "m", {}, false, {}};
-  Chart bearing{"bearing of ball (+ = right)", "time (s)", "deg", {}, false, {}};
+  Chart dist{"distance to ball", "time (s)", "m", {}, false, {}, markers};
+  Chart bearing{"bearing of ball (+ = right)", "time (s)", "deg", {}, false, {}, markers};
   Series d_true{"truth", {}, cv::Scalar(0, 120, 255)},
       d_target{"target", {}, cv::Scalar(0, 160, 0)};
   Series b_true{"truth", {}, cv::Scalar(0, 120, 255)};
@@ -134,8 +169,8 @@ void write_plots(const fs::path& out, const std::string& scenario, const Recorde
 
   std::map<uint64_t, double> t_of_seq;
   for (const auto& t : rec.truth) t_of_seq[t.seq] = t.t_s;
-  Chart states{"track state and ball visibility", "time (s)", "", {}, false,
-               {"IDLE", "FOLLOWING", "SEARCHING"}};
+  Chart states{"track state and ball visibility",  "time (s)", "", {}, false,
+               {"IDLE", "FOLLOWING", "SEARCHING"}, markers};
   Series state{"track state", {}, cv::Scalar(200, 0, 120), true};
   Series visible{"ball visible", {}, cv::Scalar(0, 160, 0), true};
   for (const auto& tr : rec.tracks) {
@@ -148,10 +183,12 @@ void write_plots(const fs::path& out, const std::string& scenario, const Recorde
   cv::imwrite((out / (scenario + "_state.png")).string(), sb::demo::render(states, {900, 300}));
 }
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
+// One summary cell: the events' values, comma-separated ("-" for none).
+std::string joined(const std::vector<sb::demo::LeaveEvent>& events,
+                   const std::function<std::string(const sb::demo::LeaveEvent&)>& cell) {
+  std::string out;
+  for (const auto& e : events) out += (out.empty() ? "" : ", ") + cell(e);
+  return out.empty() ? "-" : out;
 }
 
 }  // namespace
@@ -164,7 +201,7 @@ int main(int argc, char** argv) {
   int domain = sb::dds::domain_from_env(0);
   app.add_option("-s,--scenario", scenarios,
                  "scenario(s) from config/scenarios (default: ball_rolling_away, "
-                 "ball_leaves_right, no_ball)");
+                 "ball_kicked_past_right, no_ball)");
   app.add_option("-d,--duration", duration_s, "simulated seconds per scenario")
       ->check(CLI::Range(1.0, 3600.0))
       ->capture_default_str();
@@ -185,7 +222,7 @@ int main(int argc, char** argv) {
   app.add_option("--view-bind", view_bind, "viewer address (0.0.0.0 = reachable from the LAN)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  if (scenarios.empty()) scenarios = {"ball_rolling_away", "ball_leaves_right", "no_ball"};
+  if (scenarios.empty()) scenarios = {"ball_rolling_away", "ball_kicked_past_right", "no_ball"};
   sb::log::init("demo");
   const fs::path scenarios_dir = sb::paths::shipped_config_path("scenarios");
   for (const auto& s : scenarios) {
@@ -224,6 +261,7 @@ int main(int argc, char** argv) {
   const fs::path log_path = fs::path(out_dir) / "stereoball.log";
   const bool tty = isatty(STDOUT_FILENO);
   std::vector<sb::demo::ScenarioMetrics> results;
+  std::vector<std::vector<sb::demo::LeaveEvent>> leaves;  // per scenario, parallel to results
   bool nodes_ok = true;
   std::unique_ptr<sb::demo::ViewerProcess> viewer;
   if (view) {
@@ -307,7 +345,8 @@ int main(int argc, char** argv) {
     sb::demo::MetricsParams params;
     params.target_distance_m = target_m;
     results.push_back(sb::demo::score(scenario, rec.truth, rec.detections, rec.tracks, params));
-    write_plots(out_dir, scenario, rec, target_m);
+    leaves.push_back(sb::demo::leave_events(rec.truth, rec.tracks));
+    write_plots(out_dir, scenario, rec, target_m, leaves.back());
   }
 
   std::ofstream md(fs::path(out_dir) / "summary.md");
@@ -328,8 +367,32 @@ int main(int argc, char** argv) {
        << fmt("%.3f", m.following_distance_error_m) << " | " << fmt("%.3f", m.within_tolerance)
        << " |\n";
   }
+  // The paper's predictive search: every time the track went SEARCHING.
+  md << "\n## Leave events\n\nThe track going from FOLLOWING to SEARCHING; searched = the way the "
+        "robot turned while searching, ball left by = the side of the view the ball was on when "
+        "last visible (both from the simulator's ground truth); reacquired = the track following "
+        "again, seconds after the leave.\n\n"
+        "| scenario | leave events | lost at (s) | searched | ball left by | searched the ball's "
+        "side | reacquired after (s) |\n|---|---|---|---|---|---|---|\n";
+  for (size_t i = 0; i < results.size(); ++i) {
+    const auto& ev = leaves[i];
+    md << "| " << results[i].scenario << " | " << ev.size() << " | "
+       << joined(ev, [](const auto& e) { return fmt("%.2f", e.t_s); }) << " | "
+       << joined(ev, [](const auto& e) { return std::string(sb::demo::side_name(e.searched)); })
+       << " | "
+       << joined(ev, [](const auto& e) { return std::string(sb::demo::side_name(e.ball_side)); })
+       << " | "
+       << joined(ev,
+                 [](const auto& e) { return std::string(e.searched_ball_side() ? "yes" : "no"); })
+       << " | "
+       << joined(ev,
+                 [](const auto& e) {
+                   return e.reacquired ? fmt("%.2f", e.reacquire_s) : std::string("never");
+                 })
+       << " |\n";
+  }
   md << "\nPlots: `<scenario>_topview.png`, `<scenario>_distance_bearing.png`, "
-        "`<scenario>_state.png`. "
+        "`<scenario>_state.png` (leave events as dashed lines: red = lost, green = reacquired). "
         "Log of every node: `stereoball.log`.\n";
   md.close();
   std::printf("\n");

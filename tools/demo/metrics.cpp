@@ -38,6 +38,78 @@ double robot_ball_bearing_rad(const TruthSample& t) {
   return -std::remainder(heading - t.robot_yaw_rad, 2.0 * M_PI);
 }
 
+const char* side_name(Side side) {
+  return side == Side::kLeft ? "left" : side == Side::kRight ? "right" : "-";
+}
+
+namespace {
+
+// Net counter-clockwise turn of the robot from frame a to frame b (indices into truth, a <= b),
+// rad, unwrapped frame by frame.
+double net_turn_rad(const std::vector<TruthSample>& truth, size_t a, size_t b) {
+  double turn = 0;
+  for (size_t k = a + 1; k <= b; ++k)
+    turn += std::remainder(truth[k].robot_yaw_rad - truth[k - 1].robot_yaw_rad, 2.0 * M_PI);
+  return turn;
+}
+
+}  // namespace
+
+std::vector<LeaveEvent> leave_events(const std::vector<TruthSample>& truth_in,
+                                     const std::vector<TrackSample>& tracks,
+                                     const LeaveEventParams& params) {
+  std::vector<TruthSample> truth = truth_in;
+  std::sort(truth.begin(), truth.end(), [](auto& a, auto& b) { return a.seq < b.seq; });
+  std::map<uint64_t, TrackState> state_by_seq;
+  for (const auto& t : tracks) state_by_seq[t.seq] = t.state;
+  // The track state in force at every truth frame.
+  std::vector<TrackState> state(truth.size(), TrackState::kIdle);
+  TrackState current = TrackState::kIdle;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    if (auto it = state_by_seq.find(truth[i].seq); it != state_by_seq.end()) current = it->second;
+    state[i] = current;
+  }
+  std::vector<LeaveEvent> out;
+  size_t i = 0;
+  while (i < truth.size()) {
+    const bool starts =
+        state[i] == TrackState::kSearching && (i == 0 || state[i - 1] != TrackState::kSearching);
+    if (!starts) {
+      ++i;
+      continue;
+    }
+    LeaveEvent e;
+    e.seq = truth[i].seq;
+    e.t_s = truth[i].t_s;
+    for (size_t k = i + 1; k-- > 0;) {
+      if (truth[k].ball_present && truth[k].visible) {
+        e.ball_side = truth[k].ball_cam_m[0] > 0 ? Side::kRight : Side::kLeft;
+        break;
+      }
+    }
+    size_t end = i;  // last searching frame
+    while (end + 1 < truth.size() && state[end + 1] == TrackState::kSearching) ++end;
+    e.search_end_t_s = truth[end].t_s;
+    if (end + 1 < truth.size() && state[end + 1] == TrackState::kFollowing) {
+      e.reacquired = true;
+      e.reacquired_t_s = truth[end + 1].t_s;
+      e.reacquire_s = e.reacquired_t_s - e.t_s;
+    }
+    // The turn up to the frame that ends the search (its yaw is where the search brought it).
+    const size_t turn_end = std::min(end + 1, truth.size() - 1);
+    size_t turn_start = i;
+    while (turn_start < turn_end && truth[turn_start].t_s - e.t_s < params.search_settle_s)
+      ++turn_start;
+    if (turn_start >= turn_end) turn_start = i;  // a short search: its whole turn
+    const double turn = net_turn_rad(truth, turn_start, turn_end);
+    // Counter-clockwise (positive yaw) is a turn to the left.
+    if (std::abs(turn) >= params.min_turn_rad) e.searched = turn > 0 ? Side::kLeft : Side::kRight;
+    out.push_back(e);
+    i = end + 1;
+  }
+  return out;
+}
+
 ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample>& truth_in,
                       const std::vector<DetectionSample>& detections,
                       const std::vector<TrackSample>& tracks, const MetricsParams& params) {

@@ -11,6 +11,7 @@
 namespace stereoball::demo {
 
 using TrackState = tracker::TrackState;
+using Side = tracker::Side;
 
 /// Ground truth of one frame.
 struct TruthSample {
@@ -68,6 +69,42 @@ struct ScenarioMetrics {
 ScenarioMetrics score(const std::string& scenario, const std::vector<TruthSample>& truth,
                       const std::vector<DetectionSample>& detections,
                       const std::vector<TrackSample>& tracks, const MetricsParams& params);
+
+/// One time the track lost the ball (the paper's predictive search): the track went SEARCHING,
+/// the robot turned to a side, and the track followed again, or not before the run ended.
+struct LeaveEvent {
+  uint64_t seq = 0;  ///< frame whose track first said SEARCHING
+  double t_s = 0;    ///< its simulated time, s
+  /// Ground truth: the side of the left camera's view (x right of the optical axis) the ball was
+  /// on at the last frame it was visible, at or before the leave: the side it left by.
+  Side ball_side = Side::kUnknown;
+  /// The way the robot turned while searching (ground-truth yaw, net turn from search_settle_s
+  /// after the leave to the end of the search); kUnknown = it did not turn.
+  Side searched = Side::kUnknown;
+  double search_end_t_s = 0;   ///< last SEARCHING frame (the run's last frame if never back), s
+  bool reacquired = false;     ///< the track went back to FOLLOWING
+  double reacquired_t_s = -1;  ///< time of that first FOLLOWING frame, s (-1 = never)
+  double reacquire_s = -1;     ///< reacquired_t_s - t_s (-1 = never)
+  /// Searched toward the side the ball left by.
+  bool searched_ball_side() const { return searched != Side::kUnknown && searched == ball_side; }
+};
+
+struct LeaveEventParams {
+  /// The search's turn is judged from this long after the leave on: the base first brakes the
+  /// turn it had while following (a search shorter than this is judged on its whole turn).
+  double search_settle_s = 0.5;
+  double min_turn_rad = 0.05;  ///< a smaller net turn shows no search direction
+};
+
+/// Leave events of one run: every change of the track state into SEARCHING, judged against the
+/// ground truth. Samples may arrive in any order; they are joined by frame seq, and a frame
+/// without a track keeps the state of the last track before it.
+std::vector<LeaveEvent> leave_events(const std::vector<TruthSample>& truth,
+                                     const std::vector<TrackSample>& tracks,
+                                     const LeaveEventParams& params = {});
+
+/// "left", "right" or "-" (unknown).
+const char* side_name(Side side);
 
 /// Horizontal distance sqrt(x^2 + z^2) and bearing atan2(x, z) of a camera-frame point.
 double horizontal_distance_m(const double p[3]);

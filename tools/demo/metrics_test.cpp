@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <string>
 
 namespace stereoball::demo {
 namespace {
@@ -141,6 +144,104 @@ TEST(Metrics, GivenBallAtTargetFromCameraButNotFromRobotCentre_ThenOutsideTolera
   const auto m = score("offset", {gt}, {}, trk, {});
   EXPECT_NEAR(m.following_distance_error_m, 0.3, 1e-9);
   EXPECT_DOUBLE_EQ(m.within_tolerance, 0.0);
+}
+
+// A hand-made run for leave events, 10 frames per second: the ball visible (at camera x) up to
+// frame lost_at, the track state of each frame from a string (F following, S searching,
+// I idle), and the robot's yaw turning at yaw_rate_of(i) rad per frame.
+struct LeaveRun {
+  std::vector<TruthSample> gt;
+  std::vector<TrackSample> trk;
+  LeaveRun(const std::string& states, size_t lost_at, double ball_x,
+           const std::function<double(size_t)>& yaw_step) {
+    double yaw = 0;
+    for (size_t i = 0; i < states.size(); ++i) {
+      yaw += yaw_step(i);
+      TruthSample g = truth(i, i * 0.1, i < lost_at, 1.0, ball_x);
+      g.robot_yaw_rad = std::remainder(yaw, 2.0 * M_PI);
+      gt.push_back(g);
+      const TrackState s = states[i] == 'F'   ? TrackState::kFollowing
+                           : states[i] == 'S' ? TrackState::kSearching
+                                              : TrackState::kIdle;
+      trk.push_back(track(i, s, s == TrackState::kFollowing, 1.0, ball_x));
+    }
+  }
+};
+
+TEST(LeaveEvents, GivenALeaveToTheRightAndAReturn_ThenOneEventSearchedRightAndReacquired) {
+  // Given following for 1 s, the ball last seen right of the axis at frame 9, the track
+  // searching from frame 10 to 19 while the robot turns right (clockwise), following from 20
+  LeaveRun run(std::string(10, 'F') + std::string(10, 'S') + std::string(10, 'F'), 10, 0.3,
+               [](size_t i) { return i >= 10 && i < 20 ? -0.08 : 0.0; });
+  // When the events are extracted (samples in reverse order: joined by seq)
+  std::reverse(run.gt.begin(), run.gt.end());
+  const auto events = leave_events(run.gt, run.trk);
+  // Then one leave at 1.0 s by the right, searched right, reacquired at 2.0 s after 1.0 s
+  ASSERT_EQ(events.size(), 1u);
+  const LeaveEvent& e = events[0];
+  EXPECT_EQ(e.seq, 10u);
+  EXPECT_NEAR(e.t_s, 1.0, 1e-9);
+  EXPECT_EQ(e.ball_side, Side::kRight);
+  EXPECT_EQ(e.searched, Side::kRight);
+  EXPECT_TRUE(e.searched_ball_side());
+  EXPECT_NEAR(e.search_end_t_s, 1.9, 1e-9);
+  EXPECT_TRUE(e.reacquired);
+  EXPECT_NEAR(e.reacquired_t_s, 2.0, 1e-9);
+  EXPECT_NEAR(e.reacquire_s, 1.0, 1e-9);
+  EXPECT_STREQ(side_name(e.searched), "right");
+}
+
+TEST(LeaveEvents, GivenALeaveWithoutReturn_ThenNotReacquiredAndTheWrongSideIsSeen) {
+  // Given the ball lost right of the axis, the track searching to the end of the run, the
+  // robot first braking its right turn (0.4 s) then turning left past +-180 deg
+  LeaveRun run(std::string(5, 'F') + std::string(40, 'S'), 5, 0.2, [](size_t i) {
+    if (i < 5) return -0.1;
+    return i < 9 ? -0.05 : 0.12;
+  });
+  const auto events = leave_events(run.gt, run.trk);
+  // Then one leave, by the right, searched left (the braking is not the search), not reacquired,
+  // the search ending with the run
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].ball_side, Side::kRight);
+  EXPECT_EQ(events[0].searched, Side::kLeft);
+  EXPECT_FALSE(events[0].searched_ball_side());
+  EXPECT_FALSE(events[0].reacquired);
+  EXPECT_EQ(events[0].reacquired_t_s, -1.0);
+  EXPECT_EQ(events[0].reacquire_s, -1.0);
+  EXPECT_NEAR(events[0].search_end_t_s, 4.4, 1e-9);
+}
+
+TEST(LeaveEvents, GivenNoLeave_ThenNoEvents) {
+  // Given a run that starts idle and then follows throughout, and one that stays idle
+  LeaveRun following(std::string(5, 'I') + std::string(20, 'F'), 25, 0.1,
+                     [](size_t) { return 0.01; });
+  LeaveRun idle(std::string(20, 'I'), 0, 0.0, [](size_t) { return 0.0; });
+  // Then neither has a leave event, and no samples give none either
+  EXPECT_TRUE(leave_events(following.gt, following.trk).empty());
+  EXPECT_TRUE(leave_events(idle.gt, idle.trk).empty());
+  EXPECT_TRUE(leave_events({}, {}).empty());
+}
+
+TEST(LeaveEvents, GivenTwoLeavesAndMissingTracks_ThenEachIsJudgedOnItsOwn) {
+  // Given a leave by the left searched left and reacquired, then one by the right with a short
+  // search (0.2 s) and no turn; tracks missing for frames 12 and 13 (the state carries on)
+  LeaveRun run(std::string(5, 'F') + std::string(5, 'S') + std::string(10, 'F') +
+                   std::string(2, 'S') + std::string(5, 'F'),
+               100, -0.3, [](size_t i) { return i >= 5 && i < 10 ? 0.1 : 0.0; });
+  for (size_t i = 0; i < 10; ++i) run.gt[i].ball_cam_m[0] = -0.3;
+  for (size_t i = 10; i < run.gt.size(); ++i) run.gt[i].ball_cam_m[0] = 0.3;
+  run.trk.erase(run.trk.begin() + 12, run.trk.begin() + 14);
+  const auto events = leave_events(run.gt, run.trk);
+  // Then two events: the first left/left after 0.5 s, the second right with no search turn
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].ball_side, Side::kLeft);
+  EXPECT_EQ(events[0].searched, Side::kLeft);
+  EXPECT_NEAR(events[0].reacquire_s, 0.5, 1e-9);
+  EXPECT_NEAR(events[1].t_s, 2.0, 1e-9);
+  EXPECT_EQ(events[1].ball_side, Side::kRight);
+  EXPECT_EQ(events[1].searched, Side::kUnknown);
+  EXPECT_FALSE(events[1].searched_ball_side());
+  EXPECT_NEAR(events[1].reacquire_s, 0.2, 1e-9);
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
+#include <vector>
 
 namespace stereoball::demo {
 namespace {
@@ -34,6 +36,7 @@ double nice_step(double span) {
 }
 
 std::string label(double v) {
+  if (v == 0) v = 0;  // no "-0" for a tick at -0.0
   char buf[32];
   std::snprintf(buf, sizeof buf, std::abs(v) < 10 ? "%.2g" : "%.0f", v);
   return buf;
@@ -49,6 +52,7 @@ cv::Mat render(const Chart& chart, cv::Size size) {
   for (const auto& s : chart.series) {
     for (const auto& p : s.points) xr.add(p.x), yr.add(p.y);
   }
+  for (const auto& m : chart.markers) xr.add(m.x);
   if (!chart.y_tick_names.empty()) yr.add(0), yr.add(chart.y_tick_names.size() - 1.0);
   xr.finish();
   yr.finish();
@@ -89,14 +93,44 @@ cv::Mat render(const Chart& chart, cv::Size size) {
     }
   }
   cv::rectangle(img, area, black, 1);
+  // Event lines (dashed) under the series, their labels above them.
+  for (const auto& m : chart.markers) {
+    const int px = to_px({m.x, yr.lo}).x;
+    for (int y = area.y; y < area.y + area.height; y += 10)
+      cv::line(img, {px, y}, {px, std::min(y + 6, area.y + area.height)}, m.colour, 2);
+  }
   for (const auto& s : chart.series) {
     std::vector<cv::Point> pts;
     for (size_t i = 0; i < s.points.size(); ++i) {
       if (s.step && i > 0) pts.push_back(to_px({s.points[i].x, s.points[i - 1].y}));
       pts.push_back(to_px(s.points[i]));
     }
+    if (s.dots) {
+      for (const auto& p : pts) cv::circle(img, p, 6, s.colour, cv::FILLED);
+      continue;
+    }
     if (pts.size() == 1) cv::circle(img, pts[0], 4, s.colour, cv::FILLED);
     if (pts.size() > 1) cv::polylines(img, pts, false, s.colour, 2, cv::LINE_AA);
+  }
+  // Marker labels: each in the highest row where it overlaps no label placed before it.
+  std::vector<std::vector<std::pair<int, int>>> rows;  // per row, the [x0, x1] spans taken
+  for (const auto& m : chart.markers) {
+    const int px = to_px({m.x, yr.lo}).x;
+    const int width = cv::getTextSize(m.label, cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, nullptr).width;
+    // Right of the line, or left of it near the right edge.
+    const int tx = px + 4 + width > area.x + area.width ? px - 4 - width : px + 4;
+    size_t row = 0;
+    for (; row < rows.size(); ++row) {
+      bool free = true;
+      for (const auto& [x0, x1] : rows[row]) free = free && (tx + width + 6 < x0 || tx > x1 + 6);
+      if (free) break;
+    }
+    if (row == rows.size()) rows.emplace_back();
+    rows[row].emplace_back(tx, tx + width);
+    const int ty = area.y + 32 + 14 * static_cast<int>(row);
+    cv::rectangle(img, {tx - 1, ty - 11}, {tx + width + 1, ty + 3}, cv::Scalar(255, 255, 255),
+                  cv::FILLED);
+    cv::putText(img, m.label, {tx, ty}, cv::FONT_HERSHEY_SIMPLEX, 0.4, m.colour, 1, cv::LINE_AA);
   }
   int lx = area.x + 10;
   for (const auto& s : chart.series) {

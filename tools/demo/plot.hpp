@@ -13,6 +13,14 @@ struct Series {
   std::vector<cv::Point2d> points;
   cv::Scalar colour;
   bool step = false;  ///< draw as a step function (states)
+  bool dots = false;  ///< draw each point as a dot, unconnected (events on a path)
+};
+
+/// A vertical line across the plot area at x, labelled near its top (an event on a time axis).
+struct Marker {
+  double x = 0;
+  std::string label;
+  cv::Scalar colour;
 };
 
 struct Chart {
@@ -20,6 +28,7 @@ struct Chart {
   std::vector<Series> series;
   bool equal_aspect = false;              ///< for top views (metres on both axes)
   std::vector<std::string> y_tick_names;  ///< names for integer y ticks (states), optional
+  std::vector<Marker> markers;            ///< vertical event lines, optional
 };
 
 /// Renders chart into an image of the given size.
