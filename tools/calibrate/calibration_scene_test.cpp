@@ -198,7 +198,9 @@ TEST(CalibrationScene, FreeRunningEyesNeedTheStillBoardRule) {
   const Outcome all = calibrate(all_pairs(d, 5), s, keep_all);
   print("free-running 15 ms, every 5th frame:", all);
   EXPECT_GT(all.own_row_error_px, 2.0 * still.own_row_error_px);
-  EXPECT_GT(all.truth_row_error_px, still.truth_row_error_px);
+  EXPECT_GT(all.truth_row_error_px, 2.0 * still.truth_row_error_px);
+  // and the focal length or the baseline misses the 0.5 % target
+  EXPECT_GT(std::max(all.focal_error_pct, all.baseline_error_pct), 0.5);
 }
 
 }  // namespace

@@ -245,9 +245,9 @@ std::vector<BoardHold> draw_board_holds(const StereoRig& rig, const CalibrationB
       const double pull = std::clamp((attempt - 10) / 20.0, 0.0, 1.0);
       const double push = std::clamp((attempt - 30) / 30.0, 0.0, 1.0);
       const double span = ranges.far_m - ranges.near_m;
-      const double depth = uniform(ranges.near_m + span * band / 3.0,
-                                   ranges.near_m + span * (band + 1) / 3.0) +
-                           push * span * (2 - band) / 3.0;
+      const double depth =
+          uniform(ranges.near_m + span * band / 3.0, ranges.near_m + span * (band + 1) / 3.0) +
+          push * span * (2 - band) / 3.0;
       const double u =
           rig.width_px() * ((cell % 3 + uniform(0.1, 0.9)) / 3.0 * (1.0 - pull) + 0.5 * pull);
       const double v =
