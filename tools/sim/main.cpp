@@ -174,7 +174,9 @@ int main(int argc, char** argv) {
                  "run N randomised scenes (ranges from --ranges) instead of --scenario; with "
                  "--png-dir each scene goes to its own subfolder")
       ->check(CLI::Range(1, 100000));
-  app.add_option("--seed", o.seed, "with --randomize: which scene set")
+  app.add_option("--seed", o.seed,
+                 "with --randomize: which scene set; with a calibration scene's random_poses: "
+                 "which pose set")
       ->check(stereoball::cli::unsigned_64())
       ->capture_default_str();
   app.add_option("--ranges", o.ranges, "with --randomize: range file")->capture_default_str();
@@ -199,6 +201,9 @@ int main(int argc, char** argv) {
                     "' is not a calibration scene (no calibration: section)");
       scenario->calibration->eye_skew_s = *o.eye_skew_ms * 1e-3;
     }
+    // A calibration scene's drawn poses: --seed picks another pose set.
+    if (app.count("--seed") > 0 && scenario->calibration && scenario->calibration->random_poses)
+      scenario->calibration->random_poses->seed = o.seed;
     return run_scenario(o, *params, *scenario, o.png_dir);
   }
   auto ranges = sim::load_randomize_ranges(o.ranges);
