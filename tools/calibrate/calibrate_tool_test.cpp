@@ -98,6 +98,49 @@ TEST_F(CalibrateToolTest, GivenGlobsWithABoardlessPairWhenCalibratedThenPairSkip
   EXPECT_TRUE(fs::exists(dir_ / "c.yaml"));
 }
 
+TEST_F(CalibrateToolTest, GivenSimulatedFreeRunningSequenceWhenCalibratedThenStillPosesTaken) {
+  // Given the simulator's calibration scene, 6 drawn poses, the right eye 15 ms late, written
+  // at 10 Hz with each eye's capture stamp
+  std::FILE* f = std::fopen((dir_ / "scene.yaml").c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs(
+      "name: scene\ncalibration:\n  eye_skew_ms: 15\n  random_poses: {count: 6, seed: 3, "
+      "hold_s: 0.6, move_s: 0.3}\n",
+      f);
+  std::fclose(f);
+  const std::string seq = (dir_ / "seq").string();
+  const std::string sim = std::string(SB_BIN_DIR) + "/stereoball-sim --config " + SB_SOURCE_DIR +
+                          "/config/simulator.yaml --scenario " + (dir_ / "scene.yaml").string() +
+                          " --every 3 --png-dir " + seq + " >/dev/null";
+  ASSERT_EQ(std::system(sim.c_str()), 0);
+  // When calibrated from the sequence
+  const ToolRun r = run("--sequence " + seq + "/frames.csv --board 9x6 --square-mm 30 -o " +
+                        (dir_ / "c.yaml").string());
+  // Then one pose per hold is taken and the baseline is the true one within 0.5 %
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("6 still poses taken"), std::string::npos) << r.out;
+  const auto est = stereoball::stereo::load_calibration((dir_ / "c.yaml").string());
+  const auto truth = stereoball::stereo::load_calibration(seq + "/calibration.yaml");
+  ASSERT_TRUE(est.ok() && truth.ok());
+  EXPECT_NEAR(cv::norm(est->t), cv::norm(truth->t), 0.005 * cv::norm(truth->t));
+}
+
+TEST_F(CalibrateToolTest, GivenBadSequenceFileThenLineNamedAndNothingWritten) {
+  // Given a sequence whose second frame has a stamp that is not a number
+  std::FILE* f = std::fopen((dir_ / "frames.csv").c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs("left,right,left_stamp_ns,right_stamp_ns\nl0.png,r0.png,0,0\nl1.png,r1.png,1e9,5\n",
+             f);
+  std::fclose(f);
+  // When calibrated from it
+  const ToolRun r =
+      run("--sequence " + (dir_ / "frames.csv").string() + " -o " + (dir_ / "c.yaml").string());
+  // Then it fails naming the file and line, and writes nothing
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("frames.csv line 3"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "c.yaml"));
+}
+
 // Links the 13 sample pairs into dir as left/rightNN.jpg.
 void link_samples(const fs::path& dir) {
   for (int i : {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14}) {

@@ -4,6 +4,7 @@
 #include "common/util/result.hpp"
 #include "stereo/core/board_calibration.hpp"
 #include "stereo/core/rectifier.hpp"
+#include "stereo/core/still_board.hpp"
 #include "stereo/io/calibration_file.hpp"
 
 #include <glob.h>
@@ -14,10 +15,12 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -44,6 +47,9 @@ struct Options {
   int subpix_window_px = 11;
   std::string output;
   std::string save_rectified_dir;
+  std::string sequence;
+  double still_ms = 300.0;
+  double still_px = 0.5;
 };
 
 int fail(const std::string& message) {
@@ -117,6 +123,107 @@ std::vector<PairCorners> detect_all(const PairList& pairs, const BoardCalibratio
   return found;
 }
 
+// One frame of a sequence: both eyes' files and capture stamps.
+struct SequenceFrame {
+  std::string left, right;
+  int64_t left_ns = 0, right_ns = 0;
+};
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out(1);
+  for (char c : line) {
+    if (c == ',') {
+      out.emplace_back();
+    } else if (c != '\r') {
+      out.back() += c;
+    }
+  }
+  return out;
+}
+
+bool parse_i64(const std::string& text, int64_t& out) {
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return ec == std::errc{} && end == text.data() + text.size();
+}
+
+// frames.csv as stereoball-sim writes it: left,right,left_stamp_ns,right_stamp_ns[,...];
+// files relative to the list's folder.
+stereoball::Result<std::vector<SequenceFrame>> load_sequence(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return stereoball::Error{"--sequence " + path + ": cannot open"};
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("left,right,left_stamp_ns,right_stamp_ns", 0) != 0) {
+    return stereoball::Error{"--sequence " + path +
+                             ": first line must be the header "
+                             "'left,right,left_stamp_ns,right_stamp_ns'"};
+  }
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  std::vector<SequenceFrame> frames;
+  for (int n = 2; std::getline(in, line); ++n) {
+    if (line.empty() || line == "\r") continue;
+    const auto f = split_csv(line);
+    SequenceFrame fr;
+    if (f.size() < 4 || f[0].empty() || f[1].empty() || !parse_i64(f[2], fr.left_ns) ||
+        !parse_i64(f[3], fr.right_ns)) {
+      return stereoball::Error{"--sequence " + path + " line " + std::to_string(n) +
+                               ": expected left file, right file, left and right capture stamps "
+                               "(integer ns)"};
+    }
+    fr.left = (dir / f[0]).string();
+    fr.right = (dir / f[1]).string();
+    frames.push_back(std::move(fr));
+  }
+  if (frames.empty()) return stereoball::Error{"--sequence " + path + ": no frames"};
+  return frames;
+}
+
+// Detects the board in every frame of a sequence and keeps one pair per pose in which the
+// board stood still in both eyes (each eye on its own capture stamps).
+stereoball::Result<std::vector<PairCorners>> detect_sequence(
+    const std::vector<SequenceFrame>& frames, const BoardCalibrationParams& params,
+    const stereoball::stereo::StillBoardParams& still, std::optional<cv::Size>& image_size,
+    PairList& used) {
+  stereoball::stereo::StillBoardSelector selector(still);
+  std::vector<PairCorners> found;
+  int both = 0;
+  for (const SequenceFrame& f : frames) {
+    std::vector<cv::Point2f> corners[2];
+    const std::string* files[2] = {&f.left, &f.right};
+    for (int e = 0; e < 2; ++e) {
+      const cv::Mat img = cv::imread(*files[e], cv::IMREAD_GRAYSCALE);
+      if (img.empty()) return stereoball::Error{"cannot read " + *files[e]};
+      if (!image_size) image_size = img.size();
+      if (img.size() != *image_size)
+        return stereoball::Error{*files[e] + ": image size differs from the first frame"};
+      corners[e] =
+          stereoball::stereo::find_board_corners(img, params).value_or(std::vector<cv::Point2f>{});
+    }
+    both += !corners[0].empty() && !corners[1].empty() ? 1 : 0;
+    // Feed the eyes in capture order: free-running eyes may be either way round.
+    const bool left_first = f.left_ns <= f.right_ns;
+    std::optional<stereoball::stereo::StillPose> pose;
+    for (int k = 0; k < 2; ++k) {
+      const bool left = (k == 0) == left_first;
+      auto p = selector.add(left ? stereoball::stereo::Eye::kLeft : stereoball::stereo::Eye::kRight,
+                            left ? f.left_ns : f.right_ns, corners[left ? 0 : 1]);
+      if (p) pose = std::move(p);
+    }
+    if (!pose) continue;
+    const std::string label = base(f.left) + " + " + base(f.right);
+    PairCorners pc{label, pose->left_px, pose->right_px};
+    stereoball::stereo::align_corner_order(pc.left_px, pc.right_px);
+    std::printf("  take %s: board still in both eyes for %.0f ms (right eye %+.1f ms)\n",
+                label.c_str(),
+                (std::min(pose->left_stamp_ns, pose->right_stamp_ns) - pose->still_from_ns) * 1e-6,
+                (f.right_ns - f.left_ns) * 1e-6);
+    used.emplace_back(f.left, f.right);
+    found.push_back(std::move(pc));
+  }
+  std::printf("%zu frames, board in both eyes in %d, %zu still poses taken\n", frames.size(), both,
+              found.size());
+  return found;
+}
+
 void print_report(const BoardCalibrationResult& r, double square_mm) {
   const auto& c = r.calibration;
   if (!r.dropped.empty()) {
@@ -182,23 +289,47 @@ int run(const Options& o) {
   params.outlier_ratio = o.outlier_ratio;
   params.outlier_min_px = o.outlier_min_px;
   if (auto error = params.validate(); !error) return fail(error.error());
-  const auto pairs = collect_pairs(o);
-  if (!pairs) return fail(pairs.error());
-  std::cout << "detecting " << board->width << "x" << board->height << " board in " << pairs->size()
-            << " pairs\n";
   std::optional<cv::Size> size;
-  const auto corners = detect_all(pairs.value(), params, size);
-  if (static_cast<int>(corners.size()) < params.min_pairs) {
-    return fail("board found in only " + std::to_string(corners.size()) + " of " +
-                std::to_string(pairs->size()) + " pairs, need at least " +
-                std::to_string(params.min_pairs) + " (--min-pairs)");
+  std::vector<PairCorners> corners;
+  stereoball::Result<PairList> pairs = PairList{};
+  if (!o.sequence.empty()) {
+    stereoball::stereo::StillBoardParams still;
+    still.still_ns = static_cast<int64_t>(o.still_ms * 1e6);
+    still.max_motion_px = o.still_px;
+    if (auto error = still.validate(); !error)
+      return fail("--still-ms/--still-px: " + error.error());
+    const auto frames = load_sequence(o.sequence);
+    if (!frames) return fail(frames.error());
+    std::cout << "detecting " << board->width << "x" << board->height << " board in "
+              << frames->size() << " frames; a pose is taken when it stood still (< " << o.still_px
+              << " px) in both eyes for " << o.still_ms << " ms\n";
+    auto found = detect_sequence(*frames, params, still, size, *pairs);
+    if (!found) return fail(found.error());
+    corners = std::move(*found);
+    if (static_cast<int>(corners.size()) < params.min_pairs) {
+      return fail("the board stood still in both eyes for only " + std::to_string(corners.size()) +
+                  " poses, need at least " + std::to_string(params.min_pairs) +
+                  " (--min-pairs): hold it still longer than --still-ms at each pose");
+    }
+  } else {
+    pairs = collect_pairs(o);
+    if (!pairs) return fail(pairs.error());
+    std::cout << "detecting " << board->width << "x" << board->height << " board in "
+              << pairs->size() << " pairs\n";
+    corners = detect_all(pairs.value(), params, size);
+    if (static_cast<int>(corners.size()) < params.min_pairs) {
+      return fail("board found in only " + std::to_string(corners.size()) + " of " +
+                  std::to_string(pairs->size()) + " pairs, need at least " +
+                  std::to_string(params.min_pairs) + " (--min-pairs)");
+    }
   }
   const auto result = stereoball::stereo::calibrate_stereo(corners, *size, params);
   if (!result) return fail(result.error());
   print_report(result.value(), o.square_mm);
   if (auto swapped = stereoball::stereo::check_camera_order(result->calibration); !swapped) {
     return fail(swapped.error() + ": swap " +
-                (o.pairs_list.empty()
+                (!o.sequence.empty() ? std::string("the left and right columns of ") + o.sequence
+                 : o.pairs_list.empty()
                      ? std::string("--left-glob and --right-glob")
                      : std::string("the left and right file of each pair in ") + o.pairs_list) +
                 " (and the cameras' left/right devices if the images came from camera_server) and "
@@ -271,6 +402,19 @@ int main(int argc, char** argv) {
   lg->needs(rg);
   rg->needs(lg);
   list->excludes(lg)->excludes(rg);
+  auto* seq = app.add_option("--sequence", o.sequence,
+                             "a recorded sequence: CSV 'left,right,left_stamp_ns,right_stamp_ns' "
+                             "(as stereoball sim writes frames.csv for calibration scenes); takes "
+                             "one pair per pose in which the board stood still in both eyes")
+                  ->check(CLI::ExistingFile);
+  seq->excludes(list)->excludes(lg)->excludes(rg);
+  app.add_option("--still-ms", o.still_ms,
+                 "with --sequence: how long the board must stand still in both eyes (each eye on "
+                 "its own capture stamps)")
+      ->capture_default_str();
+  app.add_option("--still-px", o.still_px,
+                 "with --sequence: the most a corner may move and still count as still, pixels")
+      ->capture_default_str();
   app.add_option("--board", o.board, "inner corners per row x per column")->capture_default_str();
   app.add_option("--square-mm", o.square_mm, "chessboard square side in mm (sets the unit of T)")
       ->capture_default_str();
@@ -299,8 +443,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return fail(e.what());
   }
-  if (o.pairs_list.empty() && o.left_glob.empty()) {
-    return fail("give the pairs with --pairs LIST or --left-glob G --right-glob G");
+  if (o.pairs_list.empty() && o.left_glob.empty() && o.sequence.empty()) {
+    return fail("give the pairs with --pairs LIST, --left-glob G --right-glob G or --sequence CSV");
   }
   return run(o);
 }

@@ -39,6 +39,7 @@ struct Options {
   int randomize = 0;
   std::uint64_t seed = 1;
   std::string ranges = stereoball::paths::shipped_config_path("randomize.yaml");
+  std::optional<double> eye_skew_ms;
 };
 
 // Simple pursuit on the ground truth: turn toward the ball, keep about 1 m from it.
@@ -76,7 +77,7 @@ int run_scenario(const Options& o, const sim::SimParams& params, const sim::Scen
                  const std::string& png_dir) {
   if (auto e = sim::Simulator::check(params, scenario); !e) return fail(e.error());
 
-  std::ofstream csv;
+  std::ofstream csv, frames_csv;
   if (!png_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(png_dir, ec);
@@ -84,6 +85,11 @@ int run_scenario(const Options& o, const sim::SimParams& params, const sim::Scen
     csv.open(std::filesystem::path(png_dir) / "ground_truth.csv");
     if (!csv) return fail("--png-dir " + png_dir + ": cannot write ground_truth.csv");
     csv << sim::ground_truth_csv_header() << "\n";
+    if (scenario.calibration) {
+      frames_csv.open(std::filesystem::path(png_dir) / "frames.csv");
+      if (!frames_csv) return fail("--png-dir " + png_dir + ": cannot write frames.csv");
+      frames_csv << "left,right,left_stamp_ns,right_stamp_ns,left_hold,right_hold\n";
+    }
   }
 
   sim::Simulator simulator(params, scenario);
@@ -113,6 +119,15 @@ int run_scenario(const Options& o, const sim::SimParams& params, const sim::Scen
         !cv::imwrite(frame_name(png_dir, "right", f.seq), f.right)) {
       return fail("--png-dir " + png_dir + ": cannot write PNG files");
     }
+    if (f.board) {
+      // Each eye's capture stamp: what `stereoball calibrate --sequence` needs for free-running
+      // eyes; the hold index (-1 while the board moves) is the truth, for checking.
+      frames_csv << std::filesystem::path(frame_name(png_dir, "left", f.seq)).filename().string()
+                 << ","
+                 << std::filesystem::path(frame_name(png_dir, "right", f.seq)).filename().string()
+                 << "," << f.sim_time_ns << "," << f.right_time_ns << "," << f.board->left_hold
+                 << "," << f.board->right_hold << "\n";
+    }
   }
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -133,7 +148,9 @@ int main(int argc, char** argv) {
       "stereoball-sim: run a simulator scenario headless (no DDS). Renders both raw (distorted)\n"
       "camera images of the simulated stereo rig and the ground truth for every frame; with\n"
       "--png-dir writes left_NNNNNN.png, right_NNNNNN.png, ground_truth.csv and calibration.yaml\n"
-      "(the true calibration of the simulated rig)."};
+      "(the true calibration of the simulated rig); calibration scenes (e.g. --scenario\n"
+      "calibration_board) also write frames.csv (each eye's capture stamp) for\n"
+      "`stereoball calibrate --sequence DIR/frames.csv`."};
   Options o;
   app.add_option("--scenario", o.scenario,
                  "scenario name (config/scenarios/NAME.yaml) or path to a scenario file")
@@ -157,10 +174,16 @@ int main(int argc, char** argv) {
                  "run N randomised scenes (ranges from --ranges) instead of --scenario; with "
                  "--png-dir each scene goes to its own subfolder")
       ->check(CLI::Range(1, 100000));
-  app.add_option("--seed", o.seed, "with --randomize: which scene set")
+  app.add_option("--seed", o.seed,
+                 "with --randomize: which scene set; with a calibration scene's random_poses: "
+                 "which pose set")
       ->check(stereoball::cli::unsigned_64())
       ->capture_default_str();
   app.add_option("--ranges", o.ranges, "with --randomize: range file")->capture_default_str();
+  app.add_option("--eye-skew-ms", o.eye_skew_ms,
+                 "calibration scenes: the right eye captures this many ms after the left "
+                 "(free-running eyes; overrides the scenario's eye_skew_ms)")
+      ->check(CLI::Range(-1000.0, 1000.0));
   app.add_option("--width", o.width_px, "override image width, pixels");
   app.add_option("--height", o.height_px, "override image height, pixels");
   CLI11_PARSE(app, argc, argv);
@@ -172,6 +195,15 @@ int main(int argc, char** argv) {
   if (o.randomize == 0) {
     auto scenario = sim::load_scenario_by_name(o.scenario, o.scenarios_dir);
     if (!scenario) return fail(scenario.error());
+    if (o.eye_skew_ms) {
+      if (!scenario->calibration)
+        return fail("--eye-skew-ms: scenario '" + scenario->name +
+                    "' is not a calibration scene (no calibration: section)");
+      scenario->calibration->eye_skew_s = *o.eye_skew_ms * 1e-3;
+    }
+    // A calibration scene's drawn poses: --seed picks another pose set.
+    if (app.count("--seed") > 0 && scenario->calibration && scenario->calibration->random_poses)
+      scenario->calibration->random_poses->seed = o.seed;
     return run_scenario(o, *params, *scenario, o.png_dir);
   }
   auto ranges = sim::load_randomize_ranges(o.ranges);

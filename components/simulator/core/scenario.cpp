@@ -168,6 +168,9 @@ Status Scenario::validate() const {
   if (auto e = check_clutter(*this); !e) return e;
   if (auto e = check("sun.azimuth_rad", sun_azimuth_rad, -10, 10); !e) return e;
   if (auto e = check("sun.elevation_rad", sun_elevation_rad, 0.1, 1.5707963); !e) return e;
+  if (calibration) {
+    if (auto e = calibration->validate(); !e) return e;
+  }
   return check_events(*this);
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/util/result.hpp"
+#include "simulator/core/board_scene.hpp"
 #include "simulator/core/vec3.hpp"
 
 namespace stereoball::simulator {
@@ -133,6 +134,9 @@ struct Scenario {
   double sun_elevation_rad = 1.0;  ///< above the horizon, radians
   std::vector<LightKey> lighting;  ///< sorted by t_s; empty = LightKey defaults
   std::vector<ScriptedCommand> commands;  ///< sorted by t_s
+  /// A calibration scene: the simulator renders a chessboard carried in front of the rig on a
+  /// plain background instead of the room (see core/board_scene.hpp).
+  std::optional<CalibrationScene> calibration;
 
   /// Success, or the first invalid field with its allowed range.
   Status validate() const;

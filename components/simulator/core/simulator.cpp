@@ -23,7 +23,12 @@ Simulator::Simulator(const SimParams& params, const Scenario& scenario)
       world_(with_scenario_base(params, scenario), scenario_),
       renderer_(rig_, scenario_, params.left.gain, params.right.gain),
       sensor_(params.sensor.noise_sigma_dn, scenario.seed),
-      occluders_(occluders_of(scenario)) {}
+      occluders_(occluders_of(scenario)) {
+  if (scenario.calibration) {
+    board_scene_ = with_drawn_holds(*scenario.calibration, rig_);
+    board_renderer_.emplace(rig_, *board_scene_);
+  }
+}
 
 Status Simulator::check(const SimParams& params, const Scenario& scenario) {
   if (auto st = params.validate(); !st) return Error{"simulator params: " + st.error()};
@@ -52,6 +57,12 @@ SimFrame Simulator::step(const std::optional<VelocityCommand>& command, int64_t 
   SimFrame f;
   f.seq = seq_++;
   f.sim_time_ns = std::max(sim_time_ns, world_.time_ns());
+  f.right_time_ns = f.sim_time_ns;
+  if (board_scene_) {
+    f.right_time_ns += static_cast<int64_t>(std::llround(board_scene_->eye_skew_s * 1e9));
+    step_board(f);
+    return f;
+  }
   run_both([&] { render_eye(Eye::kLeft, world_, f.sim_time_ns, f.left); },
            [&] { render_eye(Eye::kRight, world_, f.sim_time_ns, f.right); });
   // The world takes the same steps as the eyes' copies did (physics steps end at each time).
@@ -61,6 +72,22 @@ SimFrame Simulator::step(const std::optional<VelocityCommand>& command, int64_t 
   f.truth =
       make_ground_truth(rig_, world_.robot(), world_.ball(), f.seq, f.sim_time_ns, occluders_);
   return f;
+}
+
+void Simulator::step_board(SimFrame& f) {
+  const CalibrationScene& scene = *board_scene_;
+  BoardTruth truth;
+  truth.left_pose = board_pose_at(scene, f.sim_time_ns * 1e-9);
+  truth.right_pose = board_pose_at(scene, f.right_time_ns * 1e-9);
+  truth.left_hold = hold_index_at(scene, f.sim_time_ns * 1e-9);
+  truth.right_hold = hold_index_at(scene, f.right_time_ns * 1e-9);
+  board_renderer_->render(Eye::kLeft, truth.left_pose, f.left);
+  board_renderer_->render(Eye::kRight, truth.right_pose, f.right);
+  world_.advance_to(f.sim_time_ns);
+  sensor_.apply(f.left);
+  sensor_.apply(f.right);
+  f.truth = make_ground_truth(rig_, world_.robot(), world_.ball(), f.seq, f.sim_time_ns);
+  f.board = truth;
 }
 
 std::vector<int64_t> Simulator::exposure_times(int64_t t_ns) const {

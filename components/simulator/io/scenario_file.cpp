@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -182,12 +183,12 @@ void read_list(MapReader& top, const std::string& name, std::vector<T>& out, Sta
   const YAML::Node n = top.child(name);
   if (!n.IsDefined() || n.IsNull()) return;
   if (!n.IsSequence()) {
-    top.fail_key(name, "expected a list");
+    top.fail_key(top.key(name), "expected a list");
     return;
   }
   for (size_t i = 0; i < n.size(); ++i) {
     T item;
-    MapReader m(n[i], name + "[" + std::to_string(i) + "]", err);
+    MapReader m(n[i], top.key(name) + "[" + std::to_string(i) + "]", err);
     fill(m, item);
     m.finish();
     out.push_back(item);
@@ -249,6 +250,80 @@ void read_lists(MapReader& top, Scenario& s, Status& err) {
   });
 }
 
+constexpr double kDeg = M_PI / 180.0;
+
+// An optional angle given in degrees, stored in radians.
+void opt_deg(MapReader& m, const std::string& k, double& out_rad) {
+  double deg = out_rad / kDeg;
+  m.opt(k, deg);
+  out_rad = deg * kDeg;
+}
+
+void read_board(MapReader& top, CalibrationBoard& b, Status& err) {
+  const YAML::Node n = top.child("board");
+  if (!n.IsDefined()) return;
+  MapReader m(n, "calibration.board", err);
+  const YAML::Node corners = m.child("inner_corners");
+  if (corners.IsDefined()) {
+    if (!corners.IsSequence() || corners.size() != 2 || !corners[0].IsScalar() ||
+        !corners[1].IsScalar() || !YAML::convert<int>::decode(corners[0], b.cols) ||
+        !YAML::convert<int>::decode(corners[1], b.rows)) {
+      m.fail_key(m.key("inner_corners"), "expected [columns, rows] of inner corners, e.g. [9, 6]");
+    }
+  }
+  m.opt("square_m", b.square_m);
+  m.opt("margin_m", b.margin_m);
+  m.opt("black_dn", b.black_dn);
+  m.opt("white_dn", b.white_dn);
+  m.finish();
+}
+
+void read_random_poses(MapReader& top, CalibrationScene& c, Status& err) {
+  const YAML::Node n = top.child("random_poses");
+  if (!n.IsDefined() || n.IsNull()) return;
+  BoardPoseRanges r;
+  MapReader m(n, "calibration.random_poses", err);
+  double count = r.count;
+  m.opt("count", count);
+  if (count != std::floor(count) || count < 1 || count > 1000)
+    m.fail_key(m.key("count"), "expected a whole number in [1, 1000]");
+  r.count = static_cast<int>(count);
+  m.opt("seed", r.seed);
+  m.opt("near_m", r.near_m);
+  m.opt("far_m", r.far_m);
+  opt_deg(m, "max_tilt_deg", r.max_tilt_rad);
+  opt_deg(m, "max_roll_deg", r.max_roll_rad);
+  m.opt("hold_s", r.hold_s);
+  m.opt("move_s", r.move_s);
+  m.finish();
+  c.random_poses = r;
+}
+
+void read_calibration(MapReader& top, Scenario& s, Status& err) {
+  const YAML::Node n = top.child("calibration");
+  if (!n.IsDefined() || n.IsNull()) return;
+  CalibrationScene c;
+  MapReader m(n, "calibration", err);
+  read_board(m, c.board, err);
+  double skew_ms = c.eye_skew_s * 1e3;
+  m.opt("eye_skew_ms", skew_ms);
+  c.eye_skew_s = skew_ms * 1e-3;
+  m.opt("background_dn", c.background_dn);
+  read_list(m, "poses", c.holds, err, [](MapReader& p, BoardHold& h) {
+    p.opt("x_m", h.pose.centre_m.x);
+    p.opt("y_m", h.pose.centre_m.y);
+    p.opt("z_m", h.pose.centre_m.z);
+    opt_deg(p, "tilt_x_deg", h.pose.tilt_x_rad);
+    opt_deg(p, "tilt_y_deg", h.pose.tilt_y_rad);
+    opt_deg(p, "roll_deg", h.pose.roll_rad);
+    p.opt("hold_s", h.hold_s);
+    p.opt("move_s", h.move_s);
+  });
+  read_random_poses(m, c, err);
+  m.finish();
+  s.calibration = c;
+}
+
 }  // namespace
 
 Result<Scenario> parse_scenario(const std::string& text, const std::string& source) {
@@ -260,14 +335,19 @@ Result<Scenario> parse_scenario(const std::string& text, const std::string& sour
   MapReader top(root, "", err);
   top.opt("name", s.name);
   top.opt("seed", s.seed);
+  const bool duration_given = top.child("duration_s").IsDefined();
   top.opt("duration_s", s.duration_s);
   read_room(top, s.room, err);
   read_robot(top, s, err);
   read_ball(top, s, err);
   read_sun(top, s, err);
   read_lists(top, s, err);
+  read_calibration(top, s, err);
   top.finish();
   if (!err.ok()) return Error{source + ": " + err.error()};
+  // A calibration scene lasts as long as its poses unless the file says otherwise.
+  if (s.calibration && !duration_given && s.calibration->validate())
+    s.duration_s = s.calibration->duration_s();
   if (auto e = s.validate(); !e) return Error{source + ": " + e.error()};
   return s;
 }

@@ -105,6 +105,46 @@ TEST(ScenarioFile, RandomisedWorldKeysAreRead) {
   EXPECT_DOUBLE_EQ(s->spheres[0].color.b, 3.0);
 }
 
+TEST(ScenarioFile, CalibrationSceneIsRead) {
+  // Given a calibration scene with two poses and free-running eyes
+  const auto s = parse_scenario(
+      "name: c\ncalibration:\n  board: {inner_corners: [7, 5], square_m: 0.04}\n"
+      "  eye_skew_ms: 15\n  poses:\n    - {z_m: 0.7, tilt_y_deg: 30, hold_s: 2, move_s: 0.5}\n"
+      "    - {x_m: 0.1, z_m: 0.9, roll_deg: -10, hold_s: 1}\n",
+      "calib.yaml");
+  // Then the board, the skew (seconds), the poses (radians) and the duration (the poses') are read
+  ASSERT_TRUE(s.ok()) << s.error();
+  ASSERT_TRUE(s->calibration.has_value());
+  const CalibrationScene& c = *s->calibration;
+  EXPECT_EQ(c.board.cols, 7);
+  EXPECT_EQ(c.board.rows, 5);
+  EXPECT_DOUBLE_EQ(c.board.square_m, 0.04);
+  EXPECT_DOUBLE_EQ(c.eye_skew_s, 0.015);
+  ASSERT_EQ(c.holds.size(), 2u);
+  EXPECT_NEAR(c.holds[0].pose.tilt_y_rad, 30 * M_PI / 180, 1e-12);
+  EXPECT_NEAR(c.holds[1].pose.roll_rad, -10 * M_PI / 180, 1e-12);
+  EXPECT_DOUBLE_EQ(s->duration_s, 3.5);
+}
+
+TEST(ScenarioFile, BadCalibrationSceneNamesTheKey) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"name: c\ncalibration: {board: {inner_corners: [9]}, random_poses: {count: 3}}\n",
+       "calibration.board.inner_corners"},
+      {"name: c\ncalibration: {poses: [{z_m: 0.6, tilt_deg: 3}]}\n",
+       "calibration.poses[0].tilt_deg': unknown key"},
+      {"name: c\ncalibration: {poses: [{z_m: 0.05}]}\n", "calibration.poses[0].z_m"},
+      {"name: c\ncalibration: {random_poses: {count: 2.5}}\n", "calibration.random_poses.count"},
+      {"name: c\ncalibration: {eye_skew_ms: 5000, random_poses: {count: 3}}\n",
+       "calibration.eye_skew_ms"},
+      {"name: c\ncalibration: {}\n", "calibration.poses"}};
+  for (const auto& [text, expected] : cases) {
+    const auto s = parse_scenario(text, "bad.yaml");
+    ASSERT_FALSE(s.ok()) << text;
+    EXPECT_NE(s.error().find("bad.yaml"), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find(expected), std::string::npos) << s.error();
+  }
+}
+
 TEST(ScenarioFile, MissingFileIsAClearError) {
   // Given a name with no file
   const auto s = load_scenario_by_name("no_such_scenario", kDir);

@@ -159,6 +159,8 @@ Result<stereo::FrameView> SimulatorNode::frame_view(const SimFrame& f, int64_t s
     runner_.health().error("bad_frame", raw.error());
     return raw;
   }
+  // Free-running eyes (calibration scenes' eye skew): the right eye's own capture stamp.
+  raw->right.capture_stamp_ns = stamp_ns + (f.right_time_ns - f.sim_time_ns);
   if (!compressor_) return raw;
   const int64_t start = node::monotonic_ns();
   auto compressed = compressor_->step(*raw);

@@ -109,7 +109,9 @@ TEST(StillBoardSelector, GapRestartsTheRun) {
     if (t < 150 * kMs || t > 450 * kMs) taken += s.add(Eye::kLeft, t, board_at(0)) ? 1 : 0;
     taken += s.add(Eye::kRight, t, board_at(-30)) ? 1 : 0;
     // Then the left run restarted after the gap: no pose before 200 ms of new left frames
-    if (t > 450 * kMs && t < 650 * kMs) EXPECT_EQ(taken, 0) << "at " << t / kMs << " ms";
+    if (t > 450 * kMs && t < 650 * kMs) {
+      EXPECT_EQ(taken, 0) << "at " << t / kMs << " ms";
+    }
   }
   EXPECT_EQ(taken, 1);
 }
