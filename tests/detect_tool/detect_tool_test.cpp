@@ -11,6 +11,9 @@
 #include <fstream>
 #include <vector>
 
+#include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "crafted_images.hpp"
 #include "process.hpp"
 
@@ -77,6 +80,41 @@ TEST(DetectTool, GivenCoarseThenTheBallIsFoundAtTheSamePlace) {
   EXPECT_NE(r.out.find("y=240."), std::string::npos) << r.out;
   EXPECT_TRUE(r.out.find("r=59.") != std::string::npos || r.out.find("r=60.") != std::string::npos)
       << r.out;
+}
+
+// Issue 38 item 5: a user who tries a photo sees what the robot sees.
+TEST(DetectTool, GivenTheShippedConfigThenDetectAndTheNodesDetectorAgreeOnOneImage) {
+  // Given an image with a ball and clutter, and the node's detector built from the shipped
+  // config/ball_detector.yaml as the node builds it
+  const auto dir = sb::testing::temp_dir();
+  cv::Mat img(480, 640, CV_8UC3, cv::Scalar(60, 120, 60));
+  cv::circle(img, {300, 250}, 70, cv::Scalar(30, 90, 220), cv::FILLED, cv::LINE_AA);
+  cv::circle(img, {520, 90}, 9, cv::Scalar(200, 200, 200), cv::FILLED, cv::LINE_AA);
+  cv::rectangle(img, {40, 330}, {160, 440}, cv::Scalar(20, 20, 20), cv::FILLED);
+  const std::string path = dir + "/ball.png";
+  cv::imwrite(path, img);
+  const std::string config = std::string(SB_SOURCE_DIR) + "/config/ball_detector.yaml";
+  auto params = sb::ball_detector::load_detector_params(config);
+  ASSERT_TRUE(params) << params.error();
+  sb::ball_detector::PixelToPixelDetector node(params->detector_params());
+  cv::Mat scratch;
+  const auto expected =
+      node.detect(sb::ball_detector::detector_input_image(img, params->input, scratch));
+  ASSERT_FALSE(expected.empty());
+  // When stereoball detect runs on the image with its defaults
+  const DetectRun r = detect({"--config", config, path});
+  // Then it reports the same circles, best first, and the core's defaults stay one flag away
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find(std::to_string(expected.size()) + " circle(s)"), std::string::npos) << r.out;
+  for (const auto& c : expected)
+    EXPECT_NE(r.out.find(cv::format("x=%.2f y=%.2f r=%.2f", c.x_px, c.y_px, c.radius_px)),
+              std::string::npos)
+        << r.out;
+  const DetectRun core = detect({"--core-defaults", path});
+  EXPECT_EQ(core.code, 0) << core.out;
+  const DetectRun missing = detect({"--config", dir + "/none.yaml", path});
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.out.find("none.yaml"), std::string::npos) << missing.out;
 }
 
 // Issue 22: a 28 KB JPEG or 1.1 MB PNG whose header says 20000x20000 ran past 30 s at 4-5 GB.

@@ -16,6 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/pipeline/detector_params_file.hpp"
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
+#include "common/util/install_layout.hpp"
 #include "stereo/image/image_file.hpp"
 
 namespace bd = stereoball::ball_detector;
@@ -127,6 +131,16 @@ int main(int argc, char** argv) {
   app.add_option("--max-height", max_height_px, "Refuse taller images (from the header), pixels")
       ->capture_default_str()
       ->check(CLI::Range(1, 65535));
+  std::string config_path = sb::paths::shipped_config_path("ball_detector.yaml");
+  bool core_defaults = false;
+  app.add_option("--config", config_path,
+                 "p2p: the ball detector's parameters file whose detector settings (p2p:, "
+                 "max_candidates_per_eye, input) are used, as the node uses them; the flags above "
+                 "override them")
+      ->capture_default_str();
+  app.add_flag("--core-defaults", core_defaults,
+               "p2p: the detector core's own defaults (k 5, grey edges, ...) instead of the "
+               "node's settings");
   app.add_option("IMAGE", images, "Image files (png, jpg, ...)")->required();
   CLI11_PARSE(app, argc, argv);
 
@@ -135,7 +149,32 @@ int main(int argc, char** argv) {
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   if (!ks.empty()) opt.k_values = ks;
   std::string error;
-  auto detector = bd::make_detector(method, opt, &error);
+  std::unique_ptr<bd::CircleDetector> detector;
+  // What a user trying a photo should see is what the robot sees: p2p takes the node's settings.
+  std::optional<bd::DetectorInput> input;
+  if (method == "p2p" && !core_defaults) {
+    auto node = bd::load_detector_params(config_path);
+    if (!node) {
+      std::cerr << "stereoball-detect: " << node.error() << "\n";
+      return 2;
+    }
+    bd::PixelToPixelParams p = node->detector_params();
+    if (!ks.empty()) p.k_values = ks;
+    if (app.count("--coarse") > 0) p.coarse_to_fine = opt.coarse_to_fine;
+    if (app.count("--max") > 0) p.max_circles = opt.max_circles;
+    if (app.count("--min-score") > 0) p.min_score = opt.min_score;
+    if (app.count("--min-radius") > 0) p.min_radius_px = opt.min_radius_px;
+    if (app.count("--max-radius") > 0) p.max_radius_px = opt.max_radius_px;
+    if (app.count("--min-separation") > 0) p.min_separation_px = opt.min_separation_px;
+    if (auto e = p.validate(); !e) {
+      std::cerr << "stereoball-detect: p2p: " << e.error() << "\n";
+      return 2;
+    }
+    input = node->input;
+    detector = std::make_unique<bd::PixelToPixelDetector>(p);
+  } else {
+    detector = bd::make_detector(method, opt, &error);
+  }
   if (!detector) {
     std::cerr << "stereoball-detect: " << error << "\n";
     return 2;
@@ -163,7 +202,9 @@ int main(int argc, char** argv) {
       continue;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    const auto circles = detector->detect(image);
+    cv::Mat scratch;
+    const auto circles =
+        detector->detect(input ? bd::detector_input_image(image, *input, scratch) : image);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (json) {

@@ -680,3 +680,93 @@ TEST(PixelToPixelParams, GivenBadFieldsThenValidateNamesThem) {
 
 }  // namespace
 }  // namespace stereoball::ball_detector
+
+namespace stereoball::ball_detector {
+namespace {
+
+// An orange ball held in a hand, as on the real rig's photographs: shaded (lit from the upper
+// left), crossed by black seams that run to its outline, a quarter of its outline hidden by a
+// skin-coloured hand whose fingers reach over the ball, on a textured wall.
+cv::Mat ball_in_hand(cv::Size size, cv::Point2d c, double r, std::uint32_t seed) {
+  cv::Mat img(size, CV_8UC3);
+  cv::RNG rng(seed);
+  rng.fill(img, cv::RNG::UNIFORM, cv::Scalar(120, 125, 130), cv::Scalar(160, 165, 170));
+  cv::GaussianBlur(img, img, {0, 0}, 2.0);
+  const int s = 16;  // sub-pixel drawing (shift 4)
+  auto P = [&](double x, double y) { return cv::Point(cvRound(x * s), cvRound(y * s)); };
+  // Shading: concentric discs darkening toward the lower right.
+  for (int i = 0; i < 12; ++i) {
+    const double f = 1.0 - i / 12.0;
+    const double k = 0.55 + 0.45 * (1.0 - f);
+    cv::circle(img, P(c.x - 0.25 * r * (1.0 - f), c.y - 0.25 * r * (1.0 - f)), cvRound(f * r * s),
+               cv::Scalar(30 * k, 95 * k, 215 * k), cv::FILLED, cv::LINE_AA, 4);
+  }
+  // Keep the outline where it is: shading discs stay inside it.
+  cv::Mat mask(size, CV_8UC1, cv::Scalar(0));
+  cv::circle(mask, P(c.x, c.y), cvRound(r * s), cv::Scalar(255), cv::FILLED, cv::LINE_AA, 4);
+  cv::Mat ball = img.clone();
+  // Seams: a horizontal and a vertical great circle and two side curves, 3 px black, all
+  // meeting the outline.
+  const cv::Scalar seam(25, 25, 30);
+  cv::line(ball, P(c.x - r, c.y + 0.1 * r), P(c.x + r, c.y - 0.1 * r), seam, 3, cv::LINE_AA, 4);
+  cv::ellipse(ball, P(c.x, c.y), cv::Size(cvRound(0.3 * r * s), cvRound(r * s)), 0, 0, 360, seam, 3,
+              cv::LINE_AA, 4);
+  cv::ellipse(ball, P(c.x - 1.2 * r, c.y), cv::Size(cvRound(0.8 * r * s), cvRound(0.95 * r * s)), 0,
+              -70, 70, seam, 3, cv::LINE_AA, 4);
+  cv::ellipse(ball, P(c.x + 1.2 * r, c.y), cv::Size(cvRound(0.8 * r * s), cvRound(0.95 * r * s)), 0,
+              110, 250, seam, 3, cv::LINE_AA, 4);
+  ball.copyTo(img, mask);
+  // The hand: a palm below-right of the ball hiding the quarter of its outline between 0 and
+  // 90 degrees (image y down), and three fingers reaching over the ball from it.
+  const cv::Scalar skin(120, 150, 205);
+  std::vector<cv::Point> palm = {P(c.x + 0.25 * r, c.y + 1.6 * r), P(c.x + 1.6 * r, c.y + 1.6 * r),
+                                 P(c.x + 1.6 * r, c.y + 0.2 * r), P(c.x + 0.9 * r, c.y + 0.45 * r),
+                                 P(c.x + 0.45 * r, c.y + 0.9 * r)};
+  cv::fillConvexPoly(img, palm, skin, cv::LINE_AA, 4);
+  for (const double a : {0.15, 0.55, 0.95}) {
+    const double t = a * CV_PI / 2.0;
+    cv::line(img, P(c.x + 1.3 * r * std::cos(t), c.y + 1.3 * r * std::sin(t)),
+             P(c.x + 0.55 * r * std::cos(t), c.y + 0.55 * r * std::sin(t)), skin, cvRound(0.16 * r),
+             cv::LINE_AA, 4);
+  }
+  return with_sensor_noise(img, static_cast<int>(seed), 2.0);
+}
+
+// The stereo node's detector settings (config/ball_detector.yaml p2p:, input colour).
+PixelToPixelParams node_like() {
+  PixelToPixelParams p;
+  p.k_values = {3, 5};
+  p.max_radius_px = 250.0;
+  p.refine_params.clutter_ring_per_radius = 0.1;
+  p.refine_params.clutter_min_radius_px = 30.0;
+  p.edge.colour = true;
+  return p;
+}
+
+TEST(PixelToPixel, GivenABallInAHandWithAHiddenQuarterAndCrossingSeamsThenItsOutlineIsFound) {
+  // Given balls of 35-90 px radius held in a hand that hides a quarter of the outline, crossed
+  // by black seams, on a textured wall
+  PixelToPixelDetector det(node_like());
+  int found = 0, tried = 0;
+  for (const double r : {35.0, 60.0, 90.0}) {
+    for (std::uint32_t seed = 1; seed <= 2; ++seed) {
+      const cv::Point2d c(300.0 + 3.3 * seed, 250.0 - 1.7 * seed);
+      // When the detector runs on the image
+      const auto circles = det.detect(ball_in_hand({640, 480}, c, r, seed));
+      ++tried;
+      // Then the best circle is the ball's outline: centre within 0.1 r, radius within 8 %
+      const bool hit = !circles.empty() && centre_error(circles[0], {c.x, c.y, r, 1.0}) < 0.1 * r &&
+                       std::abs(circles[0].radius_px - r) < 0.08 * r;
+      found += hit;
+      if (!hit && !circles.empty())
+        ADD_FAILURE() << "r " << r << " seed " << seed << ": best (" << circles[0].x_px << ", "
+                      << circles[0].y_px << ") r " << circles[0].radius_px << " score "
+                      << circles[0].score;
+      if (circles.empty()) ADD_FAILURE() << "r " << r << " seed " << seed << ": nothing";
+    }
+  }
+  EXPECT_EQ(found, tried);
+}
+
+}  // namespace
+}  // namespace stereoball::ball_detector

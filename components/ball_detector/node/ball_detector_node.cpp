@@ -185,7 +185,12 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
       det.reason = st.error();
     } else {
       check_eye_order(left, right, frame.rectified);
-      det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns), frame.stamp_ns);
+      // Both capture stamps known: their difference is the skew between the eyes' exposures.
+      std::optional<std::int64_t> skew_ns;
+      if (frame.left.capture_stamp_ns != 0 && frame.right.capture_stamp_ns != 0)
+        skew_ns = frame.left.capture_stamp_ns - frame.right.capture_stamp_ns;
+      det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns), frame.stamp_ns,
+                           skew_ns);
     }
   }
   ++processed_;

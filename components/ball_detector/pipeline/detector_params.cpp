@@ -1,5 +1,8 @@
 #include "ball_detector/pipeline/detector_params.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace stereoball::ball_detector {
 
 const char* to_string(DetectorInput input) {
@@ -62,6 +65,12 @@ std::vector<params::Field<P>> pipeline_fields() {
              "true ball diameter (the simulator's ball: radius 0.11 m)"),
       number("epipolar.tolerance_px", at(&P::epipolar_tolerance_px), 2.0, {0.0, 100.0}, "px",
              "largest abs(y_left - y_right) of a stereo pair, rectified (paper: 2)"),
+      number("epipolar.ball_speed_mps", at(&P::epipolar_ball_speed_mps), 4.0, {0.0, 50.0}, "m/s",
+             "unsynchronised eyes: fastest ball motion between the two exposures; rows may differ "
+             "by tolerance_px plus speed x skew / ball radius of the outline radius (0 = off)"),
+      number("epipolar.skew_ns", at(&P::epipolar_skew_ns), -1, {-1, 1'000'000'000}, "ns",
+             "time between the eyes' exposures: -1 = from each frame's capture stamps, >= 0 = "
+             "this (stills and sources whose stamps do not tell)"),
       number("size.max_relative_error", at(&P::size_max_relative_error), 0.15, {0.001, 10.0}, "",
              "accepted abs(r - r_expected) / r_expected at the triangulated depth"),
       number("floor.camera_height_m", at(&P::floor_camera_height_m), 0.30, {0.0, 10.0}, "m",
@@ -210,6 +219,9 @@ std::vector<params::Field<P>> p2p_fields() {
              at(&P::p2p, &P2P::refine_params, &RefineParams::min_inside_fraction),
              core.refine_params.min_inside_fraction, {0.0, 1.0}, "",
              "a circle cut by the image border needs this much of it inside to count"),
+      number("p2p.reference_width_px", at(&P::p2p_reference_width_px), 640, {0, 16384}, "px",
+             "image width k_values and the pixel lengths above are chosen for; wider images get "
+             "them scaled by width / this (same scene window per k; 0 = as configured)"),
       flag("p2p.perspective_outline", at(&P::perspective_outline), true,
            "score circles against the ellipse a sphere images as off the optical axis (false: "
            "as circles, the paper)"),
@@ -238,6 +250,21 @@ PixelToPixelParams BallDetectorParams::detector_params() const {
   // it changed 3 of 3165 frames for the worse (input red: 98.55 -> 98.45 %): off.
   p.isolate_by_orientation = input == DetectorInput::kColour;
   return p;
+}
+
+PixelToPixelParams scaled_to_width(const PixelToPixelParams& p2p, int reference_width_px,
+                                   int image_width_px) {
+  if (reference_width_px <= 0 || image_width_px <= reference_width_px) return p2p;
+  const double f = static_cast<double>(image_width_px) / reference_width_px;
+  PixelToPixelParams out = p2p;
+  for (int& k : out.k_values) k = std::clamp(static_cast<int>(std::lround(k * f)), 1, 31);
+  // In steps of whole k: a width a little above the reference keeps its settings exactly.
+  if (out.k_values == p2p.k_values) return p2p;
+  out.min_radius_px *= f;
+  out.max_radius_px *= f;
+  out.min_separation_px *= f;
+  out.refine_params.clutter_min_radius_px *= f;
+  return out;
 }
 
 }  // namespace stereoball::ball_detector

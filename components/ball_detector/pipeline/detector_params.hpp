@@ -45,6 +45,16 @@ struct BallDetectorParams {
   DetectorInput input;  ///< image the detector runs on (mono8 frames: grey)
   double ball_diameter_m;
   double epipolar_tolerance_px;
+  /// Addition (unsynchronised eyes): the fastest the ball moves, m/s. Between the two eyes'
+  /// exposures (epipolar_skew_ns apart) it moves speed x skew, which in its own image is that
+  /// over its radius times its outline radius at any depth: the rows of a pair may differ by
+  /// that much more than epipolar_tolerance_px, and its disparity may miss the size's by as
+  /// much (the depth is then the radii's). 0 = off (the paper's rows). With a following track
+  /// the track's speed (plus kTrackSpeedSlackMps) is used when lower.
+  double epipolar_ball_speed_mps;
+  /// Time between the two eyes' exposures, ns: -1 = from each frame's two capture stamps;
+  /// >= 0 = this (stills, a file source or a driver whose stamps do not tell; 0 = synchronised).
+  std::int64_t epipolar_skew_ns;
   double size_max_relative_error;
   /// Search the right eye only in the boxes where a size-consistent partner of a left circle
   /// can lie (rows within the epipolar tolerance, disparity from the ball size at the size
@@ -89,6 +99,12 @@ struct BallDetectorParams {
   /// Detector on each rectified eye: the keys under p2p: set some fields, the rest keep the
   /// core's defaults.
   PixelToPixelParams p2p;
+  /// Addition: the image width p2p's window sizes (k_values) and pixel lengths (radii,
+  /// separation, clutter-ring start) are chosen for. A wider camera sees the same scene in more
+  /// pixels: its k and lengths are scaled by width / this, so each window covers the same part of
+  /// the scene and an outline's arc bends as much across it (a k chosen for 640 px sees a ball's
+  /// arc at 2304 px as a straight segment). 0 = as configured at every width.
+  int p2p_reference_width_px;
   /// Addition: the followed ball's colour, learnt while the tracker follows it, ranks the left
   /// candidates and rejects round things of another colour; forgotten after a long loss.
   AppearanceParams appearance;
@@ -113,6 +129,13 @@ struct BallDetectorParams {
   /// The detector parameters with max_circles taken from max_candidates_per_eye.
   PixelToPixelParams detector_params() const;
 };
+
+/// p2p for images image_width_px wide (BallDetectorParams::p2p_reference_width_px): k_values
+/// (rounded, within [1, 31]), radii, separation and the clutter rings' start scaled by
+/// image_width_px / reference_width_px when that exceeds 1 and changes a rounded k; p2p itself
+/// otherwise.
+PixelToPixelParams scaled_to_width(const PixelToPixelParams& p2p, int reference_width_px,
+                                   int image_width_px);
 
 /// One row per key of config/ball_detector.yaml: the defaults, validate(), the loader, the
 /// README table and `ball_detector --help-params` come from it.

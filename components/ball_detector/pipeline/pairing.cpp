@@ -126,6 +126,27 @@ double closest_rows_px(const std::vector<Circle>& left, const std::vector<Circle
   return best;
 }
 
+// Unsynchronised eyes: the ball moves between the two exposures by up to motion_radii of its
+// radius, across as well as along the rows, so the disparity can miss the one its size implies
+// by that much more than the size tolerance. Both eyes' radii are free of the timing (the depth
+// hardly changes in the time): when they agree with each other (the caller checks) and the
+// disparity is that far off at most, the pair is the ball, moved. Its position stays the
+// triangulated one, rows averaged: on a real rig the radii are the less certain of the two
+// (hands and seams pull the fits, the calibration's focal length and baseline err; the real
+// basketball pairs' tune half has disparity and clicked radii disagreeing by up to 12 % on
+// pairs without visible motion), and a disparity moved toward the size's depth was farther off.
+void moved_ball(const PairingContext& ctx, double mean_radius_px, StereoPair& pair) {
+  const stereo::Triangulator& tri = ctx.triangulator;
+  const double tol = ctx.size.max_relative_error;
+  const double size_disparity = tri.focal_px() * tri.baseline_m() / pair.depth_from_size_m;
+  const double disparity = pair.left.x_px - pair.right.x_px;
+  if (std::abs(disparity - size_disparity) >
+      tol * size_disparity + ctx.motion_radii * mean_radius_px)
+    return;
+  pair.moved = true;
+  pair.size_consistent = true;
+}
+
 }  // namespace
 
 std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int64_t frame_stamp_ns,
@@ -134,7 +155,7 @@ std::optional<PositionPrior> prior_from_track(const TrackedBall& track, std::int
   const std::int64_t age_ns = frame_stamp_ns - track.capture_stamp_ns;
   if (age_ns > max_age_ns || age_ns < -max_age_ns) return std::nullopt;
   const double dt_s = 1e-9 * static_cast<double>(age_ns);
-  return PositionPrior{track.position_m + track.velocity_mps * dt_s, gate_m};
+  return PositionPrior{track.position_m + track.velocity_mps * dt_s, gate_m, track.velocity_mps};
 }
 
 cv::Rect box_around(const cv::Point2d& centre, double reach_px, cv::Size image) {
@@ -207,14 +228,21 @@ bool better_pair(const StereoPair& a, const StereoPair& b) {
   return a.row_residual_px < b.row_residual_px;
 }
 
+double row_allowance_px(const PairingContext& ctx, double radius_px) {
+  return ctx.epipolar.params().max_row_diff_px + std::max(0.0, ctx.motion_radii) * radius_px;
+}
+
 std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle& left,
                                         const Circle& right) {
-  const stereo::EpipolarMatch m =
-      ctx.epipolar.check({left.x_px, left.y_px}, {right.x_px, right.y_px});
+  stereo::EpipolarMatch m = ctx.epipolar.check({left.x_px, left.y_px}, {right.x_px, right.y_px});
+  const double mean_radius_px = 0.5 * (left.radius_px + right.radius_px);
+  if (ctx.motion_radii > 0.0)
+    m.accepted = m.row_residual_px <= row_allowance_px(ctx, mean_radius_px);
   // A point in front of the rig appears further left in the right eye.
   if (!m.accepted || m.x_left_px <= m.x_right_px) return std::nullopt;
-  const auto p = ctx.triangulator.sphere_centre_m({left.x_px, left.y_px}, {right.x_px, right.y_px},
-                                                  0.5 * ctx.size.ball_diameter_m);
+  const double ball_radius_m = 0.5 * ctx.size.ball_diameter_m;
+  auto p = ctx.triangulator.sphere_centre_m({left.x_px, left.y_px}, {right.x_px, right.y_px},
+                                            ball_radius_m);
   if (!p || !((*p)[2] > 0.0)) return std::nullopt;
 
   StereoPair pair;
@@ -227,18 +255,27 @@ std::optional<StereoPair> evaluate_pair(const PairingContext& ctx, const Circle&
   // mean radius grows by up to 1 / cos^2 of the angle (24 % at 30 degrees), more than the
   // size tolerance.
   const stereo::Triangulator& tri = ctx.triangulator;
-  const double ball_radius_m = 0.5 * ctx.size.ball_diameter_m;
   const cv::Vec3d in_right = *p - cv::Vec3d(tri.baseline_m(), 0.0, 0.0);
   const auto depth_left = outline_depth_m(left_camera(tri), left, ball_radius_m);
   const auto depth_right = outline_depth_m(right_camera(tri), right, ball_radius_m);
   pair.depth_from_size_m = depth_left && depth_right ? 0.5 * (*depth_left + *depth_right) : 0.0;
-  const double radius_px = 0.5 * (left.radius_px + right.radius_px);
   const double expected_px = 0.5 * (outline_radius_px(left_camera(tri), *p, ball_radius_m) +
                                     outline_radius_px(right_camera(tri), in_right, ball_radius_m));
-  const stereo::SizeCheck size = stereo::check_size_against(ctx.size, radius_px, expected_px);
+  const stereo::SizeCheck size = stereo::check_size_against(ctx.size, mean_radius_px, expected_px);
   pair.expected_radius_px = size.expected_radius_px;
   pair.size_error = size.relative_error;
   pair.size_consistent = size.consistent;
+  if (ctx.motion_radii > 0.0) {
+    // With rows and disparity loosened by the motion, the two radii carry the check: both eyes
+    // see the ball at nearly one depth (two round things that merely lie on nearby rows rarely
+    // have one size).
+    const double larger = std::max(left.radius_px, right.radius_px);
+    const bool radii_agree =
+        std::abs(left.radius_px - right.radius_px) <= ctx.size.max_relative_error * larger + 1.0;
+    if (!radii_agree) pair.size_consistent = false;
+    if (radii_agree && !pair.size_consistent && pair.depth_from_size_m > 0.0)
+      moved_ball(ctx, mean_radius_px, pair);
+  }
   if (ctx.floor) {
     pair.height_error_m = ctx.floor->height_m(*p) - ball_radius_m;
     pair.on_floor = std::abs(pair.height_error_m) <= ctx.floor->tolerance_m;
@@ -251,9 +288,11 @@ cv::Rect partner_search_box(const PairingContext& ctx, const Circle& left, cv::S
   const auto cols = partner_columns(ctx, left);
   if (!cols) return {};
   const double reach = (1.0 + ctx.size.max_relative_error) * left.radius_px + margin_px;
-  const double rows = reach + ctx.epipolar.params().max_row_diff_px;
-  const int x0 = static_cast<int>(std::floor(cols->x_near - reach));
-  const int x1 = static_cast<int>(std::ceil(cols->x_far + reach)) + 1;
+  // Unsynchronised eyes: the ball moved by up to motion_radii of its radius, any direction.
+  const double moved = std::max(0.0, ctx.motion_radii) * left.radius_px;
+  const double rows = reach + row_allowance_px(ctx, left.radius_px);
+  const int x0 = static_cast<int>(std::floor(cols->x_near - reach - moved));
+  const int x1 = static_cast<int>(std::ceil(cols->x_far + reach + moved)) + 1;
   const int y0 = static_cast<int>(std::floor(left.y_px - rows));
   const int y1 = static_cast<int>(std::ceil(left.y_px + rows)) + 1;
   return cv::Rect(cv::Point(x0, y0), cv::Point(x1, y1)) & cv::Rect(cv::Point(0, 0), image);
@@ -489,6 +528,13 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
     return out;
   }
   out.status = PairingStatus::kEpipolarMismatch;
+  if (ctx.motion_radii > 0.0) {
+    out.reason = format(
+        "no pair in front of the rig within %.1f px rows plus %.2f of its radius (the ball's "
+        "motion between the exposures; closest rows differ by %.1f px)",
+        ctx.epipolar.params().max_row_diff_px, ctx.motion_radii, closest_rows_px(left, right));
+    return out;
+  }
   out.reason =
       format("no pair in front of the rig within %.1f px rows (closest rows differ by %.1f px)",
              ctx.epipolar.params().max_row_diff_px, closest_rows_px(left, right));

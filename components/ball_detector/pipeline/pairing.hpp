@@ -47,6 +47,10 @@ struct StereoPair {
   double height_error_m = 0.0;      ///< centre height above the floor - ball radius, metres
   bool on_floor = true;             ///< |height_error_m| within the floor tolerance (or no floor)
   double score = 0.0;               ///< mean of both circles' scores, [0, 1]
+  /// Addition (unsynchronised eyes, PairingContext::motion_radii): the disparity disagreed with
+  /// the ball's size by more than the size tolerance, by no more than the ball can have moved
+  /// between the exposures (position_m is still the triangulated one).
+  bool moved = false;
 };
 
 /// Result of pairing one frame's candidates.
@@ -64,7 +68,17 @@ struct PairingContext {
   const stereo::Triangulator& triangulator;
   const stereo::SizeCheckParams& size;
   std::optional<FloorModel> floor;  ///< no floor check without one
+  /// Addition (unsynchronised eyes): how far the ball can move between the two eyes' exposures,
+  /// in radii of its outline (speed x skew / ball radius: the same at every depth, as the
+  /// outline and the motion both shrink with distance). A pair's rows may then differ by the
+  /// epipolar tolerance plus this times its mean radius, and its disparity may miss the one its
+  /// size implies by as much more. 0 = the eyes are synchronised (the paper's row rule).
+  double motion_radii = 0.0;
 };
+
+/// Largest row difference a pair of circles with mean radius radius_px may have: the epipolar
+/// tolerance plus the ball's image motion between the exposures (motion_radii), pixels.
+double row_allowance_px(const PairingContext& ctx, double radius_px);
 
 /// Addition: one eye's outline of a pair to fit again with the radius the other eye's implies.
 /// Both eyes see one sphere, so their outline radii differ only as their views do (the sphere
@@ -95,6 +109,7 @@ cv::Rect partner_search_box(const PairingContext& ctx, const Circle& left, cv::S
 struct PositionPrior {
   cv::Vec3d position_m;
   double gate_m = 0.3;
+  cv::Vec3d velocity_mps{0.0, 0.0, 0.0};  ///< the track's, same frame, m/s
 };
 
 /// What the detector needs of the tracker's latest ball/track.

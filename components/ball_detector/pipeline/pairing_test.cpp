@@ -392,3 +392,80 @@ TEST_F(Pairing, GivenOutlineRadiiThatDisagreeThenTheSmallerEyeIsRefittedAtTheOth
   pulled.radius_px = l.radius_px - 0.2;
   EXPECT_FALSE(radius_balance(tri_, pulled, r, at, 0.11, 0.3, 0.02).has_value());
 }
+
+// Unsynchronised eyes (motion_radii): the ball moved between the two exposures.
+class UnsynchronisedPairing : public Pairing {
+ protected:
+  UnsynchronisedPairing() {
+    // 3 m/s for 8 ms: 0.024 m, 0.22 of the ball's radius.
+    moving_ctx_.motion_radii = 3.0 * 0.008 / 0.11;
+  }
+  sb::ball_detector::PairingContext moving_ctx_{epi_, tri_, size_, std::nullopt};
+};
+
+// Given a ball 1.5 m away that rose 0.02 m between the left and the right exposure (its right
+// outline 6 rows above the left: three times the paper's tolerance), when paired with the
+// allowance for its motion, then it is found at its depth; with the paper's rows it is not.
+TEST_F(UnsynchronisedPairing, GivenBallMovingVerticallyBetweenShots_ThenPaired) {
+  const auto [l, r0] = ball_at(0.1, 0.0, 1.5);
+  const auto [l1, r] = ball_at(0.1, -0.02, 1.5);
+  ASSERT_GT(std::abs(l.y_px - r.y_px), 5.0);
+  EXPECT_EQ(pair_candidates(ctx_, {l}, {r}).status, PairingStatus::kEpipolarMismatch);
+  const auto res = pair_candidates(moving_ctx_, {l}, {r});
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_NEAR(res.best->position_m[2], 1.5, 0.02);
+  EXPECT_NEAR(res.best->position_m[1], -0.01, 0.005);  // between the two exposures
+}
+
+// Given the ball moving sideways as well (0.02 m: its disparity then says 1.29 m, too near for
+// its radii within a 10 % size tolerance), when paired with the allowance, then it is found,
+// marked moved, at the triangulated position; with the paper's rows it is not.
+TEST_F(UnsynchronisedPairing, GivenBallMovingAcrossBetweenShots_ThenPairedAsMoved) {
+  const sb::stereo::SizeCheckParams tight{0.22, 0.10};
+  sb::ball_detector::PairingContext ctx{epi_, tri_, tight, std::nullopt};
+  const auto [l, r0] = ball_at(0.1, 0.0, 1.5);
+  const auto [l1, r] = ball_at(0.08, -0.01, 1.5);
+  EXPECT_NE(pair_candidates(ctx, {l}, {r}).status, PairingStatus::kFound);
+  ctx.motion_radii = moving_ctx_.motion_radii;
+  const auto res = pair_candidates(ctx, {l}, {r});
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_TRUE(res.best->moved);
+  EXPECT_NEAR(res.best->position_m[2], tri_.depth_from_disparity_m(l.x_px - r.x_px).value(), 0.02);
+  // A partner that far off in disparity beyond the motion is not the ball.
+  Circle farther = r;
+  farther.x_px -= 25.0;
+  EXPECT_NE(pair_candidates(ctx, {l}, {farther}).status, PairingStatus::kFound);
+}
+
+// Given a static clutter pair at the same row offset: two small round things 5 m away whose
+// circles lie as many rows apart as the moving ball's did, when paired with the same
+// allowance, then they are not paired (a small outline moves few rows in the skew).
+TEST_F(UnsynchronisedPairing, GivenStaticClutterPairAtTheSameOffset_ThenNotPaired) {
+  const auto [bl, br0] = ball_at(0.1, 0.0, 1.5);
+  const auto [bl1, br] = ball_at(0.1, -0.02, 1.5);
+  const double offset_px = bl.y_px - br.y_px;
+  auto [cl, cr] = ball_at(-0.4, 0.1, 5.0);
+  cr.y_px = cl.y_px - offset_px;
+  const auto res = pair_candidates(moving_ctx_, {cl}, {cr});
+  EXPECT_EQ(res.status, PairingStatus::kEpipolarMismatch) << res.reason;
+  EXPECT_NE(res.reason.find("radius"), std::string::npos) << res.reason;
+  // Nor a partner of another size at that offset next to the ball.
+  Circle other = br;
+  other.radius_px *= 0.6;
+  EXPECT_NE(pair_candidates(moving_ctx_, {bl}, {other}).status, PairingStatus::kFound);
+}
+
+// Given the track's prior says the ball stands still, when the pipeline's allowance is worked
+// out, then the track's speed bounds it (see stereo_pipeline_test for the pipeline's side).
+TEST_F(UnsynchronisedPairing, GivenPriorFromTrack_ThenItCarriesTheTrackVelocity) {
+  sb::ball_detector::TrackedBall track;
+  track.following = true;
+  track.position_valid = true;
+  track.position_m = {0.0, 0.0, 2.0};
+  track.velocity_mps = {0.0, -1.0, 0.0};
+  track.capture_stamp_ns = 1'000'000'000;
+  const auto prior = sb::ball_detector::prior_from_track(track, 1'100'000'000, 0.3, 500'000'000);
+  ASSERT_TRUE(prior.has_value());
+  EXPECT_NEAR(prior->velocity_mps[1], -1.0, 1e-12);
+  EXPECT_NEAR(prior->position_m[1], -0.1, 1e-9);
+}

@@ -156,6 +156,7 @@ const char* to_string(DetectionStatus status) {
 
 StereoPipeline::StereoPipeline(const BallDetectorParams& params)
     : params_(params),
+      configured_p2p_(params.p2p),
       left_detector_(params.detector_params()),
       right_detector_(params.detector_params()),
       seed_detector_(params.detector_params()),
@@ -179,6 +180,16 @@ Status StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
   if (!triangulator) return Error{triangulator.error()};
   rectifier_.emplace(std::move(rectifier).value());
   triangulator_.emplace(std::move(triangulator).value());
+  const PixelToPixelParams p2p =
+      scaled_to_width(configured_p2p_, params_.p2p_reference_width_px, calib.image_size.width);
+  if (p2p.k_values != params_.p2p.k_values || p2p.min_radius_px != params_.p2p.min_radius_px) {
+    params_.p2p = p2p;
+    left_detector_ = PixelToPixelDetector(params_.detector_params());
+    right_detector_ = PixelToPixelDetector(params_.detector_params());
+    seed_detector_ = PixelToPixelDetector(params_.detector_params());
+    band_detectors_.clear();
+    left_thresholds_.reset();
+  }
   if (params_.perspective_outline) {
     left_detector_.set_camera(
         stereo::PinholeCamera{triangulator_->focal_px(), triangulator_->principal_left_px()});
@@ -216,35 +227,36 @@ Status StereoPipeline::check_input(const cv::Mat& left, const cv::Mat& right) co
   return stereo::check_image_size(rectifier_->calibration(), left.size(), right.size());
 }
 
-const cv::Mat& StereoPipeline::detector_channel(const cv::Mat& raw, cv::Mat& grey) const {
+const cv::Mat& detector_input_image(const cv::Mat& image, DetectorInput input, cv::Mat& scratch) {
   // One channel first (remapping one channel is cheaper), unless edges come from colour.
-  const cv::Mat* src = &raw;
-  if (raw.channels() == 3 && params_.input != DetectorInput::kColour) {
-    switch (params_.input) {
-      case DetectorInput::kGrey:
-        cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY);
-        break;
-      case DetectorInput::kSaturation:
-        saturation(raw, grey);
-        break;
-      case DetectorInput::kValue:
-        value(raw, grey);
-        break;
-      case DetectorInput::kRed:
-        cv::extractChannel(raw, grey, 2);
-        break;
-      case DetectorInput::kGreen:
-        cv::extractChannel(raw, grey, 1);
-        break;
-      case DetectorInput::kBlue:
-        cv::extractChannel(raw, grey, 0);
-        break;
-      case DetectorInput::kColour:
-        break;
-    }
-    src = &grey;
+  if (image.channels() != 3 || input == DetectorInput::kColour) return image;
+  switch (input) {
+    case DetectorInput::kGrey:
+      cv::cvtColor(image, scratch, cv::COLOR_BGR2GRAY);
+      break;
+    case DetectorInput::kSaturation:
+      saturation(image, scratch);
+      break;
+    case DetectorInput::kValue:
+      value(image, scratch);
+      break;
+    case DetectorInput::kRed:
+      cv::extractChannel(image, scratch, 2);
+      break;
+    case DetectorInput::kGreen:
+      cv::extractChannel(image, scratch, 1);
+      break;
+    case DetectorInput::kBlue:
+      cv::extractChannel(image, scratch, 0);
+      break;
+    case DetectorInput::kColour:
+      return image;
   }
-  return *src;
+  return scratch;
+}
+
+const cv::Mat& StereoPipeline::detector_channel(const cv::Mat& raw, cv::Mat& grey) const {
+  return detector_input_image(raw, params_.input, grey);
 }
 
 void StereoPipeline::rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified,
@@ -280,9 +292,20 @@ const cv::Mat& StereoPipeline::rectified_region(const cv::Mat& channel, stereo::
   return out;
 }
 
+double StereoPipeline::motion_radii(std::optional<std::int64_t> eye_skew_ns,
+                                    const std::optional<PositionPrior>& prior) const {
+  double speed = params_.epipolar_ball_speed_mps;
+  if (!(speed > 0.0)) return 0.0;
+  const std::int64_t skew_ns =
+      params_.epipolar_skew_ns >= 0 ? params_.epipolar_skew_ns : eye_skew_ns.value_or(0);
+  if (prior) speed = std::min(speed, cv::norm(prior->velocity_mps) + kTrackSpeedSlackMps);
+  return speed * 1e-9 * static_cast<double>(std::abs(skew_ns)) / (0.5 * params_.ball_diameter_m);
+}
+
 StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, bool rectified,
                                      const std::optional<PositionPrior>& prior,
-                                     std::int64_t stamp_ns) {
+                                     std::int64_t stamp_ns,
+                                     std::optional<std::int64_t> eye_skew_ns) {
   StereoDetection out;
   left_candidates_.clear();
   right_candidates_.clear();
@@ -301,7 +324,8 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     out.reason = e.error();
     return out;
   }
-  const PairingContext ctx{epipolar_, *triangulator_, size_, floor_};
+  frame_motion_radii_ = motion_radii(eye_skew_ns, prior);
+  const PairingContext ctx{epipolar_, *triangulator_, size_, floor_, frame_motion_radii_};
   const cv::Mat& left_channel = detector_channel(left, grey_left_);
   const cv::Mat& right_channel = detector_channel(right, grey_right_);
   if (refresh_due_) refresh_thresholds(left_channel, rectified);  // finish_frame was not called
@@ -316,8 +340,12 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   }
   bool whole_frame = false;
   std::optional<std::vector<Circle>> band_left;  // the left eye's radius bands, when due
+  // Every kBandSearchEveryFrames frames without a pair, and at low frame rates (stills, a slow
+  // source) whenever kBandSearchEveryNs have passed since the last band search.
+  const bool bands_due =
+      frames_without_pair_ % kBandSearchEveryFrames == 0 ||
+      (last_band_search_ns_ && stamp_ns - *last_band_search_ns_ > kBandSearchEveryNs);
   if (!pairing) {
-    const bool bands_due = frames_without_pair_ % kBandSearchEveryFrames == 0;
     pairing = search_whole_frame(ctx, left_channel, right_channel, rectified, prior,
                                  bands_due ? &band_left : nullptr);
     whole_frame = true;
@@ -339,8 +367,9 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   // circle's right box with its own radii (kBandSearchEveryFrames: costly, so not every frame).
   if (pairing->status == PairingStatus::kFound) frames_without_pair_ = 0;
   if (whole_frame && pairing->status != PairingStatus::kFound &&
-      frames_without_pair_++ % kBandSearchEveryFrames == 0) {
+      (++frames_without_pair_, bands_due)) {
     out.search = SearchPath::kRadiusBands;
+    last_band_search_ns_ = stamp_ns;
     // The bands paired what the whole range missed (a ball that clutter outscores in one
     // accumulator): the next frame without a pair tries them again at once, not
     // kBandSearchEveryFrames later.
@@ -769,6 +798,12 @@ ShiftWindow StereoPipeline::shift_window(const StereoDetection& found) const {
   // The nearest surface (the front of the ball) is one radius closer than the centre.
   w.ball_hi_px = std::max(measured_px,
                           tri.disparity_for_depth_px(std::max(depth_m - radius_m, 0.5 * depth_m)));
+  // Unsynchronised eyes: what lies inside the outline (the ball's seams, the hands holding it)
+  // moved between the exposures by as much as the outline may have.
+  const double moved_px =
+      frame_motion_radii_ * 0.5 * (found.left.radius_px + found.right.radius_px);
+  w.ball_lo_px = std::max(0.0, w.ball_lo_px - moved_px);
+  w.ball_hi_px += moved_px;
   // Everything from far away (the principal points' offset, or 0) up to well in front of the
   // ball: what the texture may belong to.
   w.search_lo_px = std::min(tri.principal_left_px().x - tri.principal_right_px().x, 0.0);

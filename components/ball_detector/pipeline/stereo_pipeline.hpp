@@ -33,6 +33,10 @@ void saturation(const cv::Mat& bgr, cv::Mat& out);
 /// Brightest channel of a CV_8UC3 image: max(B,G,R) per pixel into a CV_8UC1 (reused).
 void value(const cv::Mat& bgr, cv::Mat& out);
 
+/// The image the detector runs on for input (a BGR image converted into scratch, or image
+/// itself: colour input, or a single-channel image).
+const cv::Mat& detector_input_image(const cv::Mat& image, DetectorInput input, cv::Mat& scratch);
+
 /// The floor as the left rectified camera sees it (params' camera height and pitch, rotated
 /// by the rectification), or nullopt when params.floor_tolerance_m is 0.
 std::optional<FloorModel> floor_model(const BallDetectorParams& params,
@@ -75,6 +79,10 @@ constexpr double kRadiusBandRatio = 2.5;
 /// view is looked for band by band within 0.17 s). A band search that pairs starts the count
 /// again: the next frame without a pair gets the bands at once.
 constexpr int kBandSearchEveryFrames = 5;
+/// ... or, at a low frame rate (stills, a slow source), when this much capture time has passed
+/// since the last band search: the bands' cost is bounded in time, ns (above 5 frames at 30 Hz,
+/// so a 30 Hz stream is searched as before).
+constexpr std::int64_t kBandSearchEveryNs = 200'000'000;
 
 /// Runs task(0) .. task(n - 1), possibly at the same time, and returns once all are done. Each
 /// task touches only its own state. The pipeline owns no threads: its caller (the node) may
@@ -82,6 +90,10 @@ constexpr int kBandSearchEveryFrames = 5;
 using RunTasks = std::function<void(int n, const std::function<void(int)>& task)>;
 /// Runs the tasks one after the other (the pipeline's default).
 void run_tasks_in_turn(int n, const std::function<void(int)>& task);
+
+/// With a following track, the ball's speed allowed between the two eyes' exposures is the
+/// track's plus this (its velocity lags a hand's push), m/s, when lower than the configured.
+constexpr double kTrackSpeedSlackMps = 1.0;
 
 /// Side of the colour block around the left centre, pixels (paper: 21x21, k = 10).
 constexpr int kPatchSide = 21;
@@ -149,9 +161,17 @@ class StereoPipeline {
   /// kBadFrame / kNoCalibration with the reason, never an exception. prior: where the tracker
   /// expects the ball (see pair_candidates); a pair found there teaches the appearance model
   /// the followed ball's colour (BGR frames only). stamp_ns: capture time, the model's clock.
+  /// eye_skew_ns: left minus right capture stamp when the source measured both (the epipolar
+  /// allowance of unsynchronised eyes, params' epipolar.skew_ns = -1); nullopt = unknown (0).
   StereoDetection step(const cv::Mat& left, const cv::Mat& right, bool rectified,
                        const std::optional<PositionPrior>& prior = std::nullopt,
-                       std::int64_t stamp_ns = 0);
+                       std::int64_t stamp_ns = 0,
+                       std::optional<std::int64_t> eye_skew_ns = std::nullopt);
+
+  /// How far the ball can move between the two exposures, in radii of its outline
+  /// (PairingContext::motion_radii), for a frame with this skew and prior.
+  double motion_radii(std::optional<std::int64_t> eye_skew_ns,
+                      const std::optional<PositionPrior>& prior) const;
 
   /// Work a frame leaves for after its answer: the periodic refresh of the whole left eye's
   /// edge thresholds while the ball is found where the track expects it (about 2 ms of CPU
@@ -272,7 +292,8 @@ class StereoPipeline {
   std::optional<ColourHistogram> colour_of(const Circle& left);
   int apply_appearance();
 
-  BallDetectorParams params_;
+  BallDetectorParams params_;          // p2p scaled to the calibration's width (set_calibration)
+  PixelToPixelParams configured_p2p_;  // p2p as configured
   PixelToPixelDetector left_detector_;
   PixelToPixelDetector right_detector_;
   std::vector<PixelToPixelDetector> band_detectors_;  // one per radius band of the left eye
@@ -301,6 +322,7 @@ class StereoPipeline {
   AppearanceModel appearance_;
   const cv::Mat* frame_left_ = nullptr;  // the raw left frame of the step in progress
   bool frame_rectified_ = false;
+  double frame_motion_radii_ = 0.0;  // the frame's PairingContext::motion_radii
   int rejected_by_colour_ = 0;
   std::vector<cv::Point2d> colour_rect_px_, colour_raw_px_;
   std::vector<cv::Vec3b> colour_px_;
@@ -309,6 +331,7 @@ class StereoPipeline {
   cv::Mat refresh_left_;         // the whole rectified left eye the refresh measures
   EdgeMap refresh_edges_;        // its gradients (scratch)
   int frames_without_pair_ = 0;  // consecutive whole-frame searches that paired nothing
+  std::optional<std::int64_t> last_band_search_ns_;  // capture stamp of the last band search
 };
 
 }  // namespace stereoball::ball_detector

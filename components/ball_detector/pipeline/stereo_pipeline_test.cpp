@@ -436,3 +436,58 @@ TEST(StereoPipeline, GivenAPriorThenItsExpectedOutlinesAnswerWhereTheyHoldAndVot
     EXPECT_LT(norm3(c.position_m - a.position_m), 0.003);
   }
 }
+
+// Unsynchronised eyes: the row allowance follows from the skew between the exposures and the
+// ball's speed, in radii of its outline (pairing_test: what the pairing does with it).
+TEST(StereoPipelineSkew, GivenSpeedAndSkewThenTheMotionIsTheirProductInBallRadii) {
+  sb::ball_detector::BallDetectorParams p;
+  p.ball_diameter_m = 0.24;
+  // Given the paper's rows (no speed), then no allowance whatever the stamps say
+  p.epipolar_ball_speed_mps = 0.0;
+  EXPECT_EQ(StereoPipeline(p).motion_radii(8'000'000, std::nullopt), 0.0);
+  // Given 3 m/s and the skew from the frame's stamps (8 ms, either sign), then 0.2 radii; no
+  // measured skew: none
+  p.epipolar_ball_speed_mps = 3.0;
+  p.epipolar_skew_ns = -1;
+  const StereoPipeline measured(p);
+  EXPECT_NEAR(measured.motion_radii(8'000'000, std::nullopt), 0.2, 1e-12);
+  EXPECT_NEAR(measured.motion_radii(-8'000'000, std::nullopt), 0.2, 1e-12);
+  EXPECT_EQ(measured.motion_radii(std::nullopt, std::nullopt), 0.0);
+  // Given a configured skew (stills), then it replaces the stamps'
+  p.epipolar_skew_ns = 16'000'000;
+  const StereoPipeline stills(p);
+  EXPECT_NEAR(stills.motion_radii(0, std::nullopt), 0.4, 1e-12);
+  // Given a following track of a ball at rest, then its speed plus the slack bounds the motion
+  sb::ball_detector::PositionPrior still{{0.0, 0.0, 2.0}, 0.3, {0.0, 0.0, 0.0}};
+  EXPECT_NEAR(stills.motion_radii(0, still), sb::ball_detector::kTrackSpeedSlackMps * 0.016 / 0.12,
+              1e-12);
+  sb::ball_detector::PositionPrior fast{{0.0, 0.0, 2.0}, 0.3, {0.0, 9.0, 0.0}};
+  EXPECT_NEAR(stills.motion_radii(0, fast), 0.4, 1e-12);
+}
+
+// A k chosen for 640 px sees a ball's arc at 2304 px as a straight segment: wider images get
+// the detector's windows and lengths scaled, in steps of whole k.
+TEST(DetectorScaling, GivenAWiderImageThenKAndLengthsScaleWithItsWidth) {
+  sb::ball_detector::PixelToPixelParams p;
+  p.k_values = {3, 5};
+  p.min_radius_px = 4.0;
+  p.max_radius_px = 250.0;
+  p.min_separation_px = 10.0;
+  p.refine_params.clutter_min_radius_px = 30.0;
+  // Given 1152 px against a 640 px reference (1.8x), then k 5 and 9, lengths x1.8
+  const auto wide = sb::ball_detector::scaled_to_width(p, 640, 1152);
+  EXPECT_EQ(wide.k_values, (std::vector<int>{5, 9}));
+  EXPECT_NEAR(wide.min_radius_px, 7.2, 1e-9);
+  EXPECT_NEAR(wide.max_radius_px, 450.0, 1e-9);
+  EXPECT_NEAR(wide.min_separation_px, 18.0, 1e-9);
+  EXPECT_NEAR(wide.refine_params.clutter_min_radius_px, 54.0, 1e-9);
+  // Given the reference width, a narrower one, one a pixel wider (no k changes) or 0 (off),
+  // then the settings as configured
+  for (const auto& [ref, width] : {std::pair{640, 640}, {640, 320}, {640, 641}, {0, 2304}}) {
+    const auto same = sb::ball_detector::scaled_to_width(p, ref, width);
+    EXPECT_EQ(same.k_values, p.k_values);
+    EXPECT_EQ(same.min_radius_px, p.min_radius_px);
+  }
+  // k stays within the detector's range
+  EXPECT_EQ(sb::ball_detector::scaled_to_width(p, 100, 4000).k_values.back(), 31);
+}
