@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -74,6 +75,11 @@ int main(int argc, char** argv) {
                "floor.tolerance_m: 0 (a ball in the hands or the air)");
   app.add_option("--image-limit", image_limit,
                  "detector image_limit WxH; the shipped 1920x1080 refuses 2304x1296 frames");
+  double snapshot_skew_ms = -1;
+  app.add_option("--snapshot-skew-ms", snapshot_skew_ms,
+                 "epipolar.skew_ns for stills of free-running cameras whose files carry no "
+                 "capture stamps (the documented snapshot allowance: 16.7, half a 30 Hz frame)")
+      ->check(CLI::Range(0.0, 1000.0));
   app.add_option("--width-px", options.width_px,
                  "camera_server publish_width_px: frames (and calibration) scaled to this width; "
                  "the truth is scaled by the same factor (0 = native)")
@@ -118,6 +124,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   options.retry = !no_retry;
   if (diameter > 0) overrides.ball_diameter_m = diameter;
+  if (snapshot_skew_ms >= 0)
+    overrides.snapshot_skew_ns = static_cast<int64_t>(std::llround(snapshot_skew_ms * 1e6));
   if (!image_limit.empty()) {
     auto size = parse_size(image_limit);
     if (!size) return bad_input("--image-limit: " + size.error());

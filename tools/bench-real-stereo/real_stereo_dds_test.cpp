@@ -140,6 +140,11 @@ TEST(DetectorConfig, GivenAnOverrideFileAndFlagsWhenComposedThenTheyApplyOverThe
   c = rs::compose_detector_config(shipped, o);
   ASSERT_TRUE(c.ok()) << c.error();
   EXPECT_DOUBLE_EQ(c->params.ball_diameter_m, 0.24);
+  // And the snapshot allowance sets the detector's skew
+  o.snapshot_skew_ns = 16'700'000;
+  c = rs::compose_detector_config(shipped, o);
+  ASSERT_TRUE(c.ok()) << c.error();
+  EXPECT_EQ(c->params.epipolar_skew_ns, 16'700'000);
   // And a key the detector does not know is refused, named
   std::ofstream(dir + "/typo.yaml") << "ball:\n  diameter: 0.30\n";
   o.config_file = dir + "/typo.yaml";

@@ -161,6 +161,11 @@ Result<DetectorConfig> compose_detector_config(const std::string& shipped_path,
     out.changes.push_back("image_limit: " + std::to_string(overrides.image_limit->width) + "x" +
                           std::to_string(overrides.image_limit->height) + " (--image-limit)");
   }
+  if (overrides.snapshot_skew_ns) {
+    root["epipolar"]["skew_ns"] = *overrides.snapshot_skew_ns;
+    out.changes.push_back("epipolar.skew_ns: " + std::to_string(*overrides.snapshot_skew_ns) +
+                          " (--snapshot-skew-ms)");
+  }
   out.yaml = text_of(root);
   auto file = params::ParamsFile::parse(out.yaml, "detector configuration (" + name + ")");
   if (!file) return Error{file.error()};

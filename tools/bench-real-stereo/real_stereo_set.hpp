@@ -41,6 +41,8 @@ struct DetectorOverrides {
   std::optional<double> ball_diameter_m;  ///< ball.diameter_m
   bool no_floor_check = false;            ///< floor.tolerance_m: 0
   std::optional<cv::Size> image_limit;    ///< image_limit.max_width_px / max_height_px
+  /// epipolar.skew_ns for stills whose frames carry no capture-stamp difference, ns
+  std::optional<int64_t> snapshot_skew_ns;
 };
 
 /// The detector configuration of a run: YAML text (the node reads it from a file) and the
