@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::tools {
 namespace {
 
@@ -41,70 +43,53 @@ std::string circle(const stereoball_msg_EyeCircle& c) {
          ", radius_px: " + fmt("%.2f", c.radius_px) + ", score: " + fmt("%.3f", c.score) + "}";
 }
 
-const char* status_name(stereoball_msg_DetectionStatus s) {
-  switch (s) {
-    case stereoball_msg_DETECTION_FOUND:
-      return "FOUND";
-    case stereoball_msg_DETECTION_NO_CANDIDATE:
-      return "NO_CANDIDATE";
-    case stereoball_msg_DETECTION_EPIPOLAR_MISMATCH:
-      return "EPIPOLAR_MISMATCH";
-    case stereoball_msg_DETECTION_SIZE_INCONSISTENT:
-      return "SIZE_INCONSISTENT";
-    case stereoball_msg_DETECTION_NO_CALIBRATION:
-      return "NO_CALIBRATION";
-    case stereoball_msg_DETECTION_BAD_FRAME:
-      return "BAD_FRAME";
-    case stereoball_msg_DETECTION_OFF_FLOOR:
-      return "OFF_FLOOR";
-    case stereoball_msg_DETECTION_INTERIOR_MISMATCH:
-      return "INTERIOR_MISMATCH";
-  }
-  return "?";
+constexpr util::EnumName<stereoball_msg_DetectionStatus> kStatusNames[] = {
+    {stereoball_msg_DETECTION_FOUND, "FOUND"},
+    {stereoball_msg_DETECTION_NO_CANDIDATE, "NO_CANDIDATE"},
+    {stereoball_msg_DETECTION_EPIPOLAR_MISMATCH, "EPIPOLAR_MISMATCH"},
+    {stereoball_msg_DETECTION_SIZE_INCONSISTENT, "SIZE_INCONSISTENT"},
+    {stereoball_msg_DETECTION_NO_CALIBRATION, "NO_CALIBRATION"},
+    {stereoball_msg_DETECTION_BAD_FRAME, "BAD_FRAME"},
+    {stereoball_msg_DETECTION_OFF_FLOOR, "OFF_FLOOR"},
+    {stereoball_msg_DETECTION_INTERIOR_MISMATCH, "INTERIOR_MISMATCH"},
+};
+
+constexpr util::EnumName<stereoball_msg_TrackState> kStateNames[] = {
+    {stereoball_msg_TRACK_IDLE, "IDLE"},
+    {stereoball_msg_TRACK_FOLLOWING, "FOLLOWING"},
+    {stereoball_msg_TRACK_SEARCHING, "SEARCHING"},
+};
+
+constexpr util::EnumName<stereoball_msg_Side> kSideNames[] = {
+    {stereoball_msg_SIDE_UNKNOWN, "UNKNOWN"},
+    {stereoball_msg_SIDE_LEFT, "LEFT"},
+    {stereoball_msg_SIDE_RIGHT, "RIGHT"},
+};
+
+constexpr util::EnumName<stereoball_msg_TrackVerdict> kVerdictNames[] = {
+    {stereoball_msg_VERDICT_NO_DETECTION, "NO_DETECTION"},
+    {stereoball_msg_VERDICT_STARTUP_COLLECTING, "STARTUP_COLLECTING"},
+    {stereoball_msg_VERDICT_STARTUP_INCONSISTENT, "STARTUP_INCONSISTENT"},
+    {stereoball_msg_VERDICT_STARTUP_ACCEPTED, "STARTUP_ACCEPTED"},
+    {stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED, "BLOCK_MATCH_ACCEPTED"},
+    {stereoball_msg_VERDICT_STATISTICS_ACCEPTED, "STATISTICS_ACCEPTED"},
+    {stereoball_msg_VERDICT_REJECTED, "REJECTED"},
+};
+
+std::string_view status_name(stereoball_msg_DetectionStatus s) {
+  return util::name_of(kStatusNames, s, "?");
 }
 
-const char* state_name(stereoball_msg_TrackState s) {
-  switch (s) {
-    case stereoball_msg_TRACK_IDLE:
-      return "IDLE";
-    case stereoball_msg_TRACK_FOLLOWING:
-      return "FOLLOWING";
-    case stereoball_msg_TRACK_SEARCHING:
-      return "SEARCHING";
-  }
-  return "?";
+std::string_view state_name(stereoball_msg_TrackState s) {
+  return util::name_of(kStateNames, s, "?");
 }
 
-const char* side_name(stereoball_msg_Side s) {
-  switch (s) {
-    case stereoball_msg_SIDE_UNKNOWN:
-      return "UNKNOWN";
-    case stereoball_msg_SIDE_LEFT:
-      return "LEFT";
-    case stereoball_msg_SIDE_RIGHT:
-      return "RIGHT";
-  }
-  return "?";
+std::string_view side_name(stereoball_msg_Side s) {
+  return util::name_of(kSideNames, s, "?");
 }
 
-const char* verdict_name(stereoball_msg_TrackVerdict v) {
-  switch (v) {
-    case stereoball_msg_VERDICT_NO_DETECTION:
-      return "NO_DETECTION";
-    case stereoball_msg_VERDICT_STARTUP_COLLECTING:
-      return "STARTUP_COLLECTING";
-    case stereoball_msg_VERDICT_STARTUP_INCONSISTENT:
-      return "STARTUP_INCONSISTENT";
-    case stereoball_msg_VERDICT_STARTUP_ACCEPTED:
-      return "STARTUP_ACCEPTED";
-    case stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED:
-      return "BLOCK_MATCH_ACCEPTED";
-    case stereoball_msg_VERDICT_STATISTICS_ACCEPTED:
-      return "STATISTICS_ACCEPTED";
-    case stereoball_msg_VERDICT_REJECTED:
-      return "REJECTED";
-  }
-  return "?";
+std::string_view verdict_name(stereoball_msg_TrackVerdict v) {
+  return util::name_of(kVerdictNames, v, "?");
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::base {
 
 Status VelocityGateParams::validate() const {
@@ -11,18 +13,17 @@ Status VelocityGateParams::validate() const {
   return {};
 }
 
+namespace {
+constexpr util::EnumName<GateState> kGateStateNames[] = {
+    {GateState::kDriving, "driving"},
+    {GateState::kEmergencyStop, "emergency_stop"},
+    {GateState::kStale, "stale"},
+    {GateState::kNoCommand, "no_command"},
+};
+}  // namespace
+
 std::string_view to_string(GateState state) {
-  switch (state) {
-    case GateState::kDriving:
-      return "driving";
-    case GateState::kEmergencyStop:
-      return "emergency_stop";
-    case GateState::kStale:
-      return "stale";
-    case GateState::kNoCommand:
-      return "no_command";
-  }
-  return "?";
+  return util::name_of(kGateStateNames, state, "?");
 }
 
 VelocityGate::VelocityGate(const VelocityGateParams& params) : params_(params) {}

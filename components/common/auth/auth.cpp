@@ -6,6 +6,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::auth {
 namespace {
 
@@ -58,26 +60,17 @@ Status Keyring::validate() const {
   return {};
 }
 
+namespace {
+constexpr util::EnumName<Verdict> kVerdictNames[] = {
+    {Verdict::kAccepted, "accepted"},      {Verdict::kUnsigned, "unsigned"},
+    {Verdict::kUnknownKey, "unknown_key"}, {Verdict::kForged, "forged"},
+    {Verdict::kReplayed, "replayed"},      {Verdict::kStale, "stale"},
+    {Verdict::kFuture, "future"},          {Verdict::kDuplicate, "duplicate"},
+};
+}  // namespace
+
 std::string_view to_string(Verdict verdict) {
-  switch (verdict) {
-    case Verdict::kAccepted:
-      return "accepted";
-    case Verdict::kUnsigned:
-      return "unsigned";
-    case Verdict::kUnknownKey:
-      return "unknown_key";
-    case Verdict::kForged:
-      return "forged";
-    case Verdict::kReplayed:
-      return "replayed";
-    case Verdict::kStale:
-      return "stale";
-    case Verdict::kFuture:
-      return "future";
-    case Verdict::kDuplicate:
-      return "duplicate";
-  }
-  return "?";
+  return util::name_of(kVerdictNames, verdict, "?");
 }
 
 Status WindowParams::validate() const {

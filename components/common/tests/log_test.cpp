@@ -29,5 +29,35 @@ TEST(LogFormat, MillisecondsArePaddedAndDatesRollOver) {
   EXPECT_EQ(format_line(Level::kInfo, "sim", "x", after).substr(0, 24), "2026-11-21T00:00:00.000Z");
 }
 
+TEST(LogFormat, EveryLevelHasItsFiveCharacterLabel) {
+  // Given one instant
+  const system_clock::time_point when{milliseconds(1795214401123LL)};
+  // When a line is formatted at each level
+  // Then the label is padded to five characters, so the text columns line up
+  EXPECT_EQ(format_line(Level::kDebug, "c", "x", when).substr(25), "DEBUG c: x");
+  EXPECT_EQ(format_line(Level::kInfo, "c", "x", when).substr(25), "INFO  c: x");
+  EXPECT_EQ(format_line(Level::kWarn, "c", "x", when).substr(25), "WARN  c: x");
+  EXPECT_EQ(format_line(Level::kError, "c", "x", when).substr(25), "ERROR c: x");
+}
+
+TEST(LogLevel, ParsesTheFourLowerCaseNamesOnly) {
+  // Given a level already set
+  Level level = Level::kError;
+  // When the command-line names are parsed
+  // Then each gives its level, and anything else is refused and leaves the level alone
+  EXPECT_TRUE(parse_level("debug", level));
+  EXPECT_EQ(level, Level::kDebug);
+  EXPECT_TRUE(parse_level("info", level));
+  EXPECT_EQ(level, Level::kInfo);
+  EXPECT_TRUE(parse_level("warn", level));
+  EXPECT_EQ(level, Level::kWarn);
+  EXPECT_TRUE(parse_level("error", level));
+  EXPECT_EQ(level, Level::kError);
+  EXPECT_FALSE(parse_level("INFO", level));
+  EXPECT_FALSE(parse_level("warning", level));
+  EXPECT_FALSE(parse_level("", level));
+  EXPECT_EQ(level, Level::kError);
+}
+
 }  // namespace
 }  // namespace stereoball::log

@@ -5,25 +5,28 @@
 #include <ctime>
 #include <mutex>
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::log {
 namespace {
 std::mutex g_mutex;
 std::string g_component = "stereoball";
 Level g_min_level = Level::kInfo;
 
-const char* level_name(Level level) {
-  switch (level) {
-    case Level::kDebug:
-      return "DEBUG";
-    case Level::kInfo:
-      return "INFO ";
-    case Level::kWarn:
-      return "WARN ";
-    case Level::kError:
-      return "ERROR";
-  }
-  return "?";
-}
+// Names in log lines, padded to one width so the text columns line up.
+constexpr util::EnumName<Level> kLevelLabels[] = {
+    {Level::kDebug, "DEBUG"},
+    {Level::kInfo, "INFO "},
+    {Level::kWarn, "WARN "},
+    {Level::kError, "ERROR"},
+};
+// Names on the command line (--log-level).
+constexpr util::EnumName<Level> kLevelNames[] = {
+    {Level::kDebug, "debug"},
+    {Level::kInfo, "info"},
+    {Level::kWarn, "warn"},
+    {Level::kError, "error"},
+};
 }  // namespace
 
 void init(std::string_view component, Level min_level) {
@@ -33,17 +36,9 @@ void init(std::string_view component, Level min_level) {
 }
 
 bool parse_level(std::string_view text, Level& out) {
-  if (text == "debug")
-    out = Level::kDebug;
-  else if (text == "info")
-    out = Level::kInfo;
-  else if (text == "warn")
-    out = Level::kWarn;
-  else if (text == "error")
-    out = Level::kError;
-  else
-    return false;
-  return true;
+  const auto level = util::value_of(kLevelNames, text);
+  if (level) out = *level;
+  return level.has_value();
 }
 
 std::string format_line(Level level, std::string_view component, std::string_view text,
@@ -57,8 +52,9 @@ std::string format_line(Level level, std::string_view component, std::string_vie
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S", &tm);
   char line_head[64];
-  std::snprintf(line_head, sizeof line_head, "%s.%03dZ %s ", stamp,
-                static_cast<int>(ms.count() % 1000), level_name(level));
+  const std::string_view label = util::name_of(kLevelLabels, level, "?");
+  std::snprintf(line_head, sizeof line_head, "%s.%03dZ %.*s ", stamp,
+                static_cast<int>(ms.count() % 1000), static_cast<int>(label.size()), label.data());
   std::string line = line_head;
   line.append(component).append(": ").append(text);
   return line;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::motion_controller {
 
 PolarRates polar_rates(double x_m, double z_m, double vx_mps, double vz_mps) {
@@ -14,42 +16,31 @@ PolarRates polar_rates(double x_m, double z_m, double vx_mps, double vz_mps) {
   return out;
 }
 
+namespace {
+
+constexpr util::EnumName<Mode> kModeNames[] = {
+    {Mode::kWaiting, "waiting"},     {Mode::kIdle, "idle"},
+    {Mode::kFollowing, "following"}, {Mode::kHolding, "holding"},
+    {Mode::kSearching, "searching"}, {Mode::kSearchGaveUp, "search_gave_up"},
+    {Mode::kStale, "stale"},         {Mode::kEmergencyStop, "emergency_stop"},
+};
+
+constexpr util::EnumName<StampCheck> kStampCheckNames[] = {
+    {StampCheck::kNew, "new"},
+    {StampCheck::kRepeated, "repeated (same frame as the last track)"},
+    {StampCheck::kZero, "zero (never set)"},
+    {StampCheck::kFuture, "in the future"},
+    {StampCheck::kBackwards, "going backwards"},
+};
+
+}  // namespace
+
 std::string_view to_string(Mode m) {
-  switch (m) {
-    case Mode::kWaiting:
-      return "waiting";
-    case Mode::kIdle:
-      return "idle";
-    case Mode::kFollowing:
-      return "following";
-    case Mode::kHolding:
-      return "holding";
-    case Mode::kSearching:
-      return "searching";
-    case Mode::kSearchGaveUp:
-      return "search_gave_up";
-    case Mode::kStale:
-      return "stale";
-    case Mode::kEmergencyStop:
-      return "emergency_stop";
-  }
-  return "unknown";
+  return util::name_of(kModeNames, m);
 }
 
 std::string_view to_string(StampCheck c) {
-  switch (c) {
-    case StampCheck::kNew:
-      return "new";
-    case StampCheck::kRepeated:
-      return "repeated (same frame as the last track)";
-    case StampCheck::kZero:
-      return "zero (never set)";
-    case StampCheck::kFuture:
-      return "in the future";
-    case StampCheck::kBackwards:
-      return "going backwards";
-  }
-  return "unknown";
+  return util::name_of(kStampCheckNames, c);
 }
 
 }  // namespace stereoball::motion_controller

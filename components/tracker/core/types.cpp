@@ -1,5 +1,7 @@
 #include "tracker/core/types.hpp"
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::tracker {
 
 bool is_accepted(Verdict v) {
@@ -7,48 +9,42 @@ bool is_accepted(Verdict v) {
          v == Verdict::kStatisticsAccepted;
 }
 
+namespace {
+
+constexpr util::EnumName<TrackState> kTrackStateNames[] = {
+    {TrackState::kIdle, "idle"},
+    {TrackState::kFollowing, "following"},
+    {TrackState::kSearching, "searching"},
+};
+
+constexpr util::EnumName<Side> kSideNames[] = {
+    {Side::kLeft, "left"},
+    {Side::kRight, "right"},
+    {Side::kUnknown, "unknown"},
+};
+
+constexpr util::EnumName<Verdict> kVerdictNames[] = {
+    {Verdict::kNoDetection, "no_detection"},
+    {Verdict::kStartupCollecting, "startup_collecting"},
+    {Verdict::kStartupInconsistent, "startup_inconsistent"},
+    {Verdict::kStartupAccepted, "startup_accepted"},
+    {Verdict::kBlockMatchAccepted, "block_match_accepted"},
+    {Verdict::kStatisticsAccepted, "statistics_accepted"},
+    {Verdict::kRejected, "rejected"},
+};
+
+}  // namespace
+
 std::string_view to_string(TrackState s) {
-  switch (s) {
-    case TrackState::kIdle:
-      return "idle";
-    case TrackState::kFollowing:
-      return "following";
-    case TrackState::kSearching:
-      return "searching";
-  }
-  return "unknown";
+  return util::name_of(kTrackStateNames, s);
 }
 
 std::string_view to_string(Side s) {
-  switch (s) {
-    case Side::kLeft:
-      return "left";
-    case Side::kRight:
-      return "right";
-    case Side::kUnknown:
-      break;
-  }
-  return "unknown";
+  return util::name_of(kSideNames, s);
 }
 
 std::string_view to_string(Verdict v) {
-  switch (v) {
-    case Verdict::kNoDetection:
-      return "no_detection";
-    case Verdict::kStartupCollecting:
-      return "startup_collecting";
-    case Verdict::kStartupInconsistent:
-      return "startup_inconsistent";
-    case Verdict::kStartupAccepted:
-      return "startup_accepted";
-    case Verdict::kBlockMatchAccepted:
-      return "block_match_accepted";
-    case Verdict::kStatisticsAccepted:
-      return "statistics_accepted";
-    case Verdict::kRejected:
-      return "rejected";
-  }
-  return "unknown";
+  return util::name_of(kVerdictNames, v);
 }
 
 }  // namespace stereoball::tracker

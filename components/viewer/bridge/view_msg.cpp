@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::viewer {
 namespace {
 
@@ -34,64 +36,60 @@ std::int32_t raw(const Enum& e) {
   return v;
 }
 
-std::string status_name(std::int32_t s) {
-  switch (s) {
-    case stereoball_msg_DETECTION_FOUND:
-      return "found";
-    case stereoball_msg_DETECTION_NO_CANDIDATE:
-      return "no_candidate";
-    case stereoball_msg_DETECTION_EPIPOLAR_MISMATCH:
-      return "epipolar_mismatch";
-    case stereoball_msg_DETECTION_SIZE_INCONSISTENT:
-      return "size_inconsistent";
-    case stereoball_msg_DETECTION_NO_CALIBRATION:
-      return "no_calibration";
-    case stereoball_msg_DETECTION_BAD_FRAME:
-      return "bad_frame";
-    case stereoball_msg_DETECTION_OFF_FLOOR:
-      return "off_floor";
-    case stereoball_msg_DETECTION_INTERIOR_MISMATCH:
-      return "interior_mismatch";
-  }
-  return "unknown(" + std::to_string(s) + ")";
-}
+constexpr util::EnumName<std::int32_t> kStatusNames[] = {
+    {stereoball_msg_DETECTION_FOUND, "found"},
+    {stereoball_msg_DETECTION_NO_CANDIDATE, "no_candidate"},
+    {stereoball_msg_DETECTION_EPIPOLAR_MISMATCH, "epipolar_mismatch"},
+    {stereoball_msg_DETECTION_SIZE_INCONSISTENT, "size_inconsistent"},
+    {stereoball_msg_DETECTION_NO_CALIBRATION, "no_calibration"},
+    {stereoball_msg_DETECTION_BAD_FRAME, "bad_frame"},
+    {stereoball_msg_DETECTION_OFF_FLOOR, "off_floor"},
+    {stereoball_msg_DETECTION_INTERIOR_MISMATCH, "interior_mismatch"},
+};
 
-std::string state_name(std::int32_t s) {
-  switch (s) {
-    case stereoball_msg_TRACK_IDLE:
-      return "idle";
-    case stereoball_msg_TRACK_FOLLOWING:
-      return "following";
-    case stereoball_msg_TRACK_SEARCHING:
-      return "searching";
-  }
-  return "unknown(" + std::to_string(s) + ")";
-}
+constexpr util::EnumName<std::int32_t> kStateNames[] = {
+    {stereoball_msg_TRACK_IDLE, "idle"},
+    {stereoball_msg_TRACK_FOLLOWING, "following"},
+    {stereoball_msg_TRACK_SEARCHING, "searching"},
+};
 
-std::string verdict_name(std::int32_t v) {
-  switch (v) {
-    case stereoball_msg_VERDICT_NO_DETECTION:
-      return "no_detection";
-    case stereoball_msg_VERDICT_STARTUP_COLLECTING:
-      return "startup_collecting";
-    case stereoball_msg_VERDICT_STARTUP_INCONSISTENT:
-      return "startup_inconsistent";
-    case stereoball_msg_VERDICT_STARTUP_ACCEPTED:
-      return "startup_accepted";
-    case stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED:
-      return "block_match_accepted";
-    case stereoball_msg_VERDICT_STATISTICS_ACCEPTED:
-      return "statistics_accepted";
-    case stereoball_msg_VERDICT_REJECTED:
-      return "rejected";
-  }
+constexpr util::EnumName<std::int32_t> kVerdictNames[] = {
+    {stereoball_msg_VERDICT_NO_DETECTION, "no_detection"},
+    {stereoball_msg_VERDICT_STARTUP_COLLECTING, "startup_collecting"},
+    {stereoball_msg_VERDICT_STARTUP_INCONSISTENT, "startup_inconsistent"},
+    {stereoball_msg_VERDICT_STARTUP_ACCEPTED, "startup_accepted"},
+    {stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED, "block_match_accepted"},
+    {stereoball_msg_VERDICT_STATISTICS_ACCEPTED, "statistics_accepted"},
+    {stereoball_msg_VERDICT_REJECTED, "rejected"},
+};
+
+constexpr util::EnumName<std::int32_t> kSideNames[] = {
+    {stereoball_msg_SIDE_UNKNOWN, "unknown"},
+    {stereoball_msg_SIDE_LEFT, "left"},
+    {stereoball_msg_SIDE_RIGHT, "right"},
+};
+
+// The value's name, or "unknown(N)" for a value outside the enumerators.
+template <std::size_t N>
+std::string name_or_number(const util::EnumName<std::int32_t> (&table)[N], std::int32_t v) {
+  if (const auto name = util::find_name(table, v)) return std::string(*name);
   return "unknown(" + std::to_string(v) + ")";
 }
 
+std::string status_name(std::int32_t s) {
+  return name_or_number(kStatusNames, s);
+}
+
+std::string state_name(std::int32_t s) {
+  return name_or_number(kStateNames, s);
+}
+
+std::string verdict_name(std::int32_t v) {
+  return name_or_number(kVerdictNames, v);
+}
+
 std::string side_name(std::int32_t s) {
-  return s == stereoball_msg_SIDE_LEFT    ? "left"
-         : s == stereoball_msg_SIDE_RIGHT ? "right"
-                                          : "unknown";
+  return std::string(util::name_of(kSideNames, s));
 }
 
 }  // namespace
