@@ -55,8 +55,8 @@ bool blocks_sigterm(pid_t pid) {
   return false;
 }
 
-// Waits until every node of the supervisor runs and has blocked SIGTERM. Measured from
-// start_all: 1-3 ms on the shared 2-core machine (5 runs); the 10 s deadline is for load.
+// Waits until every node of the supervisor runs and has blocked SIGTERM. Measured: 35-155 ms
+// (20 waits in 5 runs, shared 2-core machine while compiling); the deadline is 10 s.
 bool all_nodes_ready(sb::launch::Supervisor& supervisor) {
   return sb::testing::eventually(
       [&] {

@@ -135,8 +135,8 @@ TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
   const double speed_at_kill = run.truths.back().robot_linear_mps;
   int64_t zero_cmd_mono = -1;
   double stopped_at = -1;
-  // Measured (zero command / at rest after the kill): 0.31-0.34 s / 0.37-0.47 s over 10 runs
-  // on the shared 2-core machine; the deadline is 10 s.
+  // Measured (zero command / at rest after the kill): 0.30-0.32 s / 0.43 s (simulated) in 5
+  // runs on the shared 2-core machine while compiling; the deadline is 10 s.
   ASSERT_TRUE(sb::testing::eventually(
       [&] {
         run.drain();
