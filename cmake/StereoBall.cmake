@@ -40,16 +40,37 @@ endfunction()
 # configure time, so tests running in parallel never see each other.
 set_property(GLOBAL PROPERTY SB_NEXT_DOMAIN_ID 100)
 
-# sb_add_gtest(NAME SOURCES ... [DEPS ...] [DDS] [TIMEOUT s] [LABELS ...])
+# main() of every test binary (tests/support/gtest_main.cpp): exits 77 when every case that ran
+# skipped, so ctest reports a GTEST_SKIP as skipped instead of passed.
+if(SB_BUILD_TESTS)
+  add_library(sb_gtest_main STATIC ${SB_SOURCE_ROOT}/tests/support/gtest_main.cpp)
+  target_link_libraries(sb_gtest_main PUBLIC GTest::gtest)
+endif()
+# ThreadSanitizer build (-DSB_SANITIZE=thread): third-party races are suppressed, naming the
+# library, in cmake/tsan_suppressions.txt. Every process a test starts inherits the options and
+# writes its reports to <build>/tsan/report.<pid> (tools/tsan_tests.sh fails on any).
+set(SB_TSAN_OPTIONS "TSAN_OPTIONS=suppressions=${SB_SOURCE_ROOT}/cmake/tsan_suppressions.txt \
+second_deadlock_stack=1 log_path=${CMAKE_BINARY_DIR}/tsan/report")
+if(SB_SANITIZE STREQUAL "thread")
+  file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/tsan)
+endif()
+
+# sb_add_gtest(NAME SOURCES ... [DEPS ...] [DDS] [TIMEOUT s] [LABELS ...]
+#              [SKIPPABLE SUFFIX FILTER [SUFFIX FILTER ...]])
 # Builds a GoogleTest binary and registers it with ctest. With DDS the test
 # gets STEREOBALL_DOMAIN (unique) and the loopback Cyclone DDS configuration.
+# A binary whose cases all skip is reported as skipped (exit 77). Cases that can skip while
+# others in the binary pass must be named with SKIPPABLE: each FILTER (a --gtest_filter
+# pattern) becomes its own ctest entry NAME.SUFFIX (say in SUFFIX what it needs, e.g.
+# needs_netem), and the entry NAME runs the rest. The entries of one binary never run at the
+# same time (they share its domain id and whatever else it uses).
 function(sb_add_gtest name)
   if(NOT SB_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(A "DDS" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(A "DDS" "TIMEOUT" "SOURCES;DEPS;LABELS;SKIPPABLE" ${ARGN})
   add_executable(${name} ${A_SOURCES})
-  target_link_libraries(${name} PRIVATE ${A_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
+  target_link_libraries(${name} PRIVATE ${A_DEPS} sb_gtest_main GTest::gtest GTest::gmock)
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
   target_compile_definitions(${name} PRIVATE
     SB_SHARED_DATA_DIR="${SB_SHARED_DATA_DIR}"
@@ -58,10 +79,12 @@ function(sb_add_gtest name)
   if(NOT A_TIMEOUT)
     set(A_TIMEOUT 120)
   endif()
-  add_test(NAME ${name} COMMAND ${name} --gtest_color=no)
   # STEREOBALL_ENV_FILE empty: no test reads the host's /etc/stereoball/stereoball.env.
   set(env "SB_BIN_DIR=${CMAKE_BINARY_DIR}/bin" "SB_SOURCE_DIR=${SB_SOURCE_ROOT}"
       "STEREOBALL_ENV_FILE=")
+  if(SB_SANITIZE STREQUAL "thread")
+    list(APPEND env "${SB_TSAN_OPTIONS}")
+  endif()
   if(A_DDS)
     get_property(domain GLOBAL PROPERTY SB_NEXT_DOMAIN_ID)
     math(EXPR next "${domain} + 1")
@@ -73,5 +96,27 @@ function(sb_add_gtest name)
          "CYCLONEDDS_URI=file://${SB_SOURCE_ROOT}/config/cyclonedds/loopback.xml")
     list(APPEND A_LABELS dds)
   endif()
-  set_tests_properties(${name} PROPERTIES TIMEOUT ${A_TIMEOUT} ENVIRONMENT "${env}" LABELS "${A_LABELS}")
+  # The entries: NAME.SUFFIX per skippable filter, NAME for the rest.
+  set(entries)
+  set(excluded)
+  list(LENGTH A_SKIPPABLE n)
+  math(EXPR odd "${n} % 2")
+  if(odd)
+    message(FATAL_ERROR "sb_add_gtest(${name}): SKIPPABLE takes SUFFIX FILTER pairs")
+  endif()
+  while(A_SKIPPABLE)
+    list(POP_FRONT A_SKIPPABLE suffix filter)
+    add_test(NAME ${name}.${suffix} COMMAND ${name} --gtest_color=no --gtest_filter=${filter})
+    list(APPEND entries ${name}.${suffix})
+    list(APPEND excluded ${filter})
+  endwhile()
+  if(excluded)
+    list(JOIN excluded ":" excluded)
+    add_test(NAME ${name} COMMAND ${name} --gtest_color=no --gtest_filter=-${excluded})
+    set_tests_properties(${name} ${entries} PROPERTIES RESOURCE_LOCK ${name})
+  else()
+    add_test(NAME ${name} COMMAND ${name} --gtest_color=no)
+  endif()
+  set_tests_properties(${name} ${entries} PROPERTIES TIMEOUT ${A_TIMEOUT} ENVIRONMENT "${env}"
+                       LABELS "${A_LABELS}" SKIP_RETURN_CODE 77)
 endfunction()

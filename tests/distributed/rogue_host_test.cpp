@@ -104,7 +104,18 @@ TEST(RogueHost, ThirdNamespaceMovesNothingAndClearsNoStop) {
     ASSERT_TRUE(exit.has_value()) << p->output();
     EXPECT_EQ(*exit, 0) << p->output();
   }
-  std::this_thread::sleep_for(1s);
+  // Ground truth must cover the time after the last attack in which a command could still
+  // act (the base's command timeout is 300 ms): wait for a sample received 500 ms after it.
+  // Measured: such a sample arrived 1.37-1.59 s after the attackers exited (3 runs, shared
+  // 2-core machine while compiling); the deadline is 10 s.
+  const std::int64_t attacks_over_ns = sb::node::now_ns() + 500'000'000;
+  ASSERT_TRUE(sb::testing::eventually(
+      [&] {
+        const auto truth = newest_truth(system);
+        return truth && truth->rx_ns > attacks_over_ns;
+      },
+      10s))
+      << system.diagnostics();
 
   // Then the rogue was discovered and matched (the peer list did not keep it out)
   EXPECT_GT(matched_readers(unsigned_rogue.output()), 0u) << unsigned_rogue.output();

@@ -33,6 +33,13 @@ std::string find_ip_program() {
   return "";
 }
 
+Status netem_available() {
+  TwoHosts probe;
+  if (auto e = probe.setup(); !e) return Error{"cannot create network namespaces: " + e.error()};
+  if (auto e = probe.add_netem(1, 0.0); !e) return Error{"no netem on this machine: " + e.error()};
+  return {};
+}
+
 TwoHosts::TwoHosts() : ip_path_(find_ip_program()) {
   // Names and addresses unique to this process and instance, so parallel runs never meet.
   const int pid = static_cast<int>(::getpid());

@@ -71,4 +71,8 @@ class TwoHosts {
 /// Path of the `ip` program (iproute2), or "" if none is installed.
 std::string find_ip_program();
 
+/// Whether a netem qdisc can be added here (tried on a scratch pair of namespaces); the
+/// reason when not (no namespaces, no tc, no sch_netem in the kernel).
+Status netem_available();
+
 }  // namespace stereoball::distributed

@@ -116,8 +116,9 @@ TEST(Pipeline, RobotEndsNearTheBall) {
 }
 
 // Given the robot following a rolling ball, when the tracker process is killed, then the
-// controller commands zero within 0.5 s (its 300 ms stale-track timeout plus delivery), and
-// the simulated base then comes to rest at its braking limit (time printed).
+// controller commands zero and the simulated base comes to rest (both times printed). How soon
+// is the controller core's business (its 300 ms stale-track timeout, unit-tested at simulated
+// time in motion_controller_test); here the events must happen, within deadlines for load.
 TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
   PipelineRun run("ball_rolling_away", /*restart_tracker=*/false);
   ASSERT_TRUE(sb::testing::eventually(
@@ -134,6 +135,8 @@ TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
   const double speed_at_kill = run.truths.back().robot_linear_mps;
   int64_t zero_cmd_mono = -1;
   double stopped_at = -1;
+  // Measured (zero command / at rest after the kill): 0.30-0.32 s / 0.43 s (simulated) in 5
+  // runs on the shared 2-core machine while compiling; the deadline is 10 s.
   ASSERT_TRUE(sb::testing::eventually(
       [&] {
         run.drain();
@@ -144,19 +147,13 @@ TEST(Pipeline, KillingTheTrackerStopsTheRobot) {
         const auto& gt = run.truths.back();
         if (std::abs(gt.robot_linear_mps) < 0.01 && std::abs(gt.robot_angular_radps) < 0.02)
           stopped_at = gt.sim_time_s;
-        return stopped_at >= 0;
+        return zero_cmd_mono > 0 && stopped_at >= 0;
       },
       10s))
+      << (zero_cmd_mono > 0 ? "the base never came to rest" : "no zero command after the kill")
+      << "\n"
       << run.log();
-  ASSERT_GT(zero_cmd_mono, 0) << "no zero command after the kill";
   const double zero_after_s = (zero_cmd_mono - killed_mono) * 1e-9;
-  EXPECT_LT(zero_after_s, 0.5) << "zero command " << zero_after_s << " s after the kill";
-  // At rest within the 0.5 s for the zero command plus braking from the controller's top speed
-  // (0.8 m/s, config/motion_controller.yaml) at the base's brake limit (4 m/s^2,
-  // config/simulator.yaml: 0.2 s) plus one 30 Hz ground-truth frame. Measured 0.37-0.47 s over
-  // 10 runs (killed at 0.10-0.14 m/s); the 0.5 s has too little margin to assert here.
-  EXPECT_LT(stopped_at - killed_at, 0.5 + 0.8 / 4.0 + 0.04)
-      << "base still moving " << stopped_at - killed_at << " s after the kill";
   std::printf(
       "killed at %.2f m/s: zero command %.3f s after the tracker was killed; robot at rest %.3f s "
       "(simulated) after\n",

@@ -5,7 +5,10 @@
 // loader picks it when the CPU has AVX2, twice the lanes. Integer arithmetic only, so both
 // copies give identical results. Elsewhere (ARM, other compilers) it expands to nothing.
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(SB_NO_CPU_DISPATCH)
+// Not under ThreadSanitizer: the clones' ifunc resolvers run while the program is loaded, before
+// TSan's runtime is set up, and crash there (GCC 12).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(SB_NO_CPU_DISPATCH) && !defined(__SANITIZE_THREAD__)
 #define SB_AVX2_CLONE __attribute__((target_clones("avx2", "default")))
 #else
 #define SB_AVX2_CLONE

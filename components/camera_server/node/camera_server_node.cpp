@@ -38,16 +38,16 @@ CameraServerNode::~CameraServerNode() {
   if (capture_thread_.joinable()) capture_thread_.join();
 }
 
-Result<std::unique_ptr<CameraServerNode>> CameraServerNode::create(const CameraServerParams& params,
-                                                                   node::Runner& runner) {
+Result<std::unique_ptr<CameraServerNode>> CameraServerNode::create(
+    const CameraServerParams& params, node::Runner& runner, StereoCapture::DeviceFactory devices) {
   if (auto st = params.validate(); !st) return Error{st.error()};
   std::unique_ptr<CameraServerNode> node(new CameraServerNode(params, runner));
-  if (auto st = node->open_source(); !st) return Error{st.error()};
+  if (auto st = node->open_source(std::move(devices)); !st) return Error{st.error()};
   node->start();
   return node;
 }
 
-Status CameraServerNode::open_source() {
+Status CameraServerNode::open_source(StereoCapture::DeviceFactory devices) {
   cv::Size size(static_cast<int>(params_.width_px), static_cast<int>(params_.height_px));
   if (params_.source == "files") {
     auto src = FileSource::open(FileSourceParams{params_.left_glob, params_.right_glob,
@@ -64,8 +64,8 @@ Status CameraServerNode::open_source() {
     return {};
   }
   source_name_ = "v4l2:" + params_.left_device + "+" + params_.right_device;
-  capture_ =
-      std::make_unique<StereoCapture>(params_, [](Eye) { return std::make_unique<V4l2Device>(); });
+  if (!devices) devices = [](Eye) { return std::make_unique<V4l2Device>(); };
+  capture_ = std::make_unique<StereoCapture>(params_, std::move(devices));
   // Check the calibration before touching the cameras: a wrong size is a config error.
   if (auto st = open_scaler(size); !st) return st;
   if (auto st = open_calibration(size); !st) return st;

@@ -29,15 +29,17 @@ class CameraServerNode {
  public:
   /// Opens the source and the calibration; the error is one line naming the problem
   /// (device missing/busy, unsupported format, calibration size != capture size, ...).
-  static Result<std::unique_ptr<CameraServerNode>> create(const CameraServerParams& params,
-                                                          node::Runner& runner);
+  /// devices makes the cameras (tests: scripted ones); empty = V4L2 devices.
+  static Result<std::unique_ptr<CameraServerNode>> create(
+      const CameraServerParams& params, node::Runner& runner,
+      StereoCapture::DeviceFactory devices = {});
   ~CameraServerNode();
   CameraServerNode(const CameraServerNode&) = delete;
   CameraServerNode& operator=(const CameraServerNode&) = delete;
 
  private:
   CameraServerNode(const CameraServerParams& params, node::Runner& runner);
-  Status open_source();
+  Status open_source(StereoCapture::DeviceFactory devices);
   Status open_calibration(cv::Size capture_size);
   Status open_scaler(cv::Size capture_size);
   void check_transport(const std::string& raw_encoding);

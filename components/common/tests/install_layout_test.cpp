@@ -1,6 +1,8 @@
 #include "common/util/install_layout.hpp"
 
+#include <grp.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -86,13 +88,55 @@ TEST_F(InstallLayout, AnOverrideThatCannotBeReadIsAnErrorNotSkipped) {
   EXPECT_NE(found.error().find("a folder, not a file"), std::string::npos) << found.error();
 }
 
+// The search's error for roots_, as the unprivileged user `nobody` (uid/gid 65534) sees it when
+// this test runs as root (root reads any file, so permission bits mean nothing to it): the
+// search runs in a child process that drops its privileges first. "" when the file was found.
+std::string search_error_as_nobody(const SearchRoots& roots) {
+  int out[2];
+  if (::pipe(out) != 0) return "pipe failed";
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::close(out[0]);
+    std::string text;
+    if (::setgroups(0, nullptr) != 0 || ::setresgid(65534, 65534, 65534) != 0 ||
+        ::setresuid(65534, 65534, 65534) != 0 || ::geteuid() == 0) {
+      text = "could not drop root privileges to uid 65534";
+    } else if (const auto found = find_config("tracker.yaml", roots); !found) {
+      text = found.error();
+    }
+    if (::write(out[1], text.data(), text.size()) < 0) ::_exit(2);
+    ::_exit(0);
+  }
+  ::close(out[1]);
+  std::string text;
+  char buffer[512];
+  for (ssize_t n; (n = ::read(out[0], buffer, sizeof buffer)) > 0;) text.append(buffer, n);
+  ::close(out[0]);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return text;
+}
+
 TEST_F(InstallLayout, UnreadableFileIsAnErrorNamingIt) {
-  if (geteuid() == 0) GTEST_SKIP() << "root reads any file: permission bits cannot be tested";
+  // Given an /etc override nobody may read
   const auto etc = write(dir_ / "etc/tracker.yaml");
   fs::permissions(etc, fs::perms::none);
-  const auto found = find_config("tracker.yaml", roots_);
-  ASSERT_FALSE(found);
-  EXPECT_NE(found.error().find("cannot be read"), std::string::npos) << found.error();
+  // (the folders on the way open to everyone whatever the umask, so only the file is refused)
+  const auto open = fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                    fs::perms::others_read | fs::perms::others_exec;
+  for (const auto& folder : {dir_, dir_ / "etc"}) fs::permissions(folder, open);
+  // When searched by an unprivileged user (this process, or as root a child that is `nobody`)
+  std::string error;
+  if (::geteuid() == 0) {
+    error = search_error_as_nobody(roots_);
+  } else {
+    const auto found = find_config("tracker.yaml", roots_);
+    ASSERT_FALSE(found);
+    error = found.error();
+  }
+  // Then the error names the file and says it cannot be read
+  EXPECT_NE(error.find(etc.string()), std::string::npos) << error;
+  EXPECT_NE(error.find("cannot be read"), std::string::npos) << error;
 }
 
 TEST_F(InstallLayout, FoldersAreFoundLikeFiles) {
