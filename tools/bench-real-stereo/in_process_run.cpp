@@ -8,6 +8,8 @@
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "common/util/bench_clock.hpp"
 #include "real_stereo_run.hpp"
+
+#include "common/util/enum_names.hpp"
 #include "stereo/frame/frame_compressor.hpp"
 #include "stereo/frame/frame_decoder.hpp"
 #include "stereo/frame/frame_msg.hpp"
@@ -31,26 +33,20 @@ Result<cv::Mat> read_as_camera_server(const std::string& path) {
 
 }  // namespace
 
+// Names as the node's reasons print them; string literals, so data() ends in '\0'.
+constexpr util::EnumName<stereoball_msg_DetectionStatus> kStatusNames[] = {
+    {stereoball_msg_DETECTION_FOUND, "found"},
+    {stereoball_msg_DETECTION_NO_CANDIDATE, "no_candidate"},
+    {stereoball_msg_DETECTION_EPIPOLAR_MISMATCH, "epipolar_mismatch"},
+    {stereoball_msg_DETECTION_SIZE_INCONSISTENT, "size_inconsistent"},
+    {stereoball_msg_DETECTION_NO_CALIBRATION, "no_calibration"},
+    {stereoball_msg_DETECTION_BAD_FRAME, "bad_frame"},
+    {stereoball_msg_DETECTION_OFF_FLOOR, "off_floor"},
+    {stereoball_msg_DETECTION_INTERIOR_MISMATCH, "interior_mismatch"},
+};
+
 const char* status_name(stereoball_msg_DetectionStatus status) {
-  switch (status) {
-    case stereoball_msg_DETECTION_FOUND:
-      return "found";
-    case stereoball_msg_DETECTION_NO_CANDIDATE:
-      return "no_candidate";
-    case stereoball_msg_DETECTION_EPIPOLAR_MISMATCH:
-      return "epipolar_mismatch";
-    case stereoball_msg_DETECTION_SIZE_INCONSISTENT:
-      return "size_inconsistent";
-    case stereoball_msg_DETECTION_NO_CALIBRATION:
-      return "no_calibration";
-    case stereoball_msg_DETECTION_BAD_FRAME:
-      return "bad_frame";
-    case stereoball_msg_DETECTION_OFF_FLOOR:
-      return "off_floor";
-    case stereoball_msg_DETECTION_INTERIOR_MISMATCH:
-      return "interior_mismatch";
-  }
-  return "unknown";
+  return util::name_of(kStatusNames, status, "unknown").data();
 }
 
 bool is_refusal(stereoball_msg_DetectionStatus status) {
