@@ -9,7 +9,7 @@
 #include "common/util/bench_clock.hpp"
 #include "real_stereo_run.hpp"
 
-#include "common/util/enum_names.hpp"
+#include "common/msg/msg_names.hpp"
 #include "stereo/frame/frame_compressor.hpp"
 #include "stereo/frame/frame_decoder.hpp"
 #include "stereo/frame/frame_msg.hpp"
@@ -33,20 +33,8 @@ Result<cv::Mat> read_as_camera_server(const std::string& path) {
 
 }  // namespace
 
-// Names as the node's reasons print them; string literals, so data() ends in '\0'.
-constexpr util::EnumName<stereoball_msg_DetectionStatus> kStatusNames[] = {
-    {stereoball_msg_DETECTION_FOUND, "found"},
-    {stereoball_msg_DETECTION_NO_CANDIDATE, "no_candidate"},
-    {stereoball_msg_DETECTION_EPIPOLAR_MISMATCH, "epipolar_mismatch"},
-    {stereoball_msg_DETECTION_SIZE_INCONSISTENT, "size_inconsistent"},
-    {stereoball_msg_DETECTION_NO_CALIBRATION, "no_calibration"},
-    {stereoball_msg_DETECTION_BAD_FRAME, "bad_frame"},
-    {stereoball_msg_DETECTION_OFF_FLOOR, "off_floor"},
-    {stereoball_msg_DETECTION_INTERIOR_MISMATCH, "interior_mismatch"},
-};
-
-const char* status_name(stereoball_msg_DetectionStatus status) {
-  return util::name_of(kStatusNames, status, "unknown").data();
+std::string status_name(stereoball_msg_DetectionStatus status) {
+  return msg::lower_or_number(msg::detection_status_name(status), status);
 }
 
 bool is_refusal(stereoball_msg_DetectionStatus status) {

@@ -51,7 +51,7 @@ struct RunResult {
 Detection detection_from_message(const stereoball_msg_BallDetection& msg);
 
 /// Lower-case name of a ball/detection status ("found", "no_candidate", ...).
-const char* status_name(stereoball_msg_DetectionStatus status);
+std::string status_name(stereoball_msg_DetectionStatus status);
 
 /// Statuses that mean the detector did not look at the frame (refused calibration or frame):
 /// a run error, never a miss.

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "common/util/enum_names.hpp"
+#include "common/msg/msg_names.hpp"
 
 namespace stereoball::tools {
 namespace {
@@ -43,53 +43,20 @@ std::string circle(const stereoball_msg_EyeCircle& c) {
          ", radius_px: " + fmt("%.2f", c.radius_px) + ", score: " + fmt("%.3f", c.score) + "}";
 }
 
-constexpr util::EnumName<stereoball_msg_DetectionStatus> kStatusNames[] = {
-    {stereoball_msg_DETECTION_FOUND, "FOUND"},
-    {stereoball_msg_DETECTION_NO_CANDIDATE, "NO_CANDIDATE"},
-    {stereoball_msg_DETECTION_EPIPOLAR_MISMATCH, "EPIPOLAR_MISMATCH"},
-    {stereoball_msg_DETECTION_SIZE_INCONSISTENT, "SIZE_INCONSISTENT"},
-    {stereoball_msg_DETECTION_NO_CALIBRATION, "NO_CALIBRATION"},
-    {stereoball_msg_DETECTION_BAD_FRAME, "BAD_FRAME"},
-    {stereoball_msg_DETECTION_OFF_FLOOR, "OFF_FLOOR"},
-    {stereoball_msg_DETECTION_INTERIOR_MISMATCH, "INTERIOR_MISMATCH"},
-};
-
-constexpr util::EnumName<stereoball_msg_TrackState> kStateNames[] = {
-    {stereoball_msg_TRACK_IDLE, "IDLE"},
-    {stereoball_msg_TRACK_FOLLOWING, "FOLLOWING"},
-    {stereoball_msg_TRACK_SEARCHING, "SEARCHING"},
-};
-
-constexpr util::EnumName<stereoball_msg_Side> kSideNames[] = {
-    {stereoball_msg_SIDE_UNKNOWN, "UNKNOWN"},
-    {stereoball_msg_SIDE_LEFT, "LEFT"},
-    {stereoball_msg_SIDE_RIGHT, "RIGHT"},
-};
-
-constexpr util::EnumName<stereoball_msg_TrackVerdict> kVerdictNames[] = {
-    {stereoball_msg_VERDICT_NO_DETECTION, "NO_DETECTION"},
-    {stereoball_msg_VERDICT_STARTUP_COLLECTING, "STARTUP_COLLECTING"},
-    {stereoball_msg_VERDICT_STARTUP_INCONSISTENT, "STARTUP_INCONSISTENT"},
-    {stereoball_msg_VERDICT_STARTUP_ACCEPTED, "STARTUP_ACCEPTED"},
-    {stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED, "BLOCK_MATCH_ACCEPTED"},
-    {stereoball_msg_VERDICT_STATISTICS_ACCEPTED, "STATISTICS_ACCEPTED"},
-    {stereoball_msg_VERDICT_REJECTED, "REJECTED"},
-};
-
 std::string_view status_name(stereoball_msg_DetectionStatus s) {
-  return util::name_of(kStatusNames, s, "?");
+  return msg::detection_status_name(s).value_or("?");
 }
 
 std::string_view state_name(stereoball_msg_TrackState s) {
-  return util::name_of(kStateNames, s, "?");
+  return msg::track_state_name(s).value_or("?");
 }
 
 std::string_view side_name(stereoball_msg_Side s) {
-  return util::name_of(kSideNames, s, "?");
+  return msg::side_name(s).value_or("?");
 }
 
 std::string_view verdict_name(stereoball_msg_TrackVerdict v) {
-  return util::name_of(kVerdictNames, v, "?");
+  return msg::track_verdict_name(v).value_or("?");
 }
 
 }  // namespace

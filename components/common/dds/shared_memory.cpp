@@ -6,11 +6,10 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <mutex>
 #include <regex>
-#include <sstream>
 
+#include "common/util/cyclone_uri.hpp"
 #include "common/util/log.hpp"
 
 namespace stereoball::dds {
@@ -33,36 +32,15 @@ std::optional<bool> shared_memory_setting(const std::string& xml) {
   return setting;
 }
 
-std::optional<std::string> read_text(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
 bool configuration_enables_shared_memory(
     const std::string& uri,
     const std::function<std::optional<std::string>(const std::string&)>& read_file) {
   bool enabled = false;
-  std::stringstream entries(uri);
-  std::string entry;
-  while (std::getline(entries, entry, ',')) {
-    const auto start = entry.find_first_not_of(" \t\n");
-    if (start == std::string::npos) continue;
-    entry = entry.substr(start);
-    std::optional<std::string> xml;
-    if (entry.rfind("file://", 0) == 0) {
-      xml = read_file(entry.substr(7));
-    } else if (entry[0] == '<') {
-      xml = entry;
-    } else {
-      xml = read_file(entry);  // a plain path
-    }
-    if (!xml) continue;
-    if (const auto setting = shared_memory_setting(*xml)) enabled = *setting;
+  for (const util::CycloneUriEntry& entry : util::cyclone_uri_entries(uri, read_file)) {
+    if (!entry.xml) continue;
+    if (const auto setting = shared_memory_setting(*entry.xml)) enabled = *setting;
   }
   return enabled;
 }
@@ -84,7 +62,7 @@ SharedMemoryState ensure_shared_memory_usable() {
   static SharedMemoryState state = SharedMemoryState::kNotConfigured;
   std::call_once(once, [] {
     const char* uri = std::getenv("CYCLONEDDS_URI");
-    if (!uri || !configuration_enables_shared_memory(uri, read_text)) return;
+    if (!uri || !configuration_enables_shared_memory(uri, util::read_text_file)) return;
     if (roudi_running()) {
       state = SharedMemoryState::kOn;
       return;

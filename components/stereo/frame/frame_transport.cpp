@@ -1,22 +1,14 @@
 #include "stereo/frame/frame_transport.hpp"
 
+#include "common/util/cyclone_uri.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
-#include <fstream>
 #include <regex>
-#include <sstream>
 
 namespace stereoball::stereo {
 namespace {
-
-std::optional<std::string> read_text(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(),
@@ -78,22 +70,9 @@ std::optional<std::pair<uint64_t, std::string>> configured_receive_buffer(
     const std::string& uri,
     const std::function<std::optional<std::string>(const std::string&)>& read_file) {
   std::optional<std::pair<uint64_t, std::string>> found;
-  std::stringstream entries(uri);
-  std::string entry;
-  while (std::getline(entries, entry, ',')) {
-    const auto start = entry.find_first_not_of(" \t\n");
-    if (start == std::string::npos) continue;
-    entry = entry.substr(start);
-    std::optional<std::string> xml;
-    std::string name = "inline configuration";
-    if (entry[0] == '<') {
-      xml = entry;
-    } else {
-      name = entry.rfind("file://", 0) == 0 ? entry.substr(7) : entry;
-      xml = read_file(name);
-    }
-    if (!xml) continue;
-    if (const auto bytes = receive_buffer_in(*xml)) found.emplace(*bytes, name);
+  for (const util::CycloneUriEntry& entry : util::cyclone_uri_entries(uri, read_file)) {
+    if (!entry.xml) continue;
+    if (const auto bytes = receive_buffer_in(*entry.xml)) found.emplace(*bytes, entry.source);
   }
   return found;
 }
@@ -102,12 +81,12 @@ TransportLimits read_transport_limits(bool shared_memory) {
   TransportLimits limits;
   limits.shared_memory = shared_memory;
   if (const char* uri = std::getenv("CYCLONEDDS_URI")) {
-    if (auto request = configured_receive_buffer(uri, read_text)) {
+    if (auto request = configured_receive_buffer(uri, util::read_text_file)) {
       limits.requested_bytes = request->first;
       limits.requested_from = "SocketReceiveBufferSize in " + request->second;
     }
   }
-  if (auto text = read_text("/proc/sys/net/core/rmem_max")) {
+  if (auto text = util::read_text_file("/proc/sys/net/core/rmem_max")) {
     limits.rmem_max_bytes = std::strtoull(text->c_str(), nullptr, 10);
   }
   return limits;

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "common/util/enum_names.hpp"
+#include "common/msg/msg_names.hpp"
 
 namespace stereoball::viewer {
 namespace {
@@ -36,60 +36,21 @@ std::int32_t raw(const Enum& e) {
   return v;
 }
 
-constexpr util::EnumName<std::int32_t> kStatusNames[] = {
-    {stereoball_msg_DETECTION_FOUND, "found"},
-    {stereoball_msg_DETECTION_NO_CANDIDATE, "no_candidate"},
-    {stereoball_msg_DETECTION_EPIPOLAR_MISMATCH, "epipolar_mismatch"},
-    {stereoball_msg_DETECTION_SIZE_INCONSISTENT, "size_inconsistent"},
-    {stereoball_msg_DETECTION_NO_CALIBRATION, "no_calibration"},
-    {stereoball_msg_DETECTION_BAD_FRAME, "bad_frame"},
-    {stereoball_msg_DETECTION_OFF_FLOOR, "off_floor"},
-    {stereoball_msg_DETECTION_INTERIOR_MISMATCH, "interior_mismatch"},
-};
-
-constexpr util::EnumName<std::int32_t> kStateNames[] = {
-    {stereoball_msg_TRACK_IDLE, "idle"},
-    {stereoball_msg_TRACK_FOLLOWING, "following"},
-    {stereoball_msg_TRACK_SEARCHING, "searching"},
-};
-
-constexpr util::EnumName<std::int32_t> kVerdictNames[] = {
-    {stereoball_msg_VERDICT_NO_DETECTION, "no_detection"},
-    {stereoball_msg_VERDICT_STARTUP_COLLECTING, "startup_collecting"},
-    {stereoball_msg_VERDICT_STARTUP_INCONSISTENT, "startup_inconsistent"},
-    {stereoball_msg_VERDICT_STARTUP_ACCEPTED, "startup_accepted"},
-    {stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED, "block_match_accepted"},
-    {stereoball_msg_VERDICT_STATISTICS_ACCEPTED, "statistics_accepted"},
-    {stereoball_msg_VERDICT_REJECTED, "rejected"},
-};
-
-constexpr util::EnumName<std::int32_t> kSideNames[] = {
-    {stereoball_msg_SIDE_UNKNOWN, "unknown"},
-    {stereoball_msg_SIDE_LEFT, "left"},
-    {stereoball_msg_SIDE_RIGHT, "right"},
-};
-
-// The value's name, or "unknown(N)" for a value outside the enumerators.
-template <std::size_t N>
-std::string name_or_number(const util::EnumName<std::int32_t> (&table)[N], std::int32_t v) {
-  if (const auto name = util::find_name(table, v)) return std::string(*name);
-  return "unknown(" + std::to_string(v) + ")";
-}
-
 std::string status_name(std::int32_t s) {
-  return name_or_number(kStatusNames, s);
+  return msg::lower_or_number(msg::detection_status_name(s), s);
 }
 
 std::string state_name(std::int32_t s) {
-  return name_or_number(kStateNames, s);
+  return msg::lower_or_number(msg::track_state_name(s), s);
 }
 
 std::string verdict_name(std::int32_t v) {
-  return name_or_number(kVerdictNames, v);
+  return msg::lower_or_number(msg::track_verdict_name(v), v);
 }
 
+// A side outside the enum reads as "unknown" (the viewer has no search side then).
 std::string side_name(std::int32_t s) {
-  return std::string(util::name_of(kSideNames, s));
+  return msg::side_name(s) ? msg::lower_or_number(msg::side_name(s), s) : "unknown";
 }
 
 }  // namespace
