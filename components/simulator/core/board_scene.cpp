@@ -2,20 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "simulator/core/camera_model.hpp"
+#include "simulator/core/range_check.hpp"
 #include "simulator/core/sensor.hpp"
 
 namespace stereoball::simulator {
 namespace {
-
-Status check(const std::string& field, double v, double lo, double hi) {
-  if (std::isfinite(v) && v >= lo && v <= hi) return {};
-  std::ostringstream s;
-  s << field << " = " << v << " is out of range [" << lo << ", " << hi << "]";
-  return Error{s.str()};
-}
 
 Mat3 rot_x(double a) {
   const double c = std::cos(a), s = std::sin(a);
@@ -81,14 +74,16 @@ Status CalibrationScene::validate() const {
     return Error{
         "calibration.board.inner_corners: columns and rows must differ (a square "
         "grid has no defined orientation)"};
-  if (auto e = check("calibration.board.square_m", board.square_m, 0.002, 1.0); !e) return e;
-  if (auto e = check("calibration.board.margin_m", board.margin_m, board.square_m * 0.5, 2.0); !e)
+  if (auto e = check_range("calibration.board.square_m", board.square_m, 0.002, 1.0); !e) return e;
+  if (auto e = check_range("calibration.board.margin_m", board.margin_m, board.square_m * 0.5, 2.0);
+      !e)
     return e;
-  if (auto e = check("calibration.board.black_dn", board.black_dn, 0, 255); !e) return e;
-  if (auto e = check("calibration.board.white_dn", board.white_dn, board.black_dn + 20, 255); !e)
+  if (auto e = check_range("calibration.board.black_dn", board.black_dn, 0, 255); !e) return e;
+  if (auto e = check_range("calibration.board.white_dn", board.white_dn, board.black_dn + 20, 255);
+      !e)
     return e;
-  if (auto e = check("calibration.eye_skew_ms", eye_skew_s * 1e3, -1000, 1000); !e) return e;
-  if (auto e = check("calibration.background_dn", background_dn, 0, 255); !e) return e;
+  if (auto e = check_range("calibration.eye_skew_ms", eye_skew_s * 1e3, -1000, 1000); !e) return e;
+  if (auto e = check_range("calibration.background_dn", background_dn, 0, 255); !e) return e;
   if (random_poses) {
     if (!holds.empty()) return Error{"calibration: give either poses or random_poses, not both"};
     if (auto e = random_poses->validate(); !e)
@@ -99,14 +94,17 @@ Status CalibrationScene::validate() const {
   for (std::size_t i = 0; i < holds.size(); ++i) {
     const std::string n = "calibration.poses[" + std::to_string(i) + "]";
     const BoardHold& h = holds[i];
-    if (auto e = check(n + ".x_m", h.pose.centre_m.x, -20, 20); !e) return e;
-    if (auto e = check(n + ".y_m", h.pose.centre_m.y, -20, 20); !e) return e;
-    if (auto e = check(n + ".z_m", h.pose.centre_m.z, 0.1, 20); !e) return e;
-    if (auto e = check(n + ".tilt_x_deg", h.pose.tilt_x_rad * 180 / M_PI, -75, 75); !e) return e;
-    if (auto e = check(n + ".tilt_y_deg", h.pose.tilt_y_rad * 180 / M_PI, -75, 75); !e) return e;
-    if (auto e = check(n + ".roll_deg", h.pose.roll_rad * 180 / M_PI, -180, 180); !e) return e;
-    if (auto e = check(n + ".hold_s", h.hold_s, 0, 3600); !e) return e;
-    if (auto e = check(n + ".move_s", h.move_s, 0, 3600); !e) return e;
+    if (auto e = check_range(n + ".x_m", h.pose.centre_m.x, -20, 20); !e) return e;
+    if (auto e = check_range(n + ".y_m", h.pose.centre_m.y, -20, 20); !e) return e;
+    if (auto e = check_range(n + ".z_m", h.pose.centre_m.z, 0.1, 20); !e) return e;
+    if (auto e = check_range(n + ".tilt_x_deg", h.pose.tilt_x_rad * 180 / M_PI, -75, 75); !e)
+      return e;
+    if (auto e = check_range(n + ".tilt_y_deg", h.pose.tilt_y_rad * 180 / M_PI, -75, 75); !e)
+      return e;
+    if (auto e = check_range(n + ".roll_deg", h.pose.roll_rad * 180 / M_PI, -180, 180); !e)
+      return e;
+    if (auto e = check_range(n + ".hold_s", h.hold_s, 0, 3600); !e) return e;
+    if (auto e = check_range(n + ".move_s", h.move_s, 0, 3600); !e) return e;
   }
   return {};
 }
@@ -207,12 +205,12 @@ bool board_in_view(const StereoRig& rig, const CalibrationBoard& board, const Bo
 Status BoardPoseRanges::validate() const {
   if (count < 1 || count > 1000)
     return Error{"count = " + std::to_string(count) + " is out of range [1, 1000]"};
-  if (auto e = check("near_m", near_m, 0.1, 20); !e) return e;
-  if (auto e = check("far_m", far_m, near_m, 20); !e) return e;
-  if (auto e = check("max_tilt_deg", max_tilt_rad * 180 / M_PI, 0, 70); !e) return e;
-  if (auto e = check("max_roll_deg", max_roll_rad * 180 / M_PI, 0, 90); !e) return e;
-  if (auto e = check("hold_s", hold_s, 0, 3600); !e) return e;
-  return check("move_s", move_s, 0, 3600);
+  if (auto e = check_range("near_m", near_m, 0.1, 20); !e) return e;
+  if (auto e = check_range("far_m", far_m, near_m, 20); !e) return e;
+  if (auto e = check_range("max_tilt_deg", max_tilt_rad * 180 / M_PI, 0, 70); !e) return e;
+  if (auto e = check_range("max_roll_deg", max_roll_rad * 180 / M_PI, 0, 90); !e) return e;
+  if (auto e = check_range("hold_s", hold_s, 0, 3600); !e) return e;
+  return check_range("move_s", move_s, 0, 3600);
 }
 
 std::vector<BoardHold> draw_board_holds(const StereoRig& rig, const CalibrationBoard& board,

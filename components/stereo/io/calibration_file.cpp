@@ -37,18 +37,24 @@ Status check_matrix_header(const cv::FileNode& node, const char* name) {
   return {};
 }
 
-// Reads a matrix node of exactly rows x cols into out; error names the field.
-template <int M, int N>
-Status read_matx(const cv::FileStorage& fs, const char* name, cv::Matx<double, M, N>& out) {
+// Reads the matrix node `name` into m (any shape); error names the field.
+Status read_matrix_node(const cv::FileStorage& fs, const char* name, cv::Mat& m) {
   const cv::FileNode node = fs[name];
   if (node.empty() || node.isNone()) return Error{std::string(name) + ": missing"};
   if (auto e = check_matrix_header(node, name); !e) return e;
-  cv::Mat m;
   try {
     node >> m;
   } catch (const std::exception&) {  // cv::Exception or what OpenCV lets through
     return Error{std::string(name) + ": not a matrix"};
   }
+  return {};
+}
+
+// Reads a matrix node of exactly rows x cols into out; error names the field.
+template <int M, int N>
+Status read_matx(const cv::FileStorage& fs, const char* name, cv::Matx<double, M, N>& out) {
+  cv::Mat m;
+  if (auto e = read_matrix_node(fs, name, m); !e) return e;
   if (m.empty()) return Error{std::string(name) + ": not a matrix"};
   if (m.total() != static_cast<std::size_t>(M * N) || m.channels() != 1 ||
       (m.rows != M && !(N == 1 && m.cols == M && m.rows == 1))) {
@@ -61,15 +67,8 @@ Status read_matx(const cv::FileStorage& fs, const char* name, cv::Matx<double, M
 }
 
 Status read_distortion(const cv::FileStorage& fs, const char* name, std::vector<double>& out) {
-  const cv::FileNode node = fs[name];
-  if (node.empty() || node.isNone()) return Error{std::string(name) + ": missing"};
-  if (auto e = check_matrix_header(node, name); !e) return e;
   cv::Mat m;
-  try {
-    node >> m;
-  } catch (const std::exception&) {  // cv::Exception or what OpenCV lets through
-    return Error{std::string(name) + ": not a matrix"};
-  }
+  if (auto e = read_matrix_node(fs, name, m); !e) return e;
   if (m.channels() != 1 || (m.rows != 1 && m.cols != 1) || !is_valid_distortion_size(m.total())) {
     return Error{std::string(name) + ": expected 1xN with N in {4, 5, 8, 12, 14}, got " +
                  shape_text(m)};
