@@ -117,8 +117,10 @@ function(sb_add_gtest name)
   else()
     add_test(NAME ${name} COMMAND ${name} --gtest_color=no)
   endif()
+  # COST: with no timing history yet (a fresh clone), `ctest -j` starts the tests allowed the
+  # longest first, so the long ones run beside the short ones instead of after them.
   set_tests_properties(${name} ${entries} PROPERTIES TIMEOUT ${A_TIMEOUT} ENVIRONMENT "${env}"
-                       LABELS "${A_LABELS}" SKIP_RETURN_CODE 77)
+                       LABELS "${A_LABELS}" SKIP_RETURN_CODE 77 COST ${A_TIMEOUT})
 endfunction()
 
 # Build speed: precompiled headers. The standard library, OpenCV core/imgproc and (in tests)
@@ -151,11 +153,13 @@ if(SB_PCH)
   add_compile_options($<$<COMPILE_LANGUAGE:CXX>:-Winvalid-pch>)
 endif()
 
-# True (in out) when the options in opts change what GCC accepts in a precompiled header.
+# True (in out) when opts has an option that changes what GCC accepts in a precompiled header
+# and that the headers were not made with (the project-wide options are in both).
 function(sb_pch_incompatible opts out)
+  get_target_property(common sb_pch COMPILE_OPTIONS)
   set(bad FALSE)
   foreach(opt IN LISTS opts)
-    if(opt MATCHES "^-(std=|m|f(no-)?sanitize|D|U|include)")
+    if(NOT opt IN_LIST common AND opt MATCHES "^-(std=|m|f(no-)?sanitize|D|U|include)")
       set(bad TRUE)
     endif()
   endforeach()
