@@ -141,7 +141,8 @@ set(SB_PCH_HEADERS
     <memory> <optional> <span> <sstream> <string> <string_view> <thread> <utility> <variant>
     <vector> <opencv2/core.hpp> <opencv2/imgproc.hpp>)
 if(SB_PCH)
-  file(WRITE ${CMAKE_BINARY_DIR}/sb_pch.cpp "// the precompiled headers' host\n")
+  # CONFIGURE writes only when the text changes (a rewrite would rebuild the headers).
+  file(CONFIGURE OUTPUT ${CMAKE_BINARY_DIR}/sb_pch.cpp CONTENT "// the precompiled headers' host\n")
   add_library(sb_pch OBJECT ${CMAKE_BINARY_DIR}/sb_pch.cpp)
   target_link_libraries(sb_pch PRIVATE opencv_core opencv_imgproc)
   target_precompile_headers(sb_pch PRIVATE ${SB_PCH_HEADERS})
