@@ -26,6 +26,11 @@ while [ $# -gt 0 ] && [ "$1" != -- ]; do
   shift
 done
 [ "${1:-}" = -- ] && shift
+# Only a build folder (or nothing) is replaced.
+if [ -e "$dir" ] && [ ! -f "$dir/CMakeCache.txt" ] && [ -n "$(ls -A "$dir")" ]; then
+  echo "build_cpu_times.sh: $dir is not an empty or CMake build folder; not replacing it" >&2
+  exit 2
+fi
 rm -rf "$dir"
 mkdir -p "$dir"
 dir=$(readlink -f "$dir")
