@@ -5,6 +5,44 @@ set(SB_SOURCE_ROOT ${CMAKE_SOURCE_DIR})
 # Real data shipped beside the project (read-only, never copied in).
 get_filename_component(SB_SHARED_DATA_DIR ${CMAKE_SOURCE_DIR}/../shared/data ABSOLUTE)
 
+# Build speed: precompiled headers. The standard library, OpenCV core/imgproc and (in tests)
+# GoogleTest are parsed once per build into a shared precompiled header instead of once per
+# file: sb_pch for every C++ target, sb_pch_test for the targets that link GoogleTest.
+# sb_use_precompiled_headers() (called at the end of the top CMakeLists.txt) gives every target
+# one of the two, so new targets need nothing. A target or file built with its own -std/-m
+# options cannot use them (GCC would refuse the header) and is left out; -Winvalid-pch makes
+# any other refusal a warning (an error in CI). GCC only (clang refuses a header made with
+# other -D macros); -DSB_PCH=OFF builds without them (checks that files include what they use).
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  option(SB_PCH "Shared precompiled headers for the common third-party headers" ON)
+else()
+  set(SB_PCH OFF CACHE BOOL "Shared precompiled headers (GCC only)" FORCE)
+endif()
+set(SB_PCH_HEADERS
+    <algorithm> <array> <chrono> <cmath> <cstdint> <filesystem> <functional> <iostream> <map>
+    <memory> <optional> <span> <sstream> <string> <string_view> <thread> <utility> <variant>
+    <vector> <opencv2/core.hpp> <opencv2/imgproc.hpp>)
+# ccache caches a file built with a precompiled header only when told to be sloppy about the
+# header's macros and times (it is rebuilt in every fresh build folder).
+if(SB_PCH AND CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache")
+  set(CMAKE_CXX_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env
+      CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
+      ${CMAKE_CXX_COMPILER_LAUNCHER})
+endif()
+if(SB_PCH)
+  # CONFIGURE writes only when the text changes (a rewrite would rebuild the headers).
+  file(CONFIGURE OUTPUT ${CMAKE_BINARY_DIR}/sb_pch.cpp CONTENT "// the precompiled headers' host\n")
+  add_library(sb_pch OBJECT ${CMAKE_BINARY_DIR}/sb_pch.cpp)
+  target_link_libraries(sb_pch PRIVATE opencv_core opencv_imgproc)
+  target_precompile_headers(sb_pch PRIVATE ${SB_PCH_HEADERS})
+  if(SB_BUILD_TESTS)
+    add_library(sb_pch_test OBJECT ${CMAKE_BINARY_DIR}/sb_pch.cpp)
+    target_link_libraries(sb_pch_test PRIVATE opencv_core opencv_imgproc GTest::gtest)
+    target_precompile_headers(sb_pch_test PRIVATE ${SB_PCH_HEADERS} <gtest/gtest.h>)
+  endif()
+  add_compile_options($<$<COMPILE_LANGUAGE:CXX>:-Winvalid-pch>)
+endif()
+
 # Adds every immediate sub-folder of DIR that has a CMakeLists.txt, so a new
 # component or tool needs no edit of a shared file.
 function(sb_add_subdirectories dir)
@@ -122,37 +160,6 @@ function(sb_add_gtest name)
   set_tests_properties(${name} ${entries} PROPERTIES TIMEOUT ${A_TIMEOUT} ENVIRONMENT "${env}"
                        LABELS "${A_LABELS}" SKIP_RETURN_CODE 77 COST ${A_TIMEOUT})
 endfunction()
-
-# Build speed: precompiled headers. The standard library, OpenCV core/imgproc and (in tests)
-# GoogleTest are parsed once per build into a shared precompiled header instead of once per
-# file: sb_pch for every C++ target, sb_pch_test for the targets that link GoogleTest.
-# sb_use_precompiled_headers() (called at the end of the top CMakeLists.txt) gives every target
-# one of the two, so new targets need nothing. A target or file built with its own -std/-m
-# options cannot use them (GCC would refuse the header) and is left out; -Winvalid-pch makes
-# any other refusal a warning (an error in CI). GCC only (clang refuses a header made with
-# other -D macros); -DSB_PCH=OFF builds without them (checks that files include what they use).
-if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-  option(SB_PCH "Shared precompiled headers for the common third-party headers" ON)
-else()
-  set(SB_PCH OFF CACHE BOOL "Shared precompiled headers (GCC only)" FORCE)
-endif()
-set(SB_PCH_HEADERS
-    <algorithm> <array> <chrono> <cmath> <cstdint> <filesystem> <functional> <iostream> <map>
-    <memory> <optional> <span> <sstream> <string> <string_view> <thread> <utility> <variant>
-    <vector> <opencv2/core.hpp> <opencv2/imgproc.hpp>)
-if(SB_PCH)
-  # CONFIGURE writes only when the text changes (a rewrite would rebuild the headers).
-  file(CONFIGURE OUTPUT ${CMAKE_BINARY_DIR}/sb_pch.cpp CONTENT "// the precompiled headers' host\n")
-  add_library(sb_pch OBJECT ${CMAKE_BINARY_DIR}/sb_pch.cpp)
-  target_link_libraries(sb_pch PRIVATE opencv_core opencv_imgproc)
-  target_precompile_headers(sb_pch PRIVATE ${SB_PCH_HEADERS})
-  if(SB_BUILD_TESTS)
-    add_library(sb_pch_test OBJECT ${CMAKE_BINARY_DIR}/sb_pch.cpp)
-    target_link_libraries(sb_pch_test PRIVATE opencv_core opencv_imgproc GTest::gtest)
-    target_precompile_headers(sb_pch_test PRIVATE ${SB_PCH_HEADERS} <gtest/gtest.h>)
-  endif()
-  add_compile_options($<$<COMPILE_LANGUAGE:CXX>:-Winvalid-pch>)
-endif()
 
 # True (in out) when opts has an option that changes what GCC accepts in a precompiled header
 # and that the headers were not made with (the project-wide options are in both).
