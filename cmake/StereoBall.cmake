@@ -5,6 +5,47 @@ set(SB_SOURCE_ROOT ${CMAKE_SOURCE_DIR})
 # Real data shipped beside the project (read-only, never copied in).
 get_filename_component(SB_SHARED_DATA_DIR ${CMAKE_SOURCE_DIR}/../shared/data ABSOLUTE)
 
+# Build speed: precompiled headers. The standard library, OpenCV core/imgproc and (in tests)
+# GoogleTest are parsed once per build into a shared precompiled header instead of once per
+# file: sb_pch for every C++ target, sb_pch_test for the targets that link GoogleTest.
+# sb_use_precompiled_headers() (called at the end of the top CMakeLists.txt) gives every target
+# one of the two, so new targets need nothing. A target or file built with its own -std/-m
+# options cannot use them (GCC would refuse the header) and is left out; -Winvalid-pch makes
+# any other refusal a warning (an error in CI). GCC only (clang refuses a header made with
+# other -D macros). Off by default: with GCC 12 the precompiled libstdc++ loses its system-header
+# status for warnings, so -O3 false positives in its string code (-Wstringop-overflow and
+# others, the family -Wno-restrict above is about) fail -Werror builds, e.g. in
+# common/params/field_table.cpp. -DSB_PCH=ON turns them on (faster, warnings not clean yet).
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  option(SB_PCH "Shared precompiled headers for the common third-party headers" OFF)
+else()
+  set(SB_PCH OFF CACHE BOOL "Shared precompiled headers (GCC only)" FORCE)
+endif()
+set(SB_PCH_HEADERS
+    <algorithm> <array> <chrono> <cmath> <cstdint> <filesystem> <functional> <iostream> <map>
+    <memory> <optional> <span> <sstream> <string> <string_view> <thread> <utility> <variant>
+    <vector> <opencv2/core.hpp> <opencv2/imgproc.hpp>)
+# ccache caches a file built with a precompiled header only when told to be sloppy about the
+# header's macros and times (it is rebuilt in every fresh build folder).
+if(SB_PCH AND CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache")
+  set(CMAKE_CXX_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env
+      CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
+      ${CMAKE_CXX_COMPILER_LAUNCHER})
+endif()
+if(SB_PCH)
+  # CONFIGURE writes only when the text changes (a rewrite would rebuild the headers).
+  file(CONFIGURE OUTPUT ${CMAKE_BINARY_DIR}/sb_pch.cpp CONTENT "// the precompiled headers' host\n")
+  add_library(sb_pch OBJECT ${CMAKE_BINARY_DIR}/sb_pch.cpp)
+  target_link_libraries(sb_pch PRIVATE opencv_core opencv_imgproc)
+  target_precompile_headers(sb_pch PRIVATE ${SB_PCH_HEADERS})
+  if(SB_BUILD_TESTS)
+    add_library(sb_pch_test OBJECT ${CMAKE_BINARY_DIR}/sb_pch.cpp)
+    target_link_libraries(sb_pch_test PRIVATE opencv_core opencv_imgproc GTest::gtest)
+    target_precompile_headers(sb_pch_test PRIVATE ${SB_PCH_HEADERS} <gtest/gtest.h>)
+  endif()
+  add_compile_options($<$<COMPILE_LANGUAGE:CXX>:-Winvalid-pch>)
+endif()
+
 # Adds every immediate sub-folder of DIR that has a CMakeLists.txt, so a new
 # component or tool needs no edit of a shared file.
 function(sb_add_subdirectories dir)
@@ -117,6 +158,89 @@ function(sb_add_gtest name)
   else()
     add_test(NAME ${name} COMMAND ${name} --gtest_color=no)
   endif()
+  # COST: with no timing history yet (a fresh clone), `ctest -j` starts the tests allowed the
+  # longest first, so the long ones run beside the short ones instead of after them.
   set_tests_properties(${name} ${entries} PROPERTIES TIMEOUT ${A_TIMEOUT} ENVIRONMENT "${env}"
-                       LABELS "${A_LABELS}" SKIP_RETURN_CODE 77)
+                       LABELS "${A_LABELS}" SKIP_RETURN_CODE 77 COST ${A_TIMEOUT})
+endfunction()
+
+# True (in out) when opts has an option that changes what GCC accepts in a precompiled header
+# and that the headers were not made with (the project-wide options are in both).
+function(sb_pch_incompatible opts out)
+  get_target_property(common sb_pch COMPILE_OPTIONS)
+  set(bad FALSE)
+  foreach(opt IN LISTS opts)
+    if(NOT opt IN_LIST common AND opt MATCHES "^-(std=|m|f(no-)?sanitize|D|U|include)")
+      set(bad TRUE)
+    endif()
+  endforeach()
+  set(${out} ${bad} PARENT_SCOPE)
+endfunction()
+
+# Gives every C++ target below dir (default: the whole project) a shared precompiled header.
+function(sb_use_precompiled_headers)
+  if(NOT SB_PCH)
+    return()
+  endif()
+  set(dir ${ARGV0})
+  if(NOT dir)
+    set(dir ${CMAKE_SOURCE_DIR})
+  endif()
+  get_property(targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
+  foreach(t IN LISTS targets)
+    get_target_property(type ${t} TYPE)
+    get_target_property(imported ${t} IMPORTED)
+    if(NOT type MATCHES "^(EXECUTABLE|STATIC_LIBRARY|SHARED_LIBRARY|MODULE_LIBRARY|OBJECT_LIBRARY)$"
+       OR imported OR t MATCHES "^sb_pch(_test)?$")
+      continue()
+    endif()
+    get_target_property(off ${t} DISABLE_PRECOMPILE_HEADERS)
+    get_target_property(own ${t} PRECOMPILE_HEADERS)
+    get_target_property(opts ${t} COMPILE_OPTIONS)
+    sb_pch_incompatible("${opts}" bad)
+    if(off OR own OR bad)
+      continue()
+    endif()
+    get_target_property(sources ${t} SOURCES)
+    get_target_property(src_dir ${t} SOURCE_DIR)
+    set(cxx FALSE)
+    foreach(s IN LISTS sources)
+      if(s MATCHES "^\\$<")
+        continue()
+      endif()
+      if(NOT IS_ABSOLUTE ${s})
+        set(s ${src_dir}/${s})
+      endif()
+      if(s MATCHES "\\.c$")
+        # C files (the generated message types) have no precompiled header.
+        set_source_files_properties(${s} TARGET_DIRECTORY ${t} PROPERTIES
+                                    SKIP_PRECOMPILE_HEADERS ON)
+      endif()
+      if(NOT s MATCHES "\\.(cpp|cc|cxx)$")
+        continue()
+      endif()
+      set(cxx TRUE)
+      get_source_file_property(sopts ${s} TARGET_DIRECTORY ${t} COMPILE_OPTIONS)
+      sb_pch_incompatible("${sopts}" sbad)
+      if(sbad)
+        set_source_files_properties(${s} TARGET_DIRECTORY ${t} PROPERTIES
+                                    SKIP_PRECOMPILE_HEADERS ON)
+      endif()
+    endforeach()
+    if(NOT cxx)
+      continue()
+    endif()
+    get_target_property(libs ${t} LINK_LIBRARIES)
+    if(TARGET sb_pch_test AND "${libs}" MATCHES "(^|;)(GTest::[A-Za-z_]+|sb_gtest_main)(;|$)")
+      target_precompile_headers(${t} REUSE_FROM sb_pch_test)
+    else()
+      target_precompile_headers(${t} REUSE_FROM sb_pch)
+    endif()
+    # Where a file cannot use the precompiled header, the headers are read as text.
+    target_include_directories(${t} SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+  endforeach()
+  get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
+  foreach(sub IN LISTS subdirs)
+    sb_use_precompiled_headers(${sub})
+  endforeach()
 endfunction()

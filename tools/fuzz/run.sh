@@ -14,7 +14,7 @@ if [ $# -ne 2 ] || ! [[ "$2" =~ ^[0-9]+$ ]]; then
   exit 2
 fi
 if ! command -v clang++ >/dev/null; then
-  echo "fuzz: clang++ not found (apt-get install clang libclang-rt-14-dev; run.sh installs both)" >&2
+  echo "fuzz: clang++ not found (apt-get install clang libclang-rt-14-dev)" >&2
   exit 2
 fi
 targets=("$1")

@@ -1,5 +1,6 @@
 #include "common/node/common_flags.hpp"
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>

@@ -1,12 +1,16 @@
 #pragma once
 // Flags every node and tool shares: --config, --domain, --partition, --log-level, --key-file.
 
-#include <CLI/CLI.hpp>
-
 #include <string>
 #include <vector>
 
 #include "common/params/field_table.hpp"
+
+// Declared only: CLI/CLI.hpp costs seconds of compile time in every file that includes it, and
+// this header reaches every node's files through node_runner.hpp.
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace stereoball::node {
 
