@@ -178,6 +178,28 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                      p.max_peaks_examined = peaks;
                      return std::make_unique<bd::PixelToPixelDetector>(p);
                    }});
+  // And at full resolution only: coarse to fine halves a 6 px circle to 3 px, below what the
+  // halved search finds; the tune split decides which wins.
+  for (const auto& ks : std::vector<std::vector<int>>{{5}, {3, 5}, {3, 5, 8}})
+    for (double score : {0.45, 0.55})
+      for (double clutter : {0.0, 0.1})
+        for (bool polish : {true, false})
+          p2p.settings.push_back(
+              {cv::format("full k=%s score>=%.2f clutter=%.1f peaks=%d band=0.035r%s",
+                          k_list(ks).c_str(), score, clutter, 2 * kRealMaxCircles,
+                          polish ? "" : " no-polish"),
+               [ks, score, clutter, polish](cv::Size s, double rmin) {
+                 auto p = p2p_params(s, ks);
+                 p.min_radius_px = rmin;
+                 p.coarse_to_fine = false;
+                 p.polish = polish;
+                 p.refine_params.band_per_radius = 0.035;
+                 p.min_score = score;
+                 p.refine_params.clutter_ring_per_radius = clutter;
+                 p.max_circles = kRealMaxCircles;
+                 p.max_peaks_examined = 2 * kRealMaxCircles;
+                 return std::make_unique<bd::PixelToPixelDetector>(p);
+               }});
   f.push_back(p2p);
   const std::vector<std::vector<int>> k_sets = {{5}, {5, 8, 15}, {3, 5, 8, 15}};
   Family paper{"p2p paper rule", {}};
