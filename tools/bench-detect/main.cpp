@@ -137,9 +137,11 @@ std::vector<Method> make_methods(bool with_cht, double cht_step_px) {
   return m;
 }
 
-// The real-photograph families: each method with the settings tried on the tune split. Radii
-// and separation follow the image size as in the synthetic suite; up to 40 circles an image.
-constexpr int kRealMaxCircles = 40;
+// The real-photograph families: each method with the settings tried on the tune split. The
+// smallest radius is the label file's (every circle down to it is labelled; by default 2.5% of
+// the shorter side); largest radius and separation follow the image size as in the synthetic
+// suite; up to 100 circles an image (the most baselines accept; three photographs hold 53-70).
+constexpr int kRealMaxCircles = 100;
 
 std::string k_list(const std::vector<int>& ks) {
   std::string out;
@@ -164,8 +166,9 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                   {cv::format("c2f k=%s score>=%.2f clutter=%.1f peaks=%d band=%.3fr%s",
                               k_list(ks).c_str(), score, clutter, peaks, band,
                               polish ? "" : " no-polish"),
-                   [ks, score, clutter, peaks, polish, band](cv::Size s) {
+                   [ks, score, clutter, peaks, polish, band](cv::Size s, double rmin) {
                      auto p = p2p_params(s, ks);
+                     p.min_radius_px = rmin;
                      p.coarse_to_fine = true;
                      p.polish = polish;
                      p.refine_params.band_per_radius = band;
@@ -175,12 +178,35 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                      p.max_peaks_examined = peaks;
                      return std::make_unique<bd::PixelToPixelDetector>(p);
                    }});
+  // And at full resolution only: coarse to fine halves a 6 px circle to 3 px, below what the
+  // halved search finds; the tune split decides which wins.
+  for (const auto& ks : std::vector<std::vector<int>>{{5}, {3, 5}, {3, 5, 8}})
+    for (double score : {0.45, 0.55})
+      for (double clutter : {0.0, 0.1})
+        for (bool polish : {true, false})
+          p2p.settings.push_back(
+              {cv::format("full k=%s score>=%.2f clutter=%.1f peaks=%d band=0.035r%s",
+                          k_list(ks).c_str(), score, clutter, 2 * kRealMaxCircles,
+                          polish ? "" : " no-polish"),
+               [ks, score, clutter, polish](cv::Size s, double rmin) {
+                 auto p = p2p_params(s, ks);
+                 p.min_radius_px = rmin;
+                 p.coarse_to_fine = false;
+                 p.polish = polish;
+                 p.refine_params.band_per_radius = 0.035;
+                 p.min_score = score;
+                 p.refine_params.clutter_ring_per_radius = clutter;
+                 p.max_circles = kRealMaxCircles;
+                 p.max_peaks_examined = 2 * kRealMaxCircles;
+                 return std::make_unique<bd::PixelToPixelDetector>(p);
+               }});
   f.push_back(p2p);
   const std::vector<std::vector<int>> k_sets = {{5}, {5, 8, 15}, {3, 5, 8, 15}};
   Family paper{"p2p paper rule", {}};
   for (const auto& ks : k_sets)
-    paper.settings.push_back({"k=" + k_list(ks), [ks](cv::Size s) {
+    paper.settings.push_back({"k=" + k_list(ks), [ks](cv::Size s, double rmin) {
                                 auto p = p2p_params(s, ks);
+                                p.min_radius_px = rmin;
                                 p.isolate_arc = false;
                                 p.max_circles = kRealMaxCircles;
                                 p.max_peaks_examined = 2 * kRealMaxCircles;
@@ -190,43 +216,45 @@ std::vector<stereoball::bench_detect::Family> real_families() {
   Family hough{"HOUGH_GRADIENT", {}};
   for (double p1 : {100.0, 200.0})
     for (double p2 : {20.0, 30.0, 45.0, 60.0})
-      hough.settings.push_back({cv::format("p1=%g p2=%g blur 5", p1, p2), [p1, p2](cv::Size s) {
-                                  bd::OpenCvHoughParams p;
-                                  p.param1 = p1;
-                                  p.param2 = p2;
-                                  p.blur_ksize = 5;
-                                  p.min_radius_px = min_radius(s);
-                                  p.max_radius_px = max_radius(s);
-                                  p.min_separation_px = min_sep(s);
-                                  p.max_circles = kRealMaxCircles;
-                                  return std::make_unique<bd::OpenCvHoughDetector>(p);
-                                }});
+      hough.settings.push_back(
+          {cv::format("p1=%g p2=%g blur 5", p1, p2), [p1, p2](cv::Size s, double rmin) {
+             bd::OpenCvHoughParams p;
+             p.param1 = p1;
+             p.param2 = p2;
+             p.blur_ksize = 5;
+             p.min_radius_px = rmin;
+             p.max_radius_px = max_radius(s);
+             p.min_separation_px = min_sep(s);
+             p.max_circles = kRealMaxCircles;
+             return std::make_unique<bd::OpenCvHoughDetector>(p);
+           }});
   f.push_back(hough);
   Family alt{"HOUGH_GRADIENT_ALT", {}};
   for (double p1 : {150.0, 300.0})
     for (double p2 : {0.6, 0.75, 0.85, 0.9})
-      alt.settings.push_back({cv::format("dp=1.5 p1=%g p2=%g", p1, p2), [p1, p2](cv::Size s) {
-                                bd::OpenCvHoughParams p;
-                                p.alt = true;
-                                p.dp = 1.5;
-                                p.param1 = p1;
-                                p.param2 = p2;
-                                p.min_radius_px = min_radius(s);
-                                p.max_radius_px = max_radius(s);
-                                p.min_separation_px = min_sep(s);
-                                p.max_circles = kRealMaxCircles;
-                                return std::make_unique<bd::OpenCvHoughDetector>(p);
-                              }});
+      alt.settings.push_back(
+          {cv::format("dp=1.5 p1=%g p2=%g", p1, p2), [p1, p2](cv::Size s, double rmin) {
+             bd::OpenCvHoughParams p;
+             p.alt = true;
+             p.dp = 1.5;
+             p.param1 = p1;
+             p.param2 = p2;
+             p.min_radius_px = rmin;
+             p.max_radius_px = max_radius(s);
+             p.min_separation_px = min_sep(s);
+             p.max_circles = kRealMaxCircles;
+             return std::make_unique<bd::OpenCvHoughDetector>(p);
+           }});
   f.push_back(alt);
   Family ed{"EDCircles", {}};
   for (int g : {10, 20, 30, 40})
     for (double ratio : {0.8, 0.9})
       ed.settings.push_back(
-          {cv::format("grad=%d axis_ratio=%.1f", g, ratio), [g, ratio](cv::Size s) {
+          {cv::format("grad=%d axis_ratio=%.1f", g, ratio), [g, ratio](cv::Size s, double rmin) {
              bd::EdCirclesParams p;
              p.gradient_threshold = g;
              p.min_axis_ratio = ratio;
-             p.min_radius_px = min_radius(s);
+             p.min_radius_px = rmin;
              p.max_radius_px = max_radius(s);
              p.min_separation_px = min_sep(s);
              p.max_circles = kRealMaxCircles;

@@ -49,7 +49,9 @@ std::variant<std::vector<LabelledImage>, std::string> load_labelled_images(
     const fs::path image_path = project_root / labels.image_path;
     cv::Mat image = cv::imread(image_path.string(), cv::IMREAD_COLOR);
     if (image.empty()) return f.string() + ": cannot read image '" + image_path.string() + "'";
-    out.push_back({f.stem().string(), image, std::move(labels.circles), labels.split});
+    const double min_radius =
+        labels.min_radius_px.value_or(kDefaultMinRadiusPerSide * std::min(image.cols, image.rows));
+    out.push_back({f.stem().string(), image, std::move(labels.circles), labels.split, min_radius});
   }
   return out;
 }
@@ -63,7 +65,7 @@ RealScore score_setting(const Setting& setting, const std::vector<LabelledImage>
   RealScore s;
   for (const auto& img : images) {
     if (img.split != split) continue;
-    auto det = setting.make(img.image.size());
+    auto det = setting.make(img.image.size(), img.min_radius_px);
     det->detect(img.image);  // warm-up: first-call allocations
     std::vector<double> ms;
     std::vector<bd::Circle> found;

@@ -22,17 +22,24 @@ struct LabelledImage {
   cv::Mat image;     ///< BGR
   std::vector<ball_detector::Circle> truth;
   ball_detector::LabelSplit split = ball_detector::LabelSplit::tune;
+  /// Smallest radius every method searches: the label file's min_radius (every circle down to
+  /// it is labelled) or kDefaultMinRadiusPerSide of the shorter side.
+  double min_radius_px = 0.0;
 };
+
+/// Smallest labelled radius, as a share of the shorter image side, of a file without min_radius.
+constexpr double kDefaultMinRadiusPerSide = 0.025;
 
 /// Reads every *.circles file of dir (images relative to project_root); the first error
 /// (unreadable file, malformed line, unreadable image) names the file.
 std::variant<std::vector<LabelledImage>, std::string> load_labelled_images(
     const std::filesystem::path& dir, const std::filesystem::path& project_root);
 
-/// One setting of one method.
+/// One setting of one method: makes the detector for an image size and smallest radius.
 struct Setting {
   std::string label;
-  std::function<std::unique_ptr<ball_detector::CircleDetector>(cv::Size)> make;
+  std::function<std::unique_ptr<ball_detector::CircleDetector>(cv::Size, double min_radius_px)>
+      make;
 };
 
 /// A method and the settings tried for it on the tune split.

@@ -54,7 +54,15 @@ std::string apply_line(const std::vector<std::string_view>& w, CircleLabels& lab
     labels.circles.push_back({*x, *y, *r, 1.0});
     return "";
   }
-  return "unknown key '" + std::string(key) + "' (expected image, split or circle)";
+  if (key == "min_radius") {
+    if (w.size() != 2) return "'min_radius' takes one number: radius_px";
+    if (labels.min_radius_px) return "second 'min_radius' line";
+    const auto r = parse_number(w[1]);
+    if (!r || !(*r > 0.0)) return "'min_radius' must be a finite number > 0";
+    labels.min_radius_px = *r;
+    return "";
+  }
+  return "unknown key '" + std::string(key) + "' (expected image, split, circle or min_radius)";
 }
 
 }  // namespace

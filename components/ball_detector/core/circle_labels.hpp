@@ -4,9 +4,12 @@
 //   image <path relative to the project root>     exactly once
 //   split tune|report                               exactly once
 //   circle <x_px> <y_px> <radius_px>                any number (pixel centres on integers)
+//   min_radius <px>                                 at most once: every circle of at least this
+//                                                   radius is labelled (default: the reader's)
 
 #include "ball_detector/core/circle.hpp"
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -22,6 +25,8 @@ struct CircleLabels {
   std::string image_path;  ///< as written in the file (relative to the project root)
   LabelSplit split = LabelSplit::tune;
   std::vector<Circle> circles;  ///< score 1
+  /// The smallest radius down to which every circle was labelled, when the file states it.
+  std::optional<double> min_radius_px;
 };
 
 /// Parses the text of one label file; source names it in errors ("<source>:<line>: ...").

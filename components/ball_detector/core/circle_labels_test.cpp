@@ -29,6 +29,23 @@ TEST(CircleLabels, GivenAWellFormedFileThenImageSplitAndCirclesAreRead) {
   EXPECT_DOUBLE_EQ(l->circles[0].y_px, 20.0);
   EXPECT_DOUBLE_EQ(l->circles[0].radius_px, 3.25);
   EXPECT_DOUBLE_EQ(l->circles[1].radius_px, 3.0);
+  EXPECT_FALSE(l->min_radius_px.has_value());
+}
+
+TEST(CircleLabels, GivenAMinRadiusLineThenItIsReadAndAMalformedOneIsNamed) {
+  // Given a file stating the radius down to which every circle was labelled
+  const auto r = parse_circle_labels("image x.png\nsplit tune\nmin_radius 6.5\n", "a.circles");
+  // Then it is read
+  const auto* l = std::get_if<CircleLabels>(&r);
+  ASSERT_NE(l, nullptr) << std::get<std::string>(r);
+  ASSERT_TRUE(l->min_radius_px.has_value());
+  EXPECT_DOUBLE_EQ(*l->min_radius_px, 6.5);
+  // And a malformed or repeated one is an error naming file and line
+  const std::string head = "image x.png\nsplit tune\n";
+  EXPECT_EQ(error_of(head + "min_radius 0\n").rfind("a.circles:3: ", 0), 0u);
+  EXPECT_EQ(error_of(head + "min_radius\n").rfind("a.circles:3: ", 0), 0u);
+  EXPECT_EQ(error_of(head + "min_radius 4 5\n").rfind("a.circles:3: ", 0), 0u);
+  EXPECT_EQ(error_of(head + "min_radius 4\nmin_radius 5\n").rfind("a.circles:4: second", 0), 0u);
 }
 
 TEST(CircleLabels, GivenAMalformedLineThenTheErrorNamesFileAndLine) {
