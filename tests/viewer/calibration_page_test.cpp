@@ -1,0 +1,112 @@
+// The calibration page in a real browser (headless Chromium) against the simulator's
+// calibration scene, all real processes on this test's DDS domain: `stereoball calibrate live`
+// starts the page (stereoball view --calibrate), the simulator carries a board through poses
+// in front of its true rig, and the page shows both eyes with the corners drawn, takes poses,
+// gives a passing verdict and writes the calibration when its button is pressed. The file is
+// compared with the rig the simulator publishes (its truth).
+
+#include <signal.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "common/dds/participant.hpp"
+#include "common/dds/reader.hpp"
+#include "stereo/io/calibration_file.hpp"
+#include "stereo/msg/calibration_msg.hpp"
+#include "stereoball/topics.hpp"
+#include "viewer_test_support.hpp"
+
+namespace stereoball::testing {
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+
+// A short calibration scene: a 9x6 board of 30 mm squares through 14 poses, each held 0.8 s.
+std::string write_scenario(const std::string& dir) {
+  const std::string path = dir + "/calibration_page.yaml";
+  std::ofstream(path) << "name: calibration_page\n"
+                         "seed: 5\n"
+                         "calibration:\n"
+                         "  board: {inner_corners: [9, 6], square_m: 0.03, margin_m: 0.03}\n"
+                         "  eye_skew_ms: 0\n"
+                         "  random_poses: {count: 14, seed: 1, near_m: 0.45, far_m: 1.5, "
+                         "max_tilt_deg: 40, max_roll_deg: 17, hold_s: 0.8, move_s: 0.5}\n";
+  return path;
+}
+
+// The calibration the simulator publishes: its true rig.
+std::optional<stereo::StereoCalibration> true_rig(const std::string& partition) {
+  dds::DomainParticipant p({test_domain(), partition});
+  dds::DataReader<stereoball_msg_StereoCalibration> reader(p, topics::kStereoCalibration);
+  std::optional<stereo::StereoCalibration> out;
+  eventually(
+      [&] {
+        for (auto& s : reader.take(4))
+          if (auto c = stereo::calibration_from_message(*s)) out = std::move(c).value();
+        return out.has_value();
+      },
+      20s);
+  return out;
+}
+
+double pct(double got, double truth) {
+  return 100.0 * std::abs(got - truth) / std::abs(truth);
+}
+
+TEST(CalibrationPage, TheBrowserShowsCornersTakesPosesAndWritesAPassingCalibration) {
+  if (chromium_binary().empty())
+    GTEST_SKIP() << "Chromium is not installed (Debian package `chromium`; run.sh installs it)";
+  if (node_binary().empty() || npm_dir().empty())
+    GTEST_SKIP() << "node or the tests' npm packages are missing (SB_VIEWER_NPM_DIR)";
+  // Given the calibration page started as a user does, on a free port
+  const std::string partition = unique_partition();
+  const std::string out = test_out_dir("calibration_page");
+  const std::string written = out + "/rig.yaml";
+  auto page =
+      Process::start({bin("stereoball-calibrate-live"), "--domain", std::to_string(test_domain()),
+                      "--partition", partition, "--port", "0", "--board", "9x6", "--square-mm",
+                      "30", "--poses", "10", "--still-s", "0.3", "-o", written});
+  ASSERT_TRUE(page.wait_for_output("calibration page: http://", 30s)) << page.output();
+  std::smatch m;
+  const std::string log = page.output();
+  ASSERT_TRUE(std::regex_search(log, m, std::regex("calibration page: (http://\\S+/calibrate)")));
+  const std::string url = m[1];
+  // and the simulator carrying the board in front of its rig
+  auto sim =
+      Process::start({bin("simulator"), "--domain", std::to_string(test_domain()), "--partition",
+                      partition, "--scenario", write_scenario(out), "--loop"});
+  // When Chromium shows the page and presses "write calibration" after the verdict
+  const auto [rc, check] = run(
+      {node_binary(), npm_dir() + "/calibrate_check.mjs", url, out, chromium_binary(), "75"}, 100s);
+  // Then the page drew the corners, took poses, passed and wrote the file
+  EXPECT_EQ(rc, 0) << check << "\n--- page:\n" << page.output() << "\n--- sim:\n" << sim.output();
+  std::printf("%s", check.c_str());
+  ASSERT_TRUE(fs::exists(written)) << page.output();
+  EXPECT_TRUE(page.wait_for_output("calibration: wrote " + written, 5s)) << page.output();
+  EXPECT_NE(page.output().find("calibration: pose 1 taken"), std::string::npos);
+  // and the file agrees with the simulator's true rig
+  const auto got = stereo::load_calibration(written);
+  ASSERT_TRUE(got) << got.error();
+  const auto truth = true_rig(partition);
+  ASSERT_TRUE(truth.has_value()) << "the simulator published no calibration";
+  const double focal =
+      std::max(pct(got->k1(0, 0), truth->k1(0, 0)), pct(got->k2(1, 1), truth->k2(1, 1)));
+  const double baseline = pct(stereo::baseline_m(*got), stereo::baseline_m(*truth));
+  std::printf("against the simulator's rig: focal %.3f %%, baseline %.3f %% (%.4f m vs %.4f m)\n",
+              focal, baseline, stereo::baseline_m(*got), stereo::baseline_m(*truth));
+  EXPECT_LT(focal, 0.5);
+  EXPECT_LT(baseline, 0.5);
+  sim.signal(SIGINT);
+  page.signal(SIGINT);
+  EXPECT_TRUE(page.wait_for_exit(20s).has_value());
+  EXPECT_TRUE(sim.wait_for_exit(20s).has_value());
+}
+
+}  // namespace
+}  // namespace stereoball::testing
