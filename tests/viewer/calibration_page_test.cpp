@@ -16,6 +16,10 @@
 
 #include "common/dds/participant.hpp"
 #include "common/dds/reader.hpp"
+#include "simulator/core/simulator.hpp"
+#include "simulator/io/scenario_file.hpp"
+#include "simulator/io/sim_params_file.hpp"
+#include "stereo/core/board_calibration.hpp"
 #include "stereo/io/calibration_file.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 #include "stereoball/topics.hpp"
@@ -55,6 +59,27 @@ std::optional<stereo::StereoCalibration> true_rig(const std::string& partition) 
   return out;
 }
 
+// Mean rectified row error of calib on the exact projections of the scene's board corners
+// (noise-free matched points of the true rig), pixels; -1 when the scene cannot be built.
+double row_error_on_truth(const stereo::StereoCalibration& calib, const std::string& scenario) {
+  const auto params = simulator::load_sim_params(source_path("config/simulator.yaml"));
+  const auto scene = simulator::load_scenario(scenario);
+  if (!params || !scene) return -1;
+  const simulator::Simulator sim(*params, *scene);
+  const auto& board = *sim.calibration_scene();
+  std::vector<stereo::PairCorners> pairs;
+  for (const auto& hold : board.holds) {
+    stereo::PairCorners pc;
+    for (const auto& p : board_corners_px(sim.rig(), simulator::Eye::kLeft, board.board, hold.pose))
+      pc.left_px.emplace_back(p);
+    for (const auto& p :
+         board_corners_px(sim.rig(), simulator::Eye::kRight, board.board, hold.pose))
+      pc.right_px.emplace_back(p);
+    pairs.push_back(std::move(pc));
+  }
+  return stereo::rectified_row_error_px(calib, pairs).first;
+}
+
 double pct(double got, double truth) {
   return 100.0 * std::abs(got - truth) / std::abs(truth);
 }
@@ -78,9 +103,9 @@ TEST(CalibrationPage, TheBrowserShowsCornersTakesPosesAndWritesAPassingCalibrati
   ASSERT_TRUE(std::regex_search(log, m, std::regex("calibration page: (http://\\S+/calibrate)")));
   const std::string url = m[1];
   // and the simulator carrying the board in front of its rig
-  auto sim =
-      Process::start({bin("simulator"), "--domain", std::to_string(test_domain()), "--partition",
-                      partition, "--scenario", write_scenario(out), "--loop"});
+  const std::string scenario = write_scenario(out);
+  auto sim = Process::start({bin("simulator"), "--domain", std::to_string(test_domain()),
+                             "--partition", partition, "--scenario", scenario, "--loop"});
   // When Chromium shows the page and presses "write calibration" after the verdict
   const auto [rc, check] = run(
       {node_binary(), npm_dir() + "/calibrate_check.mjs", url, out, chromium_binary(), "75"}, 100s);
@@ -98,10 +123,15 @@ TEST(CalibrationPage, TheBrowserShowsCornersTakesPosesAndWritesAPassingCalibrati
   const double focal =
       std::max(pct(got->k1(0, 0), truth->k1(0, 0)), pct(got->k2(1, 1), truth->k2(1, 1)));
   const double baseline = pct(stereo::baseline_m(*got), stereo::baseline_m(*truth));
-  std::printf("against the simulator's rig: focal %.3f %%, baseline %.3f %% (%.4f m vs %.4f m)\n",
-              focal, baseline, stereo::baseline_m(*got), stereo::baseline_m(*truth));
+  const double rows = row_error_on_truth(*got, scenario);
+  std::printf(
+      "against the simulator's rig: focal %.3f %%, baseline %.3f %% (%.4f m vs %.4f m), "
+      "rectified row error on the true corners %.3f px\n",
+      focal, baseline, stereo::baseline_m(*got), stereo::baseline_m(*truth), rows);
   EXPECT_LT(focal, 0.5);
   EXPECT_LT(baseline, 0.5);
+  EXPECT_GE(rows, 0);
+  EXPECT_LT(rows, 0.2);
   sim.signal(SIGINT);
   page.signal(SIGINT);
   EXPECT_TRUE(page.wait_for_exit(20s).has_value());

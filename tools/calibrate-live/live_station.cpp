@@ -154,7 +154,10 @@ StationStep LiveStation::feed(const StationFrame& frame, std::vector<cv::Point2f
 
 std::string LiveStation::check_stall(int64_t now_ns) {
   if (last_frame_ns_ < 0) last_frame_ns_ = now_ns;
-  if (stalled_ || now_ns - last_frame_ns_ < params_.stall_ns) return "";
+  // Only while collecting: after the verdict (whose computation takes seconds on this thread)
+  // or a failure, a pause of the frames changes nothing.
+  if (stalled_ || verdict_ || !fatal_.empty() || now_ns - last_frame_ns_ < params_.stall_ns)
+    return "";
   stalled_ = true;
   stall_text_ = figures(
       "no frames for %.1f s: is camera_server running on this domain and partition? "

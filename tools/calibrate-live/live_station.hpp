@@ -64,8 +64,8 @@ class LiveStation {
   StationStep add_corners(const StationFrame& frame, std::vector<cv::Point2f> left_px,
                           std::vector<cv::Point2f> right_px, int64_t now_ns);
 
-  /// Called periodically: the stall message once when frames stopped for stall_ns (empty
-  /// otherwise, and again after frames came back and stopped once more).
+  /// Called periodically while collecting: the stall message once when frames stopped for
+  /// stall_ns (empty otherwise, and again after frames came back and stopped once more).
   std::string check_stall(int64_t now_ns);
 
   /// Ends the collection now (the page's button, a timeout): the verdict of the poses taken,
