@@ -44,7 +44,26 @@ async function main() {
       await sleep(1500);
       const shot = await page.send("Page.captureScreenshot", { format: "png" });
       writeFileSync(join(outDir, "collecting.png"), Buffer.from(shot.data, "base64"));
-      if (!await waitFor((x) => x.phase === "verdict")) fail(`no verdict: ${JSON.stringify(s)}`);
+      // On a loaded machine fewer poses may be taken in time: with the six a calibration needs
+      // and 20 s left, press "calibrate now" (what a person does when the bars are full).
+      let pressed = false;
+      const verdictOrPress = async (x) => {
+        if (x.phase === "verdict") return true;
+        if (!pressed && x.poses >= 6 && Date.now() > end - 20000) {
+          pressed = true;
+          console.log(`pressing "calibrate now" with ${x.poses} poses`);
+          await page.evaluate("JSON.stringify(document.getElementById('finish').click())");
+        }
+        return false;
+      };
+      let got = false;
+      while (!got && Date.now() < end) {
+        s = await state();
+        if (s && s.phase === "failed") break;
+        got = s ? await verdictOrPress(s) : false;
+        if (!got) await sleep(250);
+      }
+      if (!got) fail(`no verdict: ${JSON.stringify(s)}`);
       else if (!s.verdict.pass) fail(`the verdict failed: ${JSON.stringify(s.verdict.failures)}`);
       else if (!s.writeEnabled) fail("the write button is not enabled after a passing verdict");
       else {

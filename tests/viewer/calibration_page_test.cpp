@@ -31,16 +31,18 @@ namespace {
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 
-// A short calibration scene: a 9x6 board of 30 mm squares through 14 poses, each held 0.8 s.
+// A short calibration scene: a 9x6 board of 30 mm squares through 20 poses, each held 1 s,
+// seen by free-running eyes (the right one captures 15 ms after the left): the still-board
+// rule must keep moving boards out.
 std::string write_scenario(const std::string& dir) {
   const std::string path = dir + "/calibration_page.yaml";
   std::ofstream(path) << "name: calibration_page\n"
                          "seed: 5\n"
                          "calibration:\n"
                          "  board: {inner_corners: [9, 6], square_m: 0.03, margin_m: 0.03}\n"
-                         "  eye_skew_ms: 0\n"
-                         "  random_poses: {count: 14, seed: 1, near_m: 0.45, far_m: 1.5, "
-                         "max_tilt_deg: 40, max_roll_deg: 17, hold_s: 0.8, move_s: 0.5}\n";
+                         "  eye_skew_ms: 15\n"
+                         "  random_poses: {count: 20, seed: 1, near_m: 0.45, far_m: 1.5, "
+                         "max_tilt_deg: 40, max_roll_deg: 17, hold_s: 1.0, move_s: 0.4}\n";
   return path;
 }
 
