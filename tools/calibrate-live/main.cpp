@@ -22,8 +22,8 @@
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
 #include "live_flags.hpp"
+#include "live_frames.hpp"
 #include "live_output.hpp"
-#include "stereo/frame/frame_decoder.hpp"
 
 namespace {
 
@@ -82,7 +82,6 @@ int run(const Options& o, const live::StationParams& params) {
   waitset.attach(readable.handle(), 0);
   sb::stereo::FrameDecoder decoder;
   live::LiveStation station(params);
-  cv::Size size;
   const int64_t start_ns = sb::node::monotonic_ns();
   int64_t last_print_ns = 0;
   std::printf(
@@ -102,38 +101,23 @@ int run(const Options& o, const live::StationParams& params) {
     waitset.wait(100'000'000);
     auto sample = frames.take_latest();
     if (!sample) continue;
-    const auto& msg = **sample;
-    const cv::Size eye(static_cast<int>(msg.left.width_px), static_cast<int>(msg.left.height_px));
-    if (!station.session()) {
-      size = eye;
-      if (!msg.rectified)
-        std::printf("frames of %dx%d from %s\n", size.width, size.height,
-                    msg.source ? msg.source : "?");
+    auto frame = live::station_frame(**sample, decoder);
+    if (!frame) {
+      std::printf("%s\n", frame.error().c_str());
+      continue;
     }
-    live::StationFrame frame;
-    frame.seq = msg.seq;
-    frame.rectified = msg.rectified;
-    frame.source = msg.source ? msg.source : "";
-    frame.left_stamp_ns = msg.left.capture_stamp_ns ? msg.left.capture_stamp_ns : msg.stamp_ns;
-    frame.right_stamp_ns = msg.right.capture_stamp_ns ? msg.right.capture_stamp_ns : msg.stamp_ns;
-    if (!msg.rectified && eye == size) {
-      if (auto st = decoder.decode(msg, size, frame.left, frame.right); !st) {
-        std::printf("frame %llu refused: %s\n", static_cast<unsigned long long>(msg.seq),
-                    st.error().c_str());
-        continue;
-      }
-    } else {
-      frame.left = cv::Mat(eye, CV_8UC1);  // refused by its flag or size, never searched
-      frame.right = frame.left;
-    }
-    const auto step = station.add_frame(frame, sb::node::monotonic_ns());
+    if (!station.session() && !frame->rectified)
+      std::printf("frames of %dx%d from %s\n", frame->left.cols, frame->left.rows,
+                  frame->source.c_str());
+    const auto step = station.add_frame(*frame, sb::node::monotonic_ns());
     if (!station.fatal().empty()) break;
     if (step.pose) {
       std::printf("pose %d taken: x %.2f y %.2f size %.2f skew %.2f, board disparity %.1f px\n",
                   step.pose->index, step.pose->view.x, step.pose->view.y, step.pose->view.size,
                   step.pose->view.skew, step.pose->disparity_px);
       if (!o.save_poses_dir.empty())
-        if (auto st = save_pose_images(o.save_poses_dir, step.pose->index, frame.left, frame.right);
+        if (auto st =
+                save_pose_images(o.save_poses_dir, step.pose->index, frame->left, frame->right);
             !st)
           return fail(st.error(), 1);
     }

@@ -4,8 +4,8 @@
 #include "common/dds/waitset.hpp"
 #include "common/node/node_runner.hpp"
 #include "common/util/log.hpp"
+#include "live_frames.hpp"
 #include "live_output.hpp"
-#include "stereo/frame/frame_decoder.hpp"
 #include "stereoball/topics.hpp"
 
 namespace stereoball::view {
@@ -104,16 +104,9 @@ void CalibrationPump::run() {
     }
     auto sample = frames.take_latest();
     if (!sample) continue;
-    const auto& msg = **sample;
-    const cv::Size eye(static_cast<int>(msg.left.width_px), static_cast<int>(msg.left.height_px));
-    calibrate_live::StationFrame frame;
-    frame.seq = msg.seq;
-    frame.rectified = msg.rectified;
-    frame.source = msg.source ? msg.source : "";
-    frame.left_stamp_ns = msg.left.capture_stamp_ns ? msg.left.capture_stamp_ns : msg.stamp_ns;
-    frame.right_stamp_ns = msg.right.capture_stamp_ns ? msg.right.capture_stamp_ns : msg.stamp_ns;
-    if (auto st = decoder.decode(msg, eye, frame.left, frame.right); !st) {
-      log::warn("calibration: frame ", msg.seq, " refused: ", st.error());
+    auto frame = calibrate_live::station_frame(**sample, decoder);
+    if (!frame) {
+      log::warn("calibration: ", frame.error());
       continue;
     }
     // Corners are searched outside the lock: the page's polls never wait for OpenCV.
@@ -121,15 +114,15 @@ void CalibrationPump::run() {
     bool search = false;
     {
       std::lock_guard lock(mutex_);
-      search = station_.fatal().empty() && !frame.rectified;
+      search = station_.fatal().empty() && !frame->rectified;
     }
     if (search) {
-      left_px = calibrate_live::find_live_corners(frame.left, station_.params().live.board);
-      right_px = calibrate_live::find_live_corners(frame.right, station_.params().live.board);
+      left_px = calibrate_live::find_live_corners(frame->left, station_.params().live.board);
+      right_px = calibrate_live::find_live_corners(frame->right, station_.params().live.board);
     }
     std::lock_guard lock(mutex_);
     const auto step =
-        station_.add_corners(frame, std::move(left_px), std::move(right_px), node::monotonic_ns());
+        station_.add_corners(*frame, std::move(left_px), std::move(right_px), node::monotonic_ns());
     if (step.pose)
       log::info("calibration: pose ", step.pose->index, " taken: x ", step.pose->view.x, " y ",
                 step.pose->view.y, " size ", step.pose->view.size, " skew ", step.pose->view.skew,
