@@ -1,5 +1,5 @@
 #pragma once
-// The viewer's pages (page/index.html, page/calibrate.html), compiled into the binary so nothing is
+// The viewer's pages (page/index.html, page/calibrate.html, their page/common.css), compiled into the binary so nothing is
 // fetched from anywhere else.
 
 #include <string_view>
@@ -7,4 +7,5 @@
 namespace stereoball::view {
 std::string_view page_html();
 std::string_view calibrate_page_html();
+std::string_view common_css();
 }  // namespace stereoball::view

@@ -196,6 +196,8 @@ struct ViewServer::Impl {
     if (resource == "/" || resource.starts_with("/?") || resource == "/index.html")
       return {200, "text/html; charset=utf-8", std::string(page_html())};
     if (resource == "/stats") return {200, "application/json", stats_json()};
+    if (resource == "/common.css")
+      return {200, "text/css; charset=utf-8", std::string(common_css())};
     if (resource == "/calibrate" || resource.starts_with("/calibrate?")) {
       if (!calibration.state_json)
         return {404, "text/plain",
