@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
 #include <thread>
 
 #include "viewer_test_support.hpp"
@@ -132,6 +133,60 @@ TEST(ViewerBadInput, ClientThatNeverReadsIsDroppedWhileOthersKeepReceiving) {
   drain.join();
   close(reader);
   close(stuck);
+}
+
+TEST(ViewerCalibrationPage, ServedOnlyInCalibrationModeAndWritesNothingBeforeAPassingVerdict) {
+  // Given a viewer without --calibrate
+  const std::string partition = unique_partition();
+  auto plain = start_viewer(partition);
+  ASSERT_GT(plain.port, 0) << plain.process.output();
+  // Then /calibrate says how to start it, and the page's buttons are counted as bad messages
+  EXPECT_NE(http_get(plain.port, "/calibrate").find("stereoball calibrate live"),
+            std::string::npos);
+  EXPECT_EQ(http_get(plain.port, "/calibrate/state"), "not found\n");
+  const int page = ws_connect(plain.port);
+  ASSERT_GE(page, 0);
+  send_all(page, client_frame(0x1, "calibrate:write"));
+  EXPECT_TRUE(
+      eventually([&] { return stats_counter(plain.port, "bad_client_messages") >= 1; }, 10s));
+  close(page);
+  // Given --calibrate with a bad board or no output file
+  const auto bad_board = run({bin("stereoball-view"), "--calibrate", "--board", "9y6", "-o",
+                              temp_dir() + "/x.yaml", "--port", "0"},
+                             20s);
+  EXPECT_EQ(bad_board.first, 2);
+  EXPECT_NE(bad_board.second.find("--board '9y6'"), std::string::npos) << bad_board.second;
+  const auto no_output = run({bin("stereoball-view"), "--calibrate", "--port", "0"}, 20s);
+  EXPECT_EQ(no_output.first, 2);
+  EXPECT_NE(no_output.second.find("-o FILE"), std::string::npos) << no_output.second;
+  // Given the calibration page with no frames at all
+  const std::string file = temp_dir() + "/rig.yaml";
+  auto cal = start_viewer(partition + ".none",
+                          {"--calibrate", "-o", file, "--stall-s", "0.5", "--board", "9x6"});
+  ASSERT_GT(cal.port, 0) << cal.process.output();
+  // When its write button is pressed
+  const int cal_page = ws_connect(cal.port);
+  ASSERT_GE(cal_page, 0);
+  send_all(cal_page, client_frame(0x1, "calibrate:write"));
+  // Then nothing is written, and the state and the log say why
+  EXPECT_TRUE(eventually(
+      [&] {
+        return http_get(cal.port, "/calibrate/state").find("no verdict yet") != std::string::npos;
+      },
+      10s))
+      << http_get(cal.port, "/calibrate/state");
+  EXPECT_TRUE(eventually(
+      [&] {
+        return http_get(cal.port, "/calibrate/state").find("no frames for") != std::string::npos;
+      },
+      10s));
+  const std::string state = http_get(cal.port, "/calibrate/state");
+  EXPECT_NE(state.find("\"phase\":\"waiting\""), std::string::npos) << state;
+  EXPECT_NE(state.find("\"stalled\":true"), std::string::npos) << state;
+  EXPECT_FALSE(std::filesystem::exists(file));
+  EXPECT_TRUE(cal.process.wait_for_output("calibration: no verdict yet", 5s))
+      << cal.process.output();
+  close(cal_page);
 }
 
 }  // namespace

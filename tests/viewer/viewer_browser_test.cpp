@@ -34,24 +34,10 @@ int free_port() {
   return ntohs(addr.sin_port);
 }
 
-std::string chromium() {
-  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
-    if (fs::exists(p)) return p;
-  return "";
-}
-
-std::string out_dir(const std::string& name) {
-  const char* root = std::getenv("SB_VIEWER_OUT_DIR");
-  const fs::path dir = fs::path(root ? root : temp_dir()) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
 class ViewerBrowser : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (chromium().empty())
+    if (chromium_binary().empty())
       GTEST_SKIP() << "Chromium is not installed (Debian package `chromium`; run.sh installs it)";
     if (node_binary().empty() || npm_dir().empty())
       GTEST_SKIP() << "node or the tests' npm packages are missing (SB_VIEWER_NPM_DIR)";
@@ -61,7 +47,7 @@ class ViewerBrowser : public ::testing::Test {
 TEST_F(ViewerBrowser, PageShowsImagesOverlaysAndTrackDuringTheDemo) {
   // Given the demo with --view on a free port
   const int port = free_port();
-  const std::string out = out_dir("demo");
+  const std::string out = test_out_dir("demo");
   auto demo = Process::start({bin("stereoball-demo"), "--scenario", "ball_rolling_away",
                               "--duration", "40", "--view", "--view-port", std::to_string(port),
                               "--domain", std::to_string(test_domain()), "--out", out + "/report"});
@@ -69,7 +55,7 @@ TEST_F(ViewerBrowser, PageShowsImagesOverlaysAndTrackDuringTheDemo) {
   ASSERT_TRUE(demo.wait_for_output("viewer: " + url, 60s)) << demo.output();
   // When Chromium loads the page
   const auto [rc, log] =
-      run({node_binary(), npm_dir() + "/browser_check.mjs", url, out, chromium()}, 240s);
+      run({node_binary(), npm_dir() + "/browser_check.mjs", url, out, chromium_binary()}, 240s);
   // Then the page's own counters show images, overlays and track updates arriving and updating
   EXPECT_EQ(rc, 0) << log << "\n--- demo:\n" << demo.output();
   EXPECT_TRUE(fs::exists(out + "/viewer.png")) << log;
@@ -87,9 +73,10 @@ TEST_F(ViewerBrowser, PageReconnectsWhenTheViewerRestarts) {
   KnownScene scene(partition, 20);
   auto viewer = Process::start(argv);
   ASSERT_TRUE(viewer.wait_for_output("viewer: http://", 30s)) << viewer.output();
-  const std::string out = out_dir("reconnect");
-  auto browser = Process::start({node_binary(), npm_dir() + "/browser_check.mjs",
-                                 "http://127.0.0.1:" + port + "/", out, chromium(), "--reconnect"});
+  const std::string out = test_out_dir("reconnect");
+  auto browser =
+      Process::start({node_binary(), npm_dir() + "/browser_check.mjs",
+                      "http://127.0.0.1:" + port + "/", out, chromium_binary(), "--reconnect"});
   ASSERT_TRUE(eventually([&] { return fs::exists(out + "/phase1") || !browser.running(); }, 150s))
       << browser.output();
   ASSERT_TRUE(fs::exists(out + "/phase1")) << browser.output();
@@ -111,16 +98,16 @@ TEST_F(ViewerBrowser, OverlayIsScaledWithAnEyeShownSmallerThanItIs) {
   KnownScene scene(partition, 20);
   auto viewer = start_viewer(partition, {"--max-width", "160"});
   ASSERT_GT(viewer.port, 0) << viewer.process.output();
-  const std::string out = out_dir("scaled");
+  const std::string out = test_out_dir("scaled");
   // When Chromium shows the page
   const SceneValues& v = scene.values();
   char expected[96];
   std::snprintf(expected, sizeof expected, "--overlay=%g,%g,%g", v.left_x / 2, v.left_y / 2,
                 v.left_r / 2);
-  const auto [rc, log] =
-      run({node_binary(), npm_dir() + "/browser_check.mjs",
-           "http://127.0.0.1:" + std::to_string(viewer.port) + "/", out, chromium(), expected},
-          240s);
+  const auto [rc, log] = run(
+      {node_binary(), npm_dir() + "/browser_check.mjs",
+       "http://127.0.0.1:" + std::to_string(viewer.port) + "/", out, chromium_binary(), expected},
+      240s);
   // Then the circle is drawn at half the detector's coordinates and radius, on the eye
   EXPECT_EQ(rc, 0) << log;
   std::printf("%s", log.c_str());

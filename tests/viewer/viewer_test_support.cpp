@@ -128,4 +128,18 @@ std::string node_binary() {
   return "";
 }
 
+std::string chromium_binary() {
+  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
+    if (std::filesystem::exists(p)) return p;
+  return "";
+}
+
+std::string test_out_dir(const std::string& name) {
+  const char* root = std::getenv("SB_VIEWER_OUT_DIR");
+  const std::filesystem::path dir = std::filesystem::path(root ? root : temp_dir()) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
 }  // namespace stereoball::testing

@@ -76,5 +76,10 @@ using view_client::WsClient;
 std::string npm_dir();
 /// Path of node, "" when not installed.
 std::string node_binary();
+/// Path of Chromium, "" when not installed.
+std::string chromium_binary();
+/// A fresh empty folder `name` for a test's screenshots and page state (under
+/// SB_VIEWER_OUT_DIR, else a temporary folder).
+std::string test_out_dir(const std::string& name);
 
 }  // namespace stereoball::testing

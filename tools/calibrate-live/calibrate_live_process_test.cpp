@@ -74,6 +74,7 @@ class FakeCameras {
 std::vector<std::string> tool_args(const std::string& partition, const std::string& out,
                                    std::vector<std::string> extra) {
   std::vector<std::string> argv{testing::bin("stereoball-calibrate-live"),
+                                "--terminal",
                                 "--domain",
                                 std::to_string(testing::test_domain()),
                                 "--partition",

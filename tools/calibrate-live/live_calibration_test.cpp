@@ -1,13 +1,21 @@
 // LiveCalibration on a board carried in front of the synthetic rig: poses are taken only when
-// the board stood still in both eyes, and the verdict judges the calibration they give.
+// the board stood still in both eyes, and the verdict judges the calibration they give. Then
+// LiveStation (what the terminal tool and the browser page run): its state for the page, its
+// failures, and the file written only for a passing verdict.
 
 #include "live_calibration.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
 
+#include <unistd.h>
 #include <cmath>
+#include <filesystem>
 #include <random>
+
+#include "live_output.hpp"
+#include "live_station.hpp"
+#include "stereo/io/calibration_file.hpp"
 
 #include "stereo/core/synthetic_rig.hpp"
 
@@ -281,6 +289,184 @@ TEST(DepthProgress, GrowsWithTheRatioOfNearToFar) {
   EXPECT_EQ(depth_progress({40, 40}), 0);
   EXPECT_NEAR(depth_progress({40, 60}), (1 - 40.0 / 60) / 0.5, 1e-9);
   EXPECT_EQ(depth_progress({30, 60, 90}), 1);
+}
+
+// ---- LiveStation ----
+
+StationParams station_params() {
+  StationParams p;
+  p.live = params();
+  return p;
+}
+
+// A frame of the rig's size (the station reads only the size: corners are given).
+StationFrame frame_at(const stereo::SyntheticRig& rig, int64_t t_left, int64_t t_right) {
+  static const cv::Mat eye(cv::Size(640, 480), CV_8UC1, cv::Scalar(0));
+  StationFrame f;
+  f.left = f.right = eye(cv::Rect({0, 0}, rig.size));
+  f.left_stamp_ns = t_left;
+  f.right_stamp_ns = t_right;
+  f.seq = static_cast<uint64_t>(t_left / kFramePeriodNs);
+  f.source = "test";
+  return f;
+}
+
+// Carries the board in front of the station (as carry_board); swap feeds the right eye's
+// corners as the left (cameras in the wrong order). Returns the poses taken.
+int carry_to_station(LiveStation& station, const stereo::SyntheticRig& rig,
+                     const std::vector<BoardPose>& poses, const Carry& carry, bool swap = false) {
+  std::mt19937 rng(7);
+  const int frames = static_cast<int>(poses.size() - 1) * (carry.hold_frames + carry.move_frames) +
+                     carry.hold_frames;
+  int taken = 0;
+  for (int f = 0; f < frames; ++f) {
+    const int64_t t_left = 1'000'000'000 + f * kFramePeriodNs, t_right = t_left + carry.skew_ns;
+    auto l =
+        corners(rig, pose_at(poses, carry, t_left - 1'000'000'000), false, rng, carry.noise_px);
+    auto r =
+        corners(rig, pose_at(poses, carry, t_right - 1'000'000'000), true, rng, carry.noise_px);
+    if (swap) std::swap(l, r);
+    taken += station.add_corners(frame_at(rig, t_left, t_right), l, r, t_left).pose.has_value();
+  }
+  return taken;
+}
+
+TEST(LiveStation, ACarriedBoardGivesAPassingVerdictThatIsWrittenAndReadBack) {
+  // Given a station and the board carried through twelve still poses
+  const auto rig = stereo::default_synthetic_rig();
+  LiveStation station(station_params());
+  const int taken = carry_to_station(station, rig, spread_poses(), Carry{});
+  // Then the verdict is in and passes, and the page's state shows poses, corners and figures
+  EXPECT_EQ(taken, 12);
+  ASSERT_TRUE(station.verdict().has_value()) << station.message();
+  const auto state = station.state(0);
+  EXPECT_EQ(state["phase"], "verdict");
+  EXPECT_EQ(state["poses"].size(), 12u);
+  EXPECT_EQ(state["corners"]["left"].size(), 54u);
+  EXPECT_EQ(state["progress"]["poses"], 12);
+  EXPECT_TRUE(state["verdict"]["pass"].get<bool>());
+  EXPECT_TRUE(state["verdict"]["eyes_in_order"].get<bool>());
+  EXPECT_NEAR(state["verdict"]["baseline_m"].get<double>(), 0.12, 0.12 * 0.005);
+  EXPECT_EQ(state["verdict"]["per_pose"].size(), 12u);
+  // When the passing verdict is written
+  const auto verdict = station.writable_verdict();
+  ASSERT_TRUE(verdict) << verdict.error();
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("live_station_" + std::to_string(::getpid()) + ".yaml");
+  ASSERT_TRUE(write_live_calibration(path.string(), station.params().live, *verdict, "test"));
+  // Then the file holds that calibration (and no temporary is left beside it)
+  const auto back = stereo::load_calibration(path.string());
+  ASSERT_TRUE(back) << back.error();
+  EXPECT_NEAR(std::abs(back->t[0]), std::abs(verdict->result.calibration.t[0]), 1e-9);
+  EXPECT_EQ(back->image_size, rig.size);
+  EXPECT_FALSE(std::filesystem::exists(
+      path.parent_path() / (".live_station_" + std::to_string(::getpid()) + ".writing.yaml")));
+  std::filesystem::remove(path);
+}
+
+TEST(LiveStation, SwappedEyesFailTheVerdictAndNothingMayBeWritten) {
+  // Given the cameras in the wrong order
+  const auto rig = stereo::default_synthetic_rig();
+  LiveStation station(station_params());
+  carry_to_station(station, rig, spread_poses(), Carry{}, /*swap=*/true);
+  // Then the verdict fails naming the order and the fix, and writing is refused
+  ASSERT_TRUE(station.verdict().has_value()) << station.message();
+  const auto state = station.state(0);
+  EXPECT_FALSE(state["verdict"]["pass"].get<bool>());
+  EXPECT_FALSE(state["verdict"]["eyes_in_order"].get<bool>());
+  EXPECT_NE(station.message().find("swap left_device and right_device"), std::string::npos)
+      << station.message();
+  const auto verdict = station.writable_verdict();
+  ASSERT_FALSE(verdict);
+  EXPECT_NE(verdict.error().find("nothing written"), std::string::npos);
+  EXPECT_FALSE(
+      write_live_calibration("/tmp/never.yaml", station.params().live, *station.verdict(), "test"));
+}
+
+TEST(LiveStation, ABoardNeverStillEndsWithTheReasonAndNoVerdict) {
+  // Given a board that keeps moving
+  const auto rig = stereo::default_synthetic_rig();
+  Carry carry;
+  carry.hold_frames = 0;
+  LiveStation station(station_params());
+  carry_to_station(station, rig, spread_poses(), carry);
+  EXPECT_EQ(station.state(0)["phase"], "collecting");
+  EXPECT_EQ(station.message(), "hold the board still");
+  // When collecting ends (the page's button or the timeout)
+  station.finish_now();
+  // Then the page says why there is no calibration and nothing may be written
+  EXPECT_EQ(station.state(0)["phase"], "failed");
+  EXPECT_NE(station.message().find("still poses"), std::string::npos) << station.message();
+  EXPECT_FALSE(station.writable_verdict());
+}
+
+TEST(LiveStation, ABoardInOneEyeOnlyIsNamedInTheMessage) {
+  // Given the board seen by the left eye only for three seconds
+  const auto rig = stereo::default_synthetic_rig();
+  LiveStation station(station_params());
+  std::mt19937 rng(2);
+  const auto pose = spread_poses()[0];
+  for (int f = 0; f < 90; ++f) {
+    const int64_t t = 1'000'000'000 + f * kFramePeriodNs;
+    station.add_corners(frame_at(rig, t, t), corners(rig, pose, false, rng, 0.05), {}, t);
+  }
+  // Then the message names the eye that sees it
+  EXPECT_NE(station.message().find("left eye only"), std::string::npos) << station.message();
+  EXPECT_TRUE(station.state(0)["progress"]["board_left"].get<bool>());
+  EXPECT_FALSE(station.state(0)["progress"]["board_right"].get<bool>());
+}
+
+TEST(LiveStation, ABoardOfAnotherSizeIsNeverFoundAndTheMessageSaysCheckBoard) {
+  // Given frames in which no 9x6 board is found (what a 7x5 board gives)
+  const auto rig = stereo::default_synthetic_rig();
+  LiveStation station(station_params());
+  for (int f = 0; f < 45; ++f) {
+    const int64_t t = 1'000'000'000 + f * kFramePeriodNs;
+    station.add_corners(frame_at(rig, t, t), {}, {}, t);
+  }
+  // Then the message says so, and finishing names the board size
+  EXPECT_NE(station.message().find("no 9x6 board found"), std::string::npos) << station.message();
+  station.finish_now();
+  EXPECT_NE(station.fatal().find("check --board"), std::string::npos) << station.fatal();
+}
+
+TEST(LiveStation, CamerasThatStopAreReportedOnceAndFramesThatComeBackClearIt) {
+  // Given a station that got one frame
+  const auto rig = stereo::default_synthetic_rig();
+  LiveStation station(station_params());
+  station.add_corners(frame_at(rig, 0, 0), {}, {}, 1'000'000'000);
+  // When no frame arrives for 2.5 s
+  EXPECT_EQ(station.check_stall(2'000'000'000), "");
+  const std::string stall = station.check_stall(3'500'000'000);
+  // Then it is said once, and shown, until frames come back
+  EXPECT_NE(stall.find("no frames for 2.5 s"), std::string::npos) << stall;
+  EXPECT_EQ(station.check_stall(4'000'000'000), "");
+  EXPECT_TRUE(station.state(4'000'000'000)["stalled"].get<bool>());
+  EXPECT_EQ(station.message(), stall);
+  station.add_corners(frame_at(rig, 1, 1), {}, {}, 4'100'000'000);
+  EXPECT_FALSE(station.stalled());
+}
+
+TEST(LiveStation, RectifiedFramesAndASizeChangeStopTheSession) {
+  // Given rectified frames
+  const auto rig = stereo::default_synthetic_rig();
+  LiveStation rectified(station_params());
+  auto frame = frame_at(rig, 0, 0);
+  frame.rectified = true;
+  rectified.add_corners(frame, {}, {}, 0);
+  // Then the session stops with the fix
+  EXPECT_NE(rectified.fatal().find("rectify: false"), std::string::npos) << rectified.fatal();
+  // Given a size change during calibration
+  LiveStation resized(station_params());
+  resized.add_corners(frame_at(rig, 0, 0), {}, {}, 0);
+  const cv::Mat small(cv::Size(320, 240), CV_8UC1, cv::Scalar(0));
+  auto other = frame_at(rig, 1, 1);
+  other.left = other.right = small;
+  resized.add_corners(other, {}, {}, 1);
+  // Then it stops naming both sizes, and nothing may be written
+  EXPECT_NE(resized.fatal().find("640x480 to 320x240"), std::string::npos) << resized.fatal();
+  EXPECT_FALSE(resized.writable_verdict());
+  EXPECT_EQ(resized.state(0)["phase"], "failed");
 }
 
 }  // namespace

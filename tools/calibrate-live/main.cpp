@@ -1,15 +1,19 @@
 // stereoball calibrate live (also `stereoball calibrate --live`): calibrates the running rig
-// from stereo/frame. Shows the board to both cameras; a pose is taken only when the board has
-// stood still in both eyes, the console shows coverage and what to do next, and the file is
-// written only when the verdict passes.
+// from stereo/frame. By default it starts `stereoball view --calibrate` with the same flags: the
+// calibration page in the browser (both eyes with the board corners drawn, coverage, poses,
+// verdict, a button that writes the file). With --terminal it runs on the console instead: a
+// pose is taken only when the board has stood still in both eyes, the console shows coverage
+// and what to do next, and the file is written only when the verdict passes. Both use one
+// implementation (live_station.hpp).
 
+#include <unistd.h>
 #include <CLI/CLI.hpp>
-#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <string>
 
@@ -17,9 +21,9 @@
 #include "common/dds/waitset.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
-#include "live_calibration.hpp"
-#include "stereo/frame/frame_decoder.hpp"
-#include "stereo/io/calibration_file.hpp"
+#include "live_flags.hpp"
+#include "live_frames.hpp"
+#include "live_output.hpp"
 
 namespace {
 
@@ -28,18 +32,9 @@ namespace live = stereoball::calibrate_live;
 
 struct Options {
   sb::node::CommonOptions common;
-  std::string board = "9x6";
-  double square_mm = 25.0;
-  int poses = 15;
-  double still_s = 0.3;
-  double max_motion_px = 0.5;
-  double max_rms_px = 0.5;
-  double max_row_error_px = 0.3;
-  double baseline_m = 0;
-  double timeout_s = 600;
-  double stall_s = 2.0;
-  std::string output;
+  live::LiveFlags flags;
   std::string save_poses_dir;
+  bool terminal = false;
 };
 
 volatile std::sig_atomic_t g_stop = 0;
@@ -51,29 +46,6 @@ void request_stop(int) {
 int fail(const std::string& message, int code = 2) {
   std::fprintf(stderr, "stereoball calibrate live: %s\n", message.c_str());
   return code;
-}
-
-// Board corners in one eye: searched on a copy at most 800 px wide (fast on large sensors),
-// refined to sub-pixel on the full image. Empty when the whole board is not seen.
-std::vector<cv::Point2f> find_corners(const cv::Mat& eye,
-                                      const sb::stereo::BoardCalibrationParams& p) {
-  cv::Mat grey;
-  if (eye.channels() == 3)
-    cv::cvtColor(eye, grey, cv::COLOR_BGR2GRAY);
-  else
-    grey = eye;
-  const double scale = std::min(1.0, 800.0 / grey.cols);
-  cv::Mat small = grey;
-  if (scale < 1.0) cv::resize(grey, small, {}, scale, scale, cv::INTER_AREA);
-  std::vector<cv::Point2f> corners;
-  const int flags =
-      cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK;
-  if (!cv::findChessboardCorners(small, p.inner_corners, corners, flags)) return {};
-  for (auto& c : corners) c *= static_cast<float>(1.0 / scale);
-  const int half = p.subpix_window_px / 2;
-  cv::cornerSubPix(grey, corners, cv::Size(half, half), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 50, 1e-3));
-  return corners;
 }
 
 std::string bar(double fraction) {
@@ -89,22 +61,6 @@ void print_progress(const live::Progress& p) {
   std::fflush(stdout);
 }
 
-void print_verdict(const live::Verdict& v) {
-  const auto& c = v.result.calibration;
-  std::printf("\nper-pose stereo RMS:\n");
-  for (const auto& e : v.per_pose) std::printf("  %-10s %.3f px\n", e.name.c_str(), e.rms_px);
-  for (const auto& d : v.result.dropped)
-    std::printf("  dropped %s: %s\n", d.name.c_str(), d.reason.c_str());
-  std::printf(
-      "stereo RMS %.3f px, mean rectified row error %.3f px (max %.3f px), baseline "
-      "%.4f m, focal %.1f px\n",
-      c.rms_px, v.result.mean_rectified_row_error_px, v.result.max_rectified_row_error_px,
-      std::abs(c.t[0]), c.p1(0, 0));
-  for (const auto& w : v.warnings) std::printf("warning: %s\n", w.c_str());
-  for (const auto& f : v.failures) std::printf("FAIL: %s\n", f.c_str());
-  std::printf("verdict: %s\n", v.pass ? "PASS" : "FAIL");
-}
-
 sb::Status save_pose_images(const std::string& dir, int index, const cv::Mat& left,
                             const cv::Mat& right) {
   std::error_code ec;
@@ -117,23 +73,7 @@ sb::Status save_pose_images(const std::string& dir, int index, const cv::Mat& le
   return {};
 }
 
-int write_result(const Options& o, const live::LiveParams& params, const live::Verdict& v) {
-  sb::stereo::CalibrationFileInfo info;
-  info.mean_rectified_row_error_px = v.result.mean_rectified_row_error_px;
-  info.square_size_m = params.board.square_m;
-  info.board_inner_corners = params.board.inner_corners;
-  info.pair_names = v.result.pair_names;
-  info.note = "written by stereoball calibrate live";
-  if (auto st = sb::stereo::save_calibration(o.output, v.result.calibration, info); !st)
-    return fail(st.error(), 1);
-  std::printf(
-      "wrote %s; camera_server publishes it once its calibration_file names this file "
-      "and it is restarted\n",
-      o.output.c_str());
-  return 0;
-}
-
-int run(const Options& o, const live::LiveParams& params) {
+int run(const Options& o, const live::StationParams& params) {
   sb::dds::DomainParticipant participant(
       {o.common.domain_id, o.common.partition, o.common.key_file});
   sb::dds::DataReader<stereoball_msg_StereoFrame> frames(participant, sb::topics::kStereoFrame);
@@ -141,155 +81,121 @@ int run(const Options& o, const live::LiveParams& params) {
   sb::dds::WaitSet waitset(participant);
   waitset.attach(readable.handle(), 0);
   sb::stereo::FrameDecoder decoder;
-  std::optional<live::LiveCalibration> session;
-  cv::Size size;
+  live::LiveStation station(params);
   const int64_t start_ns = sb::node::monotonic_ns();
-  int64_t last_frame_ns = start_ns, last_print_ns = 0;
-  bool stall_reported = false;
+  int64_t last_print_ns = 0;
   std::printf(
       "waiting for stereo/frame on domain %d%s; show the %s board to both cameras and "
       "hold it still at each place\n",
       o.common.domain_id,
       o.common.partition.empty() ? "" : (" partition " + o.common.partition).c_str(),
-      o.board.c_str());
-  while (!g_stop) {
+      o.flags.board.c_str());
+  while (!g_stop && !station.verdict() && station.fatal().empty()) {
     const int64_t now = sb::node::monotonic_ns();
-    if (now - start_ns > static_cast<int64_t>(o.timeout_s * 1e9)) {
-      std::printf("time is up (--timeout-s %.0f)\n", o.timeout_s);
+    if (now - start_ns > static_cast<int64_t>(o.flags.timeout_s * 1e9)) {
+      std::printf("time is up (--timeout-s %.0f)\n", o.flags.timeout_s);
       break;
     }
-    if (!stall_reported && now - last_frame_ns > static_cast<int64_t>(o.stall_s * 1e9)) {
-      std::printf(
-          "no frames for %.1f s: is camera_server running on this domain and partition? "
-          "(stereoball doctor)\n",
-          (now - last_frame_ns) * 1e-9);
-      stall_reported = true;
-    }
+    if (const auto stall = station.check_stall(now); !stall.empty())
+      std::printf("%s\n", stall.c_str());
     waitset.wait(100'000'000);
     auto sample = frames.take_latest();
     if (!sample) continue;
-    const auto& msg = **sample;
-    last_frame_ns = sb::node::monotonic_ns();
-    stall_reported = false;
-    if (msg.rectified)
-      return fail(
-          "frames are rectified: calibrate needs raw frames (set "
-          "rectify: false in the camera_server config)",
-          1);
-    const cv::Size eye(static_cast<int>(msg.left.width_px), static_cast<int>(msg.left.height_px));
-    if (!session) {
-      size = eye;
-      session.emplace(params, size);
-      std::printf("frames of %dx%d from %s\n", size.width, size.height,
-                  msg.source ? msg.source : "?");
-    } else if (eye != size) {
-      return fail("the frame size changed from " + std::to_string(size.width) + "x" +
-                      std::to_string(size.height) + " to " + std::to_string(eye.width) + "x" +
-                      std::to_string(eye.height) + " during calibration: nothing written",
-                  1);
-    }
-    cv::Mat left, right;
-    if (auto st = decoder.decode(msg, size, left, right); !st) {
-      std::printf("frame %llu refused: %s\n", static_cast<unsigned long long>(msg.seq),
-                  st.error().c_str());
+    auto frame = live::station_frame(**sample, decoder);
+    if (!frame) {
+      std::printf("%s\n", frame.error().c_str());
       continue;
     }
-    const int64_t ls = msg.left.capture_stamp_ns ? msg.left.capture_stamp_ns : msg.stamp_ns;
-    const int64_t rs = msg.right.capture_stamp_ns ? msg.right.capture_stamp_ns : msg.stamp_ns;
-    const auto pose = session->add_frame(ls, find_corners(left, params.board), rs,
-                                         find_corners(right, params.board));
-    if (pose) {
+    if (!station.session() && !frame->rectified)
+      std::printf("frames of %dx%d from %s\n", frame->left.cols, frame->left.rows,
+                  frame->source.c_str());
+    const auto step = station.add_frame(*frame, sb::node::monotonic_ns());
+    if (!station.fatal().empty()) break;
+    if (step.pose) {
       std::printf("pose %d taken: x %.2f y %.2f size %.2f skew %.2f, board disparity %.1f px\n",
-                  pose->index, pose->view.x, pose->view.y, pose->view.size, pose->view.skew,
-                  pose->disparity_px);
+                  step.pose->index, step.pose->view.x, step.pose->view.y, step.pose->view.size,
+                  step.pose->view.skew, step.pose->disparity_px);
       if (!o.save_poses_dir.empty())
-        if (auto st = save_pose_images(o.save_poses_dir, pose->index, left, right); !st)
+        if (auto st =
+                save_pose_images(o.save_poses_dir, step.pose->index, frame->left, frame->right);
+            !st)
           return fail(st.error(), 1);
     }
-    if (pose || last_frame_ns - last_print_ns > 1'000'000'000) {
-      print_progress(session->progress());
-      last_print_ns = last_frame_ns;
+    const int64_t shown = sb::node::monotonic_ns();
+    if (station.session() && (step.pose || shown - last_print_ns > 1'000'000'000)) {
+      print_progress(station.session()->progress());
+      last_print_ns = shown;
     }
-    if (session->enough_poses()) break;
   }
-  if (!session) return fail("no stereo frame arrived: nothing written", 1);
-  const auto verdict = session->finish();
-  if (!verdict) return fail(verdict.error() + "; nothing written", 1);
-  print_verdict(*verdict);
-  if (!verdict->pass) {
+  station.finish_now();
+  if (!station.fatal().empty()) return fail(station.fatal(), 1);
+  const auto& verdict = *station.verdict();
+  std::printf("\nper-pose stereo RMS:\n");
+  for (const auto& line : live::verdict_lines(verdict)) std::printf("%s\n", line.c_str());
+  if (!verdict.pass) {
     std::printf("nothing written\n");
     return 1;
   }
-  return write_result(o, params, *verdict);
+  if (auto st = live::write_live_calibration(o.flags.output, params.live, verdict,
+                                             "written by stereoball calibrate live");
+      !st)
+    return fail(st.error(), 1);
+  std::printf(
+      "wrote %s; camera_server publishes it within a second when its calibration_file names "
+      "this file (it reloads a changed file)\n",
+      o.flags.output.c_str());
+  return 0;
+}
+
+// Without --terminal: the calibration page, `stereoball view --calibrate` with the same
+// arguments (the view parses and checks them).
+int exec_page(int argc, char** argv) {
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::string program =
+      ((ec ? std::filesystem::path(argv[0]) : self).parent_path() / "stereoball-view").string();
+  std::vector<std::string> args{program, "--calibrate"};
+  for (int i = 1; i < argc; ++i) args.emplace_back(argv[i]);
+  std::vector<char*> view_argv;
+  for (auto& a : args) view_argv.push_back(a.data());
+  view_argv.push_back(nullptr);
+  execv(program.c_str(), view_argv.data());
+  return fail(program + ": cannot start the calibration page (" + std::strerror(errno) +
+                  "); use --terminal for the console",
+              1);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  bool terminal = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a = argv[i];
+    terminal |= a == "--terminal";
+    if (a == "-h" || a == "--help" || a == "--help-all") terminal = true;
+  }
+  if (!terminal) return exec_page(argc, argv);
   CLI::App app{
-      "stereoball calibrate live: stereo calibration of the running rig from stereo/frame. A "
-      "pose is taken when the board has stood still in both eyes (free-running cameras), the "
-      "console shows coverage of the view and depth and what to do next, and the calibration "
-      "file is written only when the verdict (RMS, rectified row error, baseline, eye order) "
-      "passes.",
+      "stereoball calibrate live: stereo calibration of the running rig from stereo/frame. "
+      "Without --terminal it opens the calibration page (stereoball view --calibrate, same "
+      "flags plus --port, --bind, --open). A pose is taken when the board has stood still in "
+      "both eyes (free-running cameras), coverage of the view and depth is shown with what to "
+      "do next, and the calibration file is written only when the verdict (RMS, rectified row "
+      "error, baseline, eye order) passes.",
       "stereoball-calibrate-live"};
   Options o;
   sb::node::add_common_flags(app, o.common, "", false);
-  app.add_option("--board", o.board, "inner corners per row x per column")->capture_default_str();
-  app.add_option("--square-mm", o.square_mm, "chessboard square side, mm (sets the unit of T)")
-      ->check(CLI::Range(1.0, 1000.0))
-      ->capture_default_str();
-  app.add_option("--poses", o.poses, "poses to take before the verdict")
-      ->check(CLI::Range(6, 200))
-      ->capture_default_str();
-  app.add_option("--still-s", o.still_s, "how long the board must stand still in both eyes, s")
-      ->check(CLI::Range(0.0, 10.0))
-      ->capture_default_str();
-  app.add_option("--max-motion-px", o.max_motion_px,
-                 "largest corner motion that still counts as still, px")
-      ->check(CLI::Range(0.01, 100.0))
-      ->capture_default_str();
-  app.add_option("--max-rms-px", o.max_rms_px, "verdict: largest stereo RMS, px")
-      ->check(CLI::Range(0.01, 10.0))
-      ->capture_default_str();
-  app.add_option("--max-row-error-px", o.max_row_error_px,
-                 "verdict: largest mean rectified row error, px")
-      ->check(CLI::Range(0.01, 10.0))
-      ->capture_default_str();
-  app.add_option("--baseline-m", o.baseline_m,
-                 "the rig's measured baseline, m: the verdict fails beyond +-10 % (0 = unchecked)")
-      ->check(CLI::Range(0.0, 10.0))
-      ->capture_default_str();
-  app.add_option("--timeout-s", o.timeout_s, "give up after this long, s")
-      ->check(CLI::Range(1.0, 86400.0))
-      ->capture_default_str();
-  app.add_option("--stall-s", o.stall_s, "say so when no frame arrived for this long, s")
-      ->check(CLI::Range(0.1, 600.0))
-      ->capture_default_str();
-  app.add_option("-o,--output", o.output, "calibration file to write (.yaml)")->required();
+  live::add_live_flags(app, o.flags);
+  app.add_flag("--terminal", o.terminal, "calibrate on the console instead of the page");
   app.add_option("--save-poses", o.save_poses_dir,
                  "also save each pose's images here (for stereoball calibrate on files)");
   CLI11_PARSE(app, argc, argv);
-  const auto board = stereoball::stereo::parse_board_size(o.board);
-  if (!board)
-    return fail("--board '" + o.board + "': expected COLSxROWS of inner corners, e.g. 9x6");
-  live::LiveParams params;
-  params.board.inner_corners = *board;
-  params.board.square_m = o.square_mm * 1e-3;
-  params.target_poses = o.poses;
-  params.still.still_ns = static_cast<int64_t>(o.still_s * 1e9);
-  params.still.max_motion_px = o.max_motion_px;
-  params.max_rms_px = o.max_rms_px;
-  params.max_row_error_px = o.max_row_error_px;
-  if (o.baseline_m > 0) {
-    params.min_baseline_m = o.baseline_m * 0.9;
-    params.max_baseline_m = o.baseline_m * 1.1;
-  }
-  if (auto st = params.validate(); !st) return fail(st.error());
+  const auto params = live::station_params(o.flags);
+  if (!params) return fail(params.error());
   std::signal(SIGINT, request_stop);
   std::signal(SIGTERM, request_stop);
   try {
-    return run(o, params);
+    return run(o, *params);
   } catch (const std::exception& e) {
     return fail(e.what(), 1);
   }

@@ -3,16 +3,26 @@
 // process, nothing from the internet) with both eyes, the detections drawn on them, the
 // track state and register, a top view, commands and e-stop over time and every node's
 // health; and, on the same port, the Foxglove WebSocket protocol (foxglove.websocket.v1).
+// With --calibrate (what `stereoball calibrate live` starts) it also serves the calibration
+// page at /calibrate (calibration_pump.hpp).
 
 #include <CLI/CLI.hpp>
 
-#include <cstdio>
-#include <mutex>
+#include <spawn.h>
+#include <sys/wait.h>
 
+#include <cstdio>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "calibration_pump.hpp"
 #include "common/dds/reader.hpp"
 #include "common/node/common_flags.hpp"
 #include "common/node/node_runner.hpp"
 #include "frame_pump.hpp"
+#include "live_flags.hpp"
 #include "stereoball/topics.hpp"
 #include "view_server.hpp"
 #include "viewer/bridge/derived_channels.hpp"
@@ -26,7 +36,24 @@ struct Options {
   sb::viewer::DeriverParams derive;
   double image_rate_hz = 30;
   bool no_preview = false;
+  bool calibrate = false;
+  sb::calibrate_live::LiveFlags live;
+  bool open_browser = false;
 };
+
+extern "C" char** environ;
+
+// Opens url in the desktop's browser (xdg-open), without waiting for it; false when there is
+// none.
+bool open_in_browser(const std::string& url) {
+  const char* opener = "/usr/bin/xdg-open";
+  if (!std::filesystem::exists(opener)) return false;
+  pid_t pid = 0;
+  char* argv[] = {const_cast<char*>(opener), const_cast<char*>(url.c_str()), nullptr};
+  if (posix_spawn(&pid, opener, nullptr, nullptr, argv, environ) != 0) return false;
+  std::thread([pid] { waitpid(pid, nullptr, 0); }).detach();
+  return true;
+}
 
 // Every non-image input: converted under one lock, derived messages handed to the server.
 template <typename T, typename F>
@@ -79,8 +106,23 @@ int main(int argc, char** argv) {
                  "cut off a client whose backlog stays over the image drop limit this long")
       ->check(CLI::Range(0.1, 600.0))
       ->capture_default_str();
+  app.add_flag("--calibrate", o.calibrate,
+               "also serve the calibration page at /calibrate (stereoball calibrate live): "
+               "takes the flags below and -o FILE")
+      ->group("Calibration");
+  sb::calibrate_live::add_live_flags(app, o.live);
+  app.add_flag("--open", o.open_browser, "open the page in the desktop's browser (xdg-open)");
   sb::node::add_common_flags(app, common, "", false);
   CLI11_PARSE(app, argc, argv);
+  std::optional<sb::calibrate_live::StationParams> calibration;
+  if (o.calibrate) {
+    auto params = sb::calibrate_live::station_params(o.live);
+    if (!params) {
+      std::fprintf(stderr, "stereoball view: %s\n", params.error().c_str());
+      return 2;
+    }
+    calibration = *params;
+  }
   o.server.flow.stall_timeout_ns = static_cast<int64_t>(stall_s * 1e9);
   if (auto st = o.derive.validate(); !st) {
     std::fprintf(stderr, "stereoball view: %s\n", st.error().c_str());
@@ -100,6 +142,18 @@ int main(int argc, char** argv) {
           std::lock_guard lock(mutex);
           return sb::viewer::foxglove::plot_json(deriver.scene());
         });
+    std::unique_ptr<sb::view::CalibrationPump> calibration_pump;
+    if (calibration) {
+      calibration_pump = std::make_unique<sb::view::CalibrationPump>(
+          runner.participant(), *calibration, o.live.output,
+          static_cast<int64_t>(o.live.timeout_s * 1e9));
+      auto* pump = calibration_pump.get();
+      server.set_calibration({[pump] { return pump->state_json(); },
+                              [pump](const std::string& action) {
+                                if (action == "finish") pump->request_finish();
+                                if (action == "write") pump->request_write();
+                              }});
+    }
     auto url = server.start();
     if (!url) {
       std::fprintf(stderr, "stereoball view: %s\n", url.error().c_str());
@@ -110,6 +164,15 @@ int main(int argc, char** argv) {
     std::printf("viewer: %s (Foxglove: %s, domain %d%s%s)\n", url->c_str(), ws.c_str(),
                 common.domain_id, common.partition.empty() ? "" : ", partition ",
                 common.partition.c_str());
+    if (calibration_pump) {
+      std::printf("calibration page: %scalibrate (board %s, writes %s once the verdict passes)\n",
+                  url->c_str(), o.live.board.c_str(), o.live.output.c_str());
+      if (o.open_browser && !open_in_browser(*url + "calibrate"))
+        std::printf("no xdg-open here: open the address above in a browser\n");
+      calibration_pump->start();
+    } else if (o.open_browser && !open_in_browser(*url)) {
+      std::printf("no xdg-open here: open the address above in a browser\n");
+    }
     std::fflush(stdout);
 
     std::vector<std::shared_ptr<void>> readers;
@@ -152,6 +215,7 @@ int main(int argc, char** argv) {
     });
     const int rc = runner.run();
     pump.stop();
+    if (calibration_pump) calibration_pump->stop();
     server.stop();
     return rc;
   } catch (const std::exception& e) {

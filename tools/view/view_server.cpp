@@ -62,6 +62,7 @@ struct ViewServer::Impl {
   ServerParams params;
   std::function<std::string(int64_t)> scene_json;
   std::function<std::string()> plot_json;
+  CalibrationHooks calibration;
   ViewServer* owner = nullptr;
   std::unique_ptr<WsTransport> transport;
   std::map<uint64_t, Client> clients;  // touched on the transport thread only
@@ -176,6 +177,9 @@ struct ViewServer::Impl {
         update_ready();
       } else if (text && payload == "scene-ack") {
         c.flow.on_scene_ack();
+      } else if (text && calibration.on_action &&
+                 (payload == "calibrate:finish" || payload == "calibrate:write")) {
+        calibration.on_action(payload.substr(10));
       } else {
         ++bad_client_messages;  // the page sends nothing else: count it, act on nothing
       }
@@ -192,6 +196,17 @@ struct ViewServer::Impl {
     if (resource == "/" || resource.starts_with("/?") || resource == "/index.html")
       return {200, "text/html; charset=utf-8", std::string(page_html())};
     if (resource == "/stats") return {200, "application/json", stats_json()};
+    if (resource == "/common.css")
+      return {200, "text/css; charset=utf-8", std::string(common_css())};
+    if (resource == "/calibrate" || resource.starts_with("/calibrate?")) {
+      if (!calibration.state_json)
+        return {404, "text/plain",
+                "no calibration here: start it with stereoball calibrate live (or stereoball "
+                "view --calibrate)\n"};
+      return {200, "text/html; charset=utf-8", std::string(calibrate_page_html())};
+    }
+    if (resource == "/calibrate/state" && calibration.state_json)
+      return {200, "application/json", calibration.state_json()};
     return {404, "text/plain", "not found\n"};
   }
 
@@ -307,6 +322,10 @@ ViewServer::ViewServer(const ServerParams& params, std::function<std::string(int
   impl_->transport = std::make_unique<WsTransport>(
       std::move(handlers), std::vector<std::string>{std::string(fg::kSubprotocol)},
       kMaxIncomingBytes);
+}
+
+void ViewServer::set_calibration(CalibrationHooks hooks) {
+  impl_->calibration = std::move(hooks);
 }
 
 ViewServer::~ViewServer() {

@@ -42,6 +42,13 @@ struct ServerStats {
   uint64_t pairs_from_preview = 0;  ///< pairs the publisher's stereo/preview carried as JPEGs
 };
 
+/// The calibration page's hooks (stereoball view --calibrate); unset: /calibrate is 404.
+struct CalibrationHooks {
+  std::function<std::string()> state_json;  ///< GET /calibrate/state (any thread)
+  /// The page's buttons over its WebSocket: "finish" or "write" (on the server thread).
+  std::function<void(const std::string& action)> on_action;
+};
+
 class ViewServer {
  public:
   /// scene_json(now) returns the page's scene (called on the server thread, at most
@@ -51,6 +58,9 @@ class ViewServer {
   ~ViewServer();
   ViewServer(const ViewServer&) = delete;
   ViewServer& operator=(const ViewServer&) = delete;
+
+  /// Serves the calibration page with these hooks; before start().
+  void set_calibration(CalibrationHooks hooks);
 
   /// Binds and starts the server thread; error names the address and the reason.
   Result<std::string> start();

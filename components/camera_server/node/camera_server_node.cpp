@@ -128,8 +128,8 @@ void CameraServerNode::check_sample(const stereo::FrameView& view) {
                   view.encoding + " " + size_text(publish_size_) + " frames (largest so far)");
 }
 
-Status CameraServerNode::open_calibration(cv::Size capture_size) {
-  if (params_.calibration_file.empty()) return {};
+Result<CameraServerNode::LoadedCalibration> CameraServerNode::load_calibration_file(
+    cv::Size capture_size) const {
   auto calib = stereo::load_calibration(params_.calibration_file);
   if (!calib) return Error{calib.error()};
   if (calib->image_size != capture_size) {
@@ -147,13 +147,57 @@ Status CameraServerNode::open_calibration(cv::Size capture_size) {
     if (!scaled) return Error{params_.calibration_file + ": " + scaled.error()};
     calib = std::move(scaled);
   }
-  calibration_.emplace(std::move(calib).value());
   // Also without `rectify`: the eye-order check of the first frames rectifies them (at the
   // published size: frames are scaled before they are rectified).
-  auto r = stereo::Rectifier::create(*calibration_);
+  auto r = stereo::Rectifier::create(*calib);
   if (!r) return Error{params_.calibration_file + ": " + r.error()};
-  rectifier_.emplace(std::move(r).value());
+  return LoadedCalibration{std::move(calib).value(), std::move(r).value()};
+}
+
+Status CameraServerNode::open_calibration(cv::Size capture_size) {
+  capture_size_ = capture_size;
+  if (params_.calibration_file.empty()) return {};
+  std::error_code ec;
+  calibration_mtime_ = std::filesystem::last_write_time(params_.calibration_file, ec);
+  auto loaded = load_calibration_file(capture_size);
+  if (!loaded) return Error{loaded.error()};
+  calibration_.emplace(std::move(loaded->calibration));
+  rectifier_.emplace(std::move(loaded->rectifier));
   return {};
+}
+
+void CameraServerNode::publish_calibration() {
+  const std::string source =
+      scaler_ ? params_.calibration_file + " scaled to " + size_text(publish_size_)
+              : params_.calibration_file;
+  calibration_writer_.write(stereo::calibration_to_message(*calibration_, node::now_ns(), source));
+  runner_.health().count(std::string(topics::kStereoCalibration.spec.name));
+}
+
+// Runner thread, once a second: a calibration file written since it was read (a new
+// calibration from stereoball calibrate live) is checked as at start and published; a bad
+// one is reported once and the calibration in use kept.
+void CameraServerNode::reload_calibration_if_changed() {
+  std::error_code ec;
+  const auto mtime = std::filesystem::last_write_time(params_.calibration_file, ec);
+  if (ec || mtime == calibration_mtime_) return;
+  calibration_mtime_ = mtime;
+  auto loaded = load_calibration_file(capture_size_);
+  if (!loaded) {
+    const std::string text =
+        "calibration file changed but not used (the old one stays): " + loaded.error();
+    log::warn(text);
+    runner_.health().error("calibration_reload", text);
+    return;
+  }
+  {
+    std::lock_guard lock(calibration_mutex_);
+    calibration_.emplace(std::move(loaded->calibration));
+    rectifier_.emplace(std::move(loaded->rectifier));
+    eye_order_.reset();  // judge the eye order again with the new file
+    publish_calibration();
+  }
+  log::info("calibration reloaded from ", params_.calibration_file, " and published");
 }
 
 void CameraServerNode::start() {
@@ -165,12 +209,8 @@ void CameraServerNode::start() {
   }
   if (!calibration_) log::warn("no calibration_file: stereo/calibration is not published");
   if (calibration_) {
-    const std::string source =
-        scaler_ ? params_.calibration_file + " scaled to " + size_text(publish_size_)
-                : params_.calibration_file;
-    calibration_writer_.write(
-        stereo::calibration_to_message(*calibration_, node::now_ns(), source));
-    runner_.health().count(std::string(topics::kStereoCalibration.spec.name));
+    publish_calibration();
+    runner_.every(1'000'000'000, [this](int64_t) { reload_calibration_if_changed(); });
   }
   if (files_) {
     runner_.every(params_.period_ns(), [this](int64_t now_ns) { publish_file_pair(now_ns); });
@@ -321,8 +361,12 @@ void CameraServerNode::publish(const stereo::FrameView& captured) {
   const stereo::FrameView* in = scale(captured, scaled);
   if (in == nullptr) return;
   const stereo::FrameView& view = *in;
-  check_eye_order(view);
-  const stereo::FrameView* out = rectify(view, rectified);
+  const stereo::FrameView* out = nullptr;
+  {
+    std::lock_guard lock(calibration_mutex_);
+    check_eye_order(view);
+    out = rectify(view, rectified);
+  }
   if (out != nullptr) out = compress(*out, compressed);
   if (out == nullptr) return;
   check_sample(*out);

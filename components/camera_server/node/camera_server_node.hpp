@@ -1,9 +1,13 @@
 #pragma once
 // The camera_server process: a source (two V4L2 cameras or image files) -> stereo/frame, and
-// the calibration file -> stereo/calibration (transient-local), with health on the runner.
+// the calibration file -> stereo/calibration (transient-local), with health on the runner. A
+// calibration file that changes while it runs (stereoball calibrate live writes it) is read
+// again, checked as at start, and published; a bad one is reported and the old one kept.
 
 #include <atomic>
+#include <filesystem>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
@@ -41,6 +45,15 @@ class CameraServerNode {
   CameraServerNode(const CameraServerParams& params, node::Runner& runner);
   Status open_source(StereoCapture::DeviceFactory devices);
   Status open_calibration(cv::Size capture_size);
+  // The calibration file read and checked against the capture size, scaled to the published
+  // size, with its rectifier.
+  struct LoadedCalibration {
+    stereo::StereoCalibration calibration;
+    stereo::Rectifier rectifier;
+  };
+  Result<LoadedCalibration> load_calibration_file(cv::Size capture_size) const;
+  void publish_calibration();
+  void reload_calibration_if_changed();
   Status open_scaler(cv::Size capture_size);
   void check_transport(const std::string& raw_encoding);
   void report_oversize(uint64_t sample_bytes, const std::string& what);
@@ -65,11 +78,16 @@ class CameraServerNode {
   std::optional<FileSource> files_;
   std::unique_ptr<StereoCapture> capture_;
   FrameBuilder builder_;
+  // calibration_, rectifier_ and eye_order_ change when the file is reloaded (runner thread)
+  // while frames are published (capture thread): under calibration_mutex_.
+  std::mutex calibration_mutex_;
   std::optional<stereo::StereoCalibration> calibration_;
   std::optional<stereo::Rectifier> rectifier_;  // of the published size (rectify, eye order)
-  std::optional<FrameScaler> scaler_;           // publish_width_px
-  cv::Size publish_size_;                       // eyes as published (before compression)
-  stereo::EyeOrderWatch eye_order_;             // first frames: are the cameras swapped?
+  cv::Size capture_size_;                       // what the calibration must fit
+  std::filesystem::file_time_type calibration_mtime_{};  // of the file last read or refused
+  std::optional<FrameScaler> scaler_;                    // publish_width_px
+  cv::Size publish_size_;                                // eyes as published (before compression)
+  stereo::EyeOrderWatch eye_order_;                      // first frames: are the cameras swapped?
   cv::Mat rectified_[2];
   std::optional<stereo::FrameCompressor> compressor_;  // frame_encoding jpeg/png
   // stereo/preview of raw frames, made only while a viewer reads it; created with the source

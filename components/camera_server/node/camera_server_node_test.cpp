@@ -6,11 +6,14 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
+#include <thread>
 
 #include <opencv2/imgproc.hpp>
 
@@ -198,6 +201,55 @@ TEST(CameraServerNode, GivenRealPairsWhenPlayedThenFramesByteIdenticalAndCalibra
       10s);
   EXPECT_TRUE(got) << "no calibration for a late joiner\n" << node.output();
 
+  node.signal(SIGINT);
+  EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
+}
+
+TEST(CameraServerNode, GivenTheCalibrationFileRewrittenWhileRunningThenTheNewOneIsPublished) {
+  // Given camera_server publishing a copy of the samples' calibration
+  const std::string dir = sb::testing::temp_dir();
+  const std::string file = dir + "/rig.yaml";
+  auto original = sb::stereo::load_calibration(kCalibration);
+  ASSERT_TRUE(original.ok()) << original.error();
+  ASSERT_TRUE(sb::stereo::save_calibration(file, *original));
+  const std::string partition = sb::testing::unique_partition();
+  Process node = start_node(
+      write_config("source: files\nleft_glob: " + kSamples + "/left*.jpg\nright_glob: " + kSamples +
+                   "/right*.jpg\nwidth_px: 640\nheight_px: 480\nrate_hz: 30\n" +
+                   "calibration_file: " + file + "\n"),
+      partition);
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DataReader<stereoball_msg_StereoCalibration> calib(participant,
+                                                              sb::topics::kStereoCalibration);
+  const auto wait_for_t0 = [&](double t0) {
+    bool got = false;
+    sb::testing::eventually(
+        [&] {
+          for (auto& c : calib.take()) got |= std::abs(c->t[0] - t0) < 1e-9;
+          return got;
+        },
+        10s);
+    return got;
+  };
+  ASSERT_TRUE(wait_for_t0(original->t[0])) << node.output();
+  // When a new calibration replaces the file (as stereoball calibrate live writes it)
+  auto changed = *original;
+  changed.t *= 1.1;
+  changed.p2(0, 3) *= 1.1;
+  std::this_thread::sleep_for(1100ms);  // a later modification time than the first file's
+  ASSERT_TRUE(sb::stereo::save_calibration(dir + "/new.yaml", changed));
+  std::filesystem::rename(dir + "/new.yaml", file);
+  // Then camera_server publishes it without a restart
+  EXPECT_TRUE(wait_for_t0(changed.t[0])) << node.output();
+  EXPECT_TRUE(node.wait_for_output("calibration reloaded from " + file, 5s)) << node.output();
+  // When the file is replaced by one that is not a calibration
+  std::this_thread::sleep_for(1100ms);
+  std::ofstream(dir + "/bad.yaml") << "not: a calibration\n";
+  std::filesystem::rename(dir + "/bad.yaml", file);
+  // Then that is reported once, the node keeps running and publishes nothing new
+  EXPECT_TRUE(node.wait_for_output("calibration file changed but not used", 10s)) << node.output();
+  EXPECT_TRUE(node.running());
+  EXPECT_TRUE(calib.take().empty());
   node.signal(SIGINT);
   EXPECT_EQ(node.wait_for_exit(10s), 0) << node.output();
 }
