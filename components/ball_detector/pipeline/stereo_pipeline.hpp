@@ -118,12 +118,10 @@ class StereoPipeline {
   /// params must pass validate() (invalid detector values are clamped by the detector).
   explicit StereoPipeline(const BallDetectorParams& params);
 
-  /// How independent parts of a frame's work are run (run_tasks_in_turn until set): the
-  /// detections are the same whichever runner it is.
+  /// How independent parts of a frame's work are run (same detections with any runner).
   void set_task_runner(RunTasks run) { tools_.run_tasks = std::move(run); }
 
-  /// Validates calib and builds the rectification LUTs and the triangulator; on error the
-  /// previous calibration (if any) stays in use and the message names the problem.
+  /// Validates calib and builds the LUTs and triangulator; on error the previous one stays.
   Status set_calibration(const stereo::StereoCalibration& calib);
   /// Whether a calibration has been set.
   bool has_calibration() const { return tools_.rectifier.has_value(); }
@@ -132,43 +130,31 @@ class StereoPipeline {
   /// Image size frames must have, or 0x0 without calibration.
   cv::Size image_size() const;
 
-  /// Processes one pair of CV_8UC3 (BGR) or CV_8UC1 frames of the calibration's size;
-  /// rectified = true skips the LUT (the source already rectified). Wrong input gives
-  /// kBadFrame / kNoCalibration with the reason, never an exception. prior: where the tracker
-  /// expects the ball (see pair_candidates); a pair found there teaches the appearance model
-  /// the followed ball's colour (BGR frames only). stamp_ns: capture time, the model's clock.
-  /// eye_skew_ns: left minus right capture stamp when the source measured both (the epipolar
-  /// allowance of unsynchronised eyes, params' epipolar.skew_ns = -1); nullopt = unknown (0).
+  /// One pair of BGR or grey frames of the calibration's size (rectified: no LUT), the prior
+  /// (metres), capture stamp_ns and left-minus-right eye_skew_ns (README: step); never throws.
   StereoDetection step(const cv::Mat& left, const cv::Mat& right, bool rectified,
                        const std::optional<PositionPrior>& prior = std::nullopt,
                        std::int64_t stamp_ns = 0,
                        std::optional<std::int64_t> eye_skew_ns = std::nullopt);
 
-  /// How far the ball can move between the two exposures, in radii of its outline
-  /// (PairingContext::motion_radii), for a frame with this skew and prior.
+  /// How far the ball can move between the two exposures for this skew and prior, radii.
   double motion_radii(std::optional<std::int64_t> eye_skew_ns,
                       const std::optional<PositionPrior>& prior) const;
 
-  /// Work a frame leaves for after its answer: the periodic refresh of the whole left eye's
-  /// edge thresholds while the ball is found where the track expects it (about 2 ms of CPU
-  /// every kFullSearchEveryFrames frames). Call it after publishing the detection, with the
-  /// same left frame, so the answer does not wait for it; if it is not called, the next step()
-  /// does it first on its own frame. Returns whether it did anything (a frame that does not
-  /// fit the calibration is left alone).
+  /// The work step() left for after its answer (README: step), on the same left frame;
+  /// whether it did any.
   bool finish_frame(const cv::Mat& left, bool rectified);
 
   /// The followed ball's learnt appearance (for tests and diagnostics).
   const AppearanceModel& appearance() const { return tools_.appearance; }
 
-  /// Rectified detector-input images of the last processed frame (for debugging and tests);
-  /// with right_eye_partner_boxes the right one holds only the searched boxes (zero elsewhere).
+  /// Rectified detector input of the last frame (right: the searched boxes only, zero elsewhere).
   const cv::Mat& rectified_left() const { return tools_.rect_left; }
   const cv::Mat& rectified_right() const { return tools_.rect_right; }
   /// Candidates of the last processed frame, rectified pixels, best first.
   const std::vector<Circle>& left_candidates() const { return left_candidates_; }
   const std::vector<Circle>& right_candidates() const { return right_candidates_; }
-  /// The left detector's last edge map (the whole eye, or the crop last searched: see its
-  /// frame_px), for diagnostics.
+  /// The left detector's last edge map (whole eye or last crop: its frame_px), diagnostics.
   const EdgeMap& left_edges() const { return tools_.left_detector.edge_map(); }
   /// The rectified cameras of the calibration in use (nullopt without one).
   std::optional<stereo::PinholeCamera> left_camera() const;
