@@ -44,12 +44,8 @@ void print_row(const char* what, const Stats& s) {
               s.max);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{
-      "Times the ball detector pipeline per stereo frame (rectify + 2x Pixel-to-Pixel + pairing)\n"
-      "on 640x480 frames rendered by the simulator; prints median / p95 and detection figures."};
+// The bench's options (its command line).
+struct Options {
   int frames = 60;
   int threads = 1;
   bool clutter = false;
@@ -57,107 +53,138 @@ int main(int argc, char** argv) {
   std::string input = sb::ball_detector::to_string(sb::ball_detector::BallDetectorParams{}.input);
   bool full_right = false;
   double size_tolerance = sb::ball_detector::BallDetectorParams{}.size_max_relative_error;
-  app.add_option("--frames", frames, "stereo frames to time")->check(CLI::Range(5, 10000));
-  app.add_option("--threads", threads, "OpenCV threads (1 = one core, the target)")
-      ->check(CLI::Range(1, 64));
-  app.add_flag("--clutter", clutter, "boxes, door frame and a round plate in the room");
-  app.add_flag("--plain", plain, "untextured floor and one-colour ball");
   std::vector<int> k_values = {5};
   double min_score = sb::ball_detector::PixelToPixelParams{}.min_score;
-  app.add_option("--k", k_values, "Pixel-to-Pixel half window sizes (repeat for multi-k)")
+};
+
+void add_options(CLI::App& app, Options& o) {
+  app.add_option("--frames", o.frames, "stereo frames to time")->check(CLI::Range(5, 10000));
+  app.add_option("--threads", o.threads, "OpenCV threads (1 = one core, the target)")
+      ->check(CLI::Range(1, 64));
+  app.add_flag("--clutter", o.clutter, "boxes, door frame and a round plate in the room");
+  app.add_flag("--plain", o.plain, "untextured floor and one-colour ball");
+  app.add_option("--k", o.k_values, "Pixel-to-Pixel half window sizes (repeat for multi-k)")
       ->check(CLI::Range(1, 31));
-  app.add_option("--min-score", min_score, "drop circles scoring below this")
+  app.add_option("--min-score", o.min_score, "drop circles scoring below this")
       ->check(CLI::Range(0.0, 1.0));
-  app.add_flag("--full-right", full_right,
+  app.add_flag("--full-right", o.full_right,
                "search the whole right image (default: only the rows of left circles)");
-  app.add_option("--size-tolerance", size_tolerance,
+  app.add_option("--size-tolerance", o.size_tolerance,
                  "accepted relative radius error at the triangulated depth")
       ->check(CLI::Range(0.001, 10.0));
   app.add_option(
-      "--input", input,
+      "--input", o.input,
       "detector input image: grey, saturation, value, red, green, blue (default: the pipeline's)");
-  CLI11_PARSE(app, argc, argv);
-  const auto parsed_input = sb::ball_detector::parse_detector_input(input);
-  if (!parsed_input) {
-    std::fprintf(stderr, "stereoball-bench-pipeline: unknown --input '%s'\n", input.c_str());
-    return 2;
-  }
-  cv::setNumThreads(threads);
+}
 
-  // A ball rolling across and away in front of the robot: varied positions and sizes.
+// A ball rolling across and away in front of the robot (varied positions and sizes), rendered.
+sb::simulator::SimBallSetup rolling_ball(const Options& o) {
   sb::simulator::SimBallSetup setup;
   setup.ball_x_m = 1.0;
   setup.ball_y_m = 0.4;
   setup.vx_mps = 0.5;
   setup.vy_mps = -0.3;
-  setup.clutter = clutter;
-  setup.plain_room = plain;
-  setup.uniform_ball = plain;
+  setup.clutter = o.clutter;
+  setup.plain_room = o.plain;
+  setup.uniform_ball = o.plain;
+  return setup;
+}
+
+// Per-frame times of the whole pipeline and of its stages run alone, ms; detection counts.
+struct Figures {
+  std::vector<double> total, total_wall, chroma, rectify, p2p;
+  int found = 0, visible = 0, within_1px = 0;
+};
+
+Figures time_frames(sb::ball_detector::StereoPipeline& pipeline,
+                    const sb::ball_detector::BallDetectorParams& params,
+                    const sb::stereo::StereoCalibration& calibration,
+                    const std::vector<sb::simulator::SimFrame>& rendered) {
+  auto rectifier = sb::stereo::Rectifier::create(calibration).value();
+  sb::ball_detector::PixelToPixelDetector detector(params.detector_params());
+  pipeline.step(rendered[0].left, rendered[0].right, false);  // warm-up (first allocations)
+  Figures fig;
+  cv::Mat grey_l, grey_r, rect_l, rect_r;
+  for (const auto& f : rendered) {
+    const double w0 = wall_ms();
+    double t0 = thread_cpu_ms();
+    const auto det = pipeline.step(f.left, f.right, false);
+    fig.total.push_back(thread_cpu_ms() - t0);
+    fig.total_wall.push_back(wall_ms() - w0);
+
+    t0 = thread_cpu_ms();
+    sb::ball_detector::saturation(f.left, grey_l);
+    sb::ball_detector::saturation(f.right, grey_r);
+    fig.chroma.push_back(thread_cpu_ms() - t0);
+    t0 = thread_cpu_ms();
+    rectifier.rectify(grey_l, grey_r, rect_l, rect_r);
+    fig.rectify.push_back(thread_cpu_ms() - t0);
+    t0 = thread_cpu_ms();
+    detector.detect(rect_l);
+    fig.p2p.push_back(thread_cpu_ms() - t0);
+
+    const bool vis = f.truth.ball_visible_left && f.truth.ball_visible_right;
+    fig.visible += vis;
+    if (det.status == sb::ball_detector::DetectionStatus::kFound) {
+      ++fig.found;
+      if (vis && std::abs(det.left.x_px - f.truth.ball_left_px.x) <= 1.0 &&
+          std::abs(det.left.y_px - f.truth.ball_left_px.y) <= 1.0)
+        ++fig.within_1px;
+    }
+  }
+  return fig;
+}
+
+void print_figures(const Options& o, const Figures& fig) {
+  std::printf("stereoball-bench-pipeline: %d frames 640x480, %d OpenCV thread(s), input %s, %s\n",
+              o.frames, o.threads, o.input.c_str(), o.clutter ? "clutter" : "no clutter");
+  std::printf("CPU time of the calling thread (wall time depends on the machine's load):\n");
+  print_row("whole pipeline per stereo frame", stats(fig.total));
+  print_row("  chroma (saturation), both eyes", stats(fig.chroma));
+  print_row("  LUT rectify one channel, both eyes", stats(fig.rectify));
+  print_row("  Pixel-to-Pixel, one eye", stats(fig.p2p));
+  print_row("whole pipeline, wall clock", stats(fig.total_wall));
+  std::printf("ball visible in %d frames; found in %d; left centre within 1 px of truth in %d\n",
+              fig.visible, fig.found, fig.within_1px);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Times the ball detector pipeline per stereo frame (rectify + 2x Pixel-to-Pixel + pairing)\n"
+      "on 640x480 frames rendered by the simulator; prints median / p95 and detection figures."};
+  Options o;
+  add_options(app, o);
+  CLI11_PARSE(app, argc, argv);
+  const auto parsed_input = sb::ball_detector::parse_detector_input(o.input);
+  if (!parsed_input) {
+    std::fprintf(stderr, "stereoball-bench-pipeline: unknown --input '%s'\n", o.input.c_str());
+    return 2;
+  }
+  cv::setNumThreads(o.threads);
   const auto sim_params = sb::simulator::default_sim_params();
-  const auto scenario = sb::simulator::make_sim_scenario(setup);
+  const auto scenario = sb::simulator::make_sim_scenario(rolling_ball(o));
   if (auto e = sb::simulator::Simulator::check(sim_params, scenario); !e) {
     std::fprintf(stderr, "stereoball-bench-pipeline: %s\n", e.error().c_str());
     return 1;
   }
   sb::simulator::Simulator sim(sim_params, scenario);
   std::vector<sb::simulator::SimFrame> rendered;
-  for (int i = 0; i < frames; ++i)
+  for (int i = 0; i < o.frames; ++i)
     rendered.push_back(sim.step(std::nullopt, static_cast<int64_t>(i) * 50'000'000));
 
   sb::ball_detector::BallDetectorParams params;
   params.input = *parsed_input;
-  params.p2p.k_values = k_values;
-  params.right_eye_partner_boxes = !full_right;
-  params.size_max_relative_error = size_tolerance;
-  params.p2p.min_score = min_score;
+  params.p2p.k_values = o.k_values;
+  params.right_eye_partner_boxes = !o.full_right;
+  params.size_max_relative_error = o.size_tolerance;
+  params.p2p.min_score = o.min_score;
   sb::ball_detector::StereoPipeline pipeline(params);
   if (auto e = pipeline.set_calibration(sim.calibration()); !e) {
     std::fprintf(stderr, "stereoball-bench-pipeline: calibration: %s\n", e.error().c_str());
     return 1;
   }
-  auto rectifier = sb::stereo::Rectifier::create(sim.calibration()).value();
-  sb::ball_detector::PixelToPixelDetector detector(params.detector_params());
-  pipeline.step(rendered[0].left, rendered[0].right, false);  // warm-up (first allocations)
-
-  std::vector<double> total, total_wall, chroma, rectify, p2p;
-  int found = 0, visible = 0, within_1px = 0;
-  cv::Mat grey_l, grey_r, rect_l, rect_r;
-  for (const auto& f : rendered) {
-    const double w0 = wall_ms();
-    double t0 = thread_cpu_ms();
-    const auto det = pipeline.step(f.left, f.right, false);
-    total.push_back(thread_cpu_ms() - t0);
-    total_wall.push_back(wall_ms() - w0);
-
-    t0 = thread_cpu_ms();
-    sb::ball_detector::saturation(f.left, grey_l);
-    sb::ball_detector::saturation(f.right, grey_r);
-    chroma.push_back(thread_cpu_ms() - t0);
-    t0 = thread_cpu_ms();
-    rectifier.rectify(grey_l, grey_r, rect_l, rect_r);
-    rectify.push_back(thread_cpu_ms() - t0);
-    t0 = thread_cpu_ms();
-    detector.detect(rect_l);
-    p2p.push_back(thread_cpu_ms() - t0);
-
-    const bool vis = f.truth.ball_visible_left && f.truth.ball_visible_right;
-    visible += vis;
-    if (det.status == sb::ball_detector::DetectionStatus::kFound) {
-      ++found;
-      if (vis && std::abs(det.left.x_px - f.truth.ball_left_px.x) <= 1.0 &&
-          std::abs(det.left.y_px - f.truth.ball_left_px.y) <= 1.0)
-        ++within_1px;
-    }
-  }
-  std::printf("stereoball-bench-pipeline: %d frames 640x480, %d OpenCV thread(s), input %s, %s\n",
-              frames, threads, input.c_str(), clutter ? "clutter" : "no clutter");
-  std::printf("CPU time of the calling thread (wall time depends on the machine's load):\n");
-  print_row("whole pipeline per stereo frame", stats(total));
-  print_row("  chroma (saturation), both eyes", stats(chroma));
-  print_row("  LUT rectify one channel, both eyes", stats(rectify));
-  print_row("  Pixel-to-Pixel, one eye", stats(p2p));
-  print_row("whole pipeline, wall clock", stats(total_wall));
-  std::printf("ball visible in %d frames; found in %d; left centre within 1 px of truth in %d\n",
-              visible, found, within_1px);
+  print_figures(o, time_frames(pipeline, params, sim.calibration(), rendered));
   return 0;
 }

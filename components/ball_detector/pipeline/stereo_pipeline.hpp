@@ -19,6 +19,13 @@
 #include "ball_detector/pipeline/detector_params.hpp"
 #include "ball_detector/pipeline/interior_depth.hpp"
 #include "ball_detector/pipeline/pairing.hpp"
+#include "ball_detector/pipeline/search/brightness_free.hpp"
+#include "ball_detector/pipeline/search/expected_outlines.hpp"
+#include "ball_detector/pipeline/search/prior_window.hpp"
+#include "ball_detector/pipeline/search/radius_bands.hpp"
+#include "ball_detector/pipeline/search/search_strategy.hpp"
+#include "ball_detector/pipeline/search/search_tools.hpp"
+#include "ball_detector/pipeline/search/whole_frame.hpp"
 #include "common/util/result.hpp"
 #include "stereo/core/calibration.hpp"
 #include "stereo/core/epipolar.hpp"
@@ -64,32 +71,15 @@ enum class DetectionStatus {
 /// Short name of a status ("found", "no_candidate", ...).
 const char* to_string(DetectionStatus status);
 
-/// With a prior, the left eye's edge thresholds (which the searches near the prior reuse) are
-/// measured again on the whole frame at least this often, frames.
+/// With a prior, the whole left frame's edge thresholds are measured again at least this often
+/// (README: searches), frames.
 constexpr int kFullSearchEveryFrames = 15;
 
-/// When the whole-frame search pairs nothing, each eye is searched again in radius bands this
-/// ratio wide (largest / smallest radius), each band with its own accumulator peaks: in real
-/// clutter (chessboard squares, knuckles, hair) small structures fill every examined peak of
-/// the one whole-range accumulator and a large ball outline is never scored.
-constexpr double kRadiusBandRatio = 2.5;
-/// The band search costs about 7 ms of CPU on a 640x480 frame (red input; 45 ms when each band
-/// redid the edge step, 13 ms when it redid the window rules); frames after frames without a
-/// pair get it on the first of them and then every this many (at 30 Hz a ball coming into
-/// view is looked for band by band within 0.17 s). A band search that pairs starts the count
-/// again: the next frame without a pair gets the bands at once.
+/// Frames after frames without a pair get the radius-band search on the first of them and then
+/// every this many (README: radius bands), frames.
 constexpr int kBandSearchEveryFrames = 5;
-/// ... or, at a low frame rate (stills, a slow source), when this much capture time has passed
-/// since the last band search: the bands' cost is bounded in time, ns (above 5 frames at 30 Hz,
-/// so a 30 Hz stream is searched as before).
+/// ... or when this much capture time has passed since the last band search, ns.
 constexpr std::int64_t kBandSearchEveryNs = 200'000'000;
-
-/// Runs task(0) .. task(n - 1), possibly at the same time, and returns once all are done. Each
-/// task touches only its own state. The pipeline owns no threads: its caller (the node) may
-/// give it a runner that spreads the tasks over cores.
-using RunTasks = std::function<void(int n, const std::function<void(int)>& task)>;
-/// Runs the tasks one after the other (the pipeline's default).
-void run_tasks_in_turn(int n, const std::function<void(int)>& task);
 
 /// With a following track, the ball's speed allowed between the two eyes' exposures is the
 /// track's plus this (its velocity lags a hand's push), m/s, when lower than the configured.
@@ -104,20 +94,6 @@ constexpr int kPatchBytes = kPatchSide * kPatchSide * 3;
 /// image, as R,G,B row-major; pixels outside the image repeat the nearest border pixel.
 void extract_patch(const cv::Mat& image, double x_px, double y_px,
                    std::array<std::uint8_t, kPatchBytes>& out);
-
-/// Which search of a frame gave its answer.
-enum class SearchPath {
-  kExpectedOutlines,  ///< the prior's predicted outlines refined in each eye (no voting)
-  kPriorWindow,       ///< voting in the box around the prior
-  kWholeFrame,        ///< voting over the whole left eye
-  kRadiusBands,       ///< the whole left eye again, radius band by radius band
-  /// the colour seeds' outlines, or near a prior its expected outline, on the images with
-  /// their brightness removed, in both eyes
-  kBrightnessFree,
-};
-
-/// Short name of a search path ("expected_outlines", ...).
-const char* to_string(SearchPath path);
 
 /// What the pipeline found in one stereo frame.
 struct StereoDetection {
@@ -142,58 +118,44 @@ class StereoPipeline {
   /// params must pass validate() (invalid detector values are clamped by the detector).
   explicit StereoPipeline(const BallDetectorParams& params);
 
-  /// How independent parts of a frame's work are run (run_tasks_in_turn until set): the
-  /// detections are the same whichever runner it is.
-  void set_task_runner(RunTasks run) { run_tasks_ = std::move(run); }
+  /// How independent parts of a frame's work are run (same detections with any runner).
+  void set_task_runner(RunTasks run) { tools_.run_tasks = std::move(run); }
 
-  /// Validates calib and builds the rectification LUTs and the triangulator; on error the
-  /// previous calibration (if any) stays in use and the message names the problem.
+  /// Validates calib and builds the LUTs and triangulator; on error the previous one stays.
   Status set_calibration(const stereo::StereoCalibration& calib);
   /// Whether a calibration has been set.
-  bool has_calibration() const { return rectifier_.has_value(); }
+  bool has_calibration() const { return tools_.rectifier.has_value(); }
   /// The calibration's rectifier, nullopt without calibration.
-  const std::optional<stereo::Rectifier>& rectifier() const { return rectifier_; }
+  const std::optional<stereo::Rectifier>& rectifier() const { return tools_.rectifier; }
   /// Image size frames must have, or 0x0 without calibration.
   cv::Size image_size() const;
 
-  /// Processes one pair of CV_8UC3 (BGR) or CV_8UC1 frames of the calibration's size;
-  /// rectified = true skips the LUT (the source already rectified). Wrong input gives
-  /// kBadFrame / kNoCalibration with the reason, never an exception. prior: where the tracker
-  /// expects the ball (see pair_candidates); a pair found there teaches the appearance model
-  /// the followed ball's colour (BGR frames only). stamp_ns: capture time, the model's clock.
-  /// eye_skew_ns: left minus right capture stamp when the source measured both (the epipolar
-  /// allowance of unsynchronised eyes, params' epipolar.skew_ns = -1); nullopt = unknown (0).
+  /// One pair of BGR or grey frames of the calibration's size (rectified: no LUT), the prior
+  /// (metres), capture stamp_ns and left-minus-right eye_skew_ns (README: step); never throws.
   StereoDetection step(const cv::Mat& left, const cv::Mat& right, bool rectified,
                        const std::optional<PositionPrior>& prior = std::nullopt,
                        std::int64_t stamp_ns = 0,
                        std::optional<std::int64_t> eye_skew_ns = std::nullopt);
 
-  /// How far the ball can move between the two exposures, in radii of its outline
-  /// (PairingContext::motion_radii), for a frame with this skew and prior.
+  /// How far the ball can move between the two exposures for this skew and prior, radii.
   double motion_radii(std::optional<std::int64_t> eye_skew_ns,
                       const std::optional<PositionPrior>& prior) const;
 
-  /// Work a frame leaves for after its answer: the periodic refresh of the whole left eye's
-  /// edge thresholds while the ball is found where the track expects it (about 2 ms of CPU
-  /// every kFullSearchEveryFrames frames). Call it after publishing the detection, with the
-  /// same left frame, so the answer does not wait for it; if it is not called, the next step()
-  /// does it first on its own frame. Returns whether it did anything (a frame that does not
-  /// fit the calibration is left alone).
+  /// The work step() left for after its answer (README: step), on the same left frame;
+  /// whether it did any.
   bool finish_frame(const cv::Mat& left, bool rectified);
 
   /// The followed ball's learnt appearance (for tests and diagnostics).
-  const AppearanceModel& appearance() const { return appearance_; }
+  const AppearanceModel& appearance() const { return tools_.appearance; }
 
-  /// Rectified detector-input images of the last processed frame (for debugging and tests);
-  /// with right_eye_partner_boxes the right one holds only the searched boxes (zero elsewhere).
-  const cv::Mat& rectified_left() const { return rect_left_; }
-  const cv::Mat& rectified_right() const { return rect_right_; }
+  /// Rectified detector input of the last frame (right: the searched boxes only, zero elsewhere).
+  const cv::Mat& rectified_left() const { return tools_.rect_left; }
+  const cv::Mat& rectified_right() const { return tools_.rect_right; }
   /// Candidates of the last processed frame, rectified pixels, best first.
   const std::vector<Circle>& left_candidates() const { return left_candidates_; }
   const std::vector<Circle>& right_candidates() const { return right_candidates_; }
-  /// The left detector's last edge map (the whole eye, or the crop last searched: see its
-  /// frame_px), for diagnostics.
-  const EdgeMap& left_edges() const { return left_detector_.edge_map(); }
+  /// The left detector's last edge map (whole eye or last crop: its frame_px), diagnostics.
+  const EdgeMap& left_edges() const { return tools_.left_detector.edge_map(); }
   /// The rectified cameras of the calibration in use (nullopt without one).
   std::optional<stereo::PinholeCamera> left_camera() const;
   std::optional<stereo::PinholeCamera> right_camera() const;
@@ -201,131 +163,40 @@ class StereoPipeline {
  private:
   Status check_input(const cv::Mat& left, const cv::Mat& right) const;
   void refresh_thresholds(const cv::Mat& left_channel, bool rectified);
-  void rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified, cv::Mat& out) const;
-  /// out: a zero image of the calibration's size and channel's type (boxes are then rectified
-  /// into it with rectify_box; the rest stays zero).
-  void clear_rectified(const cv::Mat& channel, cv::Mat& out) const;
-  void rectify_box(const cv::Mat& channel, stereo::Eye eye, bool rectified, const cv::Rect& box,
-                   cv::Mat& out) const;
   const cv::Mat& detector_channel(const cv::Mat& raw, cv::Mat& grey) const;
-  std::vector<cv::Rect> partner_boxes(const PairingContext& ctx) const;
-  std::optional<PairingResult> search_near_prior(const PairingContext& ctx,
-                                                 const cv::Mat& left_channel,
-                                                 const cv::Mat& right_channel, bool rectified,
-                                                 const PositionPrior& prior);
-  /// The pair at the prior's expected outlines refined (left in left_box, already rectified),
-  /// or nullopt when that gives no pair within the gate.
-  std::optional<PairingResult> pair_at_expected_outlines(const PairingContext& ctx,
-                                                         const cv::Mat& right_channel,
-                                                         bool rectified, const PositionPrior& prior,
-                                                         const cv::Rect& left_box,
-                                                         const SearchHints& left_hints);
-  PairingResult search_whole_frame(const PairingContext& ctx, const cv::Mat& left_channel,
-                                   const cv::Mat& right_channel, bool rectified,
-                                   const std::optional<PositionPrior>& prior,
-                                   std::optional<std::vector<Circle>>* band_left);
-  PairingResult search_radius_bands(const PairingContext& ctx, std::vector<Circle> band_left,
-                                    const cv::Mat& right_channel, bool rectified,
-                                    const std::optional<PositionPrior>& prior);
-  /// The left detector's last image (whole, its own thresholds) searched again band by band;
-  /// stops early (result unused) once *stop is set.
-  std::vector<Circle> detect_left_in_bands(const std::atomic<bool>* stop);
-  /// The left detector's last votes turned into circles, each peak a task or all in turn.
-  std::vector<Circle> left_circles_of_votes(bool peaks_at_once);
-  // Left candidates refined from colour-region seeds (colour_seeds.hpp) that the votes missed;
-  // the seeds are kept for pair_seeds_without_brightness.
-  void add_colour_seeded_candidates();
-  /// Seeds (left rectified px) refined on the left image with its brightness removed, each found
-  /// circle's right outline looked for the same way, and the pairs checked as any are: a ball
-  /// whose rim differs from the floor in hue, hardly in brightness, on a floor whose brightness
-  /// texture sets the frame's edge thresholds (stereo_pipeline_brightness_free.cpp). Nothing
-  /// for grey input.
-  PairingResult pair_seeds_without_brightness(const PairingContext& ctx,
-                                              const cv::Mat& left_channel,
-                                              const cv::Mat& right_channel, bool rectified,
-                                              const std::optional<PositionPrior>& prior,
-                                              std::span<const Circle> seeds);
-  /// The same from the prior's expected left outline; only a pair within the gate counts.
-  std::optional<PairingResult> pair_expected_without_brightness(const PairingContext& ctx,
-                                                                const cv::Mat& left_channel,
-                                                                const cv::Mat& right_channel,
-                                                                bool rectified,
-                                                                const PositionPrior& prior);
-  /// The right outline of left's ball along its epipolar line, scored on the right partner box
-  /// with its brightness removed (edges at thresholds, the left box's).
-  std::optional<Circle> right_outline_without_brightness(const PairingContext& ctx,
-                                                         const cv::Mat& right_channel,
-                                                         bool rectified, const Circle& left,
-                                                         const EdgeThresholds& thresholds);
-  /// How a right outline predicted from a left circle is scored (min_inside_fraction of it in
-  /// view): no clutter rings, the right camera's perspective.
-  RefineParams partner_scoring(double min_inside_fraction) const;
-  /// How much of a predicted right outline must be in view: near a track's prior the predicted
-  /// partner's own fraction, elsewhere also the detector's border rule.
-  double partner_min_inside_fraction(bool near_prior) const;
-  /// The right outline of left's ball along its epipolar line (predicted_partner), scored on
-  /// edges whose pixel (0, 0) is origin in the rectified right image; p2p.min_score to pass.
-  std::optional<Circle> partner_on_edges(const PairingContext& ctx, const Circle& left,
-                                         const EdgeMap& edges, cv::Point origin,
-                                         const RefineParams& scoring) const;
-  int window_margin_px() const;
-  std::vector<Circle> detect_right_in_boxes(const PairingContext& ctx, const cv::Mat& right_channel,
-                                            bool rectified, bool near_prior);
-  std::vector<Circle> predicted_partners(const PairingContext& ctx, double min_inside_fraction);
-  PairingResult pair_with_predicted_partners(const PairingContext& ctx,
-                                             const std::optional<PositionPrior>& prior,
-                                             bool near_prior);
-  void fill_result(const PairingResult& pairing, StereoDetection& out) const;
-  ShiftWindow shift_window(const StereoDetection& found) const;
+  /// The frame's searches in order (the driver): the answer, its candidates and path.
+  SearchOutcome search(const FrameState& frame);
+  /// The answer's checks, patch and colour learning into out.
+  void report(const FrameState& frame, const SearchOutcome& answer, StereoDetection& out);
+  void fill_result(const SearchOutcome& answer, StereoDetection& out) const;
+  ShiftWindow shift_window(const StereoDetection& found, double motion_radii) const;
   /// channel (a raw eye, or rectified already) rectified at least over region: channel itself
   /// when rectified, else the eye's scratch image with region rectified into it.
   const cv::Mat& rectified_region(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                   const cv::Rect& region);
-  void check_interior(const cv::Mat& left_channel, const cv::Mat& right_channel, bool rectified,
-                      StereoDetection& found);
-  void balance_radii(const cv::Mat& left_channel, const cv::Mat& right_channel, bool rectified,
-                     StereoDetection& found);
+  void check_interior(const FrameState& frame, StereoDetection& found);
+  void balance_radii(const FrameState& frame, StereoDetection& found);
   std::optional<Circle> refit_at_radius(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                         const Circle& circle, double radius_px);
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
-  void raw_left_px(const std::vector<cv::Point2d>& rectified_px, std::vector<cv::Point2d>& raw_px);
-  std::optional<ColourHistogram> colour_of(const Circle& left);
-  int apply_appearance();
 
-  BallDetectorParams params_;          // p2p scaled to the calibration's width (set_calibration)
-  PixelToPixelParams configured_p2p_;  // p2p as configured
-  PixelToPixelDetector left_detector_;
-  PixelToPixelDetector right_detector_;
-  std::vector<PixelToPixelDetector> band_detectors_;  // one per radius band of the left eye
-  PixelToPixelDetector seed_detector_;  // pair_seeds_without_brightness's left searches
-  std::vector<Circle> colour_seeds_;    // the last whole-frame search's (left rectified px)
-  cv::Mat brightness_free_right_;       // right_outline_without_brightness's image
-  RunTasks run_tasks_ = run_tasks_in_turn;
+  SearchTools tools_;  // calibration, detectors, rectified images, appearance (frame to frame)
+  // The searches, in the order search() runs them.
+  ExpectedOutlinesSearch expected_outlines_;
+  PriorWindowSearch prior_window_;
+  BrightnessFreeSearch expected_without_brightness_{BrightnessFreeSeeds::kExpectedOutline};
+  WholeFrameSearch whole_frame_;
+  RadiusBandSearch radius_bands_;
+  BrightnessFreeSearch seeds_without_brightness_{BrightnessFreeSeeds::kColourSeeds};
   stereo::EpipolarCheck epipolar_;
   stereo::SizeCheckParams size_;
-  std::optional<stereo::Rectifier> rectifier_;
-  std::optional<stereo::Triangulator> triangulator_;
-  cv::Matx33d patch_ray_from_pixel_;  // rectified pixel -> ray in the raw left camera
-  cv::Mat grey_left_, grey_right_, rect_left_, rect_right_;
+  std::optional<FloorModel> floor_;  // none when the floor check is off
+  cv::Mat grey_left_, grey_right_;
   cv::Mat region_left_, region_right_;  // rectified_region's scratch images, one per eye
   EdgeMap balance_edges_;               // the edges of the region balance_radii refits
   cv::Mat patch_map_, patch_bgr_;
-  std::vector<cv::Point3d> patch_rays_;
   std::vector<cv::Point2d> patch_raw_px_;
-  std::vector<Circle> left_candidates_, right_candidates_;
-  EdgeMap partner_edges_;     // right-eye edges around one predicted partner
-  cv::Rect right_edges_box_;  // the box of the right detector's last edge map
-  // search_near_prior: which of its searches answered (kExpectedOutlines or kPriorWindow).
-  SearchPath near_prior_path_ = SearchPath::kPriorWindow;
-  std::optional<EdgeThresholds> left_thresholds_;  // of the last whole left frame
-  std::optional<FloorModel> floor_;                // none when the floor check is off
-  AppearanceModel appearance_;
-  const cv::Mat* frame_left_ = nullptr;  // the raw left frame of the step in progress
-  bool frame_rectified_ = false;
-  double frame_motion_radii_ = 0.0;  // the frame's PairingContext::motion_radii
-  int rejected_by_colour_ = 0;
-  std::vector<cv::Point2d> colour_rect_px_, colour_raw_px_;
-  std::vector<cv::Vec3b> colour_px_;
+  std::vector<Circle> left_candidates_, right_candidates_;  // the last frame's answer's
   int frames_since_full_search_ = 0;
   bool refresh_due_ = false;     // the left thresholds are to be measured again (finish_frame)
   cv::Mat refresh_left_;         // the whole rectified left eye the refresh measures

@@ -1,0 +1,91 @@
+#include "ball_detector/pipeline/search/radius_bands.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace stereoball::ball_detector {
+namespace {
+
+// The bands of the left eye's radii: up to a third of the image height (README: radius bands),
+// each kRadiusBandRatio wide, neighbours overlapping by 10 % (a circle on a boundary is whole
+// in one of them).
+std::vector<SearchHints> radius_bands(const SearchTools& tools) {
+  const double top = std::min(tools.params.p2p.max_radius_px, tools.rect_left.rows / 3.0);
+  std::vector<SearchHints> bands;
+  for (double low = tools.params.p2p.min_radius_px; low < top; low *= kRadiusBandRatio) {
+    bands.push_back(
+        SearchHints{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}});
+    // This band reaches the top already: a next one would lie inside it.
+    if (bands.back().radii.max_px >= top) break;
+  }
+  return bands;
+}
+
+// found (best first) without the circles a better one of the same place and size precedes.
+std::vector<Circle> best_of_each_place(const std::vector<Circle>& found, double separation_px) {
+  std::vector<Circle> kept;
+  for (const Circle& c : found) {
+    const bool seen = std::any_of(kept.begin(), kept.end(), [&](const Circle& k) {
+      return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) < separation_px &&
+             std::abs(k.radius_px - c.radius_px) < 0.2 * std::max(k.radius_px, c.radius_px);
+    });
+    if (!seen) kept.push_back(c);
+  }
+  return kept;
+}
+
+}  // namespace
+
+std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop) {
+  const std::vector<SearchHints> bands = radius_bands(tools);
+  // The left detector holds this image's edge map, made with these very thresholds, and the
+  // lines its points voted along: each band plots them again over its radii instead of redoing
+  // the edge step and the window rules. The bands are independent tasks, each on a detector of
+  // its own (the left one is only read).
+  while (tools.band_detectors.size() < bands.size()) {
+    tools.band_detectors.emplace_back(tools.params.detector_params());
+    tools.band_detectors.back().set_camera(tools.params.perspective_outline ? tools.left_camera()
+                                                                            : std::nullopt);
+  }
+  std::vector<std::vector<Circle>> per_band(bands.size());
+  tools.run_tasks(static_cast<int>(bands.size()), [&](int task) {
+    const auto b = static_cast<std::size_t>(task);
+    if (stop && *stop) return;  // the result is not wanted any more
+    per_band[b] = tools.band_detectors[b].redetect_from(tools.left_detector, bands[b]);
+  });
+  std::vector<Circle> found;
+  for (const auto& circles : per_band) found.insert(found.end(), circles.begin(), circles.end());
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  // Neighbouring bands find the same circle.
+  return best_of_each_place(found, tools.params.p2p.min_separation_px);
+}
+
+std::optional<SearchOutcome> RadiusBandSearch::run(const FrameState& frame, FrameScratch& scratch,
+                                                   SearchTools& tools) const {
+  if (!scratch.band_left) scratch.band_left = detect_left_in_bands(tools, nullptr);
+  std::vector<Circle> left = std::move(*scratch.band_left);
+  scratch.band_left.reset();
+  // The right eye with the whole left frame's thresholds, each left circle's partner box with
+  // only the radii its partner can have: one box searched for the union of every candidate's
+  // radii is crowded out by clutter just like the left eye.
+  const EdgeThresholds thresholds = *tools.left_thresholds;
+  const cv::Size size = tools.image_size();
+  tools.clear_rectified(frame.right_channel, tools.rect_right);
+  std::vector<Circle> right;
+  for (const Circle& c : left) {
+    const cv::Rect box = partner_search_box(frame.ctx, c, size, tools.window_margin_px());
+    if (box.width < 8 || box.height < 8) continue;
+    tools.rectify_box(frame.right_channel, stereo::Eye::kRight, frame.rectified, box,
+                      tools.rect_right);
+    tools.right_edges_box = box;
+    const SearchHints hints{partner_radius_range(frame.ctx, {c})};
+    for (const Circle& r : tools.right_detector.detect(tools.rect_right(box), thresholds, hints))
+      right.push_back(shifted(r, box.tl()));
+  }
+  SearchOutcome out = pairing_.pair(frame, tools, std::move(left), std::move(right), false);
+  out.path = SearchPath::kRadiusBands;
+  return out;
+}
+
+}  // namespace stereoball::ball_detector

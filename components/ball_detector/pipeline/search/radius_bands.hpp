@@ -1,0 +1,33 @@
+#pragma once
+// The whole left eye searched again radius band by radius band, each band with its own
+// accumulator peaks, and each circle's right partner box with only its own radii (README:
+// radius bands).
+
+#include <atomic>
+#include <vector>
+
+#include "ball_detector/pipeline/search/predicted_partner.hpp"
+#include "ball_detector/pipeline/search/search_strategy.hpp"
+#include "ball_detector/pipeline/search/search_tools.hpp"
+
+namespace stereoball::ball_detector {
+
+/// Ratio of a radius band's largest to smallest radius.
+constexpr double kRadiusBandRatio = 2.5;
+
+/// The left detector's last image (whole, its own thresholds) searched again band by band, the
+/// bands as tasks of tools.run_tasks; stops early (result unused) once *stop is set. Best first.
+std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop);
+
+/// scratch.band_left (or the bands searched now) paired with the right eye searched in each
+/// circle's partner box (the whole frame's thresholds); its outcome whether or not it pairs.
+class RadiusBandSearch : public SearchStrategy {
+ public:
+  std::optional<SearchOutcome> run(const FrameState& frame, FrameScratch& scratch,
+                                   SearchTools& tools) const override;
+
+ private:
+  PredictedPartner pairing_;
+};
+
+}  // namespace stereoball::ball_detector

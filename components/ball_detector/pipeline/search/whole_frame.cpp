@@ -1,0 +1,63 @@
+#include "ball_detector/pipeline/search/whole_frame.hpp"
+
+#include <atomic>
+
+#include "ball_detector/pipeline/search/radius_bands.hpp"
+
+namespace stereoball::ball_detector {
+
+std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, FrameScratch& scratch,
+                                                   SearchTools& tools) const {
+  tools.rectify_whole(frame.left_channel, stereo::Eye::kLeft, frame.rectified, tools.rect_left);
+  const bool voted = tools.left_detector.cast_votes(tools.rect_left);
+  // Task 0 finishes the search (peaks, right eye, pairing). When a band search is due, the
+  // other task searches the left eye's radius bands on the same votes meanwhile, in case it
+  // pairs nothing: on another core this takes the bands out of the frame's time, and the work
+  // is dropped (stopped between bands) if it pairs. Run in turn, task 0 goes first and the
+  // bands run only if it paired nothing. Task 0 does not touch what the band task reads (the
+  // left detector's edges and lines), nor it anything task 0 touches.
+  const bool bands_due = scratch.bands_due;
+  SearchOutcome out;
+  std::atomic<bool> paired{false};
+  std::vector<Circle> bands;
+  tools.run_tasks(bands_due ? 2 : 1, [&](int task) {
+    if (task == 1) {
+      if (!paired) bands = detect_left_in_bands(tools, &paired);
+      return;
+    }
+    std::vector<Circle> left = voted ? circles_of_votes(tools, !bands_due) : std::vector<Circle>{};
+    if (voted) {
+      if (auto seeded = colour_seeds_.run(frame, scratch, tools))
+        add_unknown_circles(seeded->left, left);
+    }
+    tools.left_thresholds = thresholds_of(tools.left_detector.edge_map());
+    std::vector<Circle> right;
+    if (tools.params.right_eye_partner_boxes) {
+      right = tools.detect_right_in_boxes(frame, left, false);
+    } else {
+      tools.rectify_whole(frame.right_channel, stereo::Eye::kRight, frame.rectified,
+                          tools.rect_right);
+      right = tools.right_detector.detect(tools.rect_right);
+      tools.right_edges_box = cv::Rect(cv::Point(0, 0), tools.rect_right.size());
+    }
+    out = pairing_.pair(frame, tools, std::move(left), std::move(right), false);
+    paired = out.found();
+  });
+  if (bands_due && !paired) scratch.band_left = std::move(bands);
+  out.path = SearchPath::kWholeFrame;
+  return out;
+}
+
+std::vector<Circle> WholeFrameSearch::circles_of_votes(SearchTools& tools, bool peaks_at_once) {
+  // Refining and scoring the peaks is most of a whole-frame search (~40 %), and each peak is
+  // independent. When the band search runs beside it, it has the other core to itself.
+  if (!peaks_at_once) return tools.left_detector.circles_of_votes();
+  const int n = tools.left_detector.find_peaks_of_votes();
+  std::vector<PeakCircles> per_peak(static_cast<std::size_t>(n));
+  tools.run_tasks(n, [&](int i) {
+    per_peak[static_cast<std::size_t>(i)] = tools.left_detector.refine_peak(i);
+  });
+  return tools.left_detector.select_circles(per_peak);
+}
+
+}  // namespace stereoball::ball_detector

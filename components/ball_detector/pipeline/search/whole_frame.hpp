@@ -1,0 +1,29 @@
+#pragma once
+// Voting over the whole left eye (plus its colour seeds), the right eye in the left circles'
+// partner boxes or whole, and pairing; when scratch.bands_due, the left eye's radius bands are
+// searched beside it on the same votes (README: whole frame).
+
+#include "ball_detector/pipeline/search/colour_seed_candidates.hpp"
+#include "ball_detector/pipeline/search/predicted_partner.hpp"
+#include "ball_detector/pipeline/search/search_strategy.hpp"
+#include "ball_detector/pipeline/search/search_tools.hpp"
+
+namespace stereoball::ball_detector {
+
+/// The whole-frame search: its outcome whether or not it pairs (kWholeFrame); measures
+/// tools.left_thresholds again; leaves scratch.band_left (when bands_due and nothing paired)
+/// and scratch.colour_seeds.
+class WholeFrameSearch : public SearchStrategy {
+ public:
+  std::optional<SearchOutcome> run(const FrameState& frame, FrameScratch& scratch,
+                                   SearchTools& tools) const override;
+
+ private:
+  /// The left detector's last votes turned into circles, each peak a task or all in turn.
+  static std::vector<Circle> circles_of_votes(SearchTools& tools, bool peaks_at_once);
+
+  ColourSeedCandidates colour_seeds_;
+  PredictedPartner pairing_;
+};
+
+}  // namespace stereoball::ball_detector
