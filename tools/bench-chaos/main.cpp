@@ -392,6 +392,11 @@ void Run::poll() {
       m.process = n.name, m.pid = n.pid, m.first_ns = now, m.first_kb = kb;
     }
     m.last_ns = now, m.last_kb = kb;
+    // Every sample, so a growth can be told from a plateau afterwards.
+    if (std::FILE* csv = std::fopen((o_.out_dir + "/memory.csv").c_str(), "a")) {
+      std::fprintf(csv, "%.1f,%s,%d,%ld\n", (now - start_ns_) * 1e-9, n.name.c_str(), n.pid, kb);
+      std::fclose(csv);
+    }
   }
 }
 
@@ -698,6 +703,7 @@ int Run::main() {
   mcap_ = o_.out_dir + "/chaos.mcap";
   fs::remove(base_log_, ec);
   fs::remove(mcap_, ec);
+  fs::remove(o_.out_dir + "/memory.csv", ec);
   for (const auto& k : {key_file_, rogue_key_}) {
     if (run_command({bin("stereoball-keys"), "init", "--force", "--file", k}, log_file("tools"),
                     20 * kS) != 0) {
