@@ -27,7 +27,7 @@ constexpr std::array<Subcommand, 17> kKnown = {{
     {"foxglove", "the same as view (Foxglove: connect to ws://HOST:PORT/)"},
     {"topic", "list, echo and measure topics (list | echo | hz)"},
     {"detect", "detect circles in image files"},
-    {"bench", "benchmarks (detect | tracking | closed-loop | ...)"},
+    {"bench", "benchmarks (detect | tracking | closed-loop | chaos | ...)"},
     {"calibrate", "stereo calibration from chessboard image pairs"},
     {"sim", "run a simulator scenario headless, write frames to disk"},
     {"record", "record topics to an MCAP file"},

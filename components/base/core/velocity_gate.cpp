@@ -26,6 +26,10 @@ std::string_view to_string(GateState state) {
   return util::name_of(kGateStateNames, state, "?");
 }
 
+std::optional<GateState> gate_state_from_string(std::string_view name) {
+  return util::value_of(kGateStateNames, name);
+}
+
 VelocityGate::VelocityGate(const VelocityGateParams& params) : params_(params) {}
 
 void VelocityGate::on_command(const Velocity& command, int64_t received_ns) {

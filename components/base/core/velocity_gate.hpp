@@ -30,6 +30,8 @@ enum class GateState {
   kNoCommand,      ///< nothing received since start or since the e-stop was released: zero
 };
 std::string_view to_string(GateState state);
+/// The state named name (as to_string prints it), or nullopt.
+std::optional<GateState> gate_state_from_string(std::string_view name);
 
 struct GateOutput {
   Velocity velocity;  ///< what the base may apply now

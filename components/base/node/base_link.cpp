@@ -23,7 +23,16 @@ void BaseLink::on_velocity() {
     if (out.state == GateState::kEmergencyStop) {
       runner_.health().count("cmd_velocity_blocked_by_estop");
     }
-    on_command_({out, s->stamp_ns});
+    BaseCommand command;
+    command.output = out;
+    command.stamp_ns = s->stamp_ns;
+    command.received_ns = now;
+    command.seq = s->seq;
+    command.key_id = s->auth.key_id;
+    // The reader drops every sample whose MAC does not verify; keyless nothing is checked.
+    command.authenticated = runner_.participant().auth().keyed() && s->auth.key_id != 0;
+    command.source = s->source ? s->source : "";
+    on_command_(command);
   }
 }
 
@@ -31,7 +40,12 @@ void BaseLink::on_estop(const node::EstopState& state) {
   gate_.set_estop(state.engaged);
   // The stop takes effect now, not at the next command.
   const int64_t now = node::now_ns();
-  on_command_({gate_.step(now), now});
+  BaseCommand command;
+  command.output = gate_.step(now);
+  command.stamp_ns = now;
+  command.from_estop = true;
+  command.received_ns = now;
+  on_command_(command);
 }
 
 }  // namespace stereoball::base

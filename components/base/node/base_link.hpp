@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
 
 #include "base/core/velocity_gate.hpp"
 #include "common/dds/reader.hpp"
@@ -13,10 +14,16 @@
 
 namespace stereoball::base {
 
-/// A gated command for the driver.
+/// A gated command for the driver, with what the base knows of the command behind it.
 struct BaseCommand {
   GateOutput output;
-  int64_t stamp_ns = 0;  ///< the command's own stamp (ns since epoch), or now for a stop
+  int64_t stamp_ns = 0;        ///< the command's own stamp (ns since epoch), or now for a stop
+  bool from_estop = false;     ///< the e-stop changed (no command behind it)
+  int64_t received_ns = 0;     ///< when the base took it, ns since epoch
+  uint64_t seq = 0;            ///< the command's seq
+  uint32_t key_id = 0;         ///< key id of its authentication tag (0 = unsigned)
+  bool authenticated = false;  ///< its MAC was verified with the deployment key
+  std::string source;          ///< the command's source field
 };
 
 class BaseLink {

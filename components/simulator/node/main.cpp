@@ -39,6 +39,9 @@ struct Flags {
                    "publish this calibration file instead of the true one (calibrated-vs-true "
                    "mismatch tests); its image size must match the simulator's");
     app.add_flag("--loop", options.loop, "restart the scenario when its duration has passed");
+    app.add_option("--base-log", options.base_log_path,
+                   "append the base's events (every executed command with its authentication "
+                   "and age, e-stop changes, the robot's velocity per frame) to this file");
     codec.emplace(app);
   }
 };

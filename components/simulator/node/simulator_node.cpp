@@ -40,9 +40,14 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       frames_(runner.participant(), topics::kStereoFrame),
       truth_(runner.participant(), topics::kGroundTruth),
       calibration_(runner.participant(), topics::kStereoCalibration),
+      base_log_(
+          options.base_log_path.empty() ? nullptr : std::fopen(options.base_log_path.c_str(), "a"),
+          &std::fclose),
       base_(runner, base::VelocityGateParams{params.robot.command_timeout_ns},
             [this](const base::BaseCommand& c) { on_command(c); }) {
   if (options_.output.compressed()) compressor_.emplace(options_.output);
+  if (!options_.base_log_path.empty() && !base_log_)
+    runner_.health().error("base_log", "cannot append to " + options_.base_log_path);
   if (!options_.output.compressed() && options_.output.preview_max_width_px > 0)
     preview_ = std::make_unique<stereo::PreviewPublisher>(runner.participant(), options_.output,
                                                           frame_source_);
@@ -61,6 +66,21 @@ void SimulatorNode::on_command(const base::BaseCommand& command) {
   gated.linear_mps = command.output.velocity.linear_mps;
   gated.angular_radps = command.output.velocity.angular_radps;
   sim_->advance(command_from_msg(gated, node::now_ns(), sim_now_ns_, options_.rate), sim_now_ns_);
+  if (base_log_) {
+    base::BaseEvent e;
+    e.kind = command.from_estop ? base::BaseEventKind::kEstop : base::BaseEventKind::kCommand;
+    e.time_ns = command.received_ns;
+    e.stamp_ns = command.stamp_ns;
+    e.seq = command.seq;
+    e.key_id = command.key_id;
+    e.authenticated = command.authenticated;
+    e.estop_engaged = base_.estop_engaged();
+    e.state = command.output.state;
+    e.linear_mps = command.output.velocity.linear_mps;
+    e.angular_radps = command.output.velocity.angular_radps;
+    e.source = command.source;
+    log_base_event(e);
+  }
   runner_.health().set_state(true, "running scenario " + scenario_.name + ", base " +
                                        std::string(base::to_string(command.output.state)));
 }
@@ -139,6 +159,15 @@ void SimulatorNode::tick(int64_t /*now_ns*/) {
   truth_.write(truth, stamp_ns);
   runner_.health().count(std::string(topics::kGroundTruth.spec.name));
   runner_.health().set_counter("frames", ++total_frames_);
+  if (base_log_) {
+    base::BaseEvent e;
+    e.kind = base::BaseEventKind::kFrame;
+    e.time_ns = stamp_ns;
+    e.estop_engaged = base_.estop_engaged();
+    e.linear_mps = f.truth.robot.linear_mps;
+    e.angular_radps = f.truth.robot.angular_radps;
+    log_base_event(e);
+  }
   // Last: the preview's copy (only while watched) delays neither the frame nor its truth.
   offer_preview(*view);
 }
@@ -171,6 +200,12 @@ Result<stereo::FrameView> SimulatorNode::frame_view(const SimFrame& f, int64_t s
   runner_.health().set_counter("encode_us",
                                static_cast<uint64_t>((node::monotonic_ns() - start) / 1000));
   return compressed;
+}
+
+void SimulatorNode::log_base_event(const base::BaseEvent& event) {
+  const std::string line = base::format_base_event(event) + "\n";
+  if (std::fputs(line.c_str(), base_log_.get()) < 0 || std::fflush(base_log_.get()) != 0)
+    runner_.health().error("base_log", "cannot write to " + options_.base_log_path);
 }
 
 void SimulatorNode::offer_preview(const stereo::FrameView& view) {

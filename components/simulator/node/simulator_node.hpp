@@ -4,10 +4,12 @@
 // through the base's own gate (base/node/base_link.hpp): the e-stop and stale commands stop it.
 
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
 
+#include "base/core/base_log.hpp"
 #include "base/node/base_link.hpp"
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
@@ -24,6 +26,8 @@ struct SimulatorNodeOptions {
   bool loop = false;  ///< restart the scenario after its duration
   std::string calibration_source = "simulator (true calibration)";  ///< published source text
   stereo::FrameCodecParams output;  ///< raw bgr8 or jpeg/png eyes (must be valid)
+  /// Appends the base's events (base/core/base_log.hpp) to this file ("" = none).
+  std::string base_log_path;
 };
 
 /// Wires a Simulator to its topics and a frame timer on a runner.
@@ -50,6 +54,8 @@ class SimulatorNode {
   Result<stereo::FrameView> frame_view(const SimFrame& f, int64_t stamp_ns);
   // Hands the published frame to the preview publisher and reports its counters and errors.
   void offer_preview(const stereo::FrameView& view);
+  // One line of the base log (when enabled), written through at once.
+  void log_base_event(const base::BaseEvent& event);
 
   node::Runner& runner_;
   SimParams params_;
@@ -67,6 +73,8 @@ class SimulatorNode {
   dds::DataWriter<stereoball_msg_StereoFrame> frames_;
   dds::DataWriter<stereoball_msg_GroundTruth> truth_;
   dds::DataWriter<stereoball_msg_StereoCalibration> calibration_;
+  // The base log (--base-log), opened before the base link exists so no command is missed.
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> base_log_{nullptr, &std::fclose};
   base::BaseLink base_;  // authenticated commands, the e-stop, the base's own gate
   // stereo/preview of raw frames, made only while a viewer reads it (none for jpeg/png).
   std::unique_ptr<stereo::PreviewPublisher> preview_;

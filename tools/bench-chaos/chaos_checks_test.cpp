@@ -1,0 +1,231 @@
+#include "chaos_checks.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "chaos_plan.hpp"
+
+namespace stereoball::bench_chaos {
+namespace {
+
+using base::BaseEvent;
+using base::BaseEventKind;
+using base::GateState;
+
+constexpr int64_t kMs = 1'000'000;
+constexpr int64_t kT0 = 1'700'000'000'000'000'000;
+
+BaseEvent command(int64_t t_ms, int64_t age_ms, double lin, bool authenticated = true,
+                  const std::string& source = "motion_controller") {
+  BaseEvent e;
+  e.kind = BaseEventKind::kCommand;
+  e.time_ns = kT0 + t_ms * kMs;
+  e.stamp_ns = e.time_ns - age_ms * kMs;
+  e.authenticated = authenticated;
+  e.key_id = authenticated ? 1 : 0;
+  e.state = lin != 0.0 ? GateState::kDriving : GateState::kNoCommand;
+  e.linear_mps = lin;
+  e.source = source;
+  return e;
+}
+
+BaseEvent frame(int64_t t_ms, double lin, bool estop = false) {
+  BaseEvent e;
+  e.kind = BaseEventKind::kFrame;
+  e.time_ns = kT0 + t_ms * kMs;
+  e.linear_mps = lin;
+  e.estop_engaged = estop;
+  return e;
+}
+
+BaseEvent estop(int64_t t_ms, bool engaged) {
+  BaseEvent e;
+  e.kind = BaseEventKind::kEstop;
+  e.time_ns = kT0 + t_ms * kMs;
+  e.estop_engaged = engaged;
+  e.state = engaged ? GateState::kEmergencyStop : GateState::kNoCommand;
+  return e;
+}
+
+// A robot driven by fresh authenticated commands, then stopping when they go stale.
+std::vector<BaseEvent> clean_drive() {
+  return {command(0, 5, 0.5), frame(33, 0.05),      frame(66, 0.1),  command(70, 5, 0.5),
+          frame(100, 0.15),   frame(133, 0.2),      frame(400, 0.2), frame(433, 0.1),
+          frame(466, 0.0),    command(500, 4, 0.0), frame(533, 0.0)};
+}
+
+TEST(NoUnsafeMotion, FreshAuthenticatedDrivingPasses) {
+  // Given a log where the robot sped up only under fresh authenticated commands
+  const auto events = clean_drive();
+  // When checked
+  const CheckResult r = check_no_unsafe_motion(events, CheckParams{});
+  // Then it passes and counts what it saw
+  EXPECT_TRUE(r.passed) << r.detail;
+  EXPECT_EQ(r.violations, 0u);
+  EXPECT_NE(r.detail.find("3 commands executed (2 moving"), std::string::npos) << r.detail;
+}
+
+TEST(NoUnsafeMotion, BaseMovingOnAStaleCommandIsCaught) {
+  // Given the base let through a command 450 ms old (timeout 300 ms)
+  auto events = clean_drive();
+  events.push_back(command(600, 450, 0.4));
+  // When checked
+  const CheckResult r = check_no_unsafe_motion(events, CheckParams{});
+  // Then it fails naming the command's age
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.violations, 1u);
+  EXPECT_NE(r.detail.find("aged 450 ms"), std::string::npos) << r.detail;
+}
+
+TEST(NoUnsafeMotion, RobotSpeedingUpAfterTheCommandExpiredIsCaught) {
+  // Given the robot gains speed 500 ms after the last fresh command (nothing in force)
+  auto events = clean_drive();
+  events.push_back(frame(1100, 0.1));
+  // When checked
+  const CheckResult r = check_no_unsafe_motion(events, CheckParams{});
+  // Then it fails
+  EXPECT_FALSE(r.passed);
+  EXPECT_NE(r.detail.find("sped up"), std::string::npos) << r.detail;
+}
+
+TEST(NoUnsafeMotion, UnauthenticatedOrRogueCommandsAreCaught) {
+  // Given the base took an unverified command and one from the rogue
+  auto events = clean_drive();
+  events.push_back(command(700, 5, 0.3, false));
+  events.push_back(command(800, 5, 0.0, true, "chaos-rogue"));
+  // When checked with a keyed deployment
+  const CheckResult r = check_no_unsafe_motion(events, CheckParams{});
+  // Then both are violations
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.violations, 2u);
+  // And keyless (a loopback test deployment), the unverified one is allowed
+  CheckParams keyless;
+  keyless.keyed = false;
+  std::vector<BaseEvent> unsigned_only = clean_drive();
+  unsigned_only.push_back(command(700, 5, 0.3, false));
+  EXPECT_TRUE(check_no_unsafe_motion(unsigned_only, keyless).passed);
+}
+
+TEST(EstopHeld, StandingStillWhileHeldPasses) {
+  // Given a stop held from 1000 ms to 3000 ms; the robot brakes within the grace + braking
+  std::vector<BaseEvent> events = {
+      frame(900, 0.5),        estop(1000, true),      frame(1100, 0.3, true),
+      command(1200, 5, 0.0),  frame(1600, 0.2, true), frame(2000, 0.0, true),
+      frame(2900, 0.0, true), estop(3100, false),     frame(3500, 0.4)};
+  Timeline timeline;
+  timeline.estop.push_back({kT0 + 1000 * kMs, kT0 + 3000 * kMs});
+  // When checked
+  const CheckResult r = check_estop_held(events, timeline, CheckParams{});
+  // Then it passes (frames before grace + braking are not judged; after the release they are
+  // not either)
+  EXPECT_TRUE(r.passed) << r.detail;
+  EXPECT_TRUE(r.applicable);
+}
+
+TEST(EstopHeld, MotionWhileHeldIsCaught) {
+  // Given the robot moves 1.5 s into a held stop and the base let a command through
+  std::vector<BaseEvent> events = {estop(1000, true), frame(2500, 0.2, true),
+                                   command(2600, 5, 0.3)};
+  Timeline timeline;
+  timeline.estop.push_back({kT0 + 1000 * kMs, kT0 + 3000 * kMs});
+  // When checked
+  const CheckResult r = check_estop_held(events, timeline, CheckParams{});
+  // Then both are violations
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.violations, 2u);
+}
+
+TEST(EstopHeld, NoStopIsNotApplicable) {
+  const CheckResult r = check_estop_held(clean_drive(), Timeline{}, CheckParams{});
+  EXPECT_TRUE(r.passed);
+  EXPECT_FALSE(r.applicable);
+}
+
+TEST(Losses, GapsRestartsAndDuplicatesAreCounted) {
+  // Given seq 0..4 with 2 missing, a duplicate of 4, then a restarted publisher 0..2 missing 1
+  std::vector<SeqSample> s = {{0, 10}, {1, 20}, {3, 40}, {4, 50}, {4, 51}, {0, 100}, {2, 120}};
+  // When counted with nothing excused
+  const TopicLoss loss = count_losses("t", s, {});
+  // Then
+  EXPECT_EQ(loss.publisher_runs, 2u);
+  EXPECT_EQ(loss.published, 8u);  // 0..4 and 0..2
+  EXPECT_EQ(loss.recorded, 6u);
+  EXPECT_EQ(loss.duplicates, 1u);
+  EXPECT_EQ(loss.lost, 2u);
+  EXPECT_FALSE(check_none_lost(std::vector<TopicLoss>{loss}).passed);
+  // And when the second gap falls in an excused interval, only the first counts as lost
+  const std::vector<Interval> cut = {{105, 115}};
+  const TopicLoss excused = count_losses("t", s, cut);
+  EXPECT_EQ(excused.lost, 1u);
+  EXPECT_EQ(excused.lost_link_down, 1u);
+}
+
+TEST(Losses, CompleteStreamPasses) {
+  std::vector<SeqSample> s = {{5, 1}, {6, 2}, {7, 3}};
+  const TopicLoss loss = count_losses("t", s, {});
+  EXPECT_EQ(loss.published, 3u);
+  EXPECT_EQ(loss.recorded, 3u);
+  EXPECT_TRUE(check_none_lost(std::vector<TopicLoss>{loss}).passed);
+}
+
+TEST(Memory, OnlyLongObservedInstancesAreJudged) {
+  // Given a long-lived process that grew 10 % and a short-lived one that doubled
+  std::vector<MemorySpan> spans = {{"tracker", 1, 0, 600 * 1'000'000'000LL, 1000, 1100},
+                                   {"ball_detector", 2, 0, 10 * 1'000'000'000LL, 1000, 2000}};
+  // When judged against 5 % over at least 300 s
+  const CheckResult r = check_memory(spans, 300 * 1'000'000'000LL, 5.0);
+  // Then only the tracker is a violation
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.violations, 1u);
+  EXPECT_NE(r.detail.find("tracker"), std::string::npos);
+  EXPECT_DOUBLE_EQ(spans[0].growth_percent(), 10.0);
+  spans[0].last_kb = 1040;
+  EXPECT_TRUE(check_memory(spans, 300 * 1'000'000'000LL, 5.0).passed);
+}
+
+TEST(Cdr, LeadingSeqInEitherByteOrder) {
+  // Given the same seq encoded little- and big-endian after the encapsulation header
+  const std::vector<uint8_t> le = {0, 1, 0, 0, 0x2a, 1, 0, 0, 0, 0, 0, 0};
+  const std::vector<uint8_t> be = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0x2a};
+  // Then both read 0x12a
+  EXPECT_EQ(cdr_leading_u64(le).value(), 0x12au);
+  EXPECT_EQ(cdr_leading_u64(be).value(), 0x12au);
+  // And short or parameter-list samples are errors
+  EXPECT_FALSE(cdr_leading_u64(std::vector<uint8_t>(6, 0)));
+  const std::vector<uint8_t> pl = {0, 3, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0};
+  EXPECT_FALSE(cdr_leading_u64(pl));
+}
+
+TEST(Plan, SeededOrderedAndComplete) {
+  // Given a 10-minute plan
+  PlanParams p;
+  p.span_ns = 600 * 1'000'000'000LL;
+  // When made twice with one seed and once with another
+  const auto a = plan_faults(p, 7), b = plan_faults(p, 7), c = plan_faults(p, 8);
+  // Then the same seed gives the same plan, another seed another
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].at_ns, b[i].at_ns);
+    EXPECT_EQ(a[i].kind, b[i].kind);
+  }
+  bool differs = a.size() != c.size();
+  for (size_t i = 0; !differs && i < a.size(); ++i) differs = a[i].at_ns != c[i].at_ns;
+  EXPECT_TRUE(differs);
+  // And faults never overlap, and every kind appears
+  std::set<FaultKind> kinds;
+  for (size_t i = 0; i < a.size(); ++i) {
+    kinds.insert(a[i].kind);
+    if (i > 0) {
+      EXPECT_GE(a[i].at_ns, a[i - 1].at_ns + a[i - 1].duration_ns + p.min_gap_ns);
+    }
+    EXPECT_LT(a[i].at_ns, p.span_ns);
+  }
+  EXPECT_EQ(kinds.size(), 6u);
+  // And without namespaces there is no link fault
+  p.link = false;
+  for (const auto& f : plan_faults(p, 7)) EXPECT_NE(f.kind, FaultKind::kCutLink);
+}
+
+}  // namespace
+}  // namespace stereoball::bench_chaos
