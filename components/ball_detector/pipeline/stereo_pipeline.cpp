@@ -325,7 +325,8 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     return out;
   }
   frame_motion_radii_ = motion_radii(eye_skew_ns, prior);
-  const PairingContext ctx{epipolar_, *triangulator_, size_, floor_, frame_motion_radii_};
+  const PairingContext ctx{epipolar_, *triangulator_,      size_,
+                           floor_,    frame_motion_radii_, params_.dominance_margin};
   const cv::Mat& left_channel = detector_channel(left, grey_left_);
   const cv::Mat& right_channel = detector_channel(right, grey_right_);
   if (refresh_due_) refresh_thresholds(left_channel, rectified);  // finish_frame was not called
@@ -392,6 +393,8 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   fill_result(*pairing, out);
   if (out.status == DetectionStatus::kFound && params_.interior_depth.enabled)
     check_interior(left_channel, right_channel, rectified, out);
+  if (out.status == DetectionStatus::kFound && params_.outline_refit.enabled)
+    refit_outlines(ctx, left_channel, right_channel, rectified, out);
   if (out.status == DetectionStatus::kFound && params_.balance_radii)
     balance_radii(left_channel, right_channel, rectified, out);
   out.rejected_by_colour = rejected_by_colour_;

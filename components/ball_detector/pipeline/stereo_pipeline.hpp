@@ -285,6 +285,11 @@ class StereoPipeline {
                       StereoDetection& found);
   void balance_radii(const cv::Mat& left_channel, const cv::Mat& right_channel, bool rectified,
                      StereoDetection& found);
+  /// A found pair's outlines refitted to the arcs that agree (stereo_pipeline_outline_refit.cpp).
+  void refit_outlines(const PairingContext& ctx, const cv::Mat& left_channel,
+                      const cv::Mat& right_channel, bool rectified, StereoDetection& found);
+  std::optional<Circle> robust_outline_in(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                                          const Circle& circle);
   std::optional<Circle> refit_at_radius(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                         const Circle& circle, double radius_px);
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
