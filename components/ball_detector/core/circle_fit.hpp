@@ -128,4 +128,42 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
 /// Score only (no refinement): angular coverage of c's gathered edge points.
 double score_circle(const EdgeMap& edges, const Circle& c, const RefineParams& params);
 
+/// Addition: settings of robust_outline (the outline of a ball partly hidden by fingers or
+/// crossed by seams, found from the arcs that agree).
+struct OutlineSearchParams {
+  /// Hypotheses may have a radius within this fraction of the rough one, either way.
+  double radius_slack = 0.3;
+  /// ... and a centre within this fraction of the rough radius of the rough centre.
+  double centre_slack = 0.4;
+  double band_px = 1.5;            ///< an edge point this close to a hypothesis supports it, px
+  double band_per_radius = 0.025;  ///< ... or this fraction of its radius when wider
+  double min_radial_cos = 0.9;     ///< and its gradient must be this radial, abs(cos), [0, 1]
+  int hypotheses = 600;            ///< circles through three sampled edge points tried
+  /// An edge point supports only if the colour this fraction of the radius inside it (at least
+  /// 2 px) is nearer the ball's (the median inside the rough circle) than the colour as far
+  /// outside by this much (Euclidean, 8-bit channels): an outline has the ball on one side
+  /// only, a seam or a shading step on both. 0 = no side test.
+  double min_side_contrast = 20.0;
+  double side_reach_per_radius = 0.1;  ///< see min_side_contrast
+  /// A hypothesis replaces the rough circle only when its coverage exceeds the rough one's by
+  /// this much, [0, 1].
+  double min_gain = 0.05;
+};
+
+/// Addition: the circle near rough whose outline the edge points agree on best. Edge points in
+/// the annulus the slacks allow are sampled three at a time (points whose gradients are not
+/// radial to the circle through them are skipped); each circle is scored by the angular
+/// coverage of the points within the band with a radial gradient, the best refitted by
+/// fit_circle (Tukey) on its supporters. With min_side_contrast a supporter must have the
+/// ball's colour inside and another outside. Arcs of seams or the edge of fingers
+/// belong to other circles and cover few sectors of the outline, so they no longer pull it.
+/// Returns rough (its score the coverage measured alike) when nothing beats it by min_gain;
+/// nullopt without a usable rough circle. Deterministic (fixed seed).
+std::optional<Circle> robust_outline(const EdgeMap& edges, const Circle& rough,
+                                     const OutlineSearchParams& params);
+
+/// Angular coverage of c by the edge points of edges within params' band that have a radial
+/// gradient (as robust_outline scores its hypotheses), [0, 1].
+double outline_coverage(const EdgeMap& edges, const Circle& c, const OutlineSearchParams& params);
+
 }  // namespace stereoball::ball_detector

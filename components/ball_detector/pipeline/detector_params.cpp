@@ -88,6 +88,9 @@ std::vector<params::Field<P>> pipeline_fields() {
              "Pixel-to-Pixel circles kept per eye"),
       flag("right_eye_partner_boxes", at(&P::right_eye_partner_boxes), true,
            "search the right eye only where a ball-sized partner of a left circle can be"),
+      number("size.dominance_margin", at(&P::dominance_margin), 0.0, {0.0, 1.0}, "",
+             "a found pair is withdrawn when a pair of larger outlines scoring this much higher, "
+             "radii agreeing, fails the size check (0 = off)"),
       flag("balance_radii", at(&P::balance_radii), true,
            "a found pair whose outline radii disagree beyond what the two views explain has the "
            "eye with the smaller refitted at the radius the other implies, centre only"),
@@ -174,6 +177,35 @@ std::vector<params::Field<P>> interior_depth_fields() {
   };
 }
 
+std::vector<params::Field<P>> outline_refit_fields() {
+  using O = OutlineRefitParams;
+  using S = OutlineSearchParams;
+  const O core;
+  const auto in = [](auto member) { return at(&P::outline_refit, member); };
+  const auto search = [](auto member) { return at(&P::outline_refit, &O::search, member); };
+  return {
+      flag("outline_refit.enabled", in(&O::enabled), core.enabled,
+           "a found pair's outlines are fitted again in both eyes to the edge arcs that agree "
+           "(fingers and seams no longer pull them)"),
+      number("outline_refit.radius_slack", search(&S::radius_slack), core.search.radius_slack,
+             {0.0, 1.0}, "", "refitted radius within this fraction of the first fit's"),
+      number("outline_refit.centre_slack", search(&S::centre_slack), core.search.centre_slack,
+             {0.0, 1.0}, "",
+             "refitted centre within this fraction of the radius of the first fit's"),
+      number("outline_refit.min_gain", search(&S::min_gain), core.search.min_gain, {0.0, 1.0}, "",
+             "a refit replaces the first fit when it covers this much more of its circle"),
+      number("outline_refit.min_side_contrast", search(&S::min_side_contrast),
+             core.search.min_side_contrast, {0.0, 442.0}, "colour levels",
+             "an edge point supports a refit only if the colour just inside is this much nearer "
+             "the ball's than the colour just outside (a seam has the ball on both sides; 0 = "
+             "off)"),
+      number("outline_refit.hypotheses", search(&S::hypotheses), core.search.hypotheses,
+             {1, 100000}, "", "circles through three sampled edge points tried per eye"),
+      flag("outline_refit.withdraw_unpaired", in(&O::withdraw_unpaired), core.withdraw_unpaired,
+           "a pair whose refitted outlines do not pair (rows, size) is withdrawn"),
+  };
+}
+
 std::vector<params::Field<P>> p2p_fields() {
   const P2P core;  // the detector's own defaults, where the pipeline keeps them
   const auto p2p = [](auto member) { return at(&P::p2p, member); };
@@ -230,8 +262,8 @@ std::vector<params::Field<P>> p2p_fields() {
 
 params::FieldTable<P> make_table() {
   params::FieldTable<P> t{pipeline_fields(), cross_check};
-  for (const auto& part :
-       {appearance_fields(), colour_seed_fields(), interior_depth_fields(), p2p_fields()}) {
+  for (const auto& part : {appearance_fields(), colour_seed_fields(), interior_depth_fields(),
+                           outline_refit_fields(), p2p_fields()}) {
     t.fields.insert(t.fields.end(), part.begin(), part.end());
   }
   return t;

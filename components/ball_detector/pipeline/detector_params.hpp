@@ -12,6 +12,7 @@
 #include "ball_detector/core/colour_seeds.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/pipeline/interior_depth.hpp"
+#include "ball_detector/pipeline/outline_refit.hpp"
 #include "common/params/field_table.hpp"
 #include "common/util/result.hpp"
 
@@ -115,6 +116,11 @@ struct BallDetectorParams {
   /// Addition: a found pair whose textured inside matches between the eyes at another depth
   /// than its outline is a round pattern on a surface, not a ball (interior_depth.hpp).
   InteriorDepthParams interior_depth;
+  /// Addition: a found pair's outlines fitted again, in both eyes, to the edge arcs that agree
+  /// (fingers, seams), and the pair withdrawn when the refits do not pair (outline_refit.hpp).
+  OutlineRefitParams outline_refit;
+  /// Addition: PairingContext::dominance_margin (0 = off).
+  double dominance_margin;
   /// Largest image a calibration (and so every frame) may have: a larger stereo/calibration is
   /// refused before its rectification tables are allocated.
   int max_image_width_px;

@@ -461,6 +461,32 @@ int partner_centre_margin_px(const PairingContext& ctx, const std::vector<Circle
   return margin;
 }
 
+bool prefer_unmoved(const PairingContext& ctx, const StereoPair& unmoved, const StereoPair& best) {
+  if (!(ctx.dominance_margin > 0.0) || !best.moved || unmoved.moved) return false;
+  return unmoved.score >= best.score - ctx.dominance_margin &&
+         unmoved.left.radius_px + unmoved.right.radius_px >
+             best.left.radius_px + best.right.radius_px;
+}
+
+std::optional<StereoPair> dominating_pair(const PairingContext& ctx, const StereoPair& found,
+                                          const std::vector<StereoPair>& size_rejected) {
+  if (!(ctx.dominance_margin > 0.0)) return std::nullopt;
+  const double found_radius = 0.5 * (found.left.radius_px + found.right.radius_px);
+  std::optional<StereoPair> best;
+  for (const StereoPair& p : size_rejected) {
+    const double larger = std::max(p.left.radius_px, p.right.radius_px);
+    const bool radii_agree = std::abs(p.left.radius_px - p.right.radius_px) <=
+                             ctx.size.max_relative_error * larger + 1.0;
+    // Another view of the found pair's own outlines is no rival.
+    const bool shares = p.left_index == found.left_index || p.right_index == found.right_index;
+    if (!radii_agree || shares || p.score < found.score + ctx.dominance_margin ||
+        0.5 * (p.left.radius_px + p.right.radius_px) < found_radius)
+      continue;
+    if (!best || better_pair(p, *best)) best = p;
+  }
+  return best;
+}
+
 PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,
                               const std::vector<Circle>& right,
                               const std::optional<PositionPrior>& prior) {
@@ -475,6 +501,8 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
   // Closest to consistent, for the reason text: off the floor (the size fits) beats wrong size.
   std::optional<StereoPair> best_off_floor;
   std::optional<StereoPair> best_rejected;
+  std::vector<StereoPair> size_rejected;
+  std::optional<StereoPair> best_unmoved;  // best size-consistent pair that needed no motion
   for (std::size_t i = 0; i < left.size(); ++i) {
     for (std::size_t j = 0; j < right.size(); ++j) {
       auto pair = evaluate_pair(ctx, left[i], right[j]);
@@ -483,6 +511,7 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
       pair->right_index = j;
       ++out.row_matches;
       if (!pair->size_consistent) {
+        if (ctx.dominance_margin > 0.0) size_rejected.push_back(*pair);
         if (!best_rejected || std::abs(pair->size_error) < std::abs(best_rejected->size_error))
           best_rejected = pair;
         continue;
@@ -495,12 +524,32 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
         continue;
       }
       if (!best_ok || better_pair(*pair, *best_ok)) best_ok = pair;
+      if (!pair->moved && (!best_unmoved || better_pair(*pair, *best_unmoved))) best_unmoved = pair;
       if (prior && cv::norm(pair->position_m - prior->position_m) <= prior->gate_m &&
           (!best_near_prior || better_pair(*pair, *best_near_prior)))
         best_near_prior = pair;
     }
   }
+  if (best_ok && best_unmoved && !best_near_prior && prefer_unmoved(ctx, *best_unmoved, *best_ok))
+    best_ok = best_unmoved;
   if (best_near_prior) best_ok = best_near_prior;
+  // Near a track's prior the followed ball is the answer; elsewhere a stronger outline pair
+  // that fails the size check makes the found one doubtful.
+  if (best_ok && !best_near_prior) {
+    if (const auto strong = dominating_pair(ctx, *best_ok, size_rejected)) {
+      out.status = PairingStatus::kSizeInconsistent;
+      out.best = strong;
+      out.reason =
+          format("stronger outlines (score %.2f, radius %.1f px, rows %.1f px apart) pair at a ",
+                 strong->score, 0.5 * (strong->left.radius_px + strong->right.radius_px),
+                 strong->row_residual_px) +
+          format(
+              "disparity their size does not fit; the weaker size-consistent pair (score "
+              "%.2f, radius %.1f px) is not reported",
+              best_ok->score, 0.5 * (best_ok->left.radius_px + best_ok->right.radius_px));
+      return out;
+    }
+  }
   if (best_ok) {
     out.status = PairingStatus::kFound;
     out.best = best_ok;

@@ -74,7 +74,24 @@ struct PairingContext {
   /// epipolar tolerance plus this times its mean radius, and its disparity may miss the one its
   /// size implies by as much more. 0 = the eyes are synchronised (the paper's row rule).
   double motion_radii = 0.0;
+  /// Addition: a found pair is withdrawn when a pair of clearly stronger outlines (mean score
+  /// at least this much higher, radii agreeing between the eyes, at least as large) lies on
+  /// allowed rows but fails the size check: a small round thing in clutter must not be
+  /// reported while the frame's strongest sphere-like outline pair says something else (the
+  /// ball moved more than allowed between unsynchronised exposures). 0 = off (the paper).
+  double dominance_margin = 0.0;
 };
+
+/// Addition: whether the best size-consistent pair without motion (its disparity fits its size
+/// within the size tolerance) is to be reported instead of best, which needed the motion
+/// allowance: when it is larger and scores at most dominance_margin less. A small circle in
+/// clutter passes the size check only thanks to that allowance more often than the ball does.
+bool prefer_unmoved(const PairingContext& ctx, const StereoPair& unmoved, const StereoPair& best);
+
+/// Addition: the size-inconsistent pair among candidates that dominates found (see
+/// PairingContext::dominance_margin), nullopt if none does or the margin is 0.
+std::optional<StereoPair> dominating_pair(const PairingContext& ctx, const StereoPair& found,
+                                          const std::vector<StereoPair>& size_rejected);
 
 /// Largest row difference a pair of circles with mean radius radius_px may have: the epipolar
 /// tolerance plus the ball's image motion between the exposures (motion_radii), pixels.

@@ -469,3 +469,44 @@ TEST_F(UnsynchronisedPairing, GivenPriorFromTrack_ThenItCarriesTheTrackVelocity)
   EXPECT_NEAR(prior->velocity_mps[1], -1.0, 1e-12);
   EXPECT_NEAR(prior->position_m[1], -0.1, 1e-9);
 }
+
+// Given unsynchronised eyes, a small circle in clutter whose disparity misses its size (it
+// pairs only thanks to the motion allowance) scoring above the ball, and the larger ball whose
+// disparity fits its size, when paired with a dominance margin, then the ball is reported;
+// with the margin 0 (the paper's ranking by score) the small circle wins.
+TEST_F(UnsynchronisedPairing, GivenSmallMovedCircleAndLargerConsistentBall_ThenTheBallWins) {
+  const sb::stereo::SizeCheckParams tight{0.22, 0.10};
+  sb::ball_detector::PairingContext ctx{epi_, tri_, tight, std::nullopt};
+  ctx.motion_radii = moving_ctx_.motion_radii;
+  const auto [ball_l, ball_r] = ball_at(0.1, 0.0, 1.5, 0.75);
+  auto [small_l, small_r] = ball_at(-0.4, -0.3, 4.0, 0.9);
+  small_r.x_px -= 2.0;  // its disparity says nearer than its size: paired only as moved
+  auto res = pair_candidates(ctx, {small_l, ball_l}, {small_r, ball_r});
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  ASSERT_TRUE(res.best->moved) << "the fixture must make the small pair a moved one";
+  EXPECT_EQ(res.best->left_index, 0u);
+  ctx.dominance_margin = 0.2;
+  res = pair_candidates(ctx, {small_l, ball_l}, {small_r, ball_r});
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_EQ(res.best->left_index, 1u);
+  EXPECT_NEAR(res.best->position_m[2], 1.5, 0.03);
+}
+
+// Given a weak small pair that fits its size and a much stronger, larger pair of equal radii on
+// allowed rows whose disparity does not fit its size (the ball moved more than allowed), when
+// paired with a dominance margin, then nothing is reported (size inconsistent, the strong pair
+// named); without the margin the weak pair is reported.
+TEST_F(UnsynchronisedPairing, GivenStrongerOutlinesFailingSize_ThenTheWeakPairIsNotReported) {
+  sb::ball_detector::PairingContext ctx{epi_, tri_, size_, std::nullopt};
+  ctx.motion_radii = moving_ctx_.motion_radii;
+  const auto [weak_l, weak_r] = ball_at(-0.5, 0.3, 2.5, 0.6);
+  auto [ball_l, ball_r] = ball_at(0.1, 0.0, 1.5, 0.95);
+  ball_r.x_px += 40.0;  // disparity of a ball far beyond its size's depth
+  auto res = pair_candidates(ctx, {ball_l, weak_l}, {ball_r, weak_r});
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_EQ(res.best->left_index, 1u);
+  ctx.dominance_margin = 0.2;
+  res = pair_candidates(ctx, {ball_l, weak_l}, {ball_r, weak_r});
+  EXPECT_EQ(res.status, PairingStatus::kSizeInconsistent);
+  EXPECT_NE(res.reason.find("stronger outlines"), std::string::npos) << res.reason;
+}

@@ -278,14 +278,15 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     out.reason = e.error();
     return out;
   }
-  const FrameState frame{left,
-                         detector_channel(left, grey_left_),
-                         detector_channel(right, grey_right_),
-                         rectified,
-                         prior,
-                         stamp_ns,
-                         PairingContext{epipolar_, *tools_.triangulator, size_, floor_,
-                                        motion_radii(eye_skew_ns, prior)}};
+  const FrameState frame{
+      left,
+      detector_channel(left, grey_left_),
+      detector_channel(right, grey_right_),
+      rectified,
+      prior,
+      stamp_ns,
+      PairingContext{epipolar_, *tools_.triangulator, size_, floor_,
+                     motion_radii(eye_skew_ns, prior), tools_.params.dominance_margin}};
   if (refresh_due_) refresh_thresholds(frame.left_channel, rectified);  // finish_frame not called
   SearchOutcome answer = search(frame);
   report(frame, answer, out);
@@ -356,6 +357,8 @@ void StereoPipeline::report(const FrameState& frame, const SearchOutcome& answer
   fill_result(answer, out);
   if (out.status == DetectionStatus::kFound && tools_.params.interior_depth.enabled)
     check_interior(frame, out);
+  if (out.status == DetectionStatus::kFound && tools_.params.outline_refit.enabled)
+    refit_outlines(frame, out);
   if (out.status == DetectionStatus::kFound && tools_.params.balance_radii)
     balance_radii(frame, out);
   out.rejected_by_colour = answer.rejected_by_colour;

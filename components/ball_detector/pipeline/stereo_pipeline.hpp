@@ -176,6 +176,10 @@ class StereoPipeline {
                                   const cv::Rect& region);
   void check_interior(const FrameState& frame, StereoDetection& found);
   void balance_radii(const FrameState& frame, StereoDetection& found);
+  /// A found pair's outlines refitted to the arcs that agree (stereo_pipeline_outline_refit.cpp).
+  void refit_outlines(const FrameState& frame, StereoDetection& found);
+  std::optional<Circle> robust_outline_in(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                                          const Circle& circle);
   std::optional<Circle> refit_at_radius(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                         const Circle& circle, double radius_px);
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
