@@ -45,6 +45,13 @@ void TrackerNode::handle(const stereoball_msg_BallDetection& msg) {
   const std::int64_t now_ns = node::now_ns();
   last_received_ns_ = now_ns;
   runner_.health().count(std::string(topics::kBallDetection.spec.name));
+  // A frame the detector could not read says nothing about the ball, and its stamp is not to be
+  // trusted (a garbage stereo/frame sample carries any stamp): it neither resets the tracker
+  // nor advances its time, so a flood of garbage frames cannot make the robot drop the ball.
+  if (msg.status == stereoball_msg_DETECTION_BAD_FRAME) {
+    runner_.health().set_counter("bad_frames_ignored", ++bad_frames_ignored_);
+    return;
+  }
   if (last_capture_ns_ && msg.capture_stamp_ns < *last_capture_ns_ - kTimeJumpBackNs) {
     log::warn("capture stamps jumped back ", (*last_capture_ns_ - msg.capture_stamp_ns) / 1'000'000,
               " ms: tracker reset");

@@ -32,6 +32,7 @@ class TrackerNode {
   dds::DataWriter<stereoball_msg_BallTrack> tracks_;
   std::uint32_t image_width_px_ = 0;
   std::optional<std::int64_t> last_capture_ns_;
+  std::uint64_t bad_frames_ignored_ = 0;  // BAD_FRAME detections skipped (health counter)
   std::int64_t last_received_ns_ = 0;
   TrackState last_state_ = TrackState::kIdle;
   std::array<std::uint64_t, 7> verdict_counts_{};  // indexed by Verdict

@@ -167,6 +167,23 @@ TEST_F(TrackerNodeTest, GivenMalformedDetection_ThenNodeKeepsAnswering) {
   EXPECT_TRUE(tracker_->running());
 }
 
+TEST_F(TrackerNodeTest, GivenGarbageFrameWithOldStamp_ThenTrackKeepsFollowing) {
+  // Given a followed ball
+  for (int i = 0; i < 6; ++i) ball(0.1, 0.0, 2.0, 220, 40, 30);
+  // When a frame the detector could not read arrives with a stamp 10 s in the past (a garbage
+  // stereo/frame sample carries any stamp)
+  stereoball_msg_BallDetection garbage{};
+  garbage.status = stereoball_msg_DETECTION_BAD_FRAME;
+  garbage.frame_seq = 999'999;
+  garbage.capture_stamp_ns = stamp_ns_ - 10'000'000'000;
+  writer_->write(garbage);
+  // Then the next real frame continues the track instead of starting over
+  const auto tr = ball(0.12, 0.0, 2.0, 220, 40, 30);
+  EXPECT_EQ(tr.state, stereoball_msg_TRACK_FOLLOWING) << reason_;
+  EXPECT_EQ(tr.verdict, stereoball_msg_VERDICT_BLOCK_MATCH_ACCEPTED) << reason_;
+  EXPECT_EQ(tracker_->output().find("jumped back"), std::string::npos) << tracker_->output();
+}
+
 // Issue 22: detections at (1e5, y, 1e6) m were accepted and the robot drove toward them.
 TEST_F(TrackerNodeTest, GivenDetectionsBeyondMaxRange_ThenRefusedAndNeverFollowed) {
   for (int i = 0; i < 8; ++i) {
