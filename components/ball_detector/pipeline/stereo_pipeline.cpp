@@ -496,24 +496,34 @@ void StereoPipeline::balance_radii(const FrameState& frame, StereoDetection& fou
                                      : "; left outline refitted at the right's radius";
 }
 
-std::optional<Circle> StereoPipeline::refit_at_radius(const cv::Mat& channel, stereo::Eye eye,
-                                                      bool rectified, const Circle& circle,
-                                                      double radius_px) {
-  const cv::Size size = tools_.image_size();
-  // The outline and the first refinement band around it.
-  const int margin =
-      static_cast<int>(std::ceil(radius_px + PixelToPixelParams::kPolishFirstBandPx)) + 2;
+std::optional<cv::Rect> StereoPipeline::edges_around(const cv::Mat& channel, stereo::Eye eye,
+                                                     bool rectified, const Circle& circle,
+                                                     int margin_px) {
   const cv::Rect region =
-      cv::Rect(static_cast<int>(circle.x_px) - margin, static_cast<int>(circle.y_px) - margin,
-               2 * margin + 1, 2 * margin + 1) &
-      cv::Rect(cv::Point(), size);
+      cv::Rect(static_cast<int>(circle.x_px) - margin_px, static_cast<int>(circle.y_px) - margin_px,
+               2 * margin_px + 1, 2 * margin_px + 1) &
+      cv::Rect(cv::Point(), tools_.image_size());
   if (region.width < 8 || region.height < 8) return std::nullopt;
   const cv::Mat& image = rectified_region(channel, eye, rectified, region);
-  const PixelToPixelParams p2p = tools_.params.detector_params();
   const EdgeThresholds thresholds = tools_.left_thresholds
                                         ? *tools_.left_thresholds
                                         : thresholds_of(tools_.left_detector.edge_map());
-  compute_edge_map(image(region), p2p.edge, thresholds.canny, thresholds.denoise, balance_edges_);
+  compute_edge_map(image(region), tools_.params.detector_params().edge, thresholds.canny,
+                   thresholds.denoise, balance_edges_);
+  return region;
+}
+
+std::optional<Circle> StereoPipeline::refit_at_radius(const cv::Mat& channel, stereo::Eye eye,
+                                                      bool rectified, const Circle& circle,
+                                                      double radius_px) {
+  // The outline and the first refinement band around it.
+  const int margin =
+      static_cast<int>(std::ceil(radius_px + PixelToPixelParams::kPolishFirstBandPx)) + 2;
+  const std::optional<cv::Rect> found_region =
+      edges_around(channel, eye, rectified, circle, margin);
+  if (!found_region) return std::nullopt;
+  const cv::Rect region = *found_region;
+  const PixelToPixelParams p2p = tools_.params.detector_params();
   RefineParams refine = p2p.refine_params;
   refine.hold_radius = true;
   refine.first_band_px = PixelToPixelParams::kPolishFirstBandPx;

@@ -180,6 +180,10 @@ class StereoPipeline {
   void refit_outlines(const FrameState& frame, StereoDetection& found);
   std::optional<Circle> robust_outline_in(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                           const Circle& circle);
+  /// The edges of channel (rectified over the region) within margin_px of circle's centre into
+  /// balance_edges_; the region (rectified px), or nullopt when too little of it is in view.
+  std::optional<cv::Rect> edges_around(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                                       const Circle& circle, int margin_px);
   std::optional<Circle> refit_at_radius(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                         const Circle& circle, double radius_px);
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);

@@ -9,7 +9,6 @@ namespace stereoball::ball_detector {
 
 std::optional<Circle> StereoPipeline::robust_outline_in(const cv::Mat& channel, stereo::Eye eye,
                                                         bool rectified, const Circle& circle) {
-  const cv::Size size = tools_.image_size();
   const OutlineSearchParams& search = tools_.params.outline_refit.search;
   // Every hypothesis's outline and band, and the edge step's window beyond it.
   const int margin = static_cast<int>(std::ceil((1.0 + search.radius_slack + search.centre_slack +
@@ -17,17 +16,10 @@ std::optional<Circle> StereoPipeline::robust_outline_in(const cv::Mat& channel, 
                                                     circle.radius_px +
                                                 search.band_px)) +
                      tools_.window_margin_px();
-  const cv::Rect region =
-      cv::Rect(static_cast<int>(circle.x_px) - margin, static_cast<int>(circle.y_px) - margin,
-               2 * margin + 1, 2 * margin + 1) &
-      cv::Rect(cv::Point(), size);
-  if (region.width < 8 || region.height < 8) return std::nullopt;
-  const cv::Mat& image = rectified_region(channel, eye, rectified, region);
-  const PixelToPixelParams p2p = tools_.params.detector_params();
-  const EdgeThresholds thresholds = tools_.left_thresholds
-                                        ? *tools_.left_thresholds
-                                        : thresholds_of(tools_.left_detector.edge_map());
-  compute_edge_map(image(region), p2p.edge, thresholds.canny, thresholds.denoise, balance_edges_);
+  const std::optional<cv::Rect> found_region =
+      edges_around(channel, eye, rectified, circle, margin);
+  if (!found_region) return std::nullopt;
+  const cv::Rect region = *found_region;
   const auto found = robust_outline(balance_edges_, shifted(circle, -region.tl()), search);
   if (!found) return std::nullopt;
   return shifted(*found, region.tl());
