@@ -216,6 +216,8 @@ Result<Verdict> LiveCalibration::finish() const {
         format("image coverage short (x %.0f %%, y %.0f %%, ...): the "
                "calibration may be poor near the edges",
                100 * cov[0], 100 * cov[1]));
+  if (const auto problem = stereo::single_camera_fit_problem(v.result))
+    v.warnings.push_back(*problem);
   if (depth_progress(disparities_px_) < 1)
     v.warnings.push_back("depth coverage short: show the board near and twice as far");
   v.pass = v.failures.empty();

@@ -248,6 +248,8 @@ void print_report(const BoardCalibrationResult& r, double square_mm) {
   std::printf("rectified focal length:     %.2f px\n", stereoball::stereo::focal_px(c));
   std::printf("baseline:                   %.4f m (square size %.3g mm)\n",
               stereoball::stereo::baseline_m(c), square_mm);
+  if (const auto problem = stereoball::stereo::single_camera_fit_problem(r))
+    std::printf("note:                       %s\n", problem->c_str());
   std::printf("per-pair RMS error:\n");
   for (std::size_t i = 0; i < c.per_pair_rms_px.size(); ++i) {
     std::printf("  %-28s %.4f px\n", r.pair_names[i].c_str(), c.per_pair_rms_px[i]);

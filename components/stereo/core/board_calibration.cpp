@@ -203,6 +203,18 @@ std::optional<DroppedPair> drop_worst_pair(std::vector<PairCorners>& kept,
 
 }  // namespace
 
+std::optional<std::string> single_camera_fit_problem(const BoardCalibrationResult& result,
+                                                     double limit_px) {
+  if (!(result.left_rms_px > limit_px) && !(result.right_rms_px > limit_px)) return std::nullopt;
+  return "each camera alone fits its board corners only to " + fixed2(result.left_rms_px) +
+         " px (left) and " + fixed2(result.right_rms_px) + " px (right), above " +
+         fixed2(limit_px) +
+         " px: the images, not the pairing, limit this calibration. Lock the focus (an "
+         "autofocus camera changes its focal length between shots), keep the board flat on a "
+         "rigid backing and still while both cameras expose (rolling shutter), and check that "
+         "--board names the inner corners of this board";
+}
+
 std::vector<cv::Point3f> board_points_m(const BoardCalibrationParams& params) {
   return board_points(params);
 }

@@ -85,6 +85,12 @@ Result<BoardCalibrationResult> calibrate_stereo(const std::vector<PairCorners>& 
                                                 cv::Size image_size,
                                                 const BoardCalibrationParams& params);
 
+/// Each camera calibrated alone should fit its corners to well under a pixel; when one does
+/// not (left_rms_px or right_rms_px above limit_px), the error lies in the images, not in the
+/// pairing of the eyes: a line naming both figures and the usual causes with their fixes.
+std::optional<std::string> single_camera_fit_problem(const BoardCalibrationResult& result,
+                                                     double limit_px = 1.0);
+
 /// Mean and max |y_left - y_right| of corresponding raw points after point rectification,
 /// pixels; {0, 0} for no points.
 std::pair<double, double> rectified_row_error_px(const StereoCalibration& calib,

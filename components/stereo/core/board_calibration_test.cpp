@@ -240,5 +240,23 @@ TEST(ParseBoardSize, ReadsColsByRowsAndRefusesTheRest) {
   EXPECT_FALSE(parse_board_size("9*6"));
 }
 
+TEST(SingleCameraFitProblem, NamedOnlyWhenACameraAloneFitsBadly) {
+  // Given calibrations whose single-camera fits are good, and one whose left camera is not
+  BoardCalibrationResult good, bad;
+  good.left_rms_px = 0.21;
+  good.right_rms_px = 0.19;
+  bad.left_rms_px = 2.72;
+  bad.right_rms_px = 0.40;
+  // Then only the bad one gets a note, naming both figures and the limit
+  EXPECT_FALSE(single_camera_fit_problem(good).has_value());
+  const auto note = single_camera_fit_problem(bad);
+  ASSERT_TRUE(note.has_value());
+  EXPECT_NE(note->find("2.72 px (left)"), std::string::npos) << *note;
+  EXPECT_NE(note->find("0.40 px (right)"), std::string::npos) << *note;
+  EXPECT_NE(note->find("above 1.00 px"), std::string::npos) << *note;
+  // And a stricter limit catches the right camera too
+  EXPECT_TRUE(single_camera_fit_problem(good, 0.2).has_value());
+}
+
 }  // namespace
 }  // namespace stereoball::stereo
