@@ -1,6 +1,6 @@
 #pragma once
-// The viewer's pages (page/index.html, page/calibrate.html, their page/common.css), compiled into the binary so nothing is
-// fetched from anywhere else.
+// The viewer's pages (page/index.html, page/calibrate.html, their page/common.css), compiled into
+// the binary so nothing is fetched from anywhere else.
 
 #include <string_view>
 
