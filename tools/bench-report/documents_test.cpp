@@ -48,6 +48,19 @@ int line_count(const std::string& text) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }
 
+// Calls visit(line, line number) for each line of doc outside fenced code.
+template <typename Visit>
+void for_each_prose_line(const fs::path& doc, Visit visit) {
+  std::istringstream in(read(doc));
+  bool fence = false;
+  int n = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++n;
+    if (line.find("```") != std::string::npos) fence = !fence;
+    if (!fence) visit(line, n);
+  }
+}
+
 }  // namespace
 
 TEST(Documents, EveryQuotedBenchmarkFigureIsInTheGeneratedReport) {
@@ -72,13 +85,7 @@ TEST(Documents, RelativeLinksLeadToExistingFiles) {
   static const std::regex kLink("\\]\\(([^)\\s]+)\\)");
   std::string problems;
   for (const auto& doc : documents()) {
-    std::istringstream in(read(doc));
-    bool fence = false;
-    int n = 0;
-    for (std::string line; std::getline(in, line);) {
-      ++n;
-      if (line.find("```") != std::string::npos) fence = !fence;
-      if (fence) continue;
+    for_each_prose_line(doc, [&](const std::string& line, int n) {
       for (auto it = std::sregex_iterator(line.begin(), line.end(), kLink);
            it != std::sregex_iterator(); ++it) {
         std::string target = (*it)[1].str();
@@ -90,7 +97,7 @@ TEST(Documents, RelativeLinksLeadToExistingFiles) {
           problems +=
               fs::relative(doc, kRoot).string() + ":" + std::to_string(n) + ": " + target + "\n";
       }
-    }
+    });
   }
   // Then it exists
   EXPECT_TRUE(problems.empty()) << "broken links:\n" << problems;
@@ -101,16 +108,11 @@ TEST(Documents, NoDatedDiaryLines) {
   static const std::regex kDate("\\b20[0-9]{2}-[01][0-9]-[0-3][0-9]\\b");
   std::string problems;
   for (const auto& doc : documents()) {
-    std::istringstream in(read(doc));
-    bool fence = false;
-    int n = 0;
-    for (std::string line; std::getline(in, line);) {
-      ++n;
-      if (line.find("```") != std::string::npos) fence = !fence;
+    for_each_prose_line(doc, [&](const std::string& line, int n) {
       // When a line outside code carries a date
-      if (!fence && std::regex_search(line, kDate))
+      if (std::regex_search(line, kDate))
         problems += fs::relative(doc, kRoot).string() + ":" + std::to_string(n) + "\n";
-    }
+    });
   }
   // Then there is none
   EXPECT_TRUE(problems.empty()) << "dated lines (move them to CHANGELOG.md):\n" << problems;
