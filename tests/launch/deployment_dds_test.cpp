@@ -20,14 +20,6 @@ using namespace std::chrono_literals;
 
 namespace {
 
-std::string make_key(const std::string& dir) {
-  const std::string path = dir + "/deployment.key";
-  auto [code, output] =
-      sb::testing::run({sb::testing::bin("stereoball-keys"), "init", "--file", path}, 20s);
-  EXPECT_EQ(code, 0) << output;
-  return path;
-}
-
 // The environment of an operator's shell: no DDS configuration, no profile or interface, no
 // settings file of an installed role (the host's must not decide the test).
 std::vector<std::string> operator_shell(const std::vector<std::string>& argv) {
@@ -77,7 +69,7 @@ class Health {
 // holders (the simulator's base and the motion controller) report the stop engaged.
 TEST(DeploymentDds, EstopFromAnotherShellReachesTheLaunchedAllInOne) {
   const std::string dir = sb::testing::temp_dir();
-  const std::string key = make_key(dir);
+  const std::string key = sb::testing::make_key_file(dir, "deployment.key");
   const std::string domain = std::to_string(sb::testing::test_domain());
   const std::string partition = sb::testing::unique_partition();
   const std::vector<std::string> deployment_env{"STEREOBALL_KEY_FILE=" + key,

@@ -28,20 +28,12 @@ namespace {
 
 using Counters = std::map<std::string, uint64_t>;
 
-std::string make_key(const std::string& dir, const std::string& name) {
-  const std::string path = dir + "/" + name;
-  auto [code, output] =
-      sb::testing::run({sb::testing::bin("stereoball-keys"), "init", "--file", path}, 20s);
-  EXPECT_EQ(code, 0) << output;
-  return path;
-}
-
 // Nodes, tools and a keyed observer on one private domain and partition.
 class SecuredSystem {
  public:
   SecuredSystem()
       : dir_(sb::testing::temp_dir()),
-        key_(make_key(dir_, "deployment.key")),
+        key_(sb::testing::make_key_file(dir_, "deployment.key")),
         partition_(sb::testing::unique_partition()),
         participant_({sb::testing::test_domain(), partition_, key_}),
         truth_(participant_, sb::topics::kGroundTruth),
@@ -158,7 +150,7 @@ class SecuredSystem {
 // the stop stays engaged, and each kind of rejection is counted in the nodes' health/status.
 TEST(Attack, SameHostRogueMovesNothingAndClearsNoStop) {
   SecuredSystem sys;
-  const std::string rogue_key = make_key(sys.dir(), "rogue.key");
+  const std::string rogue_key = sb::testing::make_key_file(sys.dir(), "rogue.key");
   sys.start("simulator", {"--scenario", "ball_still"});
   sys.start("motion_controller");
   sys.start("tracker");
@@ -341,7 +333,7 @@ TEST(KeyRotation, RunningRobotKeepsMoving) {
 // it; keys init does not overwrite a key in use.
 TEST(KeyFile, ReadableByOthersIsRefusedWithTheFix) {
   const std::string dir = sb::testing::temp_dir();
-  const std::string key = make_key(dir, "deployment.key");
+  const std::string key = sb::testing::make_key_file(dir, "deployment.key");
   struct stat st {};
   ASSERT_EQ(::stat(key.c_str(), &st), 0);
   EXPECT_EQ(st.st_mode & 0777, 0600u);

@@ -161,4 +161,12 @@ std::string temp_dir() {
   return dir;
 }
 
+std::string make_key_file(const std::string& dir, const std::string& name) {
+  const std::string path = dir + "/" + name;
+  auto [code, output] =
+      run({bin("stereoball-keys"), "init", "--file", path}, std::chrono::seconds(20));
+  EXPECT_EQ(code, 0) << "stereoball-keys init --file " << path << ": " << output;
+  return path;
+}
+
 }  // namespace stereoball::testing

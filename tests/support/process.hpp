@@ -60,5 +60,8 @@ bool eventually(const std::function<bool()>& pred, std::chrono::milliseconds tim
 std::optional<long> memory_kb(pid_t pid, const std::string& field);
 /// A fresh empty temporary directory.
 std::string temp_dir();
+/// Creates a deployment key dir/name with `stereoball-keys init` and returns its path; a
+/// failure of the tool fails the running test (with the tool's output) and still returns it.
+std::string make_key_file(const std::string& dir, const std::string& name);
 
 }  // namespace stereoball::testing

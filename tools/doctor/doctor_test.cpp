@@ -33,14 +33,6 @@ const std::string kSamples = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples"
 const std::string kCalibration =
     sb::testing::source_path("config/calibration/opencv_samples_stereo.yaml");
 
-std::string make_key(const std::string& dir, const std::string& name) {
-  const std::string path = dir + "/" + name;
-  auto [code, output] =
-      sb::testing::run({sb::testing::bin("stereoball-keys"), "init", "--file", path}, 20s);
-  EXPECT_EQ(code, 0) << output;
-  return path;
-}
-
 // The verdict the doctor's --json gives check name ("" if the check is not listed).
 std::string verdict(const std::string& json, const std::string& name) {
   const std::string head = "{\"name\": \"" + name + "\", \"verdict\": \"";
@@ -115,7 +107,7 @@ class Doctor : public ::testing::Test {
  protected:
   Doctor()
       : dir_(sb::testing::temp_dir()),
-        key_(make_key(dir_, "deployment.key")),
+        key_(sb::testing::make_key_file(dir_, "deployment.key")),
         partition_(sb::testing::unique_partition()),
         participant_({sb::testing::test_domain(), partition_, key_}),
         health_(participant_, sb::topics::kComponentStatus) {}
@@ -255,7 +247,7 @@ TEST_F(Doctor, GivenACalibrationOfAnotherSizeThenCalibrationSizeFails) {
 TEST_F(Doctor, GivenANodeWithAnotherKeyOrADoctorWithoutOneThenKeysSaySo) {
   // Given motion_controller signing with another key than camera_server
   start("camera_server", {"--config", camera_config()});
-  start("motion_controller", {}, make_key(dir_, "other.key"));
+  start("motion_controller", {}, sb::testing::make_key_file(dir_, "other.key"));
   wait_for({"camera_server", "motion_controller"});
   // When the doctor checks with the deployment key
   auto [code, out] = doctor({});

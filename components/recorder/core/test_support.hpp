@@ -34,6 +34,14 @@ inline StoredMessage store(const MessageView& m) {
           std::vector<uint8_t>(m.data.begin(), m.data.end())};
 }
 
+/// Reads every message of an opened reader into owning copies, appended to out.
+inline Status read_all(McapReader& reader, std::vector<StoredMessage>& out) {
+  return reader.for_each_message([&](const MessageView& m) {
+    out.push_back(store(m));
+    return true;
+  });
+}
+
 /// Writes count messages round-robin-ish over channels topics (random sizes up to max_bytes).
 inline Recording make_recording(const WriterParams& params, int channels, int count,
                                 size_t max_bytes, uint32_t seed = 1) {

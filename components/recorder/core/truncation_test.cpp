@@ -53,12 +53,7 @@ class Truncation : public ::testing::TestWithParam<Compression> {
     }
     ASSERT_TRUE(reader.open().ok()) << "cut " << cut;
     std::vector<StoredMessage> got;
-    ASSERT_TRUE(reader
-                    .for_each_message([&](const MessageView& m) {
-                      got.push_back(testing::store(m));
-                      return true;
-                    })
-                    .ok());
+    ASSERT_TRUE(testing::read_all(reader, got).ok());
     const size_t want = expected_prefix(rec_, chunks_, cut);
     ASSERT_EQ(got.size(), want) << "cut " << cut;
     EXPECT_TRUE(std::equal(got.begin(), got.end(), rec_.messages.begin())) << "cut " << cut;

@@ -27,12 +27,7 @@ TEST(WriterReader, GivenManyMessagesOnSeveralChannelsWhenReadBackThenByteEqualAn
   McapReader reader(source);
   ASSERT_TRUE(reader.open().ok());
   std::vector<StoredMessage> got;
-  ASSERT_TRUE(reader
-                  .for_each_message([&](const MessageView& m) {
-                    got.push_back(testing::store(m));
-                    return true;
-                  })
-                  .ok());
+  ASSERT_TRUE(testing::read_all(reader, got).ok());
   // Then everything is identical, read through the index, with no problem noted
   EXPECT_EQ(got, rec.messages);
   EXPECT_TRUE(reader.summary().complete);
