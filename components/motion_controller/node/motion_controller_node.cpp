@@ -9,6 +9,10 @@
 namespace stereoball::motion_controller {
 namespace {
 
+// A minimum-rate command goes out once this much less than a period passed without one, as
+// when the node polled every 5 ms: a track due at about the same time then does not leave a gap
+// of more than the period.
+constexpr std::int64_t kMinimumRateSlackNs = 5'000'000;
 // A run of bad stamps of one kind is logged at its first sample and then every this many.
 constexpr std::uint64_t kBadStampLogEvery = 100;
 
@@ -33,7 +37,7 @@ MotionControllerNode::MotionControllerNode(node::Runner& runner,
 }
 
 void MotionControllerNode::on_deadline(std::int64_t now_ns) {
-  bool due = controller_.minimum_rate_due(now_ns, period_ns_, 0);
+  bool due = controller_.minimum_rate_due(now_ns, period_ns_, kMinimumRateSlackNs);
   if (controller_.input_stale(now_ns)) {
     // The stale stop goes out once per silence (the mode says so unless the e-stop is held);
     // after it the minimum rate repeats it.
@@ -47,7 +51,7 @@ void MotionControllerNode::on_deadline(std::int64_t now_ns) {
 void MotionControllerNode::schedule_deadline() {
   const std::int64_t now = node::now_ns();
   const auto last = controller_.last_command_ns();
-  std::int64_t deadline = last ? *last + period_ns_ : now;
+  std::int64_t deadline = last ? *last + period_ns_ - kMinimumRateSlackNs : now;
   const auto stale_at = controller_.stale_at_ns();
   if (stale_at && last_mode_ != Mode::kStale && stale_at != stale_handled_)
     deadline = std::min(deadline, *stale_at);

@@ -216,7 +216,7 @@ TEST_F(MotionControllerNodeTest, GivenEmergencyStopAndStaleInput_ThenZeroAtTheMi
   }
   const double span_ms = static_cast<double>(cmds.back().stamp_ns - cmds.front().stamp_ns) / 1e6;
   const auto issued = static_cast<double>(cmds.back().seq - cmds.front().seq);
-  EXPECT_LE(issued, span_ms / 50.0 + 3.0) << "issued " << issued << " in " << span_ms << " ms";
+  EXPECT_LE(issued, span_ms / 40.0 + 3.0) << "issued " << issued << " in " << span_ms << " ms";
   EXPECT_GE(issued, span_ms / 100.0) << "issued " << issued << " in " << span_ms << " ms";
 }
 
