@@ -57,6 +57,7 @@ struct Result {
   sd::LatencyFigures startup;           // frames exposed before it (start-up and warm-up)
   std::vector<sd::FrameStages> frames;  // every frame, for --frames-csv
   std::int64_t measured_from_ns = 0;
+  std::map<std::string, sd::ProgramCpu> cpu;  // per program, per frame of the window
 };
 
 // The figures of one run: the measured window's, and those of the frames before it apart.
@@ -179,15 +180,23 @@ std::string write_profile(const std::string& dir, const Case& c, const Options& 
 struct Window {
   std::int64_t from_ns = 0, to_ns = 0;
   sd::CpuSample start, end;
+  sd::ProgramSample programs_start, programs_end;
+  // Each program's CPU and run-queue wait per frame period of the window.
+  std::map<std::string, sd::ProgramCpu> cpu(int rate_hz) const {
+    return sd::program_cpu(programs_start, programs_end,
+                           static_cast<double>(to_ns - from_ns) * 1e-9 * rate_hz);
+  }
 };
 Window measure(const Options& o, const std::vector<int>& pids) {
   std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(o.warmup_s * 1e3)));
   Window w;
   w.from_ns = sb::node::now_ns();
   w.start = sd::cpu_sample(pids);
+  w.programs_start = sd::program_sample(pids);
   std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(o.seconds * 1e3)));
   w.to_ns = sb::node::now_ns();
   w.end = sd::cpu_sample(pids);
+  w.programs_end = sd::program_sample(pids);
   std::this_thread::sleep_for(700ms);
   return w;
 }
@@ -223,6 +232,7 @@ std::optional<Result> run_one_host(const Case& c, const Options& o, const std::s
   launcher.reset();  // stops the nodes before the observer
   const auto log = sd::parse_observer_log(observer.get().output());
   Result r = result_of(log, log, w.from_ns, w.to_ns, c.rate_hz, sd::core_load(w.start, w.end));
+  r.cpu = w.cpu(c.rate_hz);
   if (r.figures.end_to_end.n == 0) {
     std::fprintf(stderr, "bench latency: no command answered a track; launcher log:\n%s\n",
                  read_text(dir + "/launch.log").c_str());
@@ -252,6 +262,7 @@ std::optional<Result> run_two_hosts(const Case& c, const Options& o, const std::
   const Window w = measure(o, pids);
   Result r = result_of(system.workstation_log(), system.robot_log(), w.from_ns, w.to_ns, c.rate_hz,
                        sd::core_load(w.start, w.end));
+  r.cpu = w.cpu(c.rate_hz);
   if (r.figures.end_to_end.n == 0) {
     std::fprintf(stderr, "bench latency: no command answered a track:\n%s\n",
                  system.diagnostics().c_str());
@@ -266,17 +277,22 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-// Every number of the per-run JSON objects replaced by its median over the runs.
+// Every number of the per-run JSON objects replaced by its median over the runs that have it.
 nlohmann::json median_of(const std::vector<nlohmann::json>& runs) {
   nlohmann::json out = runs.front();
   for (auto it = out.begin(); it != out.end(); ++it) {
     if (it->is_object()) {
       std::vector<nlohmann::json> parts;
-      for (const auto& r : runs) parts.push_back(r.at(it.key()));
+      for (const auto& r : runs) {
+        if (r.contains(it.key())) parts.push_back(r.at(it.key()));
+      }
       *it = median_of(parts);
     } else if (it->is_number()) {
       std::vector<double> values;
-      for (const auto& r : runs) values.push_back(r.at(it.key()).get<double>());
+      for (const auto& r : runs) {
+        if (r.contains(it.key()) && r.at(it.key()).is_number())
+          values.push_back(r.at(it.key()).get<double>());
+      }
       *it = median(values);
     }
   }
@@ -384,6 +400,7 @@ int main(int argc, char** argv) {
                     c.setup.c_str(), c.encoding.c_str(), c.rate_hz, o.scenario.c_str(), run + 1,
                     o.runs, o.seconds);
       std::fputs(sd::to_text(title, r->figures, r->load).c_str(), stdout);
+      std::fputs(sd::program_cpu_text(r->cpu).c_str(), stdout);
       const sd::Quantiles& s = r->startup.end_to_end;
       std::printf(
           "  start-up (frames exposed before the measured window: the first %.0f s after "
@@ -393,6 +410,7 @@ int main(int argc, char** argv) {
       nlohmann::json j = sd::to_json(r->figures, r->load);
       j["startup"] = sd::to_json(r->startup, r->load);
       j["startup"].erase("load");
+      j["cpu_per_frame"] = sd::program_cpu_json(r->cpu);
       runs.push_back(j);
       if (!o.frames_csv.empty()) {
         const std::string path =
@@ -414,6 +432,13 @@ int main(int argc, char** argv) {
                 figures["end_to_end_ms"]["p90"].get<double>(),
                 figures["end_to_end_ms"]["p99"].get<double>(),
                 figures["end_to_end_ms"]["max"].get<double>());
+    if (figures.contains("cpu_per_frame")) {
+      std::map<std::string, sd::ProgramCpu> cpu;
+      for (const auto& [name, v] : figures["cpu_per_frame"].items())
+        cpu[name] = {v.value("cpu_ms", 0.0), v.value("runqueue_wait_ms", 0.0)};
+      std::printf("%s %s: median of %zu run(s):\n%s", c.setup.c_str(), c.key().c_str(), runs.size(),
+                  sd::program_cpu_text(cpu).c_str());
+    }
     figures["runs"] = runs;
     json[c.setup][c.key()] = figures;
   }

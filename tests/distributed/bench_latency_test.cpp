@@ -40,6 +40,14 @@ TEST(BenchLatency, GivenAShortOneHostRun_ThenJsonHasFiniteOrderedEndToEndFigures
   // And commands answered frames (the stages were joined by the carried capture stamp; how
   // many depends on the load of the shared machine)
   EXPECT_GE(e2e.at("n").get<double>(), 1.0) << out;
+  // And every program of the system has its CPU and run-queue wait per frame, the detector's
+  // CPU more than none
+  const auto& cpu = j.at("one_host").at("raw_30hz").at("cpu_per_frame");
+  for (const char* program : {"simulator", "ball_detector", "tracker", "motion_controller"}) {
+    ASSERT_TRUE(cpu.contains(program)) << program << "\n" << out;
+    EXPECT_GE(cpu.at(program).at("runqueue_wait_ms").get<double>(), 0.0) << program;
+  }
+  EXPECT_GT(cpu.at("ball_detector").at("cpu_ms").get<double>(), 0.0) << out;
 }
 
 TEST(BenchLatency, GivenFramesCsvInAMissingFolder_ThenRefusedBeforeAnyRunNamingIt) {

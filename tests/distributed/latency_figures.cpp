@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -70,6 +71,26 @@ unsigned long long process_ticks(int pid) {
   }
   rest >> utime >> stime;  // fields 14 and 15
   return utime + stime;
+}
+
+std::set<int> with_descendants(const std::vector<int>& pids) {
+  std::set<int> all;
+  std::vector<int> todo = pids;
+  while (!todo.empty()) {
+    const int pid = todo.back();
+    todo.pop_back();
+    if (!all.insert(pid).second) continue;
+    for (int child : children_of(pid)) todo.push_back(child);
+  }
+  return all;
+}
+
+// The file name of a process's argv[0] ("" when it is gone).
+std::string program_name(int pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/cmdline");
+  std::string argv0;
+  std::getline(in, argv0, '\0');
+  return std::filesystem::path(argv0).filename().string();
 }
 
 nlohmann::json quantiles_json(const Quantiles& q) {
@@ -176,15 +197,7 @@ CpuSample cpu_sample(const std::vector<int>& pids) {
     s.host_total_ticks = v[0] + v[1] + v[2] + v[3] + v[4] + v[5] + v[6] + v[7];
     s.host_busy_ticks = s.host_total_ticks - v[3] - v[4];
   }
-  std::set<int> all;
-  std::vector<int> todo = pids;
-  while (!todo.empty()) {
-    const int pid = todo.back();
-    todo.pop_back();
-    if (!all.insert(pid).second) continue;
-    for (int child : children_of(pid)) todo.push_back(child);
-  }
-  for (int pid : all) s.process_ticks += process_ticks(pid);
+  for (int pid : with_descendants(pids)) s.process_ticks += process_ticks(pid);
   return s;
 }
 
@@ -244,6 +257,76 @@ std::string to_text(const std::string& title, const LatencyFigures& f, const Cor
                 f.frames_lost, f.frames_expected, f.tracks_unanswered, load.cores,
                 load.host_busy_pct, load.our_processes_pct, load.load_average_1m);
   out += line;
+  return out;
+}
+
+}  // namespace stereoball::distributed
+
+namespace stereoball::distributed {
+
+ProgramSample program_sample(const std::vector<int>& pids) {
+  ProgramSample out;
+  for (int pid : with_descendants(pids)) {
+    const std::string name = program_name(pid);
+    if (name.empty()) continue;
+    ProgramCounters& p = out[name];
+    p.ticks += process_ticks(pid);
+    std::error_code ec;
+    const std::string tasks = "/proc/" + std::to_string(pid) + "/task";
+    for (const auto& e : std::filesystem::directory_iterator(tasks, ec)) {
+      std::ifstream in(e.path() / "schedstat");
+      ThreadTimes t;
+      if (!(in >> t.run_ns >> t.wait_ns)) continue;
+      p.threads[{pid, std::atoi(e.path().filename().c_str())}] = t;
+    }
+  }
+  return out;
+}
+
+std::map<std::string, ProgramCpu> program_cpu(const ProgramSample& start, const ProgramSample& end,
+                                              double frames) {
+  std::map<std::string, ProgramCpu> out;
+  if (frames <= 0) return out;
+  const double ms_per_tick = 1e3 / static_cast<double>(sysconf(_SC_CLK_TCK));
+  for (const auto& [name, e] : end) {
+    const auto s = start.find(name);
+    // Threads alive at the end: their change since the start, or all of it if they started
+    // later. Threads that ended in between are missing here (the simulator starts one per
+    // frame), but not from the ticks, which count every thread of a process.
+    std::int64_t run_ns = 0, wait_ns = 0;
+    for (const auto& [id, t] : e.threads) {
+      ThreadTimes before;
+      if (s != start.end()) {
+        if (const auto b = s->second.threads.find(id); b != s->second.threads.end())
+          before = b->second;
+      }
+      run_ns += t.run_ns - before.run_ns;
+      wait_ns += t.wait_ns - before.wait_ns;
+    }
+    const unsigned long long ticks_before = s == start.end() ? 0 : s->second.ticks;
+    const double tick_ms =
+        e.ticks >= ticks_before ? static_cast<double>(e.ticks - ticks_before) * ms_per_tick : 0;
+    // Nanosecond counters where they see every thread; the ticks (10 ms steps) otherwise.
+    const double cpu_ms = std::max(static_cast<double>(run_ns) * 1e-6, tick_ms);
+    out[name] = ProgramCpu{cpu_ms / frames, static_cast<double>(wait_ns) * 1e-6 / frames};
+  }
+  return out;
+}
+
+std::string program_cpu_text(const std::map<std::string, ProgramCpu>& cpu) {
+  std::string out = "  per frame, CPU ms (run-queue wait ms):";
+  char part[120];
+  for (const auto& [name, c] : cpu) {
+    std::snprintf(part, sizeof part, " %s %.2f (%.2f)", name.c_str(), c.cpu_ms, c.runqueue_ms);
+    out += part;
+  }
+  return out + "\n";
+}
+
+nlohmann::json program_cpu_json(const std::map<std::string, ProgramCpu>& cpu) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [name, c] : cpu)
+    out[name] = {{"cpu_ms", c.cpu_ms}, {"runqueue_wait_ms", c.runqueue_ms}};
   return out;
 }
 

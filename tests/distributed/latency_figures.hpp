@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,34 @@ struct CpuSample {
 CpuSample cpu_sample(const std::vector<int>& pids);
 /// The load between two samples.
 CoreLoad core_load(const CpuSample& start, const CpuSample& end);
+
+/// One thread's scheduler counters (/proc/PID/task/TID/schedstat), ns.
+struct ThreadTimes {
+  std::int64_t run_ns = 0;   ///< on a core
+  std::int64_t wait_ns = 0;  ///< runnable, waiting for a core (run queue)
+};
+/// CPU counters of every program of the system under test at one instant, by program name
+/// (the file name of argv[0]: ball_detector, tracker, ...).
+struct ProgramCounters {
+  unsigned long long ticks = 0;  ///< utime + stime of its processes (exited threads too)
+  std::map<std::pair<int, int>, ThreadTimes> threads;  ///< (pid, tid) -> live threads' counters
+};
+using ProgramSample = std::map<std::string, ProgramCounters>;
+/// Reads the programs of pids and their descendants.
+ProgramSample program_sample(const std::vector<int>& pids);
+
+/// What one program spent over a run, ms per frame period of the run.
+struct ProgramCpu {
+  double cpu_ms = 0;       ///< CPU time (user + system) per frame
+  double runqueue_ms = 0;  ///< time its threads waited for a core per frame (live threads)
+};
+/// Each program's CPU and run-queue wait between two samples, divided by frames.
+std::map<std::string, ProgramCpu> program_cpu(const ProgramSample& start, const ProgramSample& end,
+                                              double frames);
+/// One printed line: every program's CPU and run-queue wait per frame.
+std::string program_cpu_text(const std::map<std::string, ProgramCpu>& cpu);
+/// {"ball_detector": {"cpu_ms": .., "runqueue_wait_ms": ..}, ...}
+nlohmann::json program_cpu_json(const std::map<std::string, ProgramCpu>& cpu);
 
 /// {"frame_received_ms": {...}, ..., "end_to_end_ms": {"p50", "p90", "p99", "max", "n"},
 ///  "frames_expected", "frames_lost", "tracks_unanswered"} plus "load" when given.

@@ -3,6 +3,7 @@
 #include "latency_figures.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -101,6 +102,45 @@ TEST(LatencyFigures, GivenFigures_ThenJsonHasEveryQuantileFinite) {
     }
   }
   EXPECT_NEAR(j["end_to_end_ms"]["max"].get<double>(), 8.5, 1e-9);
+}
+
+TEST(ProgramCpu, GivenTwoSamples_ThenEachProgramsCpuAndRunQueueWaitPerFrame) {
+  // Given a detector with a thread alive at both samples and one started in between, and a
+  // tracker whose only thread ended in between (its ticks still count every thread)
+  ProgramSample start, end;
+  start["ball_detector"].threads[{10, 10}] = {100 * kMs, 5 * kMs};
+  start["ball_detector"].ticks = 10;
+  end["ball_detector"].threads[{10, 10}] = {400 * kMs, 35 * kMs};
+  end["ball_detector"].threads[{10, 12}] = {100 * kMs, 10 * kMs};
+  end["ball_detector"].ticks = 50;
+  start["tracker"].threads[{20, 21}] = {10 * kMs, 1 * kMs};
+  start["tracker"].ticks = 1;
+  end["tracker"].ticks = 3;
+  // When their use over 100 frame periods is taken
+  const auto cpu = program_cpu(start, end, 100.0);
+  // Then the detector used 300 + 100 ms of CPU and waited 30 + 10 ms for a core: 4 and 0.4 ms
+  // per frame (its ticks, 10 ms steps, say the same); the tracker's CPU comes from its ticks
+  const double ms_per_tick = 1e3 / static_cast<double>(sysconf(_SC_CLK_TCK));
+  ASSERT_EQ(cpu.size(), 2u);
+  EXPECT_NEAR(cpu.at("ball_detector").cpu_ms, std::max(4.0, 40 * ms_per_tick / 100), 1e-9);
+  EXPECT_NEAR(cpu.at("ball_detector").runqueue_ms, 0.4, 1e-9);
+  EXPECT_NEAR(cpu.at("tracker").cpu_ms, 2 * ms_per_tick / 100, 1e-9);
+  EXPECT_NEAR(cpu.at("tracker").runqueue_ms, 0.0, 1e-9);
+  // And the text and JSON name each program with both figures
+  const std::string text = program_cpu_text(cpu);
+  EXPECT_NE(text.find("ball_detector 4.00 (0.40)"), std::string::npos) << text;
+  const auto j = program_cpu_json(cpu);
+  EXPECT_NEAR(j.at("ball_detector").at("runqueue_wait_ms").get<double>(), 0.4, 1e-9);
+  EXPECT_TRUE(j.at("tracker").at("cpu_ms").is_number());
+}
+
+TEST(ProgramCpu, GivenThisProcess_ThenItsProgramIsSampledWithItsThreads) {
+  // Given this test process, when it is sampled, then it appears under its own program name
+  // with at least one thread (the counters the benchmark reads exist on this kernel)
+  const auto sample = program_sample({static_cast<int>(getpid())});
+  ASSERT_EQ(sample.size(), 1u);
+  EXPECT_EQ(sample.begin()->first, "latency_figures_test");
+  EXPECT_FALSE(sample.begin()->second.threads.empty());
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "common/dds/reader.hpp"
 #include "common/dds/serialized.hpp"
 #include "common/dds/writer.hpp"
+#include "common/node/node_runner.hpp"
 #include "process.hpp"
 #include "samples.hpp"
 
@@ -235,6 +236,39 @@ TEST(NodeRunner, TerminationSignalsExitCleanlyWithinOneSecond) {
     ASSERT_TRUE(code.has_value()) << "still running 1 s after signal " << sig;
     EXPECT_EQ(*code, 0) << node.output();
   }
+}
+
+// Given a one-shot timer, it fires once per wake_at, never before its deadline and never
+// unscheduled; a timer that is never scheduled never fires.
+TEST(NodeRunner, OneShotTimerFiresOncePerWakeAt) {
+  sb::node::CommonOptions options;
+  options.domain_id = sb::testing::test_domain();
+  options.partition = sb::testing::unique_partition();
+  sb::node::Runner runner("runner_test", options);
+  runner.set_heartbeat_period(0);
+  int never = 0;
+  std::vector<int64_t> fired_mono;
+  int64_t second_deadline = 0;
+  runner.one_shot([&](int64_t) { ++never; });
+  const size_t stopper = runner.one_shot([&](int64_t) { runner.stop(); });
+  size_t timer = 0;
+  timer = runner.one_shot([&](int64_t) {
+    fired_mono.push_back(sb::node::monotonic_ns());
+    if (fired_mono.size() == 1) {
+      // Scheduled again once, 20 ms on; then left alone for 200 ms before the runner stops
+      second_deadline = fired_mono.back() + 20'000'000;
+      runner.wake_at(timer, second_deadline);
+    } else {
+      runner.wake_at(stopper, fired_mono.back() + 200'000'000);
+    }
+  });
+  runner.wake_at(timer, sb::node::monotonic_ns());
+  // The deadline of the whole test: the runner stops after 10 s whatever happened
+  runner.every(10 * kSecond, [&](int64_t) { runner.stop(); });
+  EXPECT_EQ(runner.run(), 0);
+  ASSERT_EQ(fired_mono.size(), 2u);
+  EXPECT_GE(fired_mono[1], second_deadline);
+  EXPECT_EQ(never, 0);
 }
 
 // Given a running node, when one listens on health/status, then a heartbeat names the node.

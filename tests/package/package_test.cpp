@@ -212,7 +212,11 @@ TEST_F(Package, BothRolesSandboxedInTheirUnits) {
              {"CapabilityBoundingSet", ""},
              {"StateDirectory", "stereoball"},
              {"LogsDirectory", "stereoball"},
-             {"RestrictAddressFamilies", "AF_INET AF_INET6 AF_UNIX AF_NETLINK"}}) {
+             {"RestrictAddressFamilies", "AF_INET AF_INET6 AF_UNIX AF_NETLINK"},
+             // Real-time priority set by systemd before it drops to the user (deploy/README.md)
+             {"CPUSchedulingPolicy", "fifo"},
+             {"CPUSchedulingPriority", "20"},
+             {"RestrictRealtime", "yes"}}) {
       ASSERT_TRUE(unit.count(key)) << role << ": " << key << " missing";
       EXPECT_EQ(unit.at(key), value) << role << ": " << key;
     }

@@ -102,6 +102,15 @@ void Runner::dispatch(std::function<void()>& callback, const char* what) {
   }
 }
 
+size_t Runner::one_shot(std::function<void(int64_t)> callback) {
+  timers_.push_back(Timer{0, INT64_MAX, std::move(callback)});
+  return timers_.size() - 1;
+}
+
+void Runner::wake_at(size_t id, int64_t deadline_ns) {
+  timers_.at(id).next_ns = deadline_ns;
+}
+
 int64_t Runner::next_timer_ns() const {
   int64_t next = INT64_MAX;
   for (const auto& timer : timers_) next = std::min(next, timer.next_ns);
@@ -110,11 +119,17 @@ int64_t Runner::next_timer_ns() const {
 
 void Runner::run_due_timers() {
   const int64_t mono = monotonic_ns();
-  for (auto& timer : timers_) {
+  // By index: a callback may schedule a one-shot timer (wake_at) but never adds one.
+  for (size_t i = 0; i < timers_.size(); ++i) {
+    Timer& timer = timers_[i];
     if (timer.next_ns > mono) continue;
-    // Skip missed periods rather than firing a burst after a stall.
-    while (timer.next_ns <= mono) timer.next_ns += timer.period_ns;
-    std::function<void()> call = [&] { timer.callback(now_ns()); };
+    if (timer.period_ns == 0) {
+      timer.next_ns = INT64_MAX;  // fired; the callback may schedule it again
+    } else {
+      // Skip missed periods rather than firing a burst after a stall.
+      while (timer.next_ns <= mono) timer.next_ns += timer.period_ns;
+    }
+    std::function<void()> call = [&timer] { timer.callback(now_ns()); };
     dispatch(call, "timer");
   }
 }
@@ -172,7 +187,9 @@ int Runner::run() {
                 ? std::string()
                 : ", partition '" + participant_->options().partition + "'");
   while (!stop_.load()) {
-    const int64_t timeout = timers_.empty() ? 1'000'000'000 : next_timer_ns() - monotonic_ns();
+    // At most a second: nothing scheduled (a one-shot timer not set) means no deadline.
+    const int64_t timeout = std::min<int64_t>(
+        1'000'000'000, timers_.empty() ? INT64_MAX : next_timer_ns() - monotonic_ns());
     const auto triggered = waitset_->wait(std::max<int64_t>(timeout, 0));
     for (intptr_t token : triggered) {
       if (token < 0 || stop_.load()) continue;

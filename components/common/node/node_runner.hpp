@@ -43,6 +43,12 @@ class Runner {
   void on_data(dds::EntityHandle reader, std::function<void()> callback);
   /// Calls callback every period_ns (monotonic) with now_ns(); first call one period after run().
   void every(int64_t period_ns, std::function<void(int64_t)> callback);
+  /// A timer the node schedules itself (wake_at): callback(now_ns()) runs once per wake_at, at
+  /// or after its deadline; unscheduled until then. Returns the timer's id.
+  size_t one_shot(std::function<void(int64_t)> callback);
+  /// Schedules (or moves) one_shot timer id to monotonic_ns() time deadline_ns; loop thread
+  /// (callbacks) or before run() only.
+  void wake_at(size_t id, int64_t deadline_ns);
   /// Heartbeat period (default 1 s); 0 disables.
   void set_heartbeat_period(int64_t period_ns) { heartbeat_period_ns_ = period_ns; }
 
@@ -54,8 +60,8 @@ class Runner {
 
  private:
   struct Timer {
-    int64_t period_ns;
-    int64_t next_ns;
+    int64_t period_ns;  // 0: one-shot (wake_at)
+    int64_t next_ns;    // INT64_MAX: not scheduled
     std::function<void(int64_t)> callback;
   };
   struct DataHandler {

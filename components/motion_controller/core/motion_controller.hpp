@@ -42,6 +42,15 @@ class MotionController {
     return !last_step_ns_ || now_ns - *last_step_ns_ >= period_ns - check_period_ns;
   }
 
+  /// When (receiver clock, ns) the input goes stale: the first instant input_stale() holds,
+  /// none before the first track. A timer set for it sends the stale stop without polling.
+  std::optional<std::int64_t> stale_at_ns() const {
+    if (!track_) return std::nullopt;
+    return track_received_ns_ + params_.stale_timeout_ns + 1;
+  }
+  /// Receiver-clock time of the last command (step()), none before the first.
+  std::optional<std::int64_t> last_command_ns() const { return last_step_ns_; }
+
   /// True while the emergency stop is latched.
   bool estop_engaged() const { return estop_; }
   /// True when a track was received once but none for longer than stale_timeout_ns (the next

@@ -1,5 +1,6 @@
 #include "motion_controller/node/motion_controller_node.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "common/util/log.hpp"
@@ -8,9 +9,10 @@
 namespace stereoball::motion_controller {
 namespace {
 
-// How often the node looks for input that just went stale and for a due minimum-rate command,
-// ns: commands are never further apart than 1 / rate_hz, and a stale stop goes out within it.
-constexpr std::int64_t kCheckPeriodNs = 5'000'000;
+// A minimum-rate command goes out once this much less than a period passed without one, as
+// when the node polled every 5 ms: a track due at about the same time then does not leave a gap
+// of more than the period.
+constexpr std::int64_t kMinimumRateSlackNs = 5'000'000;
 // A run of bad stamps of one kind is logged at its first sample and then every this many.
 constexpr std::uint64_t kBadStampLogEvery = 100;
 
@@ -26,14 +28,38 @@ MotionControllerNode::MotionControllerNode(node::Runner& runner,
       commands_(runner.participant(), topics::kVelocityCommand) {
   runner_.on_data(tracks_.handle(), [this] { on_tracks(); });
   // Tracks are answered when they arrive; this timer only keeps the minimum rate and sends the
-  // stale stop when it happens, not up to a period later.
-  runner_.every(kCheckPeriodNs, [this](std::int64_t now_ns) {
-    const bool newly_stale = last_mode_ != Mode::kStale && controller_.input_stale(now_ns);
-    if (newly_stale || controller_.minimum_rate_due(now_ns, period_ns_, kCheckPeriodNs)) {
-      publish(controller_.step(now_ns), now_ns);
-    }
-  });
+  // stale stop at the instant the input goes stale. It is set for exactly that instant after
+  // every sample and command, so the node wakes only when there is something to do (a timer
+  // polling every 5 ms woke it ~200 times a second, more often than the tracks arrive).
+  deadline_timer_ = runner_.one_shot([this](std::int64_t now_ns) { on_deadline(now_ns); });
+  runner_.wake_at(deadline_timer_, node::monotonic_ns());  // the first (waiting) command
   runner_.health().set_state(false, "waiting for ball/track");
+}
+
+void MotionControllerNode::on_deadline(std::int64_t now_ns) {
+  bool due = controller_.minimum_rate_due(now_ns, period_ns_, kMinimumRateSlackNs);
+  if (controller_.input_stale(now_ns)) {
+    // The stale stop goes out once per silence (the mode says so unless the e-stop is held);
+    // after it the minimum rate repeats it.
+    due = due || (last_mode_ != Mode::kStale && stale_handled_ != controller_.stale_at_ns());
+    stale_handled_ = controller_.stale_at_ns();
+  }
+  if (due) publish(controller_.step(now_ns), now_ns);
+  schedule_deadline();
+}
+
+void MotionControllerNode::schedule_deadline() {
+  const std::int64_t now = node::now_ns();
+  const auto last = controller_.last_command_ns();
+  std::int64_t deadline = last ? *last + period_ns_ - kMinimumRateSlackNs : now;
+  const auto stale_at = controller_.stale_at_ns();
+  if (stale_at && last_mode_ != Mode::kStale && stale_at != stale_handled_)
+    deadline = std::min(deadline, *stale_at);
+  // The controller's times are the wall clock, the runner's timers monotonic: converted by the
+  // difference, and never further than one command period ahead, so a step of the wall clock
+  // cannot silence the minimum rate for longer than that.
+  const std::int64_t delay = std::clamp<std::int64_t>(deadline - now, 0, period_ns_);
+  runner_.wake_at(deadline_timer_, node::monotonic_ns() + delay);
 }
 
 void MotionControllerNode::on_tracks() {
@@ -47,6 +73,7 @@ void MotionControllerNode::on_tracks() {
   if (response.command) {
     bad_stamps_in_a_row_ = 0;
     publish(*response.command, now);
+    schedule_deadline();
     return;
   }
   if (response.check == StampCheck::kRepeated) {
@@ -76,6 +103,7 @@ void MotionControllerNode::on_estop(const node::EstopState& state) {
   if (newly_engaged) {
     const std::int64_t now = node::now_ns();
     publish(controller_.step(now), now);
+    schedule_deadline();
   }
 }
 

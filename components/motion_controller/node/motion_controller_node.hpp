@@ -1,9 +1,12 @@
 #pragma once
 // The motion_controller process: ball/track and cmd/estop in, cmd/velocity out: one command
 // per new track as soon as it arrives, at least rate_hz also when the inputs stop, and at once
-// on stale input or emergency stop.
+// on stale input or emergency stop. Between samples it sleeps until the next of those two
+// deadlines (no polling).
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
@@ -23,6 +26,8 @@ class MotionControllerNode {
  private:
   void on_tracks();
   void on_estop(const node::EstopState& state);
+  void on_deadline(std::int64_t now_ns);
+  void schedule_deadline();
   void publish(const Command& c, std::int64_t now_ns);
   void report_bad_stamp(const stereoball_msg_BallTrack& msg, StampCheck check, std::int64_t now_ns);
 
@@ -36,6 +41,8 @@ class MotionControllerNode {
   Mode last_mode_ = Mode::kWaiting;
   std::uint64_t bad_stamps_in_a_row_ = 0;
   StampCheck last_bad_check_ = StampCheck::kNew;
+  std::size_t deadline_timer_ = 0;  // runner one-shot: next minimum-rate command or stale stop
+  std::optional<std::int64_t> stale_handled_;  // stale_at_ns() the deadline already acted on
 };
 
 }  // namespace stereoball::motion_controller

@@ -27,6 +27,7 @@ struct Cmd {
   double angular_radps;
   std::int64_t stamp_ns;  // when the node issued it (its own clock, the host's epoch)
   std::int64_t capture_stamp_ns;
+  std::uint64_t seq = 0;  // the node's command counter
 };
 
 // Median gap between consecutive issue stamps, ms. Judged on the node's own stamps, not on
@@ -101,7 +102,7 @@ class MotionControllerNodeTest : public ::testing::Test {
 
   void collect(std::vector<Cmd>& got) {
     for (auto& s : commands_->take()) {
-      got.push_back({s->linear_mps, s->angular_radps, s->stamp_ns, s->capture_stamp_ns});
+      got.push_back({s->linear_mps, s->angular_radps, s->stamp_ns, s->capture_stamp_ns, s->seq});
     }
   }
 
@@ -194,6 +195,29 @@ TEST_F(MotionControllerNodeTest, GivenEmergencyStop_ThenZeroLatchedUntilCleared)
   const auto after = pump(following, 1000ms);
   EXPECT_GT(after.back().linear_mps, 0.1);
   EXPECT_GT(after.back().angular_radps, 0.1);  // ball to the left: counter-clockwise
+}
+
+TEST_F(MotionControllerNodeTest, GivenEmergencyStopAndStaleInput_ThenZeroAtTheMinimumRateOnly) {
+  // Given a followed ball, then the e-stop engaged and the tracks stopping, so the input goes
+  // stale while the stop is held (the stop's mode, not STALE, is what the node commands)
+  const auto following = track(stereoball_msg_TRACK_FOLLOWING, 0.0, 2.0, stereoball_msg_SIDE_LEFT);
+  pump(following, 500ms);
+  send_estop(true);
+  pump(std::nullopt, 1000ms);
+  // When the node is watched for 2 s more
+  const auto cmds = pump(std::nullopt, 2000ms);
+  ASSERT_GE(cmds.size(), 5u) << node_->output();
+  // Then every command is zero, and the node issued them at its minimum rate (20 Hz), not at
+  // the pace of its wake-ups: counted by the node's own command numbers and issue stamps, so a
+  // busy host's late delivery does not count
+  for (const auto& c : cmds) {
+    EXPECT_EQ(c.linear_mps, 0.0);
+    EXPECT_EQ(c.angular_radps, 0.0);
+  }
+  const double span_ms = static_cast<double>(cmds.back().stamp_ns - cmds.front().stamp_ns) / 1e6;
+  const auto issued = static_cast<double>(cmds.back().seq - cmds.front().seq);
+  EXPECT_LE(issued, span_ms / 40.0 + 3.0) << "issued " << issued << " in " << span_ms << " ms";
+  EXPECT_GE(issued, span_ms / 100.0) << "issued " << issued << " in " << span_ms << " ms";
 }
 
 TEST_F(MotionControllerNodeTest, GivenSearchingAfterLeftExit_ThenRotatesLeftInPlace) {
