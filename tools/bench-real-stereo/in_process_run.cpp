@@ -3,11 +3,14 @@
 #include <chrono>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "ball_detector/node/detection_msg.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
+#include "camera_server/core/frame_scaler.hpp"
 #include "common/util/bench_clock.hpp"
 #include "real_stereo_run.hpp"
+#include "stereo/core/calibration_scaling.hpp"
 
 #include "common/msg/msg_names.hpp"
 #include "stereo/frame/frame_compressor.hpp"
@@ -30,6 +33,51 @@ Result<cv::Mat> read_as_camera_server(const std::string& path) {
   if (!m.isContinuous()) m = m.clone();
   return m;
 }
+
+// Each search's own thread CPU time (a search running inside another is charged to itself),
+// and the frames that ran it.
+class SearchTimer {
+ public:
+  void on(ball_detector::SearchPath path, bool started) {
+    const double now = bench::thread_cpu_ms();
+    if (!open_.empty()) entry(open_.back()).total_ms += now - since_;
+    since_ = now;
+    if (started) {
+      SearchCpu& e = entry(ball_detector::to_string(path));
+      if (ran_.insert(e.path).second) ++e.frames;
+      open_.push_back(e.path);
+    } else if (!open_.empty()) {
+      open_.pop_back();
+    }
+  }
+  void start_frame() { ran_.clear(); }
+  // The frame's time outside every search (decoding, the answer's checks, the patch).
+  void end_frame(double frame_cpu_ms, double searches_before_ms) {
+    const double searches = searches_ms() - searches_before_ms;
+    SearchCpu& other = entry("other");
+    other.total_ms += frame_cpu_ms - searches;
+    ++other.frames;
+  }
+  double searches_ms() const {
+    double sum = 0.0;
+    for (const SearchCpu& e : totals_)
+      if (e.path != "other") sum += e.total_ms;
+    return sum;
+  }
+  const std::vector<SearchCpu>& totals() const { return totals_; }
+
+ private:
+  SearchCpu& entry(const std::string& path) {
+    for (SearchCpu& e : totals_)
+      if (e.path == path) return e;
+    totals_.push_back(SearchCpu{path, 0.0, 0});
+    return totals_.back();
+  }
+  std::vector<SearchCpu> totals_;
+  std::vector<std::string> open_;
+  std::set<std::string> ran_;
+  double since_ = 0.0;
+};
 
 }  // namespace
 
@@ -64,19 +112,30 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
     out.errors.push_back(error);
     return out;
   };
-  if (options.width_px != 0)
-    return fail_all(
-        "--width-px is a camera_server setting: the in-process path plays the set "
-        "at its own size (run without --in-process)");
   // The calibration travels as its message and is read back with the node's image limit.
   auto file_calib = stereo::load_calibration(set.calibration_path);
   if (!file_calib) return fail_all(set.calibration_path + ": " + file_calib.error());
+  // --width-px: camera_server's publish_width_px (its scaler, the calibration scaled with it).
+  std::optional<camera_server::FrameScaler> scaler;
+  if (options.width_px != 0) {
+    scaler.emplace(options.width_px);
+    out.scale = double(options.width_px) / double(set.image_size.width);
+    auto scaled =
+        stereo::scale_calibration(*file_calib, scaler->output_size(file_calib->image_size));
+    if (!scaled) return fail_all(set.calibration_path + ": " + scaled.error());
+    file_calib = std::move(scaled);
+  }
   const auto msg = stereo::calibration_to_message(*file_calib, 0, set.calibration_path);
   auto calib = stereo::calibration_from_message(msg, config.params.max_image_size());
   if (!calib)
     return fail_all("ball_detector would refuse the calibration: " + calib.error() +
                     " (raise the detector's image_limit: --image-limit WxH)");
+  // One OpenCV thread: the thread's CPU time is then the detector's whole cost on one core.
+  cv::setNumThreads(1);
   ball_detector::StereoPipeline pipeline(config.params);
+  SearchTimer timer;
+  pipeline.set_search_observer(
+      [&timer](ball_detector::SearchPath path, bool started) { timer.on(path, started); });
   if (auto st = pipeline.set_calibration(*calib); !st)
     return fail_all("ball_detector would refuse the calibration: " + st.error());
   out.played_size = pipeline.image_size();
@@ -102,8 +161,13 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
       continue;
     }
     stereo::FrameView sent = *view;
+    if (scaler) {
+      auto scaled = scaler->step(*view);
+      if (!scaled) return fail_all("pair " + row.pair + ": " + scaled.error());
+      sent = *scaled;
+    }
     if (compressor) {
-      auto c = compressor->step(*view);
+      auto c = compressor->step(sent);
       if (!c) {
         out.errors.push_back("pair " + row.pair + ": " + c.error());
         continue;
@@ -116,6 +180,8 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
     // answer and is not in processing_ms).
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = bench::thread_cpu_ms();
+    timer.start_frame();
+    const double searches_before_ms = timer.searches_ms();
     ball_detector::StereoDetection det;
     cv::Mat l, r;
     if (auto st = decoder.decode(frame, pipeline.image_size(), l, r); !st) {
@@ -127,6 +193,7 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
     const float ms =
         std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - start).count();
     const double cpu_ms = bench::thread_cpu_ms() - cpu_start;
+    timer.end_frame(cpu_ms, searches_before_ms);
     stereoball_msg_BallDetection msg_out{};
     ball_detector::to_message(det, ball_detector::FrameStamp{i, stamp_ns}, ms, stamp_ns, msg_out);
     if (is_refusal(msg_out.status)) {
@@ -139,6 +206,7 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
     out.pairs[i].attempts = 1;
     if (!l.empty()) pipeline.finish_frame(l, frame.rectified);
   }
+  out.cpu_by_search = timer.totals();
   return out;
 }
 

@@ -145,6 +145,16 @@ std::string format_table(const ReportContext& ctx, const RunResult& run,
         "detector CPU time per stereo frame (this thread, %zu frames): median %.1f ms, p90 "
         "%.1f ms (less disturbed by a busy machine than the wall time above)\n",
         s.cpu_frames, s.median_cpu_ms, s.p90_cpu_ms);
+  if (!run.cpu_by_search.empty()) {
+    t << fmt(
+        "detector CPU time by search (ms per stereo frame over the %zu frames; frames that "
+        "ran it, and its mean there):\n",
+        s.cpu_frames);
+    for (const SearchCpu& e : run.cpu_by_search)
+      t << fmt("  %-18s %7.2f ms  (%3d frames, %7.2f ms each)\n", e.path.c_str(),
+               s.cpu_frames ? e.total_ms / double(s.cpu_frames) : 0.0, e.frames,
+               e.frames ? e.total_ms / e.frames : 0.0);
+  }
   if (verbose) {
     t << "\npairs:\n";
     for (const auto& p : scores) {
@@ -226,6 +236,13 @@ std::string format_json(const ReportContext& ctx, const RunResult& run,
   } else {
     j << "null,\n";
   }
+  j << "  \"cpu_ms_by_search\": {";
+  for (std::size_t i = 0; i < run.cpu_by_search.size(); ++i) {
+    const SearchCpu& e = run.cpu_by_search[i];
+    j << (i ? ", " : "") << json_string(e.path) << ": {\"total_ms\": " << json_number(e.total_ms)
+      << ", \"frames\": " << e.frames << "}";
+  }
+  j << "},\n";
   j << "  \"run_errors\": [";
   for (std::size_t i = 0; i < run.errors.size(); ++i)
     j << (i ? ", " : "") << json_string(run.errors[i]);

@@ -37,6 +37,13 @@ struct PairRun {
   int attempts = 0;                    ///< plays of the pair (2 after a retry)
 };
 
+/// CPU time one search of the detector took over a run (in-process only).
+struct SearchCpu {
+  std::string path;       ///< the search ("whole_frame", ...; "other": decode, checks, patch)
+  double total_ms = 0.0;  ///< its own thread CPU time over every frame, ms (nested searches apart)
+  int frames = 0;         ///< frames that ran it
+};
+
 /// Everything a run produced.
 struct RunResult {
   std::string mode;                 ///< "dds" or "in-process"
@@ -45,6 +52,7 @@ struct RunResult {
   std::vector<std::string> notes;   ///< what the user should know (retries, node logs' gist)
   double scale = 1.0;               ///< published width / set width (truth scaled by it)
   cv::Size played_size;             ///< frame size the detector saw
+  std::vector<SearchCpu> cpu_by_search;  ///< in-process: where the detector's CPU time went
 };
 
 /// The scorer's view of a ball/detection sample (the same for both paths).

@@ -297,6 +297,17 @@ bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey) {
   return true;
 }
 
+bool PixelToPixelDetector::find_edges(const cv::Mat& bgr_or_grey) {
+  start(std::nullopt);
+  edges_ready_ = false;
+  orientation_ready_ = false;
+  lines_.clear();  // a redetect of this image plots nothing
+  if (!validate_image(bgr_or_grey).ok()) return false;
+  compute_edge_map(bgr_or_grey, params_.edge, edges_);
+  edges_ready_ = true;
+  return true;
+}
+
 std::vector<Circle> PixelToPixelDetector::circles_of_votes() {
   if (!votes_ready_) return {};
   return circles_on(edges_);
@@ -636,48 +647,46 @@ std::vector<Circle> select_circles(const EdgeMap& edges, std::vector<Circle> fou
   return kept;
 }
 
-std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& image) {
-  start(std::nullopt);
-  edges_ready_ = false;  // no full-resolution map of the whole image: redetect finds nothing
-  orientation_ready_ = false;
-  if (!validate_image(image).ok()) return {};
-  if (!coarse_) {
-    PixelToPixelParams p = params_;
-    p.coarse_to_fine = false;
-    // Each k keeps its meaning: a window of the same size in the scene, so the same radii
-    // pass the count rule (a window must hold an arc, not half of a small circle).
-    p.k_values.clear();
-    for (int k : params_.k_values)
-      if (const int half_k = (k + 1) / 2;
-          std::find(p.k_values.begin(), p.k_values.end(), half_k) == p.k_values.end())
-        p.k_values.push_back(half_k);
-    p.min_radius_px = 0.5 * params_.min_radius_px;
-    p.max_radius_px = 0.5 * params_.max_radius_px;
-    p.min_separation_px = 0.5 * params_.min_separation_px;
-    p.min_peak_votes = (params_.min_peak_votes + 1) / 2;  // half the circumference votes
-    p.min_score = params_.coarse_min_score;
-    // Every candidate goes on to full resolution, where the best max_circles are kept.
-    p.max_circles = std::max(params_.max_circles, params_.max_peaks_examined);
-    p.polish = false;  // the full-resolution refinement polishes
-    p.refine_params.camera.reset();
-    p.refine_params.give_up_below = params_.coarse_min_score;
-    // Clutter is judged at full resolution, where the rings are measured on sharper edges.
-    p.refine_params.clutter_ring_per_radius = 0.0;
-    coarse_ = std::make_unique<PixelToPixelDetector>(p);
-    coarse_->voted_coverage_gate_ = params_.coarse_min_voted_coverage;
-    coarse_->voter_mode_radius_ = true;
-  }
-  // An even size halves exactly (each pixel the mean of a 2x2 block: OpenCV's fast path).
-  const cv::Mat even = image(cv::Rect(0, 0, image.cols & ~1, image.rows & ~1));
-  cv::resize(even, half_, cv::Size(even.cols / 2, even.rows / 2), 0.0, 0.0, cv::INTER_AREA);
-  const std::vector<Circle> candidates = coarse_->detect(half_);
-  diag_ = coarse_->diag_;  // the halved image's edges and votes
-  // Each candidate's window: its circle at full resolution and a margin.
+namespace {
+
+// coarse_to_fine: the halved image's settings. Each k keeps its meaning: a window of the same
+// size in the scene, so the same radii pass the count rule (a window must hold an arc, not half
+// of a small circle).
+PixelToPixelParams halved_image_params(const PixelToPixelParams& full) {
+  PixelToPixelParams p = full;
+  p.coarse_to_fine = false;
+  p.k_values.clear();
+  for (int k : full.k_values)
+    if (const int half_k = (k + 1) / 2;
+        std::find(p.k_values.begin(), p.k_values.end(), half_k) == p.k_values.end())
+      p.k_values.push_back(half_k);
+  p.min_radius_px = 0.5 * full.min_radius_px;
+  p.max_radius_px = 0.5 * full.max_radius_px;
+  p.min_separation_px = 0.5 * full.min_separation_px;
+  p.min_peak_votes = (full.min_peak_votes + 1) / 2;  // half the circumference votes
+  p.min_score = full.coarse_min_score;
+  // Every candidate goes on to full resolution, where the best max_circles are kept.
+  p.max_circles = std::max(full.max_circles, full.max_peaks_examined);
+  p.polish = false;  // the full-resolution refinement polishes
+  p.refine_params.camera.reset();
+  p.refine_params.give_up_below = full.coarse_min_score;
+  // Clutter is judged at full resolution, where the rings are measured on sharper edges.
+  p.refine_params.clutter_ring_per_radius = 0.0;
+  return p;
+}
+
+// The halved image's candidates as full-resolution seeds, each with the window of the image
+// it is refined in (its circle and a margin), the region they span and their total area.
+struct CoarseWindows {
   std::vector<Circle> seeds;
   std::vector<cv::Rect> windows;
-  const cv::Rect whole(0, 0, image.cols, image.rows);
   cv::Rect span;
   double total_area = 0.0;
+};
+
+CoarseWindows coarse_windows(const std::vector<Circle>& candidates, cv::Size image_size) {
+  CoarseWindows out;
+  const cv::Rect whole(cv::Point(0, 0), image_size);
   for (const Circle& c : candidates) {
     // Pixel (i, j) of the halved image is the mean of pixels 2i, 2i + 1 (and 2j, 2j + 1).
     const Circle seed{2.0 * c.x_px + 0.5, 2.0 * c.y_px + 0.5, 2.0 * c.radius_px, 0.0};
@@ -688,25 +697,47 @@ std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& i
                                  static_cast<int>(std::ceil(seed.y_px + reach)) + 1);
     const cv::Rect window = cv::Rect(top_left, bottom_right) & whole;
     if (window.width < 3 || window.height < 3) continue;
-    seeds.push_back(seed);
-    windows.push_back(window);
-    span = span.area() == 0 ? window : (span | window);
-    total_area += window.area();
+    out.seeds.push_back(seed);
+    out.windows.push_back(window);
+    out.span = out.span.area() == 0 ? window : (out.span | window);
+    out.total_area += window.area();
   }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& image) {
+  start(std::nullopt);
+  edges_ready_ = false;  // no full-resolution map of the whole image: redetect finds nothing
+  orientation_ready_ = false;
+  if (!validate_image(image).ok()) return {};
+  if (!coarse_) {
+    coarse_ = std::make_unique<PixelToPixelDetector>(halved_image_params(params_));
+    coarse_->voted_coverage_gate_ = params_.coarse_min_voted_coverage;
+    coarse_->voter_mode_radius_ = true;
+  }
+  // An even size halves exactly (each pixel the mean of a 2x2 block: OpenCV's fast path).
+  const cv::Mat even = image(cv::Rect(0, 0, image.cols & ~1, image.rows & ~1));
+  cv::resize(even, half_, cv::Size(even.cols / 2, even.rows / 2), 0.0, 0.0, cv::INTER_AREA);
+  const std::vector<Circle> candidates = coarse_->detect(half_);
+  diag_ = coarse_->diag_;  // the halved image's edges and votes
+  const CoarseWindows w = coarse_windows(candidates, image.size());
   std::vector<Circle> found;
-  if (seeds.empty()) return found;
+  if (w.seeds.empty()) return found;
   // Many or large windows: one edge map of the region they span costs less than one each,
   // each map costing about as much as kEdgeMapOverheadPx more pixels (calls, allocations,
   // histogram); its thresholds are then those of that region.
   const bool one_map =
-      span.area() <= total_area + kEdgeMapOverheadPx * static_cast<double>(seeds.size());
-  if (one_map) compute_edge_map(image(span), params_.edge, window_edges_);
-  for (std::size_t i = 0; i < seeds.size(); ++i) {
-    const cv::Rect& window = one_map ? span : windows[i];
+      w.span.area() <= w.total_area + kEdgeMapOverheadPx * static_cast<double>(w.seeds.size());
+  if (one_map) compute_edge_map(image(w.span), params_.edge, window_edges_);
+  for (std::size_t i = 0; i < w.seeds.size(); ++i) {
+    const cv::Rect& window = one_map ? w.span : w.windows[i];
     // A window's own edge thresholds: it holds the outline and its surroundings, whose
     // contrast is what the outline must stand out from.
     if (!one_map) compute_edge_map(image(window), params_.edge, window_edges_);
-    if (const auto fine = refine_in_window(window_edges_, window, seeds[i])) found.push_back(*fine);
+    if (const auto fine = refine_in_window(window_edges_, window, w.seeds[i]))
+      found.push_back(*fine);
   }
   return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
 }

@@ -201,6 +201,10 @@ class PixelToPixelDetector final : public CircleDetector {
   /// searches by voting).
   std::vector<Circle> detect_at_seeds(const cv::Mat& bgr_or_grey, const EdgeThresholds& thresholds,
                                       const SearchHints& hints, std::span<const Circle> seeds);
+  /// The edge step alone on a whole image (its own thresholds, as cast_votes() makes them), no
+  /// votes: for circles found some other way (refine_seeds), e.g. on a reduced copy of the image
+  /// (coarse_to_fine.hpp). False for an invalid image.
+  bool find_edges(const cv::Mat& bgr_or_grey);
   /// detect_at_seeds() on the edges of the last image (cast_votes() or a detect()), with its
   /// radius range: for seeds found some other way than by this detector's votes.
   std::vector<Circle> refine_seeds(std::span<const Circle> seeds) const;
@@ -241,6 +245,15 @@ class PixelToPixelDetector final : public CircleDetector {
   void set_camera(const std::optional<stereo::PinholeCamera>& camera) {
     params_.refine_params.camera = camera;
   }
+  /// A reduced image's detector (coarse_to_fine.hpp): peaks whose voters cover less than
+  /// min_voted_coverage of the sectors around them are not refined, and with voter_mode_radius
+  /// a peak's seed radius is its voters' densest ring (CandidateOptions); defaults 0, false.
+  void set_reduced_image_options(double min_voted_coverage, bool voter_mode_radius) {
+    voted_coverage_gate_ = min_voted_coverage;
+    voter_mode_radius_ = voter_mode_radius;
+  }
+  /// The settings in use (clamped as the constructor clamps them).
+  const PixelToPixelParams& params() const { return params_; }
   /// Votes of the last image, before smoothing (CV_16U); padded by the hints' centre margin.
   const cv::Mat& raw_accumulator() const { return accumulator_; }
   /// The voters of the last image.
@@ -302,10 +315,9 @@ class PixelToPixelDetector final : public CircleDetector {
   // coarse_to_fine: the detector of the halved image, the halved image and a window's edges.
   std::unique_ptr<PixelToPixelDetector> coarse_;
   cv::Mat half_;
-  cv::Mat brightness_free_;  // detect_at_seeds_without_brightness's image, reused
-  double voted_coverage_gate_ = 0.0;
-  bool voter_mode_radius_ = false;  // CandidateOptions::voter_mode_radius (the coarse one's)  //
-                                    // CandidateOptions::min_voted_coverage (the coarse one's)
+  cv::Mat brightness_free_;           // detect_at_seeds_without_brightness's image, reused
+  double voted_coverage_gate_ = 0.0;  // CandidateOptions::min_voted_coverage (a reduced one's)
+  bool voter_mode_radius_ = false;    // CandidateOptions::voter_mode_radius (a reduced one's)
   EdgeMap window_edges_;
   mutable DetectionDiagnostics diag_;
   mutable bool peak_ratio_done_ = false;

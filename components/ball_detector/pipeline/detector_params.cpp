@@ -206,6 +206,26 @@ std::vector<params::Field<P>> outline_refit_fields() {
   };
 }
 
+std::vector<params::Field<P>> coarse_to_fine_fields() {
+  using C = CoarseToFineParams;
+  const C core;
+  const auto in = [](auto member) { return at(&P::coarse_to_fine, member); };
+  return {
+      number("coarse_to_fine.target_width_px", in(&C::target_width_px), 0, {0, 16384}, "px",
+             "whole-frame and radius-band searches of a wider frame vote on the left eye reduced "
+             "by powers of two to about this width, then refine each circle found there on the "
+             "full-resolution edges (0 = off: every search at full width)"),
+      number("coarse_to_fine.min_coarse_radius_px", in(&C::min_coarse_radius_px),
+             core.min_coarse_radius_px, {0.1, 1000.0}, "px",
+             "smallest radius searched on the reduced image, its pixels; smaller radii of the "
+             "range are searched at full width"),
+      number("coarse_to_fine.max_refine_shift", in(&C::max_refine_shift), core.max_refine_shift,
+             {0.0, 1.0}, "radii",
+             "a reduced-image circle whose full-resolution refinement moves its centre or "
+             "changes its radius by more than this is dropped (another outline; 0 = off)"),
+  };
+}
+
 std::vector<params::Field<P>> p2p_fields() {
   const P2P core;  // the detector's own defaults, where the pipeline keeps them
   const auto p2p = [](auto member) { return at(&P::p2p, member); };
@@ -263,7 +283,7 @@ std::vector<params::Field<P>> p2p_fields() {
 params::FieldTable<P> make_table() {
   params::FieldTable<P> t{pipeline_fields(), cross_check};
   for (const auto& part : {appearance_fields(), colour_seed_fields(), interior_depth_fields(),
-                           outline_refit_fields(), p2p_fields()}) {
+                           outline_refit_fields(), coarse_to_fine_fields(), p2p_fields()}) {
     t.fields.insert(t.fields.end(), part.begin(), part.end());
   }
   return t;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "ball_detector/core/appearance_model.hpp"
+#include "ball_detector/core/coarse_to_fine.hpp"
 #include "ball_detector/core/colour_seeds.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/pipeline/interior_depth.hpp"
@@ -119,6 +120,10 @@ struct BallDetectorParams {
   /// Addition: a found pair's outlines fitted again, in both eyes, to the edge arcs that agree
   /// (fingers, seams), and the pair withdrawn when the refits do not pair (outline_refit.hpp).
   OutlineRefitParams outline_refit;
+  /// Addition (speed): whole-frame and radius-band searches of a wide frame vote on the left eye
+  /// reduced to about coarse_to_fine.target_width_px and refine each circle found there on the
+  /// full-resolution edges (coarse_to_fine.hpp); target 0 = every search at full width.
+  CoarseToFineParams coarse_to_fine;
   /// Addition: PairingContext::dominance_margin (0 = off).
   double dominance_margin;
   /// Largest image a calibration (and so every frame) may have: a larger stereo/calibration is

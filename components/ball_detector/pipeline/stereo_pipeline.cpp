@@ -183,6 +183,7 @@ Status StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
                       calib.p1(2, 2));
   t.ray_from_pixel = calib.r1.t() * p.inv();
   floor_ = floor_model(t.params, calib);
+  t.coarse.set_up(t.params, calib.image_size.width, left_camera());
   return {};
 }
 
@@ -298,7 +299,10 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
 SearchOutcome StereoPipeline::search(const FrameState& frame) {
   FrameScratch scratch;
   int rejected = 0;  // by the appearance, over every search whose outcome the frame saw
-  const auto tried = [&](std::optional<SearchOutcome> outcome) {
+  const auto tried = [&](const SearchStrategy& s, SearchPath path) {
+    tools_.observe(path, true);
+    std::optional<SearchOutcome> outcome = s.run(frame, scratch, tools_);
+    tools_.observe(path, false);
     if (outcome) rejected += outcome->rejected_by_colour;
     return outcome;
   };
@@ -312,10 +316,12 @@ SearchOutcome StereoPipeline::search(const FrameState& frame) {
   if (frame.prior && tools_.params.prior_window && tools_.left_thresholds &&
       prepare_prior_box(frame, scratch, tools_)) {
     ++frames_since_full_search_;
-    const SearchStrategy* const near_prior[] = {&expected_outlines_, &prior_window_,
-                                                &expected_without_brightness_};
-    for (const SearchStrategy* s : near_prior) {
-      std::optional<SearchOutcome> near = tried(s->run(frame, scratch, tools_));
+    const std::pair<const SearchStrategy*, SearchPath> near_prior[] = {
+        {&expected_outlines_, SearchPath::kExpectedOutlines},
+        {&prior_window_, SearchPath::kPriorWindow},
+        {&expected_without_brightness_, SearchPath::kBrightnessFree}};
+    for (const auto& [s, path] : near_prior) {
+      std::optional<SearchOutcome> near = tried(*s, path);
       if (!near || !near->found_near(*frame.prior)) continue;
       if (frames_since_full_search_ >= kFullSearchEveryFrames) refresh_due_ = true;
       frames_without_pair_ = 0;
@@ -327,7 +333,7 @@ SearchOutcome StereoPipeline::search(const FrameState& frame) {
   scratch.bands_due =
       frames_without_pair_ % kBandSearchEveryFrames == 0 ||
       (last_band_search_ns_ && frame.stamp_ns - *last_band_search_ns_ > kBandSearchEveryNs);
-  SearchOutcome whole = *tried(whole_frame_.run(frame, scratch, tools_));
+  SearchOutcome whole = *tried(whole_frame_, SearchPath::kWholeFrame);
   frames_since_full_search_ = 0;
   if (whole.found()) {
     frames_without_pair_ = 0;
@@ -337,14 +343,14 @@ SearchOutcome StereoPipeline::search(const FrameState& frame) {
   if (scratch.bands_due) {
     whole.path = SearchPath::kRadiusBands;  // the last search the frame needed
     last_band_search_ns_ = frame.stamp_ns;
-    std::optional<SearchOutcome> bands = tried(radius_bands_.run(frame, scratch, tools_));
+    std::optional<SearchOutcome> bands = tried(radius_bands_, SearchPath::kRadiusBands);
     // Bands that pair what the whole range missed are tried again at once next time.
     if (bands && bands->found()) {
       frames_without_pair_ = 0;
       return answer(std::move(*bands));
     }
   }
-  std::optional<SearchOutcome> hue = tried(seeds_without_brightness_.run(frame, scratch, tools_));
+  std::optional<SearchOutcome> hue = tried(seeds_without_brightness_, SearchPath::kBrightnessFree);
   if (hue && hue->found()) return answer(std::move(*hue));
   return answer(std::move(whole));
 }

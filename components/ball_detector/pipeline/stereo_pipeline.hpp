@@ -120,6 +120,8 @@ class StereoPipeline {
 
   /// How independent parts of a frame's work are run (same detections with any runner).
   void set_task_runner(RunTasks run) { tools_.run_tasks = std::move(run); }
+  /// Who is told when each search starts and ends (SearchObserver; empty = nobody).
+  void set_search_observer(SearchObserver observer) { tools_.observer = std::move(observer); }
 
   /// Validates calib and builds the LUTs and triangulator; on error the previous one stays.
   Status set_calibration(const stereo::StereoCalibration& calib);

@@ -13,6 +13,7 @@
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/pipeline/detector_params.hpp"
 #include "ball_detector/pipeline/pairing.hpp"
+#include "ball_detector/pipeline/search/coarse_search.hpp"
 #include "ball_detector/pipeline/search/search_strategy.hpp"
 #include "stereo/core/rectifier.hpp"
 #include "stereo/core/triangulation.hpp"
@@ -26,6 +27,11 @@ using RunTasks = std::function<void(int n, const std::function<void(int)>& task)
 /// Runs the tasks one after the other (the pipeline's default).
 void run_tasks_in_turn(int n, const std::function<void(int)>& task);
 
+/// Told before (started true) and after (false) each search of a frame, and around the radius
+/// bands a whole-frame search runs beside it, on the thread that runs it: for a caller that
+/// times them (the pipeline has no clock). Nested calls mean the inner search's time is its own.
+using SearchObserver = std::function<void(SearchPath path, bool started)>;
+
 /// The pipeline's equipment; one per StereoPipeline, used by one frame at a time.
 struct SearchTools {
   /// params must pass validate().
@@ -37,7 +43,9 @@ struct SearchTools {
   PixelToPixelDetector right_detector;
   std::vector<PixelToPixelDetector> band_detectors;  ///< one per radius band of the left eye
   PixelToPixelDetector seed_detector;  ///< the brightness-free searches' left detector
+  CoarseSearch coarse;  ///< the whole-frame and band searches' reduced left eye (wide frames)
   RunTasks run_tasks = run_tasks_in_turn;
+  SearchObserver observer;  ///< empty: nobody times the searches
   std::optional<stereo::Rectifier> rectifier;
   std::optional<stereo::Triangulator> triangulator;
   cv::Matx33d ray_from_pixel;     ///< rectified left pixel -> ray in the raw left camera
@@ -51,6 +59,10 @@ struct SearchTools {
   std::vector<cv::Point2d> colour_rect_px, colour_raw_px;  ///< colour_of's scratch
   std::vector<cv::Vec3b> colour_px;                        ///< colour_of's scratch
 
+  /// observer(path, started) if there is one.
+  void observe(SearchPath path, bool started) const {
+    if (observer) observer(path, started);
+  }
   /// The calibration's image size, px (0x0 without one).
   cv::Size image_size() const;
   /// The rectified left camera (nullopt without calibration).

@@ -9,7 +9,7 @@ namespace stereoball::ball_detector {
 std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, FrameScratch& scratch,
                                                    SearchTools& tools) const {
   tools.rectify_whole(frame.left_channel, stereo::Eye::kLeft, frame.rectified, tools.rect_left);
-  const bool voted = tools.left_detector.cast_votes(tools.rect_left);
+  const bool voted = cast_left_votes(tools);
   // Task 0 finishes the search (peaks, right eye, pairing). When a band search is due, the
   // other task searches the left eye's radius bands on the same votes meanwhile, in case it
   // pairs nothing: on another core this takes the bands out of the frame's time, and the work
@@ -22,7 +22,10 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
   std::vector<Circle> bands;
   tools.run_tasks(bands_due ? 2 : 1, [&](int task) {
     if (task == 1) {
-      if (!paired) bands = detect_left_in_bands(tools, &paired);
+      if (paired) return;
+      tools.observe(SearchPath::kRadiusBands, true);
+      bands = detect_left_in_bands(tools, &paired);
+      tools.observe(SearchPath::kRadiusBands, false);
       return;
     }
     std::vector<Circle> left = voted ? circles_of_votes(tools, !bands_due) : std::vector<Circle>{};
@@ -51,6 +54,7 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
 std::vector<Circle> WholeFrameSearch::circles_of_votes(SearchTools& tools, bool peaks_at_once) {
   // Refining and scoring the peaks is most of a whole-frame search (~40 %), and each peak is
   // independent. When the band search runs beside it, it has the other core to itself.
+  if (tools.coarse.on()) return coarse_left_circles(tools);
   if (!peaks_at_once) return tools.left_detector.circles_of_votes();
   const int n = tools.left_detector.find_peaks_of_votes();
   std::vector<PeakCircles> per_peak(static_cast<std::size_t>(n));

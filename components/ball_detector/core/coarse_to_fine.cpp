@@ -1,0 +1,118 @@
+#include "ball_detector/core/coarse_to_fine.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace stereoball::ball_detector {
+
+Status CoarseToFineParams::validate() const {
+  if (target_width_px < 0 || target_width_px > 16384)
+    return Error{"target_width_px must be in [0, 16384]"};
+  if (!(min_coarse_radius_px > 0.0 && min_coarse_radius_px <= 1000.0))
+    return Error{"min_coarse_radius_px must be in (0, 1000]"};
+  if (max_level < 0 || max_level > 4) return Error{"max_level must be in [0, 4]"};
+  if (!(max_refine_shift >= 0.0 && max_refine_shift <= 1.0))
+    return Error{"max_refine_shift must be in [0, 1]"};
+  return {};
+}
+
+int coarse_level(int image_width_px, const CoarseToFineParams& params) {
+  if (params.target_width_px <= 0 || image_width_px <= params.target_width_px) return 0;
+  const double ratio = static_cast<double>(image_width_px) / params.target_width_px;
+  const int level = static_cast<int>(std::lround(std::log2(ratio)));
+  return std::clamp(level, 0, params.max_level);
+}
+
+RadiusSplit split_radius_range(const RadiusRange& full, int level, double min_coarse_radius_px) {
+  RadiusSplit out;
+  if (level <= 0) {
+    out.fine_px = full;
+    return out;
+  }
+  const double scale = std::ldexp(1.0, level);
+  // The smallest radius the reduced image still resolves, in full-resolution pixels.
+  const double limit_px = min_coarse_radius_px * scale;
+  if (full.max_px >= limit_px)
+    out.coarse_px = RadiusRange{std::max(full.min_px, limit_px) / scale, full.max_px / scale};
+  if (full.min_px < limit_px)
+    out.fine_px = RadiusRange{full.min_px, std::min(full.max_px, limit_px)};
+  return out;
+}
+
+PixelToPixelParams params_at_level(const PixelToPixelParams& full, int level) {
+  if (level <= 0) return full;
+  const int scale = 1 << level;
+  const double f = 1.0 / scale;
+  PixelToPixelParams p = full;
+  p.coarse_to_fine = false;
+  p.k_values.clear();
+  for (int k : full.k_values)
+    if (const int reduced = std::max(1, (k + scale - 1) / scale);
+        std::find(p.k_values.begin(), p.k_values.end(), reduced) == p.k_values.end())
+      p.k_values.push_back(reduced);
+  p.min_radius_px = full.min_radius_px * f;
+  p.max_radius_px = full.max_radius_px * f;
+  p.min_separation_px = full.min_separation_px * f;
+  p.refine_params.clutter_min_radius_px = full.refine_params.clutter_min_radius_px * f;
+  // An outline has 2^level times fewer edge points to vote with.
+  p.min_peak_votes = std::max(1, (full.min_peak_votes + scale - 1) / scale);
+  // Every examined peak goes on to full resolution, where the best max_circles are kept; a
+  // candidate a little below min_score here may reach it on the sharper edges.
+  p.max_circles = std::max(full.max_circles, full.max_peaks_examined);
+  p.min_score = std::min(full.min_score, full.coarse_min_score);
+  p.refine_params.give_up_below = std::min(full.refine_params.give_up_below, p.min_score);
+  p.polish = false;  // the full-resolution refinement polishes
+  p.refine_params.camera.reset();
+  // Clutter is judged at full resolution, where the rings are measured on sharper edges.
+  p.refine_params.clutter_ring_per_radius = 0.0;
+  return p;
+}
+
+void reduce_image(const cv::Mat& image, int level, cv::Mat& out) {
+  if (level <= 0) {
+    out = image;
+    return;
+  }
+  const int scale = 1 << level;
+  const cv::Mat even =
+      image(cv::Rect(0, 0, image.cols / scale * scale, image.rows / scale * scale));
+  // INTER_AREA by a whole factor: each pixel the mean of its block.
+  cv::resize(even, out, cv::Size(even.cols / scale, even.rows / scale), 0.0, 0.0, cv::INTER_AREA);
+}
+
+Circle to_full_resolution(const Circle& reduced, int level) {
+  const double scale = std::ldexp(1.0, level);
+  // Pixel i of the reduced image is the mean of pixels scale*i .. scale*i + scale - 1.
+  const double offset = 0.5 * (scale - 1.0);
+  return Circle{scale * reduced.x_px + offset, scale * reduced.y_px + offset,
+                scale * reduced.radius_px, reduced.score};
+}
+
+bool holds_seed(const Circle& refined, const Circle& seed, double max_shift) {
+  if (!(max_shift > 0.0)) return true;
+  const double r = std::max(seed.radius_px, 1.0);
+  return std::hypot(refined.x_px - seed.x_px, refined.y_px - seed.y_px) <= max_shift * r &&
+         std::abs(refined.radius_px - seed.radius_px) <= max_shift * r;
+}
+
+std::vector<Circle> refine_coarse_circles(const PixelToPixelDetector& fine,
+                                          std::span<const Circle> reduced, int level,
+                                          double max_shift) {
+  std::vector<Circle> seeds;
+  seeds.reserve(reduced.size());
+  for (const Circle& c : reduced) seeds.push_back(to_full_resolution(c, level));
+  if (!(max_shift > 0.0)) return fine.refine_seeds(seeds);
+  // Each seed on its own, so a refined circle is compared with the seed it came from; those
+  // that hold are refined together again for the detector's ranking and separation (cheap: a
+  // held circle is its own refinement's fixed point within a round or two).
+  std::vector<Circle> held;
+  for (const Circle& seed : seeds) {
+    const std::vector<Circle> one = fine.refine_seeds(std::span<const Circle>(&seed, 1));
+    if (!one.empty() && holds_seed(one.front(), seed, max_shift)) held.push_back(one.front());
+  }
+  return fine.refine_seeds(held);
+}
+
+}  // namespace stereoball::ball_detector

@@ -1,0 +1,71 @@
+#include "ball_detector/pipeline/search/coarse_search.hpp"
+
+#include <algorithm>
+#include <span>
+
+#include "ball_detector/pipeline/search/search_tools.hpp"
+
+namespace stereoball::ball_detector {
+
+void CoarseSearch::set_up(const BallDetectorParams& p, int image_width_px,
+                          const std::optional<stereo::PinholeCamera>& left_camera) {
+  level = coarse_level(image_width_px, p.coarse_to_fine);
+  detector.reset();
+  band_detectors.clear();
+  fine_path.reset();
+  if (level == 0) return;
+  const PixelToPixelParams full = p.detector_params();
+  split = split_radius_range({full.min_radius_px, full.max_radius_px}, level,
+                             p.coarse_to_fine.min_coarse_radius_px);
+  if (!holds_radii(split.coarse_px) || split.coarse_px.max_px <= split.coarse_px.min_px) {
+    level = 0;  // nothing is large enough for the reduced eye
+    return;
+  }
+  params = params_at_level(full, level);
+  params.min_radius_px = split.coarse_px.min_px;
+  detector.emplace(params);
+  // As the single-image coarse search (PixelToPixelParams::coarse_to_fine): on the reduced eye
+  // small round texture outvotes a ball's outline unless peaks need voters from around them.
+  detector->set_reduced_image_options(full.coarse_min_voted_coverage, true);
+  if (holds_radii(split.fine_px) && split.fine_px.max_px > split.fine_px.min_px) {
+    fine_path.emplace(full);
+    fine_path->set_camera(p.perspective_outline ? left_camera : std::nullopt);
+  }
+}
+
+bool cast_left_votes(SearchTools& tools) {
+  CoarseSearch& coarse = tools.coarse;
+  if (!coarse.on()) return tools.left_detector.cast_votes(tools.rect_left);
+  // The full-resolution edges (and so the thresholds the right eye's boxes and the searches near
+  // a prior use) as the full search makes them; only the voting runs on the reduced eye.
+  if (!tools.left_detector.find_edges(tools.rect_left)) return false;
+  reduce_image(tools.rect_left, coarse.level, coarse.reduced_left);
+  return coarse.detector->cast_votes(coarse.reduced_left);
+}
+
+std::vector<Circle> refined_at_full_width(const SearchTools& tools,
+                                          const std::vector<Circle>& reduced, std::size_t keep) {
+  const std::size_t n = std::min(reduced.size(), keep);
+  // The left detector's edges are only read (refine_seeds): band tasks may share them.
+  return refine_coarse_circles(tools.left_detector, std::span<const Circle>(reduced.data(), n),
+                               tools.coarse.level, tools.params.coarse_to_fine.max_refine_shift);
+}
+
+std::vector<Circle> coarse_left_circles(SearchTools& tools) {
+  CoarseSearch& coarse = tools.coarse;
+  const std::vector<Circle> reduced = coarse.detector->circles_of_votes();
+  std::vector<Circle> found = refined_at_full_width(tools, reduced, reduced.size());
+  if (coarse.fine_path) {
+    const EdgeThresholds thresholds = thresholds_of(tools.left_detector.edge_map());
+    for (const Circle& c :
+         coarse.fine_path->detect(tools.rect_left, thresholds, SearchHints{coarse.split.fine_px}))
+      found.push_back(c);
+    std::stable_sort(found.begin(), found.end(),
+                     [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  }
+  const auto most = static_cast<std::size_t>(tools.params.max_candidates_per_eye);
+  if (found.size() > most) found.resize(most);
+  return found;
+}
+
+}  // namespace stereoball::ball_detector

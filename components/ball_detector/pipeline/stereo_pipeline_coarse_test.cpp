@@ -1,0 +1,104 @@
+// StereoPipeline's coarse-to-fine whole-frame and band searches (search/coarse_search.hpp) on
+// frames rendered by the simulator at 2304x1296: the ball found is the full-width search's,
+// within a pixel; a frame without a ball gives nothing; a 640-px frame is searched as before.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ball_detector/pipeline/stereo_pipeline.hpp"
+#include "simulator/core/ball_scene.hpp"
+
+namespace sb = stereoball;
+using sb::ball_detector::BallDetectorParams;
+using sb::ball_detector::DetectionStatus;
+using sb::ball_detector::SearchPath;
+using sb::ball_detector::StereoPipeline;
+
+namespace {
+
+struct Rendered {
+  sb::simulator::SimFrame frame;
+  sb::stereo::StereoCalibration calib;
+};
+
+// A plain room (no clutter) with a one-colour ball at (x_m, y_m) on the floor, width x height.
+Rendered render_plain(double x_m, double y_m, int width_px, int height_px) {
+  sb::simulator::SimBallSetup s;
+  s.ball_x_m = x_m;
+  s.ball_y_m = y_m;
+  s.clutter = false;
+  s.plain_room = true;
+  s.uniform_ball = true;
+  auto params = sb::simulator::default_sim_params();
+  params.width_px = width_px;
+  params.height_px = height_px;
+  const auto scenario = sb::simulator::make_sim_scenario(s);
+  EXPECT_TRUE(sb::simulator::Simulator::check(params, scenario).ok());
+  sb::simulator::Simulator sim(params, scenario);
+  return {sim.step(std::nullopt, 0), sim.calibration()};
+}
+
+// The shipped settings with coarse to fine at target_width_px (0 = off).
+BallDetectorParams with_target(int target_width_px) {
+  BallDetectorParams p;
+  p.coarse_to_fine.target_width_px = target_width_px;
+  return p;
+}
+
+}  // namespace
+
+TEST(StereoPipelineCoarse, GivenA2304FrameThenTheSameBallAsTheFullWidthSearch) {
+  for (const auto& [x_m, y_m] : {std::pair{1.5, 0.0}, std::pair{2.5, 0.3}}) {
+    // Given a rendered 2304x1296 pair, searched at full width and coarse to fine (level 2)
+    const Rendered r = render_plain(x_m, y_m, 2304, 1296);
+    StereoPipeline full(with_target(0));
+    StereoPipeline coarse(with_target(640));
+    ASSERT_TRUE(full.set_calibration(r.calib).ok());
+    ASSERT_TRUE(coarse.set_calibration(r.calib).ok());
+    // When each processes the raw pair
+    const auto a = full.step(r.frame.left, r.frame.right, false);
+    const auto b = coarse.step(r.frame.left, r.frame.right, false);
+    // Then both find it by the whole-frame search, at the same place within a pixel
+    ASSERT_EQ(a.status, DetectionStatus::kFound) << a.reason;
+    ASSERT_EQ(b.status, DetectionStatus::kFound) << b.reason;
+    EXPECT_EQ(b.search, SearchPath::kWholeFrame);
+    EXPECT_NEAR(b.left.x_px, a.left.x_px, 1.0);
+    EXPECT_NEAR(b.left.y_px, a.left.y_px, 1.0);
+    EXPECT_NEAR(b.left.radius_px, a.left.radius_px, 1.0);
+    EXPECT_NEAR(b.right.x_px, a.right.x_px, 1.0);
+    EXPECT_LT(std::abs(b.position_m[2] - a.position_m[2]), 0.02 * a.position_m[2]);
+  }
+}
+
+TEST(StereoPipelineCoarse, GivenNoBallThenNothingFoundCoarseToFine) {
+  // Given a 2304x1296 plain room with the ball out of view (far to the side)
+  const Rendered r = render_plain(1.5, 2.5, 2304, 1296);
+  ASSERT_FALSE(r.frame.truth.ball_visible_left);
+  StereoPipeline coarse(with_target(640));
+  ASSERT_TRUE(coarse.set_calibration(r.calib).ok());
+  // When searched coarse to fine (whole frame, then the radius bands)
+  const auto det = coarse.step(r.frame.left, r.frame.right, false);
+  // Then nothing is reported found, and the bands were searched too
+  EXPECT_NE(det.status, DetectionStatus::kFound) << det.reason;
+  EXPECT_EQ(det.search, SearchPath::kRadiusBands);
+}
+
+TEST(StereoPipelineCoarse, GivenAReferenceWidthFrameThenSearchedAsWithoutIt) {
+  // Given the simulator's 640x480 pair with coarse to fine on (target 640) and off
+  const Rendered r = render_plain(1.5, 0.0, 640, 480);
+  StereoPipeline off(with_target(0));
+  StereoPipeline on(with_target(640));
+  ASSERT_TRUE(off.set_calibration(r.calib).ok());
+  ASSERT_TRUE(on.set_calibration(r.calib).ok());
+  // When each processes it
+  const auto a = off.step(r.frame.left, r.frame.right, false);
+  const auto b = on.step(r.frame.left, r.frame.right, false);
+  // Then the detections are the same to the bit
+  ASSERT_EQ(a.status, DetectionStatus::kFound) << a.reason;
+  EXPECT_EQ(b.status, a.status);
+  EXPECT_EQ(b.left.x_px, a.left.x_px);
+  EXPECT_EQ(b.left.y_px, a.left.y_px);
+  EXPECT_EQ(b.left.radius_px, a.left.radius_px);
+  EXPECT_EQ(b.position_m, a.position_m);
+}
