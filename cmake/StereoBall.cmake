@@ -46,6 +46,13 @@ if(SB_PCH)
   add_compile_options($<$<COMPILE_LANGUAGE:CXX>:-Winvalid-pch>)
 endif()
 
+# Build speed: unity builds. A test binary's sources are compiled as one file (CMake's
+# UNITY_BUILD), so GoogleTest, OpenCV and the standard library are parsed once per test binary
+# instead of once per test file. -DSB_UNITY=OFF compiles every file alone (quicker rebuilds of
+# one edited test, and the check that each file includes what it uses). Names at file scope
+# (anonymous namespaces, statics) must not clash between the test files of one binary.
+option(SB_UNITY "Compile each test binary's sources as one translation unit" ON)
+
 # Adds every immediate sub-folder of DIR that has a CMakeLists.txt, so a new
 # component or tool needs no edit of a shared file.
 function(sb_add_subdirectories dir)
@@ -113,6 +120,15 @@ function(sb_add_gtest name)
   add_executable(${name} ${A_SOURCES})
   target_link_libraries(${name} PRIVATE ${A_DEPS} sb_gtest_main GTest::gtest GTest::gmock)
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  if(SB_UNITY)
+    # Batch size 0: all of the binary's sources in one unity file.
+    set_target_properties(${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 0)
+    # GCC's -Wsubobject-linkage is about headers; a test file included into the unity file
+    # counts as one, so every fixture in an anonymous namespace would be reported.
+    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+      target_compile_options(${name} PRIVATE -Wno-subobject-linkage)
+    endif()
+  endif()
   target_compile_definitions(${name} PRIVATE
     SB_SHARED_DATA_DIR="${SB_SHARED_DATA_DIR}"
     SB_SOURCE_DIR="${SB_SOURCE_ROOT}"

@@ -32,25 +32,25 @@ ColourHistogram hist(const std::vector<cv::Vec3b>& px) {
   return h.value_or(ColourHistogram{});
 }
 
-const cv::Vec3d kOrange{20, 110, 230}, kYellowOrange{20, 170, 230}, kBlue{200, 90, 30};
+const cv::Vec3d kOrangeBgr{20, 110, 230}, kYellowOrange{20, 170, 230}, kBlue{200, 90, 30};
 
 TEST(AppearanceModel, LearnsTheFollowedBallAndMatchesItInShade) {
   // Given a model that has seen the lit orange ball for frames_to_learn frames
   AppearanceModel m{AppearanceParams{}};
   EXPECT_FALSE(m.ready());
-  for (int i = 0; i < 3; ++i) m.learn(hist(shaded_ball(kOrange, i, 0.7)), i * kFrameNs);
+  for (int i = 0; i < 3; ++i) m.learn(hist(shaded_ball(kOrangeBgr, i, 0.7)), i * kFrameNs);
   // Then it is ready, and the same ball mostly in shadow still matches it closely
   ASSERT_TRUE(m.ready());
-  const auto dark = m.similarity(hist(shaded_ball(kOrange, 99, 0.25)));
+  const auto dark = m.similarity(hist(shaded_ball(kOrangeBgr, 99, 0.25)));
   ASSERT_TRUE(dark.has_value());
   EXPECT_GT(*dark, 0.85);
-  EXPECT_FALSE(m.rejects(hist(shaded_ball(kOrange, 98, 0.25))));
+  EXPECT_FALSE(m.rejects(hist(shaded_ball(kOrangeBgr, 98, 0.25))));
 }
 
 TEST(AppearanceModel, RanksTheCloserColourFirst) {
   AppearanceModel m{AppearanceParams{}};
-  for (int i = 0; i < 3; ++i) m.learn(hist(shaded_ball(kOrange, i)), i * kFrameNs);
-  const double same = *m.similarity(hist(shaded_ball(kOrange, 50)));
+  for (int i = 0; i < 3; ++i) m.learn(hist(shaded_ball(kOrangeBgr, i)), i * kFrameNs);
+  const double same = *m.similarity(hist(shaded_ball(kOrangeBgr, 50)));
   const double near = *m.similarity(hist(shaded_ball(kYellowOrange, 51)));
   const double far = *m.similarity(hist(shaded_ball(kBlue, 52)));
   EXPECT_GT(same, near);
@@ -60,10 +60,10 @@ TEST(AppearanceModel, RanksTheCloserColourFirst) {
 TEST(AppearanceModel, RejectsABallOfAnotherColour) {
   // Given the model of an orange ball
   AppearanceModel m{AppearanceParams{}};
-  for (int i = 0; i < 3; ++i) m.learn(hist(shaded_ball(kOrange, i)), i * kFrameNs);
+  for (int i = 0; i < 3; ++i) m.learn(hist(shaded_ball(kOrangeBgr, i)), i * kFrameNs);
   // Then a blue ball (same pixels count, same shading) is rejected, an orange one is not
   EXPECT_TRUE(m.rejects(hist(shaded_ball(kBlue, 7))));
-  EXPECT_FALSE(m.rejects(hist(shaded_ball(kOrange, 7))));
+  EXPECT_FALSE(m.rejects(hist(shaded_ball(kOrangeBgr, 7))));
   // And a candidate too small to sample is never rejected for its colour
   EXPECT_FALSE(m.rejects(ColourHistogram::of({cv::Vec3b(200, 90, 30)}, 12)));
 }
@@ -96,8 +96,8 @@ TEST(AppearanceModel, KeepsATwoColourBallWhateverPartOfItFacesTheCamera) {
 
 TEST(AppearanceModel, NothingIsRankedOrRejectedBeforeLearning) {
   AppearanceModel m{AppearanceParams{}};
-  m.learn(hist(shaded_ball(kOrange, 1)), 0);
-  m.learn(hist(shaded_ball(kOrange, 2)), kFrameNs);
+  m.learn(hist(shaded_ball(kOrangeBgr, 1)), 0);
+  m.learn(hist(shaded_ball(kOrangeBgr, 2)), kFrameNs);
   EXPECT_FALSE(m.ready());
   EXPECT_FALSE(m.similarity(hist(shaded_ball(kBlue, 3))).has_value());
   EXPECT_FALSE(m.rejects(hist(shaded_ball(kBlue, 3))));
@@ -108,7 +108,7 @@ TEST(AppearanceModel, ForgetsAfterALossLongerThanTheTimeout) {
   AppearanceParams p;
   p.forget_after_ns = 1'000'000'000;
   AppearanceModel m{p};
-  for (int i = 0; i < 3; ++i) m.learn(hist(shaded_ball(kOrange, i)), 50'000'000 * i);
+  for (int i = 0; i < 3; ++i) m.learn(hist(shaded_ball(kOrangeBgr, i)), 50'000'000 * i);
   // When the ball is lost for just under the timeout, Then the model is kept
   m.tick(100'000'000 + 999'000'000);
   EXPECT_TRUE(m.ready());
@@ -121,13 +121,13 @@ TEST(AppearanceModel, ForgetsAfterALossLongerThanTheTimeout) {
   // And a new ball is learnt from scratch
   for (int i = 0; i < 3; ++i)
     m.learn(hist(shaded_ball(kBlue, 10 + i)), 2'000'000'000 + i * kFrameNs);
-  EXPECT_TRUE(m.rejects(hist(shaded_ball(kOrange, 6))));
+  EXPECT_TRUE(m.rejects(hist(shaded_ball(kOrangeBgr, 6))));
 }
 
 TEST(AppearanceModel, HistogramIsNormalisedAndGreyGoesToOneBin) {
   const auto h = hist(std::vector<cv::Vec3b>(20, cv::Vec3b(128, 128, 128)));
   EXPECT_DOUBLE_EQ(h.bin(ColourHistogram::kBins - 1), 1.0);
-  const auto o = hist(shaded_ball(kOrange, 3));
+  const auto o = hist(shaded_ball(kOrangeBgr, 3));
   double sum = 0.0;
   for (int i = 0; i < ColourHistogram::kBins; ++i) sum += o.bin(i);
   EXPECT_NEAR(sum, 1.0, 1e-9);

@@ -18,7 +18,7 @@ namespace {
 const cv::Scalar kFloor(170, 170, 170);
 const cv::Scalar kPurple(150, 40, 120);  // BGR
 const cv::Scalar kWhite(178, 178, 178);  // the light stripes: nearly the floor's grey
-const Circle kBall{150.0, 130.0, 24.0, 0.0};
+const Circle kSeededBall{150.0, 130.0, 24.0, 0.0};
 
 // A light-grey tiled floor (darker joints every 24 px) with sensor noise.
 cv::Mat tiled_floor(cv::Size size, int seed) {
@@ -46,22 +46,22 @@ void draw_striped_ball(cv::Mat& img, const Circle& c) {
 
 TEST(ColourSeeds, GivenStripedBallWhoseLightStripesMatchTheFloor_ThenOneSeedAtTheBall) {
   cv::Mat img = tiled_floor({320, 240}, 1);
-  draw_striped_ball(img, kBall);
+  draw_striped_ball(img, kSeededBall);
   const auto seeds = colour_blob_seeds(img, 4.0, 120.0);
   ASSERT_EQ(seeds.size(), 1u);
-  EXPECT_LT(std::hypot(seeds[0].x_px - kBall.x_px, seeds[0].y_px - kBall.y_px), 4.0);
-  EXPECT_NEAR(seeds[0].radius_px, kBall.radius_px, 6.0);
+  EXPECT_LT(std::hypot(seeds[0].x_px - kSeededBall.x_px, seeds[0].y_px - kSeededBall.y_px), 4.0);
+  EXPECT_NEAR(seeds[0].radius_px, kSeededBall.radius_px, 6.0);
 }
 
 TEST(ColourSeeds, GivenTheSeedRefinedOnTheEdges_ThenTheBallsOutlineWithinAPixel) {
   cv::Mat img = tiled_floor({320, 240}, 2);
-  draw_striped_ball(img, kBall);
+  draw_striped_ball(img, kSeededBall);
   PixelToPixelDetector det{PixelToPixelParams{}};
   ASSERT_TRUE(det.cast_votes(img));
   const auto found = det.refine_seeds(colour_blob_seeds(img, 4.0, 120.0));
   ASSERT_FALSE(found.empty());
-  EXPECT_LT(std::hypot(found[0].x_px - kBall.x_px, found[0].y_px - kBall.y_px), 1.0);
-  EXPECT_NEAR(found[0].radius_px, kBall.radius_px, 1.0);
+  EXPECT_LT(std::hypot(found[0].x_px - kSeededBall.x_px, found[0].y_px - kSeededBall.y_px), 1.0);
+  EXPECT_NEAR(found[0].radius_px, kSeededBall.radius_px, 1.0);
 }
 
 TEST(ColourSeeds, GivenGreyBallOrRegionsOfTheWrongSizeOrShape_ThenNoSeed) {
@@ -71,7 +71,7 @@ TEST(ColourSeeds, GivenGreyBallOrRegionsOfTheWrongSizeOrShape_ThenNoSeed) {
   EXPECT_TRUE(colour_blob_seeds(grey, 4.0, 120.0).empty());
   // The striped ball outside the radius range asked for
   cv::Mat ball = tiled_floor({320, 240}, 4);
-  draw_striped_ball(ball, kBall);
+  draw_striped_ball(ball, kSeededBall);
   EXPECT_TRUE(colour_blob_seeds(ball, 40.0, 120.0).empty());
   EXPECT_TRUE(colour_blob_seeds(ball, 4.0, 12.0).empty());
   // A purple bar (aspect 8) and a thin purple ring (little of its box filled)

@@ -15,13 +15,13 @@ namespace {
 
 constexpr std::int64_t kFrameNs = 33'333'333;
 
-struct Rendered {
+struct RenderedScene {
   sb::simulator::SimFrame frame;
   sb::stereo::StereoCalibration calib;
 };
 
 // A one-colour ball of colour (r, g, b) 1.4 m ahead in a plain room.
-Rendered render_ball(sb::simulator::Rgb colour) {
+RenderedScene render_ball(sb::simulator::Rgb colour) {
   sb::simulator::SimBallSetup setup;
   setup.ball_x_m = 1.4;
   setup.ball_y_m = 0.1;
@@ -43,7 +43,7 @@ const sb::simulator::Rgb kOrange{230, 110, 20}, kBlue{30, 60, 200};
 }  // namespace
 
 TEST(StereoPipelineAppearance, LearntBallRejectsABallOfAnotherColourUntilForgotten) {
-  const Rendered orange = render_ball(kOrange), blue = render_ball(kBlue);
+  const RenderedScene orange = render_ball(kOrange), blue = render_ball(kBlue);
   sb::ball_detector::BallDetectorParams params;
   params.appearance.forget_after_ns = 1'000'000'000;
   // Given a pipeline that follows the orange ball for a few frames (a prior at its position)
@@ -73,7 +73,7 @@ TEST(StereoPipelineAppearance, LearntBallRejectsABallOfAnotherColourUntilForgott
 }
 
 TEST(StereoPipelineAppearance, WithoutAPriorNothingIsLearnt) {
-  const Rendered orange = render_ball(kOrange);
+  const RenderedScene orange = render_ball(kOrange);
   StereoPipeline pipe(sb::ball_detector::BallDetectorParams{});
   ASSERT_TRUE(pipe.set_calibration(orange.calib).ok());
   for (int i = 0; i < 5; ++i) {

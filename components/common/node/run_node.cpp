@@ -1,5 +1,7 @@
 #include "common/node/run_node.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <cstdio>
 #include <exception>
 

@@ -4,8 +4,6 @@
 // A configuration error (parameters, flags, files) prints "<name>: <error>" and exits 2; an
 // exception while building or running prints "<name>: <what>" and exits 1.
 
-#include <CLI/CLI.hpp>
-
 #include <functional>
 #include <memory>
 #include <string>
@@ -16,6 +14,12 @@
 #include "common/node/node_runner.hpp"
 #include "common/params/field_table.hpp"
 #include "common/util/result.hpp"
+
+// Declared only: CLI/CLI.hpp costs seconds of compile time in every file that includes it; the
+// files that add flags include it themselves.
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace stereoball::node {
 

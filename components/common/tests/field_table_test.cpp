@@ -18,8 +18,8 @@ struct Limits {
   double max_m = 0;
 };
 
-struct Demo {
-  Demo();
+struct TableDemo {
+  TableDemo();
   double rate_hz = 0;
   std::int64_t timeout_ns = 0;
   std::uint32_t count = 0;
@@ -40,20 +40,21 @@ FieldTable<Limits> limits_fields() {
           }};
 }
 
-const FieldTable<Demo>& demo_fields() {
-  static const FieldTable<Demo> table = [] {
-    FieldTable<Demo> t{{
-        number("rate_hz", at(&Demo::rate_hz), 30.0, {0.0, 1000.0, true}, "Hz", "frames | second"),
-        number("timeout_ns", at(&Demo::timeout_ns), 300'000'000, {1, 3'600'000'000'000}, "ns",
+const FieldTable<TableDemo>& demo_fields() {
+  static const FieldTable<TableDemo> table = [] {
+    FieldTable<TableDemo> t{{
+        number("rate_hz", at(&TableDemo::rate_hz), 30.0, {0.0, 1000.0, true}, "Hz",
+               "frames | second"),
+        number("timeout_ns", at(&TableDemo::timeout_ns), 300'000'000, {1, 3'600'000'000'000}, "ns",
                "stale after"),
-        number("count", at(&Demo::count), 4u, {0, 32}, "", "buffers"),
-        flag("enabled", at(&Demo::enabled), true, "on or off"),
-        choice("mode", at(&Demo::mode), "a", {"a", "b"}, "which mode"),
-        optional(text("path", at(&Demo::path), "", "a file")),
-        list("ks", at(&Demo::ks), {5}, {1, 31}, "px", "half windows"),
-        list("xyz", at(&Demo::xyz), {0.5, 0.0, -0.5}, {-1.0, 1.0}, "m", "offset"),
+        number("count", at(&TableDemo::count), 4u, {0, 32}, "", "buffers"),
+        flag("enabled", at(&TableDemo::enabled), true, "on or off"),
+        choice("mode", at(&TableDemo::mode), "a", {"a", "b"}, "which mode"),
+        optional(text("path", at(&TableDemo::path), "", "a file")),
+        list("ks", at(&TableDemo::ks), {5}, {1, 31}, "px", "half windows"),
+        list("xyz", at(&TableDemo::xyz), {0.5, 0.0, -0.5}, {-1.0, 1.0}, "m", "offset"),
     }};
-    auto limits = section("limits", &Demo::limits, limits_fields());
+    auto limits = section("limits", &TableDemo::limits, limits_fields());
     t.fields.insert(t.fields.end(), limits.fields.begin(), limits.fields.end());
     t.cross_check = limits.cross_check;
     return t;
@@ -61,7 +62,7 @@ const FieldTable<Demo>& demo_fields() {
   return table;
 }
 
-Demo::Demo() {
+TableDemo::TableDemo() {
   apply_defaults(demo_fields(), *this);
 }
 
@@ -80,7 +81,7 @@ TEST(FieldTable, GivenDemoTableThenItMeetsTheContractEveryComponentTableMeets) {
 }
 
 TEST(FieldTable, GivenDefaultConstructedStructThenValuesComeFromTheTable) {
-  const Demo d;
+  const TableDemo d;
   EXPECT_EQ(d.rate_hz, 30.0);
   EXPECT_EQ(d.timeout_ns, 300'000'000);
   EXPECT_EQ(d.ks, std::vector<int>{5});
@@ -118,7 +119,7 @@ TEST(FieldTable, GivenBadChoiceOrNaNThenRefusedWithTheKey) {
   ASSERT_FALSE(p.ok());
   EXPECT_EQ(p.error(), "d.yaml: key 'mode': 'c' is not one of: a, b");
 
-  Demo d;
+  TableDemo d;
   d.limits.min_m = std::nan("");
   const auto st = check_fields(demo_fields(), d);
   ASSERT_FALSE(st);
@@ -143,7 +144,7 @@ TEST(FieldTable, GivenOptionalKeyThenReadWhenPresentAndDefaultWhenAbsent) {
 }
 
 TEST(FieldTable, GivenStructThenYamlReadsBackToTheSameValues) {
-  Demo d;
+  TableDemo d;
   d.rate_hz = 0.1 + 0.2;  // no short decimal: the text must still read back exactly
   d.path = "dir with: colon";
   d.xyz = {1.0 / 3.0, 0.0, -1.0};

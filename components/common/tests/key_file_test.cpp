@@ -13,8 +13,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int64_t kNow = 1'800'000'000'000'000'000;
-constexpr int64_t kSecond = 1'000'000'000;
+constexpr int64_t kNowNs = 1'800'000'000'000'000'000;
+constexpr int64_t kSecondNs = 1'000'000'000;
 
 class KeyFileTest : public ::testing::Test {
  protected:
@@ -56,7 +56,7 @@ TEST_F(KeyFileTest, RewritingKeepsTheOwner) {
   ASSERT_EQ(::chown(path_.c_str(), service_uid, service_uid), 0);
   auto ring = sa::load_key_file(path_);
   ASSERT_TRUE(ring) << ring.error();
-  ASSERT_TRUE(sa::save_key_file(path_, sa::rotate(*ring, kNow, 600 * kSecond)).ok());
+  ASSERT_TRUE(sa::save_key_file(path_, sa::rotate(*ring, kNowNs, 600 * kSecondNs)).ok());
   struct stat st {};
   ASSERT_EQ(::stat(path_.c_str(), &st), 0);
   EXPECT_EQ(st.st_uid, service_uid);
@@ -105,17 +105,17 @@ TEST_F(KeyFileTest, MalformedFilesNameLineAndProblem) {
 
 TEST(KeyRotation, OldKeyKeepsAGracePeriodAndANewOneSigns) {
   const sa::Keyring first = sa::new_keyring();
-  const sa::Keyring second = sa::rotate(first, kNow, 60 * kSecond);
+  const sa::Keyring second = sa::rotate(first, kNowNs, 60 * kSecondNs);
   ASSERT_TRUE(second.validate().ok());
   ASSERT_EQ(second.keys.size(), 2u);
   EXPECT_EQ(second.signing()->id, 2u);
   EXPECT_NE(second.signing()->key, first.keys[0].key);
-  EXPECT_NE(second.accepted(1, kNow + 60 * kSecond - 1), nullptr);
-  EXPECT_EQ(second.accepted(1, kNow + 60 * kSecond), nullptr);
+  EXPECT_NE(second.accepted(1, kNowNs + 60 * kSecondNs - 1), nullptr);
+  EXPECT_EQ(second.accepted(1, kNowNs + 60 * kSecondNs), nullptr);
   // A later rotation drops the key whose grace is over
-  const sa::Keyring third = sa::rotate(second, kNow + 61 * kSecond, 60 * kSecond);
+  const sa::Keyring third = sa::rotate(second, kNowNs + 61 * kSecondNs, 60 * kSecondNs);
   ASSERT_EQ(third.keys.size(), 2u);
-  EXPECT_EQ(third.accepted(1, kNow + 61 * kSecond), nullptr);
+  EXPECT_EQ(third.accepted(1, kNowNs + 61 * kSecondNs), nullptr);
   EXPECT_EQ(third.signing()->id, 3u);
 }
 
@@ -123,9 +123,9 @@ TEST(KeyRotation, StagedKeyIsAcceptedFirstAndSignsAfterRotate) {
   const sa::Keyring ring = sa::stage(sa::new_keyring());
   ASSERT_TRUE(ring.validate().ok());
   EXPECT_EQ(ring.signing()->id, 1u);
-  EXPECT_NE(ring.accepted(2, kNow), nullptr);  // hosts with this file accept the next key
-  const sa::Keyring rotated = sa::rotate(ring, kNow, 60 * kSecond);
+  EXPECT_NE(ring.accepted(2, kNowNs), nullptr);  // hosts with this file accept the next key
+  const sa::Keyring rotated = sa::rotate(ring, kNowNs, 60 * kSecondNs);
   EXPECT_EQ(rotated.signing()->id, 2u);
   EXPECT_EQ(rotated.signing()->key, ring.keys[1].key);
-  EXPECT_NE(rotated.accepted(1, kNow), nullptr);
+  EXPECT_NE(rotated.accepted(1, kNowNs), nullptr);
 }

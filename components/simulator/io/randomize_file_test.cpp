@@ -9,10 +9,10 @@
 namespace stereoball::simulator {
 namespace {
 
-const std::string kPath = std::string(SB_SOURCE_DIR) + "/config/randomize.yaml";
+const std::string kRandomizePath = std::string(SB_SOURCE_DIR) + "/config/randomize.yaml";
 
 std::string shipped_text() {
-  std::ifstream in(kPath);
+  std::ifstream in(kRandomizePath);
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
@@ -28,7 +28,7 @@ std::string edited(const std::string& from, const std::string& to) {
 }
 
 TEST(RandomizeFile, ShippedRangesLoadAndMatchTheDefaults) {
-  const auto r = load_randomize_ranges(kPath);
+  const auto r = load_randomize_ranges(kRandomizePath);
   ASSERT_TRUE(r.ok()) << r.error();
   const RandomizeRanges d;
   EXPECT_DOUBLE_EQ(r->ball_diameter_m.lo, 0.065);

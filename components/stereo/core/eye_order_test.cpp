@@ -14,12 +14,12 @@
 namespace stereoball::stereo {
 namespace {
 
-const std::string kDir = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/";
+const std::string kEyeOrderDir = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/";
 const std::string kCalibration =
     std::string(SB_SOURCE_DIR) + "/config/calibration/opencv_samples_stereo.yaml";
 
-cv::Mat grey(const std::string& name) {
-  return cv::imread(kDir + name, cv::IMREAD_GRAYSCALE);
+cv::Mat sample_grey(const std::string& name) {
+  return cv::imread(kEyeOrderDir + name, cv::IMREAD_GRAYSCALE);
 }
 
 TEST(EyeOrder, GivenRealRawPairsWhenCheckedAsGivenAndExchangedThenOnlyExchangedIsSwapped) {
@@ -28,8 +28,8 @@ TEST(EyeOrder, GivenRealRawPairsWhenCheckedAsGivenAndExchangedThenOnlyExchangedI
   ASSERT_TRUE(calib.ok()) << calib.error();
   const Rectifier rectifier = Rectifier::create(calib.value()).value();
   for (const char* id : {"01", "12"}) {
-    const cv::Mat l = grey("left" + std::string(id) + ".jpg");
-    const cv::Mat r = grey("right" + std::string(id) + ".jpg");
+    const cv::Mat l = sample_grey("left" + std::string(id) + ".jpg");
+    const cv::Mat r = sample_grey("right" + std::string(id) + ".jpg");
     ASSERT_FALSE(l.empty() || r.empty());
     // When checked in the right order and with the cameras exchanged
     const EyeOrderEvidence given = check_eye_order(rectifier, l, r, false);
@@ -54,7 +54,7 @@ TEST(EyeOrder, GivenRectifiedAloeWhenCheckedThenOrderFoundEitherWay) {
   const auto calib = load_calibration(kCalibration);
   ASSERT_TRUE(calib.ok()) << calib.error();
   const Rectifier rectifier = Rectifier::create(calib.value()).value();  // unused: rectified
-  const cv::Mat l = grey("aloeL.jpg"), r = grey("aloeR.jpg");
+  const cv::Mat l = sample_grey("aloeL.jpg"), r = sample_grey("aloeR.jpg");
   EXPECT_FALSE(check_eye_order(rectifier, l, r, true).swapped);
   EXPECT_TRUE(check_eye_order(rectifier, r, l, true).swapped);
 }
@@ -76,7 +76,7 @@ TEST(EyeOrderWatch, GivenBlankThenRealFramesWhenStreamedThenChecksUntilADecision
   const Rectifier rectifier = Rectifier::create(calib.value()).value();
   EyeOrderWatch watch(3, 2);
   const cv::Mat blank(480, 640, CV_8UC1, cv::Scalar(90));
-  const cv::Mat l = grey("left03.jpg"), r = grey("right03.jpg");
+  const cv::Mat l = sample_grey("left03.jpg"), r = sample_grey("right03.jpg");
   // When a blank frame, a skipped one, then a swapped real pair arrive
   EXPECT_TRUE(watch.step(rectifier, blank, blank, false).has_value());  // frame 0: checked
   EXPECT_FALSE(watch.step(rectifier, r, l, false).has_value());         // frame 1: not due

@@ -10,13 +10,13 @@
 namespace stereoball::stereo {
 namespace {
 
-const std::string kDir = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/";
+const std::string kRowCheckDir = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/";
 
 class AloeTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    left_ = cv::imread(kDir + "aloeL.jpg", cv::IMREAD_GRAYSCALE);
-    right_ = cv::imread(kDir + "aloeR.jpg", cv::IMREAD_GRAYSCALE);
+    left_ = cv::imread(kRowCheckDir + "aloeL.jpg", cv::IMREAD_GRAYSCALE);
+    right_ = cv::imread(kRowCheckDir + "aloeR.jpg", cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(left_.empty());
     ASSERT_FALSE(right_.empty());
   }

@@ -1,5 +1,7 @@
 #include "stereo/frame/frame_codec_flags.hpp"
 
+#include <CLI/CLI.hpp>
+
 namespace stereoball::stereo {
 
 FrameCodecFlags::FrameCodecFlags(CLI::App& app) {

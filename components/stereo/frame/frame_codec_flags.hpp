@@ -2,11 +2,15 @@
 // --frame-encoding / --jpeg-quality: the command-line overrides of a frame publisher's
 // frame_encoding and jpeg_quality (camera_server, simulator; used by the *-jpeg profiles).
 
-#include <CLI/CLI.hpp>
-
 #include <string>
 
 #include "stereo/frame/frame_codec.hpp"
+
+// Declared only: CLI/CLI.hpp costs seconds of compile time in every file that includes it; the
+// files that add flags include it themselves.
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace stereoball::stereo {
 
