@@ -220,9 +220,9 @@ SettledGrowth settled_growth(const MemorySpan& span, const MemoryRule& rule) {
   const int64_t last = span.samples.back().t_ns;
   const int64_t to = last - rule.window_ns;  // the last window is (to, last]
   if (to < from + rule.window_ns) return g;  // the two windows would overlap
-  // The lowest sample of each window: a spike, or work that comes and goes (the simulator
-  // holds about 6 MB more for 20 s of every 40 s of its scenario loop), is no growth, while a
-  // leak raises the floor too.
+  // The lowest sample of each window: a spike, or work that comes and goes (the simulator's
+  // memory alternates between two levels about 6 MB apart every 20 s, the length of its looping
+  // scenario), is no growth, while a leak raises the floor too.
   long first_low = LONG_MAX, last_low = LONG_MAX;
   for (const auto& s : span.samples) {
     if (s.t_ns >= from && s.t_ns < from + rule.window_ns) first_low = std::min(first_low, s.kb);

@@ -218,7 +218,7 @@ TEST(Memory, ASpikeInTheLastSampleIsNotAGrowth) {
 }
 
 TEST(Memory, WorkThatComesAndGoesIsNotAGrowth) {
-  // Given a simulator that holds 6.5 MB more for 20 s of every 40 s (its scenario loop)
+  // Given a simulator whose memory alternates between two levels every 20 s (its scenario loop)
   const std::vector<MemorySpan> spans = {
       sampled("simulator", 1, 900, [](int t) { return (t / 20) % 2 ? 83'000L : 76'500L; })};
   // Then whichever phase the windows catch, the judged growth is nil
