@@ -4,7 +4,8 @@
 //    the operator's stop is never cleared, and every rejection is counted in health/status.
 //  - Estop: the stop outlives the operator's tool and the restart of every node; release
 //    needs a deliberate action.
-//  - KeyRotation: the running robot keeps moving while the deployment key is rotated.
+//  - KeyRotation: the running robot keeps moving while the deployment key is rotated (staged,
+//    or in one step: nothing is refused either way).
 //  - KeyFile: a key file others can read stops a node with a clear error.
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <thread>
 
@@ -254,10 +256,10 @@ TEST(Estop, SurvivesRestartsAndNeedsADeliberateRelease) {
   EXPECT_TRUE(sys.wait_counter("motion_controller", "estop_engaged", 0, 10s));
 }
 
-// Given the robot driving after a followed ball, when the key is staged and then rotated
-// (stereoball keys rotate --stage, then rotate), then the robot never stops, no sample is
-// refused for its key, and the commands end up signed by the new key.
-TEST(KeyRotation, RunningRobotKeepsMoving) {
+// The robot driving after a followed ball while rotate() rotates the key: the robot never
+// stops, no sample is refused for its key, and the commands end up signed by new_key_id.
+static void robot_keeps_moving_through(const std::function<void(SecuredSystem&)>& rotate,
+                                       uint32_t new_key_id) {
   SecuredSystem sys;
   sys.start("simulator", {"--scenario", "no_ball"});
   sys.start("motion_controller");
@@ -296,17 +298,12 @@ TEST(KeyRotation, RunningRobotKeepsMoving) {
       << "the robot never started following";
   const size_t moving_from = sys.poses().size();
 
-  const std::string keys = sb::testing::bin("stereoball-keys");
-  auto [staged, staged_text] =
-      sb::testing::run({keys, "rotate", "--stage", "--file", sys.key()}, 20s);
-  ASSERT_EQ(staged, 0) << staged_text;
-  std::this_thread::sleep_for(2500ms);  // every process re-reads the file within a second
-  auto [rotated, rotated_text] = sb::testing::run({keys, "rotate", "--file", sys.key()}, 20s);
-  ASSERT_EQ(rotated, 0) << rotated_text;
+  rotate(sys);
   bool new_key_seen = false;
   sb::testing::eventually(
       [&] {
-        for (auto& c : commands.take(64)) new_key_seen = new_key_seen || c->auth.key_id == 2;
+        for (auto& c : commands.take(64))
+          new_key_seen = new_key_seen || c->auth.key_id == new_key_id;
         return new_key_seen;
       },
       10s);
@@ -319,7 +316,7 @@ TEST(KeyRotation, RunningRobotKeepsMoving) {
     slowest = std::min(slowest, poses[i].linear_mps);
   EXPECT_GT(slowest, 0.05) << "the robot slowed down or stopped during the rotation";
   for (const char* node : {"simulator", "motion_controller"}) {
-    EXPECT_GE(sys.counter(node, "auth_key_reloads"), 2u) << node;
+    EXPECT_GE(sys.counter(node, "auth_key_reloads"), 1u) << node;
     uint64_t refused = 0;
     for (const char* topic : {"cmd/velocity", "ball/track", "cmd/estop"}) {
       refused += sys.counter(node, std::string("auth_unknown_key:") + topic) +
@@ -327,6 +324,37 @@ TEST(KeyRotation, RunningRobotKeepsMoving) {
     }
     EXPECT_EQ(refused, 0u) << node;
   }
+}
+
+static int run_keys(const std::vector<std::string>& args) {
+  std::vector<std::string> argv{sb::testing::bin("stereoball-keys")};
+  argv.insert(argv.end(), args.begin(), args.end());
+  auto [code, text] = sb::testing::run(argv, 20s);
+  EXPECT_EQ(code, 0) << text;
+  return code;
+}
+
+// Given the robot following, when the next key is staged, copied (here: the same file) and
+// then rotated, then the robot keeps moving and nothing is refused.
+TEST(KeyRotation, StagedThenRotatedRunningRobotKeepsMoving) {
+  robot_keeps_moving_through(
+      [](SecuredSystem& sys) {
+        ASSERT_EQ(run_keys({"rotate", "--stage", "--file", sys.key()}), 0);
+        std::this_thread::sleep_for(2500ms);  // every process re-reads the file within a second
+        ASSERT_EQ(run_keys({"rotate", "--file", sys.key()}), 0);
+      },
+      2);
+}
+
+// Given the robot following, when the key is rotated in one step (no staging; what the chaos
+// bench does), then the signers keep the old key until every process sharing the file knows
+// the new one: the robot keeps moving and not one command, track or stop is refused.
+TEST(KeyRotation, OneShotRotateRefusesNothing) {
+  robot_keeps_moving_through(
+      [](SecuredSystem& sys) {
+        ASSERT_EQ(run_keys({"rotate", "--file", sys.key()}), 0);
+      },
+      2);
 }
 
 // Given a key file others can read, then a node and the keys tool refuse it and say how to fix

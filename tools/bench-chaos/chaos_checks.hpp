@@ -94,20 +94,51 @@ TopicLoss count_losses(const std::string& topic, std::span<const SeqSample> samp
 /// Passes when no topic lost a sample outside the excused intervals.
 CheckResult check_none_lost(std::span<const TopicLoss> topics);
 
-/// VmRSS of one process instance at its first sample (after warm-up) and its last.
+/// One VmRSS sample of a process instance.
+struct MemorySample {
+  int64_t t_ns = 0;
+  long kb = 0;
+};
+
+/// VmRSS of one process instance: its first sample (after warm-up), its last, and every one.
 struct MemorySpan {
   std::string process;
   int pid = 0;
   int64_t first_ns = 0, last_ns = 0;
   long first_kb = 0, last_kb = 0;
+  int64_t started_ns = 0;             ///< when the instance was started
+  std::vector<MemorySample> samples;  ///< every sample, in time order
+  /// Start -> end: first sample to last sample.
   double growth_percent() const {
     return first_kb > 0 ? 100.0 * static_cast<double>(last_kb - first_kb) / first_kb : 0.0;
   }
 };
-/// Passes when every instance observed for at least min_span_ns grew by at most
-/// max_growth_percent; shorter-lived instances are listed but not judged.
-CheckResult check_memory(std::span<const MemorySpan> spans, int64_t min_span_ns,
-                         double max_growth_percent);
+
+/// How memory is judged: growth after a settle window, between the lowest samples of two
+/// short windows.
+struct MemoryRule {
+  int64_t settle_ns = 120'000'000'000;    ///< from the instance's start: its working set forms
+  int64_t window_ns = 60'000'000'000;     ///< samples whose median stands for one end
+  int64_t min_span_ns = 300'000'000'000;  ///< settled span an instance needs to be judged
+  double max_growth_percent = 5.0;
+};
+
+/// Growth of one instance after it settled: the lowest of its samples in [start + settle,
+/// start + settle + window) against the lowest of its samples in the last window.
+struct SettledGrowth {
+  bool available = false;          ///< false when the instance did not live past settle + window
+  int64_t from_ns = 0, to_ns = 0;  ///< middle of the first and of the last window
+  long from_kb = 0, to_kb = 0;
+  double percent() const {
+    return from_kb > 0 ? 100.0 * static_cast<double>(to_kb - from_kb) / from_kb : 0.0;
+  }
+};
+SettledGrowth settled_growth(const MemorySpan& span, const MemoryRule& rule);
+
+/// Passes when every instance whose settled span lasted at least rule.min_span_ns grew by at
+/// most rule.max_growth_percent after settling; the start -> end figures are printed beside
+/// (never judged). Shorter-lived instances are listed but not judged.
+CheckResult check_memory(std::span<const MemorySpan> spans, const MemoryRule& rule);
 
 /// Passes when no node exited without being killed by the run (a crash on garbage, say).
 CheckResult check_no_crashes(const std::vector<std::string>& unexpected_exits);

@@ -169,19 +169,77 @@ TEST(Losses, CompleteStreamPasses) {
   EXPECT_TRUE(check_none_lost(std::vector<TopicLoss>{loss}).passed);
 }
 
-TEST(Memory, OnlyLongObservedInstancesAreJudged) {
-  // Given a long-lived process that grew 10 % and a short-lived one that doubled
-  std::vector<MemorySpan> spans = {{"tracker", 1, 0, 600 * 1'000'000'000LL, 1000, 1100},
-                                   {"ball_detector", 2, 0, 10 * 1'000'000'000LL, 1000, 2000}};
-  // When judged against 5 % over at least 300 s
-  const CheckResult r = check_memory(spans, 300 * 1'000'000'000LL, 5.0);
-  // Then only the tracker is a violation
+namespace {
+constexpr int64_t kSec = 1'000'000'000;
+
+// An instance started at 0 and sampled every 5 s from 10 s to end_s, VmRSS kb_at(t in s).
+template <typename F>
+MemorySpan sampled(const std::string& process, int pid, int end_s, F kb_at) {
+  MemorySpan m;
+  m.process = process, m.pid = pid, m.started_ns = 0;
+  for (int t = 10; t <= end_s; t += 5) m.samples.push_back({t * kSec, kb_at(t)});
+  m.first_ns = m.samples.front().t_ns, m.first_kb = m.samples.front().kb;
+  m.last_ns = m.samples.back().t_ns, m.last_kb = m.samples.back().kb;
+  return m;
+}
+}  // namespace
+
+TEST(Memory, AWarmUpThatLevelsOffPassesASteadyGrowthFails) {
+  // Given a detector whose working set forms in its first minute (60 % above its first
+  // sample) and then stays flat, and a tracker that grows by 20 kB every 5 s for 10 minutes
+  const std::vector<MemorySpan> spans = {
+      sampled("ball_detector", 1, 600, [](int t) { return t < 60 ? 60'000L : 100'000L; }),
+      sampled("tracker", 2, 600, [](int t) { return 10'000L + 20L * (t / 5); })};
+  // When judged against 5 % after a 120 s settle, over at least 300 s
+  const MemoryRule rule{120 * kSec, 60 * kSec, 300 * kSec, 5.0};
+  const CheckResult r = check_memory(spans, rule);
+  // Then the warm-up passes although its start -> end growth is 66 %, and the tracker fails
+  EXPECT_GT(spans[0].growth_percent(), 60.0);
+  const SettledGrowth detector = settled_growth(spans[0], rule);
+  ASSERT_TRUE(detector.available);
+  EXPECT_DOUBLE_EQ(detector.percent(), 0.0);
   EXPECT_FALSE(r.passed);
   EXPECT_EQ(r.violations, 1u);
-  EXPECT_NE(r.detail.find("tracker"), std::string::npos);
-  EXPECT_DOUBLE_EQ(spans[0].growth_percent(), 10.0);
-  spans[0].last_kb = 1040;
-  EXPECT_TRUE(check_memory(spans, 300 * 1'000'000'000LL, 5.0).passed);
+  EXPECT_NE(r.detail.find("tracker (pid 2)"), std::string::npos) << r.detail;
+  EXPECT_EQ(r.detail.find("ball_detector (pid 1)"), std::string::npos) << r.detail;
+  // And the detail still names the start -> end growth beside the judged figure
+  EXPECT_NE(r.detail.find("start -> end"), std::string::npos) << r.detail;
+}
+
+TEST(Memory, ASpikeInTheLastSampleIsNotAGrowth) {
+  // Given a flat simulator whose very last sample caught a transient 12 % spike
+  std::vector<MemorySpan> spans = {sampled("simulator", 1, 900, [](int) { return 75'000L; })};
+  spans[0].samples.back().kb = spans[0].last_kb = 84'000;
+  // Then its start -> end figure shows the spike, the judged (lowest of a window) one does not
+  const MemoryRule rule{120 * kSec, 60 * kSec, 300 * kSec, 5.0};
+  EXPECT_GT(spans[0].growth_percent(), 10.0);
+  EXPECT_DOUBLE_EQ(settled_growth(spans[0], rule).percent(), 0.0);
+  EXPECT_TRUE(check_memory(spans, rule).passed);
+}
+
+TEST(Memory, WorkThatComesAndGoesIsNotAGrowth) {
+  // Given a simulator whose memory alternates between two levels every 20 s (its scenario loop)
+  const std::vector<MemorySpan> spans = {
+      sampled("simulator", 1, 900, [](int t) { return (t / 20) % 2 ? 83'000L : 76'500L; })};
+  // Then whichever phase the windows catch, the judged growth is nil
+  const MemoryRule rule{120 * kSec, 60 * kSec, 300 * kSec, 5.0};
+  EXPECT_DOUBLE_EQ(settled_growth(spans[0], rule).percent(), 0.0);
+  EXPECT_TRUE(check_memory(spans, rule).passed);
+}
+
+TEST(Memory, OnlyInstancesSettledLongEnoughAreJudged) {
+  // Given one instance that doubled within 5 minutes of life, and one killed after a minute
+  const std::vector<MemorySpan> spans = {
+      sampled("tracker", 1, 300, [](int t) { return 10'000L + 100L * t; }),
+      sampled("motion_controller", 2, 60, [](int t) { return 10'000L + 100L * t; })};
+  // When at least 300 s after the 120 s settle are needed
+  const MemoryRule rule{120 * kSec, 60 * kSec, 300 * kSec, 5.0};
+  const CheckResult r = check_memory(spans, rule);
+  // Then neither is judged: the check passes as not applicable, and says why
+  EXPECT_TRUE(r.passed);
+  EXPECT_FALSE(r.applicable);
+  EXPECT_FALSE(settled_growth(spans[1], rule).available);
+  EXPECT_NE(r.detail.find("no process instance settled"), std::string::npos) << r.detail;
 }
 
 TEST(Cdr, LeadingSeqInEitherByteOrder) {

@@ -62,6 +62,7 @@ struct Options {
   double warmup_s = 10.0;
   bool no_netns = false;
   double memory_min_span_s = 300.0;
+  double memory_settle_s = 120.0;
   double memory_max_growth_percent = 5.0;
   int domain = 0;
   std::string partition;
@@ -197,12 +198,22 @@ int run_command(const std::vector<std::string>& argv, const std::string& log_pat
   }
 }
 
-long vm_rss_kb(pid_t pid) {
+// Resident memory of a process from /proc/PID/status, kB: all of it (VmRSS), and its parts:
+// anonymous (heap, stacks: what a leak grows) and file-backed (code and data of the program
+// and its libraries, mapped in as it first runs them).
+struct Rss {
+  long total_kb = -1, anon_kb = -1, file_kb = -1;
+};
+
+Rss read_rss(pid_t pid) {
+  Rss r;
   std::ifstream in("/proc/" + std::to_string(pid) + "/status");
   for (std::string line; std::getline(in, line);) {
-    if (line.rfind("VmRSS:", 0) == 0) return std::atol(line.c_str() + 6);
+    if (line.rfind("VmRSS:", 0) == 0) r.total_kb = std::atol(line.c_str() + 6);
+    if (line.rfind("RssAnon:", 0) == 0) r.anon_kb = std::atol(line.c_str() + 8);
+    if (line.rfind("RssFile:", 0) == 0) r.file_kb = std::atol(line.c_str() + 8);
   }
-  return -1;
+  return r;
 }
 
 // The two "hosts": robot (simulator, recorder, e-stop, flood, rogue) and workstation
@@ -298,6 +309,13 @@ class Run {
              const std::map<std::string, uint64_t>& recorded, const std::string& netns_note,
              size_t planned);
   void do_fault(const bc::Fault& f);
+  bc::MemoryRule memory_rule() const {
+    bc::MemoryRule r;
+    r.settle_ns = static_cast<int64_t>(o_.memory_settle_s * 1e9);
+    r.min_span_ns = static_cast<int64_t>(o_.memory_min_span_s * 1e9);
+    r.max_growth_percent = o_.memory_max_growth_percent;
+    return r;
+  }
   std::string bin(const std::string& name) const { return o_.bin_dir + "/" + name; }
   std::string log_file(const std::string& name) const { return o_.out_dir + "/" + name + ".log"; }
   void note(const std::string& text);
@@ -384,17 +402,21 @@ void Run::poll() {
   const int64_t warmup_ns = static_cast<int64_t>(o_.warmup_s * 1e9);
   for (const auto& n : nodes_) {
     if (n.pid <= 0 || now - n.started_ns < warmup_ns) continue;
-    const long kb = vm_rss_kb(n.pid);
+    const Rss rss = read_rss(n.pid);
+    const long kb = rss.total_kb;
     if (kb <= 0) continue;
     auto [it, fresh] = memory_.spans.try_emplace(n.pid);
     bc::MemorySpan& m = it->second;
     if (fresh) {
       m.process = n.name, m.pid = n.pid, m.first_ns = now, m.first_kb = kb;
+      m.started_ns = n.started_ns;
     }
     m.last_ns = now, m.last_kb = kb;
+    m.samples.push_back({now, kb});
     // Every sample, so a growth can be told from a plateau afterwards.
     if (std::FILE* csv = std::fopen((o_.out_dir + "/memory.csv").c_str(), "a")) {
-      std::fprintf(csv, "%.1f,%s,%d,%ld\n", (now - start_ns_) * 1e-9, n.name.c_str(), n.pid, kb);
+      std::fprintf(csv, "%.1f,%s,%d,%ld,%ld,%ld\n", (now - start_ns_) * 1e-9, n.name.c_str(), n.pid,
+                   kb, rss.anon_kb, rss.file_kb);
       std::fclose(csv);
     }
   }
@@ -600,11 +622,23 @@ int Run::report(const std::vector<bc::CheckResult>& checks,
     std::printf("  %-4s %-45s %s\n", c.passed ? (c.applicable ? "ok" : "n/a") : "FAIL",
                 c.name.c_str(), c.detail.c_str());
   }
-  std::printf("\nmemory (VmRSS, first sample %.0f s after each start, last before the end):\n",
-              o_.warmup_s);
+  const bc::MemoryRule rule = memory_rule();
+  std::printf(
+      "\nmemory (VmRSS; start->end: first sample %.0f s after each start to the last, not judged;"
+      "\nsettled: lowest sample of the %.0f s from %.0f s after the start -> lowest of the last "
+      "%.0f s, judged):\n",
+      o_.warmup_s, rule.window_ns * 1e-9, rule.settle_ns * 1e-9, rule.window_ns * 1e-9);
   for (const auto& [pid, m] : memory_.spans) {
-    std::printf("  %-18s pid %-7d %8ld -> %8ld kB  %+6.1f %%  over %6.0f s\n", m.process.c_str(),
-                pid, m.first_kb, m.last_kb, m.growth_percent(), (m.last_ns - m.first_ns) * 1e-9);
+    std::printf("  %-18s pid %-7d start->end %8ld -> %8ld kB %+6.1f %% over %5.0f s",
+                m.process.c_str(), pid, m.first_kb, m.last_kb, m.growth_percent(),
+                (m.last_ns - m.first_ns) * 1e-9);
+    const bc::SettledGrowth g = bc::settled_growth(m, rule);
+    if (g.available) {
+      std::printf("  settled %8ld -> %8ld kB %+6.1f %% over %5.0f s\n", g.from_kb, g.to_kb,
+                  g.percent(), (g.to_ns - g.from_ns) * 1e-9);
+    } else {
+      std::printf("  settled -\n");
+    }
   }
   std::printf("\npublished vs recorded (stereoball record, seq numbers of each publisher run):\n");
   for (const auto& t : losses) {
@@ -654,7 +688,14 @@ int Run::report(const std::vector<bc::CheckResult>& checks,
       j << (first ? "\n" : ",\n") << "    {\"process\": \"" << m.process << "\", \"pid\": " << pid
         << ", \"first_kb\": " << m.first_kb << ", \"last_kb\": " << m.last_kb
         << ", \"span_s\": " << (m.last_ns - m.first_ns) * 1e-9
-        << ", \"growth_percent\": " << m.growth_percent() << "}";
+        << ", \"growth_percent\": " << m.growth_percent();
+      const bc::SettledGrowth g = bc::settled_growth(m, rule);
+      if (g.available) {
+        j << ", \"settled_from_kb\": " << g.from_kb << ", \"settled_to_kb\": " << g.to_kb
+          << ", \"settled_span_s\": " << (g.to_ns - g.from_ns) * 1e-9
+          << ", \"settled_growth_percent\": " << g.percent();
+      }
+      j << "}";
       first = false;
     }
     j << "\n  ],\n  \"topics\": [";
@@ -704,6 +745,10 @@ int Run::main() {
   fs::remove(base_log_, ec);
   fs::remove(mcap_, ec);
   fs::remove(o_.out_dir + "/memory.csv", ec);
+  if (std::FILE* csv = std::fopen((o_.out_dir + "/memory.csv").c_str(), "w")) {
+    std::fputs("t_s,process,pid,rss_kb,anon_kb,file_kb\n", csv);
+    std::fclose(csv);
+  }
   for (const auto& k : {key_file_, rogue_key_}) {
     if (run_command({bin("stereoball-keys"), "init", "--force", "--file", k}, log_file("tools"),
                     20 * kS) != 0) {
@@ -840,8 +885,7 @@ int Run::main() {
   checks.push_back(lost);
   std::vector<bc::MemorySpan> spans;
   for (const auto& [pid, m] : memory_.spans) spans.push_back(m);
-  checks.push_back(bc::check_memory(spans, static_cast<int64_t>(o_.memory_min_span_s * 1e9),
-                                    o_.memory_max_growth_percent));
+  checks.push_back(bc::check_memory(spans, memory_rule()));
   checks.push_back(bc::check_no_crashes(unexpected_));
   bc::CheckResult log_check;
   log_check.name = "base_log_readable";
@@ -883,7 +927,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--no-netns", o.no_netns, "everything on one host (no link fault)");
   app.add_option("--memory-min-span", o.memory_min_span_s,
-                 "judge the memory growth of process instances observed at least this long, s")
+                 "judge the memory growth of process instances observed at least this long "
+                 "after settling, s")
+      ->capture_default_str();
+  app.add_option("--memory-settle", o.memory_settle_s,
+                 "memory is judged from this long after each start (the working set forms), s")
+      ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
   app.add_option("--memory-max-growth", o.memory_max_growth_percent,
                  "largest memory growth allowed, percent")

@@ -33,6 +33,14 @@ std::string_view to_string(GateState state);
 /// The state named name (as to_string prints it), or nullopt.
 std::optional<GateState> gate_state_from_string(std::string_view name);
 
+/// The one freshness rule for a velocity command at a base: it may move the base until its own
+/// stamp plus timeout_ns, and never past its receipt plus timeout_ns (a stamp ahead of the
+/// base's clock buys nothing). Returns that last instant, ns since epoch (saturating for any
+/// stamp, garbage included).
+int64_t command_expiry_ns(int64_t stamp_ns, int64_t received_ns, int64_t timeout_ns);
+/// True while now_ns <= command_expiry_ns(stamp_ns, received_ns, timeout_ns).
+bool command_fresh(int64_t stamp_ns, int64_t received_ns, int64_t now_ns, int64_t timeout_ns);
+
 struct GateOutput {
   Velocity velocity;  ///< what the base may apply now
   GateState state = GateState::kNoCommand;
@@ -41,9 +49,10 @@ struct GateOutput {
 class VelocityGate {
  public:
   explicit VelocityGate(const VelocityGateParams& params);
-  /// A command received at received_ns (non-finite values count as zero). Ignored while the
-  /// e-stop is engaged.
-  void on_command(const Velocity& command, int64_t received_ns);
+  /// A command stamped stamp_ns by its sender and received at received_ns (both ns since
+  /// epoch; non-finite values count as zero). It drives until command_expiry_ns: a command that
+  /// arrives late is stale at once. Ignored while the e-stop is engaged.
+  void on_command(const Velocity& command, int64_t stamp_ns, int64_t received_ns);
   /// Engages or releases the stop. Releasing needs a new command before the base moves again.
   void set_estop(bool engaged);
   bool estop_engaged() const { return estop_; }
@@ -54,7 +63,7 @@ class VelocityGate {
   VelocityGateParams params_;
   bool estop_ = false;
   std::optional<Velocity> command_;
-  int64_t received_ns_ = 0;
+  int64_t expiry_ns_ = 0;
 };
 
 }  // namespace stereoball::base

@@ -18,7 +18,7 @@ void BaseLink::on_velocity() {
   for (auto& s : commands_.take()) {
     const int64_t now = node::now_ns();
     runner_.health().count(std::string(topics::kVelocityCommand.spec.name));
-    gate_.on_command({s->linear_mps, s->angular_radps}, now);
+    gate_.on_command({s->linear_mps, s->angular_radps}, s->stamp_ns, now);
     const GateOutput out = gate_.step(now);
     if (out.state == GateState::kEmergencyStop) {
       runner_.health().count("cmd_velocity_blocked_by_estop");

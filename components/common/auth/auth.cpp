@@ -60,6 +60,26 @@ Status Keyring::validate() const {
   return {};
 }
 
+void SigningSchedule::on_ring(const Keyring& ring, int64_t now_ns) {
+  const KeyEntry* signer = ring.signing();
+  const uint32_t id = signer ? signer->id : 0;
+  if (id == ring_signer_id_) return;
+  if (ring_signer_id_ != 0) {
+    // The key in use until now (the previous one again if a switch was still pending) goes on
+    // signing for the delay: readers know it, whichever ring they hold.
+    previous_id_ = now_ns < switch_ns_ ? previous_id_ : ring_signer_id_;
+    switch_ns_ = now_ns > INT64_MAX - delay_ns_ ? INT64_MAX : now_ns + delay_ns_;
+  }
+  ring_signer_id_ = id;
+}
+
+const KeyEntry* SigningSchedule::signing(const Keyring& ring, int64_t now_ns) const {
+  if (now_ns < switch_ns_ && previous_id_ != 0 && previous_id_ != ring_signer_id_) {
+    if (const KeyEntry* previous = ring.accepted(previous_id_, now_ns)) return previous;
+  }
+  return ring.signing();
+}
+
 namespace {
 constexpr util::EnumName<Verdict> kVerdictNames[] = {
     {Verdict::kAccepted, "accepted"},      {Verdict::kUnsigned, "unsigned"},

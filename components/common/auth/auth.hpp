@@ -41,6 +41,25 @@ struct Keyring {
   Status validate() const;
 };
 
+/// Which key a signer uses across a rotation. When a newly loaded ring names another signing
+/// key, the key that signed until then keeps signing for delay_ns while the new ring still
+/// accepts it (its grace), so every reader that re-reads the key file within delay_ns knows the
+/// new key before the first sample signed with it: a one-shot `keys rotate` refuses nothing.
+class SigningSchedule {
+ public:
+  explicit SigningSchedule(int64_t delay_ns) : delay_ns_(delay_ns) {}
+  /// ring is in force from now_ns on (the first ring signs with its own key at once).
+  void on_ring(const Keyring& ring, int64_t now_ns);
+  /// The key to sign with at now_ns, from ring (the one given to on_ring last), or nullptr.
+  const KeyEntry* signing(const Keyring& ring, int64_t now_ns) const;
+
+ private:
+  int64_t delay_ns_;
+  uint32_t ring_signer_id_ = 0;  // the ring's own signing key (0 before the first ring)
+  uint32_t previous_id_ = 0;     // signs until switch_ns_ while the ring accepts it
+  int64_t switch_ns_ = INT64_MIN;
+};
+
 /// What a reader decided about one sample.
 enum class Verdict {
   kAccepted,

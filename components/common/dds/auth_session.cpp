@@ -15,6 +15,10 @@ namespace stereoball::dds {
 namespace {
 
 constexpr int64_t kReloadCheckPeriodNs = 1'000'000'000;
+// After a reload names a new signing key, the previous one signs this much longer: every
+// process sharing the file re-reads it within one check period; the second is a margin for a
+// loaded host.
+constexpr int64_t kSigningSwitchDelayNs = 2 * kReloadCheckPeriodNs;
 constexpr uint32_t kXcdr1 = 1;
 
 using util::wall_ns;
@@ -46,12 +50,13 @@ std::vector<uint8_t> canonical_encoding(const dds_topic_descriptor_t* desc, cons
 }
 
 AuthSession::AuthSession(std::string key_file, const auth::WindowParams& window)
-    : key_file_(std::move(key_file)), window_(window) {
+    : key_file_(std::move(key_file)), window_(window), schedule_(kSigningSwitchDelayNs) {
   if (auto e = window_.validate(); !e) throw std::runtime_error("replay window: " + e.error());
   if (key_file_.empty()) return;
   auto ring = auth::load_key_file(key_file_);
   if (!ring) throw std::runtime_error(ring.error());
   ring_ = std::move(*ring);
+  schedule_.on_ring(ring_, wall_ns());
   file_mtime_ns_ = mtime_ns(key_file_);
   next_check_mono_ns_ = mono_ns() + kReloadCheckPeriodNs;
 }
@@ -71,6 +76,7 @@ void AuthSession::reload_if_changed() {
     return;
   }
   ring_ = std::move(*ring);
+  schedule_.on_ring(ring_, wall_ns());
   file_mtime_ns_ = mtime;
   ++counters_["auth_key_reloads"];
   log::info("deployment keys reloaded from ", key_file_, " (signing key ", ring_.signing()->id,
@@ -81,7 +87,7 @@ uint32_t AuthSession::signing_key_id() {
   if (!keyed()) return 0;
   std::lock_guard lock(mutex_);
   reload_if_changed();
-  return ring_.signing()->id;
+  return schedule_.signing(ring_, wall_ns())->id;
 }
 
 uint32_t AuthSession::signing_key_fingerprint() {
@@ -89,7 +95,7 @@ uint32_t AuthSession::signing_key_fingerprint() {
   std::lock_guard lock(mutex_);
   reload_if_changed();
   // The hash `stereoball keys show` prints (key_file.cpp); 4 of its bytes reveal nothing.
-  const auth::Key& key = ring_.signing()->key;
+  const auth::Key& key = schedule_.signing(ring_, wall_ns())->key;
   unsigned char hash[crypto_generichash_BYTES];
   crypto_generichash(hash, sizeof hash, key.data(), key.size(), nullptr, 0);
   return (uint32_t{hash[0]} << 24) | (uint32_t{hash[1]} << 16) | (uint32_t{hash[2]} << 8) |
@@ -106,7 +112,7 @@ void AuthSession::sign(const topics::TopicSpec& spec, auth::LinkClock& clock,
   tag.stamp_ns = clock.next(wall_ns());
   if (!keyed()) return;
   reload_if_changed();
-  const auth::KeyEntry* key = ring_.signing();
+  const auth::KeyEntry* key = schedule_.signing(ring_, wall_ns());
   tag.key_id = key->id;
   const auth::Mac mac =
       auth::compute_mac(key->key, spec.name, canonical_encoding(spec.descriptor, sample));

@@ -66,6 +66,7 @@ class AuthSession {
   auth::WindowParams window_;
   mutable std::mutex mutex_;
   auth::Keyring ring_;
+  auth::SigningSchedule schedule_;
   int64_t file_mtime_ns_ = 0;
   int64_t next_check_mono_ns_ = 0;
   std::map<std::string, uint64_t> counters_;

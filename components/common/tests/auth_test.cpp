@@ -5,6 +5,8 @@
 
 #include <vector>
 
+#include "common/auth/key_file.hpp"
+
 namespace sa = stereoball::auth;
 
 namespace {
@@ -142,4 +144,57 @@ TEST(AuthKeyring, ValidateNamesTheProblem) {
   EXPECT_NE(ring.validate().error().find("reserved"), std::string::npos);
   ring.keys = {{1, {}, true, INT64_MAX}, {1, {}, false, INT64_MAX}};
   EXPECT_NE(ring.validate().error().find("twice"), std::string::npos);
+}
+
+TEST(AuthSigningSchedule, RotationSignsWithThePreviousKeyUntilReadersKnowTheNewOne) {
+  // Given a signer whose ring has key 1 signing, and a reader still holding that ring
+  const sa::Keyring before = ring_with(1, sa::random_key());
+  sa::SigningSchedule schedule(2 * kSecond);
+  schedule.on_ring(before, kNow);
+  ASSERT_EQ(schedule.signing(before, kNow)->id, 1u);
+  // When the signer loads the rotated ring (key 2 signs, key 1 accepted for 120 s)
+  const sa::Keyring after = sa::rotate(before, kNow + kSecond, 120 * kSecond);
+  ASSERT_EQ(after.signing()->id, 2u);
+  schedule.on_ring(after, kNow + kSecond);
+  // Then key 1 signs for the switch delay: the reader with the old ring still accepts it
+  for (int64_t t : {kNow + kSecond, kNow + 2 * kSecond, kNow + 3 * kSecond - 1}) {
+    const sa::KeyEntry* key = schedule.signing(after, t);
+    ASSERT_NE(key, nullptr);
+    EXPECT_EQ(key->id, 1u) << t;
+    EXPECT_NE(before.accepted(key->id, t), nullptr) << t;
+  }
+  // And after it, key 2 signs (readers have re-read the file by then)
+  EXPECT_EQ(schedule.signing(after, kNow + 3 * kSecond)->id, 2u);
+  // And reloading the same ring again changes nothing
+  schedule.on_ring(after, kNow + 4 * kSecond);
+  EXPECT_EQ(schedule.signing(after, kNow + 4 * kSecond)->id, 2u);
+}
+
+TEST(AuthSigningSchedule, FirstRingSignsAtOnceAndAnExpiredPreviousKeyIsNeverUsed) {
+  // Given a fresh signer: its first ring signs with its own key at once
+  const sa::Keyring first = ring_with(1, sa::random_key());
+  sa::SigningSchedule schedule(2 * kSecond);
+  schedule.on_ring(first, kNow);
+  EXPECT_EQ(schedule.signing(first, kNow)->id, 1u);
+  // When a rotation gives the old key no grace at all
+  const sa::Keyring no_grace = sa::rotate(first, kNow, 0);
+  schedule.on_ring(no_grace, kNow);
+  // Then the new key signs at once: a key the ring no longer accepts never signs
+  EXPECT_EQ(schedule.signing(no_grace, kNow)->id, 2u);
+}
+
+TEST(AuthSigningSchedule, TwoRotationsInQuickSuccessionKeepTheKeyInUse) {
+  // Given key 1 signing and a rotation to key 2 loaded at kNow (switch pending until kNow+2 s)
+  const sa::Keyring one = ring_with(1, sa::random_key());
+  sa::SigningSchedule schedule(2 * kSecond);
+  schedule.on_ring(one, kNow);
+  const sa::Keyring two = sa::rotate(one, kNow, 120 * kSecond);
+  schedule.on_ring(two, kNow);
+  // When a second rotation (key 3) is loaded before key 2 was ever used
+  const sa::Keyring three = sa::rotate(two, kNow + kSecond, 120 * kSecond);
+  schedule.on_ring(three, kNow + kSecond);
+  // Then key 1, the key every reader has seen signing, goes on until the new delay ends
+  EXPECT_EQ(schedule.signing(three, kNow + 2 * kSecond)->id, 1u);
+  EXPECT_EQ(schedule.signing(three, kNow + 3 * kSecond - 1)->id, 1u);
+  EXPECT_EQ(schedule.signing(three, kNow + 3 * kSecond)->id, 3u);
 }
