@@ -164,12 +164,21 @@ Status PixelToPixelParams::validate() const {
     return Error{"coarse_min_voted_coverage must be in [0, 1]"};
   if (!(refine_params.min_inside_fraction >= 0.0 && refine_params.min_inside_fraction <= 1.0))
     return Error{"refine_params.min_inside_fraction must be in [0, 1]"};
+  if (!(fine_below_radius_px >= 0.0 && fine_below_radius_px <= 4000.0))
+    return Error{"fine_below_radius_px must be in [0, 4000]"};
+  if (fine_below_radius_px > 0.0) {
+    if (fine_k_values.empty()) return Error{"fine_k_values must hold at least one k in [1, 31]"};
+    for (int k : fine_k_values)
+      if (k < 1 || k > kMaxK) return Error{"fine_k_values entries must be in [1, 31]"};
+  }
   return {};
 }
 
 PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : params_(params) {
   for (int& k : params_.k_values) k = std::clamp(k, 1, kMaxK);
   if (params_.k_values.empty()) params_.k_values = {5};
+  for (int& k : params_.fine_k_values) k = std::clamp(k, 1, kMaxK);
+  if (params_.fine_k_values.empty()) params_.fine_k_values = {3};
   params_.box_size_px = std::clamp(params_.box_size_px | 1, 1, 31);
   voters_.reserve(8192);
   lines_.reserve(8192);
@@ -281,7 +290,9 @@ void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
   if (params_.coarse_to_fine && bgr_or_grey.cols >= kCoarseMinSidePx &&
       bgr_or_grey.rows >= kCoarseMinSidePx)
-    return detect_coarse_to_fine(bgr_or_grey);
+    return params_.fine_below_radius_px > params_.min_radius_px
+               ? detect_multi_scale(bgr_or_grey)
+               : detect_coarse_to_fine(bgr_or_grey);
   if (!cast_votes(bgr_or_grey)) return {};
   return circles_of_votes();
 }
@@ -746,6 +757,10 @@ std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& i
     if (!one_map) compute_edge_map(image(window), params_.edge, window_edges_);
     if (const auto fine = refine_in_window(window_edges_, window, seeds[i])) found.push_back(*fine);
   }
+  return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
+}
+
+std::vector<Circle> PixelToPixelDetector::keep_best_separated(std::vector<Circle> found) const {
   return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
 }
 
