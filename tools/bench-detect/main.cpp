@@ -178,6 +178,35 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                      p.max_peaks_examined = peaks;
                      return std::make_unique<bd::PixelToPixelDetector>(p);
                    }});
+  // Multi-scale (PixelToPixelParams::fine_below_radius_px): radii below `fine` times the
+  // smallest searched at full resolution with k = 3, the rest coarse to fine as above (a first
+  // sweep on the tune split: min score 0.45 and clutter 0 lost everywhere, fine k = 2,3 never
+  // beat k = 3, so the grid spends its settings on scores, clutter and peaks instead).
+  for (const auto& ks : std::vector<std::vector<int>>{{3, 5}, {3, 5, 8}})
+    for (double score : {0.5, 0.55, 0.6})
+      for (double clutter : {0.1, 0.2})
+        for (int peaks : {kRealMaxCircles / 2, 2 * kRealMaxCircles})
+          for (bool polish : {true, false})
+            for (double fine : {2.0, 3.0})
+              p2p.settings.push_back(
+                  {cv::format("multi fine<%.0fxrmin k=%s fine k=3 score>=%.2f clutter=%.1f "
+                              "peaks=%d band=0.035r%s",
+                              fine, k_list(ks).c_str(), score, clutter, peaks,
+                              polish ? "" : " no-polish"),
+                   [ks, fine, score, clutter, peaks, polish](cv::Size s, double rmin) {
+                     auto p = p2p_params(s, ks);
+                     p.min_radius_px = rmin;
+                     p.coarse_to_fine = true;
+                     p.fine_below_radius_px = fine * rmin;
+                     p.fine_k_values = {3};
+                     p.polish = polish;
+                     p.refine_params.band_per_radius = 0.035;
+                     p.min_score = score;
+                     p.refine_params.clutter_ring_per_radius = clutter;
+                     p.max_circles = kRealMaxCircles;
+                     p.max_peaks_examined = peaks;
+                     return std::make_unique<bd::PixelToPixelDetector>(p);
+                   }});
   // And at full resolution only: coarse to fine halves a 6 px circle to 3 px, below what the
   // halved search finds; the tune split decides which wins.
   for (const auto& ks : std::vector<std::vector<int>>{{5}, {3, 5}, {3, 5, 8}})
@@ -405,7 +434,8 @@ int main(int argc, char** argv) {
   std::string labels_dir = SB_DEFAULT_LABELS_DIR;
   std::string project_root = SB_PROJECT_ROOT;
   int real_repeats = 3;
-  bool no_synthetic = false, verbose_tuning = false;
+  bool no_synthetic = false, verbose_tuning = false, breakdown = false;
+  std::string settings_matching;
   app.add_option("--per-kind", per_kind, "Synthetic scenes per kind and size (10 kinds)")
       ->capture_default_str()
       ->check(CLI::Range(1, 200));
@@ -435,6 +465,12 @@ int main(int argc, char** argv) {
   app.add_flag("--no-synthetic", no_synthetic,
                "Only the labelled real photographs (skip the synthetic suite and timing images)");
   app.add_flag("--verbose-tuning", verbose_tuning, "Print every setting's tune-split F1 and time");
+  app.add_option("--settings-matching", settings_matching,
+                 "Try only the settings whose label contains this (development: the choice is "
+                 "then not the full sweep's)");
+  app.add_flag("--tune-breakdown", breakdown,
+               "Print each method's chosen setting's tune-split circles found by labelled radius "
+               "and per image (the report split's are never printed)");
   CLI11_PARSE(app, argc, argv);
   cv::setNumThreads(1);
 
@@ -444,6 +480,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   auto families = real_families();
+  if (!settings_matching.empty())
+    for (auto& f : families)
+      std::erase_if(f.settings, [&](const stereoball::bench_detect::Setting& st) {
+        return st.label.find(settings_matching) == std::string::npos;
+      });
   if (!only.empty())
     std::erase_if(families, [&](const stereoball::bench_detect::Family& f) {
       return std::none_of(only.begin(), only.end(),
@@ -451,7 +492,7 @@ int main(int argc, char** argv) {
     });
   if (no_synthetic) {
     stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
-                                                   min_iou, verbose_tuning);
+                                                   min_iou, verbose_tuning, breakdown);
     return 0;
   }
   const std::vector<cv::Size> sizes = {{352, 288}, {640, 480}};
@@ -576,6 +617,6 @@ int main(int argc, char** argv) {
                 median(voters[label]), median(increments[label]), median(ratio[label]));
   k_selection_table();
   stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
-                                                 min_iou, verbose_tuning);
+                                                 min_iou, verbose_tuning, breakdown);
   return 0;
 }

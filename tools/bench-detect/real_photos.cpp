@@ -91,9 +91,53 @@ RealScore score_setting(const Setting& setting, const std::vector<LabelledImage>
   return s;
 }
 
+Breakdown tune_breakdown(const Setting& setting, const std::vector<LabelledImage>& images,
+                         double min_iou) {
+  Breakdown b;
+  for (const auto& img : images) {
+    if (img.split != bd::LabelSplit::tune) continue;
+    auto det = setting.make(img.image.size(), img.min_radius_px);
+    const std::vector<bd::Circle> found = det->detect(img.image);
+    const auto m = bd::match_circles(found, img.truth, min_iou);
+    Breakdown::Image row{img.name, static_cast<int>(img.truth.size()), m.true_positives,
+                         m.false_positives, 1e9};
+    for (const auto& t : img.truth) {
+      row.min_truth_radius_px = std::min(row.min_truth_radius_px, t.radius_px);
+      std::size_t band = 0;
+      while (band + 2 < kBreakdownBandsPx.size() && t.radius_px >= kBreakdownBandsPx[band + 1])
+        ++band;
+      ++b.truth[band];
+      b.found[band] += std::any_of(found.begin(), found.end(), [&](const bd::Circle& c) {
+        return bd::circle_iou(c, t) >= min_iou;
+      });
+    }
+    if (img.truth.empty()) row.min_truth_radius_px = 0.0;
+    b.images.push_back(row);
+  }
+  return b;
+}
+
+namespace {
+
+void print_breakdown(const std::string& family, const std::string& setting, const Breakdown& b) {
+  std::printf("  tune split, %s (%s): labelled circles found by radius\n", family.c_str(),
+              setting.c_str());
+  for (std::size_t i = 0; i < b.truth.size(); ++i)
+    std::printf(
+        "    r in [%3.0f, %s): %3d of %3d\n", kBreakdownBandsPx[i],
+        i + 1 < b.truth.size() ? cv::format("%3.0f", kBreakdownBandsPx[i + 1]).c_str() : "inf",
+        b.found[i], b.truth[i]);
+  std::printf("    per image: name, labelled (smallest r), tp, fp\n");
+  for (const auto& im : b.images)
+    std::printf("    %-40s %3d (%5.1f) %3d %3d\n", im.name.c_str(), im.truth,
+                im.min_truth_radius_px, im.tp, im.fp);
+}
+
+}  // namespace
+
 std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                                           const std::vector<LabelledImage>& images, int repeats,
-                                          double min_iou, bool verbose) {
+                                          double min_iou, bool verbose, bool breakdown) {
   auto count = [&](bd::LabelSplit split, bool circles) {
     size_t n = 0;
     for (const auto& i : images)
@@ -136,6 +180,8 @@ std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                 best->label.c_str(), best_tune.f1(), sc.precision, sc.recall, sc.f1,
                 median(r.errors_px), median(r.image_ms));
     rows.push_back({family.name, best->label, best_tune.f1(), sc.f1, median(r.image_ms)});
+    if (breakdown)
+      print_breakdown(family.name, best->label, tune_breakdown(*best, images, min_iou));
   }
   for (size_t i = 1; i < rows.size() && rows.front().report_ms > 0.0; ++i)
     std::printf("time %s / %s on the report split: %.2f\n", rows.front().family.c_str(),

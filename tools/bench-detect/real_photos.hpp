@@ -7,6 +7,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -73,8 +74,30 @@ struct RealRow {
 /// Chooses each family's best setting on the tune split (F1, then time) and prints it with its
 /// report-split figures, one row per family, then the time ratios of the first family (the
 /// detector under test) to the others.
+/// breakdown: also print, for each family's chosen setting, its tune-split misses and false
+/// positives by labelled radius and per image (never the report split's: it is not looked at
+/// while settings are chosen).
 std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                                           const std::vector<LabelledImage>& images, int repeats,
-                                          double min_iou, bool verbose);
+                                          double min_iou, bool verbose, bool breakdown = false);
+
+/// Labelled radius bands of the breakdown, px: [kBreakdownBandsPx[i], kBreakdownBandsPx[i+1]).
+inline constexpr std::array<double, 6> kBreakdownBandsPx = {0.0, 8.0, 12.0, 20.0, 40.0, 1e9};
+
+/// One setting's tune-split figures by labelled radius band and by image.
+struct Breakdown {
+  std::array<int, 5> truth{}, found{};  ///< labelled and found circles per radius band
+  struct Image {
+    std::string name;
+    int truth = 0, tp = 0, fp = 0;
+    double min_truth_radius_px = 0.0;
+  };
+  std::vector<Image> images;
+};
+
+/// A labelled circle counts as found when a detection overlaps it by min_iou (not one-to-one:
+/// a diagnosis, the F1 comes from match_circles).
+Breakdown tune_breakdown(const Setting& setting, const std::vector<LabelledImage>& images,
+                         double min_iou);
 
 }  // namespace stereoball::bench_detect

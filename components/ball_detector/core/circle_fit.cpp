@@ -147,16 +147,9 @@ double robust_cut_px(std::span<const cv::Point2d> points, const cv::Point2d& mea
   return std::min(std::max(floor_px, 4.685 * 1.4826 * *mid), 2.0 * floor_px);
 }
 
-}  // namespace
-
-std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double robust_floor_px,
-                                 double fixed_radius_px) {
-  const int n = static_cast<int>(points.size());
-  if (n < 3) return std::nullopt;
-  cv::Point2d mean(0, 0);
-  for (const auto& p : points) mean += p;
-  mean *= 1.0 / n;
-  // Kasa: x^2 + y^2 + D x + E y + F = 0 in centred coordinates (better conditioned).
+// fit_circle's start: the algebraic (Kasa) circle x^2 + y^2 + D x + E y + F = 0 of points in
+// coordinates centred on mean (better conditioned): its centre and squared radius there.
+std::optional<cv::Vec3d> kasa_circle(std::span<const cv::Point2d> points, const cv::Point2d& mean) {
   cv::Matx33d ata = cv::Matx33d::zeros();
   cv::Vec3d atb(0, 0, 0);
   for (const auto& p : points) {
@@ -170,8 +163,56 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double rob
   }
   cv::Vec3d sol;
   if (!cv::solve(ata, atb, sol, cv::DECOMP_CHOLESKY)) return std::nullopt;
-  double cx = -sol[0] / 2.0, cy = -sol[1] / 2.0;
-  const double r2 = cx * cx + cy * cy - sol[2];
+  const double cx = -sol[0] / 2.0, cy = -sol[1] / 2.0;
+  return cv::Vec3d(cx, cy, cx * cx + cy * cy - sol[2]);
+}
+
+// One Gauss-Newton step of the geometric fit of circle (cx, cy, r) (centred on mean): the change
+// of (cx, cy, r); each point weighted by Tukey's biweight when cut > 0; the radius held when
+// hold_radius. nullopt when the normal equations cannot be solved.
+std::optional<cv::Vec3d> gauss_newton_step(std::span<const cv::Point2d> points,
+                                           const cv::Point2d& mean, double cx, double cy, double r,
+                                           double cut, bool hold_radius) {
+  cv::Matx33d jtj = cv::Matx33d::zeros();
+  cv::Vec3d jtr(0, 0, 0);
+  for (const auto& p : points) {
+    const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
+    const double d = fast_hypot(x, y);
+    if (d < 1e-9) continue;
+    const cv::Vec3d j(-x / d, -y / d, -1.0);
+    const double res = d - r;
+    const double w = cut > 0.0 ? tukey_weight(res, cut) : 1.0;
+    if (w <= 0.0) continue;
+    for (int a = 0; a < 3; ++a) {
+      jtr[a] += w * j[a] * res;
+      for (int b = 0; b < 3; ++b) jtj(a, b) += w * j[a] * j[b];
+    }
+  }
+  cv::Vec3d delta(0, 0, 0);
+  if (hold_radius) {  // the centre only: the upper-left 2 x 2 block
+    const cv::Matx22d jtj2(jtj(0, 0), jtj(0, 1), jtj(1, 0), jtj(1, 1));
+    cv::Vec2d d2;
+    if (!cv::solve(jtj2, cv::Vec2d(-jtr[0], -jtr[1]), d2, cv::DECOMP_CHOLESKY)) return std::nullopt;
+    delta = {d2[0], d2[1], 0.0};
+  } else if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) {
+    return std::nullopt;
+  }
+  return delta;
+}
+
+}  // namespace
+
+std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double robust_floor_px,
+                                 double fixed_radius_px) {
+  const int n = static_cast<int>(points.size());
+  if (n < 3) return std::nullopt;
+  cv::Point2d mean(0, 0);
+  for (const auto& p : points) mean += p;
+  mean *= 1.0 / n;
+  const auto kasa = kasa_circle(points, mean);
+  if (!kasa) return std::nullopt;
+  double cx = (*kasa)[0], cy = (*kasa)[1];
+  const double r2 = (*kasa)[2];
   if (!(r2 > 0.0)) return std::nullopt;
   const bool hold_radius = fixed_radius_px > 0.0;
   double r = hold_radius ? fixed_radius_px : std::sqrt(r2);
@@ -182,34 +223,12 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double rob
     const double cut = robust_floor_px > 0.0
                            ? robust_cut_px(points, mean, cx, cy, r, robust_floor_px, residuals)
                            : 0.0;
-    cv::Matx33d jtj = cv::Matx33d::zeros();
-    cv::Vec3d jtr(0, 0, 0);
-    for (const auto& p : points) {
-      const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
-      const double d = fast_hypot(x, y);
-      if (d < 1e-9) continue;
-      const cv::Vec3d j(-x / d, -y / d, -1.0);
-      const double res = d - r;
-      const double w = cut > 0.0 ? tukey_weight(res, cut) : 1.0;
-      if (w <= 0.0) continue;
-      for (int a = 0; a < 3; ++a) {
-        jtr[a] += w * j[a] * res;
-        for (int b = 0; b < 3; ++b) jtj(a, b) += w * j[a] * j[b];
-      }
-    }
-    cv::Vec3d delta(0, 0, 0);
-    if (hold_radius) {  // the centre only: the upper-left 2 x 2 block
-      const cv::Matx22d jtj2(jtj(0, 0), jtj(0, 1), jtj(1, 0), jtj(1, 1));
-      cv::Vec2d d2;
-      if (!cv::solve(jtj2, cv::Vec2d(-jtr[0], -jtr[1]), d2, cv::DECOMP_CHOLESKY)) break;
-      delta = {d2[0], d2[1], 0.0};
-    } else if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) {
-      break;
-    }
-    cx += delta[0];
-    cy += delta[1];
-    r += delta[2];
-    if (std::abs(delta[0]) + std::abs(delta[1]) + std::abs(delta[2]) < 1e-4) break;
+    const auto delta = gauss_newton_step(points, mean, cx, cy, r, cut, hold_radius);
+    if (!delta) break;
+    cx += (*delta)[0];
+    cy += (*delta)[1];
+    r += (*delta)[2];
+    if (std::abs((*delta)[0]) + std::abs((*delta)[1]) + std::abs((*delta)[2]) < 1e-4) break;
   }
   if (!(r > 0.0) || !std::isfinite(cx) || !std::isfinite(cy)) return std::nullopt;
   return Circle{cx + mean.x, cy + mean.y, r, 0.0};
@@ -253,24 +272,73 @@ struct BandPoint {
   short gx, gy;
 };
 
+// gather_outline_points' tests. Every value the per-point tests read is a member of this local
+// copy (the methods are inlined): the points stored are doubles, which may alias the fields of
+// the arguments, and the compiler would read them again, and divide again, for every point. The
+// arithmetic is that of OutlineStretch's to_round / gradient_to_round, expression by expression.
+struct OutlineBand {
+  double cx, cy, outer, inner, outer2, inner2, cos2;
+  bool identity;
+  double ax, ay, to_round, from_round;
+
+  OutlineBand(const Circle& round, const OutlineStretch& stretch, double band_px,
+              double min_radial_cos)
+      : cx(round.x_px),
+        cy(round.y_px),
+        outer(round.radius_px + band_px),
+        inner(std::max(0.0, round.radius_px - band_px)),
+        outer2(outer * outer),
+        inner2(inner * inner),
+        cos2(min_radial_cos * min_radial_cos),
+        identity(stretch.identity()),
+        ax(stretch.axis.x),
+        ay(stretch.axis.y),
+        to_round(1.0 / stretch.ratio - 1.0),
+        from_round(stretch.ratio - 1.0) {}
+
+  // The pixel lies in the band and its gradient is radial (after the stretch): 1, else 0.
+  [[gnu::always_inline]] int passes(int x, int y, short gx, short gy) const {
+    double rx = x - cx, ry = y - cy;
+    if (!identity) {
+      const double k = to_round * (rx * ax + ry * ay);
+      rx = rx + ax * k;
+      ry = ry + ay * k;
+    }
+    const double d2 = rx * rx + ry * ry;
+    double g_x = gx, g_y = gy;
+    if (!identity) {
+      const double k = from_round * (g_x * ax + g_y * ay);
+      g_x = g_x + ax * k;
+      g_y = g_y + ay * k;
+    }
+    const double g_dot_r = g_x * rx + g_y * ry;
+    const double g2 = g_x * g_x + g_y * g_y;
+    return static_cast<int>(!(d2 > outer2) & !(d2 < inner2) &
+                            !(g_dot_r * g_dot_r < cos2 * g2 * d2));
+  }
+
+  // A passing pixel's sub-pixel position in round coordinates, if that lies in the band too (the
+  // band applies to the sub-pixel position, which is what the fit uses).
+  [[gnu::always_inline]] std::optional<cv::Point2d> place(const GradientPlanes& planes,
+                                                          const BandPoint& b) const {
+    cv::Point2d p = subpixel_edge(planes, b.x, b.y, b.gx, b.gy);
+    if (!identity) {
+      const double sx = p.x - cx, sy = p.y - cy;
+      const double k = to_round * (sx * ax + sy * ay);
+      p = {cx + (sx + ax * k), cy + (sy + ay * k)};
+    }
+    const double sd = fast_hypot(p.x - cx, p.y - cy);
+    if (sd > outer || sd < inner) return std::nullopt;
+    return p;
+  }
+};
+
 }  // namespace
 
 void gather_outline_points(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
                            double band_px, double min_radial_cos, std::vector<cv::Point2d>& out) {
   out.clear();
-  // Every value the per-point tests read is a local (the helpers above are inlined): the
-  // points stored are doubles, which may alias the fields of the arguments, and the compiler
-  // would read them again, and divide again, for every point. The arithmetic is that of
-  // OutlineStretch's to_round / gradient_to_round, expression by expression.
-  const double cx = round.x_px, cy = round.y_px;
-  const double outer = round.radius_px + band_px;
-  const double inner = std::max(0.0, round.radius_px - band_px);
-  const double outer2 = outer * outer, inner2 = inner * inner;
-  const double cos2 = min_radial_cos * min_radial_cos;
-  const bool identity = stretch.identity();
-  const double ax = stretch.axis.x, ay = stretch.axis.y;
-  const double to_round = 1.0 / stretch.ratio - 1.0;
-  const double from_round = stretch.ratio - 1.0;
+  const OutlineBand band(round, stretch, band_px, min_radial_cos);
   const GradientPlanes planes(edges);
   // Two stages: the band and gradient tests keep about a quarter of the pixels visited, in no
   // pattern a branch predictor can learn, so the pixels that pass are written down without a
@@ -278,42 +346,15 @@ void gather_outline_points(const EdgeMap& edges, const Circle& round, const Outl
   std::array<BandPoint, 256> passed;
   int kept = 0;
   const auto place = [&] {
-    for (int i = 0; i < kept; ++i) {
-      const BandPoint& b = passed[static_cast<std::size_t>(i)];
-      cv::Point2d p = subpixel_edge(planes, b.x, b.y, b.gx, b.gy);
-      if (!identity) {
-        const double sx = p.x - cx, sy = p.y - cy;
-        const double k = to_round * (sx * ax + sy * ay);
-        p = {cx + (sx + ax * k), cy + (sy + ay * k)};
-      }
-      // The band applies to the sub-pixel position, which is what the fit uses.
-      const double sd = fast_hypot(p.x - cx, p.y - cy);
-      if (sd > outer || sd < inner) continue;
-      out.push_back(p);
-    }
+    for (int i = 0; i < kept; ++i)
+      if (const auto p = band.place(planes, passed[static_cast<std::size_t>(i)])) out.push_back(*p);
     kept = 0;
   };
   // In the image the band reaches ratio times farther along the major axis.
-  for_each_edge_in_annulus(edges, cx, cy, inner, stretch.ratio * outer,
+  for_each_edge_in_annulus(edges, band.cx, band.cy, band.inner, stretch.ratio * band.outer,
                            [&](int x, int y, short gx, short gy) {
-                             double rx = x - cx, ry = y - cy;
-                             if (!identity) {
-                               const double k = to_round * (rx * ax + ry * ay);
-                               rx = rx + ax * k;
-                               ry = ry + ay * k;
-                             }
-                             const double d2 = rx * rx + ry * ry;
-                             double g_x = gx, g_y = gy;
-                             if (!identity) {
-                               const double k = from_round * (g_x * ax + g_y * ay);
-                               g_x = g_x + ax * k;
-                               g_y = g_y + ay * k;
-                             }
-                             const double g_dot_r = g_x * rx + g_y * ry;
-                             const double g2 = g_x * g_x + g_y * g_y;
                              passed[static_cast<std::size_t>(kept)] = {x, y, gx, gy};
-                             kept += static_cast<int>(!(d2 > outer2) & !(d2 < inner2) &
-                                                      !(g_dot_r * g_dot_r < cos2 * g2 * d2));
+                             kept += band.passes(x, y, gx, gy);
                              if (kept == static_cast<int>(passed.size())) place();
                            });
   place();

@@ -164,12 +164,21 @@ Status PixelToPixelParams::validate() const {
     return Error{"coarse_min_voted_coverage must be in [0, 1]"};
   if (!(refine_params.min_inside_fraction >= 0.0 && refine_params.min_inside_fraction <= 1.0))
     return Error{"refine_params.min_inside_fraction must be in [0, 1]"};
+  if (!(fine_below_radius_px >= 0.0 && fine_below_radius_px <= 4000.0))
+    return Error{"fine_below_radius_px must be in [0, 4000]"};
+  if (fine_below_radius_px > 0.0) {
+    if (fine_k_values.empty()) return Error{"fine_k_values must hold at least one k in [1, 31]"};
+    for (int k : fine_k_values)
+      if (k < 1 || k > kMaxK) return Error{"fine_k_values entries must be in [1, 31]"};
+  }
   return {};
 }
 
 PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : params_(params) {
   for (int& k : params_.k_values) k = std::clamp(k, 1, kMaxK);
   if (params_.k_values.empty()) params_.k_values = {5};
+  for (int& k : params_.fine_k_values) k = std::clamp(k, 1, kMaxK);
+  if (params_.fine_k_values.empty()) params_.fine_k_values = {3};
   params_.box_size_px = std::clamp(params_.box_size_px | 1, 1, 31);
   voters_.reserve(8192);
   lines_.reserve(8192);
@@ -281,7 +290,9 @@ void PixelToPixelDetector::start(const std::optional<SearchHints>& hints) {
 std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
   if (params_.coarse_to_fine && bgr_or_grey.cols >= kCoarseMinSidePx &&
       bgr_or_grey.rows >= kCoarseMinSidePx)
-    return detect_coarse_to_fine(bgr_or_grey);
+    return params_.fine_below_radius_px > params_.min_radius_px
+               ? detect_multi_scale(bgr_or_grey)
+               : detect_coarse_to_fine(bgr_or_grey);
   if (!cast_votes(bgr_or_grey)) return {};
   return circles_of_votes();
 }
@@ -540,55 +551,51 @@ std::optional<Circle> nested_circle(const EdgeMap& edges, const Peak& peak,
   return nested;
 }
 
-}  // namespace
-
-PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
-                             const VoterRows& rows, const Peak& peak,
-                             const CandidateOptions& options) {
+// circle_from_peak's first stage: the voters whose lines pass the peak within the radius range,
+// their distances to it and the sectors around it they lie in. passing: one slot per voter.
+struct PeakVoters {
   std::vector<double> radii;
-  std::vector<cv::Point2d> support;
-  std::uint32_t voted_sectors = 0;  // bit s: a voter lies in sector s around the peak
+  std::uint32_t sectors = 0;  // bit s: a voter lies in sector s around the peak
+};
+
+PeakVoters voters_through_peak(const std::vector<Voter>& voters, const VoterRows& rows,
+                               const Peak& peak, const CandidateOptions& options,
+                               std::vector<std::uint32_t>& passing) {
+  PeakVoters out;
   // Whether a voter's line passes the peak is a coin toss to the branch predictor: the cheap
-  // tests of each loop below write the voters that pass down without a branch (n counts them),
-  // in their order, and only those go on.
-  std::vector<std::uint32_t> passing(voters.size());
+  // tests write the voters that pass down without a branch (n counts them), in their order,
+  // and only those go on.
   std::size_t n = 0;
-  const auto index_of = [&](const Voter& v) {
-    return static_cast<std::uint32_t>(&v - voters.data());
-  };
   // A voter passing the tests below is at most this far from the peak (t <= max radius and
   // the line within tolerance), plus a pixel for float rounding.
   const double reach_px = options.max_radius_px + options.line_tolerance_px + 1.0;
   rows.for_each(voters, peak.y - reach_px, peak.y + reach_px, [&](const Voter& v) {
     const double px = peak.x - v.x, py = peak.y - v.y;
     const double t = px * v.ux + py * v.uy;
-    passing[n] = index_of(v);
+    passing[n] = static_cast<std::uint32_t>(&v - voters.data());
     n += static_cast<std::size_t>(!(t < options.min_radius_px) & !(t > options.max_radius_px) &
                                   !(std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px));
   });
   for (std::size_t i = 0; i < n; ++i) {
     const Voter& v = voters[passing[i]];
     const double px = peak.x - v.x, py = peak.y - v.y;
-    radii.push_back(std::sqrt(px * px + py * py));
-    if (options.min_voted_coverage > 0.0) voted_sectors |= 1u << voter_sector(px, py);
+    out.radii.push_back(std::sqrt(px * px + py * py));
+    if (options.min_voted_coverage > 0.0) out.sectors |= 1u << voter_sector(px, py);
   }
-  if (radii.size() < 3) return {};
-  // A ball's outline votes from all sides, texture from one: judged on every voter of the
-  // peak (not only those at the median distance, which other lines passing by can skew).
-  if (options.min_voted_coverage > 0.0 &&
-      std::popcount(voted_sectors) < options.min_voted_coverage * kVoterSectors)
-    return {};
-  const double r0 = options.voter_mode_radius
-                        ? densest_radius(radii, options.min_radius_px, options.max_radius_px)
-                        : median_of(radii);
-  // voter_mode_radius: the median is the second seed (nth_element may reorder radii now).
-  const double median_r = options.voter_mode_radius ? median_of(radii) : r0;
-  // The voters' own positions on the circle seed the fit (they are edge points).
+  return out;
+}
+
+// The positions of the voters about r0 from the peak whose lines pass it (they are edge points
+// on the circle): they seed the fit.
+std::vector<cv::Point2d> support_points(const std::vector<Voter>& voters, const VoterRows& rows,
+                                        const Peak& peak, const CandidateOptions& options,
+                                        double r0, std::vector<std::uint32_t>& passing) {
+  std::vector<cv::Point2d> support;
   const double support_reach_px = 1.2 * r0 + 2.0;
-  n = 0;
+  std::size_t n = 0;
   rows.for_each(voters, peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
     const double px = peak.x - v.x, py = peak.y - v.y;
-    passing[n] = index_of(v);
+    passing[n] = static_cast<std::uint32_t>(&v - voters.data());
     n += static_cast<std::size_t>(!(std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) &
                                   !(px * v.ux + py * v.uy <= 0.0));
   });
@@ -599,10 +606,22 @@ PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& vot
     if (std::abs(d - r0) > 0.2 * r0 + 1.0) continue;
     support.emplace_back(v.x, v.y);
   }
+  return support;
+}
+
+// The peak at radius r0, or the circle through the support points when it stays near the peak.
+Circle first_seed(const Peak& peak, double r0, std::span<const cv::Point2d> support) {
   Circle seed{static_cast<double>(peak.x), static_cast<double>(peak.y), r0, 0.0};
   if (const auto fit = fit_circle(support);
       fit && fast_hypot(fit->x_px - seed.x_px, fit->y_px - seed.y_px) < 0.3 * r0 + 2.0)
     seed = *fit;
+  return seed;
+}
+
+// The seed refined; when that is weak, a second seed at the peak (median_r: the voters' median
+// distance, used with voter_mode_radius) refined too, the better kept.
+std::optional<Circle> refine_from_seeds(const EdgeMap& edges, const Peak& peak, const Circle& seed,
+                                        double median_r, const CandidateOptions& options) {
   auto refine_seed = [&](const Circle& s) { return refine_or_score(edges, s, options); };
   std::optional<Circle> c = refine_seed(seed);
   // Second seed only when the first is weak: the ring of edge points around the peak.
@@ -623,14 +642,44 @@ PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& vot
       if (alt && (!c || alt->score > c->score)) c = alt;
     }
   }
-  // PixelToPixelParams::rescue_weak_from: a weak circle may be an outline the fit was pulled off.
-  // Only a refit that can still reach min_score is worth its later rounds (give_up_below).
-  if (options.refine && c && c->score >= options.rescue_weak_from && c->score < options.min_score) {
-    RefineParams robust = polish_refine_params(options.refine_params);
-    robust.give_up_below = std::max(robust.give_up_below, options.min_score);
-    if (const auto refit = refine_circle(edges, *c, robust); refit && refit->score > c->score)
-      c = refit;
-  }
+  return c;
+}
+
+// PixelToPixelParams::rescue_weak_from: a weak circle may be an outline the fit was pulled off.
+// Only a refit that can still reach min_score is worth its later rounds (give_up_below).
+void rescue_weak(const EdgeMap& edges, const CandidateOptions& options, std::optional<Circle>& c) {
+  if (!(options.refine && c && c->score >= options.rescue_weak_from &&
+        c->score < options.min_score))
+    return;
+  RefineParams robust = polish_refine_params(options.refine_params);
+  robust.give_up_below = std::max(robust.give_up_below, options.min_score);
+  if (const auto refit = refine_circle(edges, *c, robust); refit && refit->score > c->score)
+    c = refit;
+}
+
+}  // namespace
+
+PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
+                             const VoterRows& rows, const Peak& peak,
+                             const CandidateOptions& options) {
+  std::vector<std::uint32_t> passing(voters.size());
+  PeakVoters through = voters_through_peak(voters, rows, peak, options, passing);
+  std::vector<double>& radii = through.radii;
+  if (radii.size() < 3) return {};
+  // A ball's outline votes from all sides, texture from one: judged on every voter of the
+  // peak (not only those at the median distance, which other lines passing by can skew).
+  if (options.min_voted_coverage > 0.0 &&
+      std::popcount(through.sectors) < options.min_voted_coverage * kVoterSectors)
+    return {};
+  const double r0 = options.voter_mode_radius
+                        ? densest_radius(radii, options.min_radius_px, options.max_radius_px)
+                        : median_of(radii);
+  // voter_mode_radius: the median is the second seed (nth_element may reorder radii now).
+  const double median_r = options.voter_mode_radius ? median_of(radii) : r0;
+  const std::vector<cv::Point2d> support = support_points(voters, rows, peak, options, r0, passing);
+  std::optional<Circle> c =
+      refine_from_seeds(edges, peak, first_seed(peak, r0, support), median_r, options);
+  rescue_weak(edges, options, c);
   if (!acceptable(c, options)) return {};
   PeakCircles out{*c};
   if (options.nested_circles)
@@ -739,6 +788,10 @@ std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& i
     if (const auto fine = refine_in_window(window_edges_, window, w.seeds[i]))
       found.push_back(*fine);
   }
+  return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
+}
+
+std::vector<Circle> PixelToPixelDetector::keep_best_separated(std::vector<Circle> found) const {
   return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
 }
 

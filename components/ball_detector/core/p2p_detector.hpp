@@ -83,9 +83,19 @@ struct PixelToPixelParams {
   /// fraction of the circle's angular sectors (a ball's outline votes from all sides; a blob
   /// of texture from one), [0, 1].
   double coarse_min_voted_coverage = 0.2;
+  /// Addition (with coarse_to_fine, detect(image) only): circles of radius below this are
+  /// searched at full resolution with fine_k_values, the others coarse to fine from this radius
+  /// up (a circle of a few pixels halved is below what the halved search finds); the two lists
+  /// are merged. 0 = off (coarse to fine for every radius), px.
+  double fine_below_radius_px = 0.0;
+  std::vector<int> fine_k_values = {3};  ///< k of that full-resolution search, each in [1, 31]
 
   /// Success, or an error naming the first bad field and its allowed range.
   Status validate() const;
+  /// fine_below_radius_px's full-resolution search of the small radii.
+  PixelToPixelParams small_circle_search() const;
+  /// fine_below_radius_px's coarse-to-fine search of the other radii.
+  PixelToPixelParams large_circle_search() const;
 };
 
 /// A range of circle radii, pixels.
@@ -283,6 +293,8 @@ class PixelToPixelDetector final : public CircleDetector {
   // the radius range leaves nothing to find.
   bool begin_edge_step(const cv::Mat& image, const SearchHints& hints);
   std::vector<Circle> detect_coarse_to_fine(const cv::Mat& image);
+  std::vector<Circle> detect_multi_scale(const cv::Mat& image);  // p2p_multi_scale.cpp
+  std::vector<Circle> keep_best_separated(std::vector<Circle> found) const;
   std::optional<Circle> refine_in_window(const EdgeMap& edges, const cv::Rect& window,
                                          Circle seed) const;
   void vote_on_edges();
@@ -314,6 +326,8 @@ class PixelToPixelDetector final : public CircleDetector {
   VoterRows voter_rows_;
   // coarse_to_fine: the detector of the halved image, the halved image and a window's edges.
   std::unique_ptr<PixelToPixelDetector> coarse_;
+  // fine_below_radius_px: the full-resolution small-radius and coarse-to-fine large searches.
+  std::unique_ptr<PixelToPixelDetector> small_, large_;
   cv::Mat half_;
   cv::Mat brightness_free_;           // detect_at_seeds_without_brightness's image, reused
   double voted_coverage_gate_ = 0.0;  // CandidateOptions::min_voted_coverage (a reduced one's)

@@ -1,0 +1,55 @@
+// PixelToPixelParams::fine_below_radius_px: small circles at full resolution, the others coarse
+// to fine, the two lists merged.
+
+#include "ball_detector/core/p2p_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace stereoball::ball_detector {
+namespace {
+
+// The full-resolution search reaches this far above fine_below_radius_px: a circle at the
+// boundary is found by either search, and the better of the two is kept.
+constexpr double kFineOverlap = 1.25;
+
+}  // namespace
+
+PixelToPixelParams PixelToPixelParams::small_circle_search() const {
+  PixelToPixelParams p = *this;
+  p.coarse_to_fine = false;
+  p.fine_below_radius_px = 0.0;
+  p.k_values = fine_k_values;
+  p.max_radius_px = std::min(max_radius_px, kFineOverlap * fine_below_radius_px);
+  return p;
+}
+
+PixelToPixelParams PixelToPixelParams::large_circle_search() const {
+  PixelToPixelParams p = *this;
+  p.fine_below_radius_px = 0.0;
+  p.min_radius_px = std::max(min_radius_px, fine_below_radius_px);
+  return p;
+}
+
+std::vector<Circle> PixelToPixelDetector::detect_multi_scale(const cv::Mat& image) {
+  start(std::nullopt);
+  edges_ready_ = false;  // neither search leaves its map here: redetect finds nothing
+  orientation_ready_ = false;
+  if (!small_) {
+    small_ = std::make_unique<PixelToPixelDetector>(params_.small_circle_search());
+    large_ = std::make_unique<PixelToPixelDetector>(params_.large_circle_search());
+  }
+  std::vector<Circle> found = small_->detect(image);
+  // Every radius is small: nothing is left for the halved image.
+  if (params_.fine_below_radius_px >= params_.max_radius_px) {
+    diag_ = small_->diag_;
+    return found;
+  }
+  const std::vector<Circle> large = large_->detect(image);
+  found.insert(found.end(), large.begin(), large.end());
+  diag_ = small_->diag_;  // the full-resolution edges and votes
+  return keep_best_separated(std::move(found));
+}
+
+}  // namespace stereoball::ball_detector

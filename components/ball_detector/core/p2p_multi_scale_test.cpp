@@ -1,0 +1,155 @@
+// Pixel-to-Pixel's multi-scale search (PixelToPixelParams::fine_below_radius_px): small circles
+// at full resolution beside the coarse-to-fine search of the large ones.
+
+#include "ball_detector/core/circle_labels.hpp"
+#include "ball_detector/core/evaluation.hpp"
+#include "ball_detector/core/p2p_detector.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace stereoball::ball_detector {
+namespace {
+
+// Labelled circles overlapped by a found one with IoU >= 0.8.
+int found_of(const std::vector<Circle>& found, const std::vector<Circle>& truth) {
+  return match_circles(found, truth, 0.8).true_positives;
+}
+
+PixelToPixelParams coarse_params(double min_radius_px, double max_radius_px) {
+  PixelToPixelParams p;
+  p.k_values = {3, 5};
+  p.min_radius_px = min_radius_px;
+  p.max_radius_px = max_radius_px;
+  p.min_separation_px = 12.0;
+  p.max_circles = 40;
+  p.max_peaks_examined = 80;
+  p.coarse_to_fine = true;
+  return p;
+}
+
+// A 640x480 grey scene: a large disc and a row of small ones, each darker than the background.
+struct SmallAndLarge {
+  cv::Mat image;
+  std::vector<Circle> small, large;
+};
+
+SmallAndLarge small_and_large_scene(double small_radius_px) {
+  SmallAndLarge s;
+  s.image = cv::Mat(480, 640, CV_8UC3, cv::Scalar(200, 200, 200));
+  s.large.push_back({460.0, 250.0, 90.0, 0.0});
+  for (int i = 0; i < 8; ++i)
+    s.small.push_back({40.0 + 40.0 * i, 80.0 + 45.0 * (i % 3), small_radius_px, 0.0});
+  // Drawn at 1/16 pixel (shift 4) so the centres and radii are the ones labelled.
+  auto draw = [&](const Circle& c) {
+    cv::circle(s.image, cv::Point(cvRound(c.x_px * 16), cvRound(c.y_px * 16)),
+               cvRound(c.radius_px * 16), cv::Scalar(60, 60, 60), cv::FILLED, cv::LINE_AA, 4);
+  };
+  for (const Circle& c : s.large) draw(c);
+  for (const Circle& c : s.small) draw(c);
+  // A camera's blur and noise: the halved image's small discs are then faint few-pixel blobs.
+  cv::GaussianBlur(s.image, s.image, cv::Size(5, 5), 1.2);
+  cv::Mat noise(s.image.size(), CV_16SC3);
+  cv::RNG rng(7);
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, 6.0);
+  cv::Mat image16;
+  s.image.convertTo(image16, CV_16SC3);
+  image16 += noise;
+  image16.convertTo(s.image, CV_8UC3);
+  return s;
+}
+
+TEST(PixelToPixelMultiScale, GivenSmallAndLargeCirclesThenBothSizesAreFound) {
+  // Given 4.5 px discs and a 90 px disc, and the coarse-to-fine search alone or with the radii
+  // below 10 px searched at full resolution
+  const SmallAndLarge scene = small_and_large_scene(4.5);
+  PixelToPixelParams p = coarse_params(3.5, 120.0);
+  PixelToPixelDetector coarse_only(p);
+  p.fine_below_radius_px = 10.0;
+  PixelToPixelDetector multi_scale(p);
+  // When both search the scene
+  const auto coarse_found = coarse_only.detect(scene.image);
+  const auto multi_found = multi_scale.detect(scene.image);
+  // Then the multi-scale search finds every small disc and still the large one, and more small
+  // ones than the halved image gives
+  EXPECT_EQ(found_of(multi_found, scene.small), 8);
+  EXPECT_EQ(found_of(multi_found, scene.large), 1);
+  EXPECT_EQ(found_of(coarse_found, scene.large), 1);
+  EXPECT_LT(found_of(coarse_found, scene.small), found_of(multi_found, scene.small));
+}
+
+TEST(PixelToPixelMultiScale, GivenEveryRadiusBelowTheSplitThenOnlyTheFullResolutionSearchRuns) {
+  // Given a split above the largest radius searched
+  const SmallAndLarge scene = small_and_large_scene(8.0);
+  PixelToPixelParams p = coarse_params(5.0, 20.0);
+  p.fine_below_radius_px = 30.0;
+  PixelToPixelDetector det(p);
+  // When it searches the scene
+  const auto found = det.detect(scene.image);
+  // Then the small discs are found and nothing larger than the largest radius is returned
+  EXPECT_EQ(found_of(found, scene.small), 8);
+  for (const Circle& c : found) EXPECT_LE(c.radius_px, 20.0);
+}
+
+// A labelled photograph of tests/data/circles: its image and circles (empty image if unreadable).
+struct Labelled {
+  cv::Mat image;
+  CircleLabels labels;
+};
+
+Labelled load_labelled(const std::string& stem) {
+  const std::string dir = std::string(SB_SOURCE_DIR) + "/tests/data/circles/";
+  std::ifstream in(dir + stem + ".circles");
+  std::stringstream text;
+  text << in.rdbuf();
+  auto parsed = parse_circle_labels(text.str(), stem + ".circles");
+  if (!std::holds_alternative<CircleLabels>(parsed)) return {};
+  Labelled out{cv::Mat(), std::get<CircleLabels>(parsed)};
+  out.image = cv::imread(std::string(SB_SOURCE_DIR) + "/" + out.labels.image_path);
+  return out;
+}
+
+TEST(PixelToPixelMultiScale, GivenTheBoardPhotographThenItsSmallPadsAreFound) {
+  // Given board.jpg (tune split: 19 round pads of 8.4-17.1 px labelled down to 8 px) and the
+  // benchmark's search range for it, coarse to fine alone or with radii below 2 x 8 px searched
+  // at full resolution
+  const Labelled board = load_labelled("board");
+  ASSERT_FALSE(board.image.empty());
+  ASSERT_TRUE(board.labels.min_radius_px.has_value());
+  PixelToPixelParams p = coarse_params(*board.labels.min_radius_px, 0.2 * board.image.rows);
+  p.min_separation_px = 0.04 * board.image.rows;
+  p.max_circles = 100;
+  p.max_peaks_examined = 200;
+  PixelToPixelDetector coarse_only(p);
+  p.fine_below_radius_px = 2.0 * *board.labels.min_radius_px;
+  PixelToPixelDetector multi_scale(p);
+  // When both search the photograph
+  const int coarse_found = found_of(coarse_only.detect(board.image), board.labels.circles);
+  const int multi_found = found_of(multi_scale.detect(board.image), board.labels.circles);
+  // Then the multi-scale search finds more of the pads, and two thirds of them
+  EXPECT_GT(multi_found, coarse_found);
+  EXPECT_GE(multi_found, 13);  // two thirds of 19
+}
+
+TEST(PixelToPixelMultiScale, GivenBadFineSettingsThenValidateNamesThem) {
+  PixelToPixelParams p;
+  p.fine_below_radius_px = -1.0;
+  EXPECT_NE(p.validate().error().find("fine_below_radius_px"), std::string::npos);
+  p.fine_below_radius_px = 12.0;
+  p.fine_k_values = {0};
+  EXPECT_NE(p.validate().error().find("fine_k_values"), std::string::npos);
+  p.fine_k_values = {};
+  EXPECT_NE(p.validate().error().find("fine_k_values"), std::string::npos);
+  p.fine_k_values = {2, 3};
+  EXPECT_TRUE(p.validate());
+}
+
+}  // namespace
+}  // namespace stereoball::ball_detector
