@@ -17,13 +17,13 @@ using sb::ball_detector::StereoPipeline;
 
 namespace {
 
-struct Rendered {
+struct WideRendered {
   sb::simulator::SimFrame frame;
   sb::stereo::StereoCalibration calib;
 };
 
 // A plain room (no clutter) with a one-colour ball at (x_m, y_m) on the floor, width x height.
-Rendered render_plain(double x_m, double y_m, int width_px, int height_px) {
+WideRendered render_plain(double x_m, double y_m, int width_px, int height_px) {
   sb::simulator::SimBallSetup s;
   s.ball_x_m = x_m;
   s.ball_y_m = y_m;
@@ -51,7 +51,7 @@ BallDetectorParams with_target(int target_width_px) {
 TEST(StereoPipelineCoarse, GivenA2304FrameThenTheSameBallAsTheFullWidthSearch) {
   for (const auto& [x_m, y_m] : {std::pair{1.5, 0.0}, std::pair{2.5, 0.3}}) {
     // Given a rendered 2304x1296 pair, searched at full width and coarse to fine (level 2)
-    const Rendered r = render_plain(x_m, y_m, 2304, 1296);
+    const WideRendered r = render_plain(x_m, y_m, 2304, 1296);
     StereoPipeline full(with_target(0));
     StereoPipeline coarse(with_target(640));
     ASSERT_TRUE(full.set_calibration(r.calib).ok());
@@ -73,7 +73,7 @@ TEST(StereoPipelineCoarse, GivenA2304FrameThenTheSameBallAsTheFullWidthSearch) {
 
 TEST(StereoPipelineCoarse, GivenNoBallThenNothingFoundCoarseToFine) {
   // Given a 2304x1296 plain room with the ball out of view (far to the side)
-  const Rendered r = render_plain(1.5, 2.5, 2304, 1296);
+  const WideRendered r = render_plain(1.5, 2.5, 2304, 1296);
   ASSERT_FALSE(r.frame.truth.ball_visible_left);
   StereoPipeline coarse(with_target(640));
   ASSERT_TRUE(coarse.set_calibration(r.calib).ok());
@@ -86,7 +86,7 @@ TEST(StereoPipelineCoarse, GivenNoBallThenNothingFoundCoarseToFine) {
 
 TEST(StereoPipelineCoarse, GivenAReferenceWidthFrameThenSearchedAsWithoutIt) {
   // Given the simulator's 640x480 pair with coarse to fine on (target 640) and off
-  const Rendered r = render_plain(1.5, 0.0, 640, 480);
+  const WideRendered r = render_plain(1.5, 0.0, 640, 480);
   StereoPipeline off(with_target(0));
   StereoPipeline on(with_target(640));
   ASSERT_TRUE(off.set_calibration(r.calib).ok());
