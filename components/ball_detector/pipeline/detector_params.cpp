@@ -92,7 +92,7 @@ std::vector<params::Field<P>> pipeline_fields() {
              "Pixel-to-Pixel circles kept per eye"),
       flag("right_eye_partner_boxes", at(&P::right_eye_partner_boxes), true,
            "search the right eye only where a ball-sized partner of a left circle can be"),
-      number("size.dominance_margin", at(&P::dominance_margin), 0.0, {0.0, 1.0}, "",
+      number("size.dominance_margin", at(&P::dominance_margin), 0.1, {0.0, 1.0}, "",
              "a found pair is withdrawn when a pair of larger outlines scoring this much higher, "
              "radii agreeing, fails the size check (0 = off)"),
       flag("balance_radii", at(&P::balance_radii), true,

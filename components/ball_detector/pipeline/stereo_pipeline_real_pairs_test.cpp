@@ -4,12 +4,16 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
+#include "stereo/core/calibration_scaling.hpp"
 #include "stereo/io/calibration_file.hpp"
 
 namespace sb = stereoball;
@@ -92,4 +96,41 @@ TEST_F(RealBasketballPairs, GivenWorkingWidthZero_ThenFramesAreSearchedAtTheirOw
   // A far ball (2.4 m, radius 50 px) is found at full size too, in the same pixels
   const Truth t{"72", 1044.0, 634.5, 49.5, 2.38};
   expect_correct(run_pair(pipeline, t), t);
+}
+
+TEST_F(RealBasketballPairs, GivenTheBallMovedBetweenTheShots_ThenAClutterCircleIsNotReported) {
+  // Given pair 38 at half width, as camera_server publishes it with publish_width_px 1152: the
+  // ball moved 12 px up between the unsynchronised shots (truth left centre 594.5, 211, r 36.5),
+  // so its own pair fails the size check; a round thing 360 px away pairs at a size-consistent
+  // depth with a weaker outline
+  auto half = sb::stereo::scale_calibration(calib_, cv::Size(1152, 648));
+  ASSERT_TRUE(half.ok()) << half.error();
+  // (shrunk as camera_server does, then its JPEG frames at the bench's quality 90)
+  const auto shrink = [](const cv::Mat& m) {
+    cv::Mat out;
+    cv::resize(m, out, cv::Size(1152, 648), 0, 0, cv::INTER_AREA);
+    std::vector<std::uint8_t> jpeg;
+    cv::imencode(".jpg", out, jpeg, {cv::IMWRITE_JPEG_QUALITY, 90});
+    return cv::imdecode(jpeg, cv::IMREAD_COLOR);
+  };
+  const cv::Mat l = shrink(cv::imread(kSet + "/left/left_38.jpg", cv::IMREAD_COLOR));
+  const cv::Mat r = shrink(cv::imread(kSet + "/right/right_38.jpg", cv::IMREAD_COLOR));
+  ASSERT_FALSE(l.empty() || r.empty());
+  const auto run = [&](double margin) {
+    BallDetectorParams p = basketball_params();
+    p.dominance_margin = margin;
+    StereoPipeline pipeline(p);
+    EXPECT_TRUE(pipeline.set_calibration(*half).ok());
+    return pipeline.step(l, r, false);
+  };
+  // When paired with the shipped dominance margin
+  const StereoDetection d = run(BallDetectorParams{}.dominance_margin);
+  // Then nothing away from the ball is reported: the ball's stronger outlines say otherwise
+  if (d.status == DetectionStatus::kFound)
+    EXPECT_LE(std::hypot(d.left.x_px - 594.5, d.left.y_px - 211.0), 0.35 * 36.5) << d.reason;
+  const StereoDetection off = run(0.0);
+  std::printf("pair 38 at 1152: margin %.2f: %s (%s); margin 0: %s at %.0f,%.0f\n",
+              BallDetectorParams{}.dominance_margin, sb::ball_detector::to_string(d.status),
+              d.reason.c_str(), sb::ball_detector::to_string(off.status), off.left.x_px,
+              off.left.y_px);
 }
