@@ -126,8 +126,9 @@ TEST_F(RealBasketballPairs, GivenTheBallMovedBetweenTheShots_ThenAClutterCircleI
   // When paired with the shipped dominance margin
   const StereoDetection d = run(BallDetectorParams{}.dominance_margin);
   // Then nothing away from the ball is reported: the ball's stronger outlines say otherwise
-  if (d.status == DetectionStatus::kFound)
+  if (d.status == DetectionStatus::kFound) {
     EXPECT_LE(std::hypot(d.left.x_px - 594.5, d.left.y_px - 211.0), 0.35 * 36.5) << d.reason;
+  }
   const StereoDetection off = run(0.0);
   std::printf("pair 38 at 1152: margin %.2f: %s (%s); margin 0: %s at %.0f,%.0f\n",
               BallDetectorParams{}.dominance_margin, sb::ball_detector::to_string(d.status),
