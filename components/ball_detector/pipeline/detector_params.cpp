@@ -94,7 +94,7 @@ std::vector<params::Field<P>> pipeline_fields() {
            "search the right eye only where a ball-sized partner of a left circle can be"),
       number("size.dominance_margin", at(&P::dominance_margin), 0.1, {0.0, 1.0}, "",
              "a found pair is withdrawn when a pair of larger outlines scoring this much higher, "
-             "radii agreeing, fails the size check (0 = off)"),
+             "radii agreeing, fails the size check; unsynchronised eyes only (0 = off)"),
       flag("balance_radii", at(&P::balance_radii), true,
            "a found pair whose outline radii disagree beyond what the two views explain has the "
            "eye with the smaller refitted at the radius the other implies, centre only"),

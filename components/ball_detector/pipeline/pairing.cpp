@@ -470,7 +470,9 @@ bool prefer_unmoved(const PairingContext& ctx, const StereoPair& unmoved, const 
 
 std::optional<StereoPair> dominating_pair(const PairingContext& ctx, const StereoPair& found,
                                           const std::vector<StereoPair>& size_rejected) {
-  if (!(ctx.dominance_margin > 0.0)) return std::nullopt;
+  // The rule stands for unsynchronised eyes only: a synchronised rig's rows and disparity
+  // leave the ball no way to fail the size check by moving.
+  if (!(ctx.dominance_margin > 0.0) || !(ctx.motion_radii > 0.0)) return std::nullopt;
   const double found_radius = 0.5 * (found.left.radius_px + found.right.radius_px);
   std::optional<StereoPair> best;
   for (const StereoPair& p : size_rejected) {
@@ -505,7 +507,7 @@ void tally_pair(const PairingContext& ctx, const std::optional<PositionPrior>& p
                 const StereoPair& pair, PairTally& t, PairingResult& out) {
   ++out.row_matches;
   if (!pair.size_consistent) {
-    if (ctx.dominance_margin > 0.0) t.size_rejected.push_back(pair);
+    if (ctx.dominance_margin > 0.0 && ctx.motion_radii > 0.0) t.size_rejected.push_back(pair);
     if (!t.rejected || std::abs(pair.size_error) < std::abs(t.rejected->size_error))
       t.rejected = pair;
     return;
