@@ -184,13 +184,17 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
       det.status = DetectionStatus::kBadFrame;
       det.reason = st.error();
     } else {
-      check_eye_order(left, right, frame.rectified);
       // Both capture stamps known: their difference is the skew between the eyes' exposures.
       std::optional<std::int64_t> skew_ns;
       if (frame.left.capture_stamp_ns != 0 && frame.right.capture_stamp_ns != 0)
         skew_ns = frame.left.capture_stamp_ns - frame.right.capture_stamp_ns;
       det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns), frame.stamp_ns,
                            skew_ns);
+      // On the frames as searched: the pipeline's rectifier is for its working size.
+      if (det.status != DetectionStatus::kBadFrame) {
+        const auto [searched_left, searched_right] = pipeline_.searched_frames(left, right);
+        check_eye_order(*searched_left, *searched_right, frame.rectified);
+      }
     }
   }
   ++processed_;

@@ -84,13 +84,17 @@ std::vector<params::Field<P>> pipeline_fields() {
              "larger stereo/calibration samples are refused before anything is allocated"),
       number("image_limit.max_height_px", at(&P::max_image_height_px), 1080, {16, 16384}, "px",
              "see image_limit.max_width_px"),
+      number("working_width_px", at(&P::working_width_px), 1280, {0, 16384}, "px",
+             "frames wider than this are shrunk (area) by the smallest whole factor that brings "
+             "them to it, with the calibration, before anything else; positions are reported "
+             "in the frame's own pixels (0 = every frame at its own size)"),
       number("max_candidates_per_eye", at(&P::max_candidates_per_eye), 5, {1, 50}, "",
              "Pixel-to-Pixel circles kept per eye"),
       flag("right_eye_partner_boxes", at(&P::right_eye_partner_boxes), true,
            "search the right eye only where a ball-sized partner of a left circle can be"),
-      number("size.dominance_margin", at(&P::dominance_margin), 0.0, {0.0, 1.0}, "",
+      number("size.dominance_margin", at(&P::dominance_margin), 0.1, {0.0, 1.0}, "",
              "a found pair is withdrawn when a pair of larger outlines scoring this much higher, "
-             "radii agreeing, fails the size check (0 = off)"),
+             "radii agreeing, fails the size check; unsynchronised eyes only (0 = off)"),
       flag("balance_radii", at(&P::balance_radii), true,
            "a found pair whose outline radii disagree beyond what the two views explain has the "
            "eye with the smaller refitted at the radius the other implies, centre only"),

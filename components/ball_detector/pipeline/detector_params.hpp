@@ -107,6 +107,11 @@ struct BallDetectorParams {
   /// the scene and an outline's arc bends as much across it (a k chosen for 640 px sees a ball's
   /// arc at 2304 px as a straight segment). 0 = as configured at every width.
   int p2p_reference_width_px;
+  /// Addition: frames wider than this are shrunk (area interpolation, as camera_server's
+  /// publish_width_px) by the smallest whole factor that brings them to at most this width, the
+  /// calibration with them, and searched there; the detection is mapped back to the frame's own
+  /// rectified pixels. 0 = every frame at its own size.
+  int working_width_px;
   /// Addition: the followed ball's colour, learnt while the tracker follows it, ranks the left
   /// candidates and rejects round things of another colour; forgotten after a long loss.
   AppearanceParams appearance;

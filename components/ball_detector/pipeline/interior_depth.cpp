@@ -74,6 +74,76 @@ std::vector<RowSpan> interior_spans(const Circle& circle, cv::Size size) {
 
 }  // namespace
 
+namespace {
+
+// A template's per-channel means and its sum of squared deviations (over all channels).
+struct TemplateStats {
+  std::vector<double> mean;
+  double norm2 = 0.0;
+};
+
+TemplateStats template_stats(const cv::Mat& templ) {
+  const int channels = templ.channels();
+  const int w = templ.cols, n = w * channels;
+  const std::uint8_t* tp = templ.ptr<std::uint8_t>(0);
+  TemplateStats t;
+  t.mean.assign(static_cast<std::size_t>(channels), 0.0);
+  double t_sum2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    t.mean[static_cast<std::size_t>(i % channels)] += tp[i];
+    t_sum2 += static_cast<double>(tp[i]) * tp[i];
+  }
+  t.norm2 = t_sum2;
+  for (double& m : t.mean) {
+    t.norm2 -= m * m / w;
+    m /= w;
+  }
+  return t;
+}
+
+// Running sums of each channel of one row and of its squares, per channel (stride values
+// each: 0, then the sums up to every column).
+void running_sums(const std::uint8_t* row, int cols, int channels, std::size_t stride,
+                  std::vector<double>& run, std::vector<double>& run2) {
+  for (int c = 0; c < channels; ++c) {
+    double* s1 = &run[static_cast<std::size_t>(c) * stride];
+    double* s2 = &run2[static_cast<std::size_t>(c) * stride];
+    s1[0] = s2[0] = 0.0;
+    for (int x = 0; x < cols; ++x) {
+      const double v = row[x * channels + c];
+      s1[x + 1] = s1[x] + v;
+      s2[x + 1] = s2[x] + v * v;
+    }
+  }
+}
+
+// One row's normalised correlation with templ at every position, into out.
+void correlate_row(const std::uint8_t* row, const cv::Mat& templ, const TemplateStats& t,
+                   std::size_t stride, const std::vector<double>& run,
+                   const std::vector<double>& run2, int positions, float* out) {
+  const int channels = templ.channels();
+  const int w = templ.cols, n = w * channels;
+  const std::uint8_t* tp = templ.ptr<std::uint8_t>(0);
+  for (int j = 0; j < positions; ++j) {
+    const std::uint8_t* win = row + static_cast<std::ptrdiff_t>(j) * channels;
+    std::int32_t products = 0;
+    for (int i = 0; i < n; ++i) products += static_cast<std::int32_t>(tp[i]) * win[i];
+    double dot = products, var = 0.0;
+    for (int c = 0; c < channels; ++c) {
+      const double* s1 = &run[static_cast<std::size_t>(c) * stride];
+      const double* s2 = &run2[static_cast<std::size_t>(c) * stride];
+      const double sum = s1[j + w] - s1[j];
+      dot -= t.mean[static_cast<std::size_t>(c)] * sum;
+      var += (s2[j + w] - s2[j]) - sum * sum / w;
+    }
+    const double denom = std::sqrt(std::max(var, 0.0) * std::max(t.norm2, 0.0));
+    // A flat window (or template) correlates with nothing, as in OpenCV.
+    out[j] = denom > 1e-6 ? static_cast<float>(std::clamp(dot / denom, -1.0, 1.0)) : 0.0f;
+  }
+}
+
+}  // namespace
+
 void row_template_correlation(const cv::Mat& image, const cv::Mat& templ, cv::Mat& result) {
   const int channels = templ.channels();
   const int w = templ.cols, positions = image.cols - w + 1;
@@ -84,55 +154,17 @@ void row_template_correlation(const cv::Mat& image, const cv::Mat& templ, cv::Ma
     cv::matchTemplate(image, templ, result, cv::TM_CCOEFF_NORMED);
     return;
   }
-  const int n = w * channels;
   // sum (T - mean T)(I - mean I) = sum T I - sum_c mean(T_c) sum(I_c): the products in
   // integers (vectorised), the means from running sums.
-  const std::uint8_t* tp = templ.ptr<std::uint8_t>(0);
-  std::vector<double> t_mean(static_cast<std::size_t>(channels), 0.0);
-  double t_sum2 = 0.0;
-  for (int i = 0; i < n; ++i) {
-    t_mean[static_cast<std::size_t>(i % channels)] += tp[i];
-    t_sum2 += static_cast<double>(tp[i]) * tp[i];
-  }
-  double t_norm2 = t_sum2;
-  for (double& m : t_mean) {
-    t_norm2 -= m * m / w;
-    m /= w;
-  }
+  const TemplateStats t = template_stats(templ);
   result.create(image.rows, positions, CV_32F);
   const std::size_t stride = static_cast<std::size_t>(image.cols) + 1;
-  // Running sums of each channel and of its squares along the row, per channel.
   std::vector<double> run(static_cast<std::size_t>(channels) * stride),
       run2(static_cast<std::size_t>(channels) * stride);
   for (int r = 0; r < image.rows; ++r) {
     const std::uint8_t* row = image.ptr<std::uint8_t>(r);
-    for (int c = 0; c < channels; ++c) {
-      double* s1 = &run[static_cast<std::size_t>(c) * stride];
-      double* s2 = &run2[static_cast<std::size_t>(c) * stride];
-      s1[0] = s2[0] = 0.0;
-      for (int x = 0; x < image.cols; ++x) {
-        const double v = row[x * channels + c];
-        s1[x + 1] = s1[x] + v;
-        s2[x + 1] = s2[x] + v * v;
-      }
-    }
-    float* out = result.ptr<float>(r);
-    for (int j = 0; j < positions; ++j) {
-      const std::uint8_t* win = row + static_cast<std::ptrdiff_t>(j) * channels;
-      std::int32_t products = 0;
-      for (int i = 0; i < n; ++i) products += static_cast<std::int32_t>(tp[i]) * win[i];
-      double dot = products, var = 0.0;
-      for (int c = 0; c < channels; ++c) {
-        const double* s1 = &run[static_cast<std::size_t>(c) * stride];
-        const double* s2 = &run2[static_cast<std::size_t>(c) * stride];
-        const double sum = s1[j + w] - s1[j];
-        dot -= t_mean[static_cast<std::size_t>(c)] * sum;
-        var += (s2[j + w] - s2[j]) - sum * sum / w;
-      }
-      const double denom = std::sqrt(std::max(var, 0.0) * std::max(t_norm2, 0.0));
-      // A flat window (or template) correlates with nothing, as in OpenCV.
-      out[j] = denom > 1e-6 ? static_cast<float>(std::clamp(dot / denom, -1.0, 1.0)) : 0.0f;
-    }
+    running_sums(row, image.cols, channels, stride, run, run2);
+    correlate_row(row, templ, t, stride, run, run2, positions, result.ptr<float>(r));
   }
 }
 

@@ -470,7 +470,9 @@ bool prefer_unmoved(const PairingContext& ctx, const StereoPair& unmoved, const 
 
 std::optional<StereoPair> dominating_pair(const PairingContext& ctx, const StereoPair& found,
                                           const std::vector<StereoPair>& size_rejected) {
-  if (!(ctx.dominance_margin > 0.0)) return std::nullopt;
+  // The rule stands for unsynchronised eyes only: a synchronised rig's rows and disparity
+  // leave the ball no way to fail the size check by moving.
+  if (!(ctx.dominance_margin > 0.0) || !(ctx.motion_radii > 0.0)) return std::nullopt;
   const double found_radius = 0.5 * (found.left.radius_px + found.right.radius_px);
   std::optional<StereoPair> best;
   for (const StereoPair& p : size_rejected) {
@@ -487,90 +489,110 @@ std::optional<StereoPair> dominating_pair(const PairingContext& ctx, const Stere
   return best;
 }
 
-PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,
-                              const std::vector<Circle>& right,
-                              const std::optional<PositionPrior>& prior) {
-  PairingResult out;
-  if (left.empty() || right.empty()) {
-    out.status = PairingStatus::kNoCandidate;
-    out.reason = no_candidate_reason(left.empty(), right.empty());
-    return out;
-  }
-  std::optional<StereoPair> best_ok;
-  std::optional<StereoPair> best_near_prior;
+namespace {
+
+// The running bests of one frame's pair evaluation.
+struct PairTally {
+  std::optional<StereoPair> ok;          // best size-consistent pair on the floor
+  std::optional<StereoPair> near_prior;  // of those, best within the prior's gate
   // Closest to consistent, for the reason text: off the floor (the size fits) beats wrong size.
-  std::optional<StereoPair> best_off_floor;
-  std::optional<StereoPair> best_rejected;
-  std::vector<StereoPair> size_rejected;
-  std::optional<StereoPair> best_unmoved;  // best size-consistent pair that needed no motion
+  std::optional<StereoPair> off_floor;
+  std::optional<StereoPair> rejected;
+  std::vector<StereoPair> size_rejected;  // kept only with a dominance margin
+  std::optional<StereoPair> unmoved;      // best size-consistent pair that needed no motion
+};
+
+// Files one pair that passed the row check into the tally and out's counts.
+void tally_pair(const PairingContext& ctx, const std::optional<PositionPrior>& prior,
+                const StereoPair& pair, PairTally& t, PairingResult& out) {
+  ++out.row_matches;
+  if (!pair.size_consistent) {
+    if (ctx.dominance_margin > 0.0 && ctx.motion_radii > 0.0) t.size_rejected.push_back(pair);
+    if (!t.rejected || std::abs(pair.size_error) < std::abs(t.rejected->size_error))
+      t.rejected = pair;
+    return;
+  }
+  ++out.size_matches;
+  if (!pair.on_floor) {
+    if (!t.off_floor || std::abs(pair.height_error_m) < std::abs(t.off_floor->height_error_m))
+      t.off_floor = pair;
+    return;
+  }
+  if (!t.ok || better_pair(pair, *t.ok)) t.ok = pair;
+  if (!pair.moved && (!t.unmoved || better_pair(pair, *t.unmoved))) t.unmoved = pair;
+  if (prior && cv::norm(pair.position_m - prior->position_m) <= prior->gate_m &&
+      (!t.near_prior || better_pair(pair, *t.near_prior)))
+    t.near_prior = pair;
+}
+
+// Every left/right combination evaluated and tallied.
+PairTally tally_pairs(const PairingContext& ctx, const std::vector<Circle>& left,
+                      const std::vector<Circle>& right, const std::optional<PositionPrior>& prior,
+                      PairingResult& out) {
+  PairTally t;
   for (std::size_t i = 0; i < left.size(); ++i) {
     for (std::size_t j = 0; j < right.size(); ++j) {
       auto pair = evaluate_pair(ctx, left[i], right[j]);
       if (!pair) continue;
       pair->left_index = i;
       pair->right_index = j;
-      ++out.row_matches;
-      if (!pair->size_consistent) {
-        if (ctx.dominance_margin > 0.0) size_rejected.push_back(*pair);
-        if (!best_rejected || std::abs(pair->size_error) < std::abs(best_rejected->size_error))
-          best_rejected = pair;
-        continue;
-      }
-      ++out.size_matches;
-      if (!pair->on_floor) {
-        if (!best_off_floor ||
-            std::abs(pair->height_error_m) < std::abs(best_off_floor->height_error_m))
-          best_off_floor = pair;
-        continue;
-      }
-      if (!best_ok || better_pair(*pair, *best_ok)) best_ok = pair;
-      if (!pair->moved && (!best_unmoved || better_pair(*pair, *best_unmoved))) best_unmoved = pair;
-      if (prior && cv::norm(pair->position_m - prior->position_m) <= prior->gate_m &&
-          (!best_near_prior || better_pair(*pair, *best_near_prior)))
-        best_near_prior = pair;
+      tally_pair(ctx, prior, *pair, t, out);
     }
   }
-  if (best_ok && best_unmoved && !best_near_prior && prefer_unmoved(ctx, *best_unmoved, *best_ok))
-    best_ok = best_unmoved;
-  if (best_near_prior) best_ok = best_near_prior;
-  // Near a track's prior the followed ball is the answer; elsewhere a stronger outline pair
-  // that fails the size check makes the found one doubtful.
-  if (best_ok && !best_near_prior) {
-    if (const auto strong = dominating_pair(ctx, *best_ok, size_rejected)) {
-      out.status = PairingStatus::kSizeInconsistent;
-      out.best = strong;
-      out.reason =
-          format("stronger outlines (score %.2f, radius %.1f px, rows %.1f px apart) pair at a ",
-                 strong->score, 0.5 * (strong->left.radius_px + strong->right.radius_px),
-                 strong->row_residual_px) +
-          format(
-              "disparity their size does not fit; the weaker size-consistent pair (score "
-              "%.2f, radius %.1f px) is not reported",
-              best_ok->score, 0.5 * (best_ok->left.radius_px + best_ok->right.radius_px));
-      return out;
-    }
-  }
-  if (best_ok) {
-    out.status = PairingStatus::kFound;
-    out.best = best_ok;
-    out.reason = format("pair score %.2f, row residual %.2f px, disparity %.1f px", best_ok->score,
-                        best_ok->row_residual_px, best_ok->left.x_px - best_ok->right.x_px);
+  return t;
+}
+
+// The pair to report among the size-consistent ones: near the prior, else the best (or the
+// unmoved one the dominance rule prefers).
+std::optional<StereoPair> chosen_pair(const PairingContext& ctx, const PairTally& t) {
+  if (t.near_prior) return t.near_prior;
+  if (t.ok && t.unmoved && prefer_unmoved(ctx, *t.unmoved, *t.ok)) return t.unmoved;
+  return t.ok;
+}
+
+// The result for a frame with a chosen pair: withdrawn when a stronger size-rejected pair
+// dominates it (never near a track's prior: the followed ball is the answer there).
+PairingResult found_result(const PairingContext& ctx, const StereoPair& chosen, const PairTally& t,
+                           PairingResult out) {
+  const auto strong = t.near_prior ? std::nullopt : dominating_pair(ctx, chosen, t.size_rejected);
+  if (strong) {
+    out.status = PairingStatus::kSizeInconsistent;
+    out.best = strong;
+    out.reason =
+        format("stronger outlines (score %.2f, radius %.1f px, rows %.1f px apart) pair at a ",
+               strong->score, 0.5 * (strong->left.radius_px + strong->right.radius_px),
+               strong->row_residual_px) +
+        format(
+            "disparity their size does not fit; the weaker size-consistent pair (score "
+            "%.2f, radius %.1f px) is not reported",
+            chosen.score, 0.5 * (chosen.left.radius_px + chosen.right.radius_px));
     return out;
   }
-  if (best_off_floor) {
-    const StereoPair& p = *best_off_floor;
+  out.status = PairingStatus::kFound;
+  out.best = chosen;
+  out.reason = format("pair score %.2f, row residual %.2f px, disparity %.1f px", chosen.score,
+                      chosen.row_residual_px, chosen.left.x_px - chosen.right.x_px);
+  return out;
+}
+
+// The result for a frame without a size-consistent pair on the floor: the closest rejection.
+PairingResult rejected_result(const PairingContext& ctx, const std::vector<Circle>& left,
+                              const std::vector<Circle>& right, const PairTally& t,
+                              PairingResult out) {
+  if (t.off_floor) {
+    const StereoPair& p = *t.off_floor;
     out.status = PairingStatus::kOffFloor;
-    out.best = best_off_floor;
+    out.best = t.off_floor;
     out.reason = format("ball-sized pair %.2f m ", std::abs(p.height_error_m)) +
                  (p.height_error_m > 0.0 ? "above" : "below") +
                  format(" where a ball on the floor is (tolerance %.2f m), %.2f m away",
                         ctx.floor->tolerance_m, p.position_m[2]);
     return out;
   }
-  if (best_rejected) {
-    const StereoPair& p = *best_rejected;
+  if (t.rejected) {
+    const StereoPair& p = *t.rejected;
     out.status = PairingStatus::kSizeInconsistent;
-    out.best = best_rejected;
+    out.best = t.rejected;
     out.reason = format("radius %.1f px but a ball at %.2f m should be %.1f px (error %+.0f%%)",
                         0.5 * (p.left.radius_px + p.right.radius_px), p.position_m[2],
                         p.expected_radius_px, 100.0 * p.size_error);
@@ -588,6 +610,22 @@ PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circl
       format("no pair in front of the rig within %.1f px rows (closest rows differ by %.1f px)",
              ctx.epipolar.params().max_row_diff_px, closest_rows_px(left, right));
   return out;
+}
+
+}  // namespace
+
+PairingResult pair_candidates(const PairingContext& ctx, const std::vector<Circle>& left,
+                              const std::vector<Circle>& right,
+                              const std::optional<PositionPrior>& prior) {
+  PairingResult out;
+  if (left.empty() || right.empty()) {
+    out.status = PairingStatus::kNoCandidate;
+    out.reason = no_candidate_reason(left.empty(), right.empty());
+    return out;
+  }
+  const PairTally t = tally_pairs(ctx, left, right, prior, out);
+  if (const auto chosen = chosen_pair(ctx, t)) return found_result(ctx, *chosen, t, out);
+  return rejected_result(ctx, left, right, t, out);
 }
 
 }  // namespace stereoball::ball_detector

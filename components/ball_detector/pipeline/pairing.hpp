@@ -78,7 +78,8 @@ struct PairingContext {
   /// at least this much higher, radii agreeing between the eyes, at least as large) lies on
   /// allowed rows but fails the size check: a small round thing in clutter must not be
   /// reported while the frame's strongest sphere-like outline pair says something else (the
-  /// ball moved more than allowed between unsynchronised exposures). 0 = off (the paper).
+  /// ball moved more than allowed between unsynchronised exposures). 0 = off (the paper); off
+  /// as well when motion_radii is 0 (synchronised eyes).
   double dominance_margin = 0.0;
 };
 

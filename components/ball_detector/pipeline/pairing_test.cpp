@@ -510,3 +510,18 @@ TEST_F(UnsynchronisedPairing, GivenStrongerOutlinesFailingSize_ThenTheWeakPairIs
   EXPECT_EQ(res.status, PairingStatus::kSizeInconsistent);
   EXPECT_NE(res.reason.find("stronger outlines"), std::string::npos) << res.reason;
 }
+
+// The dominance rule stands for what unsynchronised eyes do (the ball moved more than allowed
+// between the exposures): with synchronised eyes (no motion allowance, the simulator's and the
+// paper's rows) the same outlines leave the weak size-consistent pair reported.
+TEST_F(UnsynchronisedPairing, GivenSynchronisedEyes_ThenDominanceDoesNotWithdrawThePair) {
+  sb::ball_detector::PairingContext ctx{epi_, tri_, size_, std::nullopt};
+  ctx.dominance_margin = 0.2;
+  ctx.motion_radii = 0.0;
+  const auto [weak_l, weak_r] = ball_at(-0.5, 0.3, 2.5, 0.6);
+  auto [ball_l, ball_r] = ball_at(0.1, 0.0, 1.5, 0.95);
+  ball_r.x_px += 40.0;
+  const auto res = pair_candidates(ctx, {ball_l, weak_l}, {ball_r, weak_r});
+  ASSERT_EQ(res.status, PairingStatus::kFound) << res.reason;
+  EXPECT_EQ(res.best->left_index, 1u);
+}

@@ -1,5 +1,7 @@
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 
+#include "stereo/core/calibration_scaling.hpp"
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -151,10 +153,28 @@ StereoPipeline::StereoPipeline(const BallDetectorParams& params)
   patch_map_.create(kPatchSide, kPatchSide, CV_32FC2);
 }
 
-Status StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
-  if (auto e = stereo::validate_calibration(calib); !e) return e;
-  if (auto swapped = stereo::check_camera_order(calib); !swapped)
+namespace {
+
+// The calibration frames are searched with: input shrunk by the smallest whole factor that
+// brings it to working_width_px (input itself when it is no wider, or the width is 0).
+Result<stereo::StereoCalibration> working_calibration(const stereo::StereoCalibration& input,
+                                                      int working_width_px) {
+  const int width = input.image_size.width;
+  if (working_width_px <= 0 || width <= working_width_px) return input;
+  const int factor = (width + working_width_px - 1) / working_width_px;
+  const int work_width = static_cast<int>(std::lround(static_cast<double>(width) / factor));
+  return stereo::scale_calibration(input, stereo::scaled_size(input.image_size, work_width));
+}
+
+}  // namespace
+
+Status StereoPipeline::set_calibration(const stereo::StereoCalibration& input) {
+  if (auto e = stereo::validate_calibration(input); !e) return e;
+  if (auto swapped = stereo::check_camera_order(input); !swapped)
     return Error{swapped.error() + "; " + kHowToSwapCameras + " and calibrate again"};
+  auto working = working_calibration(input, tools_.params.working_width_px);
+  if (!working) return Error{"working_width_px: " + working.error()};
+  const stereo::StereoCalibration& calib = *working;
   auto rectifier = stereo::Rectifier::create(calib);
   if (!rectifier) return Error{rectifier.error()};
   auto triangulator = stereo::Triangulator::create(calib);
@@ -184,6 +204,9 @@ Status StereoPipeline::set_calibration(const stereo::StereoCalibration& calib) {
   t.ray_from_pixel = calib.r1.t() * p.inv();
   floor_ = floor_model(t.params, calib);
   t.coarse.set_up(t.params, calib.image_size.width, left_camera());
+  input_calibration_ = input;
+  work_scale_ =
+      static_cast<double>(calib.image_size.width) / static_cast<double>(input.image_size.width);
   return {};
 }
 
@@ -198,14 +221,36 @@ std::optional<stereo::PinholeCamera> StereoPipeline::right_camera() const {
 }
 
 cv::Size StereoPipeline::image_size() const {
-  return tools_.image_size();
+  return input_calibration_ ? input_calibration_->image_size : cv::Size();
 }
 
 Status StereoPipeline::check_input(const cv::Mat& left, const cv::Mat& right) const {
   if (auto e = check_pixels("left", left); !e) return e;
   if (auto e = check_pixels("right", right); !e) return e;
   if (left.type() != right.type()) return Error{"left and right images differ in type"};
-  return stereo::check_image_size(tools_.rectifier->calibration(), left.size(), right.size());
+  return stereo::check_image_size(*input_calibration_, left.size(), right.size());
+}
+
+std::pair<const cv::Mat*, const cv::Mat*> StereoPipeline::working_frames(const cv::Mat& left,
+                                                                         const cv::Mat& right) {
+  if (!(work_scale_ < 1.0)) return {&left, &right};
+  // As camera_server's publish_width_px shrinks frames: the same pixels at either place.
+  cv::resize(left, work_left_, tools_.image_size(), 0, 0, cv::INTER_AREA);
+  cv::resize(right, work_right_, tools_.image_size(), 0, 0, cv::INTER_AREA);
+  return {&work_left_, &work_right_};
+}
+
+void StereoPipeline::to_input_pixels(StereoDetection& out) const {
+  if (!(work_scale_ < 1.0)) return;
+  // scale_calibration's pixel map, inverted: u_work = s (u + 0.5) - 0.5.
+  const double s = work_scale_;
+  for (Circle* c : {&out.left, &out.right}) {
+    if (!(c->radius_px > 0.0)) continue;
+    c->x_px = (c->x_px + 0.5) / s - 0.5;
+    c->y_px = (c->y_px + 0.5) / s - 0.5;
+    c->radius_px /= s;
+  }
+  out.row_residual_px /= s;
 }
 
 const cv::Mat& detector_input_image(const cv::Mat& image, DetectorInput input, cv::Mat& scratch) {
@@ -279,10 +324,11 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     out.reason = e.error();
     return out;
   }
+  const auto [work_left, work_right] = working_frames(left, right);
   const FrameState frame{
-      left,
-      detector_channel(left, grey_left_),
-      detector_channel(right, grey_right_),
+      *work_left,
+      detector_channel(*work_left, grey_left_),
+      detector_channel(*work_right, grey_right_),
       rectified,
       prior,
       stamp_ns,
@@ -291,6 +337,7 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   if (refresh_due_) refresh_thresholds(frame.left_channel, rectified);  // finish_frame not called
   SearchOutcome answer = search(frame);
   report(frame, answer, out);
+  to_input_pixels(out);
   left_candidates_ = std::move(answer.left);
   right_candidates_ = std::move(answer.right);
   return out;
@@ -391,8 +438,13 @@ void StereoPipeline::refresh_thresholds(const cv::Mat& left_channel, bool rectif
 
 bool StereoPipeline::finish_frame(const cv::Mat& left, bool rectified) {
   if (!refresh_due_ || !tools_.rectifier || !check_pixels("left", left).ok() ||
-      !stereo::check_image_size(tools_.rectifier->calibration(), left.size(), left.size()).ok())
+      !stereo::check_image_size(*input_calibration_, left.size(), left.size()).ok())
     return false;
+  if (work_scale_ < 1.0) {
+    cv::resize(left, work_left_, tools_.image_size(), 0, 0, cv::INTER_AREA);
+    refresh_thresholds(detector_channel(work_left_, grey_left_), rectified);
+    return true;
+  }
   refresh_thresholds(detector_channel(left, grey_left_), rectified);
   return true;
 }

@@ -12,6 +12,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ball_detector/core/appearance_model.hpp"
@@ -127,10 +128,20 @@ class StereoPipeline {
   Status set_calibration(const stereo::StereoCalibration& calib);
   /// Whether a calibration has been set.
   bool has_calibration() const { return tools_.rectifier.has_value(); }
-  /// The calibration's rectifier, nullopt without calibration.
+  /// The frames the last step(left, right, ...) searched: left and right themselves, or their
+  /// copies shrunk to working_size() (valid until the next step() or finish_frame()).
+  std::pair<const cv::Mat*, const cv::Mat*> searched_frames(const cv::Mat& left,
+                                                            const cv::Mat& right) const {
+    if (!(work_scale_ < 1.0)) return {&left, &right};
+    return {&work_left_, &work_right_};
+  }
+  /// The rectifier of the working-size calibration (working_size()), nullopt without one.
   const std::optional<stereo::Rectifier>& rectifier() const { return tools_.rectifier; }
   /// Image size frames must have, or 0x0 without calibration.
   cv::Size image_size() const;
+  /// Size frames are searched at (image_size() shrunk to BallDetectorParams::working_width_px),
+  /// or 0x0 without calibration; rectified_left(), the candidates and the cameras are in it.
+  cv::Size working_size() const { return tools_.image_size(); }
 
   /// One pair of BGR or grey frames of the calibration's size (rectified: no LUT), the prior
   /// (metres), capture stamp_ns and left-minus-right eye_skew_ns (README: step); never throws.
@@ -164,6 +175,11 @@ class StereoPipeline {
 
  private:
   Status check_input(const cv::Mat& left, const cv::Mat& right) const;
+  /// The frames shrunk to the working size (the frames themselves at full size).
+  std::pair<const cv::Mat*, const cv::Mat*> working_frames(const cv::Mat& left,
+                                                           const cv::Mat& right);
+  /// A detection's circles from working to input rectified pixels.
+  void to_input_pixels(StereoDetection& out) const;
   void refresh_thresholds(const cv::Mat& left_channel, bool rectified);
   const cv::Mat& detector_channel(const cv::Mat& raw, cv::Mat& grey) const;
   /// The frame's searches in order (the driver): the answer, its candidates and path.
@@ -191,6 +207,10 @@ class StereoPipeline {
   void cut_patch(const cv::Mat& left_raw, bool rectified, StereoDetection& out);
 
   SearchTools tools_;  // calibration, detectors, rectified images, appearance (frame to frame)
+  // The calibration frames arrive with; tools_ holds it shrunk to the working width.
+  std::optional<stereo::StereoCalibration> input_calibration_;
+  double work_scale_ = 1.0;         // working / input width
+  cv::Mat work_left_, work_right_;  // the frames shrunk (work_scale_ < 1)
   // The searches, in the order search() runs them.
   ExpectedOutlinesSearch expected_outlines_;
   PriorWindowSearch prior_window_;
