@@ -25,6 +25,25 @@ struct OutlineRefitParams {
   bool withdraw_unpaired = true;
 };
 
+/// Addition: the outline the other eye sees of the ball behind seen (an outline in the right
+/// eye when seen_right, else the left) had the ball not moved between the two exposures: the
+/// ball at the depth seen's size gives, on seen's line of sight. nullopt if seen is no outline
+/// of a ball in front of both cameras.
+std::optional<Circle> unmoved_partner_outline(const PairingContext& ctx, const Circle& seen,
+                                              bool seen_right);
+
+/// Addition: whether the two eyes' outline radii of a pair that needs the motion allowance
+/// (PairingContext::motion_radii) can belong to one ball. Between the exposures its depth
+/// changes by at most the motion (motion_radii ball radii), its outline radius by that over
+/// its depth (the nearer of the triangulated and the size's); the fits err by the epipolar
+/// tolerance. The left radius is compared as the right eye would see it.
+struct MovedRadii {
+  bool agree = true;
+  double difference_px = 0.0;  ///< |left as the right sees it - right|, pixels
+  double allowed_px = 0.0;
+};
+MovedRadii moved_radii(const PairingContext& ctx, const StereoPair& pair);
+
 /// What refitting a found pair's outlines gave.
 struct RefitVerdict {
   bool changed = false;            ///< at least one eye's circle moved

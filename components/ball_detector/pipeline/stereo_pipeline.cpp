@@ -414,6 +414,9 @@ void StereoPipeline::report(const FrameState& frame, const SearchOutcome& answer
     refit_outlines(frame, out);
   if (out.status == DetectionStatus::kFound && tools_.params.balance_radii)
     balance_radii(frame, out);
+  // On the pair as first paired: the refits above may have hidden its outlines' disagreement.
+  if (out.status == DetectionStatus::kFound && answer.pairing.best)
+    check_moved_pair(frame, *answer.pairing.best, out);
   out.rejected_by_colour = answer.rejected_by_colour;
   if (tools_.params.right_eye_partner_boxes && answer.left.empty())
     out.reason =

@@ -196,6 +196,10 @@ class StereoPipeline {
   void balance_radii(const FrameState& frame, StereoDetection& found);
   /// A found pair's outlines refitted to the arcs that agree (stereo_pipeline_outline_refit.cpp).
   void refit_outlines(const FrameState& frame, StereoDetection& found);
+  /// A found pair that needs the motion allowance (unsynchronised eyes) withdrawn when its
+  /// outlines are not one ball's (outline_refit.hpp moved_radii) and neither eye's is found again
+  /// where the other's puts the ball unmoved (stereo_pipeline_outline_refit.cpp).
+  void check_moved_pair(const FrameState& frame, const StereoPair& paired, StereoDetection& found);
   std::optional<Circle> robust_outline_in(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                           const Circle& circle);
   /// The edges of channel (rectified over the region) within margin_px of circle's centre into

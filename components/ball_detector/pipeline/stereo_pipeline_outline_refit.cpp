@@ -1,9 +1,14 @@
-// StereoPipeline::refit_outlines: a found pair's outlines fitted again to the arcs that agree
-// (outline_refit.hpp).
+// StereoPipeline::refit_outlines (a found pair's outlines fitted again to the arcs that agree) and
+// check_moved_pair (a pair that needs the motion allowance checked for one ball's outlines);
+// outline_refit.hpp.
 
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
 
 namespace stereoball::ball_detector {
 
@@ -48,6 +53,43 @@ void StereoPipeline::refit_outlines(const FrameState& frame, StereoDetection& fo
     found.status = DetectionStatus::kSizeInconsistent;
     found.reason = v.note + " (first paired: " + found.reason + ")";
   }
+}
+
+void StereoPipeline::check_moved_pair(const FrameState& frame, const StereoPair& paired,
+                                      StereoDetection& found) {
+  const PairingContext& ctx = frame.ctx;
+  const double tolerance_px = ctx.epipolar.params().max_row_diff_px;
+  // Only a pair the paper's rules would refuse: its rows or its disparity need the motion.
+  if (!(ctx.motion_radii > 0.0) || (paired.row_residual_px <= tolerance_px && !paired.moved))
+    return;
+  const MovedRadii radii = moved_radii(ctx, paired);
+  if (radii.agree) return;
+  // One eye's fit is off, or the eyes saw two things. The pair stands if an eye's outline is
+  // found again, from the other eye's circle, where the ball would be had it not moved.
+  double closest_px = std::numeric_limits<double>::infinity();
+  for (const bool from_right : {true, false}) {
+    const Circle& own = from_right ? paired.left : paired.right;
+    const auto predicted =
+        unmoved_partner_outline(ctx, from_right ? paired.right : paired.left, from_right);
+    if (!predicted) continue;
+    const auto refit = robust_outline_in(from_right ? frame.left_channel : frame.right_channel,
+                                         from_right ? stereo::Eye::kLeft : stereo::Eye::kRight,
+                                         frame.rectified, *predicted);
+    if (!refit) continue;
+    const double off_px = std::hypot(refit->x_px - own.x_px, refit->y_px - own.y_px);
+    if (off_px <= std::max(tolerance_px, ctx.size.max_relative_error * own.radius_px)) return;
+    closest_px = std::min(closest_px, off_px);
+  }
+  char text[360];
+  std::snprintf(text, sizeof text,
+                "the eyes' outlines (left r %.1f, right r %.1f px, rows %.1f px apart) are not "
+                "one ball's: their radii differ by %.1f px, more than the ball's motion between "
+                "the exposures explains (%.1f px), and neither eye's outline is found again "
+                "where the other's puts the ball (closest %.0f px away)",
+                paired.left.radius_px, paired.right.radius_px, paired.row_residual_px,
+                radii.difference_px, radii.allowed_px, closest_px);
+  found.status = DetectionStatus::kSizeInconsistent;
+  found.reason = std::string(text) + " (first paired: " + found.reason + ")";
 }
 
 }  // namespace stereoball::ball_detector
