@@ -83,8 +83,8 @@ void StereoPipeline::check_moved_pair(const FrameState& frame, const StereoPair&
   char text[360];
   std::snprintf(text, sizeof text,
                 "the eyes' outlines (left r %.1f, right r %.1f px, rows %.1f px apart) are not "
-                "one ball's: their radii differ by %.1f px, more than the ball's motion between "
-                "the exposures explains (%.1f px), and neither eye's outline is found again "
+                "one ball's: their radii differ by %.2f px, more than the ball's motion between "
+                "the exposures explains (%.2f px), and neither eye's outline is found again "
                 "where the other's puts the ball (closest %.0f px away)",
                 paired.left.radius_px, paired.right.radius_px, paired.row_residual_px,
                 radii.difference_px, radii.allowed_px, closest_px);
