@@ -5,6 +5,9 @@
 // Ctrl-C (SIGINT/SIGTERM) stops it with a complete file.
 
 #include <CLI/CLI.hpp>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <cstdio>
 #include <ctime>
@@ -73,6 +76,16 @@ void print_progress(double elapsed_s, const std::vector<std::string>& names,
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef __GLIBC__
+  // glibc raises its mmap threshold each time a mapped block is freed (up to 32 MiB), after
+  // which large buffers whose size follows the data (zstd's workspace, Cyclone's receive
+  // buffers) come from the per-thread arenas, and the holes they leave are never returned: in
+  // a 30-minute chaos run the recorder's resident memory rose in steps of 300-400 kB at the
+  // bursts while its live heap stayed flat (tools/bench-chaos/README.md). A fixed threshold
+  // (glibc's own default) keeps every block of 128 KiB or more in its own mapping, handed
+  // back to the system when freed.
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
   sb::node::block_termination_signals();
   CLI::App app{
       "stereoball record: record topics to an MCAP file (zstd chunks, indexes, summary). "

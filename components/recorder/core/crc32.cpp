@@ -59,6 +59,8 @@ uint32_t crc32_portable(std::span<const uint8_t> bytes) {
 }
 
 void Crc32::update(std::span<const uint8_t> bytes) {
+  // zlib answers a null buffer with its initial value, which would drop what came before.
+  if (bytes.empty()) return;
 #ifdef SB_RECORDER_HAVE_ZLIB
   // zlib's braided CRC is about 3x faster than the portable tables; same polynomial.
   state_ = static_cast<uint32_t>(crc32_z(value(), bytes.data(), bytes.size())) ^ 0xFFFFFFFFu;

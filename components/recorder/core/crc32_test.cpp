@@ -36,6 +36,16 @@ TEST(Crc32, GivenRandomSplitsWhenHashedIncrementallyThenEqualsOneShot) {
   }
 }
 
+TEST(Crc32, GivenAnEmptyBufferWithNoStorageWhenAddedThenTheChecksumIsUnchanged) {
+  // Given a running checksum, When an empty vector (null data) is added in the middle
+  Crc32 crc;
+  crc.update(as_bytes("1234"));
+  crc.update(std::vector<uint8_t>{});
+  crc.update(as_bytes("56789"));
+  // Then it is the checksum of the bytes alone (zlib used to restart on a null buffer)
+  EXPECT_EQ(crc.value(), 0xCBF43926u);
+}
+
 TEST(Crc32, GivenRandomBuffersWhenHashedByBothImplementationsThenTheyAgree) {
   std::mt19937 rng(3);
   for (size_t n : {0u, 1u, 7u, 8u, 9u, 63u, 1000u, 4097u}) {

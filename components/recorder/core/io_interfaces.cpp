@@ -14,4 +14,8 @@ Status MemorySource::read(uint64_t offset, std::span<uint8_t> out) {
   return {};
 }
 
+Status MemorySpill::read(uint64_t offset, std::span<uint8_t> out) {
+  return MemorySource(bytes_).read(offset, out);
+}
+
 }  // namespace stereoball::recorder

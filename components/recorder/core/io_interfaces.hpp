@@ -35,6 +35,31 @@ class MemorySink : public Sink {
   std::vector<uint8_t> bytes_;
 };
 
+/// Scratch storage written sequentially and read back later: the writer keeps the summary's
+/// chunk indexes there rather than in memory, so a recording of any length holds a bounded
+/// amount of memory.
+class Spill : public Sink {
+ public:
+  /// Bytes written so far.
+  virtual uint64_t size() const = 0;
+  /// Reads exactly out.size() bytes at offset; error when that range was not written.
+  virtual Status read(uint64_t offset, std::span<uint8_t> out) = 0;
+};
+
+/// Spill that keeps the bytes in memory (tests).
+class MemorySpill : public Spill {
+ public:
+  Status write(std::span<const uint8_t> bytes) override {
+    bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
+    return {};
+  }
+  uint64_t size() const override { return bytes_.size(); }
+  Status read(uint64_t offset, std::span<uint8_t> out) override;
+
+ private:
+  std::vector<uint8_t> bytes_;
+};
+
 /// Random-access origin of an MCAP byte stream.
 class Source {
  public:

@@ -42,13 +42,14 @@ inline Status read_all(McapReader& reader, std::vector<StoredMessage>& out) {
   });
 }
 
-/// Writes count messages round-robin-ish over channels topics (random sizes up to max_bytes).
+/// Writes count messages round-robin-ish over channels topics (random sizes up to max_bytes),
+/// the chunk indexes spilled to index_spill when one is given.
 inline Recording make_recording(const WriterParams& params, int channels, int count,
-                                size_t max_bytes, uint32_t seed = 1) {
+                                size_t max_bytes, uint32_t seed = 1, Spill* index_spill = nullptr) {
   Recording rec;
   MemorySink sink;
   McapWriter writer(params);
-  if (!writer.open(sink).ok()) return rec;
+  if (!writer.open(sink, index_spill).ok()) return rec;
   const auto schema = writer.add_schema("test::Msg", "omgidl", std::string_view("struct Msg {};"));
   std::vector<uint16_t> ids;
   for (int c = 0; c < channels; ++c) {

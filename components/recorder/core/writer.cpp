@@ -44,10 +44,19 @@ Status McapWriter::emit(std::span<const uint8_t> bytes) {
   return {};
 }
 
-Status McapWriter::open(Sink& sink) {
+Status McapWriter::open(Sink& sink, Spill* index_spill) {
   if (auto bad = params_.validate(); !bad) return bad;
   if (sink_ != nullptr) return Error{"MCAP writer is already open"};
   sink_ = &sink;
+  index_spill_ = index_spill;
+  index_spill_base_ = index_spill ? index_spill->size() : 0;
+  // Room for a block of indexes and the record that crosses it (the block is spilled then).
+  if (index_spill_ != nullptr) chunk_indexes_.reserve(2 * kIndexBlockBytes);
+  // Sized once for a full chunk (pages become resident only as they are written): buffers
+  // reallocated to sizes that depend on the data (the first message of a chunk, a burst)
+  // left holes in the allocator's arenas that a long recording never got back.
+  chunk_records_.reserve(params_.chunk_size_bytes + kChunkSlackBytes);
+  scratch_.reserve(encoded_chunk_bound(params_.chunk_size_bytes + kChunkSlackBytes));
   scratch_.assign(kMagic.begin(), kMagic.end());
   append_header(scratch_, HeaderRecord{params_.profile, params_.library});
   return emit(scratch_);
@@ -97,10 +106,7 @@ Status McapWriter::write(const MessageView& message) {
   if (message.channel_id == 0 || message.channel_id > channels_.size()) {
     return Error{"message on unknown channel " + std::to_string(message.channel_id)};
   }
-  if (chunk_messages_ == 0) {
-    chunk_start_ns_ = chunk_end_ns_ = message.log_time_ns;
-    chunk_records_.reserve(params_.chunk_size_bytes + message.data.size() + 64);
-  }
+  if (chunk_messages_ == 0) chunk_start_ns_ = chunk_end_ns_ = message.log_time_ns;
   chunk_start_ns_ = std::min(chunk_start_ns_, message.log_time_ns);
   chunk_end_ns_ = std::max(chunk_end_ns_, message.log_time_ns);
   chunk_index_[message.channel_id].emplace_back(message.log_time_ns, chunk_records_.size());
@@ -131,7 +137,7 @@ Status McapWriter::finish_chunk() {
   const bool zstd = params_.compression == Compression::kZstd;
 
   scratch_.clear();
-  scratch_.reserve(64 + (zstd ? zstd_bound(chunk_records_.size()) : chunk_records_.size()));
+  scratch_.reserve(encoded_chunk_bound(chunk_records_.size()));
   ByteWriter w(scratch_);
   w.u8(static_cast<uint8_t>(Opcode::kChunk));
   w.u64(0);
@@ -179,12 +185,55 @@ Status McapWriter::finish_chunk() {
     return failure_;
   }
 
-  chunk_indexes_.push_back(std::move(index));
+  append_chunk_index(chunk_indexes_, index);
+  ++chunk_count_;
   ++stats_.chunks;
   chunk_records_.clear();
   chunk_index_.clear();
   chunk_messages_ = 0;
+  if (index_spill_ != nullptr && chunk_indexes_.size() >= kIndexBlockBytes) {
+    return spill_chunk_indexes();
+  }
   return {};
+}
+
+size_t McapWriter::encoded_chunk_bound(size_t records_bytes) const {
+  const size_t header = 64;
+  return header +
+         (params_.compression == Compression::kZstd ? zstd_bound(records_bytes) : records_bytes);
+}
+
+uint64_t McapWriter::buffer_bytes() const {
+  return chunk_records_.capacity() + scratch_.capacity() + chunk_indexes_.capacity();
+}
+
+Status McapWriter::spill_chunk_indexes() {
+  if (chunk_indexes_.empty()) return {};
+  if (auto err = index_spill_->write(chunk_indexes_); !err) {
+    failure_ = Error{"spilling chunk indexes failed: " + err.error()};
+    return failure_;
+  }
+  spilled_index_bytes_ += chunk_indexes_.size();
+  chunk_indexes_.clear();
+  return {};
+}
+
+// Emits every ChunkIndex record (spilled ones first, in blocks through scratch_) as part of
+// the summary, adding them to its CRC.
+Status McapWriter::emit_chunk_indexes(Crc32& summary_crc) {
+  for (uint64_t at = 0; at < spilled_index_bytes_;) {
+    const uint64_t n = std::min<uint64_t>(kIndexBlockBytes, spilled_index_bytes_ - at);
+    scratch_.resize(n);
+    if (auto err = index_spill_->read(index_spill_base_ + at, scratch_); !err) {
+      failure_ = Error{"reading spilled chunk indexes failed: " + err.error()};
+      return failure_;
+    }
+    summary_crc.update(scratch_);
+    if (auto err = emit(scratch_); !err) return err;
+    at += n;
+  }
+  summary_crc.update(chunk_indexes_);
+  return emit(chunk_indexes_);
 }
 
 Status McapWriter::close() {
@@ -205,6 +254,8 @@ Status McapWriter::write_summary_and_footer() {
   if (auto err = emit(scratch_); !err) return err;
 
   const uint64_t summary_start = position_;
+  // The summary before the chunk indexes, the chunk indexes (streamed from the spill), then
+  // the summary offsets and the footer; the CRC runs over all three.
   std::vector<uint8_t> summary;
   std::vector<SummaryOffsetRecord> groups;
   // Appends one group of same-opcode records and remembers where it is.
@@ -223,21 +274,29 @@ Status McapWriter::write_summary_and_footer() {
   });
   statistics_.schema_count = static_cast<uint16_t>(schemas_.size());
   statistics_.channel_count = static_cast<uint32_t>(channels_.size());
-  statistics_.chunk_count = static_cast<uint32_t>(chunk_indexes_.size());
+  statistics_.chunk_count = chunk_count_;
   group(Opcode::kStatistics, [&] { append_statistics(summary, statistics_); });
-  group(Opcode::kChunkIndex, [&] {
-    for (const auto& c : chunk_indexes_) append_chunk_index(summary, c);
-  });
+  const uint64_t index_bytes = spilled_index_bytes_ + chunk_indexes_.size();
+  if (index_bytes > 0) {
+    groups.push_back(
+        {static_cast<uint8_t>(Opcode::kChunkIndex), summary_start + summary.size(), index_bytes});
+  }
+  Crc32 crc;
+  crc.update(summary);
+  if (auto err = emit(summary); !err) return err;
+  if (auto err = emit_chunk_indexes(crc); !err) return err;
 
-  const uint64_t summary_offset_start = summary_start + summary.size();
-  for (const auto& g : groups) append_summary_offset(summary, g);
-  append_footer(summary, FooterRecord{summary_start, summary_offset_start, 0});
+  std::vector<uint8_t> tail;
+  const uint64_t summary_offset_start = position_;
+  for (const auto& g : groups) append_summary_offset(tail, g);
+  append_footer(tail, FooterRecord{summary_start, summary_offset_start, 0});
   // The summary CRC covers everything from summary_start through the footer's
   // summary_offset_start field, i.e. all but the 4 CRC bytes just appended.
-  const size_t crc_pos = summary.size() - 4;
-  ByteWriter(summary).patch_u32(crc_pos, crc32(std::span(summary).first(crc_pos)));
-  summary.insert(summary.end(), kMagic.begin(), kMagic.end());
-  return emit(summary);
+  const size_t crc_pos = tail.size() - 4;
+  crc.update(std::span(tail).first(crc_pos));
+  ByteWriter(tail).patch_u32(crc_pos, crc.value());
+  tail.insert(tail.end(), kMagic.begin(), kMagic.end());
+  return emit(tail);
 }
 
 }  // namespace stereoball::recorder

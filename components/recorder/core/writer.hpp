@@ -56,8 +56,12 @@ class McapWriter {
   McapWriter(const McapWriter&) = delete;
   McapWriter& operator=(const McapWriter&) = delete;
 
-  /// Starts the file on sink (magic and header); sink must outlive the writer.
-  Status open(Sink& sink);
+  /// Starts the file on sink (magic and header); sink must outlive the writer. With
+  /// index_spill (which must outlive the writer too), the summary's chunk indexes go there in
+  /// blocks of kIndexBlockBytes as chunks are finished and are copied into the summary at
+  /// close(): the writer's memory then stays the same however many chunks the file gets.
+  /// Without it they stay in memory (about 130 bytes a chunk). The file is the same either way.
+  Status open(Sink& sink, Spill* index_spill = nullptr);
   /// Registers a schema (e.g. encoding "omgidl", data = IDL text); returns its id (>= 1).
   Result<uint16_t> add_schema(std::string_view name, std::string_view encoding,
                               std::span<const uint8_t> data);
@@ -79,11 +83,22 @@ class McapWriter {
   const WriterStats& stats() const { return stats_; }
   /// Success until an error stops the writer (a sink failure), then that error.
   const Status& status() const { return failure_; }
+  /// Bytes the writer holds in its buffers (capacities: open chunk, encoded chunk / index
+  /// scratch, chunk indexes not yet spilled). Chunk buffers are sized once, for a chunk of
+  /// the target size; they grow only for a message larger than that.
+  uint64_t buffer_bytes() const;
+  /// Encoded chunk indexes held in memory before they are spilled.
+  static constexpr uint64_t kIndexBlockBytes = 64 << 10;
 
  private:
   Status emit(std::span<const uint8_t> bytes);
   Status finish_chunk();
   Status write_summary_and_footer();
+  Status spill_chunk_indexes();
+  size_t encoded_chunk_bound(size_t records_bytes) const;
+  // Room in the chunk buffer past the target size for the message that crosses it.
+  static constexpr size_t kChunkSlackBytes = 64 << 10;
+  Status emit_chunk_indexes(Crc32& summary_crc);
   Status check_writable() const;
 
   WriterParams params_;
@@ -104,7 +119,12 @@ class McapWriter {
   uint64_t chunk_messages_ = 0;
   std::vector<uint8_t> scratch_;  // encoded chunk / index records before they go to the sink
 
-  std::vector<ChunkIndexRecord> chunk_indexes_;
+  // The summary's ChunkIndex records, encoded: those not yet spilled, and how many were.
+  std::vector<uint8_t> chunk_indexes_;
+  Spill* index_spill_ = nullptr;
+  uint64_t index_spill_base_ = 0;  // the spill's size when the writer started
+  uint64_t spilled_index_bytes_ = 0;
+  uint32_t chunk_count_ = 0;
   StatisticsRecord statistics_;
   WriterStats stats_;
 };

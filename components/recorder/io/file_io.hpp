@@ -34,6 +34,27 @@ class FileSink : public Sink {
   bool sync_on_flush_;
 };
 
+/// A spill in an unnamed temporary file (no name in any directory, so it disappears when the
+/// process ends, however it ends).
+class FileSpill : public Spill {
+ public:
+  /// Creates the file in dir (the recording's own directory, so it lives on the same disk);
+  /// error names dir and the reason.
+  static Result<std::unique_ptr<FileSpill>> create(const std::string& dir);
+  ~FileSpill() override;
+  FileSpill(const FileSpill&) = delete;
+  FileSpill& operator=(const FileSpill&) = delete;
+  Status write(std::span<const uint8_t> bytes) override;
+  uint64_t size() const override { return size_; }
+  Status read(uint64_t offset, std::span<uint8_t> out) override;
+
+ private:
+  FileSpill(int fd, std::string dir) : fd_(fd), dir_(std::move(dir)) {}
+  int fd_;
+  std::string dir_;
+  uint64_t size_ = 0;
+};
+
 /// Reads an existing file at random offsets.
 class FileSource : public Source {
  public:

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "recorder/core/reader.hpp"
@@ -80,6 +81,41 @@ TEST(FileIo, GivenASourceWhenReadingPastTheEndThenAnErrorIsReturned) {
   EXPECT_TRUE((*source)->read(1, out).ok());
   EXPECT_EQ(out[0], 2);
   std::filesystem::remove(path);
+}
+
+TEST(FileIo, GivenAFileSpillWhenWrittenThenItReadsBackAndLeavesNoFileBehind) {
+  // Given an empty directory and a spill in it
+  const auto dir = temp_path("spill_dir");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  auto spill = FileSpill::create(dir);
+  ASSERT_TRUE(spill) << spill.error();
+  // When bytes are written in pieces
+  std::vector<uint8_t> a(70'000), b(5);
+  for (size_t i = 0; i < a.size(); ++i) a[i] = static_cast<uint8_t>(i * 7);
+  for (size_t i = 0; i < b.size(); ++i) b[i] = static_cast<uint8_t>(200 + i);
+  ASSERT_TRUE((*spill)->write(a).ok());
+  ASSERT_TRUE((*spill)->write(b).ok());
+  // Then they read back at any offset, a read past the end is refused with a clear error
+  EXPECT_EQ((*spill)->size(), a.size() + b.size());
+  std::vector<uint8_t> got(10);
+  ASSERT_TRUE((*spill)->read(a.size() - 5, got).ok());
+  EXPECT_TRUE(std::equal(a.end() - 5, a.end(), got.begin()));
+  EXPECT_TRUE(std::equal(b.begin(), b.end(), got.begin() + 5));
+  const auto past = (*spill)->read(a.size(), got);
+  ASSERT_FALSE(past.ok());
+  EXPECT_NE(past.error().find("read past"), std::string::npos) << past.error();
+  // And the directory shows no file at any time (the spill has no name)
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+  spill->reset();
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(FileIo, GivenAMissingDirectoryWhenASpillIsCreatedThenTheErrorNamesIt) {
+  const auto spill = FileSpill::create("/nonexistent/sb_spill");
+  ASSERT_FALSE(spill);
+  EXPECT_NE(spill.error().find("'/nonexistent/sb_spill'"), std::string::npos) << spill.error();
 }
 
 }  // namespace

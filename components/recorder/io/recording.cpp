@@ -63,8 +63,11 @@ Status Recording::open_file() {
   auto sink = FileSink::create(path);
   if (!sink) return Error{sink.error()};
   sink_ = std::move(*sink);
+  auto spill = FileSpill::create(std::filesystem::path(path).parent_path().string());
+  if (!spill) return Error{spill.error()};
+  index_spill_ = std::move(*spill);
   writer_ = std::make_unique<McapWriter>(params_.writer);
-  if (auto err = writer_->open(*sink_); !err) return err;
+  if (auto err = writer_->open(*sink_, index_spill_.get()); !err) return err;
   channel_ids_.clear();
   for (const auto& t : topics_) {
     const auto schema = writer_->add_schema(t.type_name, "omgidl", t.schema_text);
@@ -84,6 +87,7 @@ Status Recording::close_file() {
   Status err = writer_->status();
   if (err.ok()) err = writer_->close();
   writer_.reset();
+  index_spill_.reset();
   sink_.reset();
   return err;
 }
@@ -200,6 +204,7 @@ Status Recording::stop() {
     if (auto err = close_file(); !err) fail(err.error());
   } else {
     writer_.reset();
+    index_spill_.reset();
     sink_.reset();
   }
   return status();

@@ -103,6 +103,7 @@ class Recording {
 
   // Owned by the writer thread once started.
   std::unique_ptr<FileSink> sink_;
+  std::unique_ptr<FileSpill> index_spill_;  // the writer's chunk indexes, out of memory
   std::unique_ptr<McapWriter> writer_;
   std::vector<uint16_t> channel_ids_;
   uint64_t file_first_log_ns_ = 0;

@@ -148,6 +148,39 @@ TEST(Recording, GivenAFullQueueWhenPushingThenDropsAreCountedAndMemoryStaysBound
   EXPECT_EQ(read_file(p.path).size(), c[1].messages);
 }
 
+TEST(Recording, GivenThousandsOfChunksWhenRecordedThenTheIndexIsSpilledAndTheFileIsIndexed) {
+  // Given a recording in 1 KiB chunks (each closes after a few messages)
+  RecordingParams p;
+  const auto dir = temp_dir();
+  p.path = dir + "/r.mcap";
+  p.writer.chunk_size_bytes = 1024;
+  auto rec = Recording::start(p, two_topics());
+  ASSERT_TRUE(rec) << rec.error();
+  // When 8000 messages are recorded (2000 chunks, whose indexes fill several blocks)
+  for (uint32_t i = 0; i < 8000; ++i) {
+    std::vector<uint8_t> cdr(300, static_cast<uint8_t>(i));
+    while (!(*rec)->push(i % 2, std::move(cdr), 1000 + i, 900 + i)) {
+      cdr.assign(300, static_cast<uint8_t>(i));
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  }
+  ASSERT_TRUE((*rec)->stop().ok());
+  // Then the file is complete and read through its index, every message in it
+  auto source = FileSource::open(p.path);
+  ASSERT_TRUE(source) << source.error();
+  McapReader reader(**source);
+  ASSERT_TRUE(reader.open().ok());
+  EXPECT_TRUE(reader.summary().complete);
+  EXPECT_TRUE(reader.summary().indexed);
+  EXPECT_GE(reader.chunk_indexes().size(), 2000u);  // more if a 1 s flush came between
+  EXPECT_EQ(reader.summary().statistics.message_count, 8000u);
+  EXPECT_EQ(read_file(p.path).size(), 8000u);
+  // And the directory holds the recording only (the spill left nothing)
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            1);
+}
+
 TEST(Recording, GivenAnUnwritablePathOrBadParamsWhenStartingThenAClearError) {
   RecordingParams p;
   p.path = "/nonexistent/dir/r.mcap";
