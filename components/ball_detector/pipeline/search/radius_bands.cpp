@@ -36,8 +36,14 @@ std::vector<Circle> best_of_each_place(const std::vector<Circle>& found, double 
 
 }  // namespace
 
-std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop) {
-  const std::vector<SearchHints> bands = radius_bands(tools);
+int radius_band_count(const SearchTools& tools) {
+  return static_cast<int>(radius_bands(tools).size());
+}
+
+std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop,
+                                         int only) {
+  std::vector<SearchHints> bands = radius_bands(tools);
+  if (only >= 0 && !bands.empty()) bands = {bands[static_cast<std::size_t>(only) % bands.size()]};
   // The left detector holds this image's edge map, made with these very thresholds, and the
   // lines its points voted along: each band plots them again over its radii instead of redoing
   // the edge step and the window rules. The bands are independent tasks, each on a detector of
@@ -63,7 +69,7 @@ std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<b
 
 std::optional<SearchOutcome> RadiusBandSearch::run(const FrameState& frame, FrameScratch& scratch,
                                                    SearchTools& tools) const {
-  if (!scratch.band_left) scratch.band_left = detect_left_in_bands(tools, nullptr);
+  if (!scratch.band_left) scratch.band_left = detect_left_in_bands(tools, nullptr, scratch.band);
   std::vector<Circle> left = std::move(*scratch.band_left);
   scratch.band_left.reset();
   // The right eye with the whole left frame's thresholds, each left circle's partner box with

@@ -37,7 +37,7 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
     if (task == 1) {
       if (paired) return;
       tools.observe(SearchPath::kRadiusBands, true);
-      bands = detect_left_in_bands(tools, &paired);
+      bands = detect_left_in_bands(tools, &paired, scratch.band);
       tools.observe(SearchPath::kRadiusBands, false);
       return;
     }
