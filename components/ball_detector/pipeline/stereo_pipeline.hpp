@@ -77,8 +77,8 @@ const char* to_string(DetectionStatus status);
 constexpr int kFullSearchEveryFrames = 15;
 
 /// Every frame the whole frame pairs nothing on gets one radius band, the bands in turn (a band
-/// that paired first again); all of them when this much capture time has passed since the last
-/// band search, or on the first one (README: radius bands), ns.
+/// that paired first again); all of them on the first frame without a pair, and when this much
+/// capture time has passed since the last band search (README: radius bands), ns.
 constexpr std::int64_t kBandSearchEveryNs = 200'000'000;
 
 /// With a following track, the ball's speed allowed between the two eyes' exposures is the
@@ -227,10 +227,11 @@ class StereoPipeline {
   std::vector<cv::Point2d> patch_raw_px_;
   std::vector<Circle> left_candidates_, right_candidates_;  // the last frame's answer's
   int frames_since_full_search_ = 0;
-  bool refresh_due_ = false;  // the left thresholds are to be measured again (finish_frame)
-  cv::Mat refresh_left_;      // the whole rectified left eye the refresh measures
-  EdgeMap refresh_edges_;     // its gradients (scratch)
-  int next_band_ = 0;         // the radius band the next frame without a pair searches
+  bool refresh_due_ = false;       // the left thresholds are to be measured again (finish_frame)
+  cv::Mat refresh_left_;           // the whole rectified left eye the refresh measures
+  EdgeMap refresh_edges_;          // its gradients (scratch)
+  int next_band_ = 0;              // the radius band the next frame without a pair searches
+  bool paired_last_frame_ = true;  // the last frame's searches paired (near a prior or not)
   std::optional<std::int64_t> last_band_search_ns_;  // capture stamp of the last band search
 };
 
