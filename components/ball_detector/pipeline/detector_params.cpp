@@ -216,9 +216,10 @@ std::vector<params::Field<P>> coarse_to_fine_fields() {
   const auto in = [](auto member) { return at(&P::coarse_to_fine, member); };
   return {
       number("coarse_to_fine.target_width_px", in(&C::target_width_px), 0, {0, 16384}, "px",
-             "whole-frame and radius-band searches of a wider frame vote on the left eye reduced "
-             "by powers of two to about this width, then refine each circle found there on the "
-             "full-resolution edges (0 = off: every search at full width)"),
+             "the whole-frame search of a wider frame first votes on the left eye reduced by "
+             "powers of two to about this width and refines each circle found there on the "
+             "full-resolution edges; if those pair nothing, the frame is searched at full width "
+             "(0 = off: every search at full width)"),
       number("coarse_to_fine.min_coarse_radius_px", in(&C::min_coarse_radius_px),
              core.min_coarse_radius_px, {0.1, 1000.0}, "px",
              "smallest radius searched on the reduced image, its pixels; smaller radii of the "

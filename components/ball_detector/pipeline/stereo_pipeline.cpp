@@ -371,34 +371,35 @@ SearchOutcome StereoPipeline::search(const FrameState& frame) {
       std::optional<SearchOutcome> near = tried(*s, path);
       if (!near || !near->found_near(*frame.prior)) continue;
       if (frames_since_full_search_ >= kFullSearchEveryFrames) refresh_due_ = true;
-      frames_without_pair_ = 0;
+      paired_last_frame_ = true;
       return answer(std::move(*near));
     }
   }
-  // The whole frame; after it pairs nothing, radius bands now and then (costly), and the
-  // colour seeds' outlines without brightness. Each later search answers only if it pairs.
-  scratch.bands_due =
-      frames_without_pair_ % kBandSearchEveryFrames == 0 ||
-      (last_band_search_ns_ && frame.stamp_ns - *last_band_search_ns_ > kBandSearchEveryNs);
+  // The whole frame; after it pairs nothing, radius bands (one a frame in a stream: all of them
+  // cost several whole-frame searches' peaks, and made the slowest frames), and the colour
+  // seeds' outlines without brightness. Each later search answers only if it pairs.
+  scratch.bands_due = true;
+  // Every band on the first frame without a pair (a ball just lost or not yet seen is found
+  // again at once) and on stills; then one band a frame.
+  const bool every_band = !last_band_search_ns_ || paired_last_frame_ ||
+                          frame.stamp_ns - *last_band_search_ns_ > kBandSearchEveryNs;
+  paired_last_frame_ = true;  // until the searches below pair nothing
+  scratch.band = every_band ? -1 : next_band_;
   SearchOutcome whole = *tried(whole_frame_, SearchPath::kWholeFrame);
   frames_since_full_search_ = 0;
-  if (whole.found()) {
-    frames_without_pair_ = 0;
-    return answer(std::move(whole));
-  }
-  ++frames_without_pair_;
-  if (scratch.bands_due) {
-    whole.path = SearchPath::kRadiusBands;  // the last search the frame needed
-    last_band_search_ns_ = frame.stamp_ns;
-    std::optional<SearchOutcome> bands = tried(radius_bands_, SearchPath::kRadiusBands);
-    // Bands that pair what the whole range missed are tried again at once next time.
-    if (bands && bands->found()) {
-      frames_without_pair_ = 0;
-      return answer(std::move(*bands));
-    }
-  }
+  if (whole.found()) return answer(std::move(whole));
+  whole.path = SearchPath::kRadiusBands;  // the last search the frame needed
+  last_band_search_ns_ = frame.stamp_ns;
+  std::optional<SearchOutcome> bands = tried(radius_bands_, SearchPath::kRadiusBands);
+  // A band that pairs what the whole range missed is searched again first next time.
+  if (bands && bands->found()) return answer(std::move(*bands));
+  if (!every_band) next_band_ = (next_band_ + 1) % std::max(1, radius_band_count(tools_));
+  paired_last_frame_ = false;
   std::optional<SearchOutcome> hue = tried(seeds_without_brightness_, SearchPath::kBrightnessFree);
-  if (hue && hue->found()) return answer(std::move(*hue));
+  if (hue && hue->found()) {
+    paired_last_frame_ = true;
+    return answer(std::move(*hue));
+  }
   return answer(std::move(whole));
 }
 

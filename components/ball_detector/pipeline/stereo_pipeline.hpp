@@ -76,10 +76,9 @@ const char* to_string(DetectionStatus status);
 /// (README: searches), frames.
 constexpr int kFullSearchEveryFrames = 15;
 
-/// Frames after frames without a pair get the radius-band search on the first of them and then
-/// every this many (README: radius bands), frames.
-constexpr int kBandSearchEveryFrames = 5;
-/// ... or when this much capture time has passed since the last band search, ns.
+/// Every frame the whole frame pairs nothing on gets one radius band, the bands in turn (a band
+/// that paired first again); all of them on the first frame without a pair, and when this much
+/// capture time has passed since the last band search (README: radius bands), ns.
 constexpr std::int64_t kBandSearchEveryNs = 200'000'000;
 
 /// With a following track, the ball's speed allowed between the two eyes' exposures is the
@@ -232,10 +231,11 @@ class StereoPipeline {
   std::vector<cv::Point2d> patch_raw_px_;
   std::vector<Circle> left_candidates_, right_candidates_;  // the last frame's answer's
   int frames_since_full_search_ = 0;
-  bool refresh_due_ = false;     // the left thresholds are to be measured again (finish_frame)
-  cv::Mat refresh_left_;         // the whole rectified left eye the refresh measures
-  EdgeMap refresh_edges_;        // its gradients (scratch)
-  int frames_without_pair_ = 0;  // consecutive whole-frame searches that paired nothing
+  bool refresh_due_ = false;       // the left thresholds are to be measured again (finish_frame)
+  cv::Mat refresh_left_;           // the whole rectified left eye the refresh measures
+  EdgeMap refresh_edges_;          // its gradients (scratch)
+  int next_band_ = 0;              // the radius band the next frame without a pair searches
+  bool paired_last_frame_ = true;  // the last frame's searches paired (near a prior or not)
   std::optional<std::int64_t> last_band_search_ns_;  // capture stamp of the last band search
 };
 

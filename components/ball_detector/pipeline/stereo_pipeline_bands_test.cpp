@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,11 +58,49 @@ std::vector<FrameResult> run_still_robot(const std::string& scenario_name, int f
   return out;
 }
 
+// The largest number of tasks any one run_tasks call of each frame asked for, over frames
+// frames of scenario_name (robot still, capture stamps period_ns apart).
+std::vector<int> widest_task_call_per_frame(const std::string& scenario_name, int frames,
+                                            std::int64_t period_ns) {
+  auto scenario = sb::simulator::load_scenario_by_name(
+      scenario_name, std::string(SB_SOURCE_DIR) + "/config/scenarios");
+  EXPECT_TRUE(scenario.ok()) << scenario.error();
+  std::vector<int> out;
+  if (!scenario.ok()) return out;
+  sb::simulator::Simulator sim(sb::simulator::default_sim_params(), *scenario);
+  StereoPipeline pipeline(BallDetectorParams{});
+  EXPECT_TRUE(pipeline.set_calibration(sim.calibration()).ok());
+  int widest = 0;
+  pipeline.set_task_runner([&](int n, const std::function<void(int)>& task) {
+    widest = std::max(widest, n);
+    for (int i = 0; i < n; ++i) task(i);
+  });
+  for (int i = 0; i < frames; ++i) {
+    const auto f = sim.step(std::nullopt, i * sim.frame_period_ns());
+    widest = 0;
+    const auto det = pipeline.step(f.left, f.right, false, std::nullopt, i * period_ns);
+    EXPECT_NE(det.status, DetectionStatus::kFound) << "premise: no ball, frame " << i;
+    out.push_back(widest);
+  }
+  return out;
+}
+
 }  // namespace
 
-// Once the bands have found a ball the whole range misses, the next frame that pairs nothing
-// over the whole range searches the bands again at once (not kBandSearchEveryFrames later):
-// every visible frame from the first band find on is answered on the ball.
+// A stream without a ball: the first frame searches every radius band (4 at 640x480), each
+// later one a single band beside the whole-frame search (no frame searches them all again);
+// stills 1 s apart search every band on every frame.
+TEST(StereoPipelineRadiusBands, GivenAStreamWithoutABall_ThenOneBandAFrameAfterTheFirst) {
+  const auto stream = widest_task_call_per_frame("no_ball", 8, 33'333'333);
+  ASSERT_EQ(stream.size(), 8u);
+  EXPECT_EQ(stream[0], 4);
+  for (std::size_t i = 1; i < stream.size(); ++i) EXPECT_EQ(stream[i], 2) << "frame " << i;
+  const auto stills = widest_task_call_per_frame("no_ball", 3, 1'000'000'000);
+  for (std::size_t i = 0; i < stills.size(); ++i) EXPECT_EQ(stills[i], 4) << "still " << i;
+}
+// Once a band has found a ball the whole range misses, the next frame that pairs nothing over
+// the whole range searches that band again first (not the next band in turn): every visible
+// frame from the first band find on is answered on the ball.
 TEST(StereoPipelineRadiusBands, GivenTheBandsFoundTheBall_ThenTheNextFramesSearchThemAgain) {
   const auto frames = run_still_robot("ball_rolling_across", 24);
   ASSERT_EQ(frames.size(), 24u);

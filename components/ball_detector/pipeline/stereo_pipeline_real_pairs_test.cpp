@@ -178,3 +178,19 @@ TEST_F(RealBasketballPairs, GivenBallsHeldAtTheBottomBorder_ThenNoneIsReportedWr
     EXPECT_NEAR(d.position_m[2], t.z_m, 0.05 * t.z_m) << "pair " << t.id << ": " << d.reason;
   }
 }
+
+TEST_F(RealBasketballPairs, GivenCoarseToFine_ThenABallTheReducedEyeMissesIsStillFound) {
+  // Given full-size frames (searched at the 1152-px working width) with coarse to fine on
+  // (reduced eye 576 px): the ball held overhead in both hands (pair 14) and held in one hand
+  // (pair 04) have outlines whose edges merge with the hands' and the seams' at half size, so
+  // the reduced eye's votes find neither
+  BallDetectorParams p = basketball_params();
+  p.coarse_to_fine.target_width_px = 640;
+  StereoPipeline pipeline(p);
+  ASSERT_TRUE(pipeline.set_calibration(calib_).ok());
+  // When each pair is played
+  // Then each is found where the full-width search finds it, at the right depth
+  for (const Truth& t :
+       {Truth{"14", 1305.0, 480.5, 66.5, 1.66}, Truth{"04", 1518.5, 589.0, 70.0, 1.66}})
+    expect_correct(run_pair(pipeline, t), t);
+}

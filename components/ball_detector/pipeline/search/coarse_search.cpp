@@ -11,7 +11,6 @@ void CoarseSearch::set_up(const BallDetectorParams& p, int image_width_px,
                           const std::optional<stereo::PinholeCamera>& left_camera) {
   level = coarse_level(image_width_px, p.coarse_to_fine);
   detector.reset();
-  band_detectors.clear();
   fine_path.reset();
   if (level == 0) return;
   const PixelToPixelParams full = p.detector_params();
@@ -33,9 +32,8 @@ void CoarseSearch::set_up(const BallDetectorParams& p, int image_width_px,
   }
 }
 
-bool cast_left_votes(SearchTools& tools) {
+bool cast_reduced_left_votes(SearchTools& tools) {
   CoarseSearch& coarse = tools.coarse;
-  if (!coarse.on()) return tools.left_detector.cast_votes(tools.rect_left);
   // The full-resolution edges (and so the thresholds the right eye's boxes and the searches near
   // a prior use) as the full search makes them; only the voting runs on the reduced eye.
   if (!tools.left_detector.find_edges(tools.rect_left)) return false;
@@ -43,18 +41,11 @@ bool cast_left_votes(SearchTools& tools) {
   return coarse.detector->cast_votes(coarse.reduced_left);
 }
 
-std::vector<Circle> refined_at_full_width(const SearchTools& tools,
-                                          const std::vector<Circle>& reduced, std::size_t keep) {
-  const std::size_t n = std::min(reduced.size(), keep);
-  // The left detector's edges are only read (refine_seeds): band tasks may share them.
-  return refine_coarse_circles(tools.left_detector, std::span<const Circle>(reduced.data(), n),
-                               tools.coarse.level, tools.params.coarse_to_fine.max_refine_shift);
-}
-
 std::vector<Circle> coarse_left_circles(SearchTools& tools) {
   CoarseSearch& coarse = tools.coarse;
   const std::vector<Circle> reduced = coarse.detector->circles_of_votes();
-  std::vector<Circle> found = refined_at_full_width(tools, reduced, reduced.size());
+  std::vector<Circle> found = refine_coarse_circles(tools.left_detector, reduced, coarse.level,
+                                                    tools.params.coarse_to_fine.max_refine_shift);
   if (coarse.fine_path) {
     const EdgeThresholds thresholds = thresholds_of(tools.left_detector.edge_map());
     for (const Circle& c :

@@ -34,44 +34,16 @@ std::vector<Circle> best_of_each_place(const std::vector<Circle>& found, double 
   return kept;
 }
 
-// detect_left_in_bands on the reduced eye's votes (coarse to fine): the same bands in its
-// pixels, each band's best circles refined at full width.
-std::vector<Circle> detect_reduced_in_bands(SearchTools& tools, const std::atomic<bool>* stop) {
-  CoarseSearch& coarse = tools.coarse;
-  const double scale = std::ldexp(1.0, coarse.level);
-  std::vector<SearchHints> bands;
-  for (SearchHints band : radius_bands(tools)) {
-    band.radii.min_px = std::max(band.radii.min_px / scale, coarse.params.min_radius_px);
-    band.radii.max_px /= scale;
-    if (band.radii.max_px > band.radii.min_px) bands.push_back(band);
-  }
-  while (coarse.band_detectors.size() < bands.size()) {
-    coarse.band_detectors.emplace_back(coarse.params);
-    coarse.band_detectors.back().set_reduced_image_options(
-        tools.params.p2p.coarse_min_voted_coverage, true);
-  }
-  std::vector<std::vector<Circle>> per_band(bands.size());
-  tools.run_tasks(static_cast<int>(bands.size()), [&](int task) {
-    const auto b = static_cast<std::size_t>(task);
-    if (stop && *stop) return;
-    // Each band keeps its best max_candidates_per_eye at full width, as the full-width bands
-    // do; twice that many are refined (a reduced eye's score is a rough one).
-    per_band[b] = refined_at_full_width(
-        tools, coarse.band_detectors[b].redetect_from(*coarse.detector, bands[b]),
-        2 * static_cast<std::size_t>(tools.params.max_candidates_per_eye));
-  });
-  std::vector<Circle> found;
-  for (const auto& circles : per_band) found.insert(found.end(), circles.begin(), circles.end());
-  std::stable_sort(found.begin(), found.end(),
-                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
-  return best_of_each_place(found, tools.params.p2p.min_separation_px);
-}
-
 }  // namespace
 
-std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop) {
-  if (tools.coarse.on()) return detect_reduced_in_bands(tools, stop);
-  const std::vector<SearchHints> bands = radius_bands(tools);
+int radius_band_count(const SearchTools& tools) {
+  return static_cast<int>(radius_bands(tools).size());
+}
+
+std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop,
+                                         int only) {
+  std::vector<SearchHints> bands = radius_bands(tools);
+  if (only >= 0 && !bands.empty()) bands = {bands[static_cast<std::size_t>(only) % bands.size()]};
   // The left detector holds this image's edge map, made with these very thresholds, and the
   // lines its points voted along: each band plots them again over its radii instead of redoing
   // the edge step and the window rules. The bands are independent tasks, each on a detector of
@@ -97,7 +69,7 @@ std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<b
 
 std::optional<SearchOutcome> RadiusBandSearch::run(const FrameState& frame, FrameScratch& scratch,
                                                    SearchTools& tools) const {
-  if (!scratch.band_left) scratch.band_left = detect_left_in_bands(tools, nullptr);
+  if (!scratch.band_left) scratch.band_left = detect_left_in_bands(tools, nullptr, scratch.band);
   std::vector<Circle> left = std::move(*scratch.band_left);
   scratch.band_left.reset();
   // The right eye with the whole left frame's thresholds, each left circle's partner box with

@@ -17,7 +17,12 @@ constexpr double kRadiusBandRatio = 2.5;
 
 /// The left detector's last image (whole, its own thresholds) searched again band by band, the
 /// bands as tasks of tools.run_tasks; stops early (result unused) once *stop is set. Best first.
-std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop);
+/// With only >= 0, band only (modulo their number) alone.
+std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop,
+                                         int only = -1);
+
+/// How many radius bands the calibration's left eye has.
+int radius_band_count(const SearchTools& tools);
 
 /// scratch.band_left (or the bands searched now) paired with the right eye searched in each
 /// circle's partner box (the whole frame's thresholds); its outcome whether or not it pairs.

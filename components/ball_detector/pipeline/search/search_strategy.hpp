@@ -47,6 +47,7 @@ struct FrameScratch {
   cv::Rect prior_box;       ///< the left box around the prior, rectified px (near-prior searches)
   SearchHints prior_hints;  ///< the left detector's hints in prior_box
   bool bands_due = false;   ///< the whole-frame search also searches the left eye's radius bands
+  int band = -1;            ///< ... only this one of them (wrapping; -1 = every band)
   /// the left eye's circles band by band (whole frame, when bands_due and nothing paired)
   std::optional<std::vector<Circle>> band_left;
   std::vector<Circle> colour_seeds;  ///< the whole-frame search's colour seeds, left rectified px

@@ -9,7 +9,20 @@ namespace stereoball::ball_detector {
 std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, FrameScratch& scratch,
                                                    SearchTools& tools) const {
   tools.rectify_whole(frame.left_channel, stereo::Eye::kLeft, frame.rectified, tools.rect_left);
-  const bool voted = cast_left_votes(tools);
+  if (tools.coarse.on()) {
+    // The reduced eye's votes first: where they pair, the frame costs a fraction of the full
+    // search. A ball they do not resolve (an outline partly hidden by hands whose edges merge
+    // with it at half size) is then searched for exactly as without coarse to fine; so is one
+    // only the colour seeds would find (their circle may lose there to a better voted one).
+    const bool voted = cast_reduced_left_votes(tools);
+    SearchOutcome coarse = pair_left_circles(
+        frame, scratch, tools, voted ? coarse_left_circles(tools) : std::vector<Circle>{}, false);
+    if (coarse.found()) {
+      coarse.path = SearchPath::kWholeFrame;
+      return coarse;
+    }
+  }
+  const bool voted = tools.left_detector.cast_votes(tools.rect_left);
   // Task 0 finishes the search (peaks, right eye, pairing). When a band search is due, the
   // other task searches the left eye's radius bands on the same votes meanwhile, in case it
   // pairs nothing: on another core this takes the bands out of the frame's time, and the work
@@ -24,26 +37,13 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
     if (task == 1) {
       if (paired) return;
       tools.observe(SearchPath::kRadiusBands, true);
-      bands = detect_left_in_bands(tools, &paired);
+      bands = detect_left_in_bands(tools, &paired, scratch.band);
       tools.observe(SearchPath::kRadiusBands, false);
       return;
     }
-    std::vector<Circle> left = voted ? circles_of_votes(tools, !bands_due) : std::vector<Circle>{};
-    if (voted) {
-      if (auto seeded = colour_seeds_.run(frame, scratch, tools))
-        add_unknown_circles(seeded->left, left);
-    }
-    tools.left_thresholds = thresholds_of(tools.left_detector.edge_map());
-    std::vector<Circle> right;
-    if (tools.params.right_eye_partner_boxes) {
-      right = tools.detect_right_in_boxes(frame, left, false);
-    } else {
-      tools.rectify_whole(frame.right_channel, stereo::Eye::kRight, frame.rectified,
-                          tools.rect_right);
-      right = tools.right_detector.detect(tools.rect_right);
-      tools.right_edges_box = cv::Rect(cv::Point(0, 0), tools.rect_right.size());
-    }
-    out = pairing_.pair(frame, tools, std::move(left), std::move(right), false);
+    out = pair_left_circles(frame, scratch, tools,
+                            voted ? circles_of_votes(tools, !bands_due) : std::vector<Circle>{},
+                            voted);
     paired = out.found();
   });
   if (bands_due && !paired) scratch.band_left = std::move(bands);
@@ -51,10 +51,29 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
   return out;
 }
 
+SearchOutcome WholeFrameSearch::pair_left_circles(const FrameState& frame, FrameScratch& scratch,
+                                                  SearchTools& tools, std::vector<Circle> left,
+                                                  bool with_colour_seeds) const {
+  if (with_colour_seeds) {
+    if (auto seeded = colour_seeds_.run(frame, scratch, tools))
+      add_unknown_circles(seeded->left, left);
+  }
+  tools.left_thresholds = thresholds_of(tools.left_detector.edge_map());
+  std::vector<Circle> right;
+  if (tools.params.right_eye_partner_boxes) {
+    right = tools.detect_right_in_boxes(frame, left, false);
+  } else {
+    tools.rectify_whole(frame.right_channel, stereo::Eye::kRight, frame.rectified,
+                        tools.rect_right);
+    right = tools.right_detector.detect(tools.rect_right);
+    tools.right_edges_box = cv::Rect(cv::Point(0, 0), tools.rect_right.size());
+  }
+  return pairing_.pair(frame, tools, std::move(left), std::move(right), false);
+}
+
 std::vector<Circle> WholeFrameSearch::circles_of_votes(SearchTools& tools, bool peaks_at_once) {
   // Refining and scoring the peaks is most of a whole-frame search (~40 %), and each peak is
   // independent. When the band search runs beside it, it has the other core to itself.
-  if (tools.coarse.on()) return coarse_left_circles(tools);
   if (!peaks_at_once) return tools.left_detector.circles_of_votes();
   const int n = tools.left_detector.find_peaks_of_votes();
   std::vector<PeakCircles> per_peak(static_cast<std::size_t>(n));

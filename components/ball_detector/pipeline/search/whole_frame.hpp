@@ -1,7 +1,8 @@
 #pragma once
 // Voting over the whole left eye (plus its colour seeds), the right eye in the left circles'
 // partner boxes or whole, and pairing; when scratch.bands_due, the left eye's radius bands are
-// searched beside it on the same votes (README: whole frame).
+// searched beside it on the same votes (README: whole frame). Coarse to fine, the reduced left
+// eye's votes are tried first, and the full-width search runs only if they pair nothing.
 
 #include "ball_detector/pipeline/search/colour_seed_candidates.hpp"
 #include "ball_detector/pipeline/search/predicted_partner.hpp"
@@ -12,7 +13,7 @@ namespace stereoball::ball_detector {
 
 /// The whole-frame search: its outcome whether or not it pairs (kWholeFrame); measures
 /// tools.left_thresholds again; leaves scratch.band_left (when bands_due and nothing paired)
-/// and scratch.colour_seeds.
+/// and scratch.colour_seeds. When nothing pairs, the left detector holds the full-width votes.
 class WholeFrameSearch : public SearchStrategy {
  public:
   std::optional<SearchOutcome> run(const FrameState& frame, FrameScratch& scratch,
@@ -21,6 +22,11 @@ class WholeFrameSearch : public SearchStrategy {
  private:
   /// The left detector's last votes turned into circles, each peak a task or all in turn.
   static std::vector<Circle> circles_of_votes(SearchTools& tools, bool peaks_at_once);
+  /// left (and with_colour_seeds, the colour seeds' circles) paired with the right eye searched
+  /// in their partner boxes (or whole), the left detector's edge thresholds measured again.
+  SearchOutcome pair_left_circles(const FrameState& frame, FrameScratch& scratch,
+                                  SearchTools& tools, std::vector<Circle> left,
+                                  bool with_colour_seeds) const;
 
   ColourSeedCandidates colour_seeds_;
   PredictedPartner pairing_;
