@@ -533,6 +533,31 @@ TEST(ConnectedRows, GivenAStopThenTheCountExceedsItOnlyWhenTheComponentDoes) {
   }
 }
 
+TEST(WindowRows, GivenRandomBitImagesThenEveryWindowEqualsItsRowsReadOneByOne) {
+  std::mt19937 rng(31);
+  for (const int width : {70, 130, 200}) {
+    // Given a random bit image whose rows span one to four words
+    const int height = 70;
+    cv::Mat binary(height, width, CV_8UC1);
+    cv::randu(binary, 0, 2);
+    BitImage bits;
+    bits.assign(binary);
+    for (int trial = 0; trial < 3000; ++trial) {
+      // When a window of any k, at any x (every offset in a word), is read whole
+      const int k = 1 + static_cast<int>(rng() % 31);
+      if (2 * k + 1 > width || 2 * k + 1 > height) continue;
+      const int x = k + static_cast<int>(rng() % static_cast<unsigned>(width - 2 * k));
+      const int y = k + static_cast<int>(rng() % static_cast<unsigned>(height - 2 * k));
+      std::array<std::uint64_t, 64> rows{};
+      window_rows(bits, x, y, k, rows);
+      // Then each row equals BitImage::bits of that row
+      for (int r = 0; r < 2 * k + 1; ++r)
+        ASSERT_EQ(rows[static_cast<size_t>(r)], bits.bits(y - k + r, x - k, 2 * k + 1))
+            << "width " << width << " x " << x << " y " << y << " k " << k << " row " << r;
+    }
+  }
+}
+
 TEST(ConnectedRows, GivenTheNarrowestWindowsThenTheComponentEqualsABreadthFirstFloodFill) {
   // The fill takes a number of doubling steps fixed by the window width: k = 1 (3 columns) and
   // k = 3 (7) are the narrowest of their step counts.

@@ -17,7 +17,18 @@ namespace stereoball::ball_detector {
 
 void window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows) {
   const int n = 2 * k + 1;
-  for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = edges.bits(y - k + r, x - k, n);
+  // BitImage::bits without its branch: every row of a window has the same offset in its word,
+  // and the next word (rows are padded by one) contributes only bits at n and above when the
+  // window fits in one word, which the mask clears.
+  const int x0 = x - k;
+  const int word = x0 >> 6;
+  const int offset = x0 & 63;
+  const std::uint64_t mask = (std::uint64_t{1} << n) - 1;
+  for (int r = 0; r < n; ++r) {
+    const std::uint64_t* row = edges.row(y - k + r) + word;
+    rows[static_cast<std::size_t>(r)] =
+        ((row[0] >> offset) | ((row[1] << 1) << (63 - offset))) & mask;
+  }
 }
 
 int count_window_points(const BitImage& edges, int x, int y, int k) {
@@ -214,37 +225,46 @@ std::optional<ChordEnds> find_chord_ends(std::span<const WindowPoint> points) {
 
 std::optional<ChordEnds> chord_ends_of_rows(std::span<const std::uint64_t> rows, int k) {
   const int n = std::min(2 * k + 1, static_cast<int>(rows.size()));
+  // Each row's lowest and highest point (window coordinates), read once for both passes.
+  std::array<int, 64> lo{}, hi{};
   // Candidates in raster order (a row's lowest bit before its highest), strictly better
-  // replaces: the first point on ties, as find_chord_ends.
-  auto consider = [](const WindowPoint& p, std::optional<WindowPoint>& best) {
-    if (!best || l1_distance(p) > l1_distance(*best)) best = p;
+  // replaces: the first point on ties, as find_chord_ends. A distance of -1 is no point yet.
+  WindowPoint a{};
+  int a_d = -1;
+  auto consider = [](int x, int y, WindowPoint& best, int& best_d) {
+    const int d = (x < 0 ? -x : x) + (y < 0 ? -y : y);
+    if (d > best_d) {
+      best = {x, y};
+      best_d = d;
+    }
   };
-  std::optional<WindowPoint> a;
   for (int r = 0; r < n; ++r) {
-    const std::uint64_t bits = rows[static_cast<std::size_t>(r)];
+    const auto ri = static_cast<std::size_t>(r);
+    const std::uint64_t bits = rows[ri];
     if (bits == 0) continue;
-    consider({std::countr_zero(bits) - k, r - k}, a);
-    consider({63 - std::countl_zero(bits) - k, r - k}, a);
+    lo[ri] = std::countr_zero(bits) - k;
+    hi[ri] = 63 - std::countl_zero(bits) - k;
+    consider(lo[ri], r - k, a, a_d);
+    consider(hi[ri], r - k, a, a_d);
   }
-  if (!a) return std::nullopt;
-  std::optional<WindowPoint> b;
+  if (a_d < 0) return std::nullopt;
+  WindowPoint b{};
+  int b_d = -1;
   for (int r = 0; r < n; ++r) {
-    const std::uint64_t bits = rows[static_cast<std::size_t>(r)];
-    if (bits == 0) continue;
+    const auto ri = static_cast<std::size_t>(r);
+    if (rows[ri] == 0) continue;
     const int y = r - k;
-    const WindowPoint lo{std::countr_zero(bits) - k, y};
-    const WindowPoint hi{63 - std::countl_zero(bits) - k, y};
-    if (y * a->y < 0) {  // the whole row is on the other side vertically
-      consider(lo, b);
-      consider(hi, b);
-    } else if (a->x > 0 && lo.x < 0) {  // farthest point left of O
-      consider(lo, b);
-    } else if (a->x < 0 && hi.x > 0) {  // farthest point right of O
-      consider(hi, b);
+    if (y * a.y < 0) {  // the whole row is on the other side vertically
+      consider(lo[ri], y, b, b_d);
+      consider(hi[ri], y, b, b_d);
+    } else if (a.x > 0 && lo[ri] < 0) {  // farthest point left of O
+      consider(lo[ri], y, b, b_d);
+    } else if (a.x < 0 && hi[ri] > 0) {  // farthest point right of O
+      consider(hi[ri], y, b, b_d);
     }
   }
-  if (!b) return std::nullopt;
-  return ChordEnds{*a, *b};
+  if (b_d < 0) return std::nullopt;
+  return ChordEnds{a, b};
 }
 
 bool is_straight_segment(const WindowPoint& a, const WindowPoint& b) {
