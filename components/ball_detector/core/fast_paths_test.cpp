@@ -344,8 +344,9 @@ TEST(AccumulatorStore, GivenSearchesWhoseMarginsChangeThenEachEqualsAFreshDetect
       EXPECT_TRUE(same_map(reused.diagnostics()->accumulator, fresh.diagnostics()->accumulator))
           << margin;
       // And a map handed out by an earlier search of another size kept its values
-      if (!earlier.empty() && earlier.size() != reused.diagnostics()->accumulator.size())
+      if (!earlier.empty() && earlier.size() != reused.diagnostics()->accumulator.size()) {
         EXPECT_TRUE(same_map(earlier, earlier_copy)) << margin;
+      }
       earlier = reused.diagnostics()->accumulator;
       earlier_copy = earlier.clone();
       circles += static_cast<int>(ours.size());
