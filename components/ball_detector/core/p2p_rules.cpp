@@ -225,12 +225,9 @@ std::optional<ChordEnds> find_chord_ends(std::span<const WindowPoint> points) {
 
 std::optional<ChordEnds> chord_ends_of_rows(std::span<const std::uint64_t> rows, int k) {
   const int n = std::min(2 * k + 1, static_cast<int>(rows.size()));
-  // Each row's lowest and highest point (window coordinates), read once for both passes.
-  std::array<int, 64> lo{}, hi{};
   // Candidates in raster order (a row's lowest bit before its highest), strictly better
-  // replaces: the first point on ties, as find_chord_ends. A distance of -1 is no point yet.
-  WindowPoint a{};
-  int a_d = -1;
+  // replaces: the first point on ties, as find_chord_ends. The best's distance is kept (-1: no
+  // point yet) rather than measured again for every candidate.
   auto consider = [](int x, int y, WindowPoint& best, int& best_d) {
     const int d = (x < 0 ? -x : x) + (y < 0 ? -y : y);
     if (d > best_d) {
@@ -238,29 +235,30 @@ std::optional<ChordEnds> chord_ends_of_rows(std::span<const std::uint64_t> rows,
       best_d = d;
     }
   };
+  WindowPoint a{};
+  int a_d = -1;
   for (int r = 0; r < n; ++r) {
-    const auto ri = static_cast<std::size_t>(r);
-    const std::uint64_t bits = rows[ri];
+    const std::uint64_t bits = rows[static_cast<std::size_t>(r)];
     if (bits == 0) continue;
-    lo[ri] = std::countr_zero(bits) - k;
-    hi[ri] = 63 - std::countl_zero(bits) - k;
-    consider(lo[ri], r - k, a, a_d);
-    consider(hi[ri], r - k, a, a_d);
+    consider(std::countr_zero(bits) - k, r - k, a, a_d);
+    consider(63 - std::countl_zero(bits) - k, r - k, a, a_d);
   }
   if (a_d < 0) return std::nullopt;
   WindowPoint b{};
   int b_d = -1;
   for (int r = 0; r < n; ++r) {
-    const auto ri = static_cast<std::size_t>(r);
-    if (rows[ri] == 0) continue;
+    const std::uint64_t bits = rows[static_cast<std::size_t>(r)];
+    if (bits == 0) continue;
     const int y = r - k;
+    const int lo = std::countr_zero(bits) - k;
+    const int hi = 63 - std::countl_zero(bits) - k;
     if (y * a.y < 0) {  // the whole row is on the other side vertically
-      consider(lo[ri], y, b, b_d);
-      consider(hi[ri], y, b, b_d);
-    } else if (a.x > 0 && lo[ri] < 0) {  // farthest point left of O
-      consider(lo[ri], y, b, b_d);
-    } else if (a.x < 0 && hi[ri] > 0) {  // farthest point right of O
-      consider(hi[ri], y, b, b_d);
+      consider(lo, y, b, b_d);
+      consider(hi, y, b, b_d);
+    } else if (a.x > 0 && lo < 0) {  // farthest point left of O
+      consider(lo, y, b, b_d);
+    } else if (a.x < 0 && hi > 0) {  // farthest point right of O
+      consider(hi, y, b, b_d);
     }
   }
   if (b_d < 0) return std::nullopt;
