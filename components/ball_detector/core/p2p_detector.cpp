@@ -274,11 +274,11 @@ bool PixelToPixelDetector::isolate_along_orientation(int x, int y, int k,
   const BitImage& near = near_orientation_[static_cast<std::size_t>(
       orientation_bin(edges_.dx.at<short>(y, x), edges_.dy.at<short>(y, x)))];
   std::array<std::uint64_t, 2 * kMaxK + 1> aligned{};
-  window_rows(near, x, y, k, std::span(aligned.data(), static_cast<std::size_t>(n)));
   int count = 0;
   for (int i = 0; i < n; ++i) {
-    aligned[static_cast<std::size_t>(i)] &= window[static_cast<std::size_t>(i)];
-    count += std::popcount(aligned[static_cast<std::size_t>(i)]);
+    const std::uint64_t kept = window[static_cast<std::size_t>(i)] & near.bits(y - k + i, x - k, n);
+    aligned[static_cast<std::size_t>(i)] = kept;
+    count += std::popcount(kept);
   }
   if (count < n) return false;
   return connected_rows(std::span<const std::uint64_t>(aligned.data(), static_cast<std::size_t>(n)),

@@ -17,18 +17,7 @@ namespace stereoball::ball_detector {
 
 void window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows) {
   const int n = 2 * k + 1;
-  // BitImage::bits without its branch: every row of a window has the same offset in its word,
-  // and the next word (rows are padded by one) contributes only bits at n and above when the
-  // window fits in one word, which the mask clears.
-  const int x0 = x - k;
-  const int word = x0 >> 6;
-  const int offset = x0 & 63;
-  const std::uint64_t mask = (std::uint64_t{1} << n) - 1;
-  for (int r = 0; r < n; ++r) {
-    const std::uint64_t* row = edges.row(y - k + r) + word;
-    rows[static_cast<std::size_t>(r)] =
-        ((row[0] >> offset) | ((row[1] << 1) << (63 - offset))) & mask;
-  }
+  for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = edges.bits(y - k + r, x - k, n);
 }
 
 int count_window_points(const BitImage& edges, int x, int y, int k) {
