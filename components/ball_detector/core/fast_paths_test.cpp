@@ -313,6 +313,48 @@ TEST(Redetect, GivenPeaksRefinedOneByOneInReverseThenTheSameCirclesAsCirclesOfVo
   EXPECT_TRUE(parts.refine_peak(1000).empty());
 }
 
+// The maps of two detectors are equal cell for cell.
+bool same_map(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0.0;
+}
+
+TEST(AccumulatorStore, GivenSearchesWhoseMarginsChangeThenEachEqualsAFreshDetectorsSearch) {
+  // Given real colour images and one detector that searches them with margins that grow,
+  // shrink and repeat (its vote maps change size from search to search)
+  const auto images = real_colours();
+  ASSERT_FALSE(images.empty());
+  PixelToPixelDetector reused(PixelToPixelParams{});
+  int circles = 0;
+  for (std::size_t i = 0; i < std::min<std::size_t>(images.size(), 3); ++i) {
+    const cv::Mat& bgr = images[i];
+    PixelToPixelDetector probe(PixelToPixelParams{});
+    probe.detect(bgr);
+    const EdgeThresholds thresholds = thresholds_of(probe.edge_map());
+    cv::Mat earlier, earlier_copy;  // a smoothed map handed out by the previous search
+    for (const int margin : {0, 40, 10, 80, 80, 0}) {
+      SearchHints hints{RadiusRange{4, 90}};
+      hints.centre_margin_px = margin;
+      // When the reused detector and a fresh one search with the same hints
+      PixelToPixelDetector fresh(PixelToPixelParams{});
+      const auto ours = reused.detect(bgr, thresholds, hints);
+      const auto reference = fresh.detect(bgr, thresholds, hints);
+      // Then the circles and both vote maps are the same
+      expect_same_circles(ours, reference);
+      EXPECT_TRUE(same_map(reused.raw_accumulator(), fresh.raw_accumulator())) << margin;
+      EXPECT_TRUE(same_map(reused.diagnostics()->accumulator, fresh.diagnostics()->accumulator))
+          << margin;
+      // And a map handed out by an earlier search of another size kept its values
+      if (!earlier.empty() && earlier.size() != reused.diagnostics()->accumulator.size()) {
+        EXPECT_TRUE(same_map(earlier, earlier_copy)) << margin;
+      }
+      earlier = reused.diagnostics()->accumulator;
+      earlier_copy = earlier.clone();
+      circles += static_cast<int>(ours.size());
+    }
+  }
+  EXPECT_GT(circles, 0);
+}
+
 TEST(Redetect, GivenNoImageOrAnInvalidOneThenItFindsNothing) {
   // Given a detector that has seen no image, then an invalid one after a valid one
   PixelToPixelDetector detector(PixelToPixelParams{});
@@ -489,6 +531,51 @@ TEST(ConnectedRows, GivenAStopThenTheCountExceedsItOnlyWhenTheComponentDoes) {
       EXPECT_GT(stopped, n);
     else
       EXPECT_EQ(stopped, full);
+  }
+}
+
+TEST(WindowRows, GivenRandomBitImagesThenEveryWindowEqualsItsRowsReadOneByOne) {
+  std::mt19937 rng(31);
+  for (const int width : {70, 130, 200}) {
+    // Given a random bit image whose rows span one to four words
+    const int height = 70;
+    cv::Mat binary(height, width, CV_8UC1);
+    cv::randu(binary, 0, 2);
+    BitImage bits;
+    bits.assign(binary);
+    for (int trial = 0; trial < 3000; ++trial) {
+      // When a window of any k, at any x (every offset in a word), is read whole
+      const int k = 1 + static_cast<int>(rng() % 31);
+      if (2 * k + 1 > width || 2 * k + 1 > height) continue;
+      const int x = k + static_cast<int>(rng() % static_cast<unsigned>(width - 2 * k));
+      const int y = k + static_cast<int>(rng() % static_cast<unsigned>(height - 2 * k));
+      std::array<std::uint64_t, 64> rows{};
+      window_rows(bits, x, y, k, rows);
+      // Then each row equals BitImage::bits of that row
+      for (int r = 0; r < 2 * k + 1; ++r)
+        ASSERT_EQ(rows[static_cast<size_t>(r)], bits.bits(y - k + r, x - k, 2 * k + 1))
+            << "width " << width << " x " << x << " y " << y << " k " << k << " row " << r;
+    }
+  }
+}
+
+TEST(ConnectedRows, GivenTheNarrowestWindowsThenTheComponentEqualsABreadthFirstFloodFill) {
+  // The fill takes a number of doubling steps fixed by the window width: k = 1 (3 columns) and
+  // k = 3 (7) are the narrowest of their step counts.
+  std::mt19937 rng(23);
+  for (int trial = 0; trial < 4000; ++trial) {
+    // Given a random narrow window with its centre set
+    const int k = trial % 2 == 0 ? 1 : 3;
+    const int n = 2 * k + 1;
+    std::array<std::uint64_t, 64> window{};
+    for (int r = 0; r < n; ++r)
+      window[static_cast<size_t>(r)] = rng() & ((std::uint64_t{1} << n) - 1);
+    window[static_cast<size_t>(k)] |= std::uint64_t{1} << k;
+    // When its component is grown
+    std::array<std::uint64_t, 64> rows{};
+    const int count = connected_rows(std::span<const std::uint64_t>(window.data(), n), k, rows);
+    // Then it equals the reference
+    ASSERT_EQ(count, bfs_component(window, n, k)) << "trial " << trial << " k " << k;
   }
 }
 

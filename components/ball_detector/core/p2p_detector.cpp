@@ -99,6 +99,24 @@ bool far_from_all(const std::vector<Circle>& kept, const Circle& c, double min_s
   });
 }
 
+// Makes view a rows x cols map of type in store's memory, growing store when it is too small. A
+// map of a new size reuses the memory only while nothing else holds it (a copy in diagnostics
+// keeps its values); a map of the same size stays as it is, as cv::Mat::create keeps it.
+void map_in_store(cv::Mat& store, cv::Mat& view, int rows, int cols, int type) {
+  if (view.rows == rows && view.cols == cols && view.type() == type) return;
+  view.release();
+  const std::size_t total = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
+  if (total == 0) {
+    view.create(rows, cols, type);
+    return;
+  }
+  if (store.empty() || store.type() != type || store.total() < total || store.u->refcount > 1) {
+    store.release();
+    store.create(1, static_cast<int>(total), type);
+  }
+  view = store.colRange(0, static_cast<int>(total)).reshape(1, rows);
+}
+
 }  // namespace
 
 VoterRows::VoterRows(const std::vector<Voter>& voters) {
@@ -369,7 +387,8 @@ std::vector<Circle> PixelToPixelDetector::redetect_from(const PixelToPixelDetect
   // Which points vote and along which line does not depend on the radii (steps 2-6): only the
   // plotting (step 7) is redone, in the same order, so the accumulator is the same cell by cell.
   const cv::Size size = source.edges_.edges.size();
-  accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
+  map_in_store(accumulator_store_, accumulator_, size.height + 2 * margin_px_,
+               size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
   rays_plotted_ = 0;
   for (const VoteLineAt& line : source.lines_) plot(line);
@@ -383,7 +402,8 @@ std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
 
 void PixelToPixelDetector::vote_on_edges() {
   const cv::Size size = edges_.edges.size();
-  accumulator_.create(size.height + 2 * margin_px_, size.width + 2 * margin_px_, CV_16UC1);
+  map_in_store(accumulator_store_, accumulator_, size.height + 2 * margin_px_,
+               size.width + 2 * margin_px_, CV_16UC1);
   accumulator_.setTo(0);
   rays_plotted_ = 0;
   lines_.clear();
@@ -409,6 +429,7 @@ int PixelToPixelDetector::find_peaks_of_votes() {
 int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
   peaks_.clear();
   peak_edges_ = &edges;
+  map_in_store(smoothed_store_, smoothed_, accumulator_.rows, accumulator_.cols, CV_32SC1);
   const double max_v = box_filter(accumulator_, params_.box_size_px, smoothed_);
   const cv::Mat& smoothed = smoothed_;
   diag_.edges = edges.edges;

@@ -317,6 +317,9 @@ class PixelToPixelDetector final : public CircleDetector {
   cv::Mat accumulator_;
   std::int64_t rays_plotted_ = 0;  // into accumulator_ since it was zeroed
   cv::Mat smoothed_;               // box-filtered accumulator_, buffer kept across images
+  // The memory accumulator_ and smoothed_ are views of, kept when their size changes (the
+  // margin follows each search's radii): no fresh pages to fault in per search.
+  cv::Mat accumulator_store_, smoothed_store_;
   std::vector<Voter> voters_;
   std::vector<VoteLineAt> lines_;  // every line of edges_, in voting order (redetect replays)
   // The peaks being refined (find_peaks_of_votes), the edges and options they are refined with.

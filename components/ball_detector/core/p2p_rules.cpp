@@ -10,6 +10,7 @@
 #include <bit>
 #include <cstdint>
 #include <cstdlib>
+#include <utility>
 #include <vector>
 
 namespace stereoball::ball_detector {
@@ -35,31 +36,30 @@ int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<
 namespace {
 
 // The bits of row in the runs (maximal sets of adjacent bits) that seed touches; runs are at
-// most max_run bits long (a window row: 2k+1).
-inline std::uint64_t fill_runs(std::uint64_t seed, std::uint64_t row, int max_run) {
+// most 2^Steps bits long (a window row: 2k+1 <= 2^Steps).
+template <int Steps>
+[[gnu::always_inline]] inline std::uint64_t fill_runs(std::uint64_t seed, std::uint64_t row) {
   seed &= row;
   // Toward higher bits: adding the seeds carries through the rest of each seeded run, clearing
   // it in the sum (seed bits themselves may be cleared too; the downward fill keeps them).
   const std::uint64_t up = row & ~(row + seed);
   // Toward lower bits: doubling (Kogge-Stone) steps; after the step of shift s a seed has
-  // reached 2s - 1 bits down, enough once 2s >= max_run.
+  // reached 2s - 1 bits down, enough once 2s >= the longest run. A compile-time count unrolls
+  // them with constant shifts.
   std::uint64_t fill = seed;
   std::uint64_t through = row;
-  for (int shift = 1; shift < max_run; shift *= 2) {
-    fill |= through & (fill >> shift);
-    through &= through >> shift;
+  [&]<int... I>(std::integer_sequence<int, I...>) {
+    ((fill |= through & (fill >> (1 << I)), through &= through >> (1 << I)), ...);
   }
+  (std::make_integer_sequence<int, Steps>{});
   return up | fill;
 }
 
 // The bits of row 8-connected to a neighbour row's mask.
-inline std::uint64_t touching(std::uint64_t neighbour, std::uint64_t row, int max_run) {
-  return fill_runs(neighbour | (neighbour << 1) | (neighbour >> 1), row, max_run);
+template <int Steps>
+[[gnu::always_inline]] inline std::uint64_t touching(std::uint64_t neighbour, std::uint64_t row) {
+  return fill_runs<Steps>(neighbour | (neighbour << 1) | (neighbour >> 1), row);
 }
-
-}  // namespace
-
-namespace {
 
 // Whether no window pixel outside the component touches it (8-neighbourhood): a dilation test,
 // cheaper than growing again.
@@ -76,15 +76,14 @@ bool component_closed(std::span<const std::uint64_t> window, std::span<const std
   return true;
 }
 
-}  // namespace
-
-int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::uint64_t> rows,
-                   int stop_above) {
+// connected_rows for windows of n <= 2^Steps columns (checked by the caller).
+template <int Steps>
+int connected_rows_steps(std::span<const std::uint64_t> window, int k,
+                         std::span<std::uint64_t> rows, int stop_above) {
   const int n = 2 * k + 1;
-  if (static_cast<int>(rows.size()) < n || static_cast<int>(window.size()) < n || n > 63) return 0;
   for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = 0;
   const auto centre = static_cast<std::size_t>(k);
-  rows[centre] = fill_runs(std::uint64_t{1} << k, window[centre], n);
+  rows[centre] = fill_runs<Steps>(std::uint64_t{1} << k, window[centre]);
   int count = std::popcount(rows[centre]);
   // One sweep down and one up from the centre row complete an arc that crosses each row once,
   // the case that matters; a component that turns back (a U) is finished by the worklist below.
@@ -92,8 +91,8 @@ int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::
   // independent chains keep the CPU busy while one waits.
   std::uint64_t below = rows[centre], above = rows[centre];
   for (std::size_t i = 1; i <= centre && (below | above) != 0 && count <= stop_above; ++i) {
-    if (below != 0) rows[centre + i] = below = touching(below, window[centre + i], n);
-    if (above != 0) rows[centre - i] = above = touching(above, window[centre - i], n);
+    if (below != 0) rows[centre + i] = below = touching<Steps>(below, window[centre + i]);
+    if (above != 0) rows[centre - i] = above = touching<Steps>(above, window[centre - i]);
     count += std::popcount(below) + std::popcount(above);
   }
   if (count > stop_above || component_closed(window, rows, n)) return count;
@@ -107,7 +106,7 @@ int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::
       if (next < 0 || next >= n) continue;
       const auto ni = static_cast<std::size_t>(next);
       const std::uint64_t grown =
-          rows[ni] | touching(rows[static_cast<std::size_t>(r)], window[ni], n);
+          rows[ni] | touching<Steps>(rows[static_cast<std::size_t>(r)], window[ni]);
       if (grown == rows[ni]) continue;
       count += std::popcount(grown) - std::popcount(rows[ni]);
       rows[ni] = grown;
@@ -115,6 +114,29 @@ int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::
     }
   }
   return count;
+}
+
+}  // namespace
+
+int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::uint64_t> rows,
+                   int stop_above) {
+  const int n = 2 * k + 1;
+  if (static_cast<int>(rows.size()) < n || static_cast<int>(window.size()) < n || n > 63) return 0;
+  // The fewest doubling steps that span a row of n bits (a run is at most n long).
+  switch (std::bit_width(static_cast<unsigned>(n - 1))) {
+    case 0:
+    case 1:
+    case 2:
+      return connected_rows_steps<2>(window, k, rows, stop_above);
+    case 3:
+      return connected_rows_steps<3>(window, k, rows, stop_above);
+    case 4:
+      return connected_rows_steps<4>(window, k, rows, stop_above);
+    case 5:
+      return connected_rows_steps<5>(window, k, rows, stop_above);
+    default:
+      return connected_rows_steps<6>(window, k, rows, stop_above);
+  }
 }
 
 int orientation_bin(int gx, int gy) {
@@ -193,36 +215,43 @@ std::optional<ChordEnds> find_chord_ends(std::span<const WindowPoint> points) {
 std::optional<ChordEnds> chord_ends_of_rows(std::span<const std::uint64_t> rows, int k) {
   const int n = std::min(2 * k + 1, static_cast<int>(rows.size()));
   // Candidates in raster order (a row's lowest bit before its highest), strictly better
-  // replaces: the first point on ties, as find_chord_ends.
-  auto consider = [](const WindowPoint& p, std::optional<WindowPoint>& best) {
-    if (!best || l1_distance(p) > l1_distance(*best)) best = p;
+  // replaces: the first point on ties, as find_chord_ends. The best's distance is kept (-1: no
+  // point yet) rather than measured again for every candidate.
+  auto consider = [](int x, int y, WindowPoint& best, int& best_d) {
+    const int d = (x < 0 ? -x : x) + (y < 0 ? -y : y);
+    if (d > best_d) {
+      best = {x, y};
+      best_d = d;
+    }
   };
-  std::optional<WindowPoint> a;
+  WindowPoint a{};
+  int a_d = -1;
   for (int r = 0; r < n; ++r) {
     const std::uint64_t bits = rows[static_cast<std::size_t>(r)];
     if (bits == 0) continue;
-    consider({std::countr_zero(bits) - k, r - k}, a);
-    consider({63 - std::countl_zero(bits) - k, r - k}, a);
+    consider(std::countr_zero(bits) - k, r - k, a, a_d);
+    consider(63 - std::countl_zero(bits) - k, r - k, a, a_d);
   }
-  if (!a) return std::nullopt;
-  std::optional<WindowPoint> b;
+  if (a_d < 0) return std::nullopt;
+  WindowPoint b{};
+  int b_d = -1;
   for (int r = 0; r < n; ++r) {
     const std::uint64_t bits = rows[static_cast<std::size_t>(r)];
     if (bits == 0) continue;
     const int y = r - k;
-    const WindowPoint lo{std::countr_zero(bits) - k, y};
-    const WindowPoint hi{63 - std::countl_zero(bits) - k, y};
-    if (y * a->y < 0) {  // the whole row is on the other side vertically
-      consider(lo, b);
-      consider(hi, b);
-    } else if (a->x > 0 && lo.x < 0) {  // farthest point left of O
-      consider(lo, b);
-    } else if (a->x < 0 && hi.x > 0) {  // farthest point right of O
-      consider(hi, b);
+    const int lo = std::countr_zero(bits) - k;
+    const int hi = 63 - std::countl_zero(bits) - k;
+    if (y * a.y < 0) {  // the whole row is on the other side vertically
+      consider(lo, y, b, b_d);
+      consider(hi, y, b, b_d);
+    } else if (a.x > 0 && lo < 0) {  // farthest point left of O
+      consider(lo, y, b, b_d);
+    } else if (a.x < 0 && hi > 0) {  // farthest point right of O
+      consider(hi, y, b, b_d);
     }
   }
-  if (!b) return std::nullopt;
-  return ChordEnds{*a, *b};
+  if (b_d < 0) return std::nullopt;
+  return ChordEnds{a, b};
 }
 
 bool is_straight_segment(const WindowPoint& a, const WindowPoint& b) {
