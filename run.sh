@@ -87,6 +87,12 @@ install_missing() {
     echo "run.sh: installing ${missing[*]}"
     apt_install "${missing[@]}"
   fi
+  # Without root, sudo may have to ask for a password: then nothing runs in the background.
+  if [ ${#later[@]} -gt 0 ] && [ "$(id -u)" -ne 0 ] && ! sudo -n true 2>/dev/null; then
+    echo "run.sh: installing ${later[*]}"
+    apt_install "${later[@]}"
+    later=()
+  fi
   if [ "${1:-}" = test ]; then
     mkdir -p build
     echo "run.sh: installing ${later[*]:-nothing} and filling the npm cache in the background (build/run-packages.log)"
