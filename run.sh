@@ -22,14 +22,16 @@ BUILD_PACKAGES=(
   # stereoball view: WebSocket + HTTP server (header-only), TurboJPEG for the eyes.
   libwebsocketpp-dev libasio-dev libturbojpeg0-dev
 )
-# What only running the test suite needs: network namespaces (iproute2), Fast DDS + fastddsgen
-# for the interop test, dpkg-dev + file for the package test. (clang + libclang-rt-14-dev are
-# for tools/fuzz/run.sh only: the suite's GCC build replays the fuzz corpus without them.)
-TEST_PACKAGES=(
-  iproute2
-  fastddsgen libfastrtps-dev libfastcdr-dev dpkg-dev file
-  systemd  # systemd-analyze rates the units' sandbox in the package test
-)
+# What only running the test suite needs. Found when the build is configured: Fast DDS +
+# fastddsgen for the interop test, dpkg-dev for the package test. (clang + libclang-rt-14-dev
+# are for tools/fuzz/run.sh only: the suite's GCC build replays the fuzz corpus without them.)
+TEST_PACKAGES=(fastddsgen libfastrtps-dev libfastcdr-dev dpkg-dev)
+# Needed only when the tests run: network namespaces (iproute2), `file` for cpack in the
+# package test, systemd-analyze rating the units' sandbox there; Node.js, npm and Chromium
+# (added below when missing) for the viewer and MCAP tests. They are installed in the
+# background while the build compiles, and the npm packages the tests use are fetched into
+# npm's cache then (the tests install them from it, offline).
+TEST_RUN_PACKAGES=(iproute2 file systemd)
 
 as_root() {
   if [ "$(id -u)" -eq 0 ]; then "$@"; elif command -v sudo >/dev/null; then sudo "$@"; else
@@ -37,24 +39,79 @@ as_root() {
   fi
 }
 
-install_missing() {
-  local wanted=("${BUILD_PACKAGES[@]}")
-  [ "${1:-}" = test ] && wanted+=("${TEST_PACKAGES[@]}")
-  local missing=()
-  for pkg in "${wanted[@]}"; do
-    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+# missing_of PKG...: those not installed.
+missing_of() {
+  local pkg
+  for pkg in "$@"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || echo "$pkg"
   done
-  # Node.js runs the independent MCAP validator in the tests; any installed node/npm will do.
+}
+
+apt_install() {
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "$@"
+}
+
+# Fills npm's cache with the packages of the tests' package-lock.json files.
+npm_cache_warm() {
+  local lock dir
+  for lock in tests/viewer/package-lock.json tests/mcap_validator/package-lock.json; do
+    dir=$(mktemp -d)
+    cp "$(dirname "$lock")/package.json" "$lock" "$dir/"
+    (cd "$dir" && npm ci --ignore-scripts --no-audit --no-fund --prefer-offline >/dev/null) ||
+      echo "run.sh: npm could not fetch the packages of $lock (the tests try again)"
+    rm -rf "$dir"
+  done
+}
+
+# install_missing demo|test: installs what the build needs (and, for test, what configuring
+# the test targets needs) now; for test, starts the install of what only running the tests
+# needs in the background (its pid in RUN_PACKAGES_PID, its output in build/run-packages.log).
+RUN_PACKAGES_PID=
+install_missing() {
+  local wanted=("${BUILD_PACKAGES[@]}") later=()
   if [ "${1:-}" = test ]; then
-    command -v node >/dev/null || missing+=(nodejs)
-    command -v npm >/dev/null || missing+=(npm)
-    # A real browser loads the viewer page in the viewer tests.
-    command -v chromium >/dev/null || missing+=(chromium)
+    wanted+=("${TEST_PACKAGES[@]}")
+    mapfile -t later < <(missing_of "${TEST_RUN_PACKAGES[@]}")
+    # Node.js runs the independent MCAP validator and the viewer's clients; any installed
+    # node/npm will do. A real browser loads the viewer page in the viewer tests.
+    command -v node >/dev/null || later+=(nodejs)
+    command -v npm >/dev/null || later+=(npm)
+    command -v chromium >/dev/null || later+=(chromium)
+  fi
+  local missing
+  mapfile -t missing < <(missing_of "${wanted[@]}")
+  if [ ${#missing[@]} -gt 0 ] || [ ${#later[@]} -gt 0 ]; then
+    as_root apt-get update -q
   fi
   if [ ${#missing[@]} -gt 0 ]; then
     echo "run.sh: installing ${missing[*]}"
-    as_root apt-get update -q
-    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
+    apt_install "${missing[@]}"
+  fi
+  # Without root, sudo may have to ask for a password: then nothing runs in the background.
+  if [ ${#later[@]} -gt 0 ] && [ "$(id -u)" -ne 0 ] && ! sudo -n true 2>/dev/null; then
+    echo "run.sh: installing ${later[*]}"
+    apt_install "${later[@]}"
+    later=()
+  fi
+  if [ "${1:-}" = test ]; then
+    mkdir -p build
+    echo "run.sh: installing ${later[*]:-nothing} and filling the npm cache in the background (build/run-packages.log)"
+    (
+      set -e
+      [ ${#later[@]} -eq 0 ] || apt_install "${later[@]}"
+      npm_cache_warm
+    ) >build/run-packages.log 2>&1 </dev/null &
+    RUN_PACKAGES_PID=$!
+  fi
+}
+
+# Waits for the background install; fails with its log when it failed.
+wait_run_packages() {
+  [ -n "$RUN_PACKAGES_PID" ] || return 0
+  if ! wait "$RUN_PACKAGES_PID"; then
+    tail -n 30 build/run-packages.log >&2
+    echo "run.sh: installing the packages the tests need failed (build/run-packages.log)" >&2
+    exit 1
   fi
 }
 
@@ -159,6 +216,7 @@ case "${1:-}" in
   test)
     install_missing test
     build all
+    wait_run_packages
     cd build
     shift
     status=0
@@ -170,6 +228,7 @@ case "${1:-}" in
   build)
     install_missing test
     build all
+    wait_run_packages
     ;;
   *)
     echo "usage: bash run.sh demo|test|build" >&2
