@@ -5,36 +5,18 @@
 
 #include <gtest/gtest.h>
 
-#include "stereo/core/sphere_outline.hpp"
-#include "stereo/core/synthetic_rig.hpp"
+#include "ball_detector/pipeline/synthetic_pairing_fixture.hpp"
 
 namespace sb = stereoball;
 using sb::ball_detector::Circle;
 
 namespace {
 
-class OutlineChecks : public ::testing::Test {
+class OutlineChecks : public sb::ball_detector::testing::SyntheticPairingTest {
  protected:
-  OutlineChecks()
-      : calib_(sb::stereo::default_synthetic_rig().calibration()),
-        tri_(sb::stereo::Triangulator::create(calib_).value()),
-        epi_(sb::stereo::EpipolarParams{2.0}),
-        size_{0.22, 0.15},
-        ctx_{epi_, tri_, size_, std::nullopt} {}
+  OutlineChecks() : SyntheticPairingTest(0.15) {}
 
-  // The outline of the 0.22 m ball centred at c (left rectified frame, m) in one eye.
-  Circle seen(const cv::Vec3d& c, bool right) const {
-    const cv::Point2d principal = right ? tri_.principal_right_px() : tri_.principal_left_px();
-    const cv::Vec3d in_eye = right ? c - cv::Vec3d(tri_.baseline_m(), 0, 0) : c;
-    const auto o = sb::stereo::sphere_outline({tri_.focal_px(), principal}, in_eye, 0.11);
-    return Circle{o->centre_px.x, o->centre_px.y, o->mean_radius_px(), 0.9};
-  }
-
-  sb::stereo::StereoCalibration calib_;
-  sb::stereo::Triangulator tri_;
-  sb::stereo::EpipolarCheck epi_;
-  sb::stereo::SizeCheckParams size_;
-  sb::ball_detector::PairingContext ctx_;
+  Circle seen(const cv::Vec3d& c, bool right) const { return outline_in_eye(c, right); }
 };
 
 }  // namespace

@@ -1,13 +1,12 @@
 // Pairing of left/right candidates: row check, triangulation, size check, best pair.
 
 #include "ball_detector/pipeline/pairing.hpp"
-#include "stereo/core/sphere_outline.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "stereo/core/synthetic_rig.hpp"
+#include "ball_detector/pipeline/synthetic_pairing_fixture.hpp"
 
 namespace sb = stereoball;
 using sb::ball_detector::Circle;
@@ -15,34 +14,16 @@ using sb::ball_detector::PairingStatus;
 
 namespace {
 
-class Pairing : public ::testing::Test {
+class Pairing : public sb::ball_detector::testing::SyntheticPairingTest {
  protected:
-  Pairing()
-      : calib_(sb::stereo::default_synthetic_rig().calibration()),
-        tri_(sb::stereo::Triangulator::create(calib_).value()),
-        epi_(sb::stereo::EpipolarParams{2.0}),
-        size_{0.22, 0.25},
-        ctx_{epi_, tri_, size_, std::nullopt} {}
+  Pairing() : SyntheticPairingTest(0.25) {}
 
-  // Rectified circles of a ball of the configured size centred at (x, y, z) metres, left/right:
-  // each eye sees the ball's outline (sphere_outline), an ellipse off the axis; a circle fit
-  // gives its centre and the mean of its semi-axes.
+  // Rectified circles of the 0.22 m ball centred at (x, y, z) metres, left/right.
   std::pair<Circle, Circle> ball_at(double x0, double y0, double z0, double score = 0.9,
                                     double radius_scale = 1.0) const {
-    auto circle_in = [&](const cv::Point2d& principal, double x) {
-      const auto o = sb::stereo::sphere_outline({tri_.focal_px(), principal}, {x, y0, z0}, 0.11);
-      return Circle{o->centre_px.x, o->centre_px.y, radius_scale * o->mean_radius_px(), score};
-    };
-    // The right camera sits baseline_m to the right.
-    return {circle_in(tri_.principal_left_px(), x0),
-            circle_in(tri_.principal_right_px(), x0 - tri_.baseline_m())};
+    return {outline_in_eye({x0, y0, z0}, false, score, radius_scale),
+            outline_in_eye({x0, y0, z0}, true, score, radius_scale)};
   }
-
-  sb::stereo::StereoCalibration calib_;
-  sb::stereo::Triangulator tri_;
-  sb::stereo::EpipolarCheck epi_;
-  sb::stereo::SizeCheckParams size_;
-  sb::ball_detector::PairingContext ctx_;
 };
 
 }  // namespace

@@ -52,6 +52,19 @@ StereoDetection run_pair(StereoPipeline& pipeline, const Truth& t) {
   return pipeline.step(l, r, false);
 }
 
+// One eye of a pair as camera_server publishes it at publish_width_px = size.width: shrunk
+// (INTER_AREA), then JPEG frames as its publisher encodes them (4:4:4, quality 90).
+cv::Mat published(const std::string& path, const cv::Size& size) {
+  cv::Mat out;
+  cv::resize(cv::imread(path, cv::IMREAD_UNCHANGED), out, size, 0, 0, cv::INTER_AREA);
+  sb::stereo::FrameCodecParams codec;
+  codec.frame_encoding = "jpeg";
+  codec.jpeg_quality = 90;
+  sb::stereo::EyeEncoder encoder(codec);
+  EXPECT_TRUE(encoder.encode(out).ok()) << path;
+  return cv::imdecode(encoder.bytes(), cv::IMREAD_COLOR);
+}
+
 // The bench's rule for a correct pair: centre within max(6 px, 0.35 r), depth within 5 %.
 void expect_correct(const StereoDetection& d, const Truth& t) {
   ASSERT_EQ(d.status, DetectionStatus::kFound) << "pair " << t.id << ": " << d.reason;
@@ -106,16 +119,8 @@ TEST_F(RealBasketballPairs, GivenTheBallMovedBetweenTheShots_ThenAClutterCircleI
   // depth with a weaker outline
   auto half = sb::stereo::scale_calibration(calib_, cv::Size(1152, 648));
   ASSERT_TRUE(half.ok()) << half.error();
-  // (shrunk as camera_server does, then its JPEG frames at the bench's quality 90)
-  const auto shrink = [](const cv::Mat& m) {
-    cv::Mat out;
-    cv::resize(m, out, cv::Size(1152, 648), 0, 0, cv::INTER_AREA);
-    std::vector<std::uint8_t> jpeg;
-    cv::imencode(".jpg", out, jpeg, {cv::IMWRITE_JPEG_QUALITY, 90});
-    return cv::imdecode(jpeg, cv::IMREAD_COLOR);
-  };
-  const cv::Mat l = shrink(cv::imread(kSet + "/left/left_38.jpg", cv::IMREAD_COLOR));
-  const cv::Mat r = shrink(cv::imread(kSet + "/right/right_38.jpg", cv::IMREAD_COLOR));
+  const cv::Mat l = published(kSet + "/left/left_38.jpg", half->image_size);
+  const cv::Mat r = published(kSet + "/right/right_38.jpg", half->image_size);
   ASSERT_FALSE(l.empty() || r.empty());
   const auto run = [&](double margin) {
     BallDetectorParams p = basketball_params();
@@ -143,26 +148,14 @@ TEST_F(RealBasketballPairs, GivenBallsHeldAtTheBottomBorder_ThenNoneIsReportedWr
   // and the border pull 10-20 px off (truth ball_truth.csv, halved)
   auto half = sb::stereo::scale_calibration(calib_, cv::Size(1152, 648));
   ASSERT_TRUE(half.ok()) << half.error();
-  // (shrunk as camera_server does, then JPEG as its publisher encodes it: 4:4:4, quality 90)
-  sb::stereo::FrameCodecParams codec;
-  codec.frame_encoding = "jpeg";
-  codec.jpeg_quality = 90;
-  sb::stereo::EyeEncoder encoder(codec);
-  const auto shrink = [&encoder](const std::string& path) {
-    cv::Mat out;
-    cv::resize(cv::imread(path, cv::IMREAD_UNCHANGED), out, cv::Size(1152, 648), 0, 0,
-               cv::INTER_AREA);
-    EXPECT_TRUE(encoder.encode(out).ok());
-    return cv::imdecode(encoder.bytes(), cv::IMREAD_COLOR);
-  };
   StereoPipeline pipeline(basketball_params());
   ASSERT_TRUE(pipeline.set_calibration(*half).ok());
   std::int64_t stamp_ns = 0;
   for (const Truth& t :
        {Truth{"08", 503.75, 602.0, 55.0, 1.00}, Truth{"09", 656.25, 601.5, 55.0, 1.00},
         Truth{"10", 799.75, 562.75, 58.5, 1.06}}) {
-    const cv::Mat l = shrink(kSet + "/left/left_" + t.id + ".jpg");
-    const cv::Mat r = shrink(kSet + "/right/right_" + t.id + ".jpg");
+    const cv::Mat l = published(kSet + "/left/left_" + t.id + ".jpg", half->image_size);
+    const cv::Mat r = published(kSet + "/right/right_" + t.id + ".jpg", half->image_size);
     ASSERT_FALSE(l.empty() || r.empty());
     // When each is played (a second apart, as the bench plays them)
     stamp_ns += 1'000'000'000;
