@@ -20,6 +20,7 @@
 #include "crafted_images.hpp"
 #include "process.hpp"
 #include "simulator/core/ball_scene.hpp"
+#include "stereo/frame/frame_sample_builder.hpp"
 #include "stereo/io/calibration_file.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
@@ -53,48 +54,7 @@ const Scene& scene() {
 }
 
 // A StereoFrame sample and the bytes it points at.
-struct Frame {
-  std::string encoding = "bgr8";
-  std::string source = "test";
-  std::vector<uint8_t> left, right;
-  stereoball_msg_StereoFrame msg{};
-
-  static Frame raw(const cv::Mat& l, const cv::Mat& r, const std::string& encoding = "bgr8") {
-    Frame f;
-    f.encoding = encoding;
-    f.left.assign(l.data, l.data + l.total() * l.elemSize());
-    f.right.assign(r.data, r.data + r.total() * r.elemSize());
-    set(f.msg.left, f.left, l.cols, l.rows, static_cast<uint32_t>(l.cols * l.elemSize()));
-    set(f.msg.right, f.right, r.cols, r.rows, static_cast<uint32_t>(r.cols * r.elemSize()));
-    return f;
-  }
-  static Frame png(const cv::Mat& l, const cv::Mat& r) {
-    Frame f;
-    f.encoding = "png";
-    cv::imencode(".png", l, f.left);
-    cv::imencode(".png", r, f.right);
-    set(f.msg.left, f.left, l.cols, l.rows, 0);
-    set(f.msg.right, f.right, r.cols, r.rows, 0);
-    return f;
-  }
-  static Frame jpeg(const cv::Mat& l, const cv::Mat& r) {
-    Frame f;
-    f.encoding = "jpeg";
-    cv::imencode(".jpg", l, f.left);
-    cv::imencode(".jpg", r, f.right);
-    set(f.msg.left, f.left, l.cols, l.rows, 0);
-    set(f.msg.right, f.right, r.cols, r.rows, 0);
-    return f;
-  }
-  static void set(stereoball_msg_EyeImage& eye, std::vector<uint8_t>& bytes, int w, int h,
-                  uint32_t step) {
-    eye.width_px = static_cast<uint32_t>(w);
-    eye.height_px = static_cast<uint32_t>(h);
-    eye.step_bytes = step;
-    eye.data._buffer = bytes.data();
-    eye.data._length = eye.data._maximum = static_cast<uint32_t>(bytes.size());
-  }
-};
+using Frame = sb::stereo::testing::FrameSampleBuilder;
 
 struct Detection {
   stereoball_msg_BallDetection msg{};
@@ -127,11 +87,10 @@ class BallDetectorNodeTest : public ::testing::Test {
   Detection send(Frame frame) {
     frame.msg.seq = ++seq_;
     frame.msg.stamp_ns = stamp_ns_ += 33'333'333;
-    frame.msg.encoding = frame.encoding.data();
-    frame.msg.source = frame.source.data();
+    const stereoball_msg_StereoFrame& sample = frame.get();
     std::optional<Detection> got;
     for (int attempt = 0; attempt < 5 && !got; ++attempt) {
-      frames_->write(frame.msg);
+      frames_->write(sample);
       sb::testing::eventually(
           [&] {
             for (auto& s : detections_->take()) {
@@ -148,7 +107,11 @@ class BallDetectorNodeTest : public ::testing::Test {
     return got.value_or(Detection{});
   }
 
-  Frame good_frame() const { return Frame::raw(scene().frame.left, scene().frame.right); }
+  Frame good_frame() const {
+    Frame f;
+    f.raw(scene().frame.left, scene().frame.right);
+    return f;
+  }
 
   // Publishes the calibration and waits until a good frame is answered with the ball.
   void calibrate_and_find_ball() {
@@ -271,7 +234,8 @@ TEST_F(BallDetectorNodeTest, GivenMalformedFrames_ThenBadFrameAndNextGoodFrameAn
   calibrate_and_find_ball();
 
   const cv::Mat small(240, 320, CV_8UC3, cv::Scalar::all(80));
-  Detection d = send(Frame::raw(small, small));
+  Frame wrong_size;
+  Detection d = send(wrong_size.raw(small, small));
   EXPECT_EQ(d.msg.status, stereoball_msg_DETECTION_BAD_FRAME);
   EXPECT_NE(d.reason.find("320x240"), std::string::npos) << d.reason;
 
@@ -306,13 +270,15 @@ TEST_F(BallDetectorNodeTest, GivenHostileCompressedFrames_ThenBadFrameFastAndMem
   };
   std::vector<Case> cases;
   cases.push_back({"jpeg claiming 20000x20000",
-                   Frame::jpeg(scene().frame.left, scene().frame.right),
+                   Frame().encoded("jpg", scene().frame.left, scene().frame.right),
                    "left jpeg header says 20000x20000 but the calibration is for 640x480"});
   sb::testing::claim_image_size(cases.back().frame.left, 20000, 20000);
-  cases.push_back({"png claiming 20000x20000", Frame::png(scene().frame.left, scene().frame.right),
+  cases.push_back({"png claiming 20000x20000",
+                   Frame().encoded("png", scene().frame.left, scene().frame.right),
                    "left png header says 20000x20000 but the calibration is for 640x480"});
   sb::testing::claim_image_size(cases.back().frame.left, 20000, 20000);
-  cases.push_back({"truncated jpeg", Frame::jpeg(scene().frame.left, scene().frame.right),
+  cases.push_back({"truncated jpeg",
+                   Frame().encoded("jpg", scene().frame.left, scene().frame.right),
                    "right jpeg data is corrupt: Premature end of JPEG file"});
   cases.back().frame.msg.right.data._length =
       static_cast<uint32_t>(cases.back().frame.right.size() / 2);
@@ -373,7 +339,7 @@ TEST_F(BallDetectorNodeTest, GivenPngFrames_ThenBallFound) {
   std::optional<Detection> d;
   sb::testing::eventually(
       [&] {
-        d = send(Frame::png(scene().frame.left, scene().frame.right));
+        d = send(Frame().encoded("png", scene().frame.left, scene().frame.right));
         return d->msg.status != stereoball_msg_DETECTION_NO_CALIBRATION;
       },
       10s);
@@ -459,9 +425,11 @@ TEST_F(BallDetectorNodeTest, GivenRealFramesInTheWrongOrder_ThenSwapReported) {
   const cv::Mat left = cv::imread(dir + "left01.jpg", cv::IMREAD_GRAYSCALE);
   const cv::Mat right = cv::imread(dir + "right01.jpg", cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(left.empty() || right.empty());
+  Frame swapped;
+  swapped.encoding = "mono8";
+  swapped.raw(right, left);
   // (re-sent until answered: the calibration travels on its own topic)
-  for (int i = 0; i < 10 && !node_->wait_for_output("look swapped", 1s); ++i)
-    send(Frame::raw(right, left, "mono8"));
+  for (int i = 0; i < 10 && !node_->wait_for_output("look swapped", 1s); ++i) send(swapped);
   EXPECT_TRUE(node_->wait_for_output("look swapped", 10s)) << node_->output();
   EXPECT_NE(node_->output().find("left_device and right_device"), std::string::npos)
       << node_->output();

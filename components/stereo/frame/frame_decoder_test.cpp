@@ -2,6 +2,8 @@
 
 #include "stereo/frame/frame_decoder.hpp"
 
+#include "stereo/frame/frame_sample_builder.hpp"
+
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -16,40 +18,7 @@ namespace {
 
 const cv::Size kSize(64, 48);
 
-// Owns the bytes a StereoFrame sample points at.
-struct FrameBuilder {
-  std::vector<uint8_t> left, right;
-  std::string encoding = "bgr8";
-  stereoball_msg_StereoFrame msg{};
-
-  FrameBuilder& raw(const cv::Mat& l, const cv::Mat& r) {
-    left.assign(l.data, l.data + l.total() * l.elemSize());
-    right.assign(r.data, r.data + r.total() * r.elemSize());
-    fill(msg.left, left, l.cols, l.rows, static_cast<uint32_t>(l.cols * l.elemSize()));
-    fill(msg.right, right, r.cols, r.rows, static_cast<uint32_t>(r.cols * r.elemSize()));
-    return *this;
-  }
-  FrameBuilder& encoded(const std::string& ext, const cv::Mat& l, const cv::Mat& r) {
-    cv::imencode("." + ext, l, left);
-    cv::imencode("." + ext, r, right);
-    encoding = ext == "jpg" ? "jpeg" : ext;
-    fill(msg.left, left, l.cols, l.rows, 0);
-    fill(msg.right, right, r.cols, r.rows, 0);
-    return *this;
-  }
-  const stereoball_msg_StereoFrame& get() {
-    msg.encoding = encoding.data();
-    return msg;
-  }
-  static void fill(stereoball_msg_EyeImage& eye, std::vector<uint8_t>& bytes, int w, int h,
-                   uint32_t step) {
-    eye.width_px = static_cast<uint32_t>(w);
-    eye.height_px = static_cast<uint32_t>(h);
-    eye.step_bytes = step;
-    eye.data._buffer = bytes.data();
-    eye.data._length = eye.data._maximum = static_cast<uint32_t>(bytes.size());
-  }
-};
+using FrameBuilder = sb::stereo::testing::FrameSampleBuilder;
 
 cv::Mat gradient(int type) {
   cv::Mat m(kSize, type);
