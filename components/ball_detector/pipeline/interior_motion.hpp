@@ -21,7 +21,8 @@ struct InteriorOffset {
   double match = 0.0;     ///< its normalised cross-correlation, [-1, 1]
 };
 
-/// Settings of the interior offset measurement.
+/// Settings of the interior offset measurement (texture and match floors as the interior depth
+/// check's, InteriorDepthParams; not chosen on any data).
 struct InteriorOffsetParams {
   double inner_fraction = 0.5;  ///< the template is the square of this half-side per radius
   double min_texture = 6.0;     ///< grey-level standard deviation below which nothing is matched
