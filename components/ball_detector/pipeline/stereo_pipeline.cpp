@@ -418,6 +418,8 @@ void StereoPipeline::report(const FrameState& frame, const SearchOutcome& answer
   // On the pair as first paired: the refits above may have hidden its outlines' disagreement.
   if (out.status == DetectionStatus::kFound && answer.pairing.best)
     check_moved_pair(frame, *answer.pairing.best, out);
+  if (out.status == DetectionStatus::kFound && answer.pairing.best)
+    check_interior_motion(frame, *answer.pairing.best, out);
   out.rejected_by_colour = answer.rejected_by_colour;
   if (tools_.params.right_eye_partner_boxes && answer.left.empty())
     out.reason =

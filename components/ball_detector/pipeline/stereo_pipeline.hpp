@@ -19,6 +19,7 @@
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/pipeline/detector_params.hpp"
 #include "ball_detector/pipeline/interior_depth.hpp"
+#include "ball_detector/pipeline/interior_motion.hpp"
 #include "ball_detector/pipeline/pairing.hpp"
 #include "ball_detector/pipeline/search/brightness_free.hpp"
 #include "ball_detector/pipeline/search/expected_outlines.hpp"
@@ -199,6 +200,10 @@ class StereoPipeline {
   /// outlines are not one ball's (outline_refit.hpp moved_radii) and neither eye's is found again
   /// where the other's puts the ball unmoved (stereo_pipeline_outline_refit.cpp).
   void check_moved_pair(const FrameState& frame, const StereoPair& paired, StereoDetection& found);
+  /// A found pair that needs the motion allowance withdrawn when the inside of its outlines,
+  /// matched between the eyes, moved by other rows than its outlines did (interior_motion.hpp).
+  void check_interior_motion(const FrameState& frame, const StereoPair& paired,
+                             StereoDetection& found);
   std::optional<Circle> robust_outline_in(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                           const Circle& circle);
   /// The edges of channel (rectified over the region) within margin_px of circle's centre into

@@ -92,4 +92,50 @@ void StereoPipeline::check_moved_pair(const FrameState& frame, const StereoPair&
   found.reason = std::string(text) + " (first paired: " + found.reason + ")";
 }
 
+void StereoPipeline::check_interior_motion(const FrameState& frame, const StereoPair& paired,
+                                           StereoDetection& found) {
+  const PairingContext& ctx = frame.ctx;
+  const double tolerance_px = ctx.epipolar.params().max_row_diff_px;
+  // Only a pair the paper's rules would refuse: its rows or its disparity need the motion.
+  if (!(ctx.motion_radii > 0.0) || (paired.row_residual_px <= tolerance_px && !paired.moved))
+    return;
+  const Circle& l = found.left;
+  const Circle& r = found.right;
+  const double circle_dy = l.y_px - r.y_px;
+  // The inside is looked for wherever the ball can have moved to (the motion allowance) from
+  // where the outlines put it; the reaches bound the search, not the verdict.
+  const double reach = ctx.motion_radii * 0.5 * (l.radius_px + r.radius_px) + tolerance_px;
+  const double dy_reach = reach, dx_reach = reach;
+  // The regions interior_offset reads: the inner square around each circle's centre, the
+  // right one grown by the reaches.
+  const auto around = [](const Circle& c, double half_w, double half_h) {
+    return cv::Rect(static_cast<int>(std::floor(c.x_px - half_w)),
+                    static_cast<int>(std::floor(c.y_px - half_h)),
+                    static_cast<int>(std::ceil(2.0 * half_w)) + 2,
+                    static_cast<int>(std::ceil(2.0 * half_h)) + 2);
+  };
+  const InteriorOffsetParams offset_params;
+  const double half = offset_params.inner_fraction * l.radius_px + 2.0;
+  const cv::Rect img(cv::Point(), tools_.image_size());
+  const cv::Rect lbox = around(l, half, half) & img;
+  const cv::Rect rbox = around(r, half + dx_reach + 2.0, half + dy_reach + 2.0) & img;
+  if (lbox.empty() || rbox.empty()) return;
+  const cv::Mat& li =
+      rectified_region(frame.left_channel, stereo::Eye::kLeft, frame.rectified, lbox);
+  const cv::Mat& ri =
+      rectified_region(frame.right_channel, stereo::Eye::kRight, frame.rectified, rbox);
+  const InteriorOffset o = interior_offset(li, ri, l, r, dx_reach, dy_reach, offset_params);
+  if (!o.measured) return;
+  // The outlines' rows and the inside's each err by up to the paper's tolerance.
+  if (!(std::abs(circle_dy) > std::abs(o.dy_px) + 2.0 * tolerance_px)) return;
+  char text[360];
+  std::snprintf(text, sizeof text,
+                "the outlines' rows differ by %.1f px but the inside of the ball by %.1f px "
+                "(matched between the eyes, correlation %.2f): the ball did not move that much "
+                "between the exposures, the outline fits are off",
+                circle_dy, o.dy_px, o.match);
+  found.status = DetectionStatus::kEpipolarMismatch;
+  found.reason = std::string(text) + " (first paired: " + found.reason + ")";
+}
+
 }  // namespace stereoball::ball_detector
