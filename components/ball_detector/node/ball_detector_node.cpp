@@ -180,7 +180,12 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
   if (!pipeline_.has_calibration()) {
     det = pipeline_.step(cv::Mat(), cv::Mat(), false);  // kNoCalibration with its reason
   } else {
-    if (auto st = decoder_.decode(frame, pipeline_.image_size(), left, right); !st) {
+    // The eyes decoded at the same time on the helper's core (a 2304x1296 JPEG pair is a third
+    // of the frame's CPU time).
+    const auto both_cores = [this](int n, const std::function<void(int)>& task) {
+      helper_.run(n, task);
+    };
+    if (auto st = decoder_.decode(frame, pipeline_.image_size(), left, right, both_cores); !st) {
       det.status = DetectionStatus::kBadFrame;
       det.reason = st.error();
     } else {
