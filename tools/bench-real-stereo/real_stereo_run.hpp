@@ -39,7 +39,8 @@ struct PairRun {
 
 /// CPU time one search of the detector took over a run (in-process only).
 struct SearchCpu {
-  std::string path;       ///< the search ("whole_frame", ...; "other": decode, checks, patch)
+  std::string path;  ///< the search ("whole_frame", ...; "decode": the eyes' JPEG/PNG; "other":
+                     ///< shrinking, checks, patch)
   double total_ms = 0.0;  ///< its own thread CPU time over every frame, ms (nested searches apart)
   int frames = 0;         ///< frames that ran it
 };

@@ -59,6 +59,24 @@ Status FrameDecoder::decode(const stereoball_msg_StereoFrame& msg, cv::Size expe
   return decode_eye("right", msg.right, *encoding, expected, decoded_right_, right);
 }
 
+Status FrameDecoder::decode(const stereoball_msg_StereoFrame& msg, cv::Size expected, cv::Mat& left,
+                            cv::Mat& right, const RunTasks& run) {
+  const auto encoding = parse_encoding(msg.encoding);
+  if (!encoding)
+    return Error{"encoding '" + std::string(msg.encoding ? msg.encoding : "") +
+                 "' is not supported (bgr8, mono8, jpeg, png)"};
+  // Raw eyes are views, nothing to share out.
+  if (*encoding != FrameEncoding::kJpeg && *encoding != FrameEncoding::kPng)
+    return decode(msg, expected, left, right);
+  Status status[2];
+  run(2, [&](int eye) {
+    status[eye] = eye == 0
+                      ? decode_eye("left", msg.left, *encoding, expected, decoded_left_, left)
+                      : decode_eye("right", msg.right, *encoding, expected, decoded_right_, right);
+  });
+  return status[0] ? status[1] : status[0];
+}
+
 Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& image,
                                 FrameEncoding encoding, cv::Size expected, cv::Mat& buffer,
                                 cv::Mat& out) {

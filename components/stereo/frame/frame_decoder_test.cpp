@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <functional>
+#include <thread>
 #include <vector>
 
 namespace sb = stereoball;
@@ -150,4 +153,76 @@ TEST(FrameDecoder, GivenPngBytesInAJpegFrame_ThenTheMismatchIsNamed) {
   f.encoded("png", img, img);
   f.encoding = "jpeg";
   EXPECT_EQ(decode_error(f), "left image is png data in a jpeg frame");
+}
+
+namespace {
+
+// A runner that gives task 1 to a thread of its own while this one runs task 0 (as the
+// detector's helper core does), or runs every task in turn.
+void run_eyes_on_two_threads(int n, const std::function<void(int)>& task) {
+  ASSERT_EQ(n, 2);
+  std::thread other([&] { task(1); });
+  task(0);
+  other.join();
+}
+
+}  // namespace
+
+// Given JPEG and PNG frames, when the eyes are decoded as two tasks at the same time,
+// then the images are those of decoding one eye after the other, and both tasks ran.
+TEST(FrameDecoder, GivenCompressedEyes_WhenDecodedAtTheSameTime_ThenTheSameImages) {
+  const cv::Mat left = gradient(CV_8UC3);
+  cv::Mat right;
+  cv::flip(left, right, 1);
+  for (const std::string ext : {"jpg", "png"}) {
+    FrameBuilder f;
+    f.encoded(ext, left, right);
+    FrameDecoder in_turn, together;
+    cv::Mat l1, r1, l2, r2;
+    ASSERT_TRUE(in_turn.decode(f.get(), kSize, l1, r1).ok()) << ext;
+    int tasks = 0;
+    const Status st = together.decode(f.get(), kSize, l2, r2, [&](int n, const auto& task) {
+      tasks = n;
+      run_eyes_on_two_threads(n, task);
+    });
+    ASSERT_TRUE(st.ok()) << ext << ": " << st.error();
+    EXPECT_EQ(tasks, 2) << ext;
+    EXPECT_EQ(cv::norm(l1, l2, cv::NORM_INF), 0.0) << ext;
+    EXPECT_EQ(cv::norm(r1, r2, cv::NORM_INF), 0.0) << ext;
+    EXPECT_GT(cv::norm(l2, r2, cv::NORM_INF), 0.0) << ext << ": the eyes were not kept apart";
+  }
+}
+
+// Given a frame whose eyes are both broken, when decoded at the same time, then the error is
+// the one decoding in turn gives (the left eye's); with only the right broken, the right's.
+TEST(FrameDecoder, GivenBrokenEyes_WhenDecodedAtTheSameTime_ThenTheSameErrorAsInTurn) {
+  const cv::Mat img = gradient(CV_8UC3);
+  for (const bool left_too : {true, false}) {
+    FrameBuilder f;
+    f.encoded("jpg", img, img);
+    std::fill(f.right.begin(), f.right.end(), uint8_t{0x5a});
+    if (left_too) f.msg.left.data._length = 0;
+    FrameDecoder d;
+    cv::Mat l, r;
+    const Status st = d.decode(f.get(), kSize, l, r, run_eyes_on_two_threads);
+    ASSERT_FALSE(st.ok());
+    EXPECT_EQ(st.error(), decode_error(f));
+    EXPECT_NE(st.error().find(left_too ? "left jpeg data is empty" : "right jpeg data"),
+              std::string::npos)
+        << st.error();
+  }
+}
+
+// Given raw frames, when decoded with a runner, then they are views as before and the runner
+// is not asked to run anything (nothing to decode).
+TEST(FrameDecoder, GivenRawEyes_WhenDecodedWithARunner_ThenViewsWithoutTasks) {
+  const cv::Mat img = gradient(CV_8UC3);
+  FrameBuilder f;
+  f.raw(img, img);
+  FrameDecoder d;
+  cv::Mat l, r;
+  bool ran = false;
+  ASSERT_TRUE(d.decode(f.get(), kSize, l, r, [&](int, const auto&) { ran = true; }).ok());
+  EXPECT_FALSE(ran);
+  EXPECT_EQ(l.data, f.left.data());
 }
