@@ -362,32 +362,74 @@ void gather_outline_points(const EdgeMap& edges, const Circle& round, const Outl
 
 namespace {
 
+constexpr int kMaxSectors = 180;  // sector_count's largest
+
 // About one sector per 3 px of circumference: adjacent edge pixels fill a sector, a gap of a
 // few pixels shows.
 int sector_count(const Circle& c) {
-  return std::clamp(static_cast<int>(2.0 * std::numbers::pi * c.radius_px / 3.0), 8, 180);
+  return std::clamp(static_cast<int>(2.0 * std::numbers::pi * c.radius_px / 3.0), 8, kMaxSectors);
 }
 
 // Sector s spans angles [s, s + 1) * 2 pi / sectors - pi around the centre.
-int sector_of(const Circle& c, const cv::Point2d& p, int sectors) {
-  const double a = std::atan2(p.y - c.y_px, p.x - c.x_px) + std::numbers::pi;
+int exact_sector(double dy, double dx, int sectors) {
+  const double a = std::atan2(dy, dx) + std::numbers::pi;
   return std::min(sectors - 1, static_cast<int>(a / (2.0 * std::numbers::pi) * sectors));
+}
+
+// atan(z) for z in [0, 1] by an odd polynomial (Abramowitz and Stegun 4.4.49); measured on 2e8
+// evenly spaced z: |error| < 4e-8 rad.
+inline double atan_unit(double z) {
+  const double z2 = z * z;
+  return z * (0.9999993329 +
+              z2 * (-0.3332985605 +
+                    z2 * (0.1994653599 +
+                          z2 * (-0.1390853351 +
+                                z2 * (0.0964200441 +
+                                      z2 * (-0.0559098861 +
+                                            z2 * (0.0218612288 + z2 * -0.0040540580)))))));
+}
+
+// exact_sector without atan2 for the points not near a sector boundary. The polynomial's angle
+// is within 1e-7 rad of the true one (4e-8 and the rounding of the reduction), at most 3e-6 of
+// a sector (180 sectors); a point whose approximate place in its sector is more than
+// kSectorMargin (1e-4 of a sector) from either boundary lies in that sector, and exact_sector,
+// exact to a few ulps, puts it there too. The others (and the centre itself, and the wrap at
+// +-pi) take exact_sector: the same sector for every point.
+constexpr double kSectorMargin = 1e-4;
+inline int sector_of_offset(double dy, double dx, int sectors) {
+  const double ax = std::abs(dx), ay = std::abs(dy);
+  const double hi = std::max(ax, ay);
+  if (hi > 0.0) {
+    double a = atan_unit(std::min(ax, ay) / hi);
+    if (ay > ax) a = 0.5 * std::numbers::pi - a;
+    if (dx < 0.0) a = std::numbers::pi - a;
+    if (dy < 0.0) a = -a;
+    const double u = (a + std::numbers::pi) * (sectors / (2.0 * std::numbers::pi));
+    const int s = static_cast<int>(u);
+    const double frac = u - s;
+    if (frac > kSectorMargin && frac < 1.0 - kSectorMargin && s < sectors) return s;
+  }
+  return exact_sector(dy, dx, sectors);
+}
+
+int sector_of(const Circle& c, const cv::Point2d& p, int sectors) {
+  return sector_of_offset(p.y - c.y_px, p.x - c.x_px, sectors);
 }
 
 }  // namespace
 
 double angular_coverage(const Circle& c, std::span<const cv::Point2d> points) {
   const int sectors = sector_count(c);
-  std::vector<unsigned char> hit(sectors, 0);
-  for (const auto& p : points) hit[sector_of(c, p, sectors)] = 1;
-  return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / sectors;
+  std::array<unsigned char, kMaxSectors> hit{};
+  for (const auto& p : points) hit[static_cast<std::size_t>(sector_of(c, p, sectors))] = 1;
+  return static_cast<double>(std::count(hit.begin(), hit.begin() + sectors, 1)) / sectors;
 }
 
 double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> points,
                                  const cv::Rect2d& frame, double min_inside,
                                  const OutlineStretch& stretch) {
   const int sectors = sector_count(c);
-  std::vector<unsigned char> inside(sectors, 0);
+  std::array<unsigned char, kMaxSectors> inside{};
   int inside_count = 0;
   // The outline lies within ratio * r of the centre: when that square, a pixel wider for
   // rounding, is in the frame, every sector is, without a sine and cosine each.
@@ -396,7 +438,7 @@ double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> p
                           c.x_px + reach <= frame.x + frame.width - 2.0 &&
                           c.y_px + reach <= frame.y + frame.height - 2.0;
   if (all_inside) {
-    std::fill(inside.begin(), inside.end(), 1);
+    std::fill(inside.begin(), inside.begin() + sectors, 1);
     inside_count = sectors;
   }
   for (int s = 0; s < sectors && !all_inside; ++s) {
@@ -412,12 +454,12 @@ double angular_coverage_in_frame(const Circle& c, std::span<const cv::Point2d> p
     }
   }
   if (inside_count == 0 || inside_count < min_inside * sectors) return 0.0;
-  std::vector<unsigned char> hit(sectors, 0);
+  std::array<unsigned char, kMaxSectors> hit{};
   for (const auto& p : points) {
-    const int s = sector_of(c, p, sectors);
+    const auto s = static_cast<std::size_t>(sector_of(c, p, sectors));
     hit[s] = inside[s];
   }
-  return static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / inside_count;
+  return static_cast<double>(std::count(hit.begin(), hit.begin() + sectors, 1)) / inside_count;
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -122,6 +123,48 @@ TEST(AngularCoverage, GivenFullAndHalfCirclesThenCoverageIsOneAndAHalf) {
   EXPECT_NEAR(angular_coverage(c, arc(0, 0, 20, 0, 2 * std::numbers::pi, 400)), 1.0, 0.02);
   EXPECT_NEAR(angular_coverage(c, arc(0, 0, 20, 0, std::numbers::pi, 400)), 0.5, 0.05);
   EXPECT_EQ(angular_coverage(c, std::vector<cv::Point2d>{}), 0.0);
+}
+
+// The sector of a point as angular_coverage defines it (atan2), for the test below.
+int atan2_sector(const Circle& c, const cv::Point2d& p, int sectors) {
+  const double a = std::atan2(p.y - c.y_px, p.x - c.x_px) + std::numbers::pi;
+  return std::min(sectors - 1, static_cast<int>(a / (2.0 * std::numbers::pi) * sectors));
+}
+
+TEST(AngularCoverage, GivenPointsOnAndBetweenSectorBoundariesThenEachLandsInItsAtan2Sector) {
+  // Given circles of 8 to 180 sectors and points at random angles, on the sector boundaries
+  // (as near as doubles get), on the axes and at the centre
+  cv::RNG rng(38);
+  int pairs = 0;
+  for (const double r : {3.0, 7.3, 20.0, 41.5, 86.0, 200.0}) {
+    const Circle c{101.25, -37.5, r, 0.0};
+    const int sectors = std::clamp(static_cast<int>(2.0 * std::numbers::pi * r / 3.0), 8, 180);
+    std::vector<cv::Point2d> pts;
+    for (int i = 0; i < 400; ++i) {
+      const double a = rng.uniform(-std::numbers::pi, std::numbers::pi);
+      const double d = rng.uniform(0.5, 2.0) * r;
+      pts.emplace_back(c.x_px + d * std::cos(a), c.y_px + d * std::sin(a));
+    }
+    for (int s = 0; s <= sectors; ++s) {
+      const double a = s * 2.0 * std::numbers::pi / sectors - std::numbers::pi;
+      for (const double eps : {-1e-12, 0.0, 1e-12})
+        pts.emplace_back(c.x_px + r * std::cos(a + eps), c.y_px + r * std::sin(a + eps));
+    }
+    for (const cv::Point2d d : {cv::Point2d(1, 0), cv::Point2d(-1, 0), cv::Point2d(0, 1),
+                                cv::Point2d(0, -1), cv::Point2d(-1, -0.0), cv::Point2d(0, 0)})
+      pts.push_back(cv::Point2d(c.x_px, c.y_px) + r * d);
+    // When each is paired with the next, then the coverage counts one sector for two points in
+    // one sector and two otherwise, as the atan2 sectors say
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+      const std::vector<cv::Point2d> two{pts[i], pts[i + 1]};
+      const int expected =
+          atan2_sector(c, pts[i], sectors) == atan2_sector(c, pts[i + 1], sectors) ? 1 : 2;
+      ASSERT_EQ(angular_coverage(c, two), static_cast<double>(expected) / sectors)
+          << "r " << r << " points " << pts[i] << " " << pts[i + 1];
+      ++pairs;
+    }
+  }
+  EXPECT_GT(pairs, 3000);
 }
 
 TEST(RefineCircle, GivenARoughSeedOnADiscThenRefinementIsSubPixelAndScoresHigh) {

@@ -1,5 +1,6 @@
 #include "ball_detector/core/p2p_detector.hpp"
 
+#include "ball_detector/core/cpu_dispatch.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
 #include "ball_detector/core/voting.hpp"
 
@@ -11,6 +12,10 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+
+#if SB_HAVE_AVX2_KERNELS
+#include <immintrin.h>
+#endif
 
 namespace stereoball::ball_detector {
 namespace {
@@ -579,24 +584,121 @@ struct PeakVoters {
   std::uint32_t sectors = 0;  // bit s: a voter lies in sector s around the peak
 };
 
+// The tests of a voter's line against a peak (px, py: peak minus voter, t: distance along the
+// line, cross: distance across it), one function for the plain and the vector loops alike.
+struct LineTest {
+  // The peak's integer coordinates as float: peak minus voter is a float difference (an int
+  // minus a float), widened to double after.
+  float peak_x, peak_y;
+  double tolerance_px;
+  // Through: t in [t_min, t_max]. Support: t > 0 and the voter's distance within ring_slack of
+  // ring_r.
+  double t_min, t_max;
+  double ring_r, ring_slack;
+};
+
+template <bool Support>
+std::size_t pass_lines(const Voter* voters, std::size_t begin, std::size_t end, const LineTest& lt,
+                       std::uint32_t* passing, std::size_t n) {
+  for (std::size_t i = begin; i < end; ++i) {
+    const Voter& v = voters[i];
+    const double px = lt.peak_x - v.x, py = lt.peak_y - v.y;
+    const double t = px * v.ux + py * v.uy;
+    const bool on_line = !(std::abs(px * v.uy - py * v.ux) > lt.tolerance_px);
+    bool pass;
+    if constexpr (Support)
+      pass = on_line & !(t <= 0.0) &
+             !(std::abs(std::sqrt(px * px + py * py) - lt.ring_r) > lt.ring_slack);
+    else
+      pass = !(t < lt.t_min) & !(t > lt.t_max) & on_line;
+    passing[n] = static_cast<std::uint32_t>(i);
+    n += static_cast<std::size_t>(pass);
+  }
+  return n;
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// pass_lines four voters at a time: the same float and double operations in the same order (no
+// fused multiply-add; square roots are exact in both), so the same voters pass.
+template <bool Support>
+SB_TARGET_AVX2 std::size_t pass_lines_avx2(const Voter* voters, std::size_t begin, std::size_t end,
+                                           const LineTest& lt, std::uint32_t* passing,
+                                           std::size_t n) {
+  const __m128 peak_x = _mm_set1_ps(lt.peak_x), peak_y = _mm_set1_ps(lt.peak_y);
+  const __m256d tolerance = _mm256_set1_pd(lt.tolerance_px), sign = _mm256_set1_pd(-0.0);
+  const __m256d t_min = _mm256_set1_pd(lt.t_min), t_max = _mm256_set1_pd(lt.t_max);
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d ring_r = _mm256_set1_pd(lt.ring_r), ring_slack = _mm256_set1_pd(lt.ring_slack);
+  static_assert(sizeof(Voter) == 4 * sizeof(float));
+  std::size_t i = begin;
+  for (; i + 4 <= end; i += 4) {
+    // Four voters (x, y, ux, uy) transposed into four vectors of one field each.
+    __m128 a = _mm_loadu_ps(&voters[i].x), b = _mm_loadu_ps(&voters[i + 1].x);
+    __m128 c = _mm_loadu_ps(&voters[i + 2].x), d = _mm_loadu_ps(&voters[i + 3].x);
+    _MM_TRANSPOSE4_PS(a, b, c, d);
+    const __m256d px = _mm256_cvtps_pd(_mm_sub_ps(peak_x, a));
+    const __m256d py = _mm256_cvtps_pd(_mm_sub_ps(peak_y, b));
+    const __m256d ux = _mm256_cvtps_pd(c), uy = _mm256_cvtps_pd(d);
+    const __m256d t = _mm256_add_pd(_mm256_mul_pd(px, ux), _mm256_mul_pd(py, uy));
+    const __m256d cross = _mm256_sub_pd(_mm256_mul_pd(px, uy), _mm256_mul_pd(py, ux));
+    __m256d pass = _mm256_cmp_pd(_mm256_andnot_pd(sign, cross), tolerance, _CMP_NGT_UQ);
+    if constexpr (Support) {
+      const __m256d dist =
+          _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(px, px), _mm256_mul_pd(py, py)));
+      const __m256d off = _mm256_andnot_pd(sign, _mm256_sub_pd(dist, ring_r));
+      pass = _mm256_and_pd(pass, _mm256_cmp_pd(t, zero, _CMP_NLE_UQ));
+      pass = _mm256_and_pd(pass, _mm256_cmp_pd(off, ring_slack, _CMP_NGT_UQ));
+    } else {
+      pass = _mm256_and_pd(pass, _mm256_cmp_pd(t, t_min, _CMP_NLT_UQ));
+      pass = _mm256_and_pd(pass, _mm256_cmp_pd(t, t_max, _CMP_NGT_UQ));
+    }
+    const auto mask = static_cast<unsigned>(_mm256_movemask_pd(pass));
+    for (unsigned lane = 0; lane < 4; ++lane) {
+      passing[n] = static_cast<std::uint32_t>(i + lane);
+      n += (mask >> lane) & 1u;
+    }
+  }
+  return pass_lines<Support>(voters, i, end, lt, passing, n);
+}
+#endif
+
+// The voters of rows' ranges around a peak that pass LineTest, their indices into passing (one
+// slot per voter), in the voters' order; returns how many. Whether a voter's line passes the
+// peak is a coin toss to the branch predictor: the tests write the voters that pass down
+// without a branch.
+template <bool Support>
+std::size_t passing_voters(const std::vector<Voter>& voters, const VoterRows& rows, double y_lo,
+                           double y_hi, const LineTest& lt, std::uint32_t* passing) {
+  std::size_t n = 0;
+  rows.for_each_range(y_lo, y_hi, [&](std::size_t begin, std::size_t end) {
+#if SB_HAVE_AVX2_KERNELS
+    if (cpu_has_avx2()) {
+      n = pass_lines_avx2<Support>(voters.data(), begin, end, lt, passing, n);
+      return;
+    }
+#endif
+    n = pass_lines<Support>(voters.data(), begin, end, lt, passing, n);
+  });
+  return n;
+}
+
 PeakVoters voters_through_peak(const std::vector<Voter>& voters, const VoterRows& rows,
                                const Peak& peak, const CandidateOptions& options,
-                               std::vector<std::uint32_t>& passing) {
+                               std::uint32_t* passing) {
   PeakVoters out;
-  // Whether a voter's line passes the peak is a coin toss to the branch predictor: the cheap
-  // tests write the voters that pass down without a branch (n counts them), in their order,
-  // and only those go on.
-  std::size_t n = 0;
   // A voter passing the tests below is at most this far from the peak (t <= max radius and
   // the line within tolerance), plus a pixel for float rounding.
   const double reach_px = options.max_radius_px + options.line_tolerance_px + 1.0;
-  rows.for_each(voters, peak.y - reach_px, peak.y + reach_px, [&](const Voter& v) {
-    const double px = peak.x - v.x, py = peak.y - v.y;
-    const double t = px * v.ux + py * v.uy;
-    passing[n] = static_cast<std::uint32_t>(&v - voters.data());
-    n += static_cast<std::size_t>(!(t < options.min_radius_px) & !(t > options.max_radius_px) &
-                                  !(std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px));
-  });
+  const LineTest lt{static_cast<float>(peak.x),
+                    static_cast<float>(peak.y),
+                    options.line_tolerance_px,
+                    options.min_radius_px,
+                    options.max_radius_px,
+                    0.0,
+                    0.0};
+  const std::size_t n =
+      passing_voters<false>(voters, rows, peak.y - reach_px, peak.y + reach_px, lt, passing);
+  out.radii.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Voter& v = voters[passing[i]];
     const double px = peak.x - v.x, py = peak.y - v.y;
@@ -610,21 +712,21 @@ PeakVoters voters_through_peak(const std::vector<Voter>& voters, const VoterRows
 // on the circle): they seed the fit.
 std::vector<cv::Point2d> support_points(const std::vector<Voter>& voters, const VoterRows& rows,
                                         const Peak& peak, const CandidateOptions& options,
-                                        double r0, std::vector<std::uint32_t>& passing) {
-  std::vector<cv::Point2d> support;
+                                        double r0, std::uint32_t* passing) {
   const double support_reach_px = 1.2 * r0 + 2.0;
-  std::size_t n = 0;
-  rows.for_each(voters, peak.y - support_reach_px, peak.y + support_reach_px, [&](const Voter& v) {
-    const double px = peak.x - v.x, py = peak.y - v.y;
-    passing[n] = static_cast<std::uint32_t>(&v - voters.data());
-    n += static_cast<std::size_t>(!(std::abs(px * v.uy - py * v.ux) > options.line_tolerance_px) &
-                                  !(px * v.ux + py * v.uy <= 0.0));
-  });
+  const LineTest lt{static_cast<float>(peak.x),
+                    static_cast<float>(peak.y),
+                    options.line_tolerance_px,
+                    0.0,
+                    0.0,
+                    r0,
+                    0.2 * r0 + 1.0};
+  const std::size_t n = passing_voters<true>(voters, rows, peak.y - support_reach_px,
+                                             peak.y + support_reach_px, lt, passing);
+  std::vector<cv::Point2d> support;
+  support.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Voter& v = voters[passing[i]];
-    const double px = peak.x - v.x, py = peak.y - v.y;
-    const double d = std::sqrt(px * px + py * py);
-    if (std::abs(d - r0) > 0.2 * r0 + 1.0) continue;
     support.emplace_back(v.x, v.y);
   }
   return support;
@@ -683,7 +785,10 @@ void rescue_weak(const EdgeMap& edges, const CandidateOptions& options, std::opt
 PeakCircles circle_from_peak(const EdgeMap& edges, const std::vector<Voter>& voters,
                              const VoterRows& rows, const Peak& peak,
                              const CandidateOptions& options) {
-  std::vector<std::uint32_t> passing(voters.size());
+  // One slot per voter, kept across calls (grown only: no clearing per peak).
+  thread_local std::vector<std::uint32_t> passing_store;
+  if (passing_store.size() < voters.size()) passing_store.resize(voters.size());
+  std::uint32_t* const passing = passing_store.data();
   PeakVoters through = voters_through_peak(voters, rows, peak, options, passing);
   std::vector<double>& radii = through.radii;
   if (radii.size() < 3) return {};

@@ -137,13 +137,21 @@ class VoterRows {
   /// Calls f(voter) for every voter with y in [y_lo, y_hi] (and possibly a few others).
   template <typename F>
   void for_each(const std::vector<Voter>& voters, double y_lo, double y_hi, F&& f) const {
+    for_each_range(y_lo, y_hi, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) f(voters[i]);
+    });
+  }
+  /// The same voters as index ranges: f(begin, end) per run, in the visits' order.
+  template <typename F>
+  void for_each_range(double y_lo, double y_hi, F&& f) const {
     for (const auto& run : runs_) {
       const auto first =
           std::lower_bound(prefix_max_.begin() + run.begin, prefix_max_.begin() + run.end, y_lo);
       const auto last =
           std::upper_bound(suffix_min_.begin() + run.begin, suffix_min_.begin() + run.end, y_hi);
-      for (auto i = first - prefix_max_.begin(); i < last - suffix_min_.begin(); ++i)
-        f(voters[static_cast<std::size_t>(i)]);
+      const auto begin = static_cast<std::size_t>(first - prefix_max_.begin());
+      const auto end = static_cast<std::size_t>(last - suffix_min_.begin());
+      if (begin < end) f(begin, end);
     }
   }
 

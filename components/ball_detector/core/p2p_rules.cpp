@@ -45,11 +45,19 @@ template <int Steps>
   const std::uint64_t up = row & ~(row + seed);
   // Toward lower bits: doubling (Kogge-Stone) steps; after the step of shift s a seed has
   // reached 2s - 1 bits down, enough once 2s >= the longest run. A compile-time count unrolls
-  // them with constant shifts.
+  // them with constant shifts. A step that adds no bit ends the fill: below each seeded run's
+  // lowest seed the run is then shorter than that step's shift (else the bit that far below
+  // the seed would have been added), so all of it is in already. An arc crosses a row in a
+  // pixel or two: most fills end after the first step.
   std::uint64_t fill = seed;
   std::uint64_t through = row;
   [&]<int... I>(std::integer_sequence<int, I...>) {
-    ((fill |= through & (fill >> (1 << I)), through &= through >> (1 << I)), ...);
+    (void)(... && [&] {
+      const std::uint64_t before = fill;
+      fill |= through & (fill >> (1 << I));
+      through &= through >> (1 << I);
+      return fill != before;
+    }());
   }
   (std::make_integer_sequence<int, Steps>{});
   return up | fill;
@@ -66,12 +74,16 @@ template <int Steps>
 bool component_closed(std::span<const std::uint64_t> window, std::span<const std::uint64_t> rows,
                       int n) {
   auto spread = [](std::uint64_t m) { return m | (m << 1) | (m >> 1); };
+  // Each row's spread once, carried on to the next rows' tests (a row's 8-neighbourhood
+  // reaches the rows above and below only).
+  std::uint64_t above = 0;
+  std::uint64_t here = spread(rows[0]);
   for (int r = 0; r < n; ++r) {
     const auto ri = static_cast<std::size_t>(r);
-    std::uint64_t near = spread(rows[ri]);
-    if (r > 0) near |= spread(rows[ri - 1]);
-    if (r + 1 < n) near |= spread(rows[ri + 1]);
-    if ((near & window[ri] & ~rows[ri]) != 0) return false;
+    const std::uint64_t below = r + 1 < n ? spread(rows[ri + 1]) : 0;
+    if (((above | here | below) & window[ri] & ~rows[ri]) != 0) return false;
+    above = here;
+    here = below;
   }
   return true;
 }

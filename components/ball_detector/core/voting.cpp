@@ -55,13 +55,25 @@ inline std::int64_t fixed_steps_inside(std::int64_t f0, std::int64_t df, int siz
 template <bool Saturate>
 inline void add_votes(std::uint16_t* p, std::ptrdiff_t major_stride, std::ptrdiff_t minor_stride,
                       std::int64_t minor_fp, std::int64_t dminor, std::int64_t count) {
-  for (std::int64_t i = 0; i < count; ++i, p += major_stride, minor_fp += dminor) {
+  auto vote = [&] {
     std::uint16_t& cell = p[(minor_fp >> 16) * minor_stride];
     if constexpr (Saturate)
       cell = static_cast<std::uint16_t>(cell + (cell != 0xFFFF));
     else
       ++cell;
+    p += major_stride;
+    minor_fp += dminor;
+  };
+  // Four cells a turn (the same cells in the same order): the loop's own test and jump were a
+  // fifth of a cell's work.
+  std::int64_t i = 0;
+  for (; i + 4 <= count; i += 4) {
+    vote();
+    vote();
+    vote();
+    vote();
   }
+  for (; i < count; ++i) vote();
 }
 
 }  // namespace
