@@ -12,7 +12,7 @@ cd "$(dirname "$(readlink -f "$0")")"
 # What the programs are built from (every one is used by the build; V4L2 comes from the
 # kernel headers in linux-libc-dev, idlc from cyclonedds-tools).
 BUILD_PACKAGES=(
-  build-essential cmake pkg-config linux-libc-dev
+  build-essential cmake ninja-build pkg-config linux-libc-dev
   cyclonedds-dev cyclonedds-tools
   libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libzstd-dev
   zlib1g-dev libjpeg-dev libsodium-dev
@@ -117,13 +117,16 @@ wait_run_packages() {
 
 # build TARGET: configure and build TARGET (all, or demo_programs for the demo alone).
 build() {
-  local werror=OFF launcher=()
+  local werror=OFF launcher=() generator=()
   [ "${CI:-}" = true ] && werror=ON
   # ccache, where the machine has it, makes rebuilds after a fresh clone cheap (not required).
   command -v ccache >/dev/null &&
     launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSB_WERROR="$werror" -DSB_ONLY= \
-    "${launcher[@]}" >/dev/null
+  # Ninja keeps both cores compiling (a target's file need not wait for the libraries it links);
+  # a build/ configured earlier keeps its generator.
+  [ -f build/CMakeCache.txt ] || generator=(-G Ninja)
+  cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DSB_WERROR="$werror" \
+    -DSB_ONLY= "${launcher[@]}" >/dev/null
   echo "run.sh: building $1 on $(nproc) cores into build/ (progress below)"
   cmake --build build -j"$(nproc)" --target "$1"
 }

@@ -5,22 +5,27 @@ set(SB_SOURCE_ROOT ${CMAKE_SOURCE_DIR})
 # Real data shipped beside the project (read-only, never copied in).
 get_filename_component(SB_SHARED_DATA_DIR ${CMAKE_SOURCE_DIR}/../shared/data ABSOLUTE)
 
-# Build speed: precompiled headers. The standard library, OpenCV core/imgproc and (in tests)
-# GoogleTest are parsed once per build into a shared precompiled header instead of once per
-# file: sb_pch for every C++ target, sb_pch_test for the targets that link GoogleTest.
-# sb_use_precompiled_headers() (called at the end of the top CMakeLists.txt) gives every target
-# one of the two, so new targets need nothing. A target or file built with its own -std/-m
-# options cannot use them (GCC would refuse the header) and is left out; -Winvalid-pch makes
-# any other refusal a warning (an error in CI). GCC only (clang refuses a header made with
-# other -D macros). Off by default: with GCC 12 the precompiled libstdc++ loses its system-header
-# status for warnings, so -O3 false positives in its string code (-Wstringop-overflow and
-# others, the family -Wno-restrict above is about) fail -Werror builds, e.g. in
-# common/params/field_table.cpp. -DSB_PCH=ON turns them on (faster, warnings not clean yet).
+# Build speed: precompiled headers (off by default). The standard library, OpenCV core/imgproc
+# and (in tests) GoogleTest are parsed once per build into a shared precompiled header instead of
+# once per target: sb_pch for every C++ target, sb_pch_test for the targets that link GoogleTest.
+# Measured with unity builds (one file per target), they do not pay: loading the 110-130 MB
+# header costs about 0.9 CPU s per file, against 1 to 2.5 s of parsing saved where a file uses
+# all of it, and more than it saves where a file uses little of it (tools/build_cpu_times.sh;
+# DEVELOPERS.md). sb_use_precompiled_headers() (called at the end of the top CMakeLists.txt)
+# gives every target one of the two, so new targets need nothing. A target or file built with its
+# own -std/-m options, or a target with C files, is left out; -Winvalid-pch makes any other
+# refusal a warning (an error in CI). GCC only (clang refuses a header made with other -D
+# macros). GCC 12 does not keep `#pragma GCC diagnostic` in a precompiled header (GCC bug
+# 64117): libstdc++'s char_traits.h switches off -Wstringop-overflow, -Wstringop-overread and
+# -Warray-bounds around its string copies that way, and without the pragmas -O3 reports false
+# positives there; the targets that use the header get those three as options instead
+# (SB_PCH_LOST_PRAGMAS).
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
   option(SB_PCH "Shared precompiled headers for the common third-party headers" OFF)
 else()
   set(SB_PCH OFF CACHE BOOL "Shared precompiled headers (GCC only)" FORCE)
 endif()
+set(SB_PCH_LOST_PRAGMAS -Wno-stringop-overflow -Wno-stringop-overread -Wno-array-bounds)
 set(SB_PCH_HEADERS
     <algorithm> <array> <chrono> <cmath> <cstdint> <filesystem> <functional> <iostream> <map>
     <memory> <optional> <span> <sstream> <string> <string_view> <thread> <utility> <variant>
@@ -68,6 +73,26 @@ endif()
 # compiled with -O1 in optimised builds: about half the compile time of -O3, and the code under
 # test keeps the optimisation it ships with. -DSB_TEST_OPT=OFF keeps the build type's level.
 option(SB_TEST_OPT "Compile test files with -O1 in Release builds" ON)
+# Build speed: programs and test helpers whose speed nothing measures (no benchmark times them and
+# no timed run starts them) are compiled with -O1 in Release builds, through sb_untimed() with
+# the list at the end of the top CMakeLists.txt: most of them include CLI11, whose header alone
+# costs about 9.5 CPU s per file at -O3 and 5.5 s at -O1. -DSB_UNTIMED_OPT=OFF keeps the build
+# type's level.
+option(SB_UNTIMED_OPT "Compile programs and test helpers nothing times with -O1 in Release builds"
+       ON)
+
+# sb_untimed(TARGET...): -O1 for these targets in Release builds (SB_UNTIMED_OPT). Only for code
+# no benchmark times and no timed run starts; names that are not targets here are ignored.
+function(sb_untimed)
+  if(NOT SB_UNTIMED_OPT)
+    return()
+  endif()
+  foreach(t IN LISTS ARGN)
+    if(TARGET ${t})
+      target_compile_options(${t} PRIVATE $<$<CONFIG:Release>:-O1>)
+    endif()
+  endforeach()
+endfunction()
 
 # Adds every immediate sub-folder of DIR that has a CMakeLists.txt, so a new
 # component or tool needs no edit of a shared file.
@@ -230,6 +255,7 @@ function(sb_use_precompiled_headers)
     get_target_property(sources ${t} SOURCES)
     get_target_property(src_dir ${t} SOURCE_DIR)
     set(cxx FALSE)
+    set(has_c FALSE)
     foreach(s IN LISTS sources)
       if(s MATCHES "^\\$<")
         continue()
@@ -238,9 +264,9 @@ function(sb_use_precompiled_headers)
         set(s ${src_dir}/${s})
       endif()
       if(s MATCHES "\\.c$")
-        # C files (the generated message types) have no precompiled header.
-        set_source_files_properties(${s} TARGET_DIRECTORY ${t} PROPERTIES
-                                    SKIP_PRECOMPILE_HEADERS ON)
+        # C files (the generated message types in sb_idl): CMake would look for a C header
+        # in sb_pch, which has none, so such a target is left out.
+        set(has_c TRUE)
       endif()
       if(NOT s MATCHES "\\.(cpp|cc|cxx)$")
         continue()
@@ -253,7 +279,7 @@ function(sb_use_precompiled_headers)
                                     SKIP_PRECOMPILE_HEADERS ON)
       endif()
     endforeach()
-    if(NOT cxx)
+    if(NOT cxx OR has_c)
       continue()
     endif()
     get_target_property(libs ${t} LINK_LIBRARIES)
@@ -264,6 +290,7 @@ function(sb_use_precompiled_headers)
     endif()
     # Where a file cannot use the precompiled header, the headers are read as text.
     target_include_directories(${t} SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+    target_compile_options(${t} PRIVATE "$<$<COMPILE_LANGUAGE:CXX>:${SB_PCH_LOST_PRAGMAS}>")
   endforeach()
   get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
   foreach(sub IN LISTS subdirs)
