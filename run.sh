@@ -166,7 +166,7 @@ no_fuzz_build() {
 lacks_what_test_needs() {
   case "$1" in
     camera_server_device_test.needs_camera) no_video_device ;;
-    distributed_test | rogue_host_test) no_namespaces ;;
+    distributed_test | rogue_host_test | frame_transport_test) no_namespaces ;;
     distributed_test.needs_netem) no_netem ;;
     common_shared_memory_test.needs_no_roudi) roudi_running ;;
     fuzz_libfuzzer) no_fuzz_build ;;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "common/dds/participant.hpp"
+#include "frame_transport.hpp"
 #include "two_host_system.hpp"
 
 namespace sb = stereoball;
@@ -71,55 +72,37 @@ int transport(const std::string& encoding, int quality, double duration_s, int d
     std::fprintf(stderr, "stereoball-bench-distributed: %s\n", e.error().c_str());
     return 1;
   }
-  const std::string partition = "sbbench." + std::to_string(::getpid());
-  const std::vector<std::string> common{"--domain", std::to_string(domain), "--partition",
-                                        partition};
-  std::vector<std::string> obs{sb::testing::bin("sb_netns_observer"), "--topics", "frame"};
-  obs.insert(obs.end(), common.begin(), common.end());
-  sd::GentleProcess observer(
-      sb::testing::Process::start(hosts.command(hosts.workstation(), obs, receiver_uri)));
-  if (!observer.get().wait_for_output("# observing", 10s)) {
-    std::fprintf(stderr, "stereoball-bench-distributed: observer did not start: %s\n",
-                 observer.get().output().c_str());
+  sd::FrameTransportOptions options;
+  options.encoding = encoding;
+  options.quality = quality;
+  options.duration_s = duration_s;
+  options.domain = domain;
+  options.receiver_uri = receiver_uri;
+  const auto run = sd::run_frame_transport(hosts, options);
+  if (!run) {
+    std::fprintf(stderr, "stereoball-bench-distributed: %s\n", run.error().c_str());
     return 1;
   }
-  std::this_thread::sleep_for(2s);  // discovery across the link
-  std::vector<std::string> pub{sb::testing::bin("sb_frame_publisher"),
-                               "--encoding",
-                               encoding,
-                               "--quality",
-                               std::to_string(quality),
-                               "--rate",
-                               "30",
-                               "--duration",
-                               std::to_string(duration_s)};
-  pub.insert(pub.end(), common.begin(), common.end());
-  sb::testing::Process publisher =
-      sb::testing::Process::start(hosts.command(hosts.robot(), pub, lan_uri()));
-  const auto code = publisher.wait_for_exit(
-      std::chrono::milliseconds(static_cast<int>(duration_s * 1e3) + 30'000));
-  std::this_thread::sleep_for(500ms);
-  const auto log = sd::parse_observer_log(observer.get().output());
-  const std::string out = publisher.output();
-  const auto pos = out.find("# sent ");
-  const long sent = pos == std::string::npos ? -1 : std::stol(out.substr(pos + 7));
-  if (!code || *code != 0 || sent <= 0) {
-    std::fprintf(stderr, "stereoball-bench-distributed: publisher failed: %s\n", out.c_str());
-    return 1;
-  }
+  const long sent = run->sent;
+  const auto& frames = run->received;
   std::vector<double> latency;
   double bytes = 0;
-  for (const auto& f : log.frames) {
+  for (const auto& f : frames) {
     latency.push_back(ms(f.rx_ns - f.stamp_ns));
     bytes += static_cast<double>(f.bytes);
   }
-  const double mean_bytes = log.frames.empty() ? 0 : bytes / static_cast<double>(log.frames.size());
+  const double mean_bytes = frames.empty() ? 0 : bytes / static_cast<double>(frames.size());
   std::printf("%s%s%s: sent %ld, received %zu (%.1f%% lost), %.1f Hz, %.0f KiB/pair, %.1f Mbit/s\n",
               encoding.c_str(), encoding == "jpeg" ? (" q" + std::to_string(quality)).c_str() : "",
-              label.c_str(), sent, log.frames.size(),
-              100.0 * (1.0 - static_cast<double>(log.frames.size()) / static_cast<double>(sent)),
-              rate_hz(log.frames), mean_bytes / 1024, mean_bytes * 8 * rate_hz(log.frames) / 1e6);
+              label.c_str(), sent, frames.size(),
+              100.0 * (1.0 - static_cast<double>(frames.size()) / static_cast<double>(sent)),
+              rate_hz(frames), mean_bytes / 1024, mean_bytes * 8 * rate_hz(frames) / 1e6);
   print_latency("publish -> received in other namespace", latency);
+  if (frames.empty()) {
+    std::fprintf(stderr, "stereoball-bench-distributed: no %s frame crossed the link\n",
+                 encoding.c_str());
+    return 1;
+  }
   return 0;
 }
 

@@ -24,8 +24,10 @@
 #include "common/dds/waitset.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
+#include "ddsperf_log.hpp"
 
 namespace sb = stereoball;
+namespace bt = stereoball::bench_transport;
 
 namespace {
 
@@ -142,7 +144,7 @@ Figures per_second_figures(const std::vector<Sample>& samples) {
   std::vector<double> second;
   int64_t second_start = samples.front().sent_ns;
   auto close_second = [&] {
-    if (second.size() >= 10) {  // a second with a handful of samples has no 99th percentile
+    if (second.size() >= bt::kMinSamplesPerSecond) {  // else no meaningful 99th percentile
       medians.push_back(median(second));
       p99s.push_back(percentile(second, 99));
     }
@@ -282,30 +284,21 @@ Figures ddsperf(int domain, int seconds, bool best_effort) {
   kill(pong, SIGKILL);
   reap(pong, 5);
   std::ifstream in("/tmp/sb-bench-ddsperf-ping-" + tag + ".log");
-  const std::regex line_re(
-      R"(size (\d+) mean [\d.]+us min [\d.]+us 50% ([\d.]+)us 90% [\d.]+us 99% ([\d.]+)us max [\d.]+us cnt (\d+))");
-  std::vector<double> medians, p99s;
-  size_t count = 0;
-  std::string line;
-  bool first = true;
-  while (std::getline(in, line)) {
-    std::smatch m;
-    if (!std::regex_search(line, m, line_re)) continue;
-    if (first) {  // the first second includes discovery and warm-up
-      first = false;
-      continue;
-    }
-    medians.push_back(std::stod(m[2]));
-    p99s.push_back(std::stod(m[3]));
-    count += std::stoul(m[4]);
+  std::stringstream log;
+  log << in.rdbuf();
+  // Seconds with a handful of round trips are left out of the percentiles, as ours are.
+  const bt::DdsperfSeconds s = bt::parse_ddsperf_ping_log(log.str());
+  if (s.sparse_seconds > 0) {
+    std::fprintf(stderr, "  (ddsperf %s: %zu of %zu seconds with fewer than %zu round trips)\n",
+                 tag.c_str(), s.sparse_seconds, s.seconds, bt::kMinSamplesPerSecond);
   }
   Figures f;
-  f.median_us = median(medians);
-  f.p99_us = median(p99s);
-  f.second_medians_us = medians;
-  f.second_p99s_us = p99s;
-  f.count = count;
-  f.rate_hz = medians.empty() ? 0 : count / static_cast<double>(medians.size());
+  f.median_us = median(s.medians_us);
+  f.p99_us = median(s.p99s_us);
+  f.second_medians_us = s.medians_us;
+  f.second_p99s_us = s.p99s_us;
+  f.count = s.count;
+  f.rate_hz = s.seconds == 0 ? 0 : static_cast<double>(s.count) / static_cast<double>(s.seconds);
   f.mbps = f.rate_hz * 1843200 / 1e6;
   return f;
 }
@@ -372,11 +365,12 @@ int main(int argc, char** argv) {
         mine.back().count, mine.back().overall_p99_us, mine.back().rate_hz);
     if (with_ddsperf) {
       other.push_back(ddsperf(domain, ddsperf_seconds, g_reliable));
-      if (same.back().count == 0 || mine.back().count == 0) {
+      if (same.back().second_medians_us.empty() || mine.back().second_medians_us.empty()) {
         std::printf(
-            "run %d: no ratio: %s measured nothing (every ping lost or no per-second "
-            "line; see /tmp/sb-bench-*.log)\n",
-            run + 1, mine.back().count == 0 ? "ours" : "ddsperf");
+            "run %d: no ratio: %s measured no second with %zu round trips or more (pings "
+            "lost; see /tmp/sb-bench-*.log)\n",
+            run + 1, mine.back().second_medians_us.empty() ? "ours" : "ddsperf",
+            bt::kMinSamplesPerSecond);
         continue;
       }
       median_ratios.push_back(mine.back().median_us / same.back().median_us);
@@ -390,9 +384,12 @@ int main(int argc, char** argv) {
     }
     std::fflush(stdout);
   }
+  // Over the runs that measured something (a run with no full second has no figures).
   auto med = [](const std::vector<Figures>& v, double Figures::*field) {
     std::vector<double> x;
-    for (const auto& f : v) x.push_back(f.*field);
+    for (const auto& f : v) {
+      if (!f.second_medians_us.empty()) x.push_back(f.*field);
+    }
     return median(x);
   };
   std::printf(

@@ -164,8 +164,8 @@ FrameRate::FrameRate(int domain, const std::string& partition) {
     dds::DataReader<stereoball_msg_GroundTruth> truth(p, topics::kGroundTruth);
     while (!stop_) {
       for (auto& s : truth.take(64)) {
-        last_seq_ = s->frame_seq;
-        last_ns_ = node::monotonic_ns();
+        std::lock_guard lock(mutex_);
+        count_.sample(s->frame_seq, node::monotonic_ns());
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
@@ -178,13 +178,13 @@ FrameRate::~FrameRate() {
 }
 
 void FrameRate::restart() {
-  start_seq_ = last_seq_;
-  start_ns_ = last_ns_;
+  std::lock_guard lock(mutex_);
+  count_.restart();
 }
 
 double FrameRate::rate_hz() const {
-  const int64_t dt = last_ns_ - start_ns_;
-  return dt > 0 ? static_cast<double>(last_seq_ - start_seq_) / (dt / 1e9) : 0.0;
+  std::lock_guard lock(mutex_);
+  return count_.rate_hz();
 }
 
 }  // namespace stereoball::bench

@@ -5,10 +5,12 @@
 
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "frame_count.hpp"
 #include "processes.hpp"
 
 namespace stereoball::bench {
@@ -40,15 +42,13 @@ class FrameRate {
   ~FrameRate();
   /// Marks the start of a measurement.
   void restart();
-  /// Frames per second since restart().
+  /// Frames per second since restart() (from the first frame after it if none had come yet).
   double rate_hz() const;
 
  private:
   std::atomic<bool> stop_{false};
-  std::atomic<uint64_t> last_seq_{0};
-  std::atomic<int64_t> last_ns_{0};
-  uint64_t start_seq_ = 0;
-  int64_t start_ns_ = 0;
+  mutable std::mutex mutex_;
+  FrameCount count_;  // guarded by mutex_
   std::thread thread_;
 };
 
