@@ -392,6 +392,10 @@ TEST_F(BallDetectorNodeTest, GivenSequenceGapsWhileIdle_ThenFramesLostInTranspor
   sb::testing::eventually(
       [&] { return send(good_frame()).msg.status != stereoball_msg_DETECTION_NO_CALIBRATION; },
       10s);
+  // The first calibrated frame's eye-order check runs after its answer; the next frame is
+  // answered only after that work (the node handles frames in turn), so from its answer on the
+  // node waits between frames.
+  EXPECT_NE(send(good_frame()).msg.frame_seq, 0u);
   for (int i = 0; i < 3; ++i) {
     seq_ += 2;                          // two frames never published
     std::this_thread::sleep_for(50ms);  // the node has answered and waits
