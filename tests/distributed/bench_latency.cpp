@@ -401,6 +401,9 @@ int main(int argc, char** argv) {
                     o.runs, o.seconds);
       std::fputs(sd::to_text(title, r->figures, r->load).c_str(), stdout);
       std::fputs(sd::program_cpu_text(r->cpu).c_str(), stdout);
+      // What the p99 frames were: lost-ball frames, or transport and scheduling.
+      const sd::SlowFrames slow = sd::slowest_frames(r->frames, r->measured_from_ns, 2.0);
+      std::fputs(sd::to_text(slow, 2.0).c_str(), stdout);
       const sd::Quantiles& s = r->startup.end_to_end;
       std::printf(
           "  start-up (frames exposed before the measured window: the first %.0f s after "
@@ -411,6 +414,7 @@ int main(int argc, char** argv) {
       j["startup"] = sd::to_json(r->startup, r->load);
       j["startup"].erase("load");
       j["cpu_per_frame"] = sd::program_cpu_json(r->cpu);
+      j["slowest_2pct"] = sd::to_json(slow);
       runs.push_back(j);
       if (!o.frames_csv.empty()) {
         const std::string path =

@@ -183,6 +183,54 @@ std::string to_csv(const std::vector<FrameStages>& frames, std::int64_t measured
   return out;
 }
 
+SlowFrames slowest_frames(const std::vector<FrameStages>& frames, std::int64_t from_ns,
+                          double share_pct) {
+  std::vector<const FrameStages*> answered;
+  std::vector<double> end_to_end;
+  for (const FrameStages& f : frames) {
+    if (f.capture_ns < from_ns || f.end_to_end_ms < 0) continue;
+    answered.push_back(&f);
+    end_to_end.push_back(f.end_to_end_ms);
+  }
+  SlowFrames s;
+  if (answered.empty()) return s;
+  const double from_ms = percentile(end_to_end, 100.0 - share_pct);
+  for (const FrameStages* f : answered) {
+    if (f->end_to_end_ms < from_ms) continue;
+    ++s.n;
+    s.not_found += f->detection_status != 0 ? 1 : 0;
+    s.received_ms += f->received_ms;
+    s.detection_ms += f->detection_ms;
+    s.track_ms += f->track_ms;
+    s.command_ms += f->command_ms;
+    s.end_to_end_ms += f->end_to_end_ms;
+  }
+  const double n = static_cast<double>(s.n);
+  for (double* v : {&s.received_ms, &s.detection_ms, &s.track_ms, &s.command_ms, &s.end_to_end_ms})
+    *v /= n;
+  return s;
+}
+
+std::string to_text(const SlowFrames& s, double share_pct) {
+  char line[240];
+  std::snprintf(line, sizeof line,
+                "  slowest %.0f%% end to end: %zu frames, %zu without a ball found; mean ms: "
+                "received %.2f, detection %.2f, track %.2f, command %.2f, end to end %.2f\n",
+                share_pct, s.n, s.not_found, s.received_ms, s.detection_ms, s.track_ms,
+                s.command_ms, s.end_to_end_ms);
+  return line;
+}
+
+nlohmann::json to_json(const SlowFrames& s) {
+  return {{"n", s.n},
+          {"not_found", s.not_found},
+          {"received_ms", s.received_ms},
+          {"detection_ms", s.detection_ms},
+          {"track_ms", s.track_ms},
+          {"command_ms", s.command_ms},
+          {"end_to_end_ms", s.end_to_end_ms}};
+}
+
 CpuSample cpu_sample(const std::vector<int>& pids) {
   CpuSample s;
   s.wall_ns = static_cast<std::int64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(

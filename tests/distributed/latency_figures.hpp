@@ -108,6 +108,20 @@ nlohmann::json to_json(const LatencyFigures& f, const CoreLoad& load);
 /// column measured is 1 for frames exposed at or after measured_from_ns (the window).
 std::string to_csv(const std::vector<FrameStages>& frames, std::int64_t measured_from_ns);
 
+/// What the slowest frames end to end (the top share of the measured ones) were: how many,
+/// how many had no ball found, and their mean stages, ms.
+struct SlowFrames {
+  std::size_t n = 0, not_found = 0;
+  double received_ms = 0, detection_ms = 0, track_ms = 0, command_ms = 0, end_to_end_ms = 0;
+};
+/// The frames at or above the (100 - share_pct) percentile end to end, of those answered by a
+/// command and exposed at or after from_ns.
+SlowFrames slowest_frames(const std::vector<FrameStages>& frames, std::int64_t from_ns,
+                          double share_pct);
+/// One printed line of s; {"n", "not_found", "received_ms", ...} as JSON.
+std::string to_text(const SlowFrames& s, double share_pct);
+nlohmann::json to_json(const SlowFrames& s);
+
 /// One printed block: a line per stage, then loss and load.
 std::string to_text(const std::string& title, const LatencyFigures& f, const CoreLoad& load);
 

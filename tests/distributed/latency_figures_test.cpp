@@ -90,6 +90,30 @@ TEST(LatencyFigures, GivenFrames_ThenEachFramesStagesAndACsvLinePerFrame) {
   EXPECT_NE(csv.find(",8.500,1\n"), std::string::npos);
 }
 
+TEST(LatencyFigures, GivenOneSlowLostBallFrame_ThenItIsTheSlowestShareWithItsStages) {
+  // Given 100 answered frames, frame 50 without a ball found and 20 ms slower in detection
+  ObserverLog log;
+  for (int i = 0; i < 100; ++i) add_frame(log, i);
+  log.detections[50].status = 1;
+  log.detections[50].processing_ms = 24.0;
+  log.detections[50].publish_ns += 20 * kMs;
+  log.tracks[50].publish_ns += 20 * kMs;
+  log.commands[100].stamp_ns += 20 * kMs;
+  const auto frames = frame_stages(log, log, kT0, kT0 + 100 * kPeriod);
+  // When the slowest 1 % are taken (frame 0 before the window)
+  const SlowFrames slow = slowest_frames(frames, kT0 + kPeriod, 1.0);
+  // Then it is that frame alone, with its stages
+  EXPECT_EQ(slow.n, 1u);
+  EXPECT_EQ(slow.not_found, 1u);
+  EXPECT_NEAR(slow.detection_ms, 24.0, 1e-6);
+  EXPECT_NEAR(slow.received_ms, 3.0, 1e-6);
+  EXPECT_NEAR(slow.end_to_end_ms, 28.5, 1e-6);
+  EXPECT_NE(to_text(slow, 1.0).find("1 frames, 1 without a ball found"), std::string::npos);
+  EXPECT_EQ(to_json(slow)["not_found"], 1);
+  // And with no answered frame in the window, nothing
+  EXPECT_EQ(slowest_frames(frames, kT0 + 200 * kPeriod, 1.0).n, 0u);
+}
+
 TEST(LatencyFigures, GivenFigures_ThenJsonHasEveryQuantileFinite) {
   ObserverLog log;
   for (int i = 0; i < 5; ++i) add_frame(log, i);

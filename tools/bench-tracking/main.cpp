@@ -180,24 +180,24 @@ stereoball::Status write_frames_csv(std::FILE* f, const std::string& path,
                "scenario,frame,stamp_ns,visible,true_x_px,true_y_px,found,on_ball,found_x_px,"
                "found_y_px,found_r_px,status,reason,verdict,verdict_reason,accepted,state,error_mm,"
                "fully_visible,true_r_px,truth_coverage,miss_cause,left_dx_px,left_dy_px,left_dr_px,"
-               "right_dx_px,right_dy_px,right_dr_px,search\n");
+               "right_dx_px,right_dy_px,right_dr_px,search,cpu_ms\n");
   for (const auto& r : runs) {
     for (size_t i = 0; i < r.frames.size(); ++i) {
       const auto& fr = r.frames[i];
-      std::fprintf(f,
-                   "%s,%zu,%lld,%d,%.2f,%.2f,%d,%d,%.2f,%.2f,%.2f,%s,%s,%s,%s,%d,%s,%.2f,%d,%.1f,%."
-                   "2f,%s,%.3f,%."
-                   "3f,%.3f,%.3f,%.3f,%.3f,%s\n",
-                   r.scenario.c_str(), i, static_cast<long long>(fr.stamp_ns), fr.ball_visible,
-                   fr.true_left_x_px, fr.true_left_y_px, fr.raw_found, fr.raw_on_ball,
-                   fr.found_left_x_px, fr.found_left_y_px, fr.found_radius_px,
-                   fr.detection_status.c_str(), csv_field(fr.detection_reason).c_str(),
-                   fr.verdict.c_str(), csv_field(fr.verdict_reason).c_str(), fr.accepted,
-                   fr.track_state.c_str(), fr.error_m >= 0 ? fr.error_m * 1e3 : -1.0,
-                   fr.ball_fully_visible, fr.true_radius_px, fr.truth_coverage,
-                   fr.miss_cause.c_str(), fr.outline_error_left_px[0], fr.outline_error_left_px[1],
-                   fr.outline_error_left_px[2], fr.outline_error_right_px[0],
-                   fr.outline_error_right_px[1], fr.outline_error_right_px[2], fr.search.c_str());
+      std::fprintf(
+          f,
+          "%s,%zu,%lld,%d,%.2f,%.2f,%d,%d,%.2f,%.2f,%.2f,%s,%s,%s,%s,%d,%s,%.2f,%d,%.1f,%."
+          "2f,%s,%.3f,%."
+          "3f,%.3f,%.3f,%.3f,%.3f,%s,%.3f\n",
+          r.scenario.c_str(), i, static_cast<long long>(fr.stamp_ns), fr.ball_visible,
+          fr.true_left_x_px, fr.true_left_y_px, fr.raw_found, fr.raw_on_ball, fr.found_left_x_px,
+          fr.found_left_y_px, fr.found_radius_px, fr.detection_status.c_str(),
+          csv_field(fr.detection_reason).c_str(), fr.verdict.c_str(),
+          csv_field(fr.verdict_reason).c_str(), fr.accepted, fr.track_state.c_str(),
+          fr.error_m >= 0 ? fr.error_m * 1e3 : -1.0, fr.ball_fully_visible, fr.true_radius_px,
+          fr.truth_coverage, fr.miss_cause.c_str(), fr.outline_error_left_px[0],
+          fr.outline_error_left_px[1], fr.outline_error_left_px[2], fr.outline_error_right_px[0],
+          fr.outline_error_right_px[1], fr.outline_error_right_px[2], fr.search.c_str(), fr.cpu_ms);
     }
   }
   const bool ok = std::fflush(f) == 0 && !std::ferror(f);

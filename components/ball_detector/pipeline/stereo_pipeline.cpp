@@ -23,6 +23,20 @@ Status check_pixels(const char* eye, const cv::Mat& m) {
   return {};
 }
 
+// The answer of a stream's frame whose searches near the prior paired nothing within its gate
+// (the whole frame is searched on the next frame): the last near search's outcome, unless it
+// paired outside the gate.
+SearchOutcome missed_near_prior(std::optional<SearchOutcome> missed) {
+  if (missed && !missed->found()) return std::move(*missed);
+  SearchOutcome out;
+  out.path = missed ? missed->path : SearchPath::kExpectedOutlines;
+  out.pairing.status = PairingStatus::kNoCandidate;
+  out.pairing.reason =
+      "nothing paired within the track prior's gate (the whole frame is searched on the next "
+      "frame)";
+  return out;
+}
+
 DetectionStatus from_pairing(PairingStatus s) {
   switch (s) {
     case PairingStatus::kFound:
@@ -357,47 +371,73 @@ SearchOutcome StereoPipeline::search(const FrameState& frame) {
     outcome.rejected_by_colour = rejected;
     return outcome;
   };
+  // A stream: frames less than kBandSearchEveryNs apart (stills, and frames without stamps,
+  // are not one).
+  const bool stream = last_stamp_ns_ && frame.stamp_ns > *last_stamp_ns_ &&
+                      frame.stamp_ns - *last_stamp_ns_ <= kBandSearchEveryNs;
+  last_stamp_ns_ = frame.stamp_ns;
   // Near the track's prior, the first pair within its gate is the answer (a pair elsewhere
   // would not win over it): the whole frame is not searched in the frame's time, only its
   // thresholds measured again now and then, after the answer (finish_frame).
   if (frame.prior && tools_.params.prior_window && tools_.left_thresholds &&
       prepare_prior_box(frame, scratch, tools_)) {
     ++frames_since_full_search_;
+    // Once the ball has been missing for a frame, a stream's frame whose prior box is large
+    // (voting there costs about as much as over the whole frame) runs one of the two voting
+    // searches, the prior window or the whole frame, in turn (README: searches).
+    const cv::Size size = tools_.image_size();
+    const bool in_turn = stream && static_cast<double>(scratch.prior_box.area()) >
+                                       kLargePriorBoxShare * static_cast<double>(size.area());
+    const bool window_turn = !(in_turn && window_only_last_frame_);
     const std::pair<const SearchStrategy*, SearchPath> near_prior[] = {
         {&expected_outlines_, SearchPath::kExpectedOutlines},
         {&prior_window_, SearchPath::kPriorWindow},
         {&expected_without_brightness_, SearchPath::kBrightnessFree}};
+    std::optional<SearchOutcome> missed;  // the last near search's outcome, when none pairs
     for (const auto& [s, path] : near_prior) {
+      if (path == SearchPath::kPriorWindow && !window_turn) continue;
       std::optional<SearchOutcome> near = tried(*s, path);
-      if (!near || !near->found_near(*frame.prior)) continue;
+      if (!near) continue;
+      if (!near->found_near(*frame.prior)) {
+        missed = std::move(near);
+        continue;
+      }
       if (frames_since_full_search_ >= kFullSearchEveryFrames) refresh_due_ = true;
-      paired_last_frame_ = true;
+      window_only_last_frame_ = false;
+      missed_last_frame_ = false;
       return answer(std::move(*near));
     }
+    if (in_turn && window_turn && missed_last_frame_) {
+      window_only_last_frame_ = true;  // the whole frame's turn is next
+      return answer(missed_near_prior(std::move(missed)));
+    }
   }
+  window_only_last_frame_ = false;
+  missed_last_frame_ = true;  // until a search below pairs
   // The whole frame; after it pairs nothing, radius bands (one a frame in a stream: all of them
   // cost several whole-frame searches' peaks, and made the slowest frames), and the colour
   // seeds' outlines without brightness. Each later search answers only if it pairs.
   scratch.bands_due = true;
-  // Every band on the first frame without a pair (a ball just lost or not yet seen is found
-  // again at once) and on stills; then one band a frame.
-  const bool every_band = !last_band_search_ns_ || paired_last_frame_ ||
-                          frame.stamp_ns - *last_band_search_ns_ > kBandSearchEveryNs;
-  paired_last_frame_ = true;  // until the searches below pair nothing
+  // Every band on stills and on a stream's first frame; then one band a frame, in turn.
+  const bool every_band = !stream;
   scratch.band = every_band ? -1 : next_band_;
   SearchOutcome whole = *tried(whole_frame_, SearchPath::kWholeFrame);
   frames_since_full_search_ = 0;
-  if (whole.found()) return answer(std::move(whole));
+  if (whole.found()) {
+    missed_last_frame_ = false;
+    return answer(std::move(whole));
+  }
   whole.path = SearchPath::kRadiusBands;  // the last search the frame needed
-  last_band_search_ns_ = frame.stamp_ns;
   std::optional<SearchOutcome> bands = tried(radius_bands_, SearchPath::kRadiusBands);
   // A band that pairs what the whole range missed is searched again first next time.
-  if (bands && bands->found()) return answer(std::move(*bands));
+  if (bands && bands->found()) {
+    missed_last_frame_ = false;
+    return answer(std::move(*bands));
+  }
   if (!every_band) next_band_ = (next_band_ + 1) % std::max(1, radius_band_count(tools_));
-  paired_last_frame_ = false;
   std::optional<SearchOutcome> hue = tried(seeds_without_brightness_, SearchPath::kBrightnessFree);
   if (hue && hue->found()) {
-    paired_last_frame_ = true;
+    missed_last_frame_ = false;
     return answer(std::move(*hue));
   }
   return answer(std::move(whole));

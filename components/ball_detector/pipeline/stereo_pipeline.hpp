@@ -77,10 +77,16 @@ const char* to_string(DetectionStatus status);
 /// (README: searches), frames.
 constexpr int kFullSearchEveryFrames = 15;
 
-/// Every frame the whole frame pairs nothing on gets one radius band, the bands in turn (a band
-/// that paired first again); all of them on the first frame without a pair, and when this much
-/// capture time has passed since the last band search (README: radius bands), ns.
+/// Frames this close in capture time are a stream (README: searches): after its first frame,
+/// each frame the whole frame pairs nothing on gets one radius band, the bands in turn (a band
+/// that paired first again), and once the ball has been missing for a frame the frames with a
+/// large prior box (kLargePriorBoxShare) vote in it and over the whole frame in turn; stills and
+/// slower frames search every band, and the whole frame after the prior, on every frame, ns.
 constexpr std::int64_t kBandSearchEveryNs = 200'000'000;
+
+/// A prior box larger than this share of the image is a large one (kBandSearchEveryNs): voting
+/// in it costs about a whole-frame search (boxes of a coasting track, or of a near ball).
+constexpr double kLargePriorBoxShare = 0.25;
 
 /// With a following track, the ball's speed allowed between the two eyes' exposures is the
 /// track's plus this (its velocity lags a hand's push), m/s, when lower than the configured.
@@ -236,12 +242,14 @@ class StereoPipeline {
   std::vector<cv::Point2d> patch_raw_px_;
   std::vector<Circle> left_candidates_, right_candidates_;  // the last frame's answer's
   int frames_since_full_search_ = 0;
-  bool refresh_due_ = false;       // the left thresholds are to be measured again (finish_frame)
-  cv::Mat refresh_left_;           // the whole rectified left eye the refresh measures
-  EdgeMap refresh_edges_;          // its gradients (scratch)
-  int next_band_ = 0;              // the radius band the next frame without a pair searches
-  bool paired_last_frame_ = true;  // the last frame's searches paired (near a prior or not)
-  std::optional<std::int64_t> last_band_search_ns_;  // capture stamp of the last band search
+  bool refresh_due_ = false;        // the left thresholds are to be measured again (finish_frame)
+  cv::Mat refresh_left_;            // the whole rectified left eye the refresh measures
+  EdgeMap refresh_edges_;           // its gradients (scratch)
+  int next_band_ = 0;               // the radius band the next frame without a pair searches
+  bool missed_last_frame_ = false;  // the last frame's searches paired nothing
+  // The last frame searched near the prior only (and paired nothing): the whole frame's turn.
+  bool window_only_last_frame_ = false;
+  std::optional<std::int64_t> last_stamp_ns_;  // capture stamp of the last frame searched
 };
 
 }  // namespace stereoball::ball_detector

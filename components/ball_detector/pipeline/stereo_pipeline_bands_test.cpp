@@ -2,7 +2,8 @@
 // built-in scenario ball_rolling_across rendered by the simulator with the robot still (as
 // during the tracker's start-up, when no track prior exists): the spotted ball comes into view
 // beside a brown box, and a plate on the far wall outscores it in the whole-range accumulator
-// on several frames running.
+// on several frames running. Also how a stream's frames share the searches while the ball is
+// missing near a track's prior.
 
 #include <gtest/gtest.h>
 
@@ -20,6 +21,7 @@
 namespace sb = stereoball;
 using sb::ball_detector::BallDetectorParams;
 using sb::ball_detector::DetectionStatus;
+using sb::ball_detector::PositionPrior;
 using sb::ball_detector::SearchPath;
 using sb::ball_detector::StereoPipeline;
 
@@ -85,7 +87,61 @@ std::vector<int> widest_task_call_per_frame(const std::string& scenario_name, in
   return out;
 }
 
+// The searches each frame of no_ball started (robot still, capture stamps period_ns apart),
+// with a track's prior 0.6 m ahead of the left camera on every frame.
+std::vector<std::vector<SearchPath>> searches_with_prior_and_no_ball(int frames,
+                                                                     std::int64_t period_ns) {
+  auto scenario = sb::simulator::load_scenario_by_name(
+      "no_ball", std::string(SB_SOURCE_DIR) + "/config/scenarios");
+  EXPECT_TRUE(scenario.ok()) << scenario.error();
+  std::vector<std::vector<SearchPath>> out;
+  if (!scenario.ok()) return out;
+  sb::simulator::Simulator sim(sb::simulator::default_sim_params(), *scenario);
+  StereoPipeline pipeline(BallDetectorParams{});
+  EXPECT_TRUE(pipeline.set_calibration(sim.calibration()).ok());
+  std::vector<SearchPath> started;
+  pipeline.set_search_observer([&](SearchPath path, bool start) {
+    if (start) started.push_back(path);
+  });
+  PositionPrior prior;
+  prior.position_m = cv::Vec3d(0.0, 0.1, 0.6);  // near: its box is most of the image
+  for (int i = 0; i < frames; ++i) {
+    const auto f = sim.step(std::nullopt, i * sim.frame_period_ns());
+    started.clear();
+    const auto det = pipeline.step(f.left, f.right, false, prior, i * period_ns);
+    EXPECT_NE(det.status, DetectionStatus::kFound) << "premise: no ball, frame " << i;
+    out.push_back(started);
+  }
+  return out;
+}
+
+bool frame_started(const std::vector<SearchPath>& paths, SearchPath path) {
+  return std::find(paths.begin(), paths.end(), path) != paths.end();
+}
+
 }  // namespace
+
+// A stream whose ball is missing near the track's prior: after the first frame (the whole
+// frame, which measures the edge thresholds the searches near a prior use), the frames search
+// near the prior (voting in its box) and the whole frame in turn, never both; the predicted
+// outlines are refined on every frame. Stills search both on every frame after the first.
+TEST(StereoPipelineRadiusBands, GivenAPriorWithoutTheBall_ThenTheWindowAndWholeFrameInTurn) {
+  const auto stream = searches_with_prior_and_no_ball(7, 33'333'333);
+  ASSERT_EQ(stream.size(), 7u);
+  EXPECT_TRUE(frame_started(stream[0], SearchPath::kWholeFrame));
+  for (std::size_t i = 1; i < stream.size(); ++i) {
+    const bool window_turn = i % 2 == 1;
+    EXPECT_TRUE(frame_started(stream[i], SearchPath::kExpectedOutlines)) << "frame " << i;
+    EXPECT_EQ(frame_started(stream[i], SearchPath::kPriorWindow), window_turn) << "frame " << i;
+    EXPECT_EQ(frame_started(stream[i], SearchPath::kWholeFrame), !window_turn) << "frame " << i;
+  }
+  const auto stills = searches_with_prior_and_no_ball(3, 1'000'000'000);
+  ASSERT_EQ(stills.size(), 3u);
+  for (std::size_t i = 1; i < stills.size(); ++i) {
+    EXPECT_TRUE(frame_started(stills[i], SearchPath::kPriorWindow)) << "still " << i;
+    EXPECT_TRUE(frame_started(stills[i], SearchPath::kWholeFrame)) << "still " << i;
+  }
+}
 
 // A stream without a ball: the first frame searches every radius band (4 at 640x480), each
 // later one a single band beside the whole-frame search (no frame searches them all again);
