@@ -12,6 +12,18 @@
 
 namespace stereoball::ball_detector {
 
+namespace {
+
+// True for a pair the paper's rules would refuse, its rows or its disparity needing the
+// motion allowance, and only while that allowance is on.
+bool needs_motion_allowance(const PairingContext& ctx, const StereoPair& pair) {
+  const double tolerance_px = ctx.epipolar.params().max_row_diff_px;
+  // Written as the negation of the accepting test so that a NaN residual counts as needing it.
+  return ctx.motion_radii > 0.0 && !(pair.row_residual_px <= tolerance_px && !pair.moved);
+}
+
+}  // namespace
+
 std::optional<Circle> StereoPipeline::robust_outline_in(const cv::Mat& channel, stereo::Eye eye,
                                                         bool rectified, const Circle& circle) {
   const OutlineSearchParams& search = tools_.params.outline_refit.search;
@@ -58,10 +70,8 @@ void StereoPipeline::refit_outlines(const FrameState& frame, StereoDetection& fo
 void StereoPipeline::check_moved_pair(const FrameState& frame, const StereoPair& paired,
                                       StereoDetection& found) {
   const PairingContext& ctx = frame.ctx;
+  if (!needs_motion_allowance(ctx, paired)) return;
   const double tolerance_px = ctx.epipolar.params().max_row_diff_px;
-  // Only a pair the paper's rules would refuse: its rows or its disparity need the motion.
-  if (!(ctx.motion_radii > 0.0) || (paired.row_residual_px <= tolerance_px && !paired.moved))
-    return;
   const MovedRadii radii = moved_radii(ctx, paired);
   if (radii.agree) return;
   // One eye's fit is off, or the eyes saw two things. The pair stands if an eye's outline is
@@ -95,10 +105,8 @@ void StereoPipeline::check_moved_pair(const FrameState& frame, const StereoPair&
 void StereoPipeline::check_interior_motion(const FrameState& frame, const StereoPair& paired,
                                            StereoDetection& found) {
   const PairingContext& ctx = frame.ctx;
+  if (!needs_motion_allowance(ctx, paired)) return;
   const double tolerance_px = ctx.epipolar.params().max_row_diff_px;
-  // Only a pair the paper's rules would refuse: its rows or its disparity need the motion.
-  if (!(ctx.motion_radii > 0.0) || (paired.row_residual_px <= tolerance_px && !paired.moved))
-    return;
   const Circle& l = found.left;
   const Circle& r = found.right;
   const double circle_dy = l.y_px - r.y_px;
