@@ -20,6 +20,7 @@
 
 #include "bench_table.hpp"
 #include "report.hpp"
+#include "saved_outputs.hpp"
 
 extern char** environ;
 
@@ -101,41 +102,6 @@ br::MachineInfo machine_info(const std::string& commit, const std::string& repor
   return m;
 }
 
-// The saved outputs of ENTRY in DIR (NAME.txt, NAME.cmd, NAME.json), if any. Without NAME.txt a
-// NAME.json the bench wrote with --json stands in for its printed tables.
-br::BenchOutcome read_saved(const br::BenchEntry& entry, const fs::path& dir) {
-  br::BenchOutcome o;
-  o.entry = &entry;
-  const fs::path txt = dir / (entry.name + ".txt");
-  const fs::path json = dir / (entry.name + ".json");
-  if (fs::exists(txt)) {
-    o.output = read_file(txt);
-  } else if (entry.writes_json && fs::exists(json)) {
-    o.output = read_file(json);
-    o.output_is_json = true;
-  } else {
-    o.reason = "no output saved";
-    return o;
-  }
-  o.state = br::BenchOutcome::State::kRan;
-  o.command = br::user_command(entry);
-  if (o.output_is_json) o.command += " --json " + entry.name + ".json";
-  std::ifstream meta(dir / (entry.name + ".cmd"));
-  std::string status, seconds;
-  if (std::getline(meta, o.command) && std::getline(meta, o.date_utc) &&
-      std::getline(meta, status) && std::getline(meta, seconds)) {
-    if (status != "ok") {
-      o.state = br::BenchOutcome::State::kFailed;
-      o.reason = status;
-    }
-    o.seconds = std::atof(seconds.c_str());
-    std::getline(meta, o.load);  // absent in outputs saved before these were recorded
-    std::getline(meta, o.commit);
-  }
-  if (!o.output_is_json && fs::exists(json)) o.json_file = entry.name + ".json";
-  return o;
-}
-
 // Runs ENTRY's program from BIN_DIR with its output saved in DIR; then reads it back. REPORT_PATH
 // is the report being written (not a modification of the sources).
 br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
@@ -174,10 +140,17 @@ br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
   const std::string date = utc_now();
   const std::string load = load_average();
   const std::string commit = current_commit(report_path);
+  // Until NAME.cmd records this run's end, a reader of the folder sees it running (or, should
+  // this report be killed with it, incomplete), never the previous run's end with new output.
+  const fs::path cmd_path = dir / (entry.name + ".cmd");
+  const fs::path marker_path = dir / (entry.name + ".running");
+  fs::remove(cmd_path);
+  fs::remove(marker_path);
   const auto start = std::chrono::steady_clock::now();
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
+  if (rc == 0) std::ofstream(marker_path) << br::running_marker_text({pid, entry.program, date});
   std::string status = "ok";
   if (rc != 0) {
     status = "could not start: " + std::string(std::strerror(rc));
@@ -205,7 +178,7 @@ br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::ofstream meta(dir / (entry.name + ".cmd"));
+  std::ofstream meta(cmd_path);
   meta << command << "\n"
        << date << "\n"
        << status << "\n"
@@ -213,7 +186,8 @@ br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
        << load << "\n"
        << commit << "\n";
   meta.close();
-  return read_saved(entry, dir);
+  fs::remove(marker_path);
+  return br::read_saved(entry, dir);
 }
 
 }  // namespace
@@ -270,7 +244,8 @@ int main(int argc, char** argv) {
   for (const auto& e : br::bench_table()) {
     const bool chosen = !only.empty() ? std::find(only.begin(), only.end(), e.name) != only.end()
                                       : from.empty() && (all || e.cheap);
-    br::BenchOutcome o = chosen ? run_bench(e, bin_dir, out, dir, timeout_min) : read_saved(e, dir);
+    br::BenchOutcome o =
+        chosen ? run_bench(e, bin_dir, out, dir, timeout_min) : br::read_saved(e, dir);
     if (!chosen && o.state == br::BenchOutcome::State::kNotRun) {
       o.reason = !from.empty() ? "no output saved in " + from
                  : e.cheap     ? "not selected"
@@ -284,12 +259,15 @@ int main(int argc, char** argv) {
   md << br::render_report(machine, outcomes);
   md.close();
   if (!md) return fail("writing '" + out + "' failed");
-  int ran = 0, failed = 0;
-  for (const auto& o : outcomes) {
-    ran += o.state == br::BenchOutcome::State::kRan;
-    failed += o.state == br::BenchOutcome::State::kFailed;
-  }
-  std::printf("wrote %s: %d bench(es) with figures, %d failed, %zu not run\n", out.c_str(), ran,
-              failed, outcomes.size() - ran - failed);
-  return failed > 0 ? 1 : 0;
+  using State = br::BenchOutcome::State;
+  auto count = [&](State state) {
+    return std::count_if(outcomes.begin(), outcomes.end(),
+                         [&](const br::BenchOutcome& o) { return o.state == state; });
+  };
+  std::printf(
+      "wrote %s: %ld bench(es) with figures, %ld failed, %ld incomplete, %ld running, %ld not "
+      "run\n",
+      out.c_str(), count(State::kRan), count(State::kFailed), count(State::kIncomplete),
+      count(State::kRunning), count(State::kNotRun));
+  return count(State::kFailed) + count(State::kIncomplete) > 0 ? 1 : 0;
 }

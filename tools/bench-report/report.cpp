@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::bench_report {
 namespace {
 
@@ -24,6 +26,16 @@ std::string fence_for(const std::string& text) {
 
 }  // namespace
 
+std::string_view state_name(BenchOutcome::State state) {
+  using S = BenchOutcome::State;
+  static constexpr util::EnumName<S> kStateNames[] = {{S::kRan, "ran"},
+                                                      {S::kRunning, "running"},
+                                                      {S::kIncomplete, "incomplete"},
+                                                      {S::kFailed, "failed"},
+                                                      {S::kNotRun, "not run"}};
+  return util::name_of(kStateNames, state);
+}
+
 std::string render_report(const MachineInfo& machine, const std::vector<BenchOutcome>& outcomes) {
   std::ostringstream md;
   md << "# Benchmarks\n\n"
@@ -41,9 +53,7 @@ std::string render_report(const MachineInfo& machine, const std::vector<BenchOut
 
   md << "| bench | command | state |\n|---|---|---|\n";
   for (const auto& o : outcomes) {
-    std::string state = o.state == BenchOutcome::State::kRan      ? "ran"
-                        : o.state == BenchOutcome::State::kFailed ? "failed"
-                                                                  : "not run";
+    std::string state(state_name(o.state));
     if (o.state == BenchOutcome::State::kRan && o.seconds > 0)
       state += ", " + fixed(o.seconds / 60.0, 1) + " min";
     md << "| [" << o.entry->title << "](#" << o.entry->name << ") | `" << user_command(*o.entry)
@@ -56,6 +66,14 @@ std::string render_report(const MachineInfo& machine, const std::vector<BenchOut
     md << "<a id=\"" << e.name << "\"></a>\n## " << e.title << "\n\n"
        << e.measures << "\n\n"
        << "Data: " << e.data << "\n\n";
+    if (o.state == BenchOutcome::State::kRunning || o.state == BenchOutcome::State::kIncomplete) {
+      md << (o.state == BenchOutcome::State::kRunning ? "**Running** when this report was written"
+                                                      : "**Incomplete**")
+         << (o.reason.empty() ? "" : ": " + o.reason)
+         << ". No figures until a run ends and records its end. Command:\n\n```sh\n"
+         << user_command(e) << "\n```\n\n";
+      continue;
+    }
     if (o.state == BenchOutcome::State::kNotRun) {
       md << "**Not run** for this report" << (o.reason.empty() ? "" : " (" + o.reason + ")")
          << ". Command:\n\n```sh\n"

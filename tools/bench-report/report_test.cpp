@@ -137,3 +137,25 @@ TEST(RenderReport, AFailedBenchSaysWhy) {
   // Then the failure and its reason are stated
   EXPECT_NE(md.find("**Failed**: exit status 2"), std::string::npos);
 }
+
+TEST(RenderReport, ARunningOrIncompleteBenchIsNeverListedAsRanAndShowsNoFigures) {
+  for (const auto state :
+       {br::BenchOutcome::State::kRunning, br::BenchOutcome::State::kIncomplete}) {
+    // Given a bench still running, or one stopped part way
+    br::BenchOutcome o;
+    o.entry = br::find_bench("closed-loop");
+    o.state = state;
+    o.reason = "started 08:30 UTC";
+    // When the report is rendered
+    const std::string md = br::render_report(machine(), {o});
+    // Then its row and section say so, with its command and no output block
+    const std::string name(br::state_name(state));
+    EXPECT_NE(md.find("` | " + name + " |"), std::string::npos) << md;
+    EXPECT_EQ(md.find("| ran"), std::string::npos);
+    EXPECT_NE(
+        md.find(state == br::BenchOutcome::State::kRunning ? "**Running**" : "**Incomplete**"),
+        std::string::npos);
+    EXPECT_NE(md.find(br::user_command(*o.entry)), std::string::npos);
+    EXPECT_EQ(md.find("```text"), std::string::npos);
+  }
+}
