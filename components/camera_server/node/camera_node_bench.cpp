@@ -1,6 +1,7 @@
 // stereoball-bench-camera-node: starts the real camera_server with the file source (13 real
 // pairs, 640x480) and measures, in a subscriber, capture-to-receive latency (tick stamp ->
-// sample delivered, DDS included) and the node's CPU per frame. Prints figures only.
+// sample delivered, DDS included) and the node's CPU per frame published in the measured window
+// (camera_node_window.hpp). Prints figures only.
 
 #include <signal.h>
 #include <spawn.h>
@@ -14,6 +15,7 @@
 #include <sstream>
 #include <vector>
 
+#include "camera_server/node/camera_node_window.hpp"
 #include "common/dds/reader.hpp"
 #include "common/node/node_runner.hpp"
 
@@ -83,8 +85,7 @@ int main(int argc, char** argv) {
 
   std::vector<double> latency_us;
   size_t bytes = 0;
-  double cpu0 = 0;
-  int64_t t0 = 0;
+  sb::camera_server::WindowMark start, end;
   int rc = 0;
   {
     sb::node::Runner runner("bench_camera_node", common);
@@ -97,28 +98,33 @@ int main(int argc, char** argv) {
       waitpid(pid, nullptr, 0);
       return 1;
     }
-    bool warm = false;
+    enum class Phase { kWarmUp, kMeasuring, kDone } phase = Phase::kWarmUp;
+    bool received = false;
+    uint64_t last_seq = 0;
     runner.on_data(frames.handle(), [&] {
       const int64_t now = sb::node::now_ns();
       for (auto& s : frames.take()) {
-        if (warm) latency_us.push_back((now - s->stamp_ns) * 1e-3);
+        if (phase == Phase::kMeasuring) latency_us.push_back((now - s->stamp_ns) * 1e-3);
         bytes = s->left.data._length + s->right.data._length;
+        last_seq = std::max(last_seq, s->seq);
+        received = true;
       }
     });
-    // One second of warm-up (discovery, first allocations), then measure.
+    // At least one second of warm-up (discovery, first allocations) and a first frame, then
+    // measure; both ends of the window read the node's CPU and the newest seq together.
     runner.every(1'000'000'000, [&](int64_t now) {
-      if (!warm) {
-        warm = true;
-        cpu0 = cpu_seconds(pid);
-        t0 = now;
-      } else if (now - t0 >= static_cast<int64_t>(seconds * 1e9)) {
+      if (phase == Phase::kWarmUp && received) {
+        phase = Phase::kMeasuring;
+        start = {now, cpu_seconds(pid), last_seq};
+      } else if (phase == Phase::kMeasuring &&
+                 now - start.now_ns >= static_cast<int64_t>(seconds * 1e9)) {
+        phase = Phase::kDone;
+        end = {now, cpu_seconds(pid), last_seq};
         runner.stop();
       }
     });
     rc = runner.run();
   }
-  const double wall_s = (sb::node::now_ns() - t0) * 1e-9;
-  const double cpu_s = cpu_seconds(pid) - cpu0;
   kill(pid, SIGINT);
   waitpid(pid, nullptr, 0);
   std::remove(config.c_str());
@@ -126,15 +132,22 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "no frames received\n");
     return 1;
   }
+  const auto window = sb::camera_server::window_figures(start, end);
+  if (!window) {
+    std::fprintf(stderr, "%s\n", window.error().c_str());
+    return 1;
+  }
   std::sort(latency_us.begin(), latency_us.end());
   const size_t n = latency_us.size();
-  std::printf("camera_server file source (%s), 640x480 at %.0f Hz, %zu bytes per frame:\n",
+  std::printf("camera_server file source (%s), 640x480 asked for %.0f Hz, %zu bytes per frame:\n",
               encoding.c_str(), rate_hz, bytes);
-  std::printf("  frames received      %zu in %.1f s\n", n, wall_s);
+  std::printf("  frames published     %llu in %.1f s (%.1f Hz; seq advance), %zu received\n",
+              static_cast<unsigned long long>(window->published), window->wall_s,
+              window->published_hz, n);
   std::printf("  tick -> received     median %.1f us  p90 %.1f us  p99 %.1f us  max %.1f us\n",
               latency_us[n / 2], latency_us[n * 9 / 10], latency_us[std::min(n - 1, n * 99 / 100)],
               latency_us.back());
-  std::printf("  node CPU             %.2f %% of one core = %.0f us per frame\n",
-              100.0 * cpu_s / wall_s, cpu_s * 1e6 / (wall_s * rate_hz));
+  std::printf("  node CPU             %.2f %% of one core = %.0f us per published frame\n",
+              window->cpu_percent, window->cpu_us_per_frame);
   return rc;
 }
