@@ -1,6 +1,8 @@
 // stereoball bench transport: latency and throughput of a 640x480 stereo frame between two
 // processes on this host, side by side in the same run with Cyclone's own ddsperf for the
-// same payload size. Prints figures; asserts nothing.
+// same serialized sample size, reliability, ping-pong mode and Cyclone configuration
+// (like_for_like.hpp); what still differs is printed under the table. Prints figures; asserts
+// nothing.
 //
 // Latency is half the round trip (ping -> pong -> ping), the definition ddsperf's ping uses.
 
@@ -21,10 +23,13 @@
 #include <vector>
 
 #include "common/dds/reader.hpp"
+#include "common/dds/serialized.hpp"
 #include "common/dds/waitset.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
+#include "common/util/deployment.hpp"
 #include "ddsperf_log.hpp"
+#include "like_for_like.hpp"
 
 namespace sb = stereoball;
 namespace bt = stereoball::bench_transport;
@@ -32,6 +37,10 @@ namespace bt = stereoball::bench_transport;
 namespace {
 
 bool g_reliable = false;
+// ddsperf's sample size (our serialized StereoFrame) and its environment (our Cyclone
+// configuration), set once in main.
+size_t g_ddsperf_sample_bytes = 0;
+std::vector<std::string> g_ddsperf_env;
 
 // The frame topic's QoS, or the same made reliable (--reliable) to compare like with like.
 sb::topics::QosSpec frame_qos() {
@@ -125,7 +134,7 @@ Figures pooled(const std::vector<Figures>& slices) {
   f.p99_us = median(f.second_p99s_us);
   f.overall_p99_us = percentile(f.all_us, 99);
   f.rate_hz = seconds > 0 ? static_cast<double>(f.count) / seconds : 0;
-  f.mbps = f.rate_hz * 2.0 * kWidth * kHeight * 3 / 1e6;
+  f.mbps = f.rate_hz * static_cast<double>(g_ddsperf_sample_bytes) / 1e6;
   return f;
 }
 
@@ -211,23 +220,31 @@ Figures run_ping(int domain, const std::string& partition, int frames, double mi
   const double elapsed_s = (sb::node::monotonic_ns() - t0) * 1e-9;
   Figures f = per_second_figures(samples);
   f.rate_hz = f.count / elapsed_s;
-  f.mbps = f.rate_hz * frame.left.size() * 2 / 1e6;
+  f.mbps = f.rate_hz * static_cast<double>(g_ddsperf_sample_bytes) / 1e6;
   if (lost)
     std::fprintf(stderr, "  (ours: %zu of %d frames lost and skipped)\n", lost, sent_frames);
   return f;
 }
 
-pid_t spawn(const std::vector<std::string>& args, const std::string& log_path) {
+// Starts ARGS with its output in LOG_PATH, in ENV ("NAME=VALUE") if given, else in ours.
+pid_t spawn(const std::vector<std::string>& args, const std::string& log_path,
+            const std::vector<std::string>* env = nullptr) {
+  // Everything the child needs is built before fork: this process has DDS threads.
+  std::vector<std::string> arg_copy = args, env_copy = env ? *env : std::vector<std::string>{};
+  std::vector<char*> argv, envp;
+  for (auto& a : arg_copy) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  for (auto& e : env_copy) envp.push_back(e.data());
+  envp.push_back(nullptr);
   const pid_t pid = fork();
   if (pid == 0) {
     const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(fd, 1);
     dup2(fd, 2);
-    std::vector<char*> argv;
-    std::vector<std::string> copy = args;
-    for (auto& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execvp(argv[0], argv.data());
+    if (env)
+      execvpe(argv[0], argv.data(), envp.data());
+    else
+      execvp(argv[0], argv.data());
     _exit(127);
   }
   return pid;
@@ -268,18 +285,14 @@ Figures ours(int domain, int frames, double min_seconds, int run) {
 // Parses ddsperf's per-second ping lines: "... size S mean ..us min ..us 50% Xus 90% ..us 99% Yus
 // max ..us cnt N".
 Figures ddsperf(int domain, int seconds, bool best_effort) {
-  const std::string dom = std::to_string(domain + 1);  // its own domain: ddsperf has no partitions
-  std::vector<std::string> common{"ddsperf", "-i", dom};
-  if (best_effort) common.push_back("-u");
-  auto pong_args = common;
-  pong_args.insert(pong_args.end(), {"-D", std::to_string(seconds + 8), "pong", "waitset"});
-  auto ping_args = common;
-  ping_args.insert(ping_args.end(), {"-D", std::to_string(seconds), "-Qminmatch:1", "-Qinitwait:5",
-                                     "ping", "size", "1843200", "waitset"});
+  // Its own domain: ddsperf has no partitions.
+  const bt::DdsperfSetup setup{domain + 1, best_effort, g_ddsperf_sample_bytes, seconds};
   const std::string tag = best_effort ? "best-effort" : "reliable";
-  const pid_t pong = spawn(pong_args, "/tmp/sb-bench-ddsperf-pong-" + tag + ".log");
+  const pid_t pong = spawn(bt::ddsperf_pong_args(setup),
+                           "/tmp/sb-bench-ddsperf-pong-" + tag + ".log", &g_ddsperf_env);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  const pid_t ping = spawn(ping_args, "/tmp/sb-bench-ddsperf-ping-" + tag + ".log");
+  const pid_t ping = spawn(bt::ddsperf_ping_args(setup),
+                           "/tmp/sb-bench-ddsperf-ping-" + tag + ".log", &g_ddsperf_env);
   reap(ping, seconds + 15);
   kill(pong, SIGKILL);
   reap(pong, 5);
@@ -299,8 +312,43 @@ Figures ddsperf(int domain, int seconds, bool best_effort) {
   f.second_p99s_us = s.p99s_us;
   f.count = s.count;
   f.rate_hz = s.seconds == 0 ? 0 : static_cast<double>(s.count) / static_cast<double>(s.seconds);
-  f.mbps = f.rate_hz * 1843200 / 1e6;
+  f.mbps = f.rate_hz * static_cast<double>(g_ddsperf_sample_bytes) / 1e6;
   return f;
+}
+
+// Our frame's serialized size without the 4-byte encapsulation header, as it travels: one frame
+// written to a serialized reader in this process. 0 when it could not be measured.
+size_t measure_frame_sample_bytes(int domain) {
+  try {
+    sb::dds::DomainParticipant p({domain, "bench.size." + std::to_string(getpid())});
+    sb::dds::SerializedReader reader(p, sb::topics::kStereoFrame.spec, frame_qos());
+    sb::dds::DataWriter<stereoball_msg_StereoFrame> writer(p, sb::topics::kStereoFrame,
+                                                           frame_qos());
+    if (!writer.wait_for_readers(1, 5 * kSecond)) return 0;
+    Frame frame;
+    writer.write(frame.msg);
+    std::vector<sb::dds::SerializedSample> got;
+    const int64_t deadline = sb::node::monotonic_ns() + 5 * kSecond;
+    while (got.empty() && sb::node::monotonic_ns() < deadline) {
+      if (reader.take(got, 1) == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return got.empty() || got.front().cdr.size() < 4 ? 0 : got.front().cdr.size() - 4;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "measuring our sample size: %s\n", e.what());
+    return 0;
+  }
+}
+
+// The Cyclone configuration our participants run under, for ddsperf's CYCLONEDDS_URI, and how
+// to name it: keyless, the layer's loopback-only domain; with a key, the deployment's.
+std::pair<std::string, std::string> our_cyclone_config() {
+  sb::deployment::import_env_file();
+  if (sb::dds::resolve_key_file(std::nullopt).empty())
+    return {sb::dds::keyless_cyclone_config(),
+            "loopback-only (the keyless built-in, as config/cyclonedds/loopback.xml)"};
+  const auto& config = sb::deployment::use_deployment_dds_config();
+  if (!config) return {"", "Cyclone's defaults (" + config.error() + ")"};
+  return {config->uri, config->uri.empty() ? "Cyclone's defaults" : config->uri};
 }
 
 }  // namespace
@@ -332,6 +380,15 @@ int main(int argc, char** argv) {
                "our frames reliable instead of the table's best-effort");
   CLI11_PARSE(app, argc, argv);
   if (pong) return run_pong(domain, partition, seconds);
+
+  const auto [cyclone_uri, cyclone_name] = our_cyclone_config();
+  std::vector<std::string> env;
+  for (char** e = environ; *e; ++e) env.emplace_back(*e);
+  g_ddsperf_env = bt::with_cyclone_uri(env, cyclone_uri);
+  const size_t our_sample_bytes = measure_frame_sample_bytes(domain);
+  const size_t pixel_bytes = 2ul * kWidth * kHeight * 3;
+  // Unmeasured, ddsperf sends the pixels' size and the notes say the sizes differ.
+  g_ddsperf_sample_bytes = our_sample_bytes > 0 ? our_sample_bytes : pixel_bytes;
 
   const bool have_ddsperf = std::system("command -v ddsperf >/dev/null 2>&1") == 0;
   if (with_ddsperf && !have_ddsperf) {
@@ -393,21 +450,34 @@ int main(int argc, char** argv) {
     return median(x);
   };
   std::printf(
-      "\n640x480x3 stereo frame (1843200 B of pixels), one-way latency = round trip / 2, %d frames "
-      "x %d runs\n",
-      frames, runs);
+      "\n640x480x3 stereo frame (%zu B of pixels, %zu B serialized), one-way latency = round "
+      "trip / 2, %d frames x %d runs\n",
+      pixel_bytes, our_sample_bytes, frames, runs);
   std::printf("%-34s %12s %12s %14s %10s\n", "", "median (us)", "p99 (us)", "pingpong (Hz)",
               "MB/s");
   std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", "stereoball (dds layer, typed)",
               med(mine, &Figures::median_us), med(mine, &Figures::p99_us),
               med(mine, &Figures::rate_hz), med(mine, &Figures::mbps));
   if (with_ddsperf) {
-    std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", "ddsperf best-effort (same size)",
+    // The row of our reliability ran interleaved with ours; the other after each run.
+    const char* be_label = g_reliable ? "ddsperf best-effort (reference)" : "ddsperf best-effort";
+    const char* rel_label = g_reliable ? "ddsperf reliable" : "ddsperf reliable (reference)";
+    std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", be_label,
                 med(theirs_be, &Figures::median_us), med(theirs_be, &Figures::p99_us),
                 med(theirs_be, &Figures::rate_hz), med(theirs_be, &Figures::mbps));
-    std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", "ddsperf reliable (same size)",
+    std::printf("%-34s %12.0f %12.0f %14.1f %10.1f\n", rel_label,
                 med(theirs_rel, &Figures::median_us), med(theirs_rel, &Figures::p99_us),
                 med(theirs_rel, &Figures::rate_hz), med(theirs_rel, &Figures::mbps));
+    bt::ComparisonFacts facts;
+    facts.our_sample_bytes = our_sample_bytes;
+    facts.ddsperf_sample_bytes = g_ddsperf_sample_bytes;
+    facts.our_pixel_bytes = pixel_bytes;
+    facts.reliable = g_reliable;
+    facts.config = cyclone_name;
+    for (const auto& note : bt::comparison_notes(facts)) std::printf("%s\n", note.c_str());
+    std::printf(
+        "(reference) rows: the other reliability, run after each run's interleaved slices, "
+        "not part of the ratio\n");
     if (p99_ratios.empty()) {
       std::printf("ratio ours/ddsperf: no run measured both sides\n");
       return 0;

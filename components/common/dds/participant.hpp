@@ -51,6 +51,11 @@ class DomainParticipant {
 /// The key file a participant uses: explicit, else $STEREOBALL_KEY_FILE, else "" (keyless).
 std::string resolve_key_file(const std::optional<std::string>& key_file);
 
+/// The Cyclone configuration (XML) of a keyless participant's domain: loopback only, unicast
+/// discovery, buffers sized for stereo frames (as config/cyclonedds/loopback.xml). For tools
+/// that run another DDS program (ddsperf) under the same configuration as ours.
+const char* keyless_cyclone_config();
+
 /// Domain id from the STEREOBALL_DOMAIN environment variable, or fallback.
 int domain_from_env(int fallback = 0);
 
