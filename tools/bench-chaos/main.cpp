@@ -33,6 +33,7 @@
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
 #include "common/util/install_layout.hpp"
+#include "common/util/json_text.hpp"
 #include "recorder/core/reader.hpp"
 #include "recorder/io/file_io.hpp"
 #include "stereoball/topics.hpp"
@@ -585,23 +586,6 @@ void Run::stop_all() {
   wait_nodes(nodes_.size() - 1, nodes_.size(), 30 * kS);
 }
 
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 int Run::report(const std::vector<bc::CheckResult>& checks,
                 const std::vector<bc::TopicLoss>& losses,
                 const std::map<std::string, uint64_t>& recorded, const std::string& netns_note,
@@ -656,10 +640,10 @@ int Run::report(const std::vector<bc::CheckResult>& checks,
 
   if (!o_.json_path.empty()) {
     std::ostringstream j;
-    j << "{\n  \"command\": \"" << json_escape(command) << "\",\n  \"seed\": " << o_.seed
+    j << "{\n  \"command\": \"" << sb::util::json_escape(command) << "\",\n  \"seed\": " << o_.seed
       << ",\n  \"minutes\": " << o_.minutes
       << ",\n  \"namespaces\": " << (netns_ ? "true" : "false") << ",\n  \"namespaces_note\": \""
-      << json_escape(netns_note) << "\",\n  \"passed\": " << (passed ? "true" : "false")
+      << sb::util::json_escape(netns_note) << "\",\n  \"passed\": " << (passed ? "true" : "false")
       << ",\n  \"tool_failures\": " << tool_failures_ << ",\n  \"faults\": {";
     bool first = true;
     for (const auto& [kind, n] : fault_counts_) {
@@ -678,8 +662,8 @@ int Run::report(const std::vector<bc::CheckResult>& checks,
       j << (first ? "\n" : ",\n") << "    {\"name\": \"" << c.name
         << "\", \"passed\": " << (c.passed ? "true" : "false")
         << ", \"applicable\": " << (c.applicable ? "true" : "false")
-        << ", \"violations\": " << c.violations << ", \"detail\": \"" << json_escape(c.detail)
-        << "\"}";
+        << ", \"violations\": " << c.violations << ", \"detail\": \""
+        << sb::util::json_escape(c.detail) << "\"}";
       first = false;
     }
     j << "\n  ],\n  \"memory\": [";

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/util/json_text.hpp"
+
 namespace stereoball::real_stereo {
 namespace {
 
@@ -38,23 +40,6 @@ const char* band_key(Band b) {
       return "dy_over_10";
   }
   return "?";
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += static_cast<char>(c);
-    } else if (c == '\n') {
-      out += "\\n";
-    } else if (c < 0x20) {
-      out += fmt("\\u%04x", c);
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  return out + "\"";
 }
 
 // A number, or null when it is not finite (JSON has no NaN).
@@ -192,38 +177,39 @@ std::string format_json(const ReportContext& ctx, const RunResult& run,
   const RunOptions& o = ctx.options;
   std::ostringstream j;
   j << "{\n";
-  j << "  \"mode\": " << json_string(run.mode) << ",\n";
-  j << "  \"set\": " << json_string(set.dir) << ",\n";
-  j << "  \"truth\": " << json_string(set.truth_path) << ",\n";
-  j << "  \"calibration\": " << json_string(set.calibration_path) << ",\n";
+  j << "  \"mode\": " << util::json_quoted(run.mode) << ",\n";
+  j << "  \"set\": " << util::json_quoted(set.dir) << ",\n";
+  j << "  \"truth\": " << util::json_quoted(set.truth_path) << ",\n";
+  j << "  \"calibration\": " << util::json_quoted(set.calibration_path) << ",\n";
   j << "  \"image_size\": [" << set.image_size.width << ", " << set.image_size.height << "],\n";
   j << "  \"played_size\": [" << run.played_size.width << ", " << run.played_size.height << "],\n";
   j << "  \"truth_scale\": " << json_number(run.scale) << ",\n";
-  j << "  \"frame_encoding\": " << json_string(o.frame_encoding) << ",\n";
+  j << "  \"frame_encoding\": " << util::json_quoted(o.frame_encoding) << ",\n";
   j << "  \"jpeg_quality\": " << o.jpeg_quality << ",\n";
   j << "  \"rate_hz\": " << json_number(run.mode == "dds" ? o.rate_hz : NAN) << ",\n";
   j << "  \"domain\": " << (run.mode == "dds" ? std::to_string(o.domain) : "null") << ",\n";
-  j << "  \"detector_config\": {\"base\": " << json_string(ctx.detector_base) << ", \"changes\": [";
+  j << "  \"detector_config\": {\"base\": " << util::json_quoted(ctx.detector_base)
+    << ", \"changes\": [";
   for (std::size_t i = 0; i < ctx.config->changes.size(); ++i)
-    j << (i ? ", " : "") << json_string(ctx.config->changes[i]);
-  j << "], \"yaml\": " << json_string(ctx.config->yaml) << "},\n";
+    j << (i ? ", " : "") << util::json_quoted(ctx.config->changes[i]);
+  j << "], \"yaml\": " << util::json_quoted(ctx.config->yaml) << "},\n";
   j << "  \"pairs_in_set\": " << set.truth.size() << ",\n";
   j << "  \"overall\": " << json_counts(s.overall) << ",\n";
   j << "  \"bands\": {";
   bool first = true;
   for (const auto& [band, c] : s.bands) {
-    j << (first ? "" : ", ") << json_string(band_key(band)) << ": " << json_counts(c);
+    j << (first ? "" : ", ") << util::json_quoted(band_key(band)) << ": " << json_counts(c);
     first = false;
   }
   j << "},\n";
   j << "  \"excluded\": [";
   for (std::size_t i = 0; i < s.excluded.size(); ++i)
-    j << (i ? ", " : "") << json_string(s.excluded[i]);
+    j << (i ? ", " : "") << util::json_quoted(s.excluded[i]);
   j << "],\n";
   j << "  \"miss_reasons\": {";
   first = true;
   for (const auto& [why, n] : s.miss_reasons) {
-    j << (first ? "" : ", ") << json_string(why) << ": " << n;
+    j << (first ? "" : ", ") << util::json_quoted(why) << ": " << n;
     first = false;
   }
   j << "},\n";
@@ -239,29 +225,31 @@ std::string format_json(const ReportContext& ctx, const RunResult& run,
   j << "  \"cpu_ms_by_search\": {";
   for (std::size_t i = 0; i < run.cpu_by_search.size(); ++i) {
     const SearchCpu& e = run.cpu_by_search[i];
-    j << (i ? ", " : "") << json_string(e.path) << ": {\"total_ms\": " << json_number(e.total_ms)
-      << ", \"frames\": " << e.frames << "}";
+    j << (i ? ", " : "") << util::json_quoted(e.path)
+      << ": {\"total_ms\": " << json_number(e.total_ms) << ", \"frames\": " << e.frames << "}";
   }
   j << "},\n";
   j << "  \"run_errors\": [";
   for (std::size_t i = 0; i < run.errors.size(); ++i)
-    j << (i ? ", " : "") << json_string(run.errors[i]);
+    j << (i ? ", " : "") << util::json_quoted(run.errors[i]);
   j << "],\n";
   j << "  \"notes\": [";
   for (std::size_t i = 0; i < run.notes.size(); ++i)
-    j << (i ? ", " : "") << json_string(run.notes[i]);
+    j << (i ? ", " : "") << util::json_quoted(run.notes[i]);
   j << "],\n";
   j << "  \"pairs\": [";
   for (std::size_t i = 0; i < scores.size(); ++i) {
     const PairScore& p = scores[i];
     const Detection& d = p.detection;
-    j << (i ? "," : "") << "\n    {\"pair\": " << json_string(p.truth.pair)
-      << ", \"left\": " << json_string(p.truth.left)
-      << ", \"verdict\": " << json_string(verdict_name(p.verdict)) << ", \"excluded_because\": "
-      << (p.verdict == Verdict::kExcluded ? json_string(exclusion_name(p.exclusion)) : "null")
-      << ", \"band\": " << json_string(band_key(p.band))
-      << ", \"dy_px\": " << json_number(p.truth.dy_px) << ", \"status\": " << json_string(d.status)
-      << ", \"reason\": " << json_string(d.reason)
+    j << (i ? "," : "") << "\n    {\"pair\": " << util::json_quoted(p.truth.pair)
+      << ", \"left\": " << util::json_quoted(p.truth.left)
+      << ", \"verdict\": " << util::json_quoted(verdict_name(p.verdict))
+      << ", \"excluded_because\": "
+      << (p.verdict == Verdict::kExcluded ? util::json_quoted(exclusion_name(p.exclusion)) : "null")
+      << ", \"band\": " << util::json_quoted(band_key(p.band))
+      << ", \"dy_px\": " << json_number(p.truth.dy_px)
+      << ", \"status\": " << util::json_quoted(d.status)
+      << ", \"reason\": " << util::json_quoted(d.reason)
       << ", \"left_x_px\": " << json_number(d.left_x_px)
       << ", \"left_y_px\": " << json_number(d.left_y_px)
       << ", \"left_r_px\": " << json_number(d.left_r_px) << ", \"z_m\": " << json_number(d.z_m)
@@ -273,7 +261,7 @@ std::string format_json(const ReportContext& ctx, const RunResult& run,
       << ", \"centre_error_px\": " << json_number(d.found ? p.centre_error_px : NAN)
       << ", \"depth_error\": "
       << json_number(d.found && std::isfinite(p.truth.z_m) ? p.depth_error : NAN)
-      << ", \"why_wrong\": " << (p.why.empty() ? "null" : json_string(p.why))
+      << ", \"why_wrong\": " << (p.why.empty() ? "null" : util::json_quoted(p.why))
       << ", \"processing_ms\": " << json_number(d.processing_ms) << "}";
   }
   j << "\n  ]\n}\n";

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <set>
 
+#include "common/util/json_text.hpp"
+
 namespace stereoball::doctor {
 namespace {
 
@@ -81,35 +83,6 @@ double topic_rate(const NodeObservation& node, const std::string& topic) {
   }
   auto it = node.rates_hz.find(topic);
   return it == node.rates_hz.end() ? 0 : it->second;
-}
-
-std::string json_escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out;
 }
 
 const char* kDiscoveryFix =
@@ -622,9 +595,9 @@ std::string to_json(const std::vector<Check>& checks) {
   out += ", \"checks\": [";
   for (std::size_t i = 0; i < checks.size(); ++i) {
     const auto& c = checks[i];
-    out += std::string(i ? ", " : "") + "{\"name\": \"" + json_escape(c.name) +
-           "\", \"verdict\": \"" + to_string(c.verdict) + "\", \"seen\": \"" + json_escape(c.seen) +
-           "\", \"fix\": \"" + json_escape(c.fix) + "\"}";
+    out += std::string(i ? ", " : "") + "{\"name\": \"" + util::json_escape(c.name) +
+           "\", \"verdict\": \"" + to_string(c.verdict) + "\", \"seen\": \"" +
+           util::json_escape(c.seen) + "\", \"fix\": \"" + util::json_escape(c.fix) + "\"}";
   }
   return out + "]}\n";
 }
