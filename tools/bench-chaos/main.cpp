@@ -586,6 +586,8 @@ void Run::stop_all() {
   wait_nodes(nodes_.size() - 1, nodes_.size(), 30 * kS);
 }
 
+using sb::util::json_escape;
+
 int Run::report(const std::vector<bc::CheckResult>& checks,
                 const std::vector<bc::TopicLoss>& losses,
                 const std::map<std::string, uint64_t>& recorded, const std::string& netns_note,
@@ -640,10 +642,10 @@ int Run::report(const std::vector<bc::CheckResult>& checks,
 
   if (!o_.json_path.empty()) {
     std::ostringstream j;
-    j << "{\n  \"command\": \"" << sb::util::json_escape(command) << "\",\n  \"seed\": " << o_.seed
+    j << "{\n  \"command\": \"" << json_escape(command) << "\",\n  \"seed\": " << o_.seed
       << ",\n  \"minutes\": " << o_.minutes
       << ",\n  \"namespaces\": " << (netns_ ? "true" : "false") << ",\n  \"namespaces_note\": \""
-      << sb::util::json_escape(netns_note) << "\",\n  \"passed\": " << (passed ? "true" : "false")
+      << json_escape(netns_note) << "\",\n  \"passed\": " << (passed ? "true" : "false")
       << ",\n  \"tool_failures\": " << tool_failures_ << ",\n  \"faults\": {";
     bool first = true;
     for (const auto& [kind, n] : fault_counts_) {
@@ -662,8 +664,8 @@ int Run::report(const std::vector<bc::CheckResult>& checks,
       j << (first ? "\n" : ",\n") << "    {\"name\": \"" << c.name
         << "\", \"passed\": " << (c.passed ? "true" : "false")
         << ", \"applicable\": " << (c.applicable ? "true" : "false")
-        << ", \"violations\": " << c.violations << ", \"detail\": \""
-        << sb::util::json_escape(c.detail) << "\"}";
+        << ", \"violations\": " << c.violations << ", \"detail\": \"" << json_escape(c.detail)
+        << "\"}";
       first = false;
     }
     j << "\n  ],\n  \"memory\": [";
