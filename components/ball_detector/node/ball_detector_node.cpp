@@ -129,8 +129,9 @@ void BallDetectorNode::check_transport(const stereoball_msg_StereoFrame& frame) 
   if (sample <= largest_sample_bytes_) return;
   largest_sample_bytes_ = sample;
   if (!transport_) {
-    transport_ = stereo::read_transport_limits(dds::ensure_shared_memory_usable() ==
-                                               dds::SharedMemoryState::kOn);
+    transport_ = stereo::read_transport_limits(
+        {dds::ensure_shared_memory_usable() == dds::SharedMemoryState::kOn,
+         runner_.participant().built_in_config()});
     runner_.health().set_counter("receive_buffer_bytes", transport_->receive_buffer_bytes());
   }
   runner_.health().set_counter("frame_sample_bytes", sample);
@@ -162,7 +163,7 @@ void BallDetectorNode::report_gaps(std::int64_t now_ns) {
             ") were published but never received (sequence gaps while the detector waited); "
             "largest sample ",
             largest_sample_bytes_, " bytes, socket receive buffer ", buffer, " bytes. ",
-            stereo::transport_remedies(largest_sample_bytes_));
+            stereo::transport_remedies(largest_sample_bytes_, transport_->keyless));
 }
 
 void BallDetectorNode::count_skipped(std::uint64_t seq, std::uint64_t batch_skipped) {

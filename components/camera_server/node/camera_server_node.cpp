@@ -99,8 +99,9 @@ Status CameraServerNode::open_scaler(cv::Size capture_size) {
 // Raw frames have a known size: compare it with the receive buffer once, at start. Compressed
 // frames are checked as they are published (check_sample).
 void CameraServerNode::check_transport(const std::string& raw_encoding) {
-  transport_ = stereo::read_transport_limits(dds::ensure_shared_memory_usable() ==
-                                             dds::SharedMemoryState::kOn);
+  transport_ = stereo::read_transport_limits(
+      {dds::ensure_shared_memory_usable() == dds::SharedMemoryState::kOn,
+       runner_.participant().built_in_config()});
   runner_.health().set_counter("receive_buffer_bytes", transport_.receive_buffer_bytes());
   if (params_.output.compressed() || raw_encoding == "jpeg") return;
   const uint64_t bytes_per_px = raw_encoding == "bgr8" ? 3 : raw_encoding == "yuyv" ? 2 : 1;

@@ -634,9 +634,11 @@ TEST(CameraServerPublishWidth, GivenAWidthNotBelowTheImagesOrOddThenAnErrorNamin
 }
 
 TEST(CameraServerTransport, GivenRawFramesLargerThanTheReceiveBufferThenWarnedAtStartAndInHealth) {
-  // Given raw 640x480 bgr8 frames (1.8 MB samples) and a Cyclone configuration whose socket
-  // receive buffer request is 512 KiB (whatever the kernel's rmem_max, the buffer is at most
-  // that, so a reader takes at most 1 MiB at once)
+  // Given raw 640x480 bgr8 frames (1.8 MB samples) and a deployment key, so that the node runs
+  // on CYCLONEDDS_URI (a keyless node runs on its built-in configuration), whose socket receive
+  // buffer request is 512 KiB (whatever the kernel's rmem_max, the buffer is at most that, so a
+  // reader takes at most 1 MiB at once)
+  const std::string key = sb::testing::make_key_file(sb::testing::temp_dir(), "deployment.key");
   const char* uri = std::getenv("CYCLONEDDS_URI");
   const std::string small_buffer = std::string(uri ? uri : "") + (uri ? "," : "") +
                                    "<Internal><SocketReceiveBufferSize max=\"512kB\"/></Internal>";
@@ -644,15 +646,15 @@ TEST(CameraServerTransport, GivenRawFramesLargerThanTheReceiveBufferThenWarnedAt
   const std::string config = write_config(
       "source: files\nleft_glob: " + kSamples + "/left0*.jpg\nright_glob: " + kSamples +
       "/right0*.jpg\nfile_encoding: bgr8\nwidth_px: 640\n" + "height_px: 480\nrate_hz: 5\n");
-  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition});
+  sb::dds::DomainParticipant participant({sb::testing::test_domain(), partition, key});
   sb::dds::DataReader<stereoball_msg_ComponentStatus> status(participant,
                                                              sb::topics::kComponentStatus);
   // (the child inherits this process's environment: changed for the start only)
   const std::string saved = uri ? uri : "";
   ::setenv("CYCLONEDDS_URI", small_buffer.c_str(), 1);
-  Process node =
-      Process::start({sb::testing::bin("camera_server"), "--config", config, "--domain",
-                      std::to_string(sb::testing::test_domain()), "--partition", partition});
+  Process node = Process::start({sb::testing::bin("camera_server"), "--config", config, "--domain",
+                                 std::to_string(sb::testing::test_domain()), "--partition",
+                                 partition, "--key-file", key});
   if (uri) {
     ::setenv("CYCLONEDDS_URI", saved.c_str(), 1);
   } else {

@@ -190,6 +190,10 @@ DomainParticipant::DomainParticipant(const ParticipantOptions& options) : option
                              "dds_create_subscriber"));
 }
 
+std::string DomainParticipant::built_in_config() const {
+  return loopback_domain_ ? kLoopbackOnlyXml : "";
+}
+
 const char* keyless_cyclone_config() {
   return kLoopbackOnlyXml;
 }

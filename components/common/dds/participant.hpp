@@ -38,6 +38,9 @@ class DomainParticipant {
   const ParticipantOptions& options() const { return options_; }
   /// Signing and checking of authenticated topics (shared by every reader and writer).
   AuthSession& auth() const { return *auth_; }
+  /// The built-in Cyclone configuration (XML) this participant runs under instead of
+  /// CYCLONEDDS_URI: keyless_cyclone_config() without a deployment key, "" with one.
+  std::string built_in_config() const;
 
  private:
   ParticipantOptions options_;

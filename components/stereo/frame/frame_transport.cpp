@@ -77,10 +77,17 @@ std::optional<std::pair<uint64_t, std::string>> configured_receive_buffer(
   return found;
 }
 
-TransportLimits read_transport_limits(bool shared_memory) {
+TransportLimits read_transport_limits(const CycloneSetup& setup) {
   TransportLimits limits;
-  limits.shared_memory = shared_memory;
-  if (const char* uri = std::getenv("CYCLONEDDS_URI")) {
+  limits.shared_memory = setup.shared_memory && setup.built_in_xml.empty();
+  limits.keyless = !setup.built_in_xml.empty();
+  if (limits.keyless) {
+    if (const auto bytes = receive_buffer_in(setup.built_in_xml)) {
+      limits.requested_bytes = *bytes;
+      limits.requested_from =
+          "the built-in loopback-only configuration (no deployment key; CYCLONEDDS_URI unused)";
+    }
+  } else if (const char* uri = std::getenv("CYCLONEDDS_URI")) {
     if (auto request = configured_receive_buffer(uri, util::read_text_file)) {
       limits.requested_bytes = request->first;
       limits.requested_from = "SocketReceiveBufferSize in " + request->second;
@@ -109,14 +116,25 @@ std::optional<std::string> oversize_warning(uint64_t sample_bytes, const Transpo
   if (limits.rmem_max_bytes != 0) {
     line += ", the kernel caps it at net.core.rmem_max = " + std::to_string(limits.rmem_max_bytes);
   }
-  return line + "): most frames will be lost in transport. " + transport_remedies(sample_bytes);
+  return line + "): most frames will be lost in transport. " +
+         transport_remedies(sample_bytes, limits.keyless);
 }
 
-std::string transport_remedies(uint64_t sample_bytes) {
-  return "Remedies: frame_encoding: jpeg (camera_server "
-         "config or --frame-encoding jpeg); a lower publish_width_px; shared memory on one host "
-         "(CYCLONEDDS_URI=config/cyclonedds/shm.xml with iox-roudi -c config/iceoryx/roudi.toml, "
-         "whose largest mempool must hold the sample); or raise net.core.rmem_max to at least " +
+std::string transport_remedies(uint64_t sample_bytes, bool keyless) {
+  std::string text =
+      "Remedies: frame_encoding: jpeg (camera_server config or --frame-encoding jpeg); a lower "
+      "publish_width_px; ";
+  if (keyless) {
+    return text + "or raise net.core.rmem_max to at least " + std::to_string(sample_bytes) +
+           " (deploy/systemd/90-stereoball-net.conf, sysctl --system). Without a deployment key "
+           "this process runs on the built-in loopback-only configuration and ignores "
+           "CYCLONEDDS_URI, so shared memory and a larger SocketReceiveBufferSize need a key "
+           "('stereoball keys init', STEREOBALL_KEY_FILE)";
+  }
+  return text +
+         "shared memory on one host (CYCLONEDDS_URI=config/cyclonedds/shm.xml with iox-roudi -c "
+         "config/iceoryx/roudi.toml, whose largest mempool must hold the sample); or raise "
+         "net.core.rmem_max to at least " +
          std::to_string(sample_bytes) +
          " (deploy/systemd/90-stereoball-net.conf, sysctl --system) with a SocketReceiveBufferSize "
          "max at least that large in the Cyclone configuration";

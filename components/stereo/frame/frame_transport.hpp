@@ -23,6 +23,7 @@ struct TransportLimits {
   std::string requested_from = "Cyclone's default";              ///< where the request comes from
   uint64_t rmem_max_bytes = 0;                                   ///< net.core.rmem_max; 0 = unknown
   bool shared_memory = false;                                    ///< iceoryx carries local samples
+  bool keyless = false;  ///< the built-in loopback-only configuration is in force
 
   /// The buffer granted: the request capped at rmem_max (the request when the cap is unknown).
   uint64_t receive_buffer_bytes() const;
@@ -45,17 +46,25 @@ std::optional<std::pair<uint64_t, std::string>> configured_receive_buffer(
     const std::string& uri,
     const std::function<std::optional<std::string>(const std::string&)>& read_file);
 
-/// The limits in force for this process: CYCLONEDDS_URI and /proc/sys/net/core/rmem_max.
-/// shared_memory: whether the caller's DDS layer runs over iceoryx (dds::SharedMemoryState).
-TransportLimits read_transport_limits(bool shared_memory);
+/// The Cyclone configuration a process runs under: CYCLONEDDS_URI, or a built-in one that
+/// replaces it (a process without a deployment key runs loopback only, whatever the variable
+/// says; dds::keyless_cyclone_config()).
+struct CycloneSetup {
+  bool shared_memory = false;  ///< iceoryx carries local samples (never with a built-in config)
+  std::string built_in_xml;    ///< the configuration in force when not empty
+};
+
+/// The limits in force for this process: its configuration and /proc/sys/net/core/rmem_max.
+TransportLimits read_transport_limits(const CycloneSetup& setup);
 
 /// Serialized size of a stereo/frame sample with eyes of these pixel byte counts (the pixels
 /// plus the fixed fields and strings, rounded up).
 uint64_t frame_sample_bytes(uint64_t left_bytes, uint64_t right_bytes);
 
 /// The remedies for frames that do not cross the transport, one sentence ("Remedies: ...");
-/// sample_bytes sizes the net.core.rmem_max to ask for.
-std::string transport_remedies(uint64_t sample_bytes);
+/// sample_bytes sizes the net.core.rmem_max to ask for; keyless: the process runs on the built-in
+/// loopback-only configuration, so shared memory and a configuration file need a deployment key.
+std::string transport_remedies(uint64_t sample_bytes, bool keyless = false);
 
 /// One line when a sample of sample_bytes will not fit the receive buffer (rule: the sample is
 /// larger than capacity_bytes()), naming the remedies: frame_encoding: jpeg, shared memory,

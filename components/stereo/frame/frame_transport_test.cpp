@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <map>
 
 namespace stereoball::stereo {
@@ -84,6 +85,47 @@ TEST(TransportLimits, GivenAnUnknownKernelCapThenTheRequestIsTheBuffer) {
   EXPECT_EQ(limits.receive_buffer_bytes(), kCycloneDefaultReceiveBufferBytes);
   limits.rmem_max_bytes = 212992;
   EXPECT_EQ(limits.receive_buffer_bytes(), 212992u);
+}
+
+TEST(ReadTransportLimits, GivenAKeylessProcessThenItsBuiltInConfigurationCountsNotTheVariable) {
+  // Given CYCLONEDDS_URI asking a 1 MiB buffer, and a built-in configuration asking 16 MiB that
+  // replaces it (a process without a deployment key)
+  const char* before = std::getenv("CYCLONEDDS_URI");
+  const std::string saved = before ? before : "";
+  ::setenv("CYCLONEDDS_URI",
+           R"(<CycloneDDS><Domain><Internal><SocketReceiveBufferSize max="1MB"/>)"
+           R"(</Internal></Domain></CycloneDDS>)",
+           1);
+  const std::string built_in =
+      R"(<CycloneDDS><Domain><Internal><SocketReceiveBufferSize min="default" max="16MB"/>)"
+      R"(</Internal></Domain></CycloneDDS>)";
+  // When the limits are read with and without the built-in configuration
+  const TransportLimits keyless = read_transport_limits({true, built_in});
+  const TransportLimits keyed = read_transport_limits({false, ""});
+  if (before) {
+    ::setenv("CYCLONEDDS_URI", saved.c_str(), 1);
+  } else {
+    ::unsetenv("CYCLONEDDS_URI");
+  }
+  // Then the keyless process asks what its built-in configuration asks, has no shared memory
+  // (the built-in configuration enables none) and says where the request comes from
+  EXPECT_EQ(keyless.requested_bytes, 16u << 20);
+  EXPECT_TRUE(keyless.keyless);
+  EXPECT_FALSE(keyless.shared_memory);
+  EXPECT_NE(keyless.requested_from.find("built-in"), std::string::npos) << keyless.requested_from;
+  // And a keyed process follows the variable
+  EXPECT_EQ(keyed.requested_bytes, 1u << 20);
+  EXPECT_FALSE(keyed.keyless);
+}
+
+TEST(TransportRemedies, GivenAKeylessProcessThenNoRemedyNeedsTheVariableItIgnores) {
+  const std::string keyless = transport_remedies(17916928, true);
+  EXPECT_EQ(keyless.find("shm.xml"), std::string::npos) << keyless;
+  for (const char* part : {"frame_encoding: jpeg", "publish_width_px", "at least 17916928",
+                           "deployment key", "stereoball keys init"}) {
+    EXPECT_NE(keyless.find(part), std::string::npos) << part << " in: " << keyless;
+  }
+  EXPECT_NE(transport_remedies(17916928, false).find("shm.xml"), std::string::npos);
 }
 
 }  // namespace
