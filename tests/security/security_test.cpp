@@ -66,6 +66,7 @@ class SecuredSystem {
     it->second.wait_for_exit(10s);
     nodes_.erase(it);
     latest_.erase(node);
+    stamp_ns_.erase(node);
   }
   Process& node(const std::string& name) { return nodes_.at(name); }
 
@@ -80,15 +81,26 @@ class SecuredSystem {
 
   // Takes what arrived: ground truth poses and the newest heartbeat of each component.
   void drain() {
-    for (auto& s : truth_.take(256))
+    for (auto& s : truth_.take(256)) {
       poses_.push_back({s->robot_x_m, s->robot_y_m, s->robot_yaw_rad, s->robot_linear_mps});
+      truth_rx_ns_ = sb::node::now_ns();
+    }
     for (auto& s : health_.take(256)) {
       Counters counters;
       for (uint32_t i = 0; i < s->counters._length; ++i) {
         counters[s->counters._buffer[i].name] = s->counters._buffer[i].value;
       }
       latest_[s->component] = counters;
+      stamp_ns_[s->component] = s->stamp_ns;
     }
+  }
+  // True once each of components has sent a heartbeat stamped after t_ns and ground truth
+  // was received after t_ns.
+  bool heard_after(const std::vector<std::string>& components, int64_t t_ns) {
+    drain();
+    for (const auto& c : components)
+      if (!stamp_ns_.count(c) || stamp_ns_[c] <= t_ns) return false;
+    return truth_rx_ns_ > t_ns;
   }
   // Counter of component's newest heartbeat (0 if absent).
   uint64_t counter(const std::string& component, const std::string& name) {
@@ -141,7 +153,9 @@ class SecuredSystem {
   sb::dds::DataReader<stereoball_msg_ComponentStatus> health_;
   std::map<std::string, Process> nodes_;
   std::map<std::string, Counters> latest_;
+  std::map<std::string, int64_t> stamp_ns_;  // of the newest heartbeat of each component
   std::vector<Pose> poses_;
+  int64_t truth_rx_ns_ = 0;  // when ground truth last arrived
 };
 
 }  // namespace
@@ -188,7 +202,14 @@ TEST(Attack, SameHostRogueMovesNothingAndClearsNoStop) {
     EXPECT_NE(p->output().find("rogue: sent"), std::string::npos) << p->output();
   }
   EXPECT_EQ(replay.output().find("rogue: captured 0"), std::string::npos) << replay.output();
-  std::this_thread::sleep_for(2500ms);  // the heartbeats after the last sample
+  // (the counters come with the heartbeats after the last sample, and ground truth must cover
+  // the base's command timeout, 300 ms, after it: wait for both, 500 ms after the attacks)
+  const std::vector<std::string> all{"simulator", "motion_controller", "tracker"};
+  const int64_t attacks_over_ns = sb::node::now_ns() + 500'000'000;
+  ASSERT_TRUE(sb::testing::eventually([&] { return sys.heard_after(all, attacks_over_ns); }, 10s))
+      << sys.describe("simulator") << "\n"
+      << sys.describe("motion_controller") << "\n"
+      << sys.describe("tracker");
 
   // Then the robot never moved
   double moved_m = 0, turned_rad = 0;
@@ -209,7 +230,6 @@ TEST(Attack, SameHostRogueMovesNothingAndClearsNoStop) {
   EXPECT_EQ(sys.counter("tracker", "auth_accepted:stereo/calibration"), 1u);
   EXPECT_EQ(sys.counter("motion_controller", "auth_accepted:ball/track"), 0u);
   // And every kind of attack reached the readers and was counted
-  const std::vector<std::string> all{"simulator", "motion_controller", "tracker"};
   for (const char* topic :
        {"cmd/velocity", "cmd/estop", "ball/track", "ball/detection", "stereo/calibration"}) {
     EXPECT_GT(sys.rejected(all, "unsigned", topic), 0u) << topic;

@@ -3,8 +3,9 @@
 // detection overlays and track states arrive and keep updating. Writes viewer.png and
 // state.json to OUT_DIR.
 //   node browser_check.mjs URL OUT_DIR CHROMIUM [--reconnect | --overlay=X,Y,R]
-// With --reconnect it writes OUT_DIR/phase1 once live, then expects the page to reconnect
-// (the test restarts the viewer) and images to flow again. With --overlay it expects the left
+// With --reconnect it writes OUT_DIR/phase1 once live and OUT_DIR/down once the page has seen
+// the viewer go away, then expects the page to reconnect (the test restarts the viewer) and
+// images to flow again. With --overlay it expects the left
 // circle drawn at X,Y with radius R (canvas pixels, within 0.01 px).
 // Exit 0 when all checks pass, 1 with FAIL lines otherwise.
 
@@ -55,6 +56,7 @@ async function main() {
       writeFileSync(join(outDir, "phase1"), "live\n");
       const down = await waitFor((s) => !s.connected, 30000);
       if (down && down.connected) fail("the page never saw the viewer go away");
+      writeFileSync(join(outDir, "down"), "down\n");
       const back = await waitFor((s) => s.connected && s.connects >= 2, 60000);
       if (!back || back.connects < 2) fail(`the page did not reconnect: ${JSON.stringify(back)}`);
       const flowing = back && await waitFor((s) => s.images >= back.images + 5, 30000);

@@ -83,7 +83,9 @@ TEST_F(ViewerBrowser, PageReconnectsWhenTheViewerRestarts) {
   // When the viewer stops and starts again on the same port
   viewer.signal(SIGTERM);
   ASSERT_TRUE(viewer.wait_for_exit(30s).has_value());
-  std::this_thread::sleep_for(2s);
+  // (once the page has seen it go away, so the restart is not missed between two looks)
+  ASSERT_TRUE(eventually([&] { return fs::exists(out + "/down") || !browser.running(); }, 60s))
+      << browser.output();
   auto restarted = Process::start(argv);
   ASSERT_TRUE(restarted.wait_for_output("viewer: http://", 30s)) << restarted.output();
   // Then the page reconnects by itself and images flow again

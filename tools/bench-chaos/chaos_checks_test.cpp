@@ -285,5 +285,27 @@ TEST(Plan, SeededOrderedAndComplete) {
   for (const auto& f : plan_faults(p, 7)) EXPECT_NE(f.kind, FaultKind::kCutLink);
 }
 
+TEST(Plan, FirstRoundHasEveryKindOnceAndStartsThePlan) {
+  // Given a 10-minute plan, which repeats kinds after its first round
+  PlanParams p;
+  p.span_ns = 600 * 1'000'000'000LL;
+  const auto plan = plan_faults(p, 7);
+  // When its first round is taken
+  const auto round = first_round(plan);
+  // Then it is the plan's first six faults, one of each kind
+  ASSERT_EQ(round.size(), 6u);
+  std::set<FaultKind> kinds;
+  for (size_t i = 0; i < round.size(); ++i) {
+    EXPECT_EQ(round[i].at_ns, plan[i].at_ns);
+    kinds.insert(round[i].kind);
+  }
+  EXPECT_EQ(kinds.size(), 6u);
+  // And without namespaces it is five, none of them the link
+  p.link = false;
+  const auto no_link = first_round(plan_faults(p, 7));
+  EXPECT_EQ(no_link.size(), 5u);
+  for (const auto& f : no_link) EXPECT_NE(f.kind, FaultKind::kCutLink);
+}
+
 }  // namespace
 }  // namespace stereoball::bench_chaos

@@ -60,9 +60,9 @@ std::vector<Fault> plan_faults(const PlanParams& p, uint64_t seed) {
                                   FaultKind::kRogueCommands};
   if (p.link) kinds.push_back(FaultKind::kCutLink);
   // The first round has every kind once, in a seeded order.
-  std::vector<FaultKind> first_round = kinds;
-  for (size_t i = first_round.size(); i > 1; --i)
-    std::swap(first_round[i - 1], first_round[static_cast<size_t>(rng() % i)]);
+  std::vector<FaultKind> round_order = kinds;
+  for (size_t i = round_order.size(); i > 1; --i)
+    std::swap(round_order[i - 1], round_order[static_cast<size_t>(rng() % i)]);
   std::vector<Fault> out;
   int64_t t = 0;
   for (size_t n = 0;; ++n) {
@@ -71,12 +71,23 @@ std::vector<Fault> plan_faults(const PlanParams& p, uint64_t seed) {
     if (t >= p.span_ns) break;
     Fault f;
     f.at_ns = t;
-    f.kind = n < first_round.size() ? first_round[n] : kinds[rng() % kinds.size()];
+    f.kind = n < round_order.size() ? round_order[n] : kinds[rng() % kinds.size()];
     f.duration_ns = duration_of(f.kind, rng);
     f.node = static_cast<int>(rng() % static_cast<uint64_t>(std::max(1, p.nodes)));
     f.sigkill = (rng() & 1) != 0;
     out.push_back(f);
     t += f.duration_ns;
+  }
+  return out;
+}
+
+std::vector<Fault> first_round(const std::vector<Fault>& plan) {
+  std::vector<Fault> out;
+  for (const auto& f : plan) {
+    const bool seen = std::any_of(out.begin(), out.end(),
+                                  [&](const Fault& earlier) { return earlier.kind == f.kind; });
+    if (seen) break;
+    out.push_back(f);
   }
   return out;
 }

@@ -38,4 +38,8 @@ struct PlanParams {
 /// then random kinds).
 std::vector<Fault> plan_faults(const PlanParams& params, uint64_t seed);
 
+/// The leading faults of plan up to (not including) the first whose kind came before: one of
+/// each kind when the plan's span held its first round.
+std::vector<Fault> first_round(const std::vector<Fault>& plan);
+
 }  // namespace stereoball::bench_chaos

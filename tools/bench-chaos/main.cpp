@@ -61,6 +61,7 @@ struct Options {
   std::string scenario = "ball_kicked_past_right";
   double mean_gap_s = 8.0;
   double warmup_s = 10.0;
+  bool one_round = false;  // each fault kind once, then stop kTail after the last
   bool no_netns = false;
   double memory_min_span_s = 300.0;
   double memory_settle_s = 120.0;
@@ -595,7 +596,7 @@ int Run::report(const std::vector<bc::CheckResult>& checks,
   bool passed = true;
   for (const auto& c : checks) passed = passed && c.passed;
   std::string command = "stereoball bench chaos --minutes " + std::to_string(o_.minutes) +
-                        " --seed " + std::to_string(o_.seed);
+                        " --seed " + std::to_string(o_.seed) + (o_.one_round ? " --one-round" : "");
   std::printf("\n== stereoball bench chaos: %s ==\n", passed ? "PASS" : "FAIL");
   std::printf("seed %llu, %.1f min, %s\n", static_cast<unsigned long long>(o_.seed), o_.minutes,
               netns_note.c_str());
@@ -644,6 +645,7 @@ int Run::report(const std::vector<bc::CheckResult>& checks,
     std::ostringstream j;
     j << "{\n  \"command\": \"" << json_escape(command) << "\",\n  \"seed\": " << o_.seed
       << ",\n  \"minutes\": " << o_.minutes
+      << ",\n  \"one_round\": " << (o_.one_round ? "true" : "false")
       << ",\n  \"namespaces\": " << (netns_ ? "true" : "false") << ",\n  \"namespaces_note\": \""
       << json_escape(netns_note) << "\",\n  \"passed\": " << (passed ? "true" : "false")
       << ",\n  \"tool_failures\": " << tool_failures_ << ",\n  \"faults\": {";
@@ -785,7 +787,8 @@ int Run::main() {
   plan.span_ns = std::max<int64_t>(0, total_ns - warmup_ns - 10 * kS);
   plan.mean_gap_ns = static_cast<int64_t>(o_.mean_gap_s * 1e9);
   plan.link = netns_;
-  const auto faults = bc::plan_faults(plan, o_.seed);
+  auto faults = bc::plan_faults(plan, o_.seed);
+  if (o_.one_round) faults = bc::first_round(faults);
   note("nodes started; " + std::to_string(faults.size()) + " faults planned");
   const int64_t faults_start = start_ns_ + warmup_ns;
   wait_until(faults_start);
@@ -794,7 +797,9 @@ int Run::main() {
     wait_until(std::max(faults_start + f.at_ns, now_ns()));
     do_fault(f);
   }
-  wait_until(start_ns_ + total_ns);
+  // A one-round run ends once the last fault has been over for the tail (the nodes settle).
+  wait_until(o_.one_round ? std::min(start_ns_ + total_ns, now_ns() + 10 * kS)
+                          : start_ns_ + total_ns);
   note("stopping");
   stop_all();
 
@@ -911,6 +916,9 @@ int main(int argc, char** argv) {
                  "is first sampled in each process)")
       ->check(CLI::Range(1.0, 600.0))
       ->capture_default_str();
+  app.add_flag("--one-round", o.one_round,
+               "each fault kind once (the schedule's first round), then stop 10 s after the last "
+               "fault ends; --minutes caps the run");
   app.add_flag("--no-netns", o.no_netns, "everything on one host (no link fault)");
   app.add_option("--memory-min-span", o.memory_min_span_s,
                  "judge the memory growth of process instances observed at least this long "

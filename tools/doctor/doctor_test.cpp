@@ -149,9 +149,9 @@ class Doctor : public ::testing::Test {
     ASSERT_TRUE(all) << logs;
   }
 
-  // Runs the doctor (--json) on the nodes' domain and partition unless args say otherwise.
-  std::pair<int, std::string> doctor(std::vector<std::string> args, bool with_key = true,
-                                     bool own_place = true, int listen_s = 5) {
+  // Starts the doctor (--json) on the nodes' domain and partition unless args say otherwise.
+  Process start_doctor(std::vector<std::string> args, bool with_key = true, bool own_place = true,
+                       int listen_s = 5) {
     std::vector<std::string> argv{sb::testing::bin("stereoball-doctor"), "--json", "--listen-s",
                                   std::to_string(listen_s)};
     if (own_place) {
@@ -161,9 +161,22 @@ class Doctor : public ::testing::Test {
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<std::string> env;
     if (with_key) env.push_back("STEREOBALL_KEY_FILE=" + key_);
-    auto result = sb::testing::run(argv, 90s, env);
+    return Process::start(argv, env);
+  }
+
+  // The exit status (-1 when it did not end within 90 s) and output of a started doctor.
+  static std::pair<int, std::string> finish(Process& doctor) {
+    const auto code = doctor.wait_for_exit(90s);
+    std::pair<int, std::string> result{code.value_or(-1), doctor.output()};
     std::printf("%s\n", result.second.c_str());
     return result;
+  }
+
+  // Runs the doctor to its end (see start_doctor).
+  std::pair<int, std::string> doctor(std::vector<std::string> args, bool with_key = true,
+                                     bool own_place = true, int listen_s = 5) {
+    Process p = start_doctor(std::move(args), with_key, own_place, listen_s);
+    return finish(p);
   }
 
   std::string dir_, key_, partition_;
@@ -249,13 +262,16 @@ TEST_F(Doctor, GivenANodeWithAnotherKeyOrADoctorWithoutOneThenKeysSaySo) {
   start("camera_server", {"--config", camera_config()});
   start("motion_controller", {}, sb::testing::make_key_file(dir_, "other.key"));
   wait_for({"camera_server", "motion_controller"});
-  // When the doctor checks with the deployment key
-  auto [code, out] = doctor({});
+  // When the doctor checks with the deployment key, and (listening at the same time, as it
+  // only observes) a doctor without any key
+  Process keyed = start_doctor({});
+  Process keyless = start_doctor({}, /*with_key=*/false);
+  auto [code, out] = finish(keyed);
+  auto [code2, out2] = finish(keyless);
   // Then keys fail
   EXPECT_EQ(verdict(out, "keys"), "FAIL");
   EXPECT_EQ(code, 1);
-  // And a doctor without any key is warned that it has none
-  auto [code2, out2] = doctor({}, /*with_key=*/false);
+  // And the doctor without any key is warned that it has none
   EXPECT_NE(verdict(out2, "keys"), "ok");
   EXPECT_NE(out2.find("doctor has no key"), std::string::npos);
 }
@@ -309,18 +325,22 @@ TEST_F(Doctor, GivenADoctorOnAnotherPartitionOrDomainThenDiscoveryFailsWithTheCa
   // Given a node answering on the test's domain and partition
   FakeNode node(participant_, "camera_server", "robot", {{"auth_key_id", 0}});
   wait_for({"camera_server"});
-  // When the doctor listens on another partition of the same domain
-  auto [code, out] = doctor({"--domain", std::to_string(sb::testing::test_domain()), "--partition",
-                             partition_ + "_other"},
-                            true, /*own_place=*/false);
+  // When one doctor listens on another partition of the same domain and, at the same time,
+  // another on another domain (its own partition, so no concurrent test answers)
+  Process other_partition = start_doctor({"--domain", std::to_string(sb::testing::test_domain()),
+                                          "--partition", partition_ + "_other"},
+                                         true, /*own_place=*/false);
+  Process other_domain =
+      start_doctor({"--domain", std::to_string((sb::testing::test_domain() + 97) % 230),
+                    "--partition", partition_ + "_elsewhere"},
+                   true, false);
+  auto [code, out] = finish(other_partition);
+  auto [code2, out2] = finish(other_domain);
   // Then discovery fails, names the node heard in another partition and the likely causes
   EXPECT_EQ(verdict(out, "discovery"), "FAIL");
   EXPECT_NE(out.find("another partition of this domain: camera_server@robot"), std::string::npos);
   EXPECT_EQ(code, 1);
-  // And on another domain (its own partition, so no concurrent test answers) the same
-  auto [code2, out2] = doctor({"--domain", std::to_string((sb::testing::test_domain() + 97) % 230),
-                               "--partition", partition_ + "_elsewhere"},
-                              true, false);
+  // And on the other domain the same
   EXPECT_EQ(verdict(out2, "discovery"), "FAIL");
   EXPECT_NE(out2.find("--domain"), std::string::npos);
   EXPECT_EQ(code2, 1);

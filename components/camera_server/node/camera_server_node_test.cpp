@@ -236,15 +236,20 @@ TEST(CameraServerNode, GivenTheCalibrationFileRewrittenWhileRunningThenTheNewOne
   auto changed = *original;
   changed.t *= 1.1;
   changed.p2(0, 3) *= 1.1;
-  std::this_thread::sleep_for(1100ms);  // a later modification time than the first file's
+  // (stamped a second after the file it replaces, so that even a file system that keeps whole
+  // seconds gives it a later modification time, without waiting for one)
+  const auto later_than = [&](const std::string& replacement) {
+    std::filesystem::last_write_time(replacement, std::filesystem::last_write_time(file) + 1s);
+  };
   ASSERT_TRUE(sb::stereo::save_calibration(dir + "/new.yaml", changed));
+  later_than(dir + "/new.yaml");
   std::filesystem::rename(dir + "/new.yaml", file);
   // Then camera_server publishes it without a restart
   EXPECT_TRUE(wait_for_t0(changed.t[0])) << node.output();
   EXPECT_TRUE(node.wait_for_output("calibration reloaded from " + file, 5s)) << node.output();
   // When the file is replaced by one that is not a calibration
-  std::this_thread::sleep_for(1100ms);
   std::ofstream(dir + "/bad.yaml") << "not: a calibration\n";
+  later_than(dir + "/bad.yaml");
   std::filesystem::rename(dir + "/bad.yaml", file);
   // Then that is reported once, the node keeps running and publishes nothing new
   EXPECT_TRUE(node.wait_for_output("calibration file changed but not used", 10s)) << node.output();
