@@ -61,7 +61,9 @@ void add_reduced_band_circles(CoarseSearch& coarse, double min_separation_px,
   for (double low = coarse.params.min_radius_px; low < top; low *= kRadiusBandRatio, ++i) {
     const SearchHints band{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}};
     if (coarse.band_detectors.size() <= i) {
-      coarse.band_detectors.emplace_back(coarse.params);
+      PixelToPixelParams band_params = coarse.params;
+      band_params.max_peaks_examined = static_cast<int>(kCoarseBandCircles);
+      coarse.band_detectors.emplace_back(band_params);
       coarse.band_detectors.back().set_reduced_image_options(min_voted_coverage, true);
     }
     std::vector<Circle> found = coarse.band_detectors[i].redetect_from(*coarse.detector, band);
