@@ -215,11 +215,14 @@ std::vector<params::Field<P>> coarse_to_fine_fields() {
   const C core;
   const auto in = [](auto member) { return at(&P::coarse_to_fine, member); };
   return {
-      number("coarse_to_fine.target_width_px", in(&C::target_width_px), 0, {0, 16384}, "px",
+      number("coarse_to_fine.target_width_px", in(&C::target_width_px), 640, {0, 16384}, "px",
              "the whole-frame search of a wider frame first votes on the left eye reduced by "
              "powers of two to about this width and refines each circle found there on the "
              "full-resolution edges; if those pair nothing, the frame is searched at full width "
              "(0 = off: every search at full width)"),
+      number("coarse_to_fine.min_pair_score", at(&P::coarse_min_pair_score), 0.65, {0.0, 1.0}, "",
+             "a pair of the reduced eye's circles scoring less is left to the full-width "
+             "search"),
       number("coarse_to_fine.min_coarse_radius_px", in(&C::min_coarse_radius_px),
              core.min_coarse_radius_px, {0.1, 1000.0}, "px",
              "smallest radius searched on the reduced image, its pixels; smaller radii of the "

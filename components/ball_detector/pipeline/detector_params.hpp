@@ -129,6 +129,9 @@ struct BallDetectorParams {
   /// reduced to about coarse_to_fine.target_width_px and refine each circle found there on the
   /// full-resolution edges (coarse_to_fine.hpp); target 0 = every search at full width.
   CoarseToFineParams coarse_to_fine;
+  /// Addition (speed): a pair the reduced eye's circles give answers the frame only when its
+  /// score reaches this; a weaker one is left to the full-width search, [0, 1].
+  double coarse_min_pair_score;
   /// Addition: PairingContext::dominance_margin (0 = off).
   double dominance_margin;
   /// Largest image a calibration (and so every frame) may have: a larger stereo/calibration is

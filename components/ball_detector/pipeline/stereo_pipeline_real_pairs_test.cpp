@@ -6,14 +6,18 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "ball_detector/pipeline/search/coarse_search.hpp"
+#include "ball_detector/pipeline/search/search_tools.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "stereo/core/calibration_scaling.hpp"
+#include "stereo/core/rectifier.hpp"
 #include "stereo/frame/frame_codec.hpp"
 #include "stereo/io/calibration_file.hpp"
 
@@ -229,4 +233,40 @@ TEST_F(RealBasketballPairs, GivenCoarseToFine_ThenABallTheReducedEyeMissesIsStil
   for (const Truth& t :
        {Truth{"14", 1305.0, 480.5, 66.5, 1.66}, Truth{"04", 1518.5, 589.0, 70.0, 1.66}})
     expect_correct(run_pair(pipeline, t), t);
+}
+
+TEST_F(RealBasketballPairs, GivenClutterBelowTheBall_ThenTheReducedEyeStillFindsIt) {
+  // Given the left eyes of pairs 02 and 72 at half width, rectified (truth ball_truth.csv,
+  // halved): a ball held up against a bright wall, clothes, shoes and boxes along the bottom of
+  // the frame, searched coarse to fine (reduced eye 576 px). The long vote lines of large radii
+  // pile up over that clutter; with the full-size smoothing box on the reduced votes and the
+  // whole radius range alone, every examined peak lay there and the reduced eye gave no circle
+  // on the ball
+  auto half = sb::stereo::scale_calibration(calib_, cv::Size(1152, 648));
+  ASSERT_TRUE(half.ok()) << half.error();
+  auto rectifier = sb::stereo::Rectifier::create(*half);
+  ASSERT_TRUE(rectifier.ok()) << rectifier.error();
+  BallDetectorParams p = basketball_params();
+  p.coarse_to_fine.target_width_px = 640;
+  for (const Truth& t :
+       {Truth{"02", 610.75, 270.25, 35.5, 1.62}, Truth{"72", 521.75, 317.0, 24.75, 2.38}}) {
+    sb::ball_detector::SearchTools tools(p);
+    tools.params.p2p = sb::ball_detector::scaled_to_width(p.p2p, p.p2p_reference_width_px, 1152);
+    tools.left_detector = sb::ball_detector::PixelToPixelDetector(tools.params.detector_params());
+    tools.coarse.set_up(tools.params, 1152, std::nullopt);
+    ASSERT_EQ(tools.coarse.level, 1);
+    const cv::Mat l = published(kSet + "/left/left_" + t.id + ".jpg", half->image_size);
+    ASSERT_FALSE(l.empty());
+    ASSERT_TRUE(rectifier->rectify_eye(sb::stereo::Eye::kLeft, l, tools.rect_left).ok());
+    // When the reduced eye votes and its circles are refined at full width
+    ASSERT_TRUE(sb::ball_detector::cast_reduced_left_votes(tools));
+    const std::vector<sb::ball_detector::Circle> found =
+        sb::ball_detector::coarse_left_circles(tools);
+    // Then one of them is the ball (centre within max(6 px, 0.35 r), radius within 20 %)
+    const bool on_ball = std::any_of(found.begin(), found.end(), [&](const auto& c) {
+      return std::hypot(c.x_px - t.x_px, c.y_px - t.y_px) <= std::max(6.0, 0.35 * t.r_px) &&
+             std::abs(c.radius_px - t.r_px) <= 0.2 * t.r_px;
+    });
+    EXPECT_TRUE(on_ball) << "pair " << t.id << ": " << found.size() << " circles";
+  }
 }

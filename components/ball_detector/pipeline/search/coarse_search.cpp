@@ -1,8 +1,10 @@
 #include "ball_detector/pipeline/search/coarse_search.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <span>
 
+#include "ball_detector/pipeline/search/radius_bands.hpp"
 #include "ball_detector/pipeline/search/search_tools.hpp"
 
 namespace stereoball::ball_detector {
@@ -22,7 +24,13 @@ void CoarseSearch::set_up(const BallDetectorParams& p, int image_width_px,
   }
   params = params_at_level(full, level);
   params.min_radius_px = split.coarse_px.min_px;
+  // The smoothing box covers the same scene as at full width (k and the radii are divided
+  // alike): a full-size box on the reduced votes sums four times the area of the long lines of
+  // large radii that pile up over clutter, and those sums outrank a ball's own peak.
+  params.box_size_px = std::max(3, (full.box_size_px >> level) | 1);
+  params.max_peaks_examined = std::min(params.max_peaks_examined, kCoarsePeaksExamined);
   detector.emplace(params);
+  band_detectors.clear();
   // As the single-image coarse search (PixelToPixelParams::coarse_to_fine): on the reduced eye
   // small round texture outvotes a ball's outline unless peaks need voters from around them.
   detector->set_reduced_image_options(full.coarse_min_voted_coverage, true);
@@ -41,9 +49,52 @@ bool cast_reduced_left_votes(SearchTools& tools) {
   return coarse.detector->cast_votes(coarse.reduced_left);
 }
 
+namespace {
+
+// The reduced eye's circles in radius bands (README: radius bands), each band on the lines the
+// whole range's votes were cast along (redetect_from: no window rules again), best first per
+// band, at most kCoarseBandCircles of each.
+void add_reduced_band_circles(CoarseSearch& coarse, double min_separation_px,
+                              double min_voted_coverage, std::vector<Circle>& out) {
+  const double top = std::min(coarse.params.max_radius_px, coarse.reduced_left.rows / 3.0);
+  std::size_t i = 0;
+  for (double low = coarse.params.min_radius_px; low < top; low *= kRadiusBandRatio, ++i) {
+    const SearchHints band{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}};
+    if (coarse.band_detectors.size() <= i) {
+      PixelToPixelParams band_params = coarse.params;
+      band_params.max_peaks_examined = static_cast<int>(kCoarseBandCircles);
+      coarse.band_detectors.emplace_back(band_params);
+      coarse.band_detectors.back().set_reduced_image_options(min_voted_coverage, true);
+    }
+    std::vector<Circle> found = coarse.band_detectors[i].redetect_from(*coarse.detector, band);
+    if (found.size() > kCoarseBandCircles) found.resize(kCoarseBandCircles);
+    out.insert(out.end(), found.begin(), found.end());
+    if (band.radii.max_px >= top) break;  // this band reaches the top already
+  }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Circle& a, const Circle& b) { return a.score > b.score; });
+  // One place and size found by several bands (or the whole range) is refined once.
+  std::vector<Circle> kept;
+  for (const Circle& c : out) {
+    const bool seen = std::any_of(kept.begin(), kept.end(), [&](const Circle& k) {
+      return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) < min_separation_px &&
+             std::abs(k.radius_px - c.radius_px) < 0.2 * std::max(k.radius_px, c.radius_px);
+    });
+    if (!seen) kept.push_back(c);
+  }
+  out = std::move(kept);
+}
+
+}  // namespace
+
 std::vector<Circle> coarse_left_circles(SearchTools& tools) {
   CoarseSearch& coarse = tools.coarse;
-  const std::vector<Circle> reduced = coarse.detector->circles_of_votes();
+  std::vector<Circle> reduced = coarse.detector->circles_of_votes();
+  // In clutter the whole range's strongest peaks are the long lines of large radii crossing
+  // there (the reason for the full-width radius bands); on the reduced eye the bands cost a
+  // replay of its lines, so they run on every coarse try.
+  add_reduced_band_circles(coarse, coarse.params.min_separation_px,
+                           tools.params.detector_params().coarse_min_voted_coverage, reduced);
   std::vector<Circle> found = refine_coarse_circles(tools.left_detector, reduced, coarse.level,
                                                     tools.params.coarse_to_fine.max_refine_shift);
   if (coarse.fine_path) {

@@ -1,9 +1,10 @@
 #pragma once
 // The first try of a wide frame's whole-frame search, coarse to fine (core/coarse_to_fine.hpp):
-// the left eye votes reduced to about coarse_to_fine.target_width_px, each circle found there is
-// refined on the full-resolution edges, and radii too small for the reduced eye are voted for at
-// full width (README: coarse to fine). When that pairs nothing, the frame is searched at full
-// width (whole frame, then radius bands) as without it.
+// the left eye votes reduced to about coarse_to_fine.target_width_px, the circles of the whole
+// radius range and of each radius band of those votes are refined on the full-resolution edges,
+// and radii too small for the reduced eye are voted for at full width (README: coarse to fine).
+// When that pairs nothing (or only weakly), the frame is searched at full width (whole frame,
+// then radius bands) as without it.
 
 #include <opencv2/core.hpp>
 
@@ -20,14 +21,21 @@ namespace stereoball::ball_detector {
 
 struct SearchTools;
 
+/// Accumulator peaks the reduced eye's searches (whole range, each band) examine: a reduced
+/// peak costs a full-resolution refinement as well.
+constexpr int kCoarsePeaksExamined = 8;
+/// Circles each radius band of the reduced eye passes on to the full-resolution refinement.
+constexpr std::size_t kCoarseBandCircles = 4;
+
 /// The reduced left eye's equipment for one calibration (SearchTools::coarse).
 struct CoarseSearch {
   int level = 0;              ///< pyramid level of the left eye's votes (0 = full width: off)
   RadiusSplit split;          ///< the radius range between the reduced eye and full width
   PixelToPixelParams params;  ///< the reduced eye's detector settings (its pixels)
-  std::optional<PixelToPixelDetector> detector;   ///< votes on the reduced left eye
-  std::optional<PixelToPixelDetector> fine_path;  ///< radii below the reduced eye's, full width
-  cv::Mat reduced_left;                           ///< the reduced rectified left eye
+  std::optional<PixelToPixelDetector> detector;      ///< votes on the reduced left eye
+  std::optional<PixelToPixelDetector> fine_path;     ///< radii below the reduced eye's, full width
+  cv::Mat reduced_left;                              ///< the reduced rectified left eye
+  std::vector<PixelToPixelDetector> band_detectors;  ///< the reduced eye's radius bands
 
   /// Sets the level and detectors for frames image_width_px wide with the pipeline's (scaled)
   /// params; off when the frame is not wider than the target or no radius suits the reduced eye.
@@ -41,8 +49,9 @@ struct CoarseSearch {
 /// left detector then holds the full-resolution edges only; false for an invalid image.
 bool cast_reduced_left_votes(SearchTools& tools);
 
-/// The whole-range circles of the reduced eye's votes refined at full width, with the fine
-/// path's, best first, at most max_candidates_per_eye.
+/// The circles of the reduced eye's votes (the whole radius range's and each radius band's,
+/// kCoarseBandCircles a band) refined at full width, with the fine path's, best first, at most
+/// max_candidates_per_eye.
 std::vector<Circle> coarse_left_circles(SearchTools& tools);
 
 }  // namespace stereoball::ball_detector

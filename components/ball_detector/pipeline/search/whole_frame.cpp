@@ -17,7 +17,10 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
     const bool voted = cast_reduced_left_votes(tools);
     SearchOutcome coarse = pair_left_circles(
         frame, scratch, tools, voted ? coarse_left_circles(tools) : std::vector<Circle>{}, false);
-    if (coarse.found()) {
+    // A weak pair there (a fit pulled onto fingers or a seam scores low) is judged by the
+    // full-width search instead, which may find the outline itself or withdraw it.
+    if (coarse.found() && coarse.pairing.best &&
+        coarse.pairing.best->score >= tools.params.coarse_min_pair_score) {
       coarse.path = SearchPath::kWholeFrame;
       return coarse;
     }
