@@ -208,34 +208,37 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                      return std::make_unique<bd::PixelToPixelDetector>(p);
                    }});
   // Multi-scale with a cheaper full-resolution search of the small radii (most of the
-  // multi-scale time): fewer of its peaks examined (fine_max_peaks_examined) and/or no arc
-  // isolation there (fine_isolate_arc), around the multi-scale grid's better settings.
+  // multi-scale time): fewer of its peaks examined (fine_max_peaks_examined), no arc isolation
+  // there (fine_isolate_arc), weak candidates given up after one round (fine_give_up), around
+  // the multi-scale grid's better settings.
   for (double score : {0.55, 0.6})
     for (double clutter : {0.1, 0.2})
-      for (int fine_peaks : {0, 25, 50})
-        for (bool fine_isolate : {true, false}) {
-          if (fine_peaks == 0 && fine_isolate) continue;  // the multi-scale grid's setting
-          p2p.settings.push_back(
-              {cv::format("multi fine<2xrmin k=3,5 fine k=3 fine-peaks=%d fine-isolate=%s "
-                          "score>=%.2f clutter=%.1f peaks=%d band=0.035r",
-                          fine_peaks, fine_isolate ? "on" : "off", score, clutter,
-                          kRealMaxCircles / 2),
-               [score, clutter, fine_peaks, fine_isolate](cv::Size s, double rmin) {
-                 auto p = p2p_params(s, {3, 5});
-                 p.min_radius_px = rmin;
-                 p.coarse_to_fine = true;
-                 p.fine_below_radius_px = 2.0 * rmin;
-                 p.fine_k_values = {3};
-                 p.fine_max_peaks_examined = fine_peaks;
-                 p.fine_isolate_arc = fine_isolate;
-                 p.refine_params.band_per_radius = 0.035;
-                 p.min_score = score;
-                 p.refine_params.clutter_ring_per_radius = clutter;
-                 p.max_circles = kRealMaxCircles;
-                 p.max_peaks_examined = kRealMaxCircles / 2;
-                 return std::make_unique<bd::PixelToPixelDetector>(p);
-               }});
-        }
+      for (int fine_peaks : {0, kRealMaxCircles / 2})
+        for (bool fine_isolate : {true, false})
+          for (bool give_up : {false, true}) {
+            if (fine_peaks == 0 && fine_isolate && !give_up) continue;  // the grid's above
+            p2p.settings.push_back(
+                {cv::format("multi fine<2xrmin k=3,5 fine k=3 fine-peaks=%d fine-isolate=%s "
+                            "fine-give-up=%s score>=%.2f clutter=%.1f peaks=%d band=0.035r",
+                            fine_peaks, fine_isolate ? "on" : "off", give_up ? "on" : "off", score,
+                            clutter, kRealMaxCircles / 2),
+                 [score, clutter, fine_peaks, fine_isolate, give_up](cv::Size s, double rmin) {
+                   auto p = p2p_params(s, {3, 5});
+                   p.min_radius_px = rmin;
+                   p.coarse_to_fine = true;
+                   p.fine_below_radius_px = 2.0 * rmin;
+                   p.fine_k_values = {3};
+                   p.fine_max_peaks_examined = fine_peaks;
+                   p.fine_isolate_arc = fine_isolate;
+                   p.fine_give_up = give_up;
+                   p.refine_params.band_per_radius = 0.035;
+                   p.min_score = score;
+                   p.refine_params.clutter_ring_per_radius = clutter;
+                   p.max_circles = kRealMaxCircles;
+                   p.max_peaks_examined = kRealMaxCircles / 2;
+                   return std::make_unique<bd::PixelToPixelDetector>(p);
+                 }});
+          }
   // And at full resolution only: coarse to fine halves a 6 px circle to 3 px, below what the
   // halved search finds; the tune split decides which wins.
   for (const auto& ks : std::vector<std::vector<int>>{{5}, {3, 5}, {3, 5, 8}})

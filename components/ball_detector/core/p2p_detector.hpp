@@ -98,6 +98,12 @@ struct PixelToPixelParams {
   /// the small radii (arc isolation is most of its voting time). False = the count rule alone
   /// there; the coarse-to-fine search keeps isolate_arc.
   bool fine_isolate_arc = true;
+  /// Addition (speed, with fine_below_radius_px): true = the full-resolution search of the
+  /// small radii drops a candidate after its first refinement round when that round's widest
+  /// band covers less than min_score of it (RefineParams::give_up_below, as the coarse-to-fine
+  /// search's full-resolution stage does), so weak peaks cost one round and are not rescued
+  /// (rescue_weak_from) there. False = every candidate fully refined.
+  bool fine_give_up = false;
 
   /// Success, or an error naming the first bad field and its allowed range.
   Status validate() const;
