@@ -207,6 +207,38 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                      p.max_peaks_examined = peaks;
                      return std::make_unique<bd::PixelToPixelDetector>(p);
                    }});
+  // Multi-scale with a cheaper full-resolution search of the small radii (most of the
+  // multi-scale time): fewer of its peaks examined (fine_max_peaks_examined), no arc isolation
+  // there (fine_isolate_arc), weak candidates given up after one round (fine_give_up), around
+  // the multi-scale grid's better settings.
+  for (double score : {0.55, 0.6})
+    for (double clutter : {0.1, 0.2})
+      for (int fine_peaks : {0, kRealMaxCircles / 2})
+        for (bool fine_isolate : {true, false})
+          for (bool give_up : {false, true}) {
+            if (fine_peaks == 0 && fine_isolate && !give_up) continue;  // the grid's above
+            p2p.settings.push_back(
+                {cv::format("multi fine<2xrmin k=3,5 fine k=3 fine-peaks=%d fine-isolate=%s "
+                            "fine-give-up=%s score>=%.2f clutter=%.1f peaks=%d band=0.035r",
+                            fine_peaks, fine_isolate ? "on" : "off", give_up ? "on" : "off", score,
+                            clutter, kRealMaxCircles / 2),
+                 [score, clutter, fine_peaks, fine_isolate, give_up](cv::Size s, double rmin) {
+                   auto p = p2p_params(s, {3, 5});
+                   p.min_radius_px = rmin;
+                   p.coarse_to_fine = true;
+                   p.fine_below_radius_px = 2.0 * rmin;
+                   p.fine_k_values = {3};
+                   p.fine_max_peaks_examined = fine_peaks;
+                   p.fine_isolate_arc = fine_isolate;
+                   p.fine_give_up = give_up;
+                   p.refine_params.band_per_radius = 0.035;
+                   p.min_score = score;
+                   p.refine_params.clutter_ring_per_radius = clutter;
+                   p.max_circles = kRealMaxCircles;
+                   p.max_peaks_examined = kRealMaxCircles / 2;
+                   return std::make_unique<bd::PixelToPixelDetector>(p);
+                 }});
+          }
   // And at full resolution only: coarse to fine halves a 6 px circle to 3 px, below what the
   // halved search finds; the tune split decides which wins.
   for (const auto& ks : std::vector<std::vector<int>>{{5}, {3, 5}, {3, 5, 8}})
@@ -436,6 +468,7 @@ int main(int argc, char** argv) {
   int real_repeats = 3;
   bool no_synthetic = false, verbose_tuning = false, breakdown = false;
   std::string settings_matching;
+  std::string time_cap = "EDCircles";
   app.add_option("--per-kind", per_kind, "Synthetic scenes per kind and size (10 kinds)")
       ->capture_default_str()
       ->check(CLI::Range(1, 200));
@@ -468,6 +501,10 @@ int main(int argc, char** argv) {
   app.add_option("--settings-matching", settings_matching,
                  "Try only the settings whose label contains this (development: the choice is "
                  "then not the full sweep's)");
+  app.add_option("--time-cap", time_cap,
+                 "Also choose Pixel-to-Pixel's best tune F1 among its settings no slower on the "
+                 "tune split than this method's chosen setting (empty: off)")
+      ->capture_default_str();
   app.add_flag("--tune-breakdown", breakdown,
                "Print each method's chosen setting's tune-split circles found by labelled radius "
                "and per image (the report split's are never printed)");
@@ -492,7 +529,7 @@ int main(int argc, char** argv) {
     });
   if (no_synthetic) {
     stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
-                                                   min_iou, verbose_tuning, breakdown);
+                                                   min_iou, verbose_tuning, breakdown, time_cap);
     return 0;
   }
   const std::vector<cv::Size> sizes = {{352, 288}, {640, 480}};
@@ -617,6 +654,6 @@ int main(int argc, char** argv) {
                 median(voters[label]), median(increments[label]), median(ratio[label]));
   k_selection_table();
   stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
-                                                 min_iou, verbose_tuning, breakdown);
+                                                 min_iou, verbose_tuning, breakdown, time_cap);
   return 0;
 }

@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <utility>
 
 namespace stereoball::bench_detect {
 namespace bd = ball_detector;
@@ -133,11 +135,97 @@ void print_breakdown(const std::string& family, const std::string& setting, cons
                 im.min_truth_radius_px, im.tp, im.fp);
 }
 
+// The setting with the best tune F1 among those whose median tune time is at most max_ms; a
+// tie goes to the earlier setting unless a later one is clearly faster (a tie on time noise
+// alone made the choice, and the report figure, change from run to run). -1: none qualifies.
+int choose_on_tune(const std::vector<RealScore>& tune, double max_ms) {
+  int best = -1;
+  for (std::size_t i = 0; i < tune.size(); ++i) {
+    const RealScore& s = tune[i];
+    if (median(s.image_ms) > max_ms) continue;
+    const RealScore* b = best < 0 ? nullptr : &tune[static_cast<std::size_t>(best)];
+    const bool better =
+        !b || s.f1() > b->f1() + 1e-9 ||
+        (s.f1() > b->f1() - 1e-9 && median(s.image_ms) < kClearlyFaster * median(b->image_ms));
+    if (better) best = static_cast<int>(i);
+  }
+  return best;
+}
+
+// Median per-image time of a and of b on the tune split, timed side by side: per image both
+// detectors made and warmed up, then `repeats` alternating runs of each (a busy machine slows
+// both alike). Returns {a ms, b ms}.
+std::pair<double, double> side_by_side_tune_ms(const Setting& a, const Setting& b,
+                                               const std::vector<LabelledImage>& images,
+                                               int repeats) {
+  std::vector<double> a_ms, b_ms;
+  for (const auto& img : images) {
+    if (img.split != bd::LabelSplit::tune) continue;
+    auto da = a.make(img.image.size(), img.min_radius_px);
+    auto db = b.make(img.image.size(), img.min_radius_px);
+    da->detect(img.image);
+    db->detect(img.image);
+    std::vector<double> ra, rb;
+    for (int r = 0; r < repeats; ++r) {
+      double t0 = bench::thread_cpu_ms();
+      da->detect(img.image);
+      ra.push_back(bench::thread_cpu_ms() - t0);
+      t0 = bench::thread_cpu_ms();
+      db->detect(img.image);
+      rb.push_back(bench::thread_cpu_ms() - t0);
+    }
+    a_ms.push_back(median(ra));
+    b_ms.push_back(median(rb));
+  }
+  return {median(a_ms), median(b_ms)};
+}
+
+// The time-capped choice: the first family's settings by decreasing tune F1 (ties: the earlier
+// first), those within kCapScreen of the cap in the sweep's one-run times re-timed side by side
+// with the cap setting on the tune split; the first no slower there wins. At most
+// kCapCandidates are re-timed. -1: none.
+constexpr double kCapScreen = 1.5;
+constexpr int kCapCandidates = 40;
+int choose_time_capped(const Family& family, const std::vector<RealScore>& tune, const Setting& cap,
+                       double cap_sweep_ms, const std::vector<LabelledImage>& images, int repeats,
+                       double& ratio) {
+  std::vector<std::size_t> order(tune.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return tune[x].f1() > tune[y].f1(); });
+  int tried = 0;
+  for (const std::size_t i : order) {
+    if (median(tune[i].image_ms) > kCapScreen * cap_sweep_ms) continue;
+    if (tried++ >= kCapCandidates) break;
+    const auto [ms, cap_ms] = side_by_side_tune_ms(family.settings[i], cap, images, repeats);
+    if (ms <= cap_ms) {
+      ratio = ms / std::max(1e-9, cap_ms);
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+void print_time_cap_note(const std::string& family, const std::string& cap_family, double ratio,
+                         bool found) {
+  if (!found) {
+    std::printf("%s <= %s: no %s setting is as fast as %s on the tune split\n", family.c_str(),
+                cap_family.c_str(), family.c_str(), cap_family.c_str());
+    return;
+  }
+  std::printf(
+      "%s <= %s: the best tune F1 among the %s settings no slower than %s's chosen setting on "
+      "the tune split, timed side by side per image (median ms ratio there %.2f); chosen on "
+      "the tune split only\n",
+      family.c_str(), cap_family.c_str(), family.c_str(), cap_family.c_str(), ratio);
+}
+
 }  // namespace
 
 std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                                           const std::vector<LabelledImage>& images, int repeats,
-                                          double min_iou, bool verbose, bool breakdown) {
+                                          double min_iou, bool verbose, bool breakdown,
+                                          const std::string& time_cap_family) {
   auto count = [&](bd::LabelSplit split, bool circles) {
     size_t n = 0;
     for (const auto& i : images)
@@ -153,39 +241,70 @@ std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
       count(bd::LabelSplit::report, false), count(bd::LabelSplit::report, true), min_iou, repeats);
   std::printf("%-22s %-34s %7s | %6s %6s %6s %8s %8s\n", "method", "best setting on tune", "tuneF1",
               "P", "R", "F1", "err_px", "ms/img");
-  std::vector<RealRow> rows;
-  for (const auto& family : families) {
-    const Setting* best = nullptr;
-    RealScore best_tune;
+  // Every family's tune sweep first: the time-capped choice needs the cap family's time.
+  std::vector<std::vector<RealScore>> tune(families.size());
+  std::vector<int> best(families.size(), -1);
+  for (std::size_t fi = 0; fi < families.size(); ++fi) {
+    const Family& family = families[fi];
     for (const auto& setting : family.settings) {
-      const RealScore s = score_setting(setting, images, bd::LabelSplit::tune, 1, min_iou, false);
+      tune[fi].push_back(score_setting(setting, images, bd::LabelSplit::tune, 1, min_iou, false));
       if (verbose)
         std::printf("  tune %-22s %-34s F1 %.3f ms %.2f\n", family.name.c_str(),
-                    setting.label.c_str(), s.f1(), median(s.image_ms));
-      // Equal tune F1: the earlier setting stays unless this one is clearly faster. A tie on
-      // time noise alone made the choice (and the report figure) change from run to run.
-      const bool better = !best || s.f1() > best_tune.f1() + 1e-9 ||
-                          (s.f1() > best_tune.f1() - 1e-9 &&
-                           median(s.image_ms) < kClearlyFaster * median(best_tune.image_ms));
-      if (better) {
-        best = &setting;
-        best_tune = s;
-      }
+                    setting.label.c_str(), tune[fi].back().f1(), median(tune[fi].back().image_ms));
     }
-    if (!best) continue;
-    const RealScore r =
-        score_setting(*best, images, bd::LabelSplit::report, repeats, min_iou, verbose);
-    const auto sc = bd::detection_scores(r.tp, r.fp, r.fn);
-    std::printf("%-22s %-34s %7.3f | %6.3f %6.3f %6.3f %8.3f %8.2f\n", family.name.c_str(),
-                best->label.c_str(), best_tune.f1(), sc.precision, sc.recall, sc.f1,
-                median(r.errors_px), median(r.image_ms));
-    rows.push_back({family.name, best->label, best_tune.f1(), sc.f1, median(r.image_ms)});
-    if (breakdown)
-      print_breakdown(family.name, best->label, tune_breakdown(*best, images, min_iou));
+    best[fi] = choose_on_tune(tune[fi], std::numeric_limits<double>::infinity());
   }
+  // The first family again, among its settings no slower on the tune split than the cap
+  // family's chosen setting there (same run, same images).
+  int capped = -1;
+  double cap_ms = 0.0;
+  bool cap_present = false;
+  double cap_ratio = 0.0;
+  if (!time_cap_family.empty() && !families.empty())
+    for (std::size_t fi = 1; fi < families.size(); ++fi)
+      if (families[fi].name == time_cap_family && best[fi] >= 0) {
+        cap_present = true;
+        cap_ms = median(tune[fi][static_cast<std::size_t>(best[fi])].image_ms);
+        capped = choose_time_capped(families[0], tune[0],
+                                    families[fi].settings[static_cast<std::size_t>(best[fi])],
+                                    cap_ms, images, repeats, cap_ratio);
+      }
+  std::vector<RealRow> rows;
+  const auto report = [&](std::size_t fi, int chosen, const std::string& name) {
+    const Setting& setting = families[fi].settings[static_cast<std::size_t>(chosen)];
+    const RealScore& t = tune[fi][static_cast<std::size_t>(chosen)];
+    const RealScore r =
+        score_setting(setting, images, bd::LabelSplit::report, repeats, min_iou, verbose);
+    const auto sc = bd::detection_scores(r.tp, r.fp, r.fn);
+    std::printf("%-22s %-34s %7.3f | %6.3f %6.3f %6.3f %8.3f %8.2f\n", name.c_str(),
+                setting.label.c_str(), t.f1(), sc.precision, sc.recall, sc.f1, median(r.errors_px),
+                median(r.image_ms));
+    rows.push_back({name, setting.label, t.f1(), sc.f1, median(r.image_ms), median(t.image_ms)});
+    if (breakdown) print_breakdown(name, setting.label, tune_breakdown(setting, images, min_iou));
+  };
+  for (std::size_t fi = 0; fi < families.size(); ++fi) {
+    if (best[fi] < 0) continue;
+    report(fi, best[fi], families[fi].name);
+    if (fi == 0 && capped >= 0) report(0, capped, families[0].name + " <= " + time_cap_family);
+  }
+  if (cap_present && best[0] >= 0)
+    print_time_cap_note(families[0].name, time_cap_family, cap_ratio, capped >= 0);
   for (size_t i = 1; i < rows.size() && rows.front().report_ms > 0.0; ++i)
     std::printf("time %s / %s on the report split: %.2f\n", rows.front().family.c_str(),
                 rows[i].family.c_str(), rows.front().report_ms / std::max(1e-9, rows[i].report_ms));
+  // The time-capped row against the cap family, on both splits.
+  const auto row_of = [&](const std::string& name) -> const RealRow* {
+    for (const auto& row : rows)
+      if (row.family == name) return &row;
+    return nullptr;
+  };
+  if (capped >= 0)
+    if (const RealRow* a = row_of(families[0].name + " <= " + time_cap_family),
+        *b = row_of(time_cap_family);
+        a && b)
+      std::printf("time %s / %s: tune split %.2f, report split %.2f\n", a->family.c_str(),
+                  b->family.c_str(), a->tune_ms / std::max(1e-9, b->tune_ms),
+                  a->report_ms / std::max(1e-9, b->report_ms));
   return rows;
 }
 

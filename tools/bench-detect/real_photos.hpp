@@ -69,17 +69,22 @@ struct RealRow {
   double tune_f1 = 0.0;
   double report_f1 = 0.0;
   double report_ms = 0.0;  ///< median per image
+  double tune_ms = 0.0;    ///< median per image on the tune split (one run each)
 };
 
 /// Chooses each family's best setting on the tune split (F1, then time) and prints it with its
 /// report-split figures, one row per family, then the time ratios of the first family (the
 /// detector under test) to the others.
+/// time_cap_family (not empty): a second row for the first family, "<first> <= <cap>": its best
+/// tune F1 among its settings whose median tune-split time is at most that of the cap family's
+/// chosen setting in the same run (a time-aware choice, still on the tune split only).
 /// breakdown: also print, for each family's chosen setting, its tune-split misses and false
 /// positives by labelled radius and per image (never the report split's: it is not looked at
 /// while settings are chosen).
 std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                                           const std::vector<LabelledImage>& images, int repeats,
-                                          double min_iou, bool verbose, bool breakdown = false);
+                                          double min_iou, bool verbose, bool breakdown = false,
+                                          const std::string& time_cap_family = "");
 
 /// Labelled radius bands of the breakdown, px: [kBreakdownBandsPx[i], kBreakdownBandsPx[i+1]).
 inline constexpr std::array<double, 6> kBreakdownBandsPx = {0.0, 8.0, 12.0, 20.0, 40.0, 1e9};

@@ -95,16 +95,9 @@ std::vector<Circle> GradientVotingDetector::detect(const cv::Mat& bgr_or_grey) {
   if (max_v <= 0.0) return {};
   const auto peaks = find_peaks(smoothed, static_cast<float>(params_.min_relative_peak * max_v),
                                 params_.min_separation_px, 3 * params_.max_circles);
-  CandidateOptions opt;
-  opt.min_radius_px = params_.min_radius_px;
-  opt.max_radius_px = params_.max_radius_px;
-  opt.line_tolerance_px = 0.5 * params_.box_size_px + 1.0;
-  opt.min_separation_px = params_.min_separation_px;
-  opt.min_score = params_.min_score;
-  opt.max_circles = params_.max_circles;
-  opt.refine = params_.refine;
-  opt.refine_params = params_.refine_params;
-  return circles_from_votes(edges_, voters_, peaks, opt);
+  return circles_from_votes(
+      edges_, voters_, peaks,
+      candidate_options_of(params_, RadiusRange{params_.min_radius_px, params_.max_radius_px}));
 }
 
 const DetectionDiagnostics* GradientVotingDetector::diagnostics() const {

@@ -54,6 +54,41 @@ TEST(GradientVoting, GivenTheSameBallThenItCastsMoreVotesThanPixelToPixel) {
   EXPECT_GT(grad.diagnostics()->voters, p2p.diagnostics()->voters);
 }
 
+TEST(CandidateOptionsOf, GivenEitherVotingDetectorsParamsThenTheSharedFieldsAreCopied) {
+  // Given gradient-voting params and Pixel-to-Pixel params with the shared fields set alike
+  GradientVotingParams g;
+  g.box_size_px = 7;
+  g.min_separation_px = 13.0;
+  g.min_score = 0.61;
+  g.max_circles = 9;
+  g.refine = false;
+  g.refine_params.band_px = 2.5;
+  PixelToPixelParams p;
+  p.box_size_px = 7;
+  p.min_separation_px = 13.0;
+  p.min_score = 0.61;
+  p.max_circles = 9;
+  p.refine = false;
+  p.refine_params.band_px = 2.5;
+  // When their candidate options are made for radii 6-40 px
+  const CandidateOptions a = candidate_options_of(g, RadiusRange{6.0, 40.0});
+  const CandidateOptions b = candidate_options_of(p, RadiusRange{6.0, 40.0});
+  // Then both carry the radii, the box's line tolerance and the shared fields, and the options
+  // only Pixel-to-Pixel sets keep their defaults
+  for (const CandidateOptions& o : {a, b}) {
+    EXPECT_EQ(o.min_radius_px, 6.0);
+    EXPECT_EQ(o.max_radius_px, 40.0);
+    EXPECT_EQ(o.line_tolerance_px, 4.5);
+    EXPECT_EQ(o.min_separation_px, 13.0);
+    EXPECT_EQ(o.min_score, 0.61);
+    EXPECT_EQ(o.max_circles, 9);
+    EXPECT_FALSE(o.refine);
+    EXPECT_EQ(o.refine_params.band_px, 2.5);
+    EXPECT_FALSE(o.polish);
+    EXPECT_FALSE(o.nested_circles);
+  }
+}
+
 TEST(Cht, GivenBadParamsThenValidateNamesThem) {
   ChtParams p;
   EXPECT_TRUE(p.validate().ok());

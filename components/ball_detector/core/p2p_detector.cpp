@@ -189,6 +189,8 @@ Status PixelToPixelParams::validate() const {
     return Error{"refine_params.min_inside_fraction must be in [0, 1]"};
   if (!(fine_below_radius_px >= 0.0 && fine_below_radius_px <= 4000.0))
     return Error{"fine_below_radius_px must be in [0, 4000]"};
+  if (fine_max_peaks_examined < 0 || fine_max_peaks_examined > 1000)
+    return Error{"fine_max_peaks_examined must be in [0, 1000]"};
   if (fine_below_radius_px > 0.0) {
     if (fine_k_values.empty()) return Error{"fine_k_values must hold at least one k in [1, 31]"};
     for (int k : fine_k_values)
@@ -450,15 +452,7 @@ int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
     p.y -= margin_px_;
   }
   CandidateOptions& opt = candidate_options_;
-  opt = CandidateOptions{};
-  opt.min_radius_px = radii_.min_px;
-  opt.max_radius_px = radii_.max_px;
-  opt.line_tolerance_px = 0.5 * params_.box_size_px + 1.0;
-  opt.min_separation_px = params_.min_separation_px;
-  opt.min_score = params_.min_score;
-  opt.max_circles = params_.max_circles;
-  opt.refine = params_.refine;
-  opt.refine_params = params_.refine_params;
+  opt = candidate_options_of(params_, radii_);
   opt.refine_params.min_inside_fraction = min_inside_fraction_;
   opt.polish = params_.polish;
   opt.rescue_weak_from = params_.rescue_weak_from;

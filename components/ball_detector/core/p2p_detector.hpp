@@ -89,6 +89,21 @@ struct PixelToPixelParams {
   /// are merged. 0 = off (coarse to fine for every radius), px.
   double fine_below_radius_px = 0.0;
   std::vector<int> fine_k_values = {3};  ///< k of that full-resolution search, each in [1, 31]
+  /// Addition (speed, with fine_below_radius_px): > 0 = the full-resolution search of the small
+  /// radii turns at most this many accumulator peaks into candidates and keeps at most this
+  /// many circles (its peaks are otherwise max(max_peaks_examined, max_circles)); its circles
+  /// are merged with the coarse-to-fine search's as before. 0 = off, [0, 1000].
+  int fine_max_peaks_examined = 0;
+  /// Addition (speed, with fine_below_radius_px): isolate_arc in the full-resolution search of
+  /// the small radii (arc isolation is most of its voting time). False = the count rule alone
+  /// there; the coarse-to-fine search keeps isolate_arc.
+  bool fine_isolate_arc = true;
+  /// Addition (speed, with fine_below_radius_px): true = the full-resolution search of the
+  /// small radii drops a candidate after its first refinement round when that round's widest
+  /// band covers less than min_score of it (RefineParams::give_up_below, as the coarse-to-fine
+  /// search's full-resolution stage does), so weak peaks cost one round and are not rescued
+  /// (rescue_weak_from) there. False = every candidate fully refined.
+  bool fine_give_up = false;
 
   /// Success, or an error naming the first bad field and its allowed range.
   Status validate() const;
@@ -194,6 +209,23 @@ struct CandidateOptions {
   /// voters' median distance, then the ring seed for weak candidates.
   bool voter_mode_radius = false;
 };
+
+/// The CandidateOptions every line-voting detector's params fill alike (PixelToPixelParams,
+/// GradientVotingParams: box, separation, score, count, refinement) for the radii searched;
+/// the options only Pixel-to-Pixel uses keep their defaults.
+template <typename VotingParams>
+CandidateOptions candidate_options_of(const VotingParams& params, RadiusRange radii) {
+  CandidateOptions opt;
+  opt.min_radius_px = radii.min_px;
+  opt.max_radius_px = radii.max_px;
+  opt.line_tolerance_px = 0.5 * params.box_size_px + 1.0;
+  opt.min_separation_px = params.min_separation_px;
+  opt.min_score = params.min_score;
+  opt.max_circles = params.max_circles;
+  opt.refine = params.refine;
+  opt.refine_params = params.refine_params;
+  return opt;
+}
 
 /// Pixel-to-Pixel: thin edge map -> per-window chord rules -> concave-side lines -> box filter
 /// -> peaks -> refined, scored circles sorted by decreasing score.

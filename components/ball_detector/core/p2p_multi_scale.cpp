@@ -22,6 +22,15 @@ PixelToPixelParams PixelToPixelParams::small_circle_search() const {
   p.fine_below_radius_px = 0.0;
   p.k_values = fine_k_values;
   p.max_radius_px = std::min(max_radius_px, kFineOverlap * fine_below_radius_px);
+  p.isolate_arc = isolate_arc && fine_isolate_arc;
+  if (fine_give_up) {
+    p.refine_params.give_up_below = std::max(p.refine_params.give_up_below, min_score);
+    p.rescue_weak_from = 1.0;  // what gives up below min_score cannot be rescued to it
+  }
+  if (fine_max_peaks_examined > 0) {
+    p.max_peaks_examined = fine_max_peaks_examined;
+    p.max_circles = std::min(max_circles, fine_max_peaks_examined);
+  }
   return p;
 }
 

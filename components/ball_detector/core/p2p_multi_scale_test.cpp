@@ -149,6 +149,77 @@ TEST(PixelToPixelMultiScale, GivenBadFineSettingsThenValidateNamesThem) {
   EXPECT_NE(p.validate().error().find("fine_k_values"), std::string::npos);
   p.fine_k_values = {2, 3};
   EXPECT_TRUE(p.validate());
+  p.fine_max_peaks_examined = -1;
+  EXPECT_NE(p.validate().error().find("fine_max_peaks_examined"), std::string::npos);
+  p.fine_max_peaks_examined = 1001;
+  EXPECT_NE(p.validate().error().find("fine_max_peaks_examined"), std::string::npos);
+  p.fine_max_peaks_examined = 25;
+  EXPECT_TRUE(p.validate());
+}
+
+TEST(PixelToPixelMultiScale, GivenCheaperFineSettingsThenOnlyTheSmallRadiusSearchChanges) {
+  // Given the multi-scale search with the small radii's peaks capped and their arc isolation off
+  PixelToPixelParams p = coarse_params(3.5, 120.0);
+  p.fine_below_radius_px = 10.0;
+  p.fine_max_peaks_examined = 25;
+  p.fine_isolate_arc = false;
+  // When its two searches are derived
+  const PixelToPixelParams small = p.small_circle_search();
+  const PixelToPixelParams large = p.large_circle_search();
+  // Then the full-resolution search examines 25 peaks, keeps 25 circles and does not isolate
+  // arcs, and the coarse-to-fine search keeps the detector's own values
+  EXPECT_EQ(small.max_peaks_examined, 25);
+  EXPECT_EQ(small.max_circles, 25);
+  EXPECT_FALSE(small.isolate_arc);
+  EXPECT_EQ(large.max_peaks_examined, 80);
+  EXPECT_EQ(large.max_circles, 40);
+  EXPECT_TRUE(large.isolate_arc);
+  // And giving up on weak candidates sets the small search's first-round floor to min_score
+  // (no rescue below it), the large search's untouched
+  p.fine_give_up = true;
+  EXPECT_EQ(p.small_circle_search().refine_params.give_up_below, p.min_score);
+  EXPECT_GE(p.small_circle_search().rescue_weak_from, p.min_score);
+  EXPECT_EQ(p.large_circle_search().refine_params.give_up_below,
+            PixelToPixelParams{}.refine_params.give_up_below);
+  p.fine_give_up = false;
+  // And with both off the full-resolution search is the detector's own
+  p.fine_max_peaks_examined = 0;
+  p.fine_isolate_arc = true;
+  EXPECT_EQ(p.small_circle_search().max_peaks_examined, 80);
+  EXPECT_EQ(p.small_circle_search().max_circles, 40);
+  EXPECT_TRUE(p.small_circle_search().isolate_arc);
+}
+
+TEST(PixelToPixelMultiScale, GivenCheaperFineSettingsThenTheyChangeOnlyTheSmallCirclesFound) {
+  // Given 4.5 px discs and a 90 px disc, and the multi-scale search without arc isolation in its
+  // full-resolution search, then also with at most 4 peaks examined there, then instead giving
+  // up on weak candidates there
+  const SmallAndLarge scene = small_and_large_scene(4.5);
+  PixelToPixelParams p = coarse_params(3.5, 120.0);
+  p.fine_below_radius_px = 10.0;
+  p.fine_isolate_arc = false;
+  PixelToPixelDetector no_isolation(p);
+  p.fine_max_peaks_examined = 4;
+  PixelToPixelDetector capped(p);
+  p.fine_max_peaks_examined = 0;
+  p.fine_give_up = true;
+  PixelToPixelDetector giving_up(p);
+  // When they search the scene
+  const auto found = no_isolation.detect(scene.image);
+  const auto capped_found = capped.detect(scene.image);
+  const auto given_up_found = giving_up.detect(scene.image);
+  // Then without isolation every small disc and the large one are found; with the cap at most
+  // 4 circles below the split, and still the large disc
+  EXPECT_EQ(found_of(found, scene.small), 8);
+  EXPECT_EQ(found_of(found, scene.large), 1);
+  int small_capped = 0;
+  for (const Circle& c : capped_found) small_capped += c.radius_px < 10.0;
+  EXPECT_LE(small_capped, 4);
+  EXPECT_GE(found_of(capped_found, scene.small), 1);
+  EXPECT_EQ(found_of(capped_found, scene.large), 1);
+  // And giving up on weak candidates still finds every disc
+  EXPECT_EQ(found_of(given_up_found, scene.small), 8);
+  EXPECT_EQ(found_of(given_up_found, scene.large), 1);
 }
 
 }  // namespace
