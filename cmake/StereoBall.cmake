@@ -81,6 +81,24 @@ option(SB_TEST_OPT "Compile test files with -O1 in Release builds" ON)
 option(SB_UNTIMED_OPT "Compile programs and test helpers nothing times with -O1 in Release builds"
        ON)
 
+# Build speed: CLI11 is included through common/util/cli11.hpp only, which compiles it without
+# optimisation (a command line is parsed once per process). A direct include anywhere would
+# compile it at the file's level again in every file of that target, so configuring stops on one.
+function(sb_check_cli11_includes)
+  file(GLOB_RECURSE files ${SB_SOURCE_ROOT}/components/*.[ch]pp ${SB_SOURCE_ROOT}/tools/*.[ch]pp
+       ${SB_SOURCE_ROOT}/tests/*.[ch]pp)
+  foreach(f IN LISTS files)
+    if(f MATCHES "/common/util/cli11\\.hpp$")
+      continue()
+    endif()
+    file(STRINGS ${f} hits REGEX "^[ \t]*#[ \t]*include[ \t]*<CLI/")
+    if(hits)
+      message(FATAL_ERROR "${f} includes CLI11 directly; include \"common/util/cli11.hpp\" instead")
+    endif()
+  endforeach()
+endfunction()
+sb_check_cli11_includes()
+
 # sb_untimed(TARGET...): -O1 for these targets in Release builds (SB_UNTIMED_OPT). Only for code
 # no benchmark times and no timed run starts; names that are not targets here are ignored.
 function(sb_untimed)

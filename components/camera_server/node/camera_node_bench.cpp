@@ -7,12 +7,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <vector>
+#include "common/util/cli11.hpp"
 
 #include "common/dds/reader.hpp"
 #include "common/node/node_runner.hpp"
