@@ -75,9 +75,8 @@ endif()
 option(SB_TEST_OPT "Compile test files with -O1 in Release builds" ON)
 # Build speed: programs and test helpers whose speed nothing measures (no benchmark times them and
 # no timed run starts them) are compiled with -O1 in Release builds, through sb_untimed() with
-# the list at the end of the top CMakeLists.txt: most of them include CLI11, whose header alone
-# costs about 9.5 CPU s per file at -O3 and 5.5 s at -O1. -DSB_UNTIMED_OPT=OFF keeps the build
-# type's level.
+# the list at the end of the top CMakeLists.txt (CLI11 itself is compiled as at -O0 everywhere:
+# common/util/cli11.hpp). -DSB_UNTIMED_OPT=OFF keeps the build type's level.
 option(SB_UNTIMED_OPT "Compile programs and test helpers nothing times with -O1 in Release builds"
        ON)
 
