@@ -83,6 +83,11 @@ option(SB_UNTIMED_OPT "Compile programs and test helpers nothing times with -O1 
 # Build speed: CLI11 is included through common/util/cli11.hpp only, which compiles it without
 # optimisation (a command line is parsed once per process). A direct include anywhere would
 # compile it at the file's level again in every file of that target, so configuring stops on one.
+# sb_cli11: what a target that parses a command line links (CLI11 and the folder of
+# common/util/cli11.hpp).
+add_library(sb_cli11 INTERFACE)
+target_include_directories(sb_cli11 INTERFACE ${SB_SOURCE_ROOT}/components)
+target_link_libraries(sb_cli11 INTERFACE CLI11::CLI11)
 function(sb_check_cli11_includes)
   file(GLOB_RECURSE files ${SB_SOURCE_ROOT}/components/*.[ch]pp ${SB_SOURCE_ROOT}/tools/*.[ch]pp
        ${SB_SOURCE_ROOT}/tests/*.[ch]pp)
