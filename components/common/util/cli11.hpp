@@ -9,6 +9,8 @@
 // the file keeps its level. The standard headers CLI11 uses are included first, outside the
 // pragma, so the library code they define keeps the file's level too.
 
+#include <sys/stat.h>
+#include <sys/types.h>
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -30,8 +32,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <sys/stat.h>
-#include <sys/types.h>
 #include <tuple>
 #include <type_traits>
 #include <utility>
