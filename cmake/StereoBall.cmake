@@ -75,11 +75,33 @@ endif()
 option(SB_TEST_OPT "Compile test files with -O1 in Release builds" ON)
 # Build speed: programs and test helpers whose speed nothing measures (no benchmark times them and
 # no timed run starts them) are compiled with -O1 in Release builds, through sb_untimed() with
-# the list at the end of the top CMakeLists.txt: most of them include CLI11, whose header alone
-# costs about 9.5 CPU s per file at -O3 and 5.5 s at -O1. -DSB_UNTIMED_OPT=OFF keeps the build
-# type's level.
+# the list at the end of the top CMakeLists.txt (CLI11 itself is compiled as at -O0 everywhere:
+# common/util/cli11.hpp). -DSB_UNTIMED_OPT=OFF keeps the build type's level.
 option(SB_UNTIMED_OPT "Compile programs and test helpers nothing times with -O1 in Release builds"
        ON)
+
+# Build speed: CLI11 is included through common/util/cli11.hpp only, which compiles it without
+# optimisation (a command line is parsed once per process). A direct include anywhere would
+# compile it at the file's level again in every file of that target, so configuring stops on one.
+# sb_cli11: what a target that parses a command line links (CLI11 and the folder of
+# common/util/cli11.hpp).
+add_library(sb_cli11 INTERFACE)
+target_include_directories(sb_cli11 INTERFACE ${SB_SOURCE_ROOT}/components)
+target_link_libraries(sb_cli11 INTERFACE CLI11::CLI11)
+function(sb_check_cli11_includes)
+  file(GLOB_RECURSE files ${SB_SOURCE_ROOT}/components/*.[ch]pp ${SB_SOURCE_ROOT}/tools/*.[ch]pp
+       ${SB_SOURCE_ROOT}/tests/*.[ch]pp)
+  foreach(f IN LISTS files)
+    if(f MATCHES "/common/util/cli11\\.hpp$")
+      continue()
+    endif()
+    file(STRINGS ${f} hits REGEX "^[ \t]*#[ \t]*include[ \t]*<CLI/")
+    if(hits)
+      message(FATAL_ERROR "${f} includes CLI11 directly; include \"common/util/cli11.hpp\" instead")
+    endif()
+  endforeach()
+endfunction()
+sb_check_cli11_includes()
 
 # sb_untimed(TARGET...): -O1 for these targets in Release builds (SB_UNTIMED_OPT). Only for code
 # no benchmark times and no timed run starts; names that are not targets here are ignored.

@@ -4,7 +4,7 @@
 // differences (JPEG vs raw, and both vs ground truth), detection rates and bytes per frame.
 // Prints figures only; nothing is asserted.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 

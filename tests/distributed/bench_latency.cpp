@@ -7,7 +7,7 @@
 
 #include <signal.h>
 #include <unistd.h>
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <chrono>

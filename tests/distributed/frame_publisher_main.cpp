@@ -2,7 +2,7 @@
 // at a fixed rate with stamp_ns = publish time, for the frame transport benchmark between the
 // two namespaces. Renders a few distinct frames once (simulator core) and cycles them.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cstdio>
 #include <exception>

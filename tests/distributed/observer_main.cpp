@@ -2,7 +2,7 @@
 // receive time (see observer_log.hpp), for the two-host test and benchmark. Runs inside a
 // namespace via `ip netns exec`; stops on SIGTERM or after --duration.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cstdio>
 #include <exception>

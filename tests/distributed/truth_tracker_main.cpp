@@ -3,7 +3,7 @@
 // is visible, SEARCHING otherwise), so the link tests exercise the robot side and DDS across
 // the link independently of detection quality. Runs in a launch profile like any node.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -5,7 +5,7 @@
 //   publish-frames N      publish N 640x480 stereo frames, seq 0..N-1, as fast as possible
 // Params (--config): peer.label (string), peer.delay_ms (int 0..1000, delay before echoing).
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <chrono>
 #include <cstdio>

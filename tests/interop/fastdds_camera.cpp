@@ -5,13 +5,13 @@
 // over and over at --rate-hz until --duration-s has passed. StereoBall's own libraries are used
 // only to read the calibration file, never to publish.
 
-#include <CLI/CLI.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include "common/util/cli11.hpp"
 
 #include <unistd.h>
 

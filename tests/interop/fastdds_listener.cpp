@@ -5,13 +5,13 @@
 // StereoBall process published. Exits 0 once it has --count samples of each topic, 1 at the
 // deadline. Prints "ready" when its readers exist.
 
-#include <CLI/CLI.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include "common/util/cli11.hpp"
 
 #include <chrono>
 #include <cinttypes>

@@ -7,7 +7,7 @@
 //                       for --capture s, then sends them again at once and after the window
 // It prints "rogue: sent N" when done. Only the test suite builds and runs it.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -4,7 +4,7 @@
 //  2. Per hop: round trip of cmd/velocity between two participants of this process over
 //     loopback (A writes, B echoes, A takes), keyed vs keyless side by side, median µs.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -13,7 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <chrono>
 #include <cstdio>

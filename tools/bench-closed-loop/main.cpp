@@ -5,8 +5,8 @@
 // a reachable ball within tolerance, (b) whether it turns the right way and reacquires a ball
 // that left the view, (c) whether it ever follows for long with no ball. Figures only.
 
-#include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cerrno>
 #include <chrono>

@@ -6,7 +6,7 @@
 #include "composite_run.hpp"
 #include "stereo/io/calibration_file.hpp"
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cstdio>
 #include <iostream>

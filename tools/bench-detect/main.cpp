@@ -11,9 +11,9 @@
 
 #include "common/util/bench_clock.hpp"
 
-#include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include "common/util/cli11.hpp"
 
 #include <time.h>
 

@@ -3,7 +3,7 @@
 // against the truth (README.md). Figures only: exit 0 when it ran, 1 on run errors, 2 on bad
 // input.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <atomic>

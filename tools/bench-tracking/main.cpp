@@ -3,9 +3,9 @@
 // false detections with no ball, track acceptance and 3D error with the ball visible, and the
 // detector's time per stereo frame. Prints figures only; never asserts a target.
 
-#include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <cerrno>

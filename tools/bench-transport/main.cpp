@@ -10,7 +10,7 @@
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <cstdio>

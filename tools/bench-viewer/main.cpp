@@ -9,7 +9,7 @@
 
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <chrono>

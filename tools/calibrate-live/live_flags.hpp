@@ -3,7 +3,7 @@
 // `stereoball view --calibrate` (which `stereoball calibrate live` starts), so both take the
 // same options with the same checks.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <string>
 

@@ -7,8 +7,8 @@
 // implementation (live_station.hpp).
 
 #include <unistd.h>
-#include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cerrno>
 #include <csignal>

@@ -9,9 +9,9 @@
 
 #include <glob.h>
 #include <unistd.h>
-#include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <cerrno>

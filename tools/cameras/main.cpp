@@ -2,11 +2,11 @@
 
 #include <glob.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
+#include "common/util/cli11.hpp"
 
 #include "camera_server/io/v4l2_device.hpp"
 

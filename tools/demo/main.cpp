@@ -4,7 +4,7 @@
 
 #include <signal.h>
 #include <unistd.h>
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <atomic>
 #include <cmath>

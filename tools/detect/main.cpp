@@ -2,12 +2,12 @@
 
 #include "ball_detector/core/circle.hpp"
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include "common/util/cli11.hpp"
 
 #include <chrono>
 #include <cstdio>

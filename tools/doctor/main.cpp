@@ -2,7 +2,7 @@
 // seconds and prints one line per check: verdict (ok / warn / FAIL / n/a), what it saw and,
 // when something is wrong, the fix. Exit status 1 when any check fails; --json for machines.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cstdio>
 #include <filesystem>

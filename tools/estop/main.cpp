@@ -5,7 +5,7 @@
 // --confirm, or RELEASE typed at a terminal.
 
 #include <unistd.h>
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -1,8 +1,8 @@
 // stereoball-info FILE: duration, start/end, per topic type, count, rate and size, and whether
 // the recording is complete (closed properly) or was cut off (read by linear scan).
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
+#include "common/util/cli11.hpp"
 
 #include "recorder/core/file_info.hpp"
 #include "recorder/io/file_io.hpp"

@@ -1,7 +1,7 @@
 // stereoball keys init|show|rotate: makes, shows and rotates the deployment key file that
 // authenticates every control and configuration sample (components/common/auth).
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <chrono>
 #include <cstdio>

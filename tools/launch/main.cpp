@@ -3,7 +3,7 @@
 
 #include <signal.h>
 #include <unistd.h>
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <atomic>
 #include <chrono>

@@ -3,7 +3,7 @@
 // timing scaled by --rate, on the topic table's QoS (so calibration is transient-local).
 // Works on incomplete files (linear scan up to the last complete chunk).
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <chrono>
 #include <cstdio>

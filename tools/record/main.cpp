@@ -4,7 +4,7 @@
 // them to MCAP off the DDS thread through a bounded queue. Prints live progress once a second;
 // Ctrl-C (SIGINT/SIGTERM) stops it with a complete file.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif

@@ -2,7 +2,7 @@
 // Command-line options shared by the offline loop tools (stereoball bench tracking,
 // stereoball bench closed-loop), and what they select.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cstdint>
 #include <optional>

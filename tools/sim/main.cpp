@@ -1,8 +1,8 @@
 // stereoball-sim: runs a simulator scenario headless (no DDS), optionally writing both raw
 // eyes as PNG, the ground truth as CSV and the true calibration to --png-dir.
 
-#include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,6 +1,6 @@
 // stereoball topic list | echo TOPIC | hz TOPIC — inspect the running system over the topic table.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <atomic>

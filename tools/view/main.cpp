@@ -6,7 +6,7 @@
 // With --calibrate (what `stereoball calibrate live` starts) it also serves the calibration
 // page at /calibrate (calibration_pump.hpp).
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>

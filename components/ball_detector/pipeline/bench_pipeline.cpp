@@ -2,7 +2,7 @@
 // eyes through the LUT, Pixel-to-Pixel on both, pairing, triangulation, patch) on 640x480
 // frames rendered by the simulator. Prints figures; never asserts.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>

@@ -1,6 +1,5 @@
 // stereoball-bench-camera: conversion and file-source timing of the camera server.
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -11,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <thread>
 #include <vector>
+#include "common/util/cli11.hpp"
 
 #include "camera_server/core/format_negotiation.hpp"
 #include "camera_server/core/frame_builder.hpp"

@@ -8,12 +8,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <vector>
+#include "common/util/cli11.hpp"
 
 #include "camera_server/node/camera_node_window.hpp"
 #include "common/dds/reader.hpp"

@@ -1,10 +1,10 @@
 #include "common/node/common_flags.hpp"
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include "common/util/cli11.hpp"
 
 #include "common/dds/participant.hpp"
 #include "common/util/deployment.hpp"

@@ -1,6 +1,6 @@
 #include "common/node/run_node.hpp"
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cstdio>
 #include <exception>

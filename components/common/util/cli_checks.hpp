@@ -1,7 +1,7 @@
 #pragma once
 // Command-line checks CLI11 does not have (header-only; the tools that include it link CLI11).
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <cerrno>
 #include <cstdlib>

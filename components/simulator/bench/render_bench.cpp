@@ -5,7 +5,7 @@
 #include "common/util/bench_clock.hpp"
 #include "common/util/install_layout.hpp"
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <time.h>
 

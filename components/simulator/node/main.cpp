@@ -1,7 +1,7 @@
 // simulator: the built-in stand-in for the cameras and the robot base. Renders a scenario,
 // publishes stereo/frame, sim/ground_truth and stereo/calibration, obeys cmd/velocity.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <memory>
 #include <optional>

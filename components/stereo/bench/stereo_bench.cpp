@@ -7,10 +7,10 @@
 #include "stereo/core/row_check.hpp"
 #include "stereo/core/synthetic_rig.hpp"
 
-#include <CLI/CLI.hpp>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include "common/util/cli11.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -1,6 +1,6 @@
 #include "stereo/frame/frame_codec_flags.hpp"
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 namespace stereoball::stereo {
 

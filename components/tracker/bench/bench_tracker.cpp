@@ -4,7 +4,7 @@
 // shipped parameters with a paper-literal variant (no register consistency
 // requirement, no jump gate) to show what each safeguard buys.
 
-#include <CLI/CLI.hpp>
+#include "common/util/cli11.hpp"
 
 #include <algorithm>
 #include <chrono>
