@@ -7,9 +7,21 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 out=${3:-$(mktemp -d)}
 mkdir -p "$out"
+# Each library is compiled against its own checkout's headers (a struct that changed between
+# the two would otherwise be read with the wrong layout): the checkout is the one its build's
+# CMakeCache.txt names, else this one.
+source_of() {
+  local cache="$1/../CMakeCache.txt" src=""
+  [ -f "$cache" ] && src=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$cache")
+  [ -n "$src" ] && [ -d "$src/components" ] && echo "$src" || echo "$root"
+}
 for side in base new; do
   lib=$([ $side = base ] && echo "$1" || echo "$2")
-  g++ -std=c++20 -O2 -w -I"$root/components" $(pkg-config --cflags opencv4) "$here/dump.cpp" \
+  src=$(source_of "$lib")
+  dump="$src/tools/p2p-circles-check/dump.cpp"
+  [ -f "$dump" ] || dump="$here/dump.cpp"
+  echo "$side: $lib with the headers of $src" >&2
+  g++ -std=c++20 -O2 -w -I"$src/components" $(pkg-config --cflags opencv4) "$dump" \
     "$lib/libsb_ball_detector_core.a" "$lib/libsb_stereo_core.a" "$lib/libsb_common_util.a" \
     -lopencv_ximgproc -lopencv_calib3d -lopencv_features2d -lopencv_flann -lopencv_imgcodecs -lopencv_imgproc -lopencv_core -o "$out/dump_$side"
   "$out/dump_$side" "$root" "$root/../shared/data" > "$out/$side.txt"
