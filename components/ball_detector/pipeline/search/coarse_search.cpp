@@ -56,33 +56,23 @@ namespace {
 // band, at most kCoarseBandCircles of each.
 void add_reduced_band_circles(CoarseSearch& coarse, double min_separation_px,
                               double min_voted_coverage, std::vector<Circle>& out) {
-  const double top = std::min(coarse.params.max_radius_px, coarse.reduced_left.rows / 3.0);
-  std::size_t i = 0;
-  for (double low = coarse.params.min_radius_px; low < top; low *= kRadiusBandRatio, ++i) {
-    const SearchHints band{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}};
+  const std::vector<SearchHints> bands = radius_bands(
+      coarse.params.min_radius_px, coarse.params.max_radius_px, coarse.reduced_left.rows);
+  for (std::size_t i = 0; i < bands.size(); ++i) {
     if (coarse.band_detectors.size() <= i) {
       PixelToPixelParams band_params = coarse.params;
       band_params.max_peaks_examined = static_cast<int>(kCoarseBandCircles);
       coarse.band_detectors.emplace_back(band_params);
       coarse.band_detectors.back().set_reduced_image_options(min_voted_coverage, true);
     }
-    std::vector<Circle> found = coarse.band_detectors[i].redetect_from(*coarse.detector, band);
+    std::vector<Circle> found = coarse.band_detectors[i].redetect_from(*coarse.detector, bands[i]);
     if (found.size() > kCoarseBandCircles) found.resize(kCoarseBandCircles);
     out.insert(out.end(), found.begin(), found.end());
-    if (band.radii.max_px >= top) break;  // this band reaches the top already
   }
   std::stable_sort(out.begin(), out.end(),
                    [](const Circle& a, const Circle& b) { return a.score > b.score; });
   // One place and size found by several bands (or the whole range) is refined once.
-  std::vector<Circle> kept;
-  for (const Circle& c : out) {
-    const bool seen = std::any_of(kept.begin(), kept.end(), [&](const Circle& k) {
-      return std::hypot(k.x_px - c.x_px, k.y_px - c.y_px) < min_separation_px &&
-             std::abs(k.radius_px - c.radius_px) < 0.2 * std::max(k.radius_px, c.radius_px);
-    });
-    if (!seen) kept.push_back(c);
-  }
-  out = std::move(kept);
+  out = best_of_each_place(out, min_separation_px);
 }
 
 }  // namespace

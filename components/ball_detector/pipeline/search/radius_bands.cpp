@@ -4,15 +4,10 @@
 #include <cmath>
 
 namespace stereoball::ball_detector {
-namespace {
-
-// The bands of the left eye's radii: up to a third of the image height (README: radius bands),
-// each kRadiusBandRatio wide, neighbours overlapping by 10 % (a circle on a boundary is whole
-// in one of them).
-std::vector<SearchHints> radius_bands(const SearchTools& tools) {
-  const double top = std::min(tools.params.p2p.max_radius_px, tools.rect_left.rows / 3.0);
+std::vector<SearchHints> radius_bands(double min_radius_px, double max_radius_px, int image_rows) {
+  const double top = std::min(max_radius_px, image_rows / 3.0);
   std::vector<SearchHints> bands;
-  for (double low = tools.params.p2p.min_radius_px; low < top; low *= kRadiusBandRatio) {
+  for (double low = min_radius_px; low < top; low *= kRadiusBandRatio) {
     bands.push_back(
         SearchHints{RadiusRange{low / 1.1, std::min(top, low * kRadiusBandRatio * 1.1)}});
     // This band reaches the top already: a next one would lie inside it.
@@ -21,7 +16,6 @@ std::vector<SearchHints> radius_bands(const SearchTools& tools) {
   return bands;
 }
 
-// found (best first) without the circles a better one of the same place and size precedes.
 std::vector<Circle> best_of_each_place(const std::vector<Circle>& found, double separation_px) {
   std::vector<Circle> kept;
   for (const Circle& c : found) {
@@ -34,15 +28,23 @@ std::vector<Circle> best_of_each_place(const std::vector<Circle>& found, double 
   return kept;
 }
 
+namespace {
+
+// The left eye's bands (its radii, the rectified image's height).
+std::vector<SearchHints> left_radius_bands(const SearchTools& tools) {
+  return radius_bands(tools.params.p2p.min_radius_px, tools.params.p2p.max_radius_px,
+                      tools.rect_left.rows);
+}
+
 }  // namespace
 
 int radius_band_count(const SearchTools& tools) {
-  return static_cast<int>(radius_bands(tools).size());
+  return static_cast<int>(left_radius_bands(tools).size());
 }
 
 std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop,
                                          int only) {
-  std::vector<SearchHints> bands = radius_bands(tools);
+  std::vector<SearchHints> bands = left_radius_bands(tools);
   if (only >= 0 && !bands.empty()) bands = {bands[static_cast<std::size_t>(only) % bands.size()]};
   // The left detector holds this image's edge map, made with these very thresholds, and the
   // lines its points voted along: each band plots them again over its radii instead of redoing

@@ -15,6 +15,15 @@ namespace stereoball::ball_detector {
 /// Ratio of a radius band's largest to smallest radius.
 constexpr double kRadiusBandRatio = 2.5;
 
+/// The bands of radii min..max (px) searched one at a time: up to a third of image_rows (README:
+/// radius bands), each kRadiusBandRatio wide, neighbours overlapping by 10 % (a circle on a
+/// boundary is whole in one of them).
+std::vector<SearchHints> radius_bands(double min_radius_px, double max_radius_px, int image_rows);
+
+/// found (best first) without the circles a better one of the same place and size (centres
+/// within separation_px, radii within 20 %) precedes.
+std::vector<Circle> best_of_each_place(const std::vector<Circle>& found, double separation_px);
+
 /// The left detector's last image (whole, its own thresholds) searched again band by band, the
 /// bands as tasks of tools.run_tasks; stops early (result unused) once *stop is set. Best first.
 /// With only >= 0, band only (modulo their number) alone.
