@@ -504,6 +504,8 @@ int main(int argc, char** argv) {
   app.add_option("--time-cap", time_cap,
                  "Also choose Pixel-to-Pixel's best tune F1 among its settings no slower on the "
                  "tune split than this method's chosen setting (empty: off)")
+      ->check(CLI::IsMember(
+          {"", "p2p paper rule", "HOUGH_GRADIENT", "HOUGH_GRADIENT_ALT", "EDCircles"}))
       ->capture_default_str();
   app.add_flag("--tune-breakdown", breakdown,
                "Print each method's chosen setting's tune-split circles found by labelled radius "
