@@ -239,6 +239,38 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                    return std::make_unique<bd::PixelToPixelDetector>(p);
                  }});
           }
+  // The chosen multi-scale setting's family made cheaper in its coarse-to-fine part: fewer
+  // halved-image peaks turned into candidates (coarse_max_peaks_examined; otherwise
+  // max(peaks, circles) = 100) and the candidates refined on the small-radius search's
+  // whole-image edge map instead of their windows' own (fine_shared_edges).
+  for (double score : {0.55, 0.6})
+    for (double clutter : {0.1, 0.2})
+      for (int coarse_peaks : {0, kRealMaxCircles / 4, kRealMaxCircles / 2})
+        for (bool shared_edges : {false, true}) {
+          if (coarse_peaks == 0 && !shared_edges) continue;  // the grid's above
+          p2p.settings.push_back(
+              {cv::format("multi fine<2xrmin k=3,5 fine k=3 fine-peaks=0 fine-isolate=on "
+                          "fine-give-up=on coarse-peaks=%d shared-edges=%s score>=%.2f "
+                          "clutter=%.1f peaks=%d band=0.035r",
+                          coarse_peaks, shared_edges ? "on" : "off", score, clutter,
+                          kRealMaxCircles / 2),
+               [score, clutter, coarse_peaks, shared_edges](cv::Size s, double rmin) {
+                 auto p = p2p_params(s, {3, 5});
+                 p.min_radius_px = rmin;
+                 p.coarse_to_fine = true;
+                 p.fine_below_radius_px = 2.0 * rmin;
+                 p.fine_k_values = {3};
+                 p.fine_give_up = true;
+                 p.coarse_max_peaks_examined = coarse_peaks;
+                 p.fine_shared_edges = shared_edges;
+                 p.refine_params.band_per_radius = 0.035;
+                 p.min_score = score;
+                 p.refine_params.clutter_ring_per_radius = clutter;
+                 p.max_circles = kRealMaxCircles;
+                 p.max_peaks_examined = kRealMaxCircles / 2;
+                 return std::make_unique<bd::PixelToPixelDetector>(p);
+               }});
+        }
   // And at full resolution only: coarse to fine halves a 6 px circle to 3 px, below what the
   // halved search finds; the tune split decides which wins.
   for (const auto& ks : std::vector<std::vector<int>>{{5}, {3, 5}, {3, 5, 8}})

@@ -189,6 +189,8 @@ Status PixelToPixelParams::validate() const {
     return Error{"refine_params.min_inside_fraction must be in [0, 1]"};
   if (!(fine_below_radius_px >= 0.0 && fine_below_radius_px <= 4000.0))
     return Error{"fine_below_radius_px must be in [0, 4000]"};
+  if (coarse_max_peaks_examined < 0 || coarse_max_peaks_examined > 1000)
+    return Error{"coarse_max_peaks_examined must be in [0, 1000]"};
   if (fine_max_peaks_examined < 0 || fine_max_peaks_examined > 1000)
     return Error{"fine_max_peaks_examined must be in [0, 1000]"};
   if (fine_below_radius_px > 0.0) {
@@ -836,6 +838,10 @@ PixelToPixelParams halved_image_params(const PixelToPixelParams& full) {
   p.min_score = full.coarse_min_score;
   // Every candidate goes on to full resolution, where the best max_circles are kept.
   p.max_circles = std::max(full.max_circles, full.max_peaks_examined);
+  if (full.coarse_max_peaks_examined > 0) {
+    p.max_peaks_examined = full.coarse_max_peaks_examined;
+    p.max_circles = full.coarse_max_peaks_examined;
+  }
   p.polish = false;  // the full-resolution refinement polishes
   p.refine_params.camera.reset();
   p.refine_params.give_up_below = full.coarse_min_score;
@@ -877,6 +883,11 @@ CoarseWindows coarse_windows(const std::vector<Circle>& candidates, cv::Size ima
 }  // namespace
 
 std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& image) {
+  return detect_coarse_to_fine(image, nullptr);
+}
+
+std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& image,
+                                                                const EdgeMap* whole_edges) {
   start(std::nullopt);
   edges_ready_ = false;  // no full-resolution map of the whole image: redetect finds nothing
   orientation_ready_ = false;
@@ -894,6 +905,12 @@ std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& i
   const CoarseWindows w = coarse_windows(candidates, image.size());
   std::vector<Circle> found;
   if (w.seeds.empty()) return found;
+  if (whole_edges && whole_edges->edges.size() == image.size()) {
+    const cv::Rect whole(cv::Point(0, 0), image.size());
+    for (const Circle& seed : w.seeds)
+      if (const auto fine = refine_in_window(*whole_edges, whole, seed)) found.push_back(*fine);
+    return best_separated(std::move(found), params_.min_separation_px, params_.max_circles);
+  }
   // Many or large windows: one edge map of the region they span costs less than one each,
   // each map costing about as much as kEdgeMapOverheadPx more pixels (calls, allocations,
   // histogram); its thresholds are then those of that region.

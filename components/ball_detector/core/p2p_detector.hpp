@@ -83,6 +83,10 @@ struct PixelToPixelParams {
   /// fraction of the circle's angular sectors (a ball's outline votes from all sides; a blob
   /// of texture from one), [0, 1].
   double coarse_min_voted_coverage = 0.2;
+  /// Addition (speed, with coarse_to_fine): > 0 = the halved image turns at most this many
+  /// accumulator peaks into candidates (otherwise max(max_peaks_examined, max_circles), as every
+  /// candidate goes on to full resolution). 0 = off, [0, 1000].
+  int coarse_max_peaks_examined = 0;
   /// Addition (with coarse_to_fine, detect(image) only): circles of radius below this are
   /// searched at full resolution with fine_k_values, the others coarse to fine from this radius
   /// up (a circle of a few pixels halved is below what the halved search finds); the two lists
@@ -104,6 +108,12 @@ struct PixelToPixelParams {
   /// search's full-resolution stage does), so weak peaks cost one round and are not rescued
   /// (rescue_weak_from) there. False = every candidate fully refined.
   bool fine_give_up = false;
+  /// Addition (speed, with fine_below_radius_px): true = the coarse-to-fine search of the other
+  /// radii refines and scores its halved-image candidates on the full-resolution edge map the
+  /// small-radius search made of the whole image (its thresholds), instead of an edge map of
+  /// their windows with the windows' own thresholds: one full-resolution edge step per image.
+  /// False = each window's own edges.
+  bool fine_shared_edges = false;
 
   /// Success, or an error naming the first bad field and its allowed range.
   Status validate() const;
@@ -333,6 +343,9 @@ class PixelToPixelDetector final : public CircleDetector {
   // the radius range leaves nothing to find.
   bool begin_edge_step(const cv::Mat& image, const SearchHints& hints);
   std::vector<Circle> detect_coarse_to_fine(const cv::Mat& image);
+  // detect_coarse_to_fine's full-resolution stage on a full-resolution edge map of the whole
+  // image (fine_shared_edges), or on its windows' own maps (null).
+  std::vector<Circle> detect_coarse_to_fine(const cv::Mat& image, const EdgeMap* whole_edges);
   std::vector<Circle> detect_multi_scale(const cv::Mat& image);  // p2p_multi_scale.cpp
   std::vector<Circle> keep_best_separated(std::vector<Circle> found) const;
   std::optional<Circle> refine_in_window(const EdgeMap& edges, const cv::Rect& window,

@@ -55,7 +55,12 @@ std::vector<Circle> PixelToPixelDetector::detect_multi_scale(const cv::Mat& imag
     diag_ = small_->diag_;
     return found;
   }
-  const std::vector<Circle> large = large_->detect(image);
+  // fine_shared_edges: the small search's whole-image map (its edges_) is the full-resolution
+  // map the large search's candidates are refined on (detect() came here only for an image
+  // large enough to halve, as large_->detect would).
+  const bool share = params_.fine_shared_edges && small_->edges_ready_;
+  const std::vector<Circle> large =
+      share ? large_->detect_coarse_to_fine(image, &small_->edges_) : large_->detect(image);
   found.insert(found.end(), large.begin(), large.end());
   diag_ = small_->diag_;  // the full-resolution edges and votes
   return keep_best_separated(std::move(found));

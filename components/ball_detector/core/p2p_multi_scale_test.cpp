@@ -9,9 +9,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -114,6 +118,103 @@ Labelled load_labelled(const std::string& stem) {
   Labelled out{cv::Mat(), std::get<CircleLabels>(parsed)};
   out.image = cv::imread(std::string(SB_SOURCE_DIR) + "/" + out.labels.image_path);
   return out;
+}
+
+// Every circle of a has one in b within tol_px in centre and radius (and as many circles).
+void expect_same_circles(const std::vector<Circle>& a, const std::vector<Circle>& b,
+                         double tol_px) {
+  ASSERT_EQ(a.size(), b.size());
+  for (const Circle& c : a)
+    EXPECT_TRUE(std::any_of(b.begin(), b.end(),
+                            [&](const Circle& d) {
+                              return std::abs(c.x_px - d.x_px) <= tol_px &&
+                                     std::abs(c.y_px - d.y_px) <= tol_px &&
+                                     std::abs(c.radius_px - d.radius_px) <= tol_px;
+                            }))
+        << "circle " << c.x_px << " " << c.y_px << " r " << c.radius_px;
+}
+
+// The bench's chosen multi-scale setting on a labelled photograph (tools/bench-detect).
+PixelToPixelParams photo_multi_scale(const Labelled& photo) {
+  const double side = std::min(photo.image.cols, photo.image.rows);
+  PixelToPixelParams p =
+      coarse_params(photo.labels.min_radius_px.value_or(0.025 * side), 0.2 * side);
+  p.min_separation_px = 0.04 * side;
+  p.max_circles = 100;
+  p.max_peaks_examined = 50;
+  p.fine_below_radius_px = 2.0 * p.min_radius_px;
+  p.fine_give_up = true;
+  p.min_score = 0.55;
+  p.refine_params.band_per_radius = 0.035;
+  p.refine_params.clutter_ring_per_radius = 0.2;
+  return p;
+}
+
+TEST(PixelToPixelMultiScale, GivenTheCoarsePeakCapAtItsImpliedCountThenTheSameCircles) {
+  // Given the synthetic scene and the board photograph, each searched with the halved image's
+  // peaks uncapped and capped at the count it examines anyway (max(peaks, circles))
+  const SmallAndLarge scene = small_and_large_scene(4.5);
+  const Labelled board = load_labelled("board");
+  ASSERT_FALSE(board.image.empty());
+  for (const auto& [image, params] : {std::pair{scene.image, coarse_params(3.5, 120.0)},
+                                      std::pair{board.image, photo_multi_scale(board)}}) {
+    PixelToPixelParams p = params;
+    PixelToPixelDetector uncapped(p);
+    p.coarse_max_peaks_examined = std::max(p.max_peaks_examined, p.max_circles);
+    PixelToPixelDetector capped(p);
+    // When both search it
+    const auto a = uncapped.detect(image);
+    const auto b = capped.detect(image);
+    // Then they return the same circles, bit for bit
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].x_px, b[i].x_px);
+      EXPECT_EQ(a[i].y_px, b[i].y_px);
+      EXPECT_EQ(a[i].radius_px, b[i].radius_px);
+      EXPECT_EQ(a[i].score, b[i].score);
+    }
+  }
+}
+
+TEST(PixelToPixelMultiScale, GivenAFewCoarsePeaksThenAtMostThatManyLargeCircles) {
+  // Given the synthetic scene searched coarse to fine with the halved image's peaks capped at 2
+  const SmallAndLarge scene = small_and_large_scene(8.0);
+  PixelToPixelParams p = coarse_params(5.0, 120.0);
+  p.coarse_max_peaks_examined = 2;
+  PixelToPixelDetector det(p);
+  // When it searches the scene
+  const auto found = det.detect(scene.image);
+  // Then at most two circles come back, the large disc among them
+  EXPECT_LE(found.size(), 2u);
+  EXPECT_EQ(found_of(found, scene.large), 1);
+  // And the cap is checked
+  p.coarse_max_peaks_examined = 1001;
+  EXPECT_NE(p.validate().error().find("coarse_max_peaks_examined"), std::string::npos);
+}
+
+TEST(PixelToPixelMultiScale, GivenSharedEdgesThenTheCirclesOfTheWindowsOwnEdges) {
+  // Given the synthetic scene and the board photograph, each searched multi-scale with the large
+  // radii refined on their windows' own edge maps and on the small search's whole-image map
+  SmallAndLarge scene = small_and_large_scene(4.5);
+  PixelToPixelParams synthetic = coarse_params(3.5, 120.0);
+  synthetic.fine_below_radius_px = 10.0;
+  const Labelled board = load_labelled("board");
+  ASSERT_FALSE(board.image.empty());
+  for (const auto& [image, params, truth] :
+       {std::tuple{scene.image, synthetic, scene.large},
+        std::tuple{board.image, photo_multi_scale(board), board.labels.circles}}) {
+    PixelToPixelParams p = params;
+    PixelToPixelDetector own(p);
+    p.fine_shared_edges = true;
+    PixelToPixelDetector shared(p);
+    // When both search it
+    const auto a = own.detect(image);
+    const auto b = shared.detect(image);
+    // Then they find the same labelled circles, at the same places within a tenth of a pixel
+    EXPECT_EQ(found_of(a, truth), found_of(b, truth));
+    EXPECT_GE(found_of(b, truth), 1);
+    expect_same_circles(a, b, 0.1);
+  }
 }
 
 TEST(PixelToPixelMultiScale, GivenTheBoardPhotographThenItsSmallPadsAreFound) {
