@@ -166,30 +166,112 @@ if(SB_SANITIZE STREQUAL "thread")
   file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/tsan)
 endif()
 
-# sb_add_gtest(NAME SOURCES ... [DEPS ...] [DDS] [TIMEOUT s] [LABELS ...]
+# Build speed: grouped test binaries (SB_TEST_GROUPS, on). The tests of one area (a component
+# under components/, or tools/, or tests/) are linked into a few shared executables
+# (tests/sb_tests_AREA_N, at most SB_TEST_GROUP_FILES source files each), compiled as one unity
+# file: GoogleTest, OpenCV and the standard library are then parsed and their inline code
+# generated once per group instead of once per test, and there are fewer links. Each test keeps
+# its ctest entry, with its own environment, domain id, timeout and labels: the entry runs the
+# group with --sb_sources=FILE,... (tests/support/gtest_main.cpp), so only the cases defined in
+# that test's files run. The test's name stays a target (building it builds its group), so
+# `add_dependencies(NAME program)` keeps working. A test that needs its own compile definitions
+# says ALONE. -DSB_TEST_GROUPS=OFF gives every test its own executable again.
+option(SB_TEST_GROUPS "Link the tests of one area into a few shared executables" ON)
+set(SB_TEST_GROUP_FILES 14 CACHE STRING "Most source files in one grouped test executable")
+
+# sb_test_executable(NAME SOURCES DEPS ALONE OUT): creates (or finds) the executable that holds
+# test NAME, adds SOURCES and DEPS to it; OUT gets its target name.
+function(sb_test_executable name sources deps alone out)
+  set(setup OFF)
+  if(NOT SB_TEST_GROUPS OR alone)
+    set(exe ${name})
+    add_executable(${exe} ${sources})
+    set(setup ON)
+  else()
+    # The area: components/X -> X, else the top folder (tools, tests).
+    file(RELATIVE_PATH rel ${SB_SOURCE_ROOT} ${CMAKE_CURRENT_SOURCE_DIR})
+    string(REPLACE "/" ";" parts "${rel}")
+    list(GET parts 0 area)
+    if(area STREQUAL "components")
+      list(GET parts 1 area)
+    elseif(area STREQUAL "tests")
+      set(area system)
+    endif()
+    list(LENGTH sources n)
+    get_property(index GLOBAL PROPERTY SB_TEST_GROUP_${area}_INDEX)
+    get_property(files GLOBAL PROPERTY SB_TEST_GROUP_${area}_FILES)
+    if(NOT index)
+      set(index 1)
+      set(files 0)
+    endif()
+    math(EXPR total "${files} + ${n}")
+    if(files GREATER 0 AND total GREATER SB_TEST_GROUP_FILES)
+      math(EXPR index "${index} + 1")
+      set(files 0)
+    endif()
+    math(EXPR files "${files} + ${n}")
+    set_property(GLOBAL PROPERTY SB_TEST_GROUP_${area}_INDEX ${index})
+    set_property(GLOBAL PROPERTY SB_TEST_GROUP_${area}_FILES ${files})
+    set(exe sb_tests_${area}_${index})
+    if(NOT TARGET ${exe})
+      add_executable(${exe})
+      set(setup ON)
+    endif()
+    set(abs)
+    foreach(s IN LISTS sources)
+      get_filename_component(s ${s} ABSOLUTE BASE_DIR ${CMAKE_CURRENT_SOURCE_DIR})
+      list(APPEND abs ${s})
+    endforeach()
+    target_sources(${exe} PRIVATE ${abs})
+    # The test's name stays a target: building it builds the group, and what the test needs
+    # built first (add_dependencies(NAME ...)) is built with `all`.
+    add_custom_target(${name} ALL)
+    add_dependencies(${name} ${exe})
+  endif()
+  target_link_libraries(${exe} PRIVATE ${deps})
+  if(setup)
+    target_link_libraries(${exe} PRIVATE sb_gtest_main GTest::gtest GTest::gmock)
+    set_target_properties(${exe} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+    if(SB_TEST_OPT)
+      target_compile_options(${exe} PRIVATE $<$<CONFIG:Release>:-O1>)
+    endif()
+    target_compile_definitions(${exe} PRIVATE
+      SB_SHARED_DATA_DIR="${SB_SHARED_DATA_DIR}"
+      SB_SOURCE_DIR="${SB_SOURCE_ROOT}"
+      SB_BIN_DIR="${CMAKE_BINARY_DIR}/bin")
+  endif()
+  set(${out} ${exe} PARENT_SCOPE)
+endfunction()
+
+# sb_add_gtest(NAME SOURCES ... [DEPS ...] [DDS] [ALONE] [TIMEOUT s] [LABELS ...]
 #              [SKIPPABLE SUFFIX FILTER [SUFFIX FILTER ...]])
-# Builds a GoogleTest binary and registers it with ctest. With DDS the test
+# Builds a GoogleTest binary (or adds the test to a grouped one, SB_TEST_GROUPS) and registers
+# it with ctest. With DDS the test
 # gets STEREOBALL_DOMAIN (unique) and the loopback Cyclone DDS configuration.
-# A binary whose cases all skip is reported as skipped (exit 77). Cases that can skip while
-# others in the binary pass must be named with SKIPPABLE: each FILTER (a --gtest_filter
+# A test whose cases all skip is reported as skipped (exit 77). Cases that can skip while
+# others in the test pass must be named with SKIPPABLE: each FILTER (a --gtest_filter
 # pattern) becomes its own ctest entry NAME.SUFFIX (say in SUFFIX what it needs, e.g.
-# needs_netem), and the entry NAME runs the rest. The entries of one binary never run at the
-# same time (they share its domain id and whatever else it uses).
+# needs_netem), and the entry NAME runs the rest. The entries of one test never run at the
+# same time (they share its domain id and whatever else it uses). ALONE: its own executable
+# (for a test that sets compile definitions of its own on target NAME).
 function(sb_add_gtest name)
   if(NOT SB_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(A "DDS" "TIMEOUT" "SOURCES;DEPS;LABELS;SKIPPABLE" ${ARGN})
-  add_executable(${name} ${A_SOURCES})
-  target_link_libraries(${name} PRIVATE ${A_DEPS} sb_gtest_main GTest::gtest GTest::gmock)
-  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
-  if(SB_TEST_OPT)
-    target_compile_options(${name} PRIVATE $<$<CONFIG:Release>:-O1>)
+  cmake_parse_arguments(A "DDS;ALONE" "TIMEOUT" "SOURCES;DEPS;LABELS;SKIPPABLE" ${ARGN})
+  sb_test_executable(${name} "${A_SOURCES}" "${A_DEPS}" "${A_ALONE}" exe)
+  # In a group, the entry runs the cases of this test's files only.
+  set(run $<TARGET_FILE:${exe}> --gtest_color=no)
+  if(NOT exe STREQUAL name)
+    set(rel)
+    foreach(s IN LISTS A_SOURCES)
+      get_filename_component(s ${s} ABSOLUTE BASE_DIR ${CMAKE_CURRENT_SOURCE_DIR})
+      file(RELATIVE_PATH s ${SB_SOURCE_ROOT} ${s})
+      list(APPEND rel ${s})
+    endforeach()
+    list(JOIN rel "," rel)
+    list(APPEND run --sb_sources=${rel})
   endif()
-  target_compile_definitions(${name} PRIVATE
-    SB_SHARED_DATA_DIR="${SB_SHARED_DATA_DIR}"
-    SB_SOURCE_DIR="${SB_SOURCE_ROOT}"
-    SB_BIN_DIR="${CMAKE_BINARY_DIR}/bin")
   if(NOT A_TIMEOUT)
     set(A_TIMEOUT 120)
   endif()
@@ -220,16 +302,16 @@ function(sb_add_gtest name)
   endif()
   while(A_SKIPPABLE)
     list(POP_FRONT A_SKIPPABLE suffix filter)
-    add_test(NAME ${name}.${suffix} COMMAND ${name} --gtest_color=no --gtest_filter=${filter})
+    add_test(NAME ${name}.${suffix} COMMAND ${run} --gtest_filter=${filter})
     list(APPEND entries ${name}.${suffix})
     list(APPEND excluded ${filter})
   endwhile()
   if(excluded)
     list(JOIN excluded ":" excluded)
-    add_test(NAME ${name} COMMAND ${name} --gtest_color=no --gtest_filter=-${excluded})
+    add_test(NAME ${name} COMMAND ${run} --gtest_filter=-${excluded})
     set_tests_properties(${name} ${entries} PROPERTIES RESOURCE_LOCK ${name})
   else()
-    add_test(NAME ${name} COMMAND ${name} --gtest_color=no)
+    add_test(NAME ${name} COMMAND ${run})
   endif()
   # COST: with no timing history yet (a fresh clone), `ctest -j` starts the tests allowed the
   # longest first, so the long ones run beside the short ones instead of after them.

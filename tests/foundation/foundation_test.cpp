@@ -22,7 +22,7 @@ using sb::testing::Process;
 
 namespace {
 
-constexpr int64_t kSecond = 1'000'000'000;
+constexpr int64_t kFoundationSecondNs = 1'000'000'000;
 
 std::vector<std::string> peer_args(const std::string& partition, std::vector<std::string> mode) {
   std::vector<std::string> args{sb::testing::bin("sb_test_peer"), "--partition", partition,
@@ -82,8 +82,9 @@ TYPED_TEST(RoundTrip, EveryFieldSurvivesTheTripThroughAnotherProcess) {
   sb::dds::SerializedReader sent(in, topic.spec);      // sees our own sample, as serialized
   sb::dds::SerializedReader echoed(back, topic.spec);  // sees the peer's re-encoded sample
   sb::dds::DataReader<TypeParam> echoed_typed(back, topic);
-  ASSERT_TRUE(writer.wait_for_readers(2, 10 * kSecond)) << peer.output();
-  ASSERT_TRUE(sb::dds::wait_for_writers(echoed.handle(), 1, 10 * kSecond)) << peer.output();
+  ASSERT_TRUE(writer.wait_for_readers(2, 10 * kFoundationSecondNs)) << peer.output();
+  ASSERT_TRUE(sb::dds::wait_for_writers(echoed.handle(), 1, 10 * kFoundationSecondNs))
+      << peer.output();
 
   sb::testing::SampleStorage storage;
   TypeParam sample{};
@@ -264,7 +265,7 @@ TEST(NodeRunner, OneShotTimerFiresOncePerWakeAt) {
   });
   runner.wake_at(timer, sb::node::monotonic_ns());
   // The deadline of the whole test: the runner stops after 10 s whatever happened
-  runner.every(10 * kSecond, [&](int64_t) { runner.stop(); });
+  runner.every(10 * kFoundationSecondNs, [&](int64_t) { runner.stop(); });
   EXPECT_EQ(runner.run(), 0);
   ASSERT_EQ(fired_mono.size(), 2u);
   EXPECT_GE(fired_mono[1], second_deadline);

@@ -8,13 +8,13 @@
 
 namespace {
 
-struct ToolRun {
+struct CamerasRun {
   int status = -1;
   std::string out;
 };
 
-ToolRun run(const std::string& args) {
-  ToolRun r;
+CamerasRun run_cameras(const std::string& args) {
+  CamerasRun r;
   const std::string cmd = std::string(SB_BIN_DIR) + "/stereoball-cameras " + args + " 2>&1";
   FILE* p = ::popen(cmd.c_str(), "r");
   if (p == nullptr) return r;
@@ -25,26 +25,26 @@ ToolRun run(const std::string& args) {
 }
 
 TEST(StereoballCameras, GivenNoMatchingDevicesWhenListedThenClearMessageAndSuccess) {
-  const ToolRun r = run("--glob '/nonexistent/video*'");
+  const CamerasRun r = run_cameras("--glob '/nonexistent/video*'");
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("No video devices found"), std::string::npos) << r.out;
 }
 
 TEST(StereoballCameras, GivenNamedMissingDeviceWhenListedThenOneLineAndFailure) {
-  const ToolRun r = run("--device /dev/video_missing_42");
+  const CamerasRun r = run_cameras("--device /dev/video_missing_42");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.out.find("/dev/video_missing_42: open failed: no such device"), std::string::npos)
       << r.out;
 }
 
 TEST(StereoballCameras, GivenNonV4l2DeviceWhenListedThenSaysSoAndFailure) {
-  const ToolRun r = run("--device /dev/null");
+  const CamerasRun r = run_cameras("--device /dev/null");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.out.find("not a V4L2 video device"), std::string::npos) << r.out;
 }
 
 TEST(StereoballCameras, GivenHelpWhenAskedThenDescribesTheTool) {
-  const ToolRun r = run("--help");
+  const CamerasRun r = run_cameras("--help");
   EXPECT_EQ(r.status, 0);
   EXPECT_NE(r.out.find("--device"), std::string::npos);
   EXPECT_NE(r.out.find("frame rates"), std::string::npos);

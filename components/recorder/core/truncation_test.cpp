@@ -7,12 +7,11 @@ namespace stereoball::recorder {
 namespace {
 
 using testing::make_recording;
-using testing::Recording;
 using testing::StoredMessage;
 
 // Messages a reader must recover from the first cut bytes: those of every chunk whose record
 // lies entirely before the cut.
-size_t expected_prefix(const Recording& rec, const std::vector<ChunkIndexRecord>& chunks,
+size_t expected_prefix(const testing::Recording& rec, const std::vector<ChunkIndexRecord>& chunks,
                        uint64_t cut) {
   size_t complete = 0;
   for (size_t i = 0; i < chunks.size(); ++i) {
@@ -63,7 +62,7 @@ class Truncation : public ::testing::TestWithParam<Compression> {
     EXPECT_NE(reader.notes().front().find("no summary, scanned linearly"), std::string::npos);
   }
 
-  Recording rec_;
+  testing::Recording rec_;
   std::vector<ChunkIndexRecord> chunks_;
 };
 
