@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/util/enum_names.hpp"
 #include "common/util/json_text.hpp"
 
 namespace stereoball::real_stereo {
@@ -30,16 +31,12 @@ std::string counts_line(const std::string& label, const Counts& c) {
              c.missed, percent(c.missed, c.total()).c_str(), c.total());
 }
 
+// The bands' keys in the JSON (string literals: data() ends in a NUL).
+constexpr util::EnumName<Band> kBandJsonKeys[] = {
+    {Band::kWithin2, "dy_le_2"}, {Band::k2To10, "dy_2_to_10"}, {Band::kOver10, "dy_over_10"}};
+
 const char* band_key(Band b) {
-  switch (b) {
-    case Band::kWithin2:
-      return "dy_le_2";
-    case Band::k2To10:
-      return "dy_2_to_10";
-    case Band::kOver10:
-      return "dy_over_10";
-  }
-  return "?";
+  return util::name_of(kBandJsonKeys, b, "?").data();
 }
 
 // A number, or null when it is not finite (JSON has no NaN).

@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <set>
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::real_stereo {
 namespace {
 
@@ -227,16 +229,21 @@ TruthRow scaled(const TruthRow& row, double factor) {
   return s;
 }
 
+// The names tables print (string literals: a name's data() ends in a NUL).
+constexpr util::EnumName<Band> kBandNames[] = {{Band::kWithin2, "|dy| <= 2 px"},
+                                               {Band::k2To10, "2 < |dy| <= 10 px"},
+                                               {Band::kOver10, "|dy| > 10 px"}};
+constexpr util::EnumName<Verdict> kVerdictNames[] = {{Verdict::kCorrect, "correct"},
+                                                     {Verdict::kWrong, "wrong"},
+                                                     {Verdict::kMissed, "missed"},
+                                                     {Verdict::kExcluded, "excluded"}};
+constexpr util::EnumName<Exclusion> kExclusionNames[] = {
+    {Exclusion::kNone, "scored"},
+    {Exclusion::kNoRadius, "no radius in the truth"},
+    {Exclusion::kUnusable, "truth unusable (flagged)"}};
+
 const char* band_name(Band band) {
-  switch (band) {
-    case Band::kWithin2:
-      return "|dy| <= 2 px";
-    case Band::k2To10:
-      return "2 < |dy| <= 10 px";
-    case Band::kOver10:
-      return "|dy| > 10 px";
-  }
-  return "?";
+  return util::name_of(kBandNames, band, "?").data();
 }
 
 Band band_of(double dy_px) {
@@ -336,29 +343,11 @@ Summary summarize(const std::vector<PairScore>& pairs) {
 }
 
 const char* verdict_name(Verdict v) {
-  switch (v) {
-    case Verdict::kCorrect:
-      return "correct";
-    case Verdict::kWrong:
-      return "wrong";
-    case Verdict::kMissed:
-      return "missed";
-    case Verdict::kExcluded:
-      return "excluded";
-  }
-  return "?";
+  return util::name_of(kVerdictNames, v, "?").data();
 }
 
 const char* exclusion_name(Exclusion e) {
-  switch (e) {
-    case Exclusion::kNone:
-      return "scored";
-    case Exclusion::kNoRadius:
-      return "no radius in the truth";
-    case Exclusion::kUnusable:
-      return "truth unusable (flagged)";
-  }
-  return "?";
+  return util::name_of(kExclusionNames, e, "?").data();
 }
 
 }  // namespace stereoball::real_stereo

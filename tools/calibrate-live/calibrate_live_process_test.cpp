@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <thread>
 
 #include "common/dds/writer.hpp"
@@ -71,6 +74,35 @@ class FakeCameras {
   uint64_t seq_ = 0;
 };
 
+// Whether the console lines say a held board was judged: a pose taken, or a progress line
+// with the board still in both eyes for --still-s 0.3 (a pose too near one taken is not taken).
+bool judged_still(const std::string& lines) {
+  if (lines.find(" taken: ") != std::string::npos) return true;
+  static const std::regex kStill("still L ([0-9.]+) s R ([0-9.]+) s");
+  for (auto it = std::sregex_iterator(lines.begin(), lines.end(), kStill);
+       it != std::sregex_iterator(); ++it) {
+    if (std::min(std::stod((*it)[1]), std::stod((*it)[2])) >= 0.3) return true;
+  }
+  return false;
+}
+
+// Whether the console lines say no board is in view (the blank between poses was seen).
+bool sees_no_board(const std::string& lines) {
+  return lines.find("show the whole board") != std::string::npos;
+}
+
+// Shows pair until the tool's console lines printed from now on satisfy done, the tool exits
+// or 20 s pass (then the test fails on what the tool did not take, with its output).
+void show_until(FakeCameras& cameras, testing::Process& tool, const Pair& pair,
+                bool (*done)(const std::string&)) {
+  const std::size_t from = tool.output().size();
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  while (tool.running() && std::chrono::steady_clock::now() < deadline) {
+    cameras.publish(pair);
+    if (done(tool.output().substr(from))) return;
+  }
+}
+
 std::vector<std::string> tool_args(const std::string& partition, const std::string& out,
                                    std::vector<std::string> extra) {
   std::vector<std::string> argv{testing::bin("stereoball-calibrate-live"),
@@ -105,15 +137,16 @@ TEST_F(CalibrateLive, HeldBoardsGiveTheCalibrationTheFileToolGives) {
   // Given the tool listening and the board held still at each of the 13 sample poses
   FakeCameras cameras;
   const std::string out = (dir_ / "live.yaml").string();
-  auto tool = testing::Process::start(
-      tool_args(cameras.partition(), out, {"--poses", "10", "--timeout-s", "60"}));
+  auto tool = testing::Process::start(tool_args(
+      cameras.partition(), out, {"--poses", "10", "--still-s", "0.3", "--timeout-s", "200"}));
   ASSERT_TRUE(cameras.wait_for_reader()) << tool.output();
-  // When each pair is shown for a second, with a blank between poses
+  // When each pair is held until the console has judged it (taken, or still but too near a pose
+  // taken), with a blank shown between poses until the console sees no board: paced by the
+  // tool's own lines, so a loaded machine takes the same poses as an idle one, only later
   const cv::Mat blank(pairs_[0].left.size(), CV_8UC1, cv::Scalar(128));
   for (const auto& pair : pairs_) {
-    if (!tool.running()) break;
-    for (int f = 0; f < 30 && tool.running(); ++f) cameras.publish(pair);
-    for (int f = 0; f < 3 && tool.running(); ++f) cameras.publish({blank, blank});
+    show_until(cameras, tool, pair, judged_still);
+    show_until(cameras, tool, {blank, blank}, sees_no_board);
   }
   const auto code = tool.wait_for_exit(30s);
   // Then it takes ten poses, passes the verdict and writes a calibration whose baseline and
@@ -158,10 +191,15 @@ TEST_F(CalibrateLive, ABoardOfAnotherSizeIsNamedAndNothingIsWritten) {
   FakeCameras cameras;
   const std::string out = (dir_ / "size.yaml").string();
   auto tool = testing::Process::start(
-      tool_args(cameras.partition(), out, {"--board", "7x5", "--timeout-s", "4"}));
+      tool_args(cameras.partition(), out, {"--board", "7x5", "--timeout-s", "60"}));
   ASSERT_TRUE(cameras.wait_for_reader()) << tool.output();
-  // When a held board is shown
-  for (int f = 0; tool.running() && f < 300; ++f) cameras.publish(pairs_[0]);
+  // When a held board is shown until the console names the board (which takes a second of
+  // frames searched, however slowly they are searched) and then the user stops the tool
+  const auto deadline = std::chrono::steady_clock::now() + 50s;
+  while (tool.running() && std::chrono::steady_clock::now() < deadline &&
+         tool.output().find("no 7x5 board found") == std::string::npos)
+    cameras.publish(pairs_[0]);
+  tool.signal(SIGINT);
   const auto code = tool.wait_for_exit(20s);
   // Then the console says no 7x5 board was found and no file is written
   ASSERT_TRUE(code.has_value()) << tool.output();

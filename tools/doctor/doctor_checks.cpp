@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <set>
 
+#include "common/util/enum_names.hpp"
 #include "common/util/json_text.hpp"
 
 namespace stereoball::doctor {
@@ -94,18 +95,14 @@ const char* kDiscoveryFix =
 
 }  // namespace
 
+// The rows are string literals: a name's data() ends in a NUL.
+constexpr util::EnumName<Verdict> kDoctorVerdictNames[] = {{Verdict::kOk, "ok"},
+                                                           {Verdict::kWarn, "warn"},
+                                                           {Verdict::kFail, "FAIL"},
+                                                           {Verdict::kNa, "n/a"}};
+
 const char* to_string(Verdict verdict) {
-  switch (verdict) {
-    case Verdict::kOk:
-      return "ok";
-    case Verdict::kWarn:
-      return "warn";
-    case Verdict::kFail:
-      return "FAIL";
-    case Verdict::kNa:
-      return "n/a";
-  }
-  return "?";
+  return util::name_of(kDoctorVerdictNames, verdict, "?").data();
 }
 
 std::string node_label(const NodeObservation& node) {

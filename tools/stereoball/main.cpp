@@ -20,7 +20,7 @@ struct Subcommand {
   std::string_view summary;
 };
 
-constexpr std::array<Subcommand, 17> kKnown = {{
+constexpr std::array<Subcommand, 18> kKnown = {{
     {"demo", "run the whole system on the simulator and write a report"},
     {"launch", "start and supervise a deploy/ profile"},
     {"view", "live viewer in the browser and Foxglove WebSocket server, one port"},
@@ -35,6 +35,7 @@ constexpr std::array<Subcommand, 17> kKnown = {{
     {"info", "summarise an MCAP file"},
     {"cameras", "list V4L2 cameras"},
     {"estop", "engage, release (with confirmation) or show the emergency stop"},
+    {"doctor", "check a running deployment, one line per check with the fix"},
     {"keys", "deployment keys: init | show | rotate"},
     {"version", "print the version"},
     {"help", "this list"},

@@ -3,35 +3,27 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/util/enum_names.hpp"
+
 namespace stereoball::ball_detector {
 
+namespace {
+
+// The rows are string literals: a name's data() ends in a NUL.
+constexpr util::EnumName<DetectorInput> kDetectorInputNames[] = {
+    {DetectorInput::kGrey, "grey"},    {DetectorInput::kSaturation, "saturation"},
+    {DetectorInput::kValue, "value"},  {DetectorInput::kRed, "red"},
+    {DetectorInput::kGreen, "green"},  {DetectorInput::kBlue, "blue"},
+    {DetectorInput::kColour, "colour"}};
+
+}  // namespace
+
 const char* to_string(DetectorInput input) {
-  switch (input) {
-    case DetectorInput::kGrey:
-      return "grey";
-    case DetectorInput::kSaturation:
-      return "saturation";
-    case DetectorInput::kValue:
-      return "value";
-    case DetectorInput::kRed:
-      return "red";
-    case DetectorInput::kGreen:
-      return "green";
-    case DetectorInput::kBlue:
-      return "blue";
-    case DetectorInput::kColour:
-      return "colour";
-  }
-  return "grey";
+  return util::name_of(kDetectorInputNames, input, "grey").data();
 }
 
 std::optional<DetectorInput> parse_detector_input(const std::string& text) {
-  for (DetectorInput i :
-       {DetectorInput::kGrey, DetectorInput::kSaturation, DetectorInput::kValue,
-        DetectorInput::kRed, DetectorInput::kGreen, DetectorInput::kBlue, DetectorInput::kColour}) {
-    if (text == to_string(i)) return i;
-  }
-  return std::nullopt;
+  return util::value_of(kDetectorInputNames, text);
 }
 
 namespace {

@@ -1,5 +1,6 @@
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 
+#include "common/util/enum_names.hpp"
 #include "stereo/core/calibration_scaling.hpp"
 
 #include <opencv2/calib3d.hpp>
@@ -121,42 +122,30 @@ std::optional<FloorModel> floor_model(const BallDetectorParams& params,
   return floor;
 }
 
+// The rows are string literals: a name's data() ends in a NUL.
+constexpr util::EnumName<SearchPath> kSearchPathNames[] = {
+    {SearchPath::kExpectedOutlines, "expected_outlines"},
+    {SearchPath::kPriorWindow, "prior_window"},
+    {SearchPath::kWholeFrame, "whole_frame"},
+    {SearchPath::kRadiusBands, "radius_bands"},
+    {SearchPath::kBrightnessFree, "brightness_free"}};
+
+constexpr util::EnumName<DetectionStatus> kDetectionStatusNames[] = {
+    {DetectionStatus::kFound, "found"},
+    {DetectionStatus::kNoCandidate, "no_candidate"},
+    {DetectionStatus::kEpipolarMismatch, "epipolar_mismatch"},
+    {DetectionStatus::kSizeInconsistent, "size_inconsistent"},
+    {DetectionStatus::kNoCalibration, "no_calibration"},
+    {DetectionStatus::kBadFrame, "bad_frame"},
+    {DetectionStatus::kOffFloor, "off_floor"},
+    {DetectionStatus::kInteriorMismatch, "interior_mismatch"}};
+
 const char* to_string(SearchPath path) {
-  switch (path) {
-    case SearchPath::kExpectedOutlines:
-      return "expected_outlines";
-    case SearchPath::kPriorWindow:
-      return "prior_window";
-    case SearchPath::kWholeFrame:
-      return "whole_frame";
-    case SearchPath::kRadiusBands:
-      return "radius_bands";
-    case SearchPath::kBrightnessFree:
-      return "brightness_free";
-  }
-  return "?";
+  return util::name_of(kSearchPathNames, path, "?").data();
 }
 
 const char* to_string(DetectionStatus status) {
-  switch (status) {
-    case DetectionStatus::kFound:
-      return "found";
-    case DetectionStatus::kNoCandidate:
-      return "no_candidate";
-    case DetectionStatus::kEpipolarMismatch:
-      return "epipolar_mismatch";
-    case DetectionStatus::kSizeInconsistent:
-      return "size_inconsistent";
-    case DetectionStatus::kNoCalibration:
-      return "no_calibration";
-    case DetectionStatus::kBadFrame:
-      return "bad_frame";
-    case DetectionStatus::kOffFloor:
-      return "off_floor";
-    case DetectionStatus::kInteriorMismatch:
-      return "interior_mismatch";
-  }
-  return "unknown";
+  return util::name_of(kDetectionStatusNames, status).data();
 }
 
 StereoPipeline::StereoPipeline(const BallDetectorParams& params)
