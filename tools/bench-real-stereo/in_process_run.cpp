@@ -149,6 +149,7 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
   std::optional<stereo::FrameCompressor> compressor;
   if (codec.compressed()) compressor.emplace(codec);
   stereo::FrameDecoder decoder;
+  decoder.set_reduction(pipeline.working_reduction());  // as the node decodes
   for (std::size_t i = 0; i < set.truth.size(); ++i) {
     if (options.stop && options.stop->load()) return fail_all("interrupted");
     const TruthRow& row = set.truth[i];

@@ -105,14 +105,14 @@ std::vector<Circle> refine_coarse_circles(const PixelToPixelDetector& fine,
   for (const Circle& c : reduced) seeds.push_back(to_full_resolution(c, level));
   if (!(max_shift > 0.0)) return fine.refine_seeds(seeds);
   // Each seed on its own, so a refined circle is compared with the seed it came from; those
-  // that hold are refined together again for the detector's ranking and separation (cheap: a
-  // held circle is its own refinement's fixed point within a round or two).
+  // that hold are ranked and separated as refine_seeds() would, without refining them again
+  // (a second refinement moved a held circle by a fraction of a pixel at twice the cost).
   std::vector<Circle> held;
   for (const Circle& seed : seeds) {
     const std::vector<Circle> one = fine.refine_seeds(std::span<const Circle>(&seed, 1));
     if (!one.empty() && holds_seed(one.front(), seed, max_shift)) held.push_back(one.front());
   }
-  return fine.refine_seeds(held);
+  return fine.keep_best_separated(std::move(held));
 }
 
 }  // namespace stereoball::ball_detector

@@ -268,6 +268,10 @@ class PixelToPixelDetector final : public CircleDetector {
   /// detect_at_seeds() on the edges of the last image (cast_votes() or a detect()), with its
   /// radius range: for seeds found some other way than by this detector's votes.
   std::vector<Circle> refine_seeds(std::span<const Circle> seeds) const;
+  /// Circles already refined on this detector's edges ranked as refine_seeds() ranks its own:
+  /// best first, none within min_separation_px of a better one of about its size, at most
+  /// max_circles (no refinement).
+  std::vector<Circle> keep_best_separated(std::vector<Circle> found) const;
   /// Addition (colour seeds): detect_at_seeds() on bgr (CV_8UC3) with its brightness removed
   /// (compute_brightness_free_edge_map in edge_map.hpp), with thresholds measured on that image
   /// itself (bgr is a box around the seeds: its statistics are the ball's and its surroundings'). A
@@ -347,7 +351,6 @@ class PixelToPixelDetector final : public CircleDetector {
   // image (fine_shared_edges), or on its windows' own maps (null).
   std::vector<Circle> detect_coarse_to_fine(const cv::Mat& image, const EdgeMap* whole_edges);
   std::vector<Circle> detect_multi_scale(const cv::Mat& image);  // p2p_multi_scale.cpp
-  std::vector<Circle> keep_best_separated(std::vector<Circle> found) const;
   std::optional<Circle> refine_in_window(const EdgeMap& edges, const cv::Rect& window,
                                          Circle seed) const;
   void vote_on_edges();

@@ -69,6 +69,9 @@ void BallDetectorNode::apply_calibration(const CalibrationFrom& calibration) {
   gate_.applied(calibration.calib.image_size);
   pending_calibration_.reset();
   eye_order_.reset();
+  // JPEG frames the pipeline shrinks by a whole factor are decoded at that size (a fraction of
+  // a full decode, and no shrinking after it).
+  decoder_.set_reduction(pipeline_.working_reduction());
   const cv::Size s = pipeline_.image_size();
   log::info("calibration from '", calibration.source, "': ", s.width, "x", s.height, " px, rms ",
             calibration.calib.rms_px, " px; rectification tables built");

@@ -227,16 +227,30 @@ cv::Size StereoPipeline::image_size() const {
   return input_calibration_ ? input_calibration_->image_size : cv::Size();
 }
 
+bool StereoPipeline::at_working_size(cv::Size left, cv::Size right) const {
+  return work_scale_ < 1.0 && left == working_size() && right == working_size();
+}
+
+int StereoPipeline::working_reduction() const {
+  if (!input_calibration_ || !(work_scale_ < 1.0)) return 1;
+  const cv::Size input = input_calibration_->image_size, work = working_size();
+  for (const int r : {2, 4, 8})
+    if (input.width == r * work.width && input.height == r * work.height) return r;
+  return 1;
+}
+
 Status StereoPipeline::check_input(const cv::Mat& left, const cv::Mat& right) const {
   if (auto e = check_pixels("left", left); !e) return e;
   if (auto e = check_pixels("right", right); !e) return e;
   if (left.type() != right.type()) return Error{"left and right images differ in type"};
+  // Frames a source decoded reduced (working_reduction) are searched as they are.
+  if (at_working_size(left.size(), right.size())) return {};
   return stereo::check_image_size(*input_calibration_, left.size(), right.size());
 }
 
 std::pair<const cv::Mat*, const cv::Mat*> StereoPipeline::working_frames(const cv::Mat& left,
                                                                          const cv::Mat& right) {
-  if (!(work_scale_ < 1.0)) return {&left, &right};
+  if (!(work_scale_ < 1.0) || at_working_size(left.size(), right.size())) return {&left, &right};
   // As camera_server's publish_width_px shrinks frames: the same pixels at either place.
   cv::resize(left, work_left_, tools_.image_size(), 0, 0, cv::INTER_AREA);
   cv::resize(right, work_right_, tools_.image_size(), 0, 0, cv::INTER_AREA);
@@ -472,9 +486,12 @@ void StereoPipeline::refresh_thresholds(const cv::Mat& left_channel, bool rectif
 }
 
 bool StereoPipeline::finish_frame(const cv::Mat& left, bool rectified) {
-  if (!refresh_due_ || !tools_.rectifier || !check_pixels("left", left).ok() ||
-      !stereo::check_image_size(*input_calibration_, left.size(), left.size()).ok())
-    return false;
+  if (!refresh_due_ || !tools_.rectifier || !check_pixels("left", left).ok()) return false;
+  if (at_working_size(left.size(), left.size())) {
+    refresh_thresholds(detector_channel(left, grey_left_), rectified);
+    return true;
+  }
+  if (!stereo::check_image_size(*input_calibration_, left.size(), left.size()).ok()) return false;
   if (work_scale_ < 1.0) {
     cv::resize(left, work_left_, tools_.image_size(), 0, 0, cv::INTER_AREA);
     refresh_thresholds(detector_channel(work_left_, grey_left_), rectified);

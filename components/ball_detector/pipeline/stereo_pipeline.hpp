@@ -138,9 +138,13 @@ class StereoPipeline {
   /// copies shrunk to working_size() (valid until the next step() or finish_frame()).
   std::pair<const cv::Mat*, const cv::Mat*> searched_frames(const cv::Mat& left,
                                                             const cv::Mat& right) const {
-    if (!(work_scale_ < 1.0)) return {&left, &right};
+    if (!(work_scale_ < 1.0) || left.size() == working_size()) return {&left, &right};
     return {&work_left_, &work_right_};
   }
+  /// The whole factor (2, 4 or 8) frames of image_size() are shrunk by to working_size() when
+  /// it divides both sides, else 1: a source that can decode its frames reduced by it (JPEG,
+  /// stereo::FrameDecoder::set_reduction) may give step() the reduced frames.
+  int working_reduction() const;
   /// The rectifier of the working-size calibration (working_size()), nullopt without one.
   const std::optional<stereo::Rectifier>& rectifier() const { return tools_.rectifier; }
   /// Image size frames must have, or 0x0 without calibration.
@@ -149,7 +153,8 @@ class StereoPipeline {
   /// or 0x0 without calibration; rectified_left(), the candidates and the cameras are in it.
   cv::Size working_size() const { return tools_.image_size(); }
 
-  /// One pair of BGR or grey frames of the calibration's size (rectified: no LUT), the prior
+  /// One pair of BGR or grey frames of the calibration's size, or already shrunk to
+  /// working_size() when that is smaller (rectified: no LUT), the prior
   /// (metres), capture stamp_ns and left-minus-right eye_skew_ns (README: step); never throws.
   StereoDetection step(const cv::Mat& left, const cv::Mat& right, bool rectified,
                        const std::optional<PositionPrior>& prior = std::nullopt,
@@ -181,6 +186,8 @@ class StereoPipeline {
 
  private:
   Status check_input(const cv::Mat& left, const cv::Mat& right) const;
+  /// Whether frames of these sizes were shrunk to the working size already (by their source).
+  bool at_working_size(cv::Size left, cv::Size right) const;
   /// The frames shrunk to the working size (the frames themselves at full size).
   std::pair<const cv::Mat*, const cv::Mat*> working_frames(const cv::Mat& left,
                                                            const cv::Mat& right);

@@ -9,6 +9,8 @@
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "simulator/core/ball_scene.hpp"
 
+#include <opencv2/imgproc.hpp>
+
 namespace sb = stereoball;
 using sb::ball_detector::BallDetectorParams;
 using sb::ball_detector::DetectionStatus;
@@ -101,4 +103,48 @@ TEST(StereoPipelineCoarse, GivenAReferenceWidthFrameThenSearchedAsWithoutIt) {
   EXPECT_EQ(b.left.y_px, a.left.y_px);
   EXPECT_EQ(b.left.radius_px, a.left.radius_px);
   EXPECT_EQ(b.position_m, a.position_m);
+}
+
+TEST(StereoPipelineCoarse, GivenFramesAlreadyShrunkToTheWorkingSizeThenTheSameDetection) {
+  // Given a rendered 2304x1296 pair, searched at the working width 1280 (shrunk by 2), and the
+  // same pair shrunk by its source as the pipeline shrinks it (a JPEG decoded reduced)
+  const WideRendered r = render_plain(1.5, 0.0, 2304, 1296);
+  BallDetectorParams params = with_target(640);
+  params.working_width_px = 1280;
+  StereoPipeline a(params), b(params);
+  ASSERT_TRUE(a.set_calibration(r.calib).ok());
+  ASSERT_TRUE(b.set_calibration(r.calib).ok());
+  ASSERT_EQ(a.working_reduction(), 2);
+  cv::Mat left, right;
+  cv::resize(r.frame.left, left, a.working_size(), 0, 0, cv::INTER_AREA);
+  cv::resize(r.frame.right, right, a.working_size(), 0, 0, cv::INTER_AREA);
+  // When one pipeline gets the full frames and the other the shrunk ones
+  const auto full = a.step(r.frame.left, r.frame.right, false);
+  const auto shrunk = b.step(left, right, false);
+  // Then both report the same ball in the calibration's pixels, to the bit
+  ASSERT_EQ(full.status, DetectionStatus::kFound) << full.reason;
+  EXPECT_EQ(shrunk.status, full.status) << shrunk.reason;
+  EXPECT_EQ(shrunk.left.x_px, full.left.x_px);
+  EXPECT_EQ(shrunk.left.radius_px, full.left.radius_px);
+  EXPECT_EQ(shrunk.position_m, full.position_m);
+  // And frames of neither size are refused
+  cv::Mat other;
+  cv::resize(r.frame.left, other, cv::Size(1000, 562));
+  EXPECT_EQ(b.step(other, other, false).status, DetectionStatus::kBadFrame);
+}
+
+TEST(StereoPipelineCoarse, GivenFramesSearchedAtTheirOwnSizeThenNoWorkingReduction) {
+  // Given a 640x480 calibration (not shrunk) and a 2304x1296 one with working_width_px 0
+  const WideRendered small = render_plain(1.5, 0.0, 640, 480);
+  BallDetectorParams params = with_target(640);
+  StereoPipeline a(params);
+  ASSERT_TRUE(a.set_calibration(small.calib).ok());
+  params.working_width_px = 0;
+  StereoPipeline b(params);
+  const WideRendered wide = render_plain(1.5, 0.0, 2304, 1296);
+  ASSERT_TRUE(b.set_calibration(wide.calib).ok());
+  // When asked by how much a source may reduce their frames
+  // Then by nothing
+  EXPECT_EQ(a.working_reduction(), 1);
+  EXPECT_EQ(b.working_reduction(), 1);
 }

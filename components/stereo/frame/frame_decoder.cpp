@@ -106,8 +106,10 @@ Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& 
                  " but the calibration is for " +
                  dims(static_cast<std::uint64_t>(expected.width),
                       static_cast<std::uint64_t>(expected.height))};
-  if (auto st = stereo::decode_bgr(bytes, *header, buffer); !st)
-    return Error{std::string(eye) + " " + st.error()};
+  const Status decoded = reduction_ > 1 && stereo::decodes_reduced(*header, reduction_)
+                             ? stereo::decode_bgr_reduced(bytes, *header, reduction_, buffer)
+                             : stereo::decode_bgr(bytes, *header, buffer);
+  if (!decoded) return Error{std::string(eye) + " " + decoded.error()};
   out = buffer;
   return {};
 }

@@ -40,11 +40,17 @@ class FrameDecoder {
   Status decode(const stereoball_msg_StereoFrame& msg, cv::Size expected, cv::Mat& left,
                 cv::Mat& right, const RunTasks& run);
 
+  /// From now on, JPEG eyes whose size reduction divides (decodes_reduced) are decoded at
+  /// 1/reduction of expected (a consumer that shrinks them by that factor anyway); other eyes
+  /// keep their size. 1 (the default) = every eye at its own size.
+  void set_reduction(int reduction) { reduction_ = reduction; }
+
  private:
   Status decode_eye(const char* eye, const stereoball_msg_EyeImage& image, FrameEncoding encoding,
                     cv::Size expected, cv::Mat& buffer, cv::Mat& out);
 
   cv::Mat decoded_left_, decoded_right_;
+  int reduction_ = 1;
 };
 
 }  // namespace stereoball::stereo

@@ -226,3 +226,22 @@ TEST(FrameDecoder, GivenRawEyes_WhenDecodedWithARunner_ThenViewsWithoutTasks) {
   EXPECT_FALSE(ran);
   EXPECT_EQ(l.data, f.left.data());
 }
+
+TEST(FrameDecoder, GivenAReduction_WhenJpegEyesDecoded_ThenReducedAndPngAtItsSize) {
+  // Given a decoder told to reduce by 2, and the same eyes as JPEG and as PNG
+  const cv::Mat img = gradient(CV_8UC3);
+  FrameDecoder d;
+  d.set_reduction(2);
+  for (const std::string ext : {"jpg", "png"}) {
+    FrameBuilder f;
+    f.encoded(ext, img, img);
+    cv::Mat l, r;
+    // When decoded
+    ASSERT_TRUE(d.decode(f.get(), kSize, l, r).ok()) << ext;
+    // Then JPEG eyes come out at half the size (close to the full decode shrunk by block means)
+    // and PNG eyes, which cannot be decoded reduced, at their own
+    const cv::Size want = ext == "jpg" ? cv::Size(kSize.width / 2, kSize.height / 2) : kSize;
+    EXPECT_EQ(l.size(), want) << ext;
+    EXPECT_EQ(r.size(), want) << ext;
+  }
+}

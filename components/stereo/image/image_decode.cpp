@@ -108,7 +108,8 @@ Result<ImageHeader> read_png_header(std::span<const std::uint8_t> bytes) {
   return ImageHeader{ImageCodec::kPng, static_cast<int>(w), static_cast<int>(h)};
 }
 
-Status decode_jpeg(std::span<const std::uint8_t> bytes, const ImageHeader& header, cv::Mat& out) {
+Status decode_jpeg(std::span<const std::uint8_t> bytes, const ImageHeader& header, cv::Mat& out,
+                   int reduction = 1) {
   JpegDecompressor jpeg;
   auto& info = jpeg.info();
   if (setjmp(jpeg.errors().jump)) {
@@ -120,8 +121,13 @@ Status decode_jpeg(std::span<const std::uint8_t> bytes, const ImageHeader& heade
       static_cast<int>(info.image_height) != header.height_px)
     return Error{"jpeg header changed between reads"};
   info.out_color_space = JCS_EXT_BGR;  // libjpeg-turbo writes OpenCV's channel order directly
+  info.scale_num = 1;
+  info.scale_denom = static_cast<unsigned int>(reduction);
   jpeg_start_decompress(&info);
-  out.create(header.height_px, header.width_px, CV_8UC3);
+  if (static_cast<int>(info.output_width) != header.width_px / reduction ||
+      static_cast<int>(info.output_height) != header.height_px / reduction)
+    return Error{"jpeg decoder cannot reduce by " + std::to_string(reduction)};
+  out.create(header.height_px / reduction, header.width_px / reduction, CV_8UC3);
   while (info.output_scanline < info.output_height) {
     JSAMPROW row = out.ptr<std::uint8_t>(static_cast<int>(info.output_scanline));
     jpeg_read_scanlines(&info, &row, 1);
@@ -187,6 +193,25 @@ Status decode_bgr(std::span<const std::uint8_t> bytes, const ImageHeader& header
     return Error{"image stream is larger than 2 GiB"};
   return header.codec == ImageCodec::kJpeg ? decode_jpeg(bytes, header, out)
                                            : decode_png(bytes, header, out);
+}
+
+bool decodes_reduced(const ImageHeader& header, int reduction) {
+  return header.codec == ImageCodec::kJpeg &&
+         (reduction == 2 || reduction == 4 || reduction == 8) && header.width_px % reduction == 0 &&
+         header.height_px % reduction == 0;
+}
+
+Status decode_bgr_reduced(std::span<const std::uint8_t> bytes, const ImageHeader& header,
+                          int reduction, cv::Mat& out) {
+  if (!decodes_reduced(header, reduction)) {
+    out.release();
+    return Error{std::string(codec_name(header.codec)) + " image " +
+                 dims(header.width_px, header.height_px) + " cannot be decoded reduced by " +
+                 std::to_string(reduction)};
+  }
+  if (bytes.size() > static_cast<std::size_t>(INT32_MAX))
+    return Error{"image stream is larger than 2 GiB"};
+  return decode_jpeg(bytes, header, out, reduction);
 }
 
 }  // namespace stereoball::stereo

@@ -43,4 +43,14 @@ Status check_within(const ImageHeader& header, cv::Size max_size);
 /// ("jpeg data is corrupt: Premature end of JPEG file"); out is then empty.
 Status decode_bgr(std::span<const std::uint8_t> bytes, const ImageHeader& header, cv::Mat& out);
 
+/// Whether decode_bgr_reduced can decode an image of header's codec and size reduced by
+/// reduction: JPEG (libjpeg's scaled inverse DCT), reduction 2, 4 or 8 dividing both sides.
+bool decodes_reduced(const ImageHeader& header, int reduction);
+
+/// decode_bgr at 1/reduction of the header's size (decodes_reduced must hold): the JPEG's
+/// blocks transformed back at that scale, a fraction of a full decode's work (each output
+/// pixel about the mean of its reduction x reduction block). Errors as decode_bgr's.
+Status decode_bgr_reduced(std::span<const std::uint8_t> bytes, const ImageHeader& header,
+                          int reduction, cv::Mat& out);
+
 }  // namespace stereoball::stereo

@@ -44,6 +44,48 @@ TEST(ImageDecode, GivenJpegAndPngWhenDecodedThenPixelsEqualOpenCvsDecoder) {
   }
 }
 
+TEST(ImageDecode, GivenAJpegWhenDecodedReducedThenItIsTheFullDecodeShrunkWithinAFewLevels) {
+  // Given a JPEG of a 96x64 image with sharp colour edges
+  const auto bytes = encode(test_image(96, 64), ".jpg");
+  const auto header = read_image_header(bytes);
+  ASSERT_TRUE(header);
+  cv::Mat full, shrunk;
+  ASSERT_TRUE(decode_bgr(bytes, *header, full).ok());
+  cv::resize(full, shrunk, cv::Size(48, 32), 0, 0, cv::INTER_AREA);
+  for (const int reduction : {2, 4}) {
+    // When decoded reduced by 2 and by 4
+    ASSERT_TRUE(decodes_reduced(*header, reduction));
+    cv::Mat out;
+    ASSERT_TRUE(decode_bgr_reduced(bytes, *header, reduction, out).ok()) << reduction;
+    // Then the image has that size, and at 2 it is the full decode's block means within a few
+    // grey levels on average (the blocks' low frequencies transformed back)
+    EXPECT_EQ(out.size(), cv::Size(96 / reduction, 64 / reduction));
+    EXPECT_EQ(out.type(), CV_8UC3);
+    if (reduction == 2) {
+      EXPECT_LT(cv::norm(out, shrunk, cv::NORM_L1) / double(out.total() * 3), 3.0);
+    }
+  }
+}
+
+TEST(ImageDecode, GivenAPngOrASizeTheFactorDoesNotDivideThenNotDecodedReduced) {
+  // Given a PNG, and a JPEG 90 px wide
+  const auto png = encode(test_image(96, 64), ".png");
+  const auto jpeg = encode(test_image(90, 64), ".jpg");
+  const auto png_header = read_image_header(png), jpeg_header = read_image_header(jpeg);
+  ASSERT_TRUE(png_header && jpeg_header);
+  // When asked to decode them reduced (by 4; by 3, no JPEG scale)
+  cv::Mat out;
+  // Then it refuses, saying why, and leaves no image
+  EXPECT_FALSE(decodes_reduced(*png_header, 2));
+  EXPECT_FALSE(decodes_reduced(*jpeg_header, 4));
+  EXPECT_FALSE(decodes_reduced(*jpeg_header, 3));
+  EXPECT_TRUE(decodes_reduced(*jpeg_header, 2));
+  const Status st = decode_bgr_reduced(jpeg, *jpeg_header, 4, out);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.error().find("cannot be decoded reduced by 4"), std::string::npos) << st.error();
+  EXPECT_TRUE(out.empty());
+}
+
 TEST(ImageDecode, GivenAGreyJpegWhenDecodedThenItComesOutAsBgr) {
   cv::Mat grey;
   cv::cvtColor(test_image(48, 32), grey, cv::COLOR_BGR2GRAY);
