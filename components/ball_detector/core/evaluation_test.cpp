@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <numbers>
+#include <string>
+#include <vector>
 
 namespace stereoball::ball_detector {
 namespace {
@@ -43,6 +45,18 @@ TEST(Synthetic, GivenTheSameSeedThenScenesAreIdenticalAndDifferentSeedsDiffer) {
   const auto c = make_scene(SceneKind::kClutter, {160, 120}, 8);
   EXPECT_EQ(cv::norm(a.image, b.image, cv::NORM_INF), 0.0);
   EXPECT_GT(cv::norm(a.image, c.image, cv::NORM_INF), 0.0);
+}
+
+TEST(Synthetic, GivenEveryKindThenItsNameIsTheBenchsKeyAndAnUnknownValueIsAQuestionMark) {
+  // Given every scene kind, When named, Then each has its own name (bench-detect keys its
+  // per-kind figures by them) and a value outside the enum gets "?".
+  const std::vector<std::string> expected = {"plain",   "two-colour", "lighting", "noise",
+                                             "blur",    "occlusion",  "clutter",  "multiple",
+                                             "no-ball", "lines-only"};
+  ASSERT_EQ(static_cast<std::size_t>(SceneKind::kLinesOnly) + 1, expected.size());
+  for (std::size_t k = 0; k < expected.size(); ++k)
+    EXPECT_EQ(scene_kind_name(static_cast<SceneKind>(k)), expected[k]) << k;
+  EXPECT_EQ(scene_kind_name(static_cast<SceneKind>(expected.size())), "?");
 }
 
 TEST(Synthetic, GivenTheSuiteThenBallsLieInsideAndBallFreeKindsHaveNoTruth) {

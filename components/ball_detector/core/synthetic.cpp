@@ -1,5 +1,7 @@
 #include "ball_detector/core/synthetic.hpp"
 
+#include "common/util/enum_names.hpp"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -180,30 +182,19 @@ void render_ball(cv::Mat& bgr, const BallSpec& ball) {
   }
 }
 
+namespace {
+
+constexpr util::EnumName<SceneKind> kSceneKindNames[] = {
+    {SceneKind::kPlain, "plain"},       {SceneKind::kTwoColour, "two-colour"},
+    {SceneKind::kLighting, "lighting"}, {SceneKind::kNoise, "noise"},
+    {SceneKind::kBlur, "blur"},         {SceneKind::kOcclusion, "occlusion"},
+    {SceneKind::kClutter, "clutter"},   {SceneKind::kMultiple, "multiple"},
+    {SceneKind::kNoBall, "no-ball"},    {SceneKind::kLinesOnly, "lines-only"}};
+
+}  // namespace
+
 std::string scene_kind_name(SceneKind kind) {
-  switch (kind) {
-    case SceneKind::kPlain:
-      return "plain";
-    case SceneKind::kTwoColour:
-      return "two-colour";
-    case SceneKind::kLighting:
-      return "lighting";
-    case SceneKind::kNoise:
-      return "noise";
-    case SceneKind::kBlur:
-      return "blur";
-    case SceneKind::kOcclusion:
-      return "occlusion";
-    case SceneKind::kClutter:
-      return "clutter";
-    case SceneKind::kMultiple:
-      return "multiple";
-    case SceneKind::kNoBall:
-      return "no-ball";
-    case SceneKind::kLinesOnly:
-      return "lines-only";
-  }
-  return "?";
+  return std::string(util::name_of(kSceneKindNames, kind, "?"));
 }
 
 SyntheticScene make_scene(SceneKind kind, cv::Size size, std::uint32_t seed) {
