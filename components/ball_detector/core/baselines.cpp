@@ -1,5 +1,6 @@
 #include "ball_detector/core/baselines.hpp"
 
+#include "ball_detector/core/fast_math.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
 #include "ball_detector/core/voting.hpp"
 
@@ -14,11 +15,6 @@
 
 namespace stereoball::ball_detector {
 namespace {
-
-// std::hypot guards against overflow we cannot have here and is several times slower.
-inline double fast_hypot(double a, double b) {
-  return std::sqrt(a * a + b * b);
-}
 
 Status check_radii(double min_r, double max_r) {
   if (!(min_r >= 0.0)) return Error{"min_radius_px must be >= 0"};

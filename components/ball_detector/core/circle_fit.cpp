@@ -1,6 +1,7 @@
 #include "ball_detector/core/circle_fit.hpp"
 
 #include "ball_detector/core/cpu_dispatch.hpp"
+#include "ball_detector/core/fast_math.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,17 +9,8 @@
 #include <cmath>
 #include <numbers>
 
-#if SB_HAVE_AVX2_KERNELS
-#include <immintrin.h>
-#endif
-
 namespace stereoball::ball_detector {
 namespace {
-
-// std::hypot guards against overflow we cannot have here and is several times slower.
-inline double fast_hypot(double a, double b) {
-  return std::sqrt(a * a + b * b);
-}
 
 // The derivative planes as plain pointers: read per gathered point, where cv::Mat::at would
 // reload the Mat's fields after every point stored (a stored double may alias them).

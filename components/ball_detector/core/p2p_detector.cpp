@@ -1,6 +1,7 @@
 #include "ball_detector/core/p2p_detector.hpp"
 
 #include "ball_detector/core/cpu_dispatch.hpp"
+#include "ball_detector/core/fast_math.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
 #include "ball_detector/core/voting.hpp"
 
@@ -13,17 +14,8 @@
 #include <cstdint>
 #include <numbers>
 
-#if SB_HAVE_AVX2_KERNELS
-#include <immintrin.h>
-#endif
-
 namespace stereoball::ball_detector {
 namespace {
-
-// std::hypot guards against overflow we cannot have here and is several times slower.
-inline double fast_hypot(double a, double b) {
-  return std::sqrt(a * a + b * b);
-}
 
 constexpr int kMaxK = 31;                 // window rows are read as one 63-bit slice
 constexpr int kMaxCentreMarginPx = 4000;  // as max_radius_px: no centre is farther out
