@@ -7,7 +7,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <numbers>
 #include <set>
@@ -63,25 +62,19 @@ std::vector<Circle> GradientVotingDetector::detect(const cv::Mat& bgr_or_grey) {
   accumulator_.setTo(0);
   const BitImage& bits = edges_.bits;
   for (int y = 0; y < bits.height(); ++y) {
-    const std::uint64_t* row = bits.row(y);
     const short* gx = edges_.dx.ptr<short>(y);
     const short* gy = edges_.dy.ptr<short>(y);
-    for (int wi = 0; wi * 64 < bits.width(); ++wi) {
-      std::uint64_t word = row[wi];
-      while (word) {
-        const int x = wi * 64 + std::countr_zero(word);
-        word &= word - 1;
-        const double g = fast_hypot(gx[x], gy[x]);
-        if (g <= 0.0) continue;
-        const float ux = static_cast<float>(gx[x] / g), uy = static_cast<float>(gy[x] / g);
-        for (float s : {1.0f, -1.0f}) {
-          diag_.increments += plot_ray(accumulator_, x, y, s * ux, s * uy, params_.min_radius_px,
-                                       params_.max_radius_px);
-          voters_.push_back({static_cast<float>(x), static_cast<float>(y), s * ux, s * uy});
-        }
-        ++diag_.voters;
+    bits.for_each_set_in_row(y, [&](int x) {
+      const double g = fast_hypot(gx[x], gy[x]);
+      if (g <= 0.0) return;
+      const float ux = static_cast<float>(gx[x] / g), uy = static_cast<float>(gy[x] / g);
+      for (float s : {1.0f, -1.0f}) {
+        diag_.increments += plot_ray(accumulator_, x, y, s * ux, s * uy, params_.min_radius_px,
+                                     params_.max_radius_px);
+        voters_.push_back({static_cast<float>(x), static_cast<float>(y), s * ux, s * uy});
       }
-    }
+      ++diag_.voters;
+    });
   }
   const cv::Mat smoothed = box_filter(accumulator_, params_.box_size_px);
   diag_.edges = edges_.edges;
@@ -132,25 +125,19 @@ std::vector<Circle> ChtDetector::detect(const cv::Mat& bgr_or_grey) {
   votes_.assign(plane * radii_.size(), 0);
   const BitImage& bits = edges_.bits;
   for (int y = 0; y < h; ++y) {
-    const std::uint64_t* row = bits.row(y);
-    for (int wi = 0; wi * 64 < w; ++wi) {
-      std::uint64_t word = row[wi];
-      while (word) {
-        const int x = wi * 64 + std::countr_zero(word);
-        word &= word - 1;
-        ++diag_.voters;
-        for (size_t ri = 0; ri < radii_.size(); ++ri) {
-          std::uint16_t* acc = votes_.data() + ri * plane;
-          for (const auto& o : offsets_[ri]) {
-            const unsigned cx = static_cast<unsigned>(x + o.x), cy = static_cast<unsigned>(y + o.y);
-            if (cx >= static_cast<unsigned>(w) || cy >= static_cast<unsigned>(h)) continue;
-            std::uint16_t& cell = acc[cy * static_cast<size_t>(w) + cx];
-            if (cell != 0xFFFF) ++cell;
-            ++diag_.increments;
-          }
+    bits.for_each_set_in_row(y, [&](int x) {
+      ++diag_.voters;
+      for (size_t ri = 0; ri < radii_.size(); ++ri) {
+        std::uint16_t* acc = votes_.data() + ri * plane;
+        for (const auto& o : offsets_[ri]) {
+          const unsigned cx = static_cast<unsigned>(x + o.x), cy = static_cast<unsigned>(y + o.y);
+          if (cx >= static_cast<unsigned>(w) || cy >= static_cast<unsigned>(h)) continue;
+          std::uint16_t& cell = acc[cy * static_cast<size_t>(w) + cx];
+          if (cell != 0xFFFF) ++cell;
+          ++diag_.increments;
         }
       }
-    }
+    });
   }
   // Best normalised support over r for each (x, y): votes / number of circle pixels.
   cv::Mat best(h, w, CV_32F, cv::Scalar(0));

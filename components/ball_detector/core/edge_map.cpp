@@ -450,17 +450,14 @@ void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy
   out.row_start.assign(static_cast<std::size_t>(bits.height()) + 1, 0);
   for (int y = 0; y < bits.height(); ++y) {
     out.row_start[static_cast<std::size_t>(y)] = static_cast<int>(out.x.size());
-    const std::uint64_t* row = bits.row(y);
     const short* gx = dx.ptr<short>(y);
     const short* gy = dy.ptr<short>(y);
-    for (int w = 0; w * 64 < bits.width(); ++w)
-      for (std::uint64_t word = row[w]; word != 0; word &= word - 1) {
-        const int x = w * 64 + std::countr_zero(word);
-        out.x.push_back(x);
-        out.y.push_back(y);
-        out.gx.push_back(gx[x]);
-        out.gy.push_back(gy[x]);
-      }
+    bits.for_each_set_in_row(y, [&](int x) {
+      out.x.push_back(x);
+      out.y.push_back(y);
+      out.gx.push_back(gx[x]);
+      out.gy.push_back(gy[x]);
+    });
   }
   out.row_start.back() = static_cast<int>(out.x.size());
 }

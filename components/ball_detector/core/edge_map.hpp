@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -60,6 +61,14 @@ class BitImage {
   std::uint64_t* mutable_row(int y) { return words_.data() + static_cast<size_t>(y) * stride_; }
   /// Whether pixel (x, y) is set; no bounds check.
   bool test(int x, int y) const { return (row(y)[x >> 6] >> (x & 63)) & 1u; }
+  /// Calls f(x) for every set pixel x of row y, left to right (f must not change the image).
+  template <typename F>
+  void for_each_set_in_row(int y, F&& f) const {
+    const std::uint64_t* r = row(y);
+    for (int wi = 0; wi * 64 < width_; ++wi)
+      for (std::uint64_t word = r[wi]; word != 0; word &= word - 1)
+        f(wi * 64 + std::countr_zero(word));
+  }
   /// Makes an all-clear image of that size; reuses storage when the size is unchanged.
   void reset(int width, int height);
   /// Sets pixel (x, y); no bounds check.

@@ -213,40 +213,34 @@ void PixelToPixelDetector::vote(int k) {
   const int isolate_max_points =
       params_.isolate_arc ? static_cast<int>(params_.isolate_max_points_factor * n) : 0;
   for (int y = k; y < h - k; ++y) {
-    const std::uint64_t* row = bits.row(y);
-    for (int wi = 0; wi * 64 < w; ++wi) {
-      std::uint64_t word = row[wi];
-      while (word) {
-        const int x = wi * 64 + std::countr_zero(word);
-        word &= word - 1;
-        if (x < k || x >= w - k) continue;
-        // The window's rows are read once; step 4's count is then a few popcounts, far
-        // cheaper than collecting points.
-        const auto window_bits = std::span(rows.data(), n);
-        window_rows(bits, x, y, k, window_bits);
-        int count = 0;
-        for (const std::uint64_t row_bits : window_bits) count += std::popcount(row_bits);
-        // Steps 5-7 read the chord ends straight off the row masks (vote_line_of_rows).
-        std::optional<VoteLine> line;
-        if (window_count_ok(count, k)) {
-          line = vote_line_of_rows(window_bits, k);
-        } else if (count > n && count <= isolate_max_points) {
-          // Addition: judge the arc through O alone when other edges share the window.
-          if (connected_rows(window_bits, k, mask, n) != n &&
-              !(params_.isolate_by_orientation &&
-                isolate_along_orientation(x, y, k, window_bits, mask)))
-            continue;
-          line = vote_line_of_rows(std::span<const std::uint64_t>(mask.data(), n), k);
-        } else {
-          continue;
-        }
-        if (!line) continue;
-        // C lies on the half-pixel grid: exact in float for any image size we take.
-        lines_.push_back({static_cast<float>(x + 0.5 * line->c2x),
-                          static_cast<float>(y + 0.5 * line->c2y), line->nx, line->ny});
-        plot(lines_.back());
+    bits.for_each_set_in_row(y, [&](int x) {
+      if (x < k || x >= w - k) return;
+      // The window's rows are read once; step 4's count is then a few popcounts, far
+      // cheaper than collecting points.
+      const auto window_bits = std::span(rows.data(), n);
+      window_rows(bits, x, y, k, window_bits);
+      int count = 0;
+      for (const std::uint64_t row_bits : window_bits) count += std::popcount(row_bits);
+      // Steps 5-7 read the chord ends straight off the row masks (vote_line_of_rows).
+      std::optional<VoteLine> line;
+      if (window_count_ok(count, k)) {
+        line = vote_line_of_rows(window_bits, k);
+      } else if (count > n && count <= isolate_max_points) {
+        // Addition: judge the arc through O alone when other edges share the window.
+        if (connected_rows(window_bits, k, mask, n) != n &&
+            !(params_.isolate_by_orientation &&
+              isolate_along_orientation(x, y, k, window_bits, mask)))
+          return;
+        line = vote_line_of_rows(std::span<const std::uint64_t>(mask.data(), n), k);
+      } else {
+        return;
       }
-    }
+      if (!line) return;
+      // C lies on the half-pixel grid: exact in float for any image size we take.
+      lines_.push_back({static_cast<float>(x + 0.5 * line->c2x),
+                        static_cast<float>(y + 0.5 * line->c2y), line->nx, line->ny});
+      plot(lines_.back());
+    });
   }
 }
 
