@@ -143,6 +143,24 @@ std::vector<Method> make_methods(bool with_cht, double cht_step_px) {
 // suite; up to 100 circles an image (the most baselines accept; three photographs hold 53-70).
 constexpr int kRealMaxCircles = 100;
 
+// The multi-scale family's shared setting: voting with ks coarse to fine from fine_per_rmin x
+// rmin up, k=3 at full resolution below it, band 0.035 r, up to kRealMaxCircles circles.
+bd::PixelToPixelParams multi_scale_params(cv::Size s, double rmin, std::vector<int> ks,
+                                          double fine_per_rmin, double score, double clutter,
+                                          int peaks) {
+  auto p = p2p_params(s, std::move(ks));
+  p.min_radius_px = rmin;
+  p.coarse_to_fine = true;
+  p.fine_below_radius_px = fine_per_rmin * rmin;
+  p.fine_k_values = {3};
+  p.refine_params.band_per_radius = 0.035;
+  p.min_score = score;
+  p.refine_params.clutter_ring_per_radius = clutter;
+  p.max_circles = kRealMaxCircles;
+  p.max_peaks_examined = peaks;
+  return p;
+}
+
 std::string k_list(const std::vector<int>& ks) {
   std::string out;
   for (int k : ks) out += (out.empty() ? "" : ",") + std::to_string(k);
@@ -194,17 +212,8 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                               fine, k_list(ks).c_str(), score, clutter, peaks,
                               polish ? "" : " no-polish"),
                    [ks, fine, score, clutter, peaks, polish](cv::Size s, double rmin) {
-                     auto p = p2p_params(s, ks);
-                     p.min_radius_px = rmin;
-                     p.coarse_to_fine = true;
-                     p.fine_below_radius_px = fine * rmin;
-                     p.fine_k_values = {3};
+                     auto p = multi_scale_params(s, rmin, ks, fine, score, clutter, peaks);
                      p.polish = polish;
-                     p.refine_params.band_per_radius = 0.035;
-                     p.min_score = score;
-                     p.refine_params.clutter_ring_per_radius = clutter;
-                     p.max_circles = kRealMaxCircles;
-                     p.max_peaks_examined = peaks;
                      return std::make_unique<bd::PixelToPixelDetector>(p);
                    }});
   // Multi-scale with a cheaper full-resolution search of the small radii (most of the
@@ -223,19 +232,11 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                             fine_peaks, fine_isolate ? "on" : "off", give_up ? "on" : "off", score,
                             clutter, kRealMaxCircles / 2),
                  [score, clutter, fine_peaks, fine_isolate, give_up](cv::Size s, double rmin) {
-                   auto p = p2p_params(s, {3, 5});
-                   p.min_radius_px = rmin;
-                   p.coarse_to_fine = true;
-                   p.fine_below_radius_px = 2.0 * rmin;
-                   p.fine_k_values = {3};
+                   auto p = multi_scale_params(s, rmin, {3, 5}, 2.0, score, clutter,
+                                               kRealMaxCircles / 2);
                    p.fine_max_peaks_examined = fine_peaks;
                    p.fine_isolate_arc = fine_isolate;
                    p.fine_give_up = give_up;
-                   p.refine_params.band_per_radius = 0.035;
-                   p.min_score = score;
-                   p.refine_params.clutter_ring_per_radius = clutter;
-                   p.max_circles = kRealMaxCircles;
-                   p.max_peaks_examined = kRealMaxCircles / 2;
                    return std::make_unique<bd::PixelToPixelDetector>(p);
                  }});
           }
@@ -255,19 +256,11 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                           coarse_peaks, shared_edges ? "on" : "off", score, clutter,
                           kRealMaxCircles / 2),
                [score, clutter, coarse_peaks, shared_edges](cv::Size s, double rmin) {
-                 auto p = p2p_params(s, {3, 5});
-                 p.min_radius_px = rmin;
-                 p.coarse_to_fine = true;
-                 p.fine_below_radius_px = 2.0 * rmin;
-                 p.fine_k_values = {3};
+                 auto p =
+                     multi_scale_params(s, rmin, {3, 5}, 2.0, score, clutter, kRealMaxCircles / 2);
                  p.fine_give_up = true;
                  p.coarse_max_peaks_examined = coarse_peaks;
                  p.fine_shared_edges = shared_edges;
-                 p.refine_params.band_per_radius = 0.035;
-                 p.min_score = score;
-                 p.refine_params.clutter_ring_per_radius = clutter;
-                 p.max_circles = kRealMaxCircles;
-                 p.max_peaks_examined = kRealMaxCircles / 2;
                  return std::make_unique<bd::PixelToPixelDetector>(p);
                }});
         }
