@@ -1,6 +1,7 @@
 // libFuzzer target: frame decoding. Either a compressed eye (JPEG/PNG header, size check,
 // strict decode) or a whole stereo/frame sample through the frame library's FrameDecoder with
-// raw (bgr8/mono8) or compressed eyes and arbitrary size, step and length fields.
+// raw (bgr8/mono8) or compressed eyes, arbitrary size, step and length fields, and JPEG eyes
+// decoded at full size or reduced by 2, 4 or 8.
 
 #include <cstddef>
 #include <cstdint>
@@ -13,6 +14,7 @@
 namespace {
 
 const char* const kEncodings[] = {"bgr8", "mono8", "jpeg", "png", "yuyv", ""};
+const int kReductions[] = {1, 2, 4, 8};
 
 void decode_image(const std::vector<uint8_t>& bytes) {
   namespace st = stereoball::stereo;
@@ -40,6 +42,8 @@ void decode_frame(stereoball::fuzz::FuzzInput& in) {
   fill_eye(in, left, msg.left);
   fill_eye(in, right, msg.right);
   stereoball::stereo::FrameDecoder decoder;
+  // Taken last, so the corpus's inputs keep their eyes (one that has run out: full size).
+  decoder.set_reduction(kReductions[in.choice(std::size(kReductions))]);
   cv::Mat l, r;
   if (decoder.decode(msg, expected, l, r).ok()) {
     // Touch every pixel: a view past the sample's bytes would be caught here.

@@ -22,6 +22,21 @@ Status check_size(const char* eye, std::uint64_t w, std::uint64_t h, cv::Size ex
                     static_cast<std::uint64_t>(expected.height))};
 }
 
+Error unsupported_encoding(const stereoball_msg_StereoFrame& msg) {
+  return Error{"encoding '" + std::string(msg.encoding ? msg.encoding : "") +
+               "' is not supported (bgr8, mono8, jpeg, png)"};
+}
+
+// A refused frame gives no images: the good eye of a broken pair is no frame, and nothing
+// downstream may take it for one.
+Status refused_if_failed(Status status, cv::Mat& left, cv::Mat& right) {
+  if (!status) {
+    left.release();
+    right.release();
+  }
+  return status;
+}
+
 }  // namespace
 
 std::optional<FrameEncoding> parse_encoding(const char* text) {
@@ -51,20 +66,16 @@ Status check_raw_eye(const char* eye, const stereoball_msg_EyeImage& image, int 
 Status FrameDecoder::decode(const stereoball_msg_StereoFrame& msg, cv::Size expected, cv::Mat& left,
                             cv::Mat& right) {
   const auto encoding = parse_encoding(msg.encoding);
-  if (!encoding)
-    return Error{"encoding '" + std::string(msg.encoding ? msg.encoding : "") +
-                 "' is not supported (bgr8, mono8, jpeg, png)"};
-  if (auto st = decode_eye("left", msg.left, *encoding, expected, decoded_left_, left); !st)
-    return st;
-  return decode_eye("right", msg.right, *encoding, expected, decoded_right_, right);
+  Status status = encoding ? decode_eye("left", msg.left, *encoding, expected, decoded_left_, left)
+                           : unsupported_encoding(msg);
+  if (status) status = decode_eye("right", msg.right, *encoding, expected, decoded_right_, right);
+  return refused_if_failed(std::move(status), left, right);
 }
 
 Status FrameDecoder::decode(const stereoball_msg_StereoFrame& msg, cv::Size expected, cv::Mat& left,
                             cv::Mat& right, const RunTasks& run) {
   const auto encoding = parse_encoding(msg.encoding);
-  if (!encoding)
-    return Error{"encoding '" + std::string(msg.encoding ? msg.encoding : "") +
-                 "' is not supported (bgr8, mono8, jpeg, png)"};
+  if (!encoding) return refused_if_failed(unsupported_encoding(msg), left, right);
   // Raw eyes are views, nothing to share out.
   if (*encoding != FrameEncoding::kJpeg && *encoding != FrameEncoding::kPng)
     return decode(msg, expected, left, right);
@@ -74,7 +85,7 @@ Status FrameDecoder::decode(const stereoball_msg_StereoFrame& msg, cv::Size expe
                       ? decode_eye("left", msg.left, *encoding, expected, decoded_left_, left)
                       : decode_eye("right", msg.right, *encoding, expected, decoded_right_, right);
   });
-  return status[0] ? status[1] : status[0];
+  return refused_if_failed(status[0] ? status[1] : status[0], left, right);
 }
 
 Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& image,

@@ -28,7 +28,8 @@ class FrameDecoder {
  public:
   /// Fills left/right (CV_8UC3 BGR or CV_8UC1) for a frame that must have size expected.
   /// Raw encodings give views of msg's bytes (valid while msg lives); compressed ones give
-  /// views of this decoder's buffers (valid until the next call). Error names eye and problem.
+  /// views of this decoder's buffers (valid until the next call). Error names eye and problem;
+  /// left and right are then both empty (a refused frame has no usable eye).
   Status decode(const stereoball_msg_StereoFrame& msg, cv::Size expected, cv::Mat& left,
                 cv::Mat& right);
 

@@ -8,9 +8,13 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <functional>
+#include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace sb = stereoball;
@@ -243,5 +247,89 @@ TEST(FrameDecoder, GivenAReduction_WhenJpegEyesDecoded_ThenReducedAndPngAtItsSiz
     const cv::Size want = ext == "jpg" ? cv::Size(kSize.width / 2, kSize.height / 2) : kSize;
     EXPECT_EQ(l.size(), want) << ext;
     EXPECT_EQ(r.size(), want) << ext;
+  }
+}
+
+namespace {
+
+// One JPEG eye spoiled in each way a link or a sender can spoil it: cut short inside the coded
+// data, its end-of-image marker lost, a stray restart marker before the end, and garbage over
+// the first segment's length and content (a corrupt header).
+std::vector<std::pair<std::string, std::vector<uint8_t>>> spoiled_jpegs(
+    const std::vector<uint8_t>& whole) {
+  std::vector<std::pair<std::string, std::vector<uint8_t>>> spoiled;
+  spoiled.emplace_back("cut at 2/3",
+                       std::vector<uint8_t>(whole.begin(), whole.begin() + whole.size() * 2 / 3));
+  spoiled.emplace_back("no end marker", std::vector<uint8_t>(whole.begin(), whole.end() - 2));
+  auto marker = whole;
+  marker[marker.size() - 4] = 0xFF;
+  marker[marker.size() - 3] = 0xD0;
+  spoiled.emplace_back("stray restart marker", marker);
+  auto header = whole;
+  std::fill(header.begin() + 4, header.begin() + 12, uint8_t{0x5a});
+  spoiled.emplace_back("garbled header", header);
+  return spoiled;
+}
+
+// Runs both eyes' tasks one after the other on this thread.
+void run_eyes_in_turn(int n, const std::function<void(int)>& task) {
+  for (int i = 0; i < n; ++i) task(i);
+}
+
+}  // namespace
+
+// Given a decoder that decodes JPEG eyes reduced by 2, when either eye of a frame arrives
+// truncated or corrupt, then decoding (in turn, and as two tasks) refuses the frame with an
+// error naming that eye, and hands out neither eye (nothing crashes).
+TEST(FrameDecoder, GivenAReduction_WhenAJpegEyeIsTruncatedOrCorrupt_ThenTheFrameIsRefused) {
+  const cv::Mat img = gradient(CV_8UC3);
+  for (const bool spoil_left : {true, false}) {
+    FrameBuilder whole;
+    whole.encoded("jpg", img, img);
+    for (const auto& [how, bytes] : spoiled_jpegs(spoil_left ? whole.left : whole.right)) {
+      FrameBuilder f = whole;
+      (spoil_left ? f.left : f.right) = bytes;
+      (spoil_left ? f.msg.left : f.msg.right).data._length = static_cast<uint32_t>(bytes.size());
+      const std::string eye = spoil_left ? "left" : "right";
+      for (const bool two_tasks : {false, true}) {
+        FrameDecoder d;
+        d.set_reduction(2);
+        cv::Mat l = img.clone(), r = img.clone();  // what an earlier frame left there
+        const Status st = two_tasks ? d.decode(f.get(), kSize, l, r, run_eyes_in_turn)
+                                    : d.decode(f.get(), kSize, l, r);
+        ASSERT_FALSE(st.ok()) << eye << ", " << how;
+        EXPECT_EQ(st.error().rfind(eye + " jpeg data", 0), 0u) << how << ": " << st.error();
+        EXPECT_TRUE(l.empty()) << eye << ", " << how;
+        EXPECT_TRUE(r.empty()) << eye << ", " << how;
+      }
+    }
+  }
+}
+
+// Given a decoder that decodes JPEG eyes reduced by 2, when an eye's JPEG header disagrees with
+// the calibration (twice its size, which reduced would come out at the calibration's size; or
+// half of it) while the sample's size fields agree, then the frame is refused by the header's
+// size, naming the eye, before a pixel is decoded, and neither eye is handed out.
+TEST(FrameDecoder, GivenAReduction_WhenAJpegHeaderDisagreesWithTheCalibration_ThenRefused) {
+  const cv::Mat right_size = gradient(CV_8UC3);
+  for (const cv::Size wrong : {cv::Size(128, 96), cv::Size(32, 24)}) {
+    cv::Mat wrong_eye;
+    cv::resize(right_size, wrong_eye, wrong);
+    for (const bool wrong_left : {true, false}) {
+      FrameBuilder f;
+      f.encoded("jpg", wrong_left ? wrong_eye : right_size, wrong_left ? right_size : wrong_eye);
+      f.msg.left.width_px = f.msg.right.width_px = static_cast<uint32_t>(kSize.width);
+      f.msg.left.height_px = f.msg.right.height_px = static_cast<uint32_t>(kSize.height);
+      FrameDecoder d;
+      d.set_reduction(2);
+      cv::Mat l = right_size.clone(), r = right_size.clone();
+      const Status st = d.decode(f.get(), kSize, l, r, run_eyes_in_turn);
+      ASSERT_FALSE(st.ok()) << wrong;
+      EXPECT_EQ(st.error(), std::string(wrong_left ? "left" : "right") + " jpeg header says " +
+                                std::to_string(wrong.width) + "x" + std::to_string(wrong.height) +
+                                " but the calibration is for 64x48");
+      EXPECT_TRUE(l.empty()) << wrong;
+      EXPECT_TRUE(r.empty()) << wrong;
+    }
   }
 }

@@ -118,15 +118,19 @@ Status decode_jpeg(std::span<const std::uint8_t> bytes, const ImageHeader& heade
   }
   jpeg.read_header(bytes);
   if (static_cast<int>(info.image_width) != header.width_px ||
-      static_cast<int>(info.image_height) != header.height_px)
+      static_cast<int>(info.image_height) != header.height_px) {
+    out.release();
     return Error{"jpeg header changed between reads"};
+  }
   info.out_color_space = JCS_EXT_BGR;  // libjpeg-turbo writes OpenCV's channel order directly
   info.scale_num = 1;
   info.scale_denom = static_cast<unsigned int>(reduction);
   jpeg_start_decompress(&info);
   if (static_cast<int>(info.output_width) != header.width_px / reduction ||
-      static_cast<int>(info.output_height) != header.height_px / reduction)
+      static_cast<int>(info.output_height) != header.height_px / reduction) {
+    out.release();
     return Error{"jpeg decoder cannot reduce by " + std::to_string(reduction)};
+  }
   out.create(header.height_px / reduction, header.width_px / reduction, CV_8UC3);
   while (info.output_scanline < info.output_height) {
     JSAMPROW row = out.ptr<std::uint8_t>(static_cast<int>(info.output_scanline));
@@ -189,8 +193,10 @@ Status check_within(const ImageHeader& header, cv::Size max_size) {
 }
 
 Status decode_bgr(std::span<const std::uint8_t> bytes, const ImageHeader& header, cv::Mat& out) {
-  if (bytes.size() > static_cast<std::size_t>(INT32_MAX))
+  if (bytes.size() > static_cast<std::size_t>(INT32_MAX)) {
+    out.release();
     return Error{"image stream is larger than 2 GiB"};
+  }
   return header.codec == ImageCodec::kJpeg ? decode_jpeg(bytes, header, out)
                                            : decode_png(bytes, header, out);
 }
@@ -209,8 +215,10 @@ Status decode_bgr_reduced(std::span<const std::uint8_t> bytes, const ImageHeader
                  dims(header.width_px, header.height_px) + " cannot be decoded reduced by " +
                  std::to_string(reduction)};
   }
-  if (bytes.size() > static_cast<std::size_t>(INT32_MAX))
+  if (bytes.size() > static_cast<std::size_t>(INT32_MAX)) {
+    out.release();
     return Error{"image stream is larger than 2 GiB"};
+  }
   return decode_jpeg(bytes, header, out, reduction);
 }
 

@@ -172,5 +172,34 @@ TEST(ImageDecode, GivenNonImagesWhenTheHeaderIsReadThenTheErrorSaysSo) {
   EXPECT_EQ(short_png.error(), "png header is truncated");
 }
 
+TEST(ImageDecode, GivenATruncatedOrCorruptJpegWhenDecodedReducedThenItIsAnErrorNotAnImage) {
+  // Given a JPEG whose sides 2, 4 and 8 divide, cut short at several points, its end marker
+  // lost, or with a stray restart marker before its end
+  const auto full = encode(test_image(160, 120), ".jpg");
+  std::vector<std::vector<std::uint8_t>> spoiled;
+  for (const double keep : {0.5, 0.9, 0.99})
+    spoiled.emplace_back(full.begin(), full.begin() + static_cast<long>(full.size() * keep));
+  spoiled.emplace_back(full.begin(), full.end() - 2);
+  auto marker = full;
+  marker[marker.size() - 4] = 0xFF;
+  marker[marker.size() - 3] = 0xD0;
+  spoiled.push_back(marker);
+  for (std::size_t i = 0; i < spoiled.size(); ++i) {
+    const auto header = read_image_header(spoiled[i]);
+    ASSERT_TRUE(header) << header.error();
+    for (const int reduction : {2, 4, 8}) {
+      // When decoded reduced into a buffer an earlier image filled
+      ASSERT_TRUE(decodes_reduced(*header, reduction));
+      cv::Mat out = test_image(20, 15);
+      const Status st = decode_bgr_reduced(spoiled[i], *header, reduction, out);
+      // Then it is an error naming the corruption, and no image is left
+      ASSERT_FALSE(st.ok()) << "case " << i << ", reduction " << reduction;
+      EXPECT_EQ(st.error().rfind("jpeg data is corrupt: ", 0), 0u) << st.error();
+      if (i < 4) EXPECT_NE(st.error().find("Premature end of JPEG file"), std::string::npos);
+      EXPECT_TRUE(out.empty()) << "case " << i << ", reduction " << reduction;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace stereoball::stereo
