@@ -79,11 +79,13 @@ TEST(StereoPipelineCoarse, GivenNoBallThenNothingFoundCoarseToFine) {
   ASSERT_FALSE(r.frame.truth.ball_visible_left);
   StereoPipeline coarse(with_target(640));
   ASSERT_TRUE(coarse.set_calibration(r.calib).ok());
-  // When searched coarse to fine (whole frame, then the radius bands)
+  // When searched coarse to fine (the reduced eye and its bands, then the whole frame at full
+  // width)
   const auto det = coarse.step(r.frame.left, r.frame.right, false);
-  // Then nothing is reported found, and the bands were searched too
+  // Then nothing is reported found, and the last search was the full-width whole frame (its
+  // bands were the reduced eye's: not searched again at full width)
   EXPECT_NE(det.status, DetectionStatus::kFound) << det.reason;
-  EXPECT_EQ(det.search, SearchPath::kRadiusBands);
+  EXPECT_EQ(det.search, SearchPath::kWholeFrame);
 }
 
 TEST(StereoPipelineCoarse, GivenAReferenceWidthFrameThenSearchedAsWithoutIt) {
