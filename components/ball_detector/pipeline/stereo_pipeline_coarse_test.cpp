@@ -54,9 +54,9 @@ struct WideFrame {
   std::vector<SearchPath> started;
 };
 
-// frames of scenario_name (robot still) rendered width x height and searched as stills (1 s
-// apart: every band) by a pipeline with params.
-std::vector<WideFrame> run_wide_stills(const std::string& scenario_name, int frames,
+// Frames first..first + frames - 1 of scenario_name (robot still) rendered width x height and
+// searched as stills (1 s apart: every band) by a pipeline with params.
+std::vector<WideFrame> run_wide_stills(const std::string& scenario_name, int first, int frames,
                                        int width_px, int height_px, BallDetectorParams params) {
   auto scenario = sb::simulator::load_scenario_by_name(
       scenario_name, std::string(SB_SOURCE_DIR) + "/config/scenarios");
@@ -74,7 +74,8 @@ std::vector<WideFrame> run_wide_stills(const std::string& scenario_name, int fra
   pipeline.set_search_observer([&](SearchPath path, bool start) {
     if (start) started.push_back(path);
   });
-  for (int i = 0; i < frames; ++i) {
+  for (int i = 0; i < first; ++i) (void)sim.step(std::nullopt, i * sim.frame_period_ns());
+  for (int i = first; i < first + frames; ++i) {
     const auto f = sim.step(std::nullopt, i * sim.frame_period_ns());
     started.clear();
     const auto det = pipeline.step(f.left, f.right, false, std::nullopt, i * 1'000'000'000LL);
@@ -209,10 +210,13 @@ TEST(StereoPipelineCoarse, GivenFramesSearchedAtTheirOwnSizeThenNoWorkingReducti
 // outscores it over the whole range): coarse to fine, the reduced eye's bands find it in the
 // whole frame's first try, and no frame searches the bands again at full width.
 TEST(StereoPipelineCoarse, GivenABallOnlyTheBandsFindThenTheReducedEyesBandsFindIt) {
-  // Given ball_rolling_across rendered at 2304x1296, searched at full width and coarse to fine
-  const int frames = 24;
-  const auto full = run_wide_stills("ball_rolling_across", frames, 2304, 1296, with_target(0));
-  const auto coarse = run_wide_stills("ball_rolling_across", frames, 2304, 1296, with_target(640));
+  // Given ball_rolling_across rendered at 2304x1296 (frames 18-23: the ball beside the box),
+  // searched at full width and coarse to fine
+  const int first = 18, frames = 6;
+  const auto full =
+      run_wide_stills("ball_rolling_across", first, frames, 2304, 1296, with_target(0));
+  const auto coarse =
+      run_wide_stills("ball_rolling_across", first, frames, 2304, 1296, with_target(640));
   ASSERT_EQ(full.size(), static_cast<std::size_t>(frames));
   ASSERT_EQ(coarse.size(), full.size());
   // When the full-width search needs its bands on some frames
@@ -221,13 +225,13 @@ TEST(StereoPipelineCoarse, GivenABallOnlyTheBandsFindThenTheReducedEyesBandsFind
     if (!(full[i].on_ball && full[i].search == SearchPath::kRadiusBands)) continue;
     ++band_finds;
     // Then coarse to fine finds the same ball there by the whole frame's (reduced) search
-    EXPECT_TRUE(coarse[i].on_ball) << "frame " << i;
-    EXPECT_EQ(coarse[i].search, SearchPath::kWholeFrame) << "frame " << i;
+    EXPECT_TRUE(coarse[i].on_ball) << "frame " << first + i;
+    EXPECT_EQ(coarse[i].search, SearchPath::kWholeFrame) << "frame " << first + i;
   }
   ASSERT_GE(band_finds, 1) << "premise: at full width the bands find what the whole range misses";
   // And no frame searched coarse to fine started the full-width bands
   for (int i = 0; i < frames; ++i)
-    EXPECT_FALSE(started_search(coarse[i], SearchPath::kRadiusBands)) << "frame " << i;
+    EXPECT_FALSE(started_search(coarse[i], SearchPath::kRadiusBands)) << "frame " << first + i;
 }
 
 // A wide frame whose reduced-eye pair is judged weak (coarse_to_fine.min_pair_score above any
