@@ -313,6 +313,33 @@ TEST(Redetect, GivenPeaksRefinedOneByOneInReverseThenTheSameCirclesAsCirclesOfVo
   EXPECT_TRUE(parts.refine_peak(1000).empty());
 }
 
+TEST(Redetect, GivenEdgesFoundFirstThenVotingOnThemFindsWhatCastVotesFinds) {
+  // Given real colour images: one detector finds their edges alone (as the coarse try does),
+  // refines a seed on them, then votes on those edges; another casts its votes on the image
+  const auto images = real_colours();
+  ASSERT_FALSE(images.empty());
+  PixelToPixelDetector reused(PixelToPixelParams{}), fresh(PixelToPixelParams{});
+  EXPECT_FALSE(reused.cast_votes_on_last_edges()) << "no image yet: no edges to vote on";
+  int circles = 0;
+  for (std::size_t i = 0; i < std::min<std::size_t>(images.size(), 6); ++i) {
+    ASSERT_TRUE(reused.find_edges(images[i]));
+    const Circle seed{images[i].cols / 2.0, images[i].rows / 2.0, 20.0, 0.0};
+    (void)reused.refine_seeds({&seed, 1});
+    // When the first votes on its last edges and the other casts its votes
+    ASSERT_TRUE(reused.cast_votes_on_last_edges());
+    ASSERT_TRUE(fresh.cast_votes(images[i]));
+    // Then both accumulators and circles are the same, bit for bit
+    EXPECT_EQ(cv::norm(reused.raw_accumulator(), fresh.raw_accumulator(), cv::NORM_INF), 0.0);
+    const auto found = reused.circles_of_votes();
+    expect_same_circles(found, fresh.circles_of_votes());
+    circles += static_cast<int>(found.size());
+  }
+  EXPECT_GT(circles, 0);
+  // And after an invalid image there are no edges to vote on
+  EXPECT_FALSE(reused.find_edges(cv::Mat()));
+  EXPECT_FALSE(reused.cast_votes_on_last_edges());
+}
+
 // The maps of two detectors are equal cell for cell.
 bool same_map(const cv::Mat& a, const cv::Mat& b) {
   return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0.0;

@@ -321,6 +321,14 @@ bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey) {
   return true;
 }
 
+bool PixelToPixelDetector::cast_votes_on_last_edges() {
+  if (!edges_ready_) return false;
+  start(std::nullopt);
+  // The orientation planes, if built, are this edge map's: still valid.
+  vote_on_edges();
+  return true;
+}
+
 bool PixelToPixelDetector::find_edges(const cv::Mat& bgr_or_grey) {
   start(std::nullopt);
   edges_ready_ = false;

@@ -285,6 +285,9 @@ class PixelToPixelDetector final : public CircleDetector {
   /// the edge step and the voting (false for an invalid image: nothing to find); after it,
   /// other detectors may redetect_from() this one while it runs circles_of_votes().
   bool cast_votes(const cv::Mat& bgr_or_grey);
+  /// cast_votes() of the last image (find_edges or cast_votes) on its edge map, without the
+  /// edge step again: the same votes; false before any valid image.
+  bool cast_votes_on_last_edges();
   /// The second half: the peaks of the last votes refined and scored, as detect() returns them
   /// (empty if the last cast_votes() had an invalid image).
   std::vector<Circle> circles_of_votes();

@@ -420,7 +420,11 @@ SearchOutcome StereoPipeline::search(const FrameState& frame) {
   // The whole frame; after it pairs nothing, radius bands (one a frame in a stream: all of them
   // cost several whole-frame searches' peaks, and made the slowest frames), and the colour
   // seeds' outlines without brightness. Each later search answers only if it pairs.
-  scratch.bands_due = true;
+  // Coarse to fine, the whole frame's first try has searched every radius band on the reduced
+  // eye already (coarse_left_circles), so the full-width fallback votes once over the whole
+  // range and leaves the bands out (README: coarse to fine on wide frames).
+  const bool full_width_bands = !tools_.coarse.on();
+  scratch.bands_due = full_width_bands;
   // Every band on stills and on a stream's first frame; then one band a frame, in turn.
   const bool every_band = !stream;
   scratch.band = every_band ? -1 : next_band_;
@@ -430,14 +434,16 @@ SearchOutcome StereoPipeline::search(const FrameState& frame) {
     missed_last_frame_ = false;
     return answer(std::move(whole));
   }
-  whole.path = SearchPath::kRadiusBands;  // the last search the frame needed
-  std::optional<SearchOutcome> bands = tried(radius_bands_, SearchPath::kRadiusBands);
-  // A band that pairs what the whole range missed is searched again first next time.
-  if (bands && bands->found()) {
-    missed_last_frame_ = false;
-    return answer(std::move(*bands));
+  if (full_width_bands) {
+    whole.path = SearchPath::kRadiusBands;  // the last search the frame needed
+    std::optional<SearchOutcome> bands = tried(radius_bands_, SearchPath::kRadiusBands);
+    // A band that pairs what the whole range missed is searched again first next time.
+    if (bands && bands->found()) {
+      missed_last_frame_ = false;
+      return answer(std::move(*bands));
+    }
+    if (!every_band) next_band_ = (next_band_ + 1) % std::max(1, radius_band_count(tools_));
   }
-  if (!every_band) next_band_ = (next_band_ + 1) % std::max(1, radius_band_count(tools_));
   std::optional<SearchOutcome> hue = tried(seeds_without_brightness_, SearchPath::kBrightnessFree);
   if (hue && hue->found()) {
     missed_last_frame_ = false;

@@ -4,10 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "simulator/core/ball_scene.hpp"
+#include "simulator/core/simulator.hpp"
+#include "simulator/io/scenario_file.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -39,6 +44,56 @@ WideRendered render_plain(double x_m, double y_m, int width_px, int height_px) {
   EXPECT_TRUE(sb::simulator::Simulator::check(params, scenario).ok());
   sb::simulator::Simulator sim(params, scenario);
   return {sim.step(std::nullopt, 0), sim.calibration()};
+}
+
+// One frame of a wide run: its detection, whether it is on the ball, the searches it started.
+struct WideFrame {
+  bool visible = false;  // the ball's centre in both images
+  bool on_ball = false;  // a pair within one ball radius of the truth
+  SearchPath search = SearchPath::kWholeFrame;
+  std::vector<SearchPath> started;
+};
+
+// Frames first..first + frames - 1 of scenario_name (robot still) rendered width x height and
+// searched as stills (1 s apart: every band) by a pipeline with params.
+std::vector<WideFrame> run_wide_stills(const std::string& scenario_name, int first, int frames,
+                                       int width_px, int height_px, BallDetectorParams params) {
+  auto scenario = sb::simulator::load_scenario_by_name(
+      scenario_name, std::string(SB_SOURCE_DIR) + "/config/scenarios");
+  EXPECT_TRUE(scenario.ok()) << scenario.error();
+  std::vector<WideFrame> out;
+  if (!scenario.ok() || !scenario->ball) return out;
+  auto sim_params = sb::simulator::default_sim_params();
+  sim_params.width_px = width_px;
+  sim_params.height_px = height_px;
+  sb::simulator::Simulator sim(sim_params, *scenario);
+  params.ball_diameter_m = 2.0 * scenario->ball->radius_m;
+  StereoPipeline pipeline(params);
+  EXPECT_TRUE(pipeline.set_calibration(sim.calibration()).ok());
+  std::vector<SearchPath> started;
+  pipeline.set_search_observer([&](SearchPath path, bool start) {
+    if (start) started.push_back(path);
+  });
+  for (int i = 0; i < first; ++i) (void)sim.step(std::nullopt, i * sim.frame_period_ns());
+  for (int i = first; i < first + frames; ++i) {
+    const auto f = sim.step(std::nullopt, i * sim.frame_period_ns());
+    started.clear();
+    const auto det = pipeline.step(f.left, f.right, false, std::nullopt, i * 1'000'000'000LL);
+    const cv::Vec3d truth(f.truth.ball_camera_m.x, f.truth.ball_camera_m.y,
+                          f.truth.ball_camera_m.z);
+    WideFrame r;
+    r.visible = f.truth.ball_visible_left && f.truth.ball_visible_right;
+    r.on_ball = det.status == DetectionStatus::kFound &&
+                cv::norm(det.position_m - truth) < f.truth.ball_radius_m;
+    r.search = det.search;
+    r.started = started;
+    out.push_back(r);
+  }
+  return out;
+}
+
+bool started_search(const WideFrame& f, SearchPath path) {
+  return std::find(f.started.begin(), f.started.end(), path) != f.started.end();
 }
 
 // The shipped settings with coarse to fine at target_width_px (0 = off).
@@ -79,11 +134,13 @@ TEST(StereoPipelineCoarse, GivenNoBallThenNothingFoundCoarseToFine) {
   ASSERT_FALSE(r.frame.truth.ball_visible_left);
   StereoPipeline coarse(with_target(640));
   ASSERT_TRUE(coarse.set_calibration(r.calib).ok());
-  // When searched coarse to fine (whole frame, then the radius bands)
+  // When searched coarse to fine (the reduced eye and its bands, then the whole frame at full
+  // width)
   const auto det = coarse.step(r.frame.left, r.frame.right, false);
-  // Then nothing is reported found, and the bands were searched too
+  // Then nothing is reported found, and the last search was the full-width whole frame (its
+  // bands were the reduced eye's: not searched again at full width)
   EXPECT_NE(det.status, DetectionStatus::kFound) << det.reason;
-  EXPECT_EQ(det.search, SearchPath::kRadiusBands);
+  EXPECT_EQ(det.search, SearchPath::kWholeFrame);
 }
 
 TEST(StereoPipelineCoarse, GivenAReferenceWidthFrameThenSearchedAsWithoutIt) {
@@ -147,4 +204,59 @@ TEST(StereoPipelineCoarse, GivenFramesSearchedAtTheirOwnSizeThenNoWorkingReducti
   // Then by nothing
   EXPECT_EQ(a.working_reduction(), 1);
   EXPECT_EQ(b.working_reduction(), 1);
+}
+
+// A wide frame whose ball only a radius band finds at full width (a plate on the far wall
+// outscores it over the whole range): coarse to fine, the reduced eye's bands find it in the
+// whole frame's first try, and no frame searches the bands again at full width.
+TEST(StereoPipelineCoarse, GivenABallOnlyTheBandsFindThenTheReducedEyesBandsFindIt) {
+  // Given ball_rolling_across rendered at 2304x1296 (frames 18-23: the ball beside the box),
+  // searched at full width and coarse to fine
+  const int first = 18, frames = 6;
+  const auto full =
+      run_wide_stills("ball_rolling_across", first, frames, 2304, 1296, with_target(0));
+  const auto coarse =
+      run_wide_stills("ball_rolling_across", first, frames, 2304, 1296, with_target(640));
+  ASSERT_EQ(full.size(), static_cast<std::size_t>(frames));
+  ASSERT_EQ(coarse.size(), full.size());
+  // When the full-width search needs its bands on some frames
+  int band_finds = 0;
+  for (int i = 0; i < frames; ++i) {
+    if (!(full[i].on_ball && full[i].search == SearchPath::kRadiusBands)) continue;
+    ++band_finds;
+    // Then coarse to fine finds the same ball there by the whole frame's (reduced) search
+    EXPECT_TRUE(coarse[i].on_ball) << "frame " << first + i;
+    EXPECT_EQ(coarse[i].search, SearchPath::kWholeFrame) << "frame " << first + i;
+  }
+  ASSERT_GE(band_finds, 1) << "premise: at full width the bands find what the whole range misses";
+  // And no frame searched coarse to fine started the full-width bands
+  for (int i = 0; i < frames; ++i)
+    EXPECT_FALSE(started_search(coarse[i], SearchPath::kRadiusBands)) << "frame " << first + i;
+}
+
+// A wide frame whose reduced-eye pair is judged weak (coarse_to_fine.min_pair_score above any
+// pair score): the frame still reaches the full-width whole-frame search, whose answer is the
+// full-width search's own.
+TEST(StereoPipelineCoarse, GivenAWeakCoarsePairThenTheFullWidthSearchAnswers) {
+  // Given a rendered 2304x1296 pair, searched at full width, and coarse to fine with every
+  // reduced-eye pair too weak to answer
+  const WideRendered r = render_plain(1.5, 0.0, 2304, 1296);
+  StereoPipeline full(with_target(0));
+  BallDetectorParams weak = with_target(640);
+  weak.coarse_min_pair_score = 1.0;
+  StereoPipeline coarse(weak);
+  ASSERT_TRUE(full.set_calibration(r.calib).ok());
+  ASSERT_TRUE(coarse.set_calibration(r.calib).ok());
+  // When each processes the raw pair
+  const auto a = full.step(r.frame.left, r.frame.right, false);
+  const auto b = coarse.step(r.frame.left, r.frame.right, false);
+  // Then both find the ball by the whole frame at full width: the same detection to the bit
+  ASSERT_EQ(a.status, DetectionStatus::kFound) << a.reason;
+  ASSERT_EQ(b.status, DetectionStatus::kFound) << b.reason;
+  EXPECT_EQ(b.search, SearchPath::kWholeFrame);
+  EXPECT_EQ(b.left.x_px, a.left.x_px);
+  EXPECT_EQ(b.left.y_px, a.left.y_px);
+  EXPECT_EQ(b.left.radius_px, a.left.radius_px);
+  EXPECT_EQ(b.right.x_px, a.right.x_px);
+  EXPECT_EQ(b.position_m, a.position_m);
 }

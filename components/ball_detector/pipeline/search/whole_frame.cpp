@@ -9,12 +9,14 @@ namespace stereoball::ball_detector {
 std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, FrameScratch& scratch,
                                                    SearchTools& tools) const {
   tools.rectify_whole(frame.left_channel, stereo::Eye::kLeft, frame.rectified, tools.rect_left);
+  bool edges_made = false;  // the left detector holds rect_left's full-resolution edges
   if (tools.coarse.on()) {
     // The reduced eye's votes first: where they pair, the frame costs a fraction of the full
     // search. A ball they do not resolve (an outline partly hidden by hands whose edges merge
     // with it at half size) is then searched for exactly as without coarse to fine; so is one
     // only the colour seeds would find (their circle may lose there to a better voted one).
     const bool voted = cast_reduced_left_votes(tools);
+    edges_made = voted;
     SearchOutcome coarse = pair_left_circles(
         frame, scratch, tools, voted ? coarse_left_circles(tools) : std::vector<Circle>{}, false);
     // A weak pair there (a fit pulled onto fingers or a seam scores low) is judged by the
@@ -25,7 +27,10 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
       return coarse;
     }
   }
-  const bool voted = tools.left_detector.cast_votes(tools.rect_left);
+  // The coarse try's edges are this image's, made as cast_votes makes them: only the votes are
+  // new at full width.
+  const bool voted = edges_made ? tools.left_detector.cast_votes_on_last_edges()
+                                : tools.left_detector.cast_votes(tools.rect_left);
   // Task 0 finishes the search (peaks, right eye, pairing). When a band search is due, the
   // other task searches the left eye's radius bands on the same votes meanwhile, in case it
   // pairs nothing: on another core this takes the bands out of the frame's time, and the work
