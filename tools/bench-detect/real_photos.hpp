@@ -70,11 +70,13 @@ struct RealRow {
   double report_f1 = 0.0;
   double report_ms = 0.0;  ///< median per image
   double tune_ms = 0.0;    ///< median per image on the tune split (one run each)
+  double interleaved_ms = 0.0;  ///< median per image, timed interleaved with the other rows
 };
 
 /// Chooses each family's best setting on the tune split (F1, then time) and prints it with its
-/// report-split figures, one row per family, then the time ratios of the first family (the
-/// detector under test) to the others.
+/// report-split figures, one row per family, then every row's setting timed interleaved on the
+/// report split (interleaved_timing.hpp) and the time ratios of the first row (the detector
+/// under test) to the others measured that way.
 /// time_cap_family (not empty): a second row for the first family, "<first> <= <cap>": its best
 /// tune F1 among its settings whose median tune-split time is at most that of the cap family's
 /// chosen setting in the same run (a time-aware choice, still on the tune split only).
