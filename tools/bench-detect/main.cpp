@@ -509,7 +509,7 @@ int main(int argc, char** argv) {
   std::string labels_dir = SB_DEFAULT_LABELS_DIR;
   std::string project_root = SB_PROJECT_ROOT;
   int real_repeats = 3;
-  bool no_synthetic = false, verbose_tuning = false, breakdown = false;
+  bool no_synthetic = false, verbose_tuning = false, breakdown = false, detections = false;
   std::string settings_matching;
   std::vector<std::string> fixed_settings;
   std::string time_cap = "EDCircles";
@@ -555,6 +555,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember(
           {"", "p2p paper rule", "HOUGH_GRADIENT", "HOUGH_GRADIENT_ALT", "EDCircles"}))
       ->capture_default_str();
+  app.add_flag("--detections", detections,
+               "Print every circle each row's setting finds on every photograph (both splits; "
+               "for diffing two builds, not for choosing settings)");
   app.add_flag("--tune-breakdown", breakdown,
                "Print each method's chosen setting's tune-split circles found by labelled radius "
                "and per image (the report split's are never printed)");
@@ -583,7 +586,8 @@ int main(int argc, char** argv) {
     });
   if (no_synthetic) {
     stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
-                                                   min_iou, verbose_tuning, breakdown, time_cap);
+                                                   min_iou, verbose_tuning, breakdown, time_cap,
+                                                   detections);
     return 0;
   }
   const std::vector<cv::Size> sizes = {{352, 288}, {640, 480}};
@@ -708,6 +712,7 @@ int main(int argc, char** argv) {
                 median(voters[label]), median(increments[label]), median(ratio[label]));
   k_selection_table();
   stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
-                                                 min_iou, verbose_tuning, breakdown, time_cap);
+                                                 min_iou, verbose_tuning, breakdown, time_cap,
+                                                 detections);
   return 0;
 }

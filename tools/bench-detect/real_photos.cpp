@@ -94,6 +94,17 @@ RealScore score_setting(const Setting& setting, const std::vector<LabelledImage>
   return s;
 }
 
+void print_detections(const std::string& row, const Setting& setting,
+                      const std::vector<LabelledImage>& images) {
+  for (const auto& img : images) {
+    auto det = setting.make(img.image.size(), img.min_radius_px);
+    std::printf("  detections %s | %s:", row.c_str(), img.name.c_str());
+    for (const auto& c : det->detect(img.image))
+      std::printf(" %.3f %.3f %.3f %.3f", c.x_px, c.y_px, c.radius_px, c.score);
+    std::printf("\n");
+  }
+}
+
 Breakdown tune_breakdown(const Setting& setting, const std::vector<LabelledImage>& images,
                          double min_iou) {
   Breakdown b;
@@ -271,7 +282,8 @@ void print_interleaved_times(const std::vector<ChosenSetting>& chosen,
 std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                                           const std::vector<LabelledImage>& images, int repeats,
                                           double min_iou, bool verbose, bool breakdown,
-                                          const std::string& time_cap_family) {
+                                          const std::string& time_cap_family,
+                                          bool print_all_detections) {
   auto count = [&](bd::LabelSplit split, bool circles) {
     size_t n = 0;
     for (const auto& i : images)
@@ -329,6 +341,7 @@ std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                 median(r.image_ms));
     rows.push_back({name, setting.label, t.f1(), sc.f1, median(r.image_ms), median(t.image_ms)});
     if (breakdown) print_breakdown(name, setting.label, tune_breakdown(setting, images, min_iou));
+    if (print_all_detections) print_detections(name, setting, images);
   };
   for (std::size_t fi = 0; fi < families.size(); ++fi) {
     if (best[fi] < 0) continue;
