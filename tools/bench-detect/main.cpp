@@ -350,6 +350,24 @@ std::vector<stereoball::bench_detect::Family> real_families() {
   return f;
 }
 
+// --setting METHOD=LABEL: METHOD keeps only the setting labelled LABEL. Returns an error naming
+// the entry that is malformed or matches no method or setting, else "".
+std::string fix_settings(const std::vector<std::string>& entries,
+                         std::vector<stereoball::bench_detect::Family>& families) {
+  for (const std::string& entry : entries) {
+    const auto eq = entry.find('=');
+    if (eq == std::string::npos) return "--setting '" + entry + "': expected METHOD=LABEL";
+    const std::string method = entry.substr(0, eq), label = entry.substr(eq + 1);
+    const auto family = std::find_if(families.begin(), families.end(),
+                                     [&](const auto& f) { return f.name == method; });
+    if (family == families.end()) return "--setting '" + entry + "': no method '" + method + "'";
+    std::erase_if(family->settings, [&](const auto& st) { return st.label != label; });
+    if (family->settings.empty())
+      return "--setting '" + entry + "': " + method + " has no setting '" + label + "'";
+  }
+  return "";
+}
+
 using stereoball::bench::thread_cpu_ms;
 
 double time_ms(bd::CircleDetector& det, const cv::Mat& img, std::vector<bd::Circle>* out) {
@@ -491,8 +509,9 @@ int main(int argc, char** argv) {
   std::string labels_dir = SB_DEFAULT_LABELS_DIR;
   std::string project_root = SB_PROJECT_ROOT;
   int real_repeats = 3;
-  bool no_synthetic = false, verbose_tuning = false, breakdown = false;
+  bool no_synthetic = false, verbose_tuning = false, breakdown = false, detections = false;
   std::string settings_matching;
+  std::vector<std::string> fixed_settings;
   std::string time_cap = "EDCircles";
   app.add_option("--per-kind", per_kind, "Synthetic scenes per kind and size (10 kinds)")
       ->capture_default_str()
@@ -526,12 +545,19 @@ int main(int argc, char** argv) {
   app.add_option("--settings-matching", settings_matching,
                  "Try only the settings whose label contains this (development: the choice is "
                  "then not the full sweep's)");
+  app.add_option("--setting", fixed_settings,
+                 "METHOD=LABEL: that method tries only the setting labelled exactly LABEL "
+                 "(repeatable; for timing builds side by side: the choice is then not the "
+                 "sweep's)");
   app.add_option("--time-cap", time_cap,
                  "Also choose Pixel-to-Pixel's best tune F1 among its settings no slower on the "
                  "tune split than this method's chosen setting (empty: off)")
       ->check(CLI::IsMember(
           {"", "p2p paper rule", "HOUGH_GRADIENT", "HOUGH_GRADIENT_ALT", "EDCircles"}))
       ->capture_default_str();
+  app.add_flag("--detections", detections,
+               "Print every circle each row's setting finds on every photograph (both splits; "
+               "for diffing two builds, not for choosing settings)");
   app.add_flag("--tune-breakdown", breakdown,
                "Print each method's chosen setting's tune-split circles found by labelled radius "
                "and per image (the report split's are never printed)");
@@ -549,6 +575,10 @@ int main(int argc, char** argv) {
       std::erase_if(f.settings, [&](const stereoball::bench_detect::Setting& st) {
         return st.label.find(settings_matching) == std::string::npos;
       });
+  if (const std::string error = fix_settings(fixed_settings, families); !error.empty()) {
+    std::fprintf(stderr, "stereoball-bench-detect: %s\n", error.c_str());
+    return 2;
+  }
   if (!only.empty())
     std::erase_if(families, [&](const stereoball::bench_detect::Family& f) {
       return std::none_of(only.begin(), only.end(),
@@ -556,7 +586,8 @@ int main(int argc, char** argv) {
     });
   if (no_synthetic) {
     stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
-                                                   min_iou, verbose_tuning, breakdown, time_cap);
+                                                   min_iou, verbose_tuning, breakdown, time_cap,
+                                                   detections);
     return 0;
   }
   const std::vector<cv::Size> sizes = {{352, 288}, {640, 480}};
@@ -681,6 +712,7 @@ int main(int argc, char** argv) {
                 median(voters[label]), median(increments[label]), median(ratio[label]));
   k_selection_table();
   stereoball::bench_detect::run_real_photo_table(families, std::get<0>(labelled), real_repeats,
-                                                 min_iou, verbose_tuning, breakdown, time_cap);
+                                                 min_iou, verbose_tuning, breakdown, time_cap,
+                                                 detections);
   return 0;
 }

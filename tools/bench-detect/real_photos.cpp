@@ -2,6 +2,7 @@
 
 #include "ball_detector/core/evaluation.hpp"
 #include "common/util/bench_clock.hpp"
+#include "interleaved_timing.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -91,6 +92,17 @@ RealScore score_setting(const Setting& setting, const std::vector<LabelledImage>
     s.errors_px.insert(s.errors_px.end(), m.centre_errors_px.begin(), m.centre_errors_px.end());
   }
   return s;
+}
+
+void print_detections(const std::string& row, const Setting& setting,
+                      const std::vector<LabelledImage>& images) {
+  for (const auto& img : images) {
+    auto det = setting.make(img.image.size(), img.min_radius_px);
+    std::printf("  detections %s | %s:", row.c_str(), img.name.c_str());
+    for (const auto& c : det->detect(img.image))
+      std::printf(" %.3f %.3f %.3f %.3f", c.x_px, c.y_px, c.radius_px, c.score);
+    std::printf("\n");
+  }
 }
 
 Breakdown tune_breakdown(const Setting& setting, const std::vector<LabelledImage>& images,
@@ -220,12 +232,58 @@ void print_time_cap_note(const std::string& family, const std::string& cap_famil
       family.c_str(), cap_family.c_str(), family.c_str(), cap_family.c_str(), ratio);
 }
 
+// A row's setting, for the interleaved timing after the table.
+struct ChosenSetting {
+  std::string name;
+  const Setting* setting;
+};
+
+// The chosen settings timed interleaved on the report split (time_interleaved: per image each
+// in turn, `repeats` rounds), then the first row's ratio to every other row with its spread.
+// The table's ms/img column times each setting alone, minutes apart on a shared machine; the
+// ratios come from here. Fills each row's interleaved_ms.
+void print_interleaved_times(const std::vector<ChosenSetting>& chosen,
+                             const std::vector<LabelledImage>& images, int repeats,
+                             std::vector<RealRow>& rows) {
+  if (chosen.size() < 2) return;
+  std::vector<const LabelledImage*> report;
+  for (const auto& img : images)
+    if (img.split == bd::LabelSplit::report) report.push_back(&img);
+  std::vector<std::unique_ptr<bd::CircleDetector>> detectors(chosen.size());
+  const TimedMethods calls{
+      [&](int i) {
+        const LabelledImage& img = *report[static_cast<std::size_t>(i)];
+        for (std::size_t m = 0; m < chosen.size(); ++m)
+          detectors[m] = chosen[m].setting->make(img.image.size(), img.min_radius_px);
+      },
+      [&](int m, int i) {
+        detectors[static_cast<std::size_t>(m)]->detect(report[static_cast<std::size_t>(i)]->image);
+      }};
+  const InterleavedTimes t =
+      time_interleaved(static_cast<int>(chosen.size()), static_cast<int>(report.size()), repeats,
+                       calls, [] { return bench::thread_cpu_ms(); });
+  std::printf(
+      "\nInterleaved on the report split (per image every row's setting in turn, %d rounds, "
+      "round r starting with the r-th row; median per image, then over images; thread CPU, "
+      "1 thread):\n",
+      repeats);
+  for (std::size_t m = 0; m < chosen.size(); ++m) {
+    rows[m].interleaved_ms = t.median_ms(static_cast<int>(m));
+    std::printf("  %-22s %8.2f ms\n", chosen[m].name.c_str(), rows[m].interleaved_ms);
+  }
+  for (std::size_t m = 1; m < chosen.size(); ++m)
+    std::printf("time %s / %s, interleaved: %s\n", chosen.front().name.c_str(),
+                chosen[m].name.c_str(),
+                format_ratio(time_ratio(t, 0, static_cast<int>(m))).c_str());
+}
+
 }  // namespace
 
 std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                                           const std::vector<LabelledImage>& images, int repeats,
                                           double min_iou, bool verbose, bool breakdown,
-                                          const std::string& time_cap_family) {
+                                          const std::string& time_cap_family,
+                                          bool print_all_detections) {
   auto count = [&](bd::LabelSplit split, bool circles) {
     size_t n = 0;
     for (const auto& i : images)
@@ -270,8 +328,10 @@ std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                                     cap_ms, images, repeats, cap_ratio);
       }
   std::vector<RealRow> rows;
+  std::vector<ChosenSetting> chosen_settings;
   const auto report = [&](std::size_t fi, int chosen, const std::string& name) {
     const Setting& setting = families[fi].settings[static_cast<std::size_t>(chosen)];
+    chosen_settings.push_back({name, &setting});
     const RealScore& t = tune[fi][static_cast<std::size_t>(chosen)];
     const RealScore r =
         score_setting(setting, images, bd::LabelSplit::report, repeats, min_iou, verbose);
@@ -281,6 +341,7 @@ std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                 median(r.image_ms));
     rows.push_back({name, setting.label, t.f1(), sc.f1, median(r.image_ms), median(t.image_ms)});
     if (breakdown) print_breakdown(name, setting.label, tune_breakdown(setting, images, min_iou));
+    if (print_all_detections) print_detections(name, setting, images);
   };
   for (std::size_t fi = 0; fi < families.size(); ++fi) {
     if (best[fi] < 0) continue;
@@ -289,9 +350,7 @@ std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
   }
   if (cap_present && best[0] >= 0)
     print_time_cap_note(families[0].name, time_cap_family, cap_ratio, capped >= 0);
-  for (size_t i = 1; i < rows.size() && rows.front().report_ms > 0.0; ++i)
-    std::printf("time %s / %s on the report split: %.2f\n", rows.front().family.c_str(),
-                rows[i].family.c_str(), rows.front().report_ms / std::max(1e-9, rows[i].report_ms));
+  print_interleaved_times(chosen_settings, images, repeats, rows);
   // The time-capped row against the cap family, on both splits.
   const auto row_of = [&](const std::string& name) -> const RealRow* {
     for (const auto& row : rows)

@@ -68,13 +68,16 @@ struct RealRow {
   std::string setting;
   double tune_f1 = 0.0;
   double report_f1 = 0.0;
-  double report_ms = 0.0;  ///< median per image
-  double tune_ms = 0.0;    ///< median per image on the tune split (one run each)
+  double report_ms = 0.0;       ///< median per image
+  double tune_ms = 0.0;         ///< median per image on the tune split (one run each)
+  double interleaved_ms = 0.0;  ///< median per image, timed interleaved with the other rows
 };
 
 /// Chooses each family's best setting on the tune split (F1, then time) and prints it with its
-/// report-split figures, one row per family, then the time ratios of the first family (the
-/// detector under test) to the others.
+/// report-split figures, one row per family, then every row's setting timed interleaved on the
+/// report split (interleaved_timing.hpp) and the time ratios of the first row (the detector
+/// under test) to the others measured that way. print_detections: print_detections() of every
+/// row.
 /// time_cap_family (not empty): a second row for the first family, "<first> <= <cap>": its best
 /// tune F1 among its settings whose median tune-split time is at most that of the cap family's
 /// chosen setting in the same run (a time-aware choice, still on the tune split only).
@@ -84,7 +87,13 @@ struct RealRow {
 std::vector<RealRow> run_real_photo_table(const std::vector<Family>& families,
                                           const std::vector<LabelledImage>& images, int repeats,
                                           double min_iou, bool verbose, bool breakdown = false,
-                                          const std::string& time_cap_family = "");
+                                          const std::string& time_cap_family = "",
+                                          bool print_detections = false);
+
+/// Every circle a setting finds on every image of both splits, one line per image (name, then
+/// x y r score at 3 decimals): for diffing two builds of a detector ("same circles").
+void print_detections(const std::string& row, const Setting& setting,
+                      const std::vector<LabelledImage>& images);
 
 /// Labelled radius bands of the breakdown, px: [kBreakdownBandsPx[i], kBreakdownBandsPx[i+1]).
 inline constexpr std::array<double, 6> kBreakdownBandsPx = {0.0, 8.0, 12.0, 20.0, 40.0, 1e9};

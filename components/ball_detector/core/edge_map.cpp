@@ -12,6 +12,8 @@ namespace stereoball::ball_detector {
 namespace {
 
 constexpr int kMaxL1Gradient = 2048;  // 3x3 Sobel: |dx| + |dy| <= 2 * 4 * 255
+// canny_thresholds reads every kThresholdSampleStep-th row and column of the gradient, from 0.
+constexpr int kThresholdSampleStep = 2;
 
 // Yokoi connectivity number (8-connectivity) of the neighbour code; 1 = simple point.
 int connectivity8(int code) {
@@ -113,10 +115,10 @@ CannyThresholds canny_thresholds(const cv::Mat& dx, const cv::Mat& dy, const Edg
   std::array<int, kMaxL1Gradient + 1> hist{};
   int samples = 0;
   // Every second row and column: the quantiles barely move, the cost drops fourfold.
-  for (int y = 0; y < dx.rows; y += 2) {
+  for (int y = 0; y < dx.rows; y += kThresholdSampleStep) {
     const short* gx = dx.ptr<short>(y);
     const short* gy = dy.ptr<short>(y);
-    for (int x = 0; x < dx.cols; x += 2) {
+    for (int x = 0; x < dx.cols; x += kThresholdSampleStep) {
       ++hist[std::min(kMaxL1Gradient, std::abs(gx[x]) + std::abs(gy[x]))];
       ++samples;
     }
@@ -324,10 +326,47 @@ bool channels_equal(const cv::Mat& bgr) {
   return true;
 }
 
+// Where colour_gradient_rows reads a colour image's planes: the plane column and row of the
+// image's first pixel less one (the crop's parent pixels around it); grey: the image was grey
+// read as colour, and its whole gradient is made already.
+struct ColourPlanes {
+  int left = 0, top = 0;
+  bool grey = false;
+};
+
+ColourPlanes colour_planes(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
+                           std::array<cv::Mat, 3>& planes);
+
+// Rows first, first + step, ... of strongest_channel_gradient's dx, dy from colour_planes'
+// planes (dx and dy made there).
+void colour_gradient_rows(const cv::Mat& bgr, const ColourPlanes& at,
+                          const std::array<cv::Mat, 3>& planes, int first, int step, cv::Mat& dx,
+                          cv::Mat& dy) {
+  for (int y = first; y < bgr.rows; y += step) {
+    // Output row y is padded row y + top, plane row y + top + 1; its first pixel is column
+    // left + 1 of the plane.
+    const int py = y + at.top + 1;
+    const auto row = [&](int c, int r) {
+      return planes[static_cast<std::size_t>(c)].ptr<std::uint8_t>(py + r) + at.left + 1;
+    };
+    strongest_sobel_row(row(0, -1), row(0, 0), row(0, 1), row(1, -1), row(1, 0), row(1, 1),
+                        row(2, -1), row(2, 0), row(2, 1), dx.ptr<short>(y), dy.ptr<short>(y),
+                        bgr.cols);
+  }
+}
+
 }  // namespace
 
 void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
                                 std::array<cv::Mat, 3>& planes) {
+  const ColourPlanes at = colour_planes(bgr, dx, dy, planes);
+  if (!at.grey) colour_gradient_rows(bgr, at, planes, 0, 1, dx, dy);
+}
+
+namespace {
+
+ColourPlanes colour_planes(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
+                           std::array<cv::Mat, 3>& planes) {
   CV_Assert(bgr.type() == CV_8UC3);
   // A crop reads one pixel of its parent around it, as cv::Sobel does on a grey crop; past the
   // parent's border (or a whole image's) the outermost pixels repeat.
@@ -345,7 +384,7 @@ void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
     // The crop keeps its one pixel of parent around it as a ROI of the extracted plane.
     cv::extractChannel(padded, planes[0], 0);
     grey_sobel(planes[0](cv::Rect(left, top, bgr.cols, bgr.rows)), dx, dy);
-    return;
+    return {left, top, true};
   }
   // Planes of the padded image with one more replicated pixel on every side: the row loop
   // then reads x - 1 and x + 1 everywhere without a border case.
@@ -373,15 +412,10 @@ void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
   }
   dx.create(bgr.size(), CV_16S);
   dy.create(bgr.size(), CV_16S);
-  for (int y = 0; y < bgr.rows; ++y) {
-    // Output row y is padded row y + top, plane row y + top + 1; its first pixel is column
-    // left + 1 of the plane.
-    const int py = y + top + 1;
-    const auto at = [&](int c, int r) { return planes[c].ptr<std::uint8_t>(py + r) + left + 1; };
-    strongest_sobel_row(at(0, -1), at(0, 0), at(0, 1), at(1, -1), at(1, 0), at(1, 1), at(2, -1),
-                        at(2, 0), at(2, 1), dx.ptr<short>(y), dy.ptr<short>(y), bgr.cols);
-  }
+  return {left, top, false};
 }
+
+}  // namespace
 
 namespace {
 
@@ -465,9 +499,23 @@ void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy
 EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& params,
                                        EdgeMap& work) {
   set_source(image, params, work);
-  sobel(work);
+  // Colour: the rows the thresholds sample first, the others only when the gradient is kept
+  // (no pre-blur): a noisy image's unblurred gradient is made for its median alone.
+  ColourPlanes planes;
+  if (work.colour.empty()) {
+    sobel(work);
+  } else {
+    planes = colour_planes(work.colour, work.dx, work.dy, work.colour_planes);
+    if (!planes.grey)
+      colour_gradient_rows(work.colour, planes, work.colour_planes, 0, kThresholdSampleStep,
+                           work.dx, work.dy);
+  }
   CannyThresholds t = canny_thresholds(work.dx, work.dy, params);
   work.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
+  if (!work.denoised && !work.colour.empty() && !planes.grey)
+    for (int first = 1; first < kThresholdSampleStep; ++first)
+      colour_gradient_rows(work.colour, planes, work.colour_planes, first, kThresholdSampleStep,
+                           work.dx, work.dy);
   if (work.denoised) {
     // Heavy noise: Canny alone would chain noise pixels into edges; blur once and redo.
     blur_and_sobel(work);

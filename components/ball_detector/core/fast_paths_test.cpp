@@ -1,5 +1,6 @@
 // The speed-ups of the detector against plain references: the one-pass strongest-channel
-// gradient vs three cv::Sobel passes and a select, redetect vs detect, canny_l1 vs cv::Canny, the
+// gradient vs three cv::Sobel passes and a select, the thresholds' gradient measured in two row
+// passes vs one whole pass, redetect vs detect, canny_l1 vs cv::Canny, the
 // packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
 // breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
 // brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge
@@ -198,6 +199,44 @@ TEST(StrongestChannelGradient, GivenGreyImagesReadAsColourThenTheOneChannelPathG
       }
   }
   EXPECT_GE(compared, 60);
+}
+
+TEST(MeasureEdgeThresholds,
+     GivenColourImagesCropsAndEveryPreBlurChoiceThenGradientAndThresholdsAreTheFullPasses) {
+  // Given the real colour sample images, whole and cropped (odd and one-row heights), with the
+  // pre-blur decided by the image (default), always (denoise_median 1) and never (0)
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u) << "expected the OpenCV sample images in " << SB_SHARED_DATA_DIR;
+  std::array<cv::Mat, 3> planes;
+  int compared = 0, denoised = 0;
+  for (const auto& bgr : images)
+    for (const cv::Rect& box : {cv::Rect(cv::Point(0, 0), bgr.size()), cv::Rect(3, 5, 37, 21),
+                                cv::Rect(0, 1, bgr.cols, 1)})
+      for (const double denoise_median : {EdgeParams{}.denoise_median, 1.0, 0.0}) {
+        EdgeParams params;
+        params.denoise_median = denoise_median;
+        // When the thresholds are measured (the rows they sample first, the rest after)
+        EdgeMap work;
+        const EdgeThresholds t = measure_edge_thresholds(bgr(box), params, work);
+        // Then the decision is the full unblurred gradient's, and the gradient kept and the
+        // thresholds are those of the whole image that gradient comes from
+        cv::Mat dx, dy;
+        strongest_channel_gradient(bgr(box), dx, dy, planes);
+        const CannyThresholds unblurred = canny_thresholds(dx, dy, params);
+        ASSERT_EQ(t.denoise, denoise_median > 0.0 && unblurred.median_gradient > denoise_median);
+        if (t.denoise) strongest_channel_gradient(work.colour, dx, dy, planes);
+        const CannyThresholds full = canny_thresholds(dx, dy, params);
+        ASSERT_EQ(cv::countNonZero(work.dx != dx), 0) << box;
+        ASSERT_EQ(cv::countNonZero(work.dy != dy), 0) << box;
+        EXPECT_EQ(t.canny.high, full.high);
+        EXPECT_EQ(t.canny.low, full.low);
+        EXPECT_EQ(t.canny.median_gradient, full.median_gradient);
+        ++compared;
+        denoised += t.denoise;
+      }
+  EXPECT_GE(compared, 90);
+  EXPECT_GT(denoised, 0);
+  EXPECT_LT(denoised, compared);
 }
 
 // The same circles, bit for bit, in the same order.
