@@ -195,7 +195,9 @@ TEST(ImageDecode, GivenATruncatedOrCorruptJpegWhenDecodedReducedThenItIsAnErrorN
       // Then it is an error naming the corruption, and no image is left
       ASSERT_FALSE(st.ok()) << "case " << i << ", reduction " << reduction;
       EXPECT_EQ(st.error().rfind("jpeg data is corrupt: ", 0), 0u) << st.error();
-      if (i < 4) EXPECT_NE(st.error().find("Premature end of JPEG file"), std::string::npos);
+      if (i < 4) {
+        EXPECT_NE(st.error().find("Premature end of JPEG file"), std::string::npos);
+      }
       EXPECT_TRUE(out.empty()) << "case " << i << ", reduction " << reduction;
     }
   }
