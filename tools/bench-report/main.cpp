@@ -103,10 +103,10 @@ br::MachineInfo machine_info(const std::string& commit, const std::string& repor
 }
 
 // Runs ENTRY's program from BIN_DIR with its output saved in DIR; then reads it back. REPORT_PATH
-// is the report being written (not a modification of the sources).
+// is the report being written (not a modification of the sources); MACHINE is recorded with it.
 br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
-                           const std::string& report_path, const fs::path& dir,
-                           double timeout_min) {
+                           const std::string& report_path, const fs::path& dir, double timeout_min,
+                           const std::string& machine) {
   br::BenchOutcome o;
   o.entry = &entry;
   const fs::path program = bin_dir / entry.program;
@@ -184,7 +184,8 @@ br::BenchOutcome run_bench(const br::BenchEntry& entry, const fs::path& bin_dir,
        << status << "\n"
        << seconds << "\n"
        << load << "\n"
-       << commit << "\n";
+       << commit << "\n"
+       << machine << "\n";
   meta.close();
   fs::remove(marker_path);
   return br::read_saved(entry, dir);
@@ -208,9 +209,10 @@ int main(int argc, char** argv) {
   app.add_option("--outputs", outputs,
                  "folder where each bench's output is saved (NAME.txt, NAME.cmd, NAME.json)")
       ->capture_default_str();
-  app.add_option("--from", from,
-                 "run nothing unless --only says so: read the outputs saved in this folder "
-                 "(NAME.txt, and NAME.cmd with command, date, status, seconds, load)");
+  app.add_option(
+      "--from", from,
+      "run nothing unless --only says so: read the outputs saved in this folder "
+      "(NAME.txt, and NAME.cmd with command, date, status, seconds, load, commit, machine)");
   app.add_option("--only", only, "run only these benches (repeatable; see --list)");
   app.add_flag("--all", all, "run every bench, the slow ones too (hours)");
   app.add_flag("--list", list, "print the benches and their commands, then exit");
@@ -245,7 +247,8 @@ int main(int argc, char** argv) {
     const bool chosen = !only.empty() ? std::find(only.begin(), only.end(), e.name) != only.end()
                                       : from.empty() && (all || e.cheap);
     br::BenchOutcome o =
-        chosen ? run_bench(e, bin_dir, out, dir, timeout_min) : br::read_saved(e, dir);
+        chosen ? run_bench(e, bin_dir, out, dir, timeout_min, br::machine_text(machine))
+               : br::read_saved(e, dir);
     if (!chosen && o.state == br::BenchOutcome::State::kNotRun) {
       o.reason = !from.empty() ? "no output saved in " + from
                  : e.cheap     ? "not selected"

@@ -36,6 +36,10 @@ std::string_view state_name(BenchOutcome::State state) {
   return util::name_of(kStateNames, state);
 }
 
+std::string machine_text(const MachineInfo& machine) {
+  return machine.cpu_model + ", " + std::to_string(machine.cores) + " logical cores";
+}
+
 std::string render_report(const MachineInfo& machine, const std::vector<BenchOutcome>& outcomes) {
   std::ostringstream md;
   md << "# Benchmarks\n\n"
@@ -46,7 +50,7 @@ std::string render_report(const MachineInfo& machine, const std::vector<BenchOut
      << "| | |\n|---|---|\n"
      << "| date | " << machine.date_utc << " |\n"
      << "| commit | `" << machine.commit << "` |\n"
-     << "| machine | " << machine.cpu_model << ", " << machine.cores << " logical cores |\n"
+     << "| machine | " << machine_text(machine) << " |\n"
      << "| load average when the report was written | " << machine.load
      << " (each bench gives its own below; timings from a shared machine are noisy: compare ratios "
         "taken in one run) |\n\n";
@@ -83,6 +87,8 @@ std::string render_report(const MachineInfo& machine, const std::vector<BenchOut
     std::string when = o.date_utc;
     if (!o.load.empty()) when += (when.empty() ? "" : ", ") + std::string("load average ") + o.load;
     if (!o.commit.empty() && o.commit != machine.commit) when += ", commit " + o.commit;
+    // Figures kept from a run elsewhere say where: the header's machine is this report's.
+    if (!o.machine.empty() && o.machine != machine_text(machine)) when += ", on " + o.machine;
     md << "Command" << (when.empty() ? "" : " (" + when + ")") << ":\n\n```sh\n"
        << o.command << "\n```\n\n";
     if (o.state == BenchOutcome::State::kFailed)

@@ -20,6 +20,9 @@ struct MachineInfo {
   std::string report_command;  // the command that wrote the report
 };
 
+// "CPU model, N logical cores": how a bench's saved record and the report name a machine.
+std::string machine_text(const MachineInfo& machine);
+
 // What happened to one bench.
 struct BenchOutcome {
   const BenchEntry* entry = nullptr;
@@ -30,6 +33,7 @@ struct BenchOutcome {
   std::string date_utc;         // when it ran
   std::string load;             // load average (1, 5, 15 min) when it started, if recorded
   std::string commit;           // commit it ran at, if recorded and not the report's
+  std::string machine;          // machine_text of where it ran, if recorded
   double seconds = 0.0;         // wall time of the run (0 when unknown)
   std::string output;           // the bench's standard output, as printed (or its JSON); empty
                                 // while running or when incomplete (partial figures are none)

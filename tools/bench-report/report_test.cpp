@@ -125,6 +125,28 @@ TEST(RenderReport, ABenchRunAtAnotherCommitNamesIt) {
   EXPECT_NE(md.find("Command (2026-12-05 17:00 UTC, commit 0123456789ab):"), std::string::npos);
 }
 
+TEST(RenderReport, ABenchRunOnAnotherMachineNamesItAndOneRunHereDoesNot) {
+  // Given a saved output from another machine and one from the report's machine
+  br::BenchOutcome elsewhere;
+  elsewhere.entry = br::find_bench("stereo");
+  elsewhere.state = br::BenchOutcome::State::kRan;
+  elsewhere.command = "stereoball bench stereo";
+  elsewhere.date_utc = "2026-12-05 17:00 UTC";
+  elsewhere.machine = "Other CPU 9000, 2 logical cores";
+  elsewhere.output = "x\n";
+  br::BenchOutcome here = elsewhere;
+  here.entry = br::find_bench("auth");
+  here.command = "stereoball bench auth";
+  here.machine = br::machine_text(machine());
+  // When the report is rendered
+  const std::string md = br::render_report(machine(), {elsewhere, here});
+  // Then only the first names its machine; the header names the report's
+  EXPECT_NE(md.find("Command (2026-12-05 17:00 UTC, on Other CPU 9000, 2 logical cores):"),
+            std::string::npos);
+  EXPECT_NE(md.find("Command (2026-12-05 17:00 UTC):"), std::string::npos);
+  EXPECT_NE(md.find("| machine | Test CPU 3000, 2 logical cores |"), std::string::npos);
+}
+
 TEST(RenderReport, AFailedBenchSaysWhy) {
   // Given a bench that exited with an error
   br::BenchOutcome o;

@@ -107,6 +107,7 @@ BenchOutcome read_saved(const BenchEntry& entry, const fs::path& dir, const Proc
   o.seconds = std::atof(seconds.c_str());
   std::getline(meta, o.load);  // absent in outputs saved before these were recorded
   std::getline(meta, o.commit);
+  std::getline(meta, o.machine);  // absent in outputs saved before it was recorded
   if (o.state == BenchOutcome::State::kIncomplete) o.output.clear();
   if (!o.output_is_json && fs::exists(json)) o.json_file = entry.name + ".json";
   return o;

@@ -31,7 +31,7 @@ class SavedOutputs : public ::testing::Test {
   // NAME.cmd as the report writes it when the bench has ended with STATUS.
   void write_end(const std::string& status) const {
     write(".cmd", "stereoball bench tracking --drive controller\n2026-12-06 08:00 UTC\n" + status +
-                      "\n42.5\n1.00 0.50 0.25\nabc123\n");
+                      "\n42.5\n1.00 0.50 0.25\nabc123\nTest CPU 3000, 2 logical cores\n");
   }
   br::BenchOutcome read(bool process_alive) const {
     return br::read_saved(*entry_, dir_,
@@ -56,6 +56,7 @@ TEST_F(SavedOutputs, ARunThatRecordedItsEndGivesItsFigures) {
   EXPECT_EQ(o.command, "stereoball bench tracking --drive controller");
   EXPECT_DOUBLE_EQ(o.seconds, 42.5);
   EXPECT_EQ(o.commit, "abc123");
+  EXPECT_EQ(o.machine, "Test CPU 3000, 2 logical cores");
 }
 
 TEST_F(SavedOutputs, ABenchStillRunningIsRunningWithNoFigures) {
