@@ -1,8 +1,9 @@
 #include "stereo/frame/preview_encoder.hpp"
 
-#include <opencv2/imgproc.hpp>
-
+#include <span>
 #include <string>
+
+#include "stereo/image/yuyv_convert.hpp"
 
 namespace stereoball::stereo {
 namespace {
@@ -26,7 +27,10 @@ Result<cv::Mat> pixels_of(const EyeView& eye, const std::string& encoding, cv::M
                      CV_8UC(channels), const_cast<uint8_t*>(eye.data), eye.step_bytes);
   if (channels != 2) return view;
   if (eye.width_px % 2 != 0) return Error{"yuyv width " + std::to_string(eye.width_px) + " is odd"};
-  cv::cvtColor(view, bgr, cv::COLOR_YUV2BGR_YUYV);
+  // The conversion the frame decoder and camera_server use: the preview shows what they see.
+  const Status converted = yuyv_to_bgr(std::span<const uint8_t>(eye.data, eye.bytes), view.cols,
+                                       view.rows, static_cast<int>(eye.step_bytes), bgr);
+  if (!converted) return Error{converted.error()};
   return bgr;
 }
 
