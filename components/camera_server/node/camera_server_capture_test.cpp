@@ -1,17 +1,23 @@
 // The camera_server node streaming from cameras (scripted ones): its capture thread pairs and
 // publishes the frames while the runner's loop publishes health, and its preview worker
-// encodes previews for a reader. Run under ThreadSanitizer (tools/tsan_tests.sh) this is the
-// capture thread's race check.
+// encodes previews for a reader; swapped YUYV cameras are reported whatever the encoding. Run under
+// ThreadSanitizer (tools/tsan_tests.sh) this is the capture thread's race check.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
 #include <thread>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "camera_server/io/fake_rig.hpp"
 #include "camera_server/node/camera_server_node.hpp"
 #include "common/dds/reader.hpp"
 #include "process.hpp"
+#include "yuyv_images.hpp"
 
 namespace stereoball::camera_server {
 namespace {
@@ -65,6 +71,116 @@ TEST(CameraServerCapture, GivenTwoCamerasThenTheCaptureThreadPublishesEveryPairA
   EXPECT_TRUE(std::is_sorted(seqs.begin(), seqs.end()) &&
               std::adjacent_find(seqs.begin(), seqs.end()) == seqs.end());
   EXPECT_LT(preview_seq, static_cast<uint64_t>(kPairs));
+}
+
+// An OpenCV sample image (640x480, the rig of config/calibration/opencv_samples_stereo.yaml) as
+// a YUYV camera delivers it.
+std::vector<uint8_t> sample_yuyv(const std::string& name) {
+  const cv::Mat grey =
+      cv::imread(std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/" + name, cv::IMREAD_GRAYSCALE);
+  cv::Mat bgr;
+  if (!grey.empty()) cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+  return grey.empty() ? std::vector<uint8_t>{} : stereoball::testing::yuyv_from_bgr(bgr);
+}
+
+// What camera_server said about the eye order of a stream.
+struct EyeOrderReport {
+  uint64_t eyes_swapped = 0;  // health errors "eyes_swapped"
+  std::string last_error;
+  std::string encoding;  // of the frames on stereo/frame
+  bool published = false;
+};
+
+// camera_server on two 640x480 YUYV cameras showing left_yuyv and right_yuyv, with the sample
+// rig's calibration and the given publish_encoding, until two pairs were published (the check
+// of the first pair runs before it is written).
+EyeOrderReport run_eye_order(const std::vector<uint8_t>& left_yuyv,
+                             const std::vector<uint8_t>& right_yuyv,
+                             const std::string& publish_encoding) {
+  const auto camera = [] {
+    auto cam = std::make_shared<FakeCamera>();
+    SizeOffer s;
+    s.min_width_px = s.max_width_px = 640;
+    s.min_height_px = s.max_height_px = 480;
+    s.rates_hz = {30.0};
+    cam->formats = {{kFourccYuyv, "YUYV 4:2:2", {s}}};
+    return cam;
+  };
+  auto left = camera(), right = camera();
+  CameraServerParams params = rig_params();
+  params.width_px = 640;
+  params.height_px = 480;
+  params.publish_encoding = publish_encoding;
+  params.calibration_file =
+      stereoball::testing::source_path("config/calibration/opencv_samples_stereo.yaml");
+  node::CommonOptions options;
+  options.domain_id = stereoball::testing::test_domain();
+  options.partition = stereoball::testing::unique_partition();
+  node::Runner runner("camera_server", options);
+  dds::DataReader<stereoball_msg_StereoFrame> frames(runner.participant(), topics::kStereoFrame);
+  auto node = CameraServerNode::create(params, runner, factory(left, right));
+  EyeOrderReport report;
+  if (!node) {
+    report.last_error = node.error();
+    return report;
+  }
+  std::thread loop([&] { runner.run(); });
+  // (pairs queued only once the node exists: its start-up warnings come before any frame's)
+  int64_t stamp_ns = 100'000'000'000;
+  report.published = stereoball::testing::eventually(
+      [&] {
+        if (left->queued() == 0 && right->queued() == 0) {
+          stamp_ns += kPeriodNs;
+          left->push({stamp_ns, left_yuyv, 0});
+          right->push({stamp_ns + 1'000'000, right_yuyv, 0});
+        }
+        bool second = false;
+        for (auto& f : frames.take()) {
+          report.encoding = f->encoding ? f->encoding : "";
+          second = second || f->seq >= 1;
+        }
+        return second;
+      },
+      30s);
+  runner.stop();
+  loop.join();
+  node->reset();
+  report.eyes_swapped = runner.health().counter("eyes_swapped");
+  report.last_error = runner.health().snapshot(node::monotonic_ns()).last_error;
+  return report;
+}
+
+TEST(CameraServerEyeOrder, GivenSwappedYuyvCamerasWhenPublishedNativeThenReportedAsForBgr8) {
+  // Given the sample rig's cameras plugged the other way round (its right image on the left
+  // camera), both YUYV
+  const auto left_image = sample_yuyv("left03.jpg"), right_image = sample_yuyv("right03.jpg");
+  ASSERT_FALSE(left_image.empty() || right_image.empty());
+  // When camera_server publishes their yuyv bytes as captured, and (as a reference) converted
+  const EyeOrderReport native = run_eye_order(right_image, left_image, "native");
+  const EyeOrderReport bgr8 = run_eye_order(right_image, left_image, "bgr8");
+  // Then both say the images look swapped, with the same evidence (the check sees the pixels
+  // bgr8 carries, converted by the same function)
+  ASSERT_TRUE(native.published) << native.last_error;
+  ASSERT_TRUE(bgr8.published) << bgr8.last_error;
+  EXPECT_EQ(native.encoding, "yuyv");
+  EXPECT_EQ(bgr8.encoding, "bgr8");
+  EXPECT_GE(native.eyes_swapped, 1u) << native.last_error;
+  EXPECT_GE(bgr8.eyes_swapped, 1u) << bgr8.last_error;
+  EXPECT_NE(native.last_error.find("look swapped"), std::string::npos) << native.last_error;
+  EXPECT_NE(native.last_error.find("swap left_device and right_device"), std::string::npos);
+  EXPECT_EQ(native.last_error, bgr8.last_error);
+}
+
+TEST(CameraServerEyeOrder, GivenYuyvCamerasInOrderWhenPublishedNativeThenNoSwapReported) {
+  // Given the sample rig's cameras in order, both YUYV, published as captured
+  const auto left_image = sample_yuyv("left03.jpg"), right_image = sample_yuyv("right03.jpg");
+  ASSERT_FALSE(left_image.empty() || right_image.empty());
+  const EyeOrderReport native = run_eye_order(left_image, right_image, "native");
+  // Then the frames are yuyv and the check (done before the first was written) says nothing
+  ASSERT_TRUE(native.published) << native.last_error;
+  EXPECT_EQ(native.encoding, "yuyv");
+  EXPECT_EQ(native.eyes_swapped, 0u) << native.last_error;
+  EXPECT_EQ(native.last_error.find("eye order"), std::string::npos) << native.last_error;
 }
 
 }  // namespace
