@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -74,13 +76,18 @@ TEST(CameraServerCapture, GivenTwoCamerasThenTheCaptureThreadPublishesEveryPairA
 }
 
 // An OpenCV sample image (640x480, the rig of config/calibration/opencv_samples_stereo.yaml) as
-// a YUYV camera delivers it.
-std::vector<uint8_t> sample_yuyv(const std::string& name) {
-  const cv::Mat grey =
-      cv::imread(std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/" + name, cv::IMREAD_GRAYSCALE);
+// a camera delivers it: YUYV bytes, or for MJPEG the JPEG file itself.
+std::vector<uint8_t> sample_frame(const std::string& name, uint32_t fourcc) {
+  const std::string path = std::string(SB_SHARED_DATA_DIR) + "/opencv-samples/" + name;
+  if (fourcc == kFourccMjpeg) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  const cv::Mat grey = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (grey.empty()) return {};
   cv::Mat bgr;
-  if (!grey.empty()) cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
-  return grey.empty() ? std::vector<uint8_t>{} : stereoball::testing::yuyv_from_bgr(bgr);
+  cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+  return stereoball::testing::yuyv_from_bgr(bgr);
 }
 
 // What camera_server said about the eye order of a stream.
@@ -91,25 +98,26 @@ struct EyeOrderReport {
   bool published = false;
 };
 
-// camera_server on two 640x480 YUYV cameras showing left_yuyv and right_yuyv, with the sample
-// rig's calibration and the given publish_encoding, until two pairs were published (the check
-// of the first pair runs before it is written).
-EyeOrderReport run_eye_order(const std::vector<uint8_t>& left_yuyv,
-                             const std::vector<uint8_t>& right_yuyv,
+// camera_server on two 640x480 cameras of the given format delivering left_frame and
+// right_frame, with the sample rig's calibration and the given publish_encoding, until two pairs
+// were published (the check of the first pair runs before it is written).
+EyeOrderReport run_eye_order(uint32_t fourcc, const std::vector<uint8_t>& left_frame,
+                             const std::vector<uint8_t>& right_frame,
                              const std::string& publish_encoding) {
-  const auto camera = [] {
+  const auto camera = [fourcc] {
     auto cam = std::make_shared<FakeCamera>();
     SizeOffer s;
     s.min_width_px = s.max_width_px = 640;
     s.min_height_px = s.max_height_px = 480;
     s.rates_hz = {30.0};
-    cam->formats = {{kFourccYuyv, "YUYV 4:2:2", {s}}};
+    cam->formats = {{fourcc, fourcc == kFourccMjpeg ? "Motion-JPEG" : "YUYV 4:2:2", {s}}};
     return cam;
   };
   auto left = camera(), right = camera();
   CameraServerParams params = rig_params();
   params.width_px = 640;
   params.height_px = 480;
+  params.pixel_format = fourcc == kFourccMjpeg ? "mjpeg" : "yuyv";
   params.publish_encoding = publish_encoding;
   params.calibration_file =
       stereoball::testing::source_path("config/calibration/opencv_samples_stereo.yaml");
@@ -131,8 +139,8 @@ EyeOrderReport run_eye_order(const std::vector<uint8_t>& left_yuyv,
       [&] {
         if (left->queued() == 0 && right->queued() == 0) {
           stamp_ns += kPeriodNs;
-          left->push({stamp_ns, left_yuyv, 0});
-          right->push({stamp_ns + 1'000'000, right_yuyv, 0});
+          left->push({stamp_ns, left_frame, 0});
+          right->push({stamp_ns + 1'000'000, right_frame, 0});
         }
         bool second = false;
         for (auto& f : frames.take()) {
@@ -150,19 +158,17 @@ EyeOrderReport run_eye_order(const std::vector<uint8_t>& left_yuyv,
   return report;
 }
 
-TEST(CameraServerEyeOrder, GivenSwappedYuyvCamerasWhenPublishedNativeThenReportedAsForBgr8) {
-  // Given the sample rig's cameras plugged the other way round (its right image on the left
-  // camera), both YUYV
-  const auto left_image = sample_yuyv("left03.jpg"), right_image = sample_yuyv("right03.jpg");
-  ASSERT_FALSE(left_image.empty() || right_image.empty());
-  // When camera_server publishes their yuyv bytes as captured, and (as a reference) converted
-  const EyeOrderReport native = run_eye_order(right_image, left_image, "native");
-  const EyeOrderReport bgr8 = run_eye_order(right_image, left_image, "bgr8");
-  // Then both say the images look swapped, with the same evidence (the check sees the pixels
-  // bgr8 carries, converted by the same function)
+// Cameras plugged the other way round (the sample rig's right image on the left camera),
+// published as captured and (the reference) as bgr8: both say the images look swapped, in the
+// same words (the check sees the pixels bgr8 carries: the same conversion or decoder).
+void expect_swap_reported_as_for_bgr8(uint32_t fourcc, const std::string& native_encoding) {
+  const auto left = sample_frame("left03.jpg", fourcc), right = sample_frame("right03.jpg", fourcc);
+  ASSERT_FALSE(left.empty() || right.empty());
+  const EyeOrderReport native = run_eye_order(fourcc, right, left, "native");
+  const EyeOrderReport bgr8 = run_eye_order(fourcc, right, left, "bgr8");
   ASSERT_TRUE(native.published) << native.last_error;
   ASSERT_TRUE(bgr8.published) << bgr8.last_error;
-  EXPECT_EQ(native.encoding, "yuyv");
+  EXPECT_EQ(native.encoding, native_encoding);
   EXPECT_EQ(bgr8.encoding, "bgr8");
   EXPECT_GE(native.eyes_swapped, 1u) << native.last_error;
   EXPECT_GE(bgr8.eyes_swapped, 1u) << bgr8.last_error;
@@ -171,11 +177,20 @@ TEST(CameraServerEyeOrder, GivenSwappedYuyvCamerasWhenPublishedNativeThenReporte
   EXPECT_EQ(native.last_error, bgr8.last_error);
 }
 
+TEST(CameraServerEyeOrder, GivenSwappedYuyvCamerasWhenPublishedNativeThenReportedAsForBgr8) {
+  expect_swap_reported_as_for_bgr8(kFourccYuyv, "yuyv");
+}
+
+TEST(CameraServerEyeOrder, GivenSwappedMjpegCamerasWhenPublishedNativeThenReportedAsForBgr8) {
+  expect_swap_reported_as_for_bgr8(kFourccMjpeg, "jpeg");
+}
+
 TEST(CameraServerEyeOrder, GivenYuyvCamerasInOrderWhenPublishedNativeThenNoSwapReported) {
   // Given the sample rig's cameras in order, both YUYV, published as captured
-  const auto left_image = sample_yuyv("left03.jpg"), right_image = sample_yuyv("right03.jpg");
-  ASSERT_FALSE(left_image.empty() || right_image.empty());
-  const EyeOrderReport native = run_eye_order(left_image, right_image, "native");
+  const auto left = sample_frame("left03.jpg", kFourccYuyv);
+  const auto right = sample_frame("right03.jpg", kFourccYuyv);
+  ASSERT_FALSE(left.empty() || right.empty());
+  const EyeOrderReport native = run_eye_order(kFourccYuyv, left, right, "native");
   // Then the frames are yuyv and the check (done before the first was written) says nothing
   ASSERT_TRUE(native.published) << native.last_error;
   EXPECT_EQ(native.encoding, "yuyv");
