@@ -239,11 +239,11 @@ TEST_F(BallDetectorNodeTest, GivenMalformedFrames_ThenBadFrameAndNextGoodFrameAn
   EXPECT_EQ(d.msg.status, stereoball_msg_DETECTION_BAD_FRAME);
   EXPECT_NE(d.reason.find("320x240"), std::string::npos) << d.reason;
 
-  Frame yuyv = good_frame();
-  yuyv.encoding = "yuyv";
-  d = send(std::move(yuyv));
+  Frame nv12 = good_frame();
+  nv12.encoding = "nv12";
+  d = send(std::move(nv12));
   EXPECT_EQ(d.msg.status, stereoball_msg_DETECTION_BAD_FRAME);
-  EXPECT_NE(d.reason.find("yuyv"), std::string::npos) << d.reason;
+  EXPECT_NE(d.reason.find("'nv12' is not supported"), std::string::npos) << d.reason;
 
   Frame truncated = good_frame();
   truncated.msg.right.data._length /= 2;

@@ -1,7 +1,7 @@
 // libFuzzer target: frame decoding. Either a compressed eye (JPEG/PNG header, size check,
 // strict decode) or a whole stereo/frame sample through the frame library's FrameDecoder with
-// raw (bgr8/mono8) or compressed eyes, arbitrary size, step and length fields, and JPEG eyes
-// decoded at full size or reduced by 2, 4 or 8.
+// raw (bgr8/mono8), yuyv (converted) or compressed eyes, arbitrary size, step and length
+// fields, and JPEG eyes decoded at full size or reduced by 2, 4 or 8.
 
 #include <cstddef>
 #include <cstdint>

@@ -17,6 +17,7 @@
 #include "camera_server/core/frame_scaler.hpp"
 #include "camera_server/core/pixel_convert.hpp"
 #include "camera_server/io/file_source.hpp"
+#include "stereo/image/yuyv_convert.hpp"
 
 namespace sc = stereoball::camera_server;
 
@@ -89,8 +90,9 @@ void bench_conversion(int iterations) {
   const cv::Mat yuyv_mat(480, 640, CV_8UC2, const_cast<uint8_t*>(yuyv.data()));
   cv::Mat out(480, 640, CV_8UC3);
   std::printf("YUYV -> BGR, 640x480, %d iterations (output buffer reused):\n", iterations);
-  print("camera_server yuyv_to_bgr (1 thread)",
-        time_calls(iterations, [&] { (void)sc::yuyv_to_bgr(yuyv, 640, 480, 1280, out); }));
+  print("camera_server yuyv_to_bgr (1 thread)", time_calls(iterations, [&] {
+          (void)stereoball::stereo::yuyv_to_bgr(yuyv, 640, 480, 1280, out);
+        }));
   const int threads = cv::getNumThreads();
   cv::setNumThreads(1);
   print("cv::cvtColor COLOR_YUV2BGR_YUYV (1 thread)",

@@ -2,6 +2,7 @@
 
 #include "camera_server/core/format_negotiation.hpp"
 #include "camera_server/core/pixel_convert.hpp"
+#include "stereo/image/yuyv_convert.hpp"
 
 namespace stereoball::camera_server {
 namespace {
@@ -25,8 +26,9 @@ FrameBuilder::FrameBuilder(const FrameBuilderParams& params) : params_(params) {
 
 Status FrameBuilder::convert(const RawImage& raw, cv::Mat& out) const {
   if (raw.fourcc == kFourccYuyv) {
-    return yuyv_to_bgr(raw.bytes, static_cast<int>(raw.width_px), static_cast<int>(raw.height_px),
-                       static_cast<int>(raw.step_bytes), out);
+    return stereo::yuyv_to_bgr(raw.bytes, static_cast<int>(raw.width_px),
+                               static_cast<int>(raw.height_px), static_cast<int>(raw.step_bytes),
+                               out);
   }
   if (raw.fourcc == kFourccMjpeg) {
     return mjpeg_to_bgr(raw.bytes, static_cast<int>(raw.width_px), static_cast<int>(raw.height_px),

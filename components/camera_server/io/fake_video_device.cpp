@@ -19,8 +19,14 @@ void signal(int fd, uint64_t n) {
 }  // namespace
 
 void FakeCamera::push(FakeFrameScript f) {
+  const std::lock_guard lock(mutex);
   script.push_back(std::move(f));
   signal(event_fd, 1);
+}
+
+size_t FakeCamera::queued() {
+  const std::lock_guard lock(mutex);
+  return script.size();
 }
 
 FakeVideoDevice::FakeVideoDevice(std::shared_ptr<FakeCamera> camera) : camera_(std::move(camera)) {}
@@ -44,6 +50,7 @@ DeviceStatus FakeVideoDevice::open(const std::string& path) {
 }
 
 void FakeVideoDevice::close() {
+  const std::lock_guard lock(camera_->mutex);
   if (event_fd_ >= 0) {
     ::close(event_fd_);
     if (camera_->event_fd == event_fd_) camera_->event_fd = -1;
@@ -80,6 +87,7 @@ DeviceStatus FakeVideoDevice::set_control(const ControlSetting& control) {
 
 DeviceStatus FakeVideoDevice::start_streaming(uint32_t) {
   if (!open_) return {EBADF, path_ + ": not open"};
+  const std::lock_guard lock(camera_->mutex);
   event_fd_ = ::eventfd(0, EFD_SEMAPHORE | EFD_NONBLOCK | EFD_CLOEXEC);
   if (event_fd_ < 0) return {errno, errno_text(errno, path_, "eventfd")};
   camera_->event_fd = event_fd_;
@@ -89,6 +97,7 @@ DeviceStatus FakeVideoDevice::start_streaming(uint32_t) {
 }
 
 DeviceStatus FakeVideoDevice::dequeue(DequeuedFrame& frame) {
+  const std::lock_guard lock(camera_->mutex);
   uint64_t token = 0;
   if (event_fd_ < 0 || ::read(event_fd_, &token, sizeof token) != sizeof token ||
       camera_->script.empty()) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@ struct FakeFrameScript {
 };
 
 /// The "physical" camera; it outlives FakeVideoDevice instances so reopening sees its state.
+/// push() and queued() may be called while a device streams (a test feeding a live stream).
 struct FakeCamera {
   DeviceCaps caps{"fake", "Fake Camera", "fake:0", true, true};
   std::vector<FormatOffer> formats;
@@ -34,6 +36,9 @@ struct FakeCamera {
 
   /// Appends a frame (and wakes a streaming device).
   void push(FakeFrameScript f);
+  /// Scripted dequeues not yet taken.
+  size_t queued();
+  std::mutex mutex;   ///< guards script and event_fd against a streaming device's thread
   int event_fd = -1;  ///< set while a device streams; readable while frames are queued
   int unplugged_opens_left = 0;
 };

@@ -1,12 +1,16 @@
 #include "camera_server/node/camera_server_node.hpp"
 
+#include <span>
+
 #include "camera_server/core/format_negotiation.hpp"
 #include "camera_server/io/v4l2_device.hpp"
 #include "common/dds/shared_memory.hpp"
 #include "common/util/log.hpp"
 #include "stereo/core/calibration_scaling.hpp"
 #include "stereo/core/eye_order.hpp"
+#include "stereo/frame/eye_pixels.hpp"
 #include "stereo/frame/frame_msg.hpp"
+#include "stereo/image/image_decode.hpp"
 #include "stereo/io/calibration_file.hpp"
 #include "stereo/msg/calibration_msg.hpp"
 
@@ -20,6 +24,21 @@ constexpr const char* kHowToSwap =
 
 std::string size_text(cv::Size s) {
   return std::to_string(s.width) + "x" + std::to_string(s.height);
+}
+
+// The pixels of one eye for the eye-order check: raw eyes as they are or converted (yuyv), native
+// MJPEG decoded, its header first checked against the frame's size (as a decoder of untrusted
+// bytes must).
+Result<cv::Mat> eye_order_pixels(const stereo::EyeView& eye, const std::string& encoding,
+                                 cv::Mat& storage) {
+  if (encoding != "jpeg") return stereo::eye_pixels(eye, encoding, storage);
+  const std::span<const uint8_t> bytes(eye.data, eye.data == nullptr ? 0 : eye.bytes);
+  const auto header = stereo::read_image_header(bytes);
+  if (!header) return Error{header.error()};
+  const cv::Size size(static_cast<int>(eye.width_px), static_cast<int>(eye.height_px));
+  if (auto st = stereo::check_within(*header, size); !st) return Error{st.error()};
+  if (auto st = stereo::decode_bgr(bytes, *header, storage); !st) return Error{st.error()};
+  return storage;
 }
 
 }  // namespace
@@ -332,8 +351,22 @@ const stereo::FrameView* CameraServerNode::compress(const stereo::FrameView& vie
 
 void CameraServerNode::check_eye_order(const stereo::FrameView& view) {
   if (!rectifier_) return;
-  const auto evidence = eye_order_.step(*rectifier_, stereo::image_of(view.left, view.encoding),
-                                        stereo::image_of(view.right, view.encoding), false);
+  // Only the frames the watch samples are converted or decoded: a start-up check costs nothing
+  // on the other frames, whatever the published encoding.
+  cv::Mat left, right;
+  if (eye_order_.due()) {
+    auto l = eye_order_pixels(view.left, view.encoding, eye_order_pixels_[0]);
+    auto r = eye_order_pixels(view.right, view.encoding, eye_order_pixels_[1]);
+    if (l && r) {
+      left = *l;
+      right = *r;
+    } else {
+      runner_.health().error("eye_order", std::string("eye order not checked: ") +
+                                              (l ? "right" : "left") +
+                                              " eye: " + (l ? r.error() : l.error()));
+    }
+  }
+  const auto evidence = eye_order_.step(*rectifier_, left, right, false);
   if (!evidence) return;
   if (auto text = stereo::describe_swapped_eyes(*evidence, std::string(kHowToSwap))) {
     log::error(*text);

@@ -88,6 +88,7 @@ class CameraServerNode {
   std::optional<FrameScaler> scaler_;                    // publish_width_px
   cv::Size publish_size_;                                // eyes as published (before compression)
   stereo::EyeOrderWatch eye_order_;                      // first frames: are the cameras swapped?
+  cv::Mat eye_order_pixels_[2];  // yuyv/jpeg eyes of the checked frames, converted or decoded
   cv::Mat rectified_[2];
   std::optional<stereo::FrameCompressor> compressor_;  // frame_encoding jpeg/png
   // stereo/preview of raw frames, made only while a viewer reads it; created with the source

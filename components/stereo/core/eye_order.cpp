@@ -51,11 +51,15 @@ std::optional<std::string> describe_swapped_eyes(const EyeOrderEvidence& evidenc
 EyeOrderWatch::EyeOrderWatch(int max_checks, int frames_between, const EyeOrderParams& params)
     : max_checks_(max_checks), frames_between_(std::max(frames_between, 1)), params_(params) {}
 
+bool EyeOrderWatch::due() const {
+  return !decided_ && checks_ < max_checks_ && frames_ % frames_between_ == 0;
+}
+
 std::optional<EyeOrderEvidence> EyeOrderWatch::step(const Rectifier& rectifier, const cv::Mat& left,
                                                     const cv::Mat& right, bool rectified) {
-  const bool due = frames_++ % frames_between_ == 0;
-  if (decided_ || checks_ >= max_checks_ || !due || left.empty() || right.empty())
-    return std::nullopt;
+  const bool check = due();
+  ++frames_;
+  if (!check || left.empty() || right.empty()) return std::nullopt;
   ++checks_;
   EyeOrderEvidence e = check_eye_order(rectifier, left, right, rectified, params_);
   decided_ = std::max(e.matches_as_given, e.matches_swapped) >= params_.min_matches;

@@ -49,6 +49,9 @@ class EyeOrderWatch {
  public:
   explicit EyeOrderWatch(int max_checks = 5, int frames_between = 100,
                          const EyeOrderParams& params = {});
+  /// Whether the next frame will be checked: a caller that must convert a frame first (yuyv)
+  /// converts only those.
+  bool due() const;
   /// Counts a frame; checks it when due and returns the evidence of that check.
   std::optional<EyeOrderEvidence> step(const Rectifier& rectifier, const cv::Mat& left,
                                        const cv::Mat& right, bool rectified);

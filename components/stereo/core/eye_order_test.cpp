@@ -77,13 +77,18 @@ TEST(EyeOrderWatch, GivenBlankThenRealFramesWhenStreamedThenChecksUntilADecision
   EyeOrderWatch watch(3, 2);
   const cv::Mat blank(480, 640, CV_8UC1, cv::Scalar(90));
   const cv::Mat l = sample_grey("left03.jpg"), r = sample_grey("right03.jpg");
-  // When a blank frame, a skipped one, then a swapped real pair arrive
+  // When a blank frame, a skipped one, then a swapped real pair arrive (due() saying in advance
+  // which frames are checked, so a caller converts only those)
+  EXPECT_TRUE(watch.due());
   EXPECT_TRUE(watch.step(rectifier, blank, blank, false).has_value());  // frame 0: checked
-  EXPECT_FALSE(watch.step(rectifier, r, l, false).has_value());         // frame 1: not due
-  const auto e = watch.step(rectifier, r, l, false);                    // frame 2: checked
+  EXPECT_FALSE(watch.due());
+  EXPECT_FALSE(watch.step(rectifier, r, l, false).has_value());  // frame 1: not due
+  EXPECT_TRUE(watch.due());
+  const auto e = watch.step(rectifier, r, l, false);  // frame 2: checked
   // Then the swap is found on the third frame, and nothing is checked after the decision
   ASSERT_TRUE(e.has_value());
   EXPECT_TRUE(e->swapped);
+  EXPECT_FALSE(watch.due());
   EXPECT_FALSE(watch.step(rectifier, r, l, false).has_value());
   EXPECT_FALSE(watch.step(rectifier, r, l, false).has_value());
   // and after a reset it checks again

@@ -1,10 +1,12 @@
 #include "stereo/frame/frame_decoder.hpp"
 
 #include <cstring>
+#include <limits>
 #include <span>
 #include <string_view>
 
 #include "stereo/image/image_decode.hpp"
+#include "stereo/image/yuyv_convert.hpp"
 
 namespace stereoball::stereo {
 namespace {
@@ -24,7 +26,7 @@ Status check_size(const char* eye, std::uint64_t w, std::uint64_t h, cv::Size ex
 
 Error unsupported_encoding(const stereoball_msg_StereoFrame& msg) {
   return Error{"encoding '" + std::string(msg.encoding ? msg.encoding : "") +
-               "' is not supported (bgr8, mono8, jpeg, png)"};
+               "' is not supported (bgr8, mono8, yuyv, jpeg, png)"};
 }
 
 // A refused frame gives no images: the good eye of a broken pair is no frame, and nothing
@@ -43,6 +45,7 @@ std::optional<FrameEncoding> parse_encoding(const char* text) {
   if (text == nullptr) return std::nullopt;
   if (std::strcmp(text, "bgr8") == 0) return FrameEncoding::kBgr8;
   if (std::strcmp(text, "mono8") == 0) return FrameEncoding::kMono8;
+  if (std::strcmp(text, "yuyv") == 0) return FrameEncoding::kYuyv;
   if (std::strcmp(text, "jpeg") == 0) return FrameEncoding::kJpeg;
   if (std::strcmp(text, "png") == 0) return FrameEncoding::kPng;
   return std::nullopt;
@@ -76,8 +79,8 @@ Status FrameDecoder::decode(const stereoball_msg_StereoFrame& msg, cv::Size expe
                             cv::Mat& right, const RunTasks& run) {
   const auto encoding = parse_encoding(msg.encoding);
   if (!encoding) return refused_if_failed(unsupported_encoding(msg), left, right);
-  // Raw eyes are views, nothing to share out.
-  if (*encoding != FrameEncoding::kJpeg && *encoding != FrameEncoding::kPng)
+  // bgr8/mono8 eyes are views, nothing to share out; yuyv and compressed eyes are work.
+  if (*encoding == FrameEncoding::kBgr8 || *encoding == FrameEncoding::kMono8)
     return decode(msg, expected, left, right);
   Status status[2];
   run(2, [&](int eye) {
@@ -98,6 +101,7 @@ Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& 
                   CV_8UC(channels), image.data._buffer, image.step_bytes);
     return {};
   }
+  if (encoding == FrameEncoding::kYuyv) return convert_yuyv_eye(eye, image, expected, buffer, out);
   const char* name = encoding == FrameEncoding::kJpeg ? "jpeg" : "png";
   if (auto st = check_size(eye, image.width_px, image.height_px, expected); !st) return st;
   if (image.data._length == 0 || image.data._buffer == nullptr)
@@ -121,6 +125,25 @@ Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& 
                              ? stereo::decode_bgr_reduced(bytes, *header, reduction_, buffer)
                              : stereo::decode_bgr(bytes, *header, buffer);
   if (!decoded) return Error{std::string(eye) + " " + decoded.error()};
+  out = buffer;
+  return {};
+}
+
+Status FrameDecoder::convert_yuyv_eye(const char* eye, const stereoball_msg_EyeImage& image,
+                                      cv::Size expected, cv::Mat& buffer, cv::Mat& out) {
+  if (auto st = check_raw_eye(eye, image, 2, expected); !st) return st;
+  // YUYV carries one U and one V per two pixels: an odd width has no last pair.
+  if (image.width_px % 2 != 0)
+    return Error{std::string(eye) + " yuyv width " + std::to_string(image.width_px) +
+                 " is odd (YUYV pairs two pixels)"};
+  if (image.step_bytes > static_cast<std::uint32_t>(std::numeric_limits<int>::max()))
+    return Error{std::string(eye) + " step_bytes " + std::to_string(image.step_bytes) +
+                 " is too large"};
+  const std::span<const std::uint8_t> bytes(image.data._buffer, image.data._length);
+  const Status converted = stereo::yuyv_to_bgr(bytes, static_cast<int>(image.width_px),
+                                               static_cast<int>(image.height_px),
+                                               static_cast<int>(image.step_bytes), buffer);
+  if (!converted) return Error{std::string(eye) + " " + converted.error()};
   out = buffer;
   return {};
 }

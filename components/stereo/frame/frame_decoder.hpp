@@ -1,6 +1,6 @@
 #pragma once
 // Checks a stereo/frame sample against the calibration and turns it into two images:
-// zero-copy views for bgr8/mono8, decoded buffers (reused) for jpeg/png.
+// zero-copy views for bgr8/mono8, converted or decoded buffers (reused) for yuyv/jpeg/png.
 
 #include <opencv2/core.hpp>
 
@@ -14,12 +14,13 @@
 namespace stereoball::stereo {
 
 /// Pixel encodings the detector accepts.
-enum class FrameEncoding { kBgr8, kMono8, kJpeg, kPng };
+enum class FrameEncoding { kBgr8, kMono8, kYuyv, kJpeg, kPng };
 
 /// The encoding named by text, or nullopt for an unsupported one.
 std::optional<FrameEncoding> parse_encoding(const char* text);
 
-/// Whether a raw (bgr8/mono8) eye can be used: step, length and size checks; errors say why.
+/// Whether a raw (bgr8/mono8/yuyv: channels 3/1/2) eye can be used: step, length and size
+/// checks; errors say why.
 Status check_raw_eye(const char* eye, const stereoball_msg_EyeImage& image, int channels,
                      cv::Size expected);
 
@@ -27,8 +28,9 @@ Status check_raw_eye(const char* eye, const stereoball_msg_EyeImage& image, int 
 class FrameDecoder {
  public:
   /// Fills left/right (CV_8UC3 BGR or CV_8UC1) for a frame that must have size expected.
-  /// Raw encodings give views of msg's bytes (valid while msg lives); compressed ones give
-  /// views of this decoder's buffers (valid until the next call). Error names eye and problem;
+  /// bgr8/mono8 give views of msg's bytes (valid while msg lives); yuyv (converted to BGR by
+  /// stereo/image/yuyv_convert, as camera_server does) and compressed ones give views of this
+  /// decoder's buffers (valid until the next call). Error names eye and problem;
   /// left and right are then both empty (a refused frame has no usable eye).
   Status decode(const stereoball_msg_StereoFrame& msg, cv::Size expected, cv::Mat& left,
                 cv::Mat& right);
@@ -43,12 +45,15 @@ class FrameDecoder {
 
   /// From now on, JPEG eyes whose size reduction divides (decodes_reduced) are decoded at
   /// 1/reduction of expected (a consumer that shrinks them by that factor anyway); other eyes
-  /// keep their size. 1 (the default) = every eye at its own size.
+  /// keep their size (bgr8, mono8 and yuyv eyes too: the consumer shrinks them). 1 (the
+  /// default) = every eye at its own size.
   void set_reduction(int reduction) { reduction_ = reduction; }
 
  private:
   Status decode_eye(const char* eye, const stereoball_msg_EyeImage& image, FrameEncoding encoding,
                     cv::Size expected, cv::Mat& buffer, cv::Mat& out);
+  Status convert_yuyv_eye(const char* eye, const stereoball_msg_EyeImage& image, cv::Size expected,
+                          cv::Mat& buffer, cv::Mat& out);
 
   cv::Mat decoded_left_, decoded_right_;
   int reduction_ = 1;

@@ -3,6 +3,7 @@
 #include "stereo/frame/frame_decoder.hpp"
 
 #include "stereo/frame/frame_sample_builder.hpp"
+#include "stereo/image/yuyv_convert.hpp"
 
 #include <gtest/gtest.h>
 
@@ -84,12 +85,12 @@ TEST(FrameDecoder, GivenPngAndJpeg_ThenDecodedToBgr) {
   }
 }
 
-TEST(FrameDecoder, GivenWrongEncoding_ThenErrorNamesIt) {
+TEST(FrameDecoder, GivenWrongEncoding_ThenErrorNamesItAndTheAcceptedOnes) {
   const cv::Mat img(kSize, CV_8UC3, cv::Scalar::all(1));
   FrameBuilder f;
   f.raw(img, img);
-  f.encoding = "yuyv";
-  EXPECT_NE(decode_error(f).find("'yuyv'"), std::string::npos) << decode_error(f);
+  f.encoding = "nv12";
+  EXPECT_EQ(decode_error(f), "encoding 'nv12' is not supported (bgr8, mono8, yuyv, jpeg, png)");
 }
 
 TEST(FrameDecoder, GivenWrongSize_ThenErrorNamesEyeAndSizes) {
@@ -332,4 +333,151 @@ TEST(FrameDecoder, GivenAReduction_WhenAJpegHeaderDisagreesWithTheCalibration_Th
       EXPECT_TRUE(r.empty()) << wrong;
     }
   }
+}
+
+namespace {
+
+// A camera's YUYV bytes as a two-channel image (Y0 U Y1 V per pixel pair), random so every
+// table entry and clamp of the conversion is met; seed keeps the eyes apart.
+cv::Mat random_yuyv_eye(cv::Size size, int seed) {
+  cv::Mat m(size, CV_8UC2);
+  cv::RNG rng(static_cast<uint64_t>(seed));
+  rng.fill(m, cv::RNG::UNIFORM, 0, 256);
+  return m;
+}
+
+// The shared conversion (camera_server's) of one eye of a sample.
+cv::Mat converted(const stereoball_msg_EyeImage& eye) {
+  cv::Mat bgr;
+  const Status st = sb::stereo::yuyv_to_bgr(
+      {eye.data._buffer, eye.data._length}, static_cast<int>(eye.width_px),
+      static_cast<int>(eye.height_px), static_cast<int>(eye.step_bytes), bgr);
+  EXPECT_TRUE(st.ok()) << st.error();
+  return bgr;
+}
+
+FrameBuilder yuyv_frame(cv::Size size) {
+  FrameBuilder f;
+  f.encoding = "yuyv";
+  f.raw(random_yuyv_eye(size, 1), random_yuyv_eye(size, 2));
+  return f;
+}
+
+}  // namespace
+
+// Given a yuyv frame (a camera's native bytes, camera_server publish_encoding: native), when
+// decoded in turn and as two tasks, then both eyes are BGR of the calibration's size with the
+// bits of the shared conversion of the same bytes (which equals OpenCV's), left kept apart
+// from right.
+TEST(FrameDecoder, GivenYuyv_ThenBgrWithTheBitsOfTheSharedConversion) {
+  FrameBuilder f = yuyv_frame(kSize);
+  const auto& msg = f.get();
+  const cv::Mat want_left = converted(msg.left), want_right = converted(msg.right);
+  cv::Mat opencv_left;
+  cv::cvtColor(cv::Mat(kSize, CV_8UC2, f.left.data()), opencv_left, cv::COLOR_YUV2BGR_YUYV);
+  ASSERT_EQ(cv::norm(want_left, opencv_left, cv::NORM_INF), 0.0);
+  for (const bool two_tasks : {false, true}) {
+    FrameDecoder d;
+    cv::Mat l, r;
+    int tasks = 0;
+    const Status st = two_tasks ? d.decode(f.get(), kSize, l, r,
+                                           [&](int n, const auto& task) {
+                                             tasks = n;
+                                             run_eyes_on_two_threads(n, task);
+                                           })
+                                : d.decode(f.get(), kSize, l, r);
+    ASSERT_TRUE(st.ok()) << st.error();
+    EXPECT_EQ(tasks, two_tasks ? 2 : 0);
+    ASSERT_EQ(l.type(), CV_8UC3);
+    ASSERT_EQ(l.size(), kSize);
+    ASSERT_EQ(r.size(), kSize);
+    EXPECT_EQ(cv::norm(l, want_left, cv::NORM_INF), 0.0) << "two tasks " << two_tasks;
+    EXPECT_EQ(cv::norm(r, want_right, cv::NORM_INF), 0.0) << "two tasks " << two_tasks;
+  }
+}
+
+// Given a yuyv frame whose rows are padded (step larger than 2 x width), then the padding is
+// skipped: the eyes are the conversion of the pixels only.
+TEST(FrameDecoder, GivenYuyvWithPaddedRows_ThenThePaddingIsSkipped) {
+  const cv::Mat padded = random_yuyv_eye({kSize.width + 8, kSize.height}, 3);
+  FrameBuilder f;
+  f.encoding = "yuyv";
+  f.raw(padded, padded);
+  f.msg.left.width_px = f.msg.right.width_px = static_cast<uint32_t>(kSize.width);
+  FrameDecoder d;
+  cv::Mat l, r;
+  ASSERT_TRUE(d.decode(f.get(), kSize, l, r).ok());
+  cv::Mat want;
+  cv::cvtColor(padded(cv::Rect({0, 0}, kSize)), want, cv::COLOR_YUV2BGR_YUYV);
+  EXPECT_EQ(cv::norm(l, want, cv::NORM_INF), 0.0);
+}
+
+// Given yuyv frames spoiled one way each in one eye (cut short, a step smaller than two bytes
+// per pixel, a size other than the calibration's), when decoded in turn and as two tasks, then
+// the frame is refused with an error naming the eye and the problem, and neither eye is handed
+// out.
+TEST(FrameDecoder, GivenBrokenYuyvEyes_ThenRefusedNamingTheEye) {
+  struct Case {
+    const char* what;
+    std::function<void(stereoball_msg_EyeImage&)> spoil;
+    std::string error;
+  };
+  const std::vector<Case> cases = {
+      {"truncated", [](auto& eye) { eye.data._length -= 100; }, "data bytes"},
+      {"step", [](auto& eye) { eye.step_bytes = 64; },
+       "step_bytes 64 is smaller than width * channels = 128"},
+      {"size", [](auto& eye) { eye.height_px = 24; }, "image is 64x24 but the calibration is"},
+  };
+  for (const auto& c : cases) {
+    for (const bool spoil_left : {true, false}) {
+      for (const bool two_tasks : {false, true}) {
+        FrameBuilder f = yuyv_frame(kSize);
+        c.spoil(spoil_left ? f.msg.left : f.msg.right);
+        FrameDecoder d;
+        cv::Mat l = gradient(CV_8UC3), r = gradient(CV_8UC3);  // an earlier frame's eyes
+        const Status st = two_tasks ? d.decode(f.get(), kSize, l, r, run_eyes_in_turn)
+                                    : d.decode(f.get(), kSize, l, r);
+        const std::string eye = spoil_left ? "left " : "right ";
+        ASSERT_FALSE(st.ok()) << c.what;
+        EXPECT_EQ(st.error().rfind(eye, 0), 0u) << c.what << ": " << st.error();
+        EXPECT_NE(st.error().find(c.error), std::string::npos) << c.what << ": " << st.error();
+        EXPECT_TRUE(l.empty()) << c.what;
+        EXPECT_TRUE(r.empty()) << c.what;
+      }
+    }
+  }
+  FrameBuilder cut = yuyv_frame(kSize);
+  cut.msg.right.data._length -= 100;
+  EXPECT_NE(decode_error(cut).find("(truncated)"), std::string::npos) << decode_error(cut);
+}
+
+// Given a calibration of odd width and a yuyv frame of that width (YUYV pairs two pixels),
+// then the frame is refused naming the eye and the width, not read past its last pair.
+TEST(FrameDecoder, GivenYuyvOfOddWidth_ThenRefusedNamingTheWidth) {
+  const cv::Size odd(63, 48);
+  FrameBuilder f;
+  f.encoding = "yuyv";
+  const cv::Mat eye = random_yuyv_eye(odd, 4);
+  f.raw(eye, eye);
+  FrameDecoder d;
+  cv::Mat l, r;
+  const Status st = d.decode(f.get(), odd, l, r);
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error(), "left yuyv width 63 is odd (YUYV pairs two pixels)");
+  EXPECT_TRUE(l.empty());
+  EXPECT_TRUE(r.empty());
+}
+
+// Given a decoder told to reduce by 2 (the detector's working size), when a yuyv frame
+// arrives, then its eyes are converted at their full size, bit for bit, as bgr8 eyes are
+// handed out at theirs: the detector shrinks both the same way.
+TEST(FrameDecoder, GivenAReduction_WhenYuyvEyesDecoded_ThenConvertedAtTheirFullSize) {
+  FrameBuilder f = yuyv_frame(kSize);
+  FrameDecoder d;
+  d.set_reduction(2);
+  cv::Mat l, r;
+  ASSERT_TRUE(d.decode(f.get(), kSize, l, r, run_eyes_in_turn).ok());
+  EXPECT_EQ(l.size(), kSize);
+  EXPECT_EQ(cv::norm(l, converted(f.get().left), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(r, converted(f.get().right), cv::NORM_INF), 0.0);
 }

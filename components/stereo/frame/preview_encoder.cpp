@@ -1,41 +1,15 @@
 #include "stereo/frame/preview_encoder.hpp"
 
-#include <opencv2/imgproc.hpp>
-
 #include <string>
 
+#include "stereo/frame/eye_pixels.hpp"
+
 namespace stereoball::stereo {
-namespace {
-
-// The pixels of a raw eye without a copy (bgr8, mono8; yuyv converted into bgr), sizes checked
-// against the bytes the view holds.
-Result<cv::Mat> pixels_of(const EyeView& eye, const std::string& encoding, cv::Mat& bgr) {
-  if (eye.data == nullptr || eye.width_px == 0 || eye.height_px == 0) return Error{"empty image"};
-  const int channels = encoding == "bgr8"    ? 3
-                       : encoding == "mono8" ? 1
-                       : encoding == "yuyv"  ? 2
-                                             : 0;
-  if (channels == 0)
-    return Error{"cannot make a preview of \"" + encoding + "\" frames (bgr8, mono8, yuyv)"};
-  if (eye.step_bytes < uint64_t{eye.width_px} * static_cast<uint32_t>(channels) ||
-      eye.bytes < uint64_t{eye.step_bytes} * eye.height_px)
-    return Error{"image data has " + std::to_string(eye.bytes) + " bytes for " +
-                 std::to_string(eye.width_px) + "x" + std::to_string(eye.height_px) +
-                 " with step " + std::to_string(eye.step_bytes)};
-  const cv::Mat view(static_cast<int>(eye.height_px), static_cast<int>(eye.width_px),
-                     CV_8UC(channels), const_cast<uint8_t*>(eye.data), eye.step_bytes);
-  if (channels != 2) return view;
-  if (eye.width_px % 2 != 0) return Error{"yuyv width " + std::to_string(eye.width_px) + " is odd"};
-  cv::cvtColor(view, bgr, cv::COLOR_YUV2BGR_YUYV);
-  return bgr;
-}
-
-}  // namespace
 
 Result<EyeView> PreviewEncoder::encode_eye(const char* name, const EyeView& eye,
                                            const std::string& encoding,
                                            ViewingJpegEncoder& encoder) {
-  auto pixels = pixels_of(eye, encoding, bgr_);
+  auto pixels = eye_pixels(eye, encoding, bgr_);
   if (!pixels) return Error{std::string(name) + " eye: " + pixels.error()};
   const auto jpeg =
       encoder.encode(*pixels, params_.preview_max_width_px, params_.preview_jpeg_quality);

@@ -1,12 +1,11 @@
 #include "viewer/bridge/eye_encoder.hpp"
 
-#include <opencv2/imgproc.hpp>
-
 #include <cstring>
 #include <span>
 #include <utility>
 
 #include "stereo/image/image_decode.hpp"
+#include "stereo/image/yuyv_convert.hpp"
 
 namespace stereoball::viewer {
 namespace {
@@ -57,9 +56,12 @@ Result<cv::Mat> EyeEncoder::to_bgr(const stereoball_msg_EyeImage& image,
       return Error{"yuyv width " + std::to_string(image.width_px) + " is odd"};
     auto view = raw_view(image, CV_8UC2, 2);
     if (!view) return Error{view.error()};
-    cv::Mat bgr;
-    cv::cvtColor(*view, bgr, cv::COLOR_YUV2BGR_YUYV);
-    return bgr;
+    // The conversion camera_server's bgr8 comes from: the viewer shows what the detector sees.
+    if (auto st = stereo::yuyv_to_bgr(bytes_of(image), view->cols, view->rows,
+                                      static_cast<int>(image.step_bytes), decoded_);
+        !st)
+      return Error{st.error()};
+    return decoded_;
   }
   if (encoding == "png") return decode(image, stereo::ImageCodec::kPng);
   return Error{"encoding '" + encoding + "' is not supported (bgr8, mono8, yuyv, jpeg, png)"};

@@ -61,7 +61,7 @@ class EyeEncoder {
   // bgr scaled to max_width_px and encoded (stereo/image/viewing_jpeg).
   Result<EyeJpeg> compress(const cv::Mat& bgr);
   EyeEncoderParams params_;
-  cv::Mat decoded_;                  // PNG eyes are decoded into this (reused)
+  cv::Mat decoded_;                  // PNG and yuyv eyes are decoded into this (reused)
   stereo::ViewingJpegEncoder jpeg_;  // movable: EyeEncoder keeps its default moves
 };
 

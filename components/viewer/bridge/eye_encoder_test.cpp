@@ -33,6 +33,26 @@ TEST(EyeEncoder, Bgr8BecomesAJpegOfTheSameImage) {
   EXPECT_GT(back.at<cv::Vec3b>(24, 56)[0], 200);  // blue on the right
 }
 
+TEST(EyeEncoder, YuyvGivesTheJpegOfTheBgr8EyeOpenCvConvertsItTo) {
+  // Given YUYV bytes of random values (every luma and chroma combination counts) in rows
+  // padded to 140 bytes, and the BGR image OpenCV's conversion makes of them
+  cv::Mat yuyv(48, 70, CV_8UC2);
+  cv::randu(yuyv, cv::Scalar::all(0), cv::Scalar::all(256));
+  cv::Mat bgr;
+  cv::cvtColor(yuyv(cv::Rect(0, 0, 64, 48)), bgr, cv::COLOR_YUV2BGR_YUYV);
+  std::vector<uint8_t> packed(yuyv.data, yuyv.data + yuyv.total() * 2);
+  std::vector<uint8_t> converted(bgr.data, bgr.data + bgr.total() * 3);
+  // When both are encoded
+  EyeEncoder encoder({});
+  const auto from_yuyv = encoder.encode(eye(packed, 64, 48, 70 * 2), "yuyv");
+  const auto from_bgr8 = encoder.encode(eye(converted, 64, 48, 64 * 3), "bgr8");
+  // Then the JPEGs are the same bytes: the shared conversion gives OpenCV's pixels exactly
+  ASSERT_TRUE(from_yuyv) << from_yuyv.error();
+  ASSERT_TRUE(from_bgr8) << from_bgr8.error();
+  EXPECT_EQ(from_yuyv->bytes, from_bgr8->bytes);
+  EXPECT_EQ(from_yuyv->source_width_px, 64u);
+}
+
 TEST(EyeEncoder, WideImagesAreScaledDownToMaxWidth) {
   std::vector<uint8_t> bytes(1280 * 960, 128);
   EyeEncoderParams p;
@@ -110,6 +130,10 @@ TEST(EyeEncoder, BadInputIsNamed) {
   EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 8, 8, 0), "png").error().find("png"),
             std::string::npos);
   EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 8, 8, 8), "rgb16").error().find("rgb16"),
+            std::string::npos);
+  EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 7, 4, 14), "yuyv").error().find("odd"),
+            std::string::npos);
+  EXPECT_NE(EyeEncoder({}).encode(eye(short_data, 64, 48, 128), "yuyv").error().find("truncated"),
             std::string::npos);
 }
 
