@@ -4,6 +4,7 @@
 
 #include "camera_server/core/format_negotiation.hpp"
 #include "camera_server/io/v4l2_device.hpp"
+#include "camera_server/node/rectify_input.hpp"
 #include "common/dds/shared_memory.hpp"
 #include "common/util/log.hpp"
 #include "stereo/core/calibration_scaling.hpp"
@@ -314,18 +315,24 @@ void CameraServerNode::update_capture_health() {
 }
 
 // The rectified copy of a decoded view in storage, the view itself when not rectifying, or
-// nullptr when rectification failed (counted in health).
+// nullptr when it could not be rectified (counted in health; never published unrectified).
 const stereo::FrameView* CameraServerNode::rectify(const stereo::FrameView& view,
                                                    stereo::FrameView& storage) {
-  const cv::Mat l = stereo::image_of(view.left, view.encoding),
-                r = stereo::image_of(view.right, view.encoding);
-  if (!params_.rectify || !rectifier_ || l.empty()) return &view;
-  if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1]); !e) {
+  if (!params_.rectify || !rectifier_) return &view;
+  const auto eyes = rectify_input(view);
+  if (!eyes) {
+    runner_.health().error("rectify", eyes.error());
+    return nullptr;
+  }
+  if (auto e = rectifier_->rectify((*eyes)[0], (*eyes)[1], rectified_[0], rectified_[1]); !e) {
     runner_.health().error("rectify", e.error());
     return nullptr;
   }
   auto v = stereo::view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);
-  if (!v) return nullptr;
+  if (!v) {
+    runner_.health().error("rectify", v.error());
+    return nullptr;
+  }
   storage = *v;
   storage.left.capture_stamp_ns = view.left.capture_stamp_ns;
   storage.right.capture_stamp_ns = view.right.capture_stamp_ns;
