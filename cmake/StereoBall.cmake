@@ -2,8 +2,18 @@
 # ids and output folders stay uniform.
 
 set(SB_SOURCE_ROOT ${CMAKE_SOURCE_DIR})
-# Real data shipped beside the project (read-only, never copied in).
-get_filename_component(SB_SHARED_DATA_DIR ${CMAKE_SOURCE_DIR}/../shared/data ABSOLUTE)
+# Real data shipped beside the project (read-only, never copied in): ../shared/data unless the
+# cache option says otherwise; a missing folder is a configure warning naming the option.
+get_filename_component(sb_default_shared_data ${CMAKE_SOURCE_DIR}/../shared/data ABSOLUTE)
+set(SB_SHARED_DATA_DIR ${sb_default_shared_data} CACHE PATH
+    "Shared data folder the tests and benches read (default ../shared/data beside the source)")
+get_filename_component(SB_SHARED_DATA_DIR ${SB_SHARED_DATA_DIR} ABSOLUTE)
+include(${CMAKE_CURRENT_LIST_DIR}/SharedData.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/TestPrograms.cmake)
+sb_shared_data_warning(${SB_SHARED_DATA_DIR} sb_shared_data_warning_text)
+if(sb_shared_data_warning_text)
+  message(WARNING "${sb_shared_data_warning_text}")
+endif()
 
 # Build speed: precompiled headers (off by default). The standard library, OpenCV core/imgproc
 # and (in tests) GoogleTest are parsed once per build into a shared precompiled header instead of
@@ -260,6 +270,14 @@ function(sb_add_gtest name)
   endif()
   cmake_parse_arguments(A "DDS;ALONE" "TIMEOUT" "SOURCES;DEPS;LABELS;SKIPPABLE" ${ARGN})
   sb_test_executable(${name} "${A_SOURCES}" "${A_DEPS}" "${A_ALONE}" exe)
+  # For sb_check_test_programs (cmake/TestPrograms.cmake): the files that may name programs.
+  set(abs_sources)
+  foreach(s IN LISTS A_SOURCES)
+    get_filename_component(s ${s} ABSOLUTE BASE_DIR ${CMAKE_CURRENT_SOURCE_DIR})
+    list(APPEND abs_sources ${s})
+  endforeach()
+  set_property(GLOBAL APPEND PROPERTY SB_GTESTS ${name})
+  set_property(GLOBAL PROPERTY SB_GTEST_SOURCES_${name} ${abs_sources})
   # In a group, the entry runs the cases of this test's files only.
   set(run $<TARGET_FILE:${exe}> --gtest_color=no)
   if(NOT exe STREQUAL name)

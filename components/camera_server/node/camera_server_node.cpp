@@ -4,6 +4,7 @@
 
 #include "camera_server/core/format_negotiation.hpp"
 #include "camera_server/io/v4l2_device.hpp"
+#include "camera_server/node/rectify_input.hpp"
 #include "common/dds/shared_memory.hpp"
 #include "common/util/log.hpp"
 #include "stereo/core/calibration_scaling.hpp"
@@ -215,6 +216,7 @@ void CameraServerNode::reload_calibration_if_changed() {
     calibration_.emplace(std::move(loaded->calibration));
     rectifier_.emplace(std::move(loaded->rectifier));
     eye_order_.reset();  // judge the eye order again with the new file
+    eye_order_skipped_.clear();
     publish_calibration();
   }
   log::info("calibration reloaded from ", params_.calibration_file, " and published");
@@ -313,18 +315,24 @@ void CameraServerNode::update_capture_health() {
 }
 
 // The rectified copy of a decoded view in storage, the view itself when not rectifying, or
-// nullptr when rectification failed (counted in health).
+// nullptr when it could not be rectified (counted in health; never published unrectified).
 const stereo::FrameView* CameraServerNode::rectify(const stereo::FrameView& view,
                                                    stereo::FrameView& storage) {
-  const cv::Mat l = stereo::image_of(view.left, view.encoding),
-                r = stereo::image_of(view.right, view.encoding);
-  if (!params_.rectify || !rectifier_ || l.empty()) return &view;
-  if (auto e = rectifier_->rectify(l, r, rectified_[0], rectified_[1]); !e) {
+  if (!params_.rectify || !rectifier_) return &view;
+  const auto eyes = rectify_input(view);
+  if (!eyes) {
+    runner_.health().error("rectify", eyes.error());
+    return nullptr;
+  }
+  if (auto e = rectifier_->rectify((*eyes)[0], (*eyes)[1], rectified_[0], rectified_[1]); !e) {
     runner_.health().error("rectify", e.error());
     return nullptr;
   }
   auto v = stereo::view_of_images(rectified_[0], rectified_[1], view.seq, view.stamp_ns);
-  if (!v) return nullptr;
+  if (!v) {
+    runner_.health().error("rectify", v.error());
+    return nullptr;
+  }
   storage = *v;
   storage.left.capture_stamp_ns = view.left.capture_stamp_ns;
   storage.right.capture_stamp_ns = view.right.capture_stamp_ns;
@@ -357,14 +365,12 @@ void CameraServerNode::check_eye_order(const stereo::FrameView& view) {
   if (eye_order_.due()) {
     auto l = eye_order_pixels(view.left, view.encoding, eye_order_pixels_[0]);
     auto r = eye_order_pixels(view.right, view.encoding, eye_order_pixels_[1]);
-    if (l && r) {
-      left = *l;
-      right = *r;
-    } else {
-      runner_.health().error("eye_order", std::string("eye order not checked: ") +
-                                              (l ? "right" : "left") +
-                                              " eye: " + (l ? r.error() : l.error()));
+    if (!l || !r) {
+      skip_eye_order(std::string(l ? "right" : "left") + " eye: " + (l ? r.error() : l.error()));
+      return;
     }
+    left = *l;
+    right = *r;
   }
   const auto evidence = eye_order_.step(*rectifier_, left, right, false);
   if (!evidence) return;
@@ -372,6 +378,22 @@ void CameraServerNode::check_eye_order(const stereo::FrameView& view) {
     log::error(*text);
     runner_.health().error("eyes_swapped", *text);
   }
+}
+
+// A sampled frame whose eyes cannot be had uses up one of the watch's checks: a camera whose
+// frames never decode reports each cause once and, when no check is left, that it gave up,
+// instead of an error every 100th frame for ever.
+void CameraServerNode::skip_eye_order(const std::string& why) {
+  eye_order_.skip();
+  if (eye_order_.given_up()) {
+    const std::string text = "eye order not checked (check given up): " + why;
+    log::warn(text);
+    runner_.health().error("eye_order", text);
+    return;
+  }
+  if (why == eye_order_skipped_) return;
+  eye_order_skipped_ = why;
+  runner_.health().error("eye_order", "eye order not checked: " + why);
 }
 
 // The view scaled to publish_width_px in storage, the view itself without a publish width, or

@@ -64,6 +64,7 @@ class CameraServerNode {
   void publish(const stereo::FrameView& view);
   void offer_preview(const stereo::FrameView& view);
   void check_eye_order(const stereo::FrameView& view);
+  void skip_eye_order(const std::string& why);
   const stereo::FrameView* scale(const stereo::FrameView& view, stereo::FrameView& storage);
   const stereo::FrameView* rectify(const stereo::FrameView& view, stereo::FrameView& storage);
   const stereo::FrameView* compress(const stereo::FrameView& view, stereo::FrameView& storage);
@@ -88,7 +89,8 @@ class CameraServerNode {
   std::optional<FrameScaler> scaler_;                    // publish_width_px
   cv::Size publish_size_;                                // eyes as published (before compression)
   stereo::EyeOrderWatch eye_order_;                      // first frames: are the cameras swapped?
-  cv::Mat eye_order_pixels_[2];  // yuyv/jpeg eyes of the checked frames, converted or decoded
+  cv::Mat eye_order_pixels_[2];    // yuyv/jpeg eyes of the checked frames, converted or decoded
+  std::string eye_order_skipped_;  // why the last sampled frame could not be checked (once each)
   cv::Mat rectified_[2];
   std::optional<stereo::FrameCompressor> compressor_;  // frame_encoding jpeg/png
   // stereo/preview of raw frames, made only while a viewer reads it; created with the source

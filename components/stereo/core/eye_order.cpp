@@ -66,6 +66,15 @@ std::optional<EyeOrderEvidence> EyeOrderWatch::step(const Rectifier& rectifier, 
   return e;
 }
 
+void EyeOrderWatch::skip() {
+  if (due()) ++checks_;
+  ++frames_;
+}
+
+bool EyeOrderWatch::given_up() const {
+  return !decided_ && checks_ >= max_checks_;
+}
+
 void EyeOrderWatch::reset() {
   frames_ = checks_ = 0;
   decided_ = false;

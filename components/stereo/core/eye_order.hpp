@@ -55,6 +55,11 @@ class EyeOrderWatch {
   /// Counts a frame; checks it when due and returns the evidence of that check.
   std::optional<EyeOrderEvidence> step(const Rectifier& rectifier, const cv::Mat& left,
                                        const cv::Mat& right, bool rectified);
+  /// Counts a frame whose images could not be had (instead of step): when it was due, it uses
+  /// up a check, so a camera whose frames never convert ends the watch after max_checks.
+  void skip();
+  /// No check left and no decision: the order stays unknown until reset().
+  bool given_up() const;
   /// Starts over (e.g. a new calibration).
   void reset();
 

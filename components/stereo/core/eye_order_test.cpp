@@ -96,5 +96,24 @@ TEST(EyeOrderWatch, GivenBlankThenRealFramesWhenStreamedThenChecksUntilADecision
   EXPECT_TRUE(watch.step(rectifier, l, r, false).has_value());
 }
 
+TEST(EyeOrderWatch, GivenFramesThatCannotBeHadWhenSkippedThenEachDueOneUsesUpACheck) {
+  // Given a watch checking every 2nd frame, at most 3 times
+  EyeOrderWatch watch(3, 2);
+  // When every frame is skipped (its images could not be converted or decoded)
+  int due = 0;
+  for (int frame = 0; frame < 20 && !watch.given_up(); ++frame) {
+    due += watch.due() ? 1 : 0;
+    watch.skip();
+  }
+  // Then the watch gave up after its three due frames and checks nothing more
+  EXPECT_TRUE(watch.given_up());
+  EXPECT_EQ(due, 3);
+  EXPECT_FALSE(watch.due());
+  // and after a reset it checks again
+  watch.reset();
+  EXPECT_FALSE(watch.given_up());
+  EXPECT_TRUE(watch.due());
+}
+
 }  // namespace
 }  // namespace stereoball::stereo
