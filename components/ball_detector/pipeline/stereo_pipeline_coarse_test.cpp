@@ -103,19 +103,25 @@ BallDetectorParams with_target(int target_width_px) {
   return p;
 }
 
+// One rendered raw pair through a full-width pipeline (first) and one with COARSE's settings.
+std::pair<sb::ball_detector::StereoDetection, sb::ball_detector::StereoDetection> full_and_coarse(
+    const WideRendered& r, const BallDetectorParams& coarse) {
+  StereoPipeline full_pipeline(with_target(0));
+  StereoPipeline coarse_pipeline(coarse);
+  EXPECT_TRUE(full_pipeline.set_calibration(r.calib).ok());
+  EXPECT_TRUE(coarse_pipeline.set_calibration(r.calib).ok());
+  return {full_pipeline.step(r.frame.left, r.frame.right, false),
+          coarse_pipeline.step(r.frame.left, r.frame.right, false)};
+}
+
 }  // namespace
 
 TEST(StereoPipelineCoarse, GivenA2304FrameThenTheSameBallAsTheFullWidthSearch) {
   for (const auto& [x_m, y_m] : {std::pair{1.5, 0.0}, std::pair{2.5, 0.3}}) {
     // Given a rendered 2304x1296 pair, searched at full width and coarse to fine (level 2)
     const WideRendered r = render_plain(x_m, y_m, 2304, 1296);
-    StereoPipeline full(with_target(0));
-    StereoPipeline coarse(with_target(640));
-    ASSERT_TRUE(full.set_calibration(r.calib).ok());
-    ASSERT_TRUE(coarse.set_calibration(r.calib).ok());
     // When each processes the raw pair
-    const auto a = full.step(r.frame.left, r.frame.right, false);
-    const auto b = coarse.step(r.frame.left, r.frame.right, false);
+    const auto [a, b] = full_and_coarse(r, with_target(640));
     // Then both find it by the whole-frame search, at the same place within a pixel
     ASSERT_EQ(a.status, DetectionStatus::kFound) << a.reason;
     ASSERT_EQ(b.status, DetectionStatus::kFound) << b.reason;
@@ -241,15 +247,10 @@ TEST(StereoPipelineCoarse, GivenAWeakCoarsePairThenTheFullWidthSearchAnswers) {
   // Given a rendered 2304x1296 pair, searched at full width, and coarse to fine with every
   // reduced-eye pair too weak to answer
   const WideRendered r = render_plain(1.5, 0.0, 2304, 1296);
-  StereoPipeline full(with_target(0));
   BallDetectorParams weak = with_target(640);
   weak.coarse_min_pair_score = 1.0;
-  StereoPipeline coarse(weak);
-  ASSERT_TRUE(full.set_calibration(r.calib).ok());
-  ASSERT_TRUE(coarse.set_calibration(r.calib).ok());
   // When each processes the raw pair
-  const auto a = full.step(r.frame.left, r.frame.right, false);
-  const auto b = coarse.step(r.frame.left, r.frame.right, false);
+  const auto [a, b] = full_and_coarse(r, weak);
   // Then both find the ball by the whole frame at full width: the same detection to the bit
   ASSERT_EQ(a.status, DetectionStatus::kFound) << a.reason;
   ASSERT_EQ(b.status, DetectionStatus::kFound) << b.reason;
