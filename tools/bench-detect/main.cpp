@@ -264,6 +264,21 @@ std::vector<stereoball::bench_detect::Family> real_families() {
                  return std::make_unique<bd::PixelToPixelDetector>(p);
                }});
         }
+  // The chosen multi-scale setting with its small radii's peaks, strongest first, examined until
+  // several in a row give nothing (fine_stop_after_missed_peaks), at the split or below it.
+  for (int stop : {2, 3, 5, 10, 20})
+    for (double fine : {2.0, 1.5})
+      p2p.settings.push_back(
+          {cv::format("scale fine<%.2fxrmin fine-stop=%d k=3,5 fine k=3 give-up coarse-peaks=50 "
+                      "score>=0.55 clutter=0.2 peaks=50",
+                      fine, stop),
+           [stop, fine](cv::Size s, double rmin) {
+             auto p = multi_scale_params(s, rmin, {3, 5}, fine, 0.55, 0.2, kRealMaxCircles / 2);
+             p.fine_give_up = true;
+             p.coarse_max_peaks_examined = kRealMaxCircles / 2;
+             p.fine_stop_after_missed_peaks = stop;
+             return std::make_unique<bd::PixelToPixelDetector>(p);
+           }});
   // And at full resolution only: coarse to fine halves a 6 px circle to 3 px, below what the
   // halved search finds; the tune split decides which wins.
   for (const auto& ks : std::vector<std::vector<int>>{{5}, {3, 5}, {3, 5, 8}})

@@ -185,6 +185,10 @@ Status PixelToPixelParams::validate() const {
     return Error{"coarse_max_peaks_examined must be in [0, 1000]"};
   if (fine_max_peaks_examined < 0 || fine_max_peaks_examined > 1000)
     return Error{"fine_max_peaks_examined must be in [0, 1000]"};
+  if (stop_after_missed_peaks < 0 || stop_after_missed_peaks > 1000)
+    return Error{"stop_after_missed_peaks must be in [0, 1000]"};
+  if (fine_stop_after_missed_peaks < 0 || fine_stop_after_missed_peaks > 1000)
+    return Error{"fine_stop_after_missed_peaks must be in [0, 1000]"};
   if (fine_below_radius_px > 0.0) {
     if (fine_k_values.empty()) return Error{"fine_k_values must hold at least one k in [1, 31]"};
     for (int k : fine_k_values)
@@ -417,7 +421,14 @@ void PixelToPixelDetector::vote_on_edges() {
 std::vector<Circle> PixelToPixelDetector::circles_on(const EdgeMap& edges) {
   const int n = peaks_on(edges);
   std::vector<PeakCircles> per_peak(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) per_peak[static_cast<std::size_t>(i)] = refine_peak(i);
+  const int stop_after = params_.stop_after_missed_peaks;
+  int missed_in_row = 0;
+  for (int i = 0; i < n; ++i) {
+    PeakCircles& circles = per_peak[static_cast<std::size_t>(i)];
+    circles = refine_peak(i);
+    missed_in_row = circles.empty() ? missed_in_row + 1 : 0;
+    if (stop_after > 0 && missed_in_row >= stop_after) break;
+  }
   return select_circles(per_peak);
 }
 

@@ -43,6 +43,10 @@ struct PixelToPixelParams {
   /// to its centre (the arc through O), so texture or a line merely passing through the window
   /// does not silence an arc. Off = the paper's rule exactly.
   bool isolate_arc = true;
+  /// Addition (speed, detect() and circles_of_votes() only): > 0 = the peaks, strongest first,
+  /// stop being examined once this many in a row gave no circle (the rest are weaker still:
+  /// texture). 0 = every peak up to max_peaks_examined, [0, 1000].
+  int stop_after_missed_peaks = 0;
   /// Arc isolation is tried only on windows holding at most this many times 2k+1 points:
   /// denser windows are texture, where the flood fill costs time and rarely isolates an arc
   /// (addition), [1, 64].
@@ -114,6 +118,9 @@ struct PixelToPixelParams {
   /// their windows with the windows' own thresholds: one full-resolution edge step per image.
   /// False = each window's own edges.
   bool fine_shared_edges = false;
+  /// Addition (speed, with fine_below_radius_px): stop_after_missed_peaks in the full-resolution
+  /// search of the small radii (0 = its own value), [0, 1000].
+  int fine_stop_after_missed_peaks = 0;
 
   /// Success, or an error naming the first bad field and its allowed range.
   Status validate() const;

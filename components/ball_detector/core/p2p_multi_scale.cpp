@@ -31,6 +31,7 @@ PixelToPixelParams PixelToPixelParams::small_circle_search() const {
     p.max_peaks_examined = fine_max_peaks_examined;
     p.max_circles = std::min(max_circles, fine_max_peaks_examined);
   }
+  if (fine_stop_after_missed_peaks > 0) p.stop_after_missed_peaks = fine_stop_after_missed_peaks;
   return p;
 }
 

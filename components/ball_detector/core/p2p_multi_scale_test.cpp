@@ -256,6 +256,33 @@ TEST(PixelToPixelMultiScale, GivenBadFineSettingsThenValidateNamesThem) {
   EXPECT_NE(p.validate().error().find("fine_max_peaks_examined"), std::string::npos);
   p.fine_max_peaks_examined = 25;
   EXPECT_TRUE(p.validate());
+  p.fine_stop_after_missed_peaks = -1;
+  EXPECT_NE(p.validate().error().find("fine_stop_after_missed_peaks"), std::string::npos);
+  p.fine_stop_after_missed_peaks = 3;
+  p.stop_after_missed_peaks = 1001;
+  EXPECT_NE(p.validate().error().find("stop_after_missed_peaks"), std::string::npos);
+  p.stop_after_missed_peaks = 0;
+  EXPECT_TRUE(p.validate());
+}
+
+TEST(PixelToPixelMultiScale, GivenAStopAfterMissedPeaksThenOnlyTheSmallSearchStopsAndFindsAll) {
+  // Given 4.5 px discs and a 90 px disc, and the multi-scale search whose small-radius search
+  // stops after 3 peaks in a row give no circle
+  const SmallAndLarge scene = small_and_large_scene(4.5);
+  PixelToPixelParams p = coarse_params(3.5, 120.0);
+  p.fine_below_radius_px = 10.0;
+  p.fine_stop_after_missed_peaks = 3;
+  // When its searches are derived and it searches the scene
+  const PixelToPixelParams small = p.small_circle_search();
+  const PixelToPixelParams large = p.large_circle_search();
+  PixelToPixelDetector det(p);
+  const auto found = det.detect(scene.image);
+  // Then only the small-radius search stops early, and every disc is still found (the discs'
+  // peaks are the strongest)
+  EXPECT_EQ(small.stop_after_missed_peaks, 3);
+  EXPECT_EQ(large.stop_after_missed_peaks, 0);
+  EXPECT_EQ(found_of(found, scene.small), 8);
+  EXPECT_EQ(found_of(found, scene.large), 1);
 }
 
 TEST(PixelToPixelMultiScale, GivenCheaperFineSettingsThenOnlyTheSmallRadiusSearchChanges) {
