@@ -30,13 +30,7 @@ void CoarseSearch::set_up(const BallDetectorParams& p, int image_width_px,
   // large radii that pile up over clutter, and those sums outrank a ball's own peak.
   params.box_size_px = std::max(3, (full.box_size_px >> level) | 1);
   params.max_peaks_examined = std::min(params.max_peaks_examined, kCoarsePeaksExamined);
-  // A detector examines max(max_peaks_examined, max_circles) peaks, and params_at_level raised
-  // max_circles to the full width's 16: the whole range examines its 8 only (each of its circles
-  // is refined at full width too; what its weaker peaks held, the bands find). The bands keep
-  // 16 peaks for their 4 circles: with fewer they lost balls in clutter (README: coarse to fine).
-  PixelToPixelParams whole_range = params;
-  whole_range.max_circles = std::min(whole_range.max_circles, kCoarsePeaksExamined);
-  detector.emplace(whole_range);
+  detector.emplace(params);
   band_detectors.clear();
   // As the single-image coarse search (PixelToPixelParams::coarse_to_fine): on the reduced eye
   // small round texture outvotes a ball's outline unless peaks need voters from around them.
