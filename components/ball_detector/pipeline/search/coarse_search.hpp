@@ -1,10 +1,10 @@
 #pragma once
 // The first try of a wide frame's whole-frame search, coarse to fine (core/coarse_to_fine.hpp):
 // the left eye votes reduced to about coarse_to_fine.target_width_px, the circles of the whole
-// radius range and of each radius band of those votes are refined on the full-resolution edges,
-// and radii too small for the reduced eye are voted for at full width (README: coarse to fine).
-// When that pairs nothing (or only weakly), the frame is searched at full width (whole frame,
-// then radius bands) as without it.
+// radius range of those votes (and, if they pair only weakly, of each radius band too) are
+// refined on the full-resolution edges, and radii too small for the reduced eye are voted for
+// at full width (README: coarse to fine). When that pairs nothing (or only weakly), the frame
+// is searched at full width as without it.
 
 #include <opencv2/core.hpp>
 
