@@ -68,7 +68,8 @@ std::optional<SearchOutcome> WholeFrameSearch::coarse_try(const FrameState& fram
   SearchOutcome out = pair_left_circles(frame, scratch, tools, whole, false);
   // The radius bands only when the whole range's circles give no strong pair: the bands (each
   // plots every line again, and their circles are refined at full width) were the largest part
-  // of the reduced eye's work, and where the whole range pairs they changed no answer.
+  // of the reduced eye's work, and on the real stereo set they changed no answer where the whole
+  // range paired.
   if (!strong(out)) {
     std::vector<Circle> banded = circles.with_bands();
     const bool same =
