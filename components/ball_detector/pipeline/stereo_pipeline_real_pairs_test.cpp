@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,12 +19,15 @@
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "stereo/core/calibration_scaling.hpp"
 #include "stereo/core/rectifier.hpp"
+#include "stereo/core/triangulation.hpp"
 #include "stereo/frame/frame_codec.hpp"
 #include "stereo/io/calibration_file.hpp"
 
 namespace sb = stereoball;
 using sb::ball_detector::BallDetectorParams;
+using sb::ball_detector::Circle;
 using sb::ball_detector::DetectionStatus;
+using sb::ball_detector::SearchTools;
 using sb::ball_detector::StereoDetection;
 using sb::ball_detector::StereoPipeline;
 
@@ -40,6 +44,13 @@ BallDetectorParams basketball_params() {
   p.epipolar_skew_ns = 16'700'000;
   p.max_image_width_px = 2304;
   p.max_image_height_px = 1296;
+  return p;
+}
+
+// basketball_params() searched coarse to fine (reduced eye about 640 px wide).
+BallDetectorParams coarse_basketball_params() {
+  BallDetectorParams p = basketball_params();
+  p.coarse_to_fine.target_width_px = 640;
   return p;
 }
 
@@ -75,6 +86,48 @@ void expect_correct(const StereoDetection& d, const Truth& t) {
   EXPECT_LE(std::hypot(d.left.x_px - t.x_px, d.left.y_px - t.y_px), std::max(6.0, 0.35 * t.r_px))
       << "pair " << t.id;
   EXPECT_NEAR(d.position_m[2], t.z_m, 0.05 * t.z_m) << "pair " << t.id;
+}
+
+// Pairs with clutter below the ball (truth ball_truth.csv, halved to 1152 px).
+const Truth kClutterBelow02{"02", 610.75, 270.25, 35.5, 1.62};
+const Truth kClutterBelow72{"72", 521.75, 317.0, 24.75, 2.38};
+// A pair whose reduced eye finds the ball in a radius band only as well.
+const Truth kBandOnly83{"83", 481.0, 309.25, 30.5, 1.96};
+
+// Whether one of found is t's ball (centre within max(6 px, 0.35 r), radius within 20 %).
+bool holds_ball(const std::vector<Circle>& found, const Truth& t) {
+  return std::any_of(found.begin(), found.end(), [&](const Circle& c) {
+    return std::hypot(c.x_px - t.x_px, c.y_px - t.y_px) <= std::max(6.0, 0.35 * t.r_px) &&
+           std::abs(c.radius_px - t.r_px) <= 0.2 * t.r_px;
+  });
+}
+
+// A pipeline's search tools for the rig's frames published at 1152 px (coarse to fine, reduced
+// eye 576 px, the perspective outline's camera), holding pair id's rectified left eye; null
+// (with a failure) when something is missing.
+std::unique_ptr<SearchTools> half_width_reduced_eye(const sb::stereo::StereoCalibration& calib,
+                                                    const std::string& id) {
+  auto half = sb::stereo::scale_calibration(calib, cv::Size(1152, 648));
+  EXPECT_TRUE(half.ok()) << half.error();
+  if (!half.ok()) return nullptr;
+  auto rectifier = sb::stereo::Rectifier::create(*half);
+  auto triangulator = sb::stereo::Triangulator::create(*half);
+  EXPECT_TRUE(rectifier.ok() && triangulator.ok());
+  if (!rectifier.ok() || !triangulator.ok()) return nullptr;
+  const BallDetectorParams p = coarse_basketball_params();
+  auto tools = std::make_unique<SearchTools>(p);
+  tools->params.p2p = sb::ball_detector::scaled_to_width(p.p2p, p.p2p_reference_width_px, 1152);
+  tools->left_detector = sb::ball_detector::PixelToPixelDetector(tools->params.detector_params());
+  const sb::stereo::PinholeCamera camera{triangulator->focal_px(),
+                                         triangulator->principal_left_px()};
+  tools->left_detector.set_camera(camera);
+  tools->coarse.set_up(tools->params, 1152, camera);
+  EXPECT_EQ(tools->coarse.level, 1);
+  const cv::Mat l = published(kSet + "/left/left_" + id + ".jpg", half->image_size);
+  EXPECT_FALSE(l.empty());
+  if (l.empty() || !rectifier->rectify_eye(sb::stereo::Eye::kLeft, l, tools->rect_left).ok())
+    return nullptr;
+  return tools;
 }
 
 class RealBasketballPairs : public ::testing::Test {
@@ -242,31 +295,81 @@ TEST_F(RealBasketballPairs, GivenClutterBelowTheBall_ThenTheReducedEyeStillFinds
   // pile up over that clutter; with the full-size smoothing box on the reduced votes and the
   // whole radius range alone, every examined peak lay there and the reduced eye gave no circle
   // on the ball
+  for (const Truth& t : {kClutterBelow02, kClutterBelow72}) {
+    const std::unique_ptr<SearchTools> tools = half_width_reduced_eye(calib_, t.id);
+    ASSERT_TRUE(tools);
+    // When the reduced eye votes and its circles are refined at full width
+    ASSERT_TRUE(sb::ball_detector::cast_reduced_left_votes(*tools));
+    const std::vector<Circle> found = sb::ball_detector::coarse_left_circles(*tools);
+    // Then one of them is the ball (centre within max(6 px, 0.35 r), radius within 20 %)
+    EXPECT_TRUE(holds_ball(found, t)) << "pair " << t.id << ": " << found.size() << " circles";
+  }
+}
+
+TEST_F(RealBasketballPairs, GivenABallOnlyTheReducedBandsFind_ThenTheBandsAreSearchedForIt) {
+  // Given pairs 72 (clutter below the ball, above) and 83 at half width, whose reduced eye
+  // finds the ball in a radius band only
+  for (const Truth& t : {kClutterBelow72, kBandOnly83}) {
+    const std::unique_ptr<SearchTools> tools = half_width_reduced_eye(calib_, t.id);
+    const std::unique_ptr<SearchTools> one_step = half_width_reduced_eye(calib_, t.id);
+    ASSERT_TRUE(tools && one_step);
+    ASSERT_TRUE(sb::ball_detector::cast_reduced_left_votes(*tools));
+    ASSERT_TRUE(sb::ball_detector::cast_reduced_left_votes(*one_step));
+    // When the whole range's circles are asked for first, then the bands' as well
+    sb::ball_detector::CoarseLeftCircles circles(*tools);
+    const std::vector<Circle> whole = circles.whole_range();
+    EXPECT_TRUE(tools->coarse.band_detectors.empty()) << "no band is searched for the first";
+    const std::vector<Circle> banded = circles.with_bands();
+    // Then the whole range's miss the ball and the bands' hold it
+    EXPECT_FALSE(holds_ball(whole, t)) << "premise: only a band finds pair " << t.id;
+    EXPECT_TRUE(holds_ball(banded, t)) << "pair " << t.id;
+    // And they are the circles of the one-step search to the bit (refined in two steps, each
+    // circle once)
+    const std::vector<Circle> all = sb::ball_detector::coarse_left_circles(*one_step);
+    EXPECT_TRUE(std::equal(banded.begin(), banded.end(), all.begin(), all.end(),
+                           sb::ball_detector::same_scored_circle))
+        << "pair " << t.id;
+  }
+  // And through the pipeline (coarse to fine, the whole range first) each is found correct
   auto half = sb::stereo::scale_calibration(calib_, cv::Size(1152, 648));
   ASSERT_TRUE(half.ok()) << half.error();
-  auto rectifier = sb::stereo::Rectifier::create(*half);
-  ASSERT_TRUE(rectifier.ok()) << rectifier.error();
-  BallDetectorParams p = basketball_params();
-  p.coarse_to_fine.target_width_px = 640;
-  for (const Truth& t :
-       {Truth{"02", 610.75, 270.25, 35.5, 1.62}, Truth{"72", 521.75, 317.0, 24.75, 2.38}}) {
-    sb::ball_detector::SearchTools tools(p);
-    tools.params.p2p = sb::ball_detector::scaled_to_width(p.p2p, p.p2p_reference_width_px, 1152);
-    tools.left_detector = sb::ball_detector::PixelToPixelDetector(tools.params.detector_params());
-    tools.coarse.set_up(tools.params, 1152, std::nullopt);
-    ASSERT_EQ(tools.coarse.level, 1);
+  for (const Truth& t : {kClutterBelow72, kBandOnly83}) {
+    StereoPipeline pipeline(coarse_basketball_params());
+    ASSERT_TRUE(pipeline.set_calibration(*half).ok());
     const cv::Mat l = published(kSet + "/left/left_" + t.id + ".jpg", half->image_size);
-    ASSERT_FALSE(l.empty());
-    ASSERT_TRUE(rectifier->rectify_eye(sb::stereo::Eye::kLeft, l, tools.rect_left).ok());
-    // When the reduced eye votes and its circles are refined at full width
-    ASSERT_TRUE(sb::ball_detector::cast_reduced_left_votes(tools));
-    const std::vector<sb::ball_detector::Circle> found =
-        sb::ball_detector::coarse_left_circles(tools);
-    // Then one of them is the ball (centre within max(6 px, 0.35 r), radius within 20 %)
-    const bool on_ball = std::any_of(found.begin(), found.end(), [&](const auto& c) {
-      return std::hypot(c.x_px - t.x_px, c.y_px - t.y_px) <= std::max(6.0, 0.35 * t.r_px) &&
-             std::abs(c.radius_px - t.r_px) <= 0.2 * t.r_px;
-    });
-    EXPECT_TRUE(on_ball) << "pair " << t.id << ": " << found.size() << " circles";
+    const cv::Mat r = published(kSet + "/right/right_" + t.id + ".jpg", half->image_size);
+    expect_correct(pipeline.step(l, r, false), t);
+  }
+}
+
+TEST_F(RealBasketballPairs, GivenABallTheWholeRangePairs_ThenTheBandsAreNotSearched) {
+  // Given pairs 07 and 19 at half width, balls held in the open whose reduced eye's whole
+  // radius range holds the ball, and whose radius bands would add other circles
+  auto half = sb::stereo::scale_calibration(calib_, cv::Size(1152, 648));
+  ASSERT_TRUE(half.ok()) << half.error();
+  for (const Truth& t :
+       {Truth{"07", 466.25, 424.75, 46.25, 1.21}, Truth{"19", 777.25, 276.0, 34.75, 1.57}}) {
+    StereoPipeline pipeline(coarse_basketball_params());
+    ASSERT_TRUE(pipeline.set_calibration(*half).ok());
+    const cv::Mat l = published(kSet + "/left/left_" + t.id + ".jpg", half->image_size);
+    const cv::Mat r = published(kSet + "/right/right_" + t.id + ".jpg", half->image_size);
+    // When the pipeline searches the pair (coarse to fine)
+    const StereoDetection d = pipeline.step(l, r, false);
+    // Then it is found correct, paired among the whole range's circles alone
+    expect_correct(d, t);
+    const std::unique_ptr<SearchTools> tools = half_width_reduced_eye(calib_, t.id);
+    ASSERT_TRUE(tools);
+    ASSERT_TRUE(sb::ball_detector::cast_reduced_left_votes(*tools));
+    sb::ball_detector::CoarseLeftCircles circles(*tools);
+    const std::vector<Circle> whole = circles.whole_range();
+    const std::vector<Circle> banded = circles.with_bands();
+    ASSERT_FALSE(std::equal(banded.begin(), banded.end(), whole.begin(), whole.end(),
+                            sb::ball_detector::same_scored_circle))
+        << "premise: the bands add circles on pair " << t.id;
+    const std::vector<Circle>& answered = pipeline.left_candidates();
+    EXPECT_TRUE(std::equal(answered.begin(), answered.end(), whole.begin(), whole.end(),
+                           sb::ball_detector::same_scored_circle))
+        << "pair " << t.id << ": " << answered.size() << " candidates, " << whole.size()
+        << " of the whole range";
   }
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <span>
 
 #include "ball_detector/pipeline/search/radius_bands.hpp"
@@ -77,27 +78,63 @@ void add_reduced_band_circles(CoarseSearch& coarse, double min_separation_px,
 
 }  // namespace
 
-std::vector<Circle> coarse_left_circles(SearchTools& tools) {
-  CoarseSearch& coarse = tools.coarse;
-  std::vector<Circle> reduced = coarse.detector->circles_of_votes();
+const std::vector<Circle>& CoarseLeftCircles::whole_reduced() {
+  if (!whole_) whole_ = tools_.coarse.detector->circles_of_votes();
+  return *whole_;
+}
+
+std::vector<Circle> CoarseLeftCircles::whole_range() {
+  return refined_with_fine_path(whole_reduced());
+}
+
+std::vector<Circle> CoarseLeftCircles::with_bands() {
+  std::vector<Circle> reduced = whole_reduced();
   // In clutter the whole range's strongest peaks are the long lines of large radii crossing
   // there (the reason for the full-width radius bands); on the reduced eye the bands cost a
-  // replay of its lines, so they run on every coarse try.
-  add_reduced_band_circles(coarse, coarse.params.min_separation_px,
-                           tools.params.detector_params().coarse_min_voted_coverage, reduced);
-  std::vector<Circle> found = refine_coarse_circles(tools.left_detector, reduced, coarse.level,
-                                                    tools.params.coarse_to_fine.max_refine_shift);
+  // replay of its lines.
+  add_reduced_band_circles(tools_.coarse, tools_.coarse.params.min_separation_px,
+                           tools_.params.detector_params().coarse_min_voted_coverage, reduced);
+  return refined_with_fine_path(reduced);
+}
+
+std::vector<Circle> CoarseLeftCircles::refined_with_fine_path(const std::vector<Circle>& reduced) {
+  CoarseSearch& coarse = tools_.coarse;
+  // One at a time and ranked afterwards, as refine_coarse_circles ranks them all at once: the
+  // same circles as one call over reduced, whichever of them were refined before.
+  std::vector<Circle> held;
+  for (const Circle& c : reduced) {
+    auto it = std::find_if(refined_.begin(), refined_.end(),
+                           [&](const auto& done) { return same_scored_circle(done.first, c); });
+    if (it == refined_.end()) {
+      refined_.emplace_back(
+          c, refine_coarse_circles(tools_.left_detector, std::span<const Circle>(&c, 1),
+                                   coarse.level, tools_.params.coarse_to_fine.max_refine_shift));
+      it = std::prev(refined_.end());
+    }
+    held.insert(held.end(), it->second.begin(), it->second.end());
+  }
+  std::vector<Circle> found = tools_.left_detector.keep_best_separated(std::move(held));
   if (coarse.fine_path) {
-    const EdgeThresholds thresholds = thresholds_of(tools.left_detector.edge_map());
-    for (const Circle& c :
-         coarse.fine_path->detect(tools.rect_left, thresholds, SearchHints{coarse.split.fine_px}))
-      found.push_back(c);
+    if (!fine_) {
+      const EdgeThresholds thresholds = thresholds_of(tools_.left_detector.edge_map());
+      fine_ =
+          coarse.fine_path->detect(tools_.rect_left, thresholds, SearchHints{coarse.split.fine_px});
+    }
+    found.insert(found.end(), fine_->begin(), fine_->end());
     std::stable_sort(found.begin(), found.end(),
                      [](const Circle& a, const Circle& b) { return a.score > b.score; });
   }
-  const auto most = static_cast<std::size_t>(tools.params.max_candidates_per_eye);
+  const auto most = static_cast<std::size_t>(tools_.params.max_candidates_per_eye);
   if (found.size() > most) found.resize(most);
   return found;
+}
+
+bool same_scored_circle(const Circle& a, const Circle& b) {
+  return a.x_px == b.x_px && a.y_px == b.y_px && a.radius_px == b.radius_px && a.score == b.score;
+}
+
+std::vector<Circle> coarse_left_circles(SearchTools& tools) {
+  return CoarseLeftCircles(tools).with_bands();
 }
 
 }  // namespace stereoball::ball_detector

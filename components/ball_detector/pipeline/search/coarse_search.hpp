@@ -1,15 +1,16 @@
 #pragma once
 // The first try of a wide frame's whole-frame search, coarse to fine (core/coarse_to_fine.hpp):
 // the left eye votes reduced to about coarse_to_fine.target_width_px, the circles of the whole
-// radius range and of each radius band of those votes are refined on the full-resolution edges,
-// and radii too small for the reduced eye are voted for at full width (README: coarse to fine).
-// When that pairs nothing (or only weakly), the frame is searched at full width (whole frame,
-// then radius bands) as without it.
+// radius range of those votes (and, if they pair only weakly, of each radius band too) are
+// refined on the full-resolution edges, and radii too small for the reduced eye are voted for
+// at full width (README: coarse to fine). When that pairs nothing (or only weakly), the frame
+// is searched at full width as without it.
 
 #include <opencv2/core.hpp>
 
 #include <atomic>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "ball_detector/core/coarse_to_fine.hpp"
@@ -49,9 +50,40 @@ struct CoarseSearch {
 /// left detector then holds the full-resolution edges only; false for an invalid image.
 bool cast_reduced_left_votes(SearchTools& tools);
 
-/// The circles of the reduced eye's votes (the whole radius range's and each radius band's,
-/// kCoarseBandCircles a band) refined at full width, with the fine path's, best first, at most
-/// max_candidates_per_eye.
+/// The circles of one coarse try's reduced votes refined at full width, in two steps (README:
+/// coarse to fine on wide frames): the whole radius range's first; the radius bands' only when
+/// asked for (when the whole range's circles give no strong pair). Each reduced circle is
+/// refined once, however often it is asked for. Lives for one frame's coarse try.
+class CoarseLeftCircles {
+ public:
+  /// For the votes cast_reduced_left_votes(tools) has just cast; tools must outlive this.
+  explicit CoarseLeftCircles(SearchTools& tools) : tools_(tools) {}
+  /// The whole radius range's circles refined, with the fine path's: best first, at most
+  /// max_candidates_per_eye.
+  std::vector<Circle> whole_range();
+  /// The whole range's and each radius band's circles (kCoarseBandCircles a band) refined,
+  /// with the fine path's: best first, at most max_candidates_per_eye.
+  std::vector<Circle> with_bands();
+
+ private:
+  // reduced refined at full width (refine_coarse_circles, one at a time, so a circle asked for
+  // again is not refined again), ranked with the fine path's circles.
+  std::vector<Circle> refined_with_fine_path(const std::vector<Circle>& reduced);
+  // The whole range's reduced circles (voted once).
+  const std::vector<Circle>& whole_reduced();
+
+  SearchTools& tools_;
+  std::optional<std::vector<Circle>> whole_;  // the whole range's reduced circles
+  std::optional<std::vector<Circle>> fine_;   // the fine path's circles
+  // Each reduced circle refined so far and what it gave (empty: dropped).
+  std::vector<std::pair<Circle, std::vector<Circle>>> refined_;
+};
+
+/// Whether a and b are the same circle to the bit (place, radius and score).
+bool same_scored_circle(const Circle& a, const Circle& b);
+
+/// CoarseLeftCircles(tools).with_bands(): the circles of the reduced eye's votes (the whole
+/// radius range's and each radius band's) refined at full width, with the fine path's.
 std::vector<Circle> coarse_left_circles(SearchTools& tools);
 
 }  // namespace stereoball::ball_detector

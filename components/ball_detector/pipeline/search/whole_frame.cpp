@@ -1,6 +1,8 @@
 #include "ball_detector/pipeline/search/whole_frame.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <optional>
 
 #include "ball_detector/pipeline/search/radius_bands.hpp"
 
@@ -15,16 +17,9 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
     // search. A ball they do not resolve (an outline partly hidden by hands whose edges merge
     // with it at half size) is then searched for exactly as without coarse to fine; so is one
     // only the colour seeds would find (their circle may lose there to a better voted one).
-    const bool voted = cast_reduced_left_votes(tools);
-    edges_made = voted;
-    SearchOutcome coarse = pair_left_circles(
-        frame, scratch, tools, voted ? coarse_left_circles(tools) : std::vector<Circle>{}, false);
-    // A weak pair there (a fit pulled onto fingers or a seam scores low) is judged by the
-    // full-width search instead, which may find the outline itself or withdraw it.
-    if (coarse.found() && coarse.pairing.best &&
-        coarse.pairing.best->score >= tools.params.coarse_min_pair_score) {
-      coarse.path = SearchPath::kWholeFrame;
-      return coarse;
+    edges_made = cast_reduced_left_votes(tools);
+    if (edges_made) {
+      if (std::optional<SearchOutcome> coarse = coarse_try(frame, scratch, tools)) return coarse;
     }
   }
   // The coarse try's edges are this image's, made as cast_votes makes them: only the votes are
@@ -55,6 +50,34 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
     paired = out.found();
   });
   if (bands_due && !paired) scratch.band_left = std::move(bands);
+  out.path = SearchPath::kWholeFrame;
+  return out;
+}
+
+std::optional<SearchOutcome> WholeFrameSearch::coarse_try(const FrameState& frame,
+                                                          FrameScratch& scratch,
+                                                          SearchTools& tools) const {
+  // A weak pair (a fit pulled onto fingers or a seam scores low) is judged by the full-width
+  // search instead, which may find the outline itself or withdraw it.
+  const auto strong = [&](const SearchOutcome& o) {
+    return o.found() && o.pairing.best &&
+           o.pairing.best->score >= tools.params.coarse_min_pair_score;
+  };
+  CoarseLeftCircles circles(tools);
+  std::vector<Circle> whole = circles.whole_range();
+  SearchOutcome out = pair_left_circles(frame, scratch, tools, whole, false);
+  // The radius bands only when the whole range's circles give no strong pair: the bands (each
+  // plots every line again, and their circles are refined at full width) were the largest part
+  // of the reduced eye's work, and on the real stereo set they changed no answer where the whole
+  // range paired.
+  if (!strong(out)) {
+    std::vector<Circle> banded = circles.with_bands();
+    const bool same =
+        std::equal(banded.begin(), banded.end(), whole.begin(), whole.end(), same_scored_circle);
+    if (same) return std::nullopt;  // paired as above already
+    out = pair_left_circles(frame, scratch, tools, std::move(banded), false);
+  }
+  if (!strong(out)) return std::nullopt;
   out.path = SearchPath::kWholeFrame;
   return out;
 }

@@ -22,6 +22,11 @@ class WholeFrameSearch : public SearchStrategy {
  private:
   /// The left detector's last votes turned into circles, each peak a task or all in turn.
   static std::vector<Circle> circles_of_votes(SearchTools& tools, bool peaks_at_once);
+  /// Coarse to fine, the reduced eye's votes (cast already) paired: the whole radius range's
+  /// circles first, the radius bands' too if those give no pair of coarse_min_pair_score;
+  /// nullopt when neither does (the full-width search then answers).
+  std::optional<SearchOutcome> coarse_try(const FrameState& frame, FrameScratch& scratch,
+                                          SearchTools& tools) const;
   /// left (and with_colour_seeds, the colour seeds' circles) paired with the right eye searched
   /// in their partner boxes (or whole), the left detector's edge thresholds measured again.
   SearchOutcome pair_left_circles(const FrameState& frame, FrameScratch& scratch,
