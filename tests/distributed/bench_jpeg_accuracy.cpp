@@ -42,6 +42,31 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// One JPEG variant: quality and colour resolution (jpeg_chroma), named "jpeg90" for 4:4:4 and
+// "jpeg90/420" otherwise.
+struct Variant {
+  int quality = 90;
+  std::string chroma = "444";
+  std::string name() const {
+    return "jpeg" + std::to_string(quality) + (chroma == "444" ? "" : "/" + chroma);
+  }
+  sb::stereo::FrameCodecParams codec() const {
+    sb::stereo::FrameCodecParams p;
+    p.frame_encoding = "jpeg";
+    p.jpeg_quality = quality;
+    p.jpeg_chroma = chroma;
+    return p;
+  }
+};
+
+std::vector<Variant> variants_of(const std::vector<int>& qualities,
+                                 const std::vector<std::string>& chromas) {
+  std::vector<Variant> out;
+  for (const auto& c : chromas)
+    for (int q : qualities) out.push_back({q, c});
+  return out;
+}
+
 double dist3(const cv::Vec3d& a, const cv::Vec3d& b) {
   return cv::norm(a - b);
 }
@@ -59,7 +84,7 @@ void compare_to_truth(const bd::StereoDetection& d, const sb::simulator::GroundT
 void print_row(const std::string& name, const Stats& s) {
   namespace sd = sb::distributed;
   const double n = std::max(1, s.frames);
-  std::printf("%-8s %7.0f %6.1f%% | %7.3f %7.3f %7.3f | %7.1f %7.1f | %7.3f %7.1f | %6.2f %6.2f\n",
+  std::printf("%-11s %7.0f %6.1f%% | %7.3f %7.3f %7.3f | %7.1f %7.1f | %7.3f %7.1f | %6.2f %6.2f\n",
               name.c_str(), s.bytes / n / 1024.0, 100.0 * s.found / n,
               sd::percentile(s.centre_vs_raw_px, 50), sd::percentile(s.centre_vs_raw_px, 99),
               s.centre_vs_raw_px.empty()
@@ -72,12 +97,12 @@ void print_row(const std::string& name, const Stats& s) {
 
 // Single-eye mode on real images (no ground truth): the best raw circle vs the nearest circle
 // found on the JPEG copy, per quality.
-int run_images(const std::vector<std::string>& images, const std::vector<int>& qualities,
+int run_images(const std::vector<std::string>& images, const std::vector<Variant>& variants,
                const bd::BallDetectorParams& params) {
   namespace sd = sb::distributed;
   std::printf("single eye (P2P) on %zu real images; shift of the best raw circle\n", images.size());
-  std::printf("variant  KiB/img  matched | centre shift px p50 / max | radius shift px max\n");
-  for (int q : qualities) {
+  std::printf("variant     KiB/img  matched | centre shift px p50 / max | radius shift px max\n");
+  for (const Variant& v : variants) {
     std::vector<double> shift, radius;
     double bytes = 0;
     int matched = 0, total = 0;
@@ -88,7 +113,7 @@ int run_images(const std::vector<std::string>& images, const std::vector<int>& q
                      path.c_str());
         return 2;
       }
-      sb::stereo::EyeEncoder encoder({"jpeg", q});
+      sb::stereo::EyeEncoder encoder(v.codec());
       if (auto st = encoder.encode(raw); !st) {
         std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s: %s\n", path.c_str(),
                      st.error().c_str());
@@ -115,7 +140,7 @@ int run_images(const std::vector<std::string>& images, const std::vector<int>& q
         radius.push_back(dr);
       }
     }
-    std::printf("jpeg%-4d %7.0f  %3d/%-3d | %8.3f / %8.3f      | %8.3f\n", q,
+    std::printf("%-11s %7.0f  %3d/%-3d | %8.3f / %8.3f      | %8.3f\n", v.name().c_str(),
                 bytes / std::max<size_t>(1, images.size()) / 1024, matched, total,
                 sd::percentile(shift, 50), sd::percentile(shift, 100), sd::percentile(radius, 100));
   }
@@ -139,6 +164,10 @@ int main(int argc, char** argv) {
   app.add_option("--quality", qualities, "JPEG qualities to try")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
+  std::vector<std::string> chromas{"444"};
+  app.add_option("--chroma", chromas, "jpeg_chroma values to try, each at every quality")
+      ->check(CLI::IsMember(sb::stereo::jpeg_chroma_choices()))
+      ->capture_default_str();
   app.add_option("--frames", frames_per_scenario, "frames per scenario")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
@@ -160,14 +189,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", detector_params.error().c_str());
     return 2;
   }
-  if (!images.empty()) return run_images(images, qualities, *detector_params);
+  const std::vector<Variant> variants = variants_of(qualities, chromas);
+  if (!images.empty()) return run_images(images, variants, *detector_params);
   auto sim_params = sb::simulator::load_sim_params(sim_config);
   if (!sim_params) {
     std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", sim_params.error().c_str());
     return 2;
   }
   Stats raw;
-  std::map<int, Stats> jpeg;
+  std::map<std::string, Stats> jpeg;
   for (const auto& name : scenarios) {
     auto scenario = sb::simulator::load_scenario_by_name(name, scenarios_dir);
     if (!scenario) {
@@ -176,10 +206,10 @@ int main(int argc, char** argv) {
     }
     sb::simulator::Simulator sim(*sim_params, *scenario);
     bd::StereoPipeline raw_pipeline(*detector_params);
-    std::map<int, std::unique_ptr<bd::StereoPipeline>> pipelines;
-    for (int q : qualities) {
-      pipelines[q] = std::make_unique<bd::StereoPipeline>(*detector_params);
-      pipelines[q]->set_calibration(sim.calibration());
+    std::map<std::string, std::unique_ptr<bd::StereoPipeline>> pipelines;
+    for (const Variant& v : variants) {
+      pipelines[v.name()] = std::make_unique<bd::StereoPipeline>(*detector_params);
+      pipelines[v.name()]->set_calibration(sim.calibration());
     }
     if (auto e = raw_pipeline.set_calibration(sim.calibration()); !e) {
       std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: calibration: %s\n", e.error().c_str());
@@ -198,14 +228,14 @@ int main(int argc, char** argv) {
                     frame.truth.ball_visible_right);
       }
       compare_to_truth(r, frame.truth, raw);
-      for (int q : qualities) {
-        Stats& s = jpeg[q];
+      for (const Variant& v : variants) {
+        Stats& s = jpeg[v.name()];
         cv::Mat eyes[2];
         const cv::Mat* in[2] = {&frame.left, &frame.right};
         for (int e = 0; e < 2; ++e) {
           auto t0 = std::chrono::steady_clock::now();
           // The publishers' own encoder (camera_server, simulator with frame_encoding jpeg).
-          sb::stereo::EyeEncoder encoder({"jpeg", q});
+          sb::stereo::EyeEncoder encoder(v.codec());
           if (auto st = encoder.encode(*in[e]); !st) {
             std::fprintf(stderr, "stereoball-bench-jpeg-accuracy: %s\n", st.error().c_str());
             return 1;
@@ -216,9 +246,9 @@ int main(int argc, char** argv) {
           eyes[e] = cv::imdecode(encoder.bytes(), cv::IMREAD_COLOR);
           s.decode_ms += ms_since(t0);
         }
-        const bd::StereoDetection d = pipelines[q]->step(eyes[0], eyes[1], false);
+        const bd::StereoDetection d = pipelines[v.name()]->step(eyes[0], eyes[1], false);
         if (verbose) {
-          std::printf("  jpeg%d: %s %s\n", q, bd::to_string(d.status), d.reason.c_str());
+          std::printf("  %s: %s %s\n", v.name().c_str(), bd::to_string(d.status), d.reason.c_str());
         }
         ++s.frames;
         if (d.status == bd::DetectionStatus::kFound) ++s.found;
@@ -237,11 +267,12 @@ int main(int argc, char** argv) {
               scenarios.size(), frames_per_scenario, spacing_s, sim_params->width_px,
               sim_params->height_px);
   std::printf(
-      "variant  KiB/pair  found | centre diff vs raw (px) | 3D vs raw (mm)  | vs truth p50    | "
+      "variant     KiB/pair  found | centre diff vs raw (px) | 3D vs raw (mm)  | vs truth p50    | "
       "enc/dec ms per pair\n"
-      "                         |    p50     p99     max  |    p50     p99  |   px      mm    |\n");
+      "                            |    p50     p99     max  |    p50     p99  |   px      mm    "
+      "|\n");
   print_row("raw", raw);
-  for (int q : qualities) print_row("jpeg" + std::to_string(q), jpeg[q]);
+  for (const Variant& v : variants) print_row(v.name(), jpeg[v.name()]);
   std::printf(
       "centre diff = larger of the left and right eye centre shifts, frames where both "
       "raw and JPEG found the ball\n");

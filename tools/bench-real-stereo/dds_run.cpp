@@ -109,6 +109,7 @@ std::string camera_config(const RealStereoSet& set, const std::string& play_dir,
   y += "calibration_file: " + quoted(fs::absolute(set.calibration_path).string()) + "\n";
   y += "frame_encoding: " + o.frame_encoding + "\n";
   y += "jpeg_quality: " + std::to_string(o.jpeg_quality) + "\n";
+  y += "jpeg_chroma: " + quoted(o.jpeg_chroma) + "\n";
   y += "preview_max_width_px: 0\n";
   if (o.width_px != 0) y += "publish_width_px: " + std::to_string(o.width_px) + "\n";
   return y;

@@ -146,6 +146,7 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
   stereo::FrameCodecParams codec;
   codec.frame_encoding = options.frame_encoding;
   codec.jpeg_quality = options.jpeg_quality;
+  codec.jpeg_chroma = options.jpeg_chroma;
   std::optional<stereo::FrameCompressor> compressor;
   if (codec.compressed()) compressor.emplace(codec);
   stereo::FrameDecoder decoder;

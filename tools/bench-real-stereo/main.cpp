@@ -16,6 +16,7 @@
 #include "real_stereo_report.hpp"
 #include "real_stereo_run.hpp"
 #include "real_stereo_set.hpp"
+#include "stereo/frame/frame_codec.hpp"
 
 namespace {
 
@@ -90,6 +91,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--jpeg-quality", options.jpeg_quality, "camera_server jpeg_quality")
       ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  app.add_option("--jpeg-chroma", options.jpeg_chroma,
+                 "camera_server jpeg_chroma: colour resolution of the JPEG eyes")
+      ->check(CLI::IsMember(stereo::jpeg_chroma_choices()))
       ->capture_default_str();
   app.add_option("--rate-hz", options.rate_hz,
                  "camera_server playback rate; low enough for the detector to answer every "

@@ -86,7 +86,9 @@ std::string format_table(const ReportContext& ctx, const RunResult& run,
                          fmt("%.4f", run.scale)
                    : std::string("native"))
     << "), frame_encoding " << o.frame_encoding
-    << (o.frame_encoding == "jpeg" ? " quality " + std::to_string(o.jpeg_quality) : "");
+    << (o.frame_encoding == "jpeg"
+            ? " quality " + std::to_string(o.jpeg_quality) + " chroma " + o.jpeg_chroma
+            : "");
   if (run.mode == "dds") t << ", " << fmt("%.2f", o.rate_hz) << " Hz";
   t << "\n";
   t << "detector:    " << ctx.detector_base;
@@ -183,6 +185,7 @@ std::string format_json(const ReportContext& ctx, const RunResult& run,
   j << "  \"truth_scale\": " << json_number(run.scale) << ",\n";
   j << "  \"frame_encoding\": " << util::json_quoted(o.frame_encoding) << ",\n";
   j << "  \"jpeg_quality\": " << o.jpeg_quality << ",\n";
+  j << "  \"jpeg_chroma\": " << util::json_quoted(o.jpeg_chroma) << ",\n";
   j << "  \"rate_hz\": " << json_number(run.mode == "dds" ? o.rate_hz : NAN) << ",\n";
   j << "  \"domain\": " << (run.mode == "dds" ? std::to_string(o.domain) : "null") << ",\n";
   j << "  \"detector_config\": {\"base\": " << util::json_quoted(ctx.detector_base)

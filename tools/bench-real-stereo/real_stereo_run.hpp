@@ -19,6 +19,7 @@ namespace stereoball::real_stereo {
 struct RunOptions {
   std::string frame_encoding = "jpeg";  ///< camera_server frame_encoding: raw | jpeg | png
   int jpeg_quality = 90;                ///< with jpeg
+  std::string jpeg_chroma = "444";      ///< camera_server jpeg_chroma: 444 | 422 | 420
   int width_px = 0;                     ///< camera_server publish_width_px (0 = native)
   double rate_hz = 1.0;                 ///< camera_server playback rate (DDS)
   int domain = 87;                      ///< private DDS domain (DDS)

@@ -42,6 +42,8 @@ TEST(CameraServerParams, GivenBadFieldsWhenValidatedThenEachIsNamed) {
   EXPECT_TRUE(
       names(error_after([](auto& p) { p.output.frame_encoding.assign("gif"); }), "frame_encoding"));
   EXPECT_TRUE(names(error_after([](auto& p) { p.output.jpeg_quality = 0; }), "jpeg_quality"));
+  EXPECT_TRUE(
+      names(error_after([](auto& p) { p.output.jpeg_chroma.assign("411"); }), "jpeg_chroma"));
   EXPECT_TRUE(names(error_after([](auto& p) {
                       p.rectify = true;
                       p.calibration_file.assign("c.yaml");

@@ -226,7 +226,8 @@ void CameraServerNode::start() {
   if (compressor_) {
     log::info("publishing ", params_.output.frame_encoding, " frames",
               params_.output.frame_encoding == "jpeg"
-                  ? " at quality " + std::to_string(params_.output.jpeg_quality)
+                  ? " at quality " + std::to_string(params_.output.jpeg_quality) + ", chroma " +
+                        params_.output.jpeg_chroma
                   : std::string());
   }
   if (!calibration_) log::warn("no calibration_file: stereo/calibration is not published");

@@ -67,15 +67,18 @@ TEST(CameraServerParamsFile, GivenFrameEncodingKeysWhenParsedThenReadOrNamedWith
   ASSERT_TRUE(absent.ok()) << absent.error();
   EXPECT_EQ(absent->output.frame_encoding, "raw");
   EXPECT_EQ(absent->output.jpeg_quality, 90);
-  // Set: read
-  auto jpeg =
-      parse_camera_server_params(base + "frame_encoding: jpeg\njpeg_quality: 75\n", "c.yaml");
+  EXPECT_EQ(absent->output.jpeg_chroma, "444");
+  // Set: read (the chroma as a bare number too, as a user writes it)
+  auto jpeg = parse_camera_server_params(
+      base + "frame_encoding: jpeg\njpeg_quality: 75\njpeg_chroma: 420\n", "c.yaml");
   ASSERT_TRUE(jpeg.ok()) << jpeg.error();
   EXPECT_EQ(jpeg->output.frame_encoding, "jpeg");
   EXPECT_EQ(jpeg->output.jpeg_quality, 75);
+  EXPECT_EQ(jpeg->output.jpeg_chroma, "420");
   // Bad values: one line naming the file and the key
-  for (const std::string bad : {"frame_encoding: webp\n", "jpeg_quality: 0\n",
-                                "jpeg_quality: 101\n", "jpeg_quality: high\n"}) {
+  for (const std::string bad :
+       {"frame_encoding: webp\n", "jpeg_quality: 0\n", "jpeg_quality: 101\n",
+        "jpeg_quality: high\n", "jpeg_chroma: 411\n", "jpeg_chroma: \"4:2:0\"\n"}) {
     auto p = parse_camera_server_params(base + bad, "c.yaml");
     ASSERT_FALSE(p.ok()) << bad;
     EXPECT_TRUE(has(p.error(), "c.yaml")) << p.error();

@@ -39,6 +39,7 @@ TEST(SimParamsFile, ShippedConfigLoadsAndMatchesTheDefaults) {
   ASSERT_TRUE(c.ok()) << c.error();
   EXPECT_EQ(c->output.frame_encoding, "raw");
   EXPECT_EQ(c->output.jpeg_quality, 90);
+  EXPECT_EQ(c->output.jpeg_chroma, "444");
 }
 
 // The shipped config with one "key: value" line replaced, written to a temp file.
@@ -63,7 +64,8 @@ TEST(SimParamsFile, FrameEncodingIsReadAndBadValuesAreNamedWithTheFile) {
        std::vector<std::tuple<std::string, std::string, std::string>>{
            {"frame_encoding: raw", "frame_encoding: webp", "frame_encoding"},
            {"jpeg_quality: 90", "jpeg_quality: 0", "jpeg_quality"},
-           {"jpeg_quality: 90", "jpeg_quality: 101", "jpeg_quality"}}) {
+           {"jpeg_quality: 90", "jpeg_quality: 101", "jpeg_quality"},
+           {"jpeg_chroma: \"444\"", "jpeg_chroma: 411", "jpeg_chroma"}}) {
     const std::string path = config_with(line, bad);
     const auto c = load_simulator_config(path);
     ASSERT_FALSE(c.ok()) << bad;

@@ -342,12 +342,14 @@ TEST(SimulatorNodeCli, GivenBadFrameEncodingOrQuality_ThenOneLineNamingFileAndKe
     EXPECT_NE(out.find(key), std::string::npos) << out;
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
   }
-  // And out-of-range override flags are refused
-  const auto [code, out] = sb::testing::run(
-      {bin, "--config", sb::testing::source_path("config/simulator.yaml"), "--jpeg-quality", "0"},
-      10s);
-  EXPECT_NE(code, 0) << out;
-  EXPECT_NE(out.find("--jpeg-quality"), std::string::npos) << out;
+  // And out-of-range override flags are refused, naming the flag
+  for (const auto& [flag, bad] : std::vector<std::pair<std::string, std::string>>{
+           {"--jpeg-quality", "0"}, {"--jpeg-chroma", "411"}}) {
+    const auto [code, out] = sb::testing::run(
+        {bin, "--config", sb::testing::source_path("config/simulator.yaml"), flag, bad}, 10s);
+    EXPECT_NE(code, 0) << out;
+    EXPECT_NE(out.find(flag), std::string::npos) << out;
+  }
 }
 
 TEST(SimulatorNodeCli, GivenBadInputs_ThenOneClearLineAndNonZeroExit) {

@@ -23,11 +23,24 @@ struct JpegErrors {
   std::longjmp(errors->jump, 1);
 }
 
+// How many luma samples share one chroma sample, across and down.
+struct ChromaSampling {
+  int h = 1;
+  int v = 1;
+};
+
+ChromaSampling chroma_sampling(const std::string& jpeg_chroma) {
+  if (jpeg_chroma == "422") return {2, 1};
+  if (jpeg_chroma == "420") return {2, 2};
+  return {1, 1};
+}
+
 // One JPEG stream of an 8-bit grey or BGR image in *out (malloc'ed by libjpeg; the caller
-// frees it), every component at full resolution (4:4:4). C-style on purpose: nothing with a
-// destructor lives between setjmp and longjmp. False on failure, errors.message says why.
-bool compress_jpeg_444(const cv::Mat& image, int quality, unsigned char** out, unsigned long* size,
-                       JpegErrors& errors) {
+// frees it), the chroma subsampled by sampling (grey has no chroma). C-style on purpose:
+// nothing with a destructor lives between setjmp and longjmp. False on failure,
+// errors.message says why.
+bool compress_jpeg(const cv::Mat& image, int quality, ChromaSampling sampling, unsigned char** out,
+                   unsigned long* size, JpegErrors& errors) {
   jpeg_compress_struct cinfo;
   cinfo.err = jpeg_std_error(&errors.base);
   errors.base.error_exit = on_jpeg_error;
@@ -45,9 +58,11 @@ bool compress_jpeg_444(const cv::Mat& image, int quality, unsigned char** out, u
   jpeg_set_quality(&cinfo, quality, TRUE);
   // optimize_coding would save ~5 % of the bytes for 3x the encode time (2.2 -> 6.6 ms a pair).
   cinfo.optimize_coding = FALSE;
+  // libjpeg subsamples by giving luma more samples per MCU than the two chroma components.
   for (int c = 0; c < cinfo.num_components; ++c) {
-    cinfo.comp_info[c].h_samp_factor = 1;
-    cinfo.comp_info[c].v_samp_factor = 1;
+    const bool luma_of_colour = c == 0 && cinfo.num_components == 3;
+    cinfo.comp_info[c].h_samp_factor = luma_of_colour ? sampling.h : 1;
+    cinfo.comp_info[c].v_samp_factor = luma_of_colour ? sampling.v : 1;
   }
   jpeg_start_compress(&cinfo, TRUE);
   while (cinfo.next_scanline < cinfo.image_height) {
@@ -66,6 +81,11 @@ const std::vector<std::string>& frame_encoding_choices() {
   return kChoices;
 }
 
+const std::vector<std::string>& jpeg_chroma_choices() {
+  static const std::vector<std::string> kChoices{"444", "422", "420"};
+  return kChoices;
+}
+
 const params::FieldTable<FrameCodecParams>& frame_codec_fields() {
   using params::at;
   const FrameCodecParams defaults;
@@ -75,6 +95,10 @@ const params::FieldTable<FrameCodecParams>& frame_codec_fields() {
                      "raw (pixels) or jpeg / png: how each eye is compressed before publishing"),
       params::number("jpeg_quality", at(&FrameCodecParams::jpeg_quality), defaults.jpeg_quality,
                      {1, 100}, "", "JPEG quality, used with frame_encoding jpeg"),
+      params::choice("jpeg_chroma", at(&FrameCodecParams::jpeg_chroma), defaults.jpeg_chroma,
+                     jpeg_chroma_choices(),
+                     "colour resolution of JPEG eyes: 444 full, 422 half the columns, 420 half "
+                     "the columns and rows (fewer bytes, less encode and decode work)"),
       params::number("preview_max_width_px", at(&FrameCodecParams::preview_max_width_px),
                      defaults.preview_max_width_px, {0, 8192}, "px",
                      "stereo/preview (for stereoball view, encoded only while a viewer reads "
@@ -113,7 +137,8 @@ Status EyeEncoder::encode_jpeg(const cv::Mat& image) {
   unsigned char* out = nullptr;
   unsigned long size = 0;
   JpegErrors errors{};
-  const bool ok = compress_jpeg_444(image, params_.jpeg_quality, &out, &size, errors);
+  const bool ok = compress_jpeg(image, params_.jpeg_quality, chroma_sampling(params_.jpeg_chroma),
+                                &out, &size, errors);
   if (ok) bytes_.assign(out, out + size);
   std::free(out);
   if (!ok) return Error{std::string("jpeg encoding failed: ") + errors.message};

@@ -10,11 +10,15 @@ FrameCodecFlags::FrameCodecFlags(CLI::App& app) {
       ->check(CLI::IsMember(frame_encoding_choices()));
   app.add_option("--jpeg-quality", quality_, "overrides jpeg_quality of the config (1-100)")
       ->check(CLI::Range(1, 100));
+  app.add_option("--jpeg-chroma", chroma_,
+                 "overrides jpeg_chroma of the config: 444 (full colour resolution), 422, 420")
+      ->check(CLI::IsMember(jpeg_chroma_choices()));
 }
 
 void FrameCodecFlags::apply(FrameCodecParams& params) const {
   if (!encoding_.empty()) params.frame_encoding = encoding_;
   if (quality_ != 0) params.jpeg_quality = quality_;
+  if (!chroma_.empty()) params.jpeg_chroma = chroma_;
 }
 
 }  // namespace stereoball::stereo

@@ -1,6 +1,7 @@
 #pragma once
-// --frame-encoding / --jpeg-quality: the command-line overrides of a frame publisher's
-// frame_encoding and jpeg_quality (camera_server, simulator; used by the *-jpeg profiles).
+// --frame-encoding / --jpeg-quality / --jpeg-chroma: the command-line overrides of a frame
+// publisher's frame_encoding, jpeg_quality and jpeg_chroma (camera_server, simulator; used by
+// the *-jpeg profiles).
 
 #include <string>
 
@@ -14,10 +15,11 @@ class App;
 
 namespace stereoball::stereo {
 
-/// Registers both flags on an app and applies the ones given to the config's values.
+/// Registers the flags on an app and applies the ones given to the config's values.
 class FrameCodecFlags {
  public:
-  /// Adds --frame-encoding (raw|jpeg|png) and --jpeg-quality (1-100) to app.
+  /// Adds --frame-encoding (raw|jpeg|png), --jpeg-quality (1-100) and --jpeg-chroma
+  /// (444|422|420) to app.
   explicit FrameCodecFlags(CLI::App& app);
   /// Overrides the fields of params whose flag was given (after parsing).
   void apply(FrameCodecParams& params) const;
@@ -25,6 +27,7 @@ class FrameCodecFlags {
  private:
   std::string encoding_;
   int quality_ = 0;  // 0 = not given
+  std::string chroma_;
 };
 
 }  // namespace stereoball::stereo

@@ -46,10 +46,12 @@ double mean_abs_diff(const cv::Mat& a, const cv::Mat& b) {
   return cv::mean(d)[0];
 }
 
-FrameCodecParams codec(const std::string& encoding, int quality = 90) {
+FrameCodecParams codec(const std::string& encoding, int quality = 90,
+                       const std::string& chroma = "444") {
   FrameCodecParams p;
   p.frame_encoding = encoding;
   p.jpeg_quality = quality;
+  p.jpeg_chroma = chroma;
   return p;
 }
 
@@ -57,6 +59,7 @@ TEST(FrameCodecParams, GivenDefaultsThenRawAndValid) {
   const FrameCodecParams p;
   EXPECT_EQ(p.frame_encoding, "raw");
   EXPECT_EQ(p.jpeg_quality, 90);
+  EXPECT_EQ(p.jpeg_chroma, "444");
   EXPECT_FALSE(p.compressed());
   EXPECT_TRUE(p.validate()) << p.validate().error();
   EXPECT_TRUE(codec("jpeg").compressed());
@@ -78,6 +81,15 @@ TEST(FrameCodecParams, GivenBadValuesThenTheFieldAndRangeAreNamed) {
   }
   EXPECT_TRUE(codec("jpeg", 1).validate());
   EXPECT_TRUE(codec("jpeg", 100).validate());
+  for (const std::string bad : {"411", "4:2:0", ""}) {
+    const auto e = codec("jpeg", 90, bad).validate();
+    ASSERT_FALSE(e) << bad;
+    EXPECT_NE(e.error().find("jpeg_chroma"), std::string::npos) << e.error();
+    EXPECT_NE(e.error().find("'" + bad + "'"), std::string::npos) << e.error();
+  }
+  for (const std::string good : {"444", "422", "420"}) {
+    EXPECT_TRUE(codec("jpeg", 90, good).validate()) << good;
+  }
 }
 
 TEST(EyeEncoder, GivenBgrImageWhenJpegEncodedThenDecodesCloseToItAndMuchSmaller) {
@@ -118,6 +130,71 @@ TEST(EyeEncoder, GivenFineColourDetailThenJpegKeepsFullChromaResolution) {
   std::printf("red channel error: 4:4:4 %.2f DN, 4:2:0 %.2f DN\n", ours, opencv);
   EXPECT_LT(ours, 0.25 * opencv);
   EXPECT_LT(ours, 8.0);
+}
+
+// Given the camera-like scene, when encoded at q90 with each jpeg_chroma, then every stream
+// decodes close to the image (the round trip the detector sees) and halving the colour
+// resolution saves bytes: 420 fewer than 422, 422 fewer than 444.
+TEST(EyeEncoder, GivenEachChromaWhenJpegEncodedThenCloseToTheImageAndSubsamplingSavesBytes) {
+  const cv::Mat img = scene(3, 2);
+  std::vector<std::size_t> bytes;
+  for (const std::string chroma : {"444", "422", "420"}) {
+    EyeEncoder enc(codec("jpeg", 90, chroma));
+    ASSERT_TRUE(enc.encode(img).ok()) << chroma;
+    const cv::Mat back = cv::imdecode(enc.bytes(), cv::IMREAD_COLOR);
+    ASSERT_EQ(back.size(), img.size()) << chroma;
+    EXPECT_LT(mean_abs_diff(back, img), 3.0) << chroma;
+    EXPECT_LT(cv::norm(back, img, cv::NORM_INF), 80.0) << chroma;
+    bytes.push_back(enc.bytes().size());
+  }
+  EXPECT_LT(bytes[1], bytes[0]);
+  EXPECT_LT(bytes[2], bytes[1]);
+}
+
+// Red/blue stripes 2 px wide across the image (columns alternate) or down it (rows alternate).
+cv::Mat colour_stripes(bool across) {
+  cv::Mat img(64, 64, CV_8UC3);
+  for (int i = 0; i < img.cols; ++i) {
+    (across ? img.col(i) : img.row(i))
+        .setTo((i / 2) % 2 ? cv::Scalar(220, 20, 20) : cv::Scalar(20, 20, 220));
+  }
+  return img;
+}
+
+double red_error_after(const cv::Mat& img, const std::string& chroma) {
+  EyeEncoder enc(codec("jpeg", 90, chroma));
+  EXPECT_TRUE(enc.encode(img).ok()) << chroma;
+  cv::Mat back = cv::imdecode(enc.bytes(), cv::IMREAD_COLOR), red_back, red;
+  cv::extractChannel(back, red_back, 2);
+  cv::extractChannel(img, red, 2);
+  return mean_abs_diff(red_back, red);
+}
+
+// Given 2 px colour stripes, when encoded with each jpeg_chroma, then the red channel keeps
+// them exactly where that chroma keeps full resolution: 444 both ways, 422 only stripes down
+// the image (it halves the columns), 420 neither: the setting reaches the encoder as named.
+TEST(EyeEncoder, GivenColourStripesThenEachChromaBlursOnlyTheDirectionItHalves) {
+  const cv::Mat across = colour_stripes(true), down = colour_stripes(false);
+  const double kept = 8.0, blurred = 20.0;
+  EXPECT_LT(red_error_after(across, "444"), kept);
+  EXPECT_LT(red_error_after(down, "444"), kept);
+  EXPECT_GT(red_error_after(across, "422"), blurred);
+  EXPECT_LT(red_error_after(down, "422"), kept);
+  EXPECT_GT(red_error_after(across, "420"), blurred);
+  EXPECT_GT(red_error_after(down, "420"), blurred);
+}
+
+// Given a grey image, when encoded with each jpeg_chroma, then the streams are the same bytes:
+// grey has no colour to subsample.
+TEST(EyeEncoder, GivenAGreyImageThenTheChromaSettingChangesNothing) {
+  const cv::Mat grey = scene(1, 3);
+  EyeEncoder full(codec("jpeg", 90, "444"));
+  ASSERT_TRUE(full.encode(grey).ok());
+  for (const std::string chroma : {"422", "420"}) {
+    EyeEncoder enc(codec("jpeg", 90, chroma));
+    ASSERT_TRUE(enc.encode(grey).ok()) << chroma;
+    EXPECT_EQ(enc.bytes(), full.bytes()) << chroma;
+  }
 }
 
 TEST(EyeEncoder, GivenLowerQualityThenFewerBytesAndLargerError) {

@@ -2,6 +2,7 @@
 
 #include "stereo/frame/frame_decoder.hpp"
 
+#include "stereo/frame/frame_codec.hpp"
 #include "stereo/frame/frame_sample_builder.hpp"
 #include "stereo/image/yuyv_convert.hpp"
 
@@ -28,9 +29,14 @@ const cv::Size kSize(64, 48);
 
 using FrameBuilder = sb::stereo::testing::FrameSampleBuilder;
 
+// A grey ramp in every channel (forEach over the bytes of a 3-channel image would set only
+// its first third and leave the rest as the allocator found it).
 cv::Mat gradient(int type) {
-  cv::Mat m(kSize, type);
-  m.forEach<uint8_t>([](uint8_t& v, const int* p) { v = static_cast<uint8_t>(p[0] * 3 + p[1]); });
+  cv::Mat grey(kSize, CV_8UC1);
+  grey.forEach<uint8_t>(
+      [](uint8_t& v, const int* p) { v = static_cast<uint8_t>(p[0] * 3 + p[1]); });
+  cv::Mat m;
+  cv::merge(std::vector<cv::Mat>(static_cast<std::size_t>(CV_MAT_CN(type)), grey), m);
   return m;
 }
 
@@ -277,31 +283,93 @@ void run_eyes_in_turn(int n, const std::function<void(int)>& task) {
   for (int i = 0; i < n; ++i) task(i);
 }
 
+// Both eyes of img as JPEG: by OpenCV ("opencv") or by the publishers' encoder with that
+// jpeg_chroma ("444", "422", "420").
+FrameBuilder jpeg_frame(const cv::Mat& img, const std::string& how) {
+  FrameBuilder f;
+  if (how == "opencv") {
+    f.encoded("jpg", img, img);
+    return f;
+  }
+  sb::stereo::FrameCodecParams codec;
+  codec.frame_encoding = "jpeg";
+  codec.jpeg_chroma = how;
+  sb::stereo::EyeEncoder encoder(codec);
+  EXPECT_TRUE(encoder.encode(img).ok()) << how;
+  f.jpeg(encoder.bytes(), encoder.bytes(), img.size());
+  return f;
+}
+
+// Decodes whole with each spoiled_jpegs version of one eye, in turn and as two tasks, and
+// expects every frame refused naming that eye, with neither eye handed out.
+void expect_spoiled_eye_refused(const FrameBuilder& whole, bool spoil_left, int reduction,
+                                const std::string& what) {
+  const cv::Mat earlier = gradient(CV_8UC3);
+  const std::string eye = spoil_left ? "left" : "right";
+  for (const auto& [how, bytes] : spoiled_jpegs(spoil_left ? whole.left : whole.right)) {
+    FrameBuilder f = whole;
+    (spoil_left ? f.left : f.right) = bytes;
+    (spoil_left ? f.msg.left : f.msg.right).data._length = static_cast<uint32_t>(bytes.size());
+    for (const bool two_tasks : {false, true}) {
+      FrameDecoder d;
+      d.set_reduction(reduction);
+      cv::Mat l = earlier.clone(), r = earlier.clone();  // what an earlier frame left there
+      const Status st = two_tasks ? d.decode(f.get(), kSize, l, r, run_eyes_in_turn)
+                                  : d.decode(f.get(), kSize, l, r);
+      ASSERT_FALSE(st.ok()) << what << ", " << eye << ", " << how;
+      EXPECT_EQ(st.error().rfind(eye + " jpeg data", 0), 0u)
+          << what << ", " << how << ": " << st.error();
+      EXPECT_TRUE(l.empty()) << what << ", " << eye << ", " << how;
+      EXPECT_TRUE(r.empty()) << what << ", " << eye << ", " << how;
+    }
+  }
+}
+
 }  // namespace
 
-// Given a decoder that decodes JPEG eyes reduced by 2, when either eye of a frame arrives
-// truncated or corrupt, then decoding (in turn, and as two tasks) refuses the frame with an
-// error naming that eye, and hands out neither eye (nothing crashes).
-TEST(FrameDecoder, GivenAReduction_WhenAJpegEyeIsTruncatedOrCorrupt_ThenTheFrameIsRefused) {
+// Given eyes from the publishers' encoder at each jpeg_chroma, when decoded at full size and
+// reduced by 2, then full size gives OpenCV's decode of the same stream bit for bit and the
+// reduction gives that decode's 2x2 means within a few levels.
+TEST(FrameDecoder, GivenEachJpegChroma_WhenDecoded_ThenOpenCvsPixelsAndReducedCloseToThem) {
+  // A smooth colour ramp with a red disc on it: a colour edge for the chroma to blur.
+  cv::Mat img(kSize, CV_8UC3);
+  img.forEach<cv::Vec3b>([](cv::Vec3b& v, const int* p) {
+    v = cv::Vec3b(static_cast<uint8_t>(40 + 2 * p[1]), static_cast<uint8_t>(60 + 3 * p[0]), 90);
+  });
+  cv::circle(img, {30, 24}, 12, {20, 40, 230}, cv::FILLED);
+  for (const std::string chroma : {"444", "422", "420"}) {
+    FrameBuilder f = jpeg_frame(img, chroma);
+    const cv::Mat reference = cv::imdecode(f.left, cv::IMREAD_COLOR);
+    cv::Mat shrunk;
+    cv::resize(reference, shrunk, {kSize.width / 2, kSize.height / 2}, 0, 0, cv::INTER_AREA);
+    for (const int reduction : {1, 2}) {
+      FrameDecoder d;
+      d.set_reduction(reduction);
+      cv::Mat l, r;
+      ASSERT_TRUE(d.decode(f.get(), kSize, l, r).ok()) << chroma << ", " << reduction;
+      ASSERT_EQ(l.size(), reduction == 1 ? kSize : shrunk.size()) << chroma;
+      if (reduction == 1) {
+        EXPECT_EQ(cv::norm(l, reference, cv::NORM_INF), 0.0) << chroma;
+        EXPECT_EQ(cv::norm(r, reference, cv::NORM_INF), 0.0) << chroma;
+      } else {
+        EXPECT_LT(cv::norm(l, shrunk, cv::NORM_L1) / double(l.total() * 3), 3.0) << chroma;
+      }
+    }
+  }
+}
+
+// Given a decoder at full size or reducing by 2, when either eye of a frame (OpenCV's JPEG or
+// the publishers' at each jpeg_chroma) arrives truncated or corrupt, then decoding (in turn,
+// and as two tasks) refuses the frame with an error naming that eye, and hands out neither
+// eye (nothing crashes).
+TEST(FrameDecoder, GivenAnyChroma_WhenAJpegEyeIsTruncatedOrCorrupt_ThenTheFrameIsRefused) {
   const cv::Mat img = gradient(CV_8UC3);
-  for (const bool spoil_left : {true, false}) {
-    FrameBuilder whole;
-    whole.encoded("jpg", img, img);
-    for (const auto& [how, bytes] : spoiled_jpegs(spoil_left ? whole.left : whole.right)) {
-      FrameBuilder f = whole;
-      (spoil_left ? f.left : f.right) = bytes;
-      (spoil_left ? f.msg.left : f.msg.right).data._length = static_cast<uint32_t>(bytes.size());
-      const std::string eye = spoil_left ? "left" : "right";
-      for (const bool two_tasks : {false, true}) {
-        FrameDecoder d;
-        d.set_reduction(2);
-        cv::Mat l = img.clone(), r = img.clone();  // what an earlier frame left there
-        const Status st = two_tasks ? d.decode(f.get(), kSize, l, r, run_eyes_in_turn)
-                                    : d.decode(f.get(), kSize, l, r);
-        ASSERT_FALSE(st.ok()) << eye << ", " << how;
-        EXPECT_EQ(st.error().rfind(eye + " jpeg data", 0), 0u) << how << ": " << st.error();
-        EXPECT_TRUE(l.empty()) << eye << ", " << how;
-        EXPECT_TRUE(r.empty()) << eye << ", " << how;
+  for (const std::string maker : {"opencv", "444", "422", "420"}) {
+    const FrameBuilder whole = jpeg_frame(img, maker);
+    for (const int reduction : {1, 2}) {
+      for (const bool spoil_left : {true, false}) {
+        expect_spoiled_eye_refused(whole, spoil_left, reduction,
+                                   maker + ", reduction " + std::to_string(reduction));
       }
     }
   }

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "stereoball.h"
@@ -34,6 +35,16 @@ struct FrameSampleBuilder {
     encoding = ext == "jpg" ? "jpeg" : ext;
     describe(msg.left, left, l.cols, l.rows, 0);
     describe(msg.right, right, r.cols, r.rows, 0);
+    return *this;
+  }
+
+  /// Both eyes as the given JPEG streams of images of size (encoding "jpeg").
+  FrameSampleBuilder& jpeg(std::vector<uint8_t> l, std::vector<uint8_t> r, cv::Size size) {
+    left = std::move(l);
+    right = std::move(r);
+    encoding = "jpeg";
+    describe(msg.left, left, size.width, size.height, 0);
+    describe(msg.right, right, size.width, size.height, 0);
     return *this;
   }
 
