@@ -25,6 +25,7 @@
 #include "common/dds/shared_memory.hpp"
 #include "common/node/node_runner.hpp"
 #include "latency_figures.hpp"
+#include "real_stereo_set.hpp"
 #include "two_host_system.hpp"
 
 namespace sb = stereoball;
@@ -42,6 +43,9 @@ struct Options {
   std::string scenario = "ball_rolling_across", json_path, one_host_cyclonedds, frames_csv;
   std::string source = "simulator";  // or "files": camera_server plays frames rendered first
   double file_seconds = 3;           // simulated seconds rendered to files (looped)
+  std::string detector_override;     // --detector-config: YAML merged over the shipped file
+  std::string detector_config;       // the file ball_detector reads (shipped, or composed)
+  std::string workstation_profile = "workstation";  // two hosts: the vision namespace's profile
 };
 
 // One measured configuration.
@@ -163,10 +167,8 @@ std::string write_profile(const std::string& dir, const Case& c, const Options& 
                                     "--frame-encoding", c.encoding});
   }
   if (with_vision) {
-    for (const char* node : {"ball_detector", "tracker"}) {
-      yaml += node_yaml(
-          node, {"--config", sb::testing::source_path(std::string("config/") + node + ".yaml")});
-    }
+    yaml += node_yaml("ball_detector", {"--config", o.detector_config});
+    yaml += node_yaml("tracker", {"--config", sb::testing::source_path("config/tracker.yaml")});
   }
   yaml += node_yaml("motion_controller",
                     {"--config", sb::testing::source_path("config/motion_controller.yaml")});
@@ -248,6 +250,7 @@ std::optional<Result> run_two_hosts(const Case& c, const Options& o, const std::
   so.domain = o.domain;
   so.partition = partition;
   so.robot_profile = write_profile(dir, c, o, lan, false);
+  so.workstation_profile = o.workstation_profile;
   if (so.robot_profile.empty()) return std::nullopt;
   so.robot_observer_topics = {"track", "cmd"};
   so.workstation_observer_topics = {"detection"};
@@ -269,6 +272,47 @@ std::optional<Result> run_two_hosts(const Case& c, const Options& o, const std::
     return std::nullopt;
   }
   return r;
+}
+
+// The two-host workstation profile (deploy/workstation.yaml's nodes) with ball_detector reading
+// the composed configuration; returns its path.
+std::string workstation_profile(const std::string& dir, const Options& o) {
+  std::string yaml = "description: \"bench latency workstation, --detector-config\"\n";
+  yaml += "cyclonedds: \"" + sb::testing::source_path("config/cyclonedds/lan.xml") + "\"\n";
+  yaml += "nodes:\n" + node_yaml("ball_detector", {"--config", o.detector_config});
+  yaml += node_yaml("tracker", {});
+  const std::string path = dir + "/workstation.yaml";
+  std::ofstream(path) << yaml;
+  return path;
+}
+
+// The detector configuration of every run: the shipped file, or --detector-config merged over
+// it (written for the nodes to read). Prints the base and every changed key and records them
+// in record; false (after one line naming the file or key) when the override is refused.
+bool prepare_detector(Options& o, nlohmann::json& record) {
+  const std::string base = sb::testing::source_path("config/ball_detector.yaml");
+  o.detector_config = base;
+  record = {{"base", base}, {"file", o.detector_override}, {"changed", nlohmann::json::array()}};
+  std::printf("detector configuration: %s\n", base.c_str());
+  if (o.detector_override.empty()) return true;
+  sb::real_stereo::DetectorOverrides overrides;
+  overrides.config_file = o.detector_override;
+  const auto composed = sb::real_stereo::compose_detector_config(base, overrides);
+  if (!composed) {
+    std::fprintf(stderr, "bench latency: --detector-config: %s\n", composed.error().c_str());
+    return false;
+  }
+  std::printf("  merged over it: %s (%zu changed value(s))\n", o.detector_override.c_str(),
+              composed->changed_keys.size());
+  for (const auto& change : composed->changed_keys) {
+    std::printf("    %s\n", change.c_str());
+    record["changed"].push_back(change);
+  }
+  const std::string dir = sb::testing::temp_dir();
+  o.detector_config = dir + "/ball_detector.yaml";
+  std::ofstream(o.detector_config) << composed->yaml;
+  o.workstation_profile = workstation_profile(dir, o);
+  return true;
 }
 
 double median(std::vector<double> v) {
@@ -348,6 +392,9 @@ int main(int argc, char** argv) {
                  "write every frame's stages (warm-up included, column measured) to "
                  "PREFIX<setup>_<encoding>_<rate>hz_run<N>.csv");
   app.add_option("--domain", o.domain, "DDS domain")->check(CLI::Range(0, 232));
+  app.add_option("--detector-config", o.detector_override,
+                 "YAML whose keys are merged over config/ball_detector.yaml for ball_detector "
+                 "(any subset of it); the report and the JSON list every changed value");
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   if (!o.frames_csv.empty()) {
@@ -359,6 +406,8 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  nlohmann::json detector_record;
+  if (!prepare_detector(o, detector_record)) return 2;
 
   std::vector<Case> cases;
   for (const bool two : {false, true}) {
@@ -383,6 +432,7 @@ int main(int argc, char** argv) {
     }
   }
   nlohmann::json json = nlohmann::json::object();
+  json["detector_config"] = detector_record;
   int failures = 0;
   for (const Case& c : cases) {
     std::vector<nlohmann::json> runs;

@@ -135,6 +135,16 @@ TEST(DetectorConfig, GivenAnOverrideFileAndFlagsWhenComposedThenTheyApplyOverThe
   EXPECT_DOUBLE_EQ(c->params.floor_tolerance_m, 0.0);
   EXPECT_EQ(c->params.max_image_size(), cv::Size(2304, 1296));
   EXPECT_EQ(c->changes.size(), 3u);
+  // And every value of the file that differs from the shipped one is listed, dotted
+  EXPECT_EQ(c->changed_keys,
+            (std::vector<std::string>{"ball.diameter_m: 0.30", "p2p.min_score: 0.5"}));
+  // And a value equal to the shipped one is not a change
+  std::ofstream(dir + "/same.yaml") << "ball:\n  diameter_m: 0.22\n";
+  o.config_file = dir + "/same.yaml";
+  c = rs::compose_detector_config(shipped, o);
+  ASSERT_TRUE(c.ok()) << c.error();
+  EXPECT_TRUE(c->changed_keys.empty());
+  o.config_file = dir + "/over.yaml";
   // And the flag wins over the file
   o.ball_diameter_m = 0.24;
   c = rs::compose_detector_config(shipped, o);

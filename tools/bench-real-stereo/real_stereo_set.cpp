@@ -52,15 +52,27 @@ Result<std::string> find_calibration(const std::string& dir) {
   return yamls.front();
 }
 
-// Merges over into base: mappings key by key, anything else replaced.
-void merge(YAML::Node base, const YAML::Node& over) {
+// A node on one line (flow style), as the changed keys are listed.
+std::string flow_text(const YAML::Node& node) {
+  YAML::Emitter out;
+  out << YAML::Flow << node;
+  return out.c_str();
+}
+
+// Merges over into base: mappings key by key, anything else replaced; every replaced value
+// that differs from base's is added to changed as "dotted.key: value".
+void merge(YAML::Node base, const YAML::Node& over, const std::string& prefix,
+           std::vector<std::string>& changed) {
   for (const auto& kv : over) {
     const std::string key = kv.first.as<std::string>();
+    const std::string path = prefix.empty() ? key : prefix + "." + key;
     if (kv.second.IsMap() && base[key] && base[key].IsMap()) {
-      merge(base[key], kv.second);
-    } else {
-      base[key] = YAML::Clone(kv.second);
+      merge(base[key], kv.second, path, changed);
+      continue;
     }
+    const std::string value = flow_text(kv.second);
+    if (!base[key] || flow_text(base[key]) != value) changed.push_back(path + ": " + value);
+    base[key] = YAML::Clone(kv.second);
   }
 }
 
@@ -138,7 +150,7 @@ Result<DetectorConfig> compose_detector_config(const std::string& shipped_path,
     if (!over) return Error{over.error()};
     if (!over->IsMap()) return Error{overrides.config_file + ": not a mapping of keys"};
     try {
-      merge(root, *over);
+      merge(root, *over, "", out.changed_keys);
     } catch (const YAML::Exception& e) {  // yaml-cpp reports a non-scalar key by throwing
       return Error{overrides.config_file + ": cannot merge: " + e.what()};
     }

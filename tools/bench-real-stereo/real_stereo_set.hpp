@@ -51,6 +51,8 @@ struct DetectorConfig {
   std::string yaml;
   ball_detector::BallDetectorParams params;
   std::vector<std::string> changes;  ///< "key: value (from ...)" for every override applied
+  /// "dotted.key: value" for every value of the override file that differs from the shipped one
+  std::vector<std::string> changed_keys;
 };
 
 /// shipped_path's YAML, the override file's keys merged over it (mappings merged, anything else
