@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <cstring>
 
-// The vector path needs SSSE3 (a byte shuffle), picked at run time: the build targets baseline
-// x86-64. Elsewhere, and with SB_NO_CPU_DISPATCH (CMake
+// The vector paths need SSSE3 (a byte shuffle) or AVX2, picked at run time: the build targets
+// baseline x86-64. Elsewhere, and with SB_NO_CPU_DISPATCH (CMake
 // SB_CPU_DISPATCH=OFF), the plain path.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(SB_NO_CPU_DISPATCH)
 #define SB_REMAP_SSSE3 1
@@ -164,12 +164,118 @@ __attribute__((target("ssse3"))) void remap_row_ssse3(const cv::Mat& src, const 
 #undef SB_TOP_ORDER
 #undef SB_BOTTOM_ORDER
 
+bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+
+// The same sum factored by axis: (32 - fy) * ((32 - fx) * a + fx * b) + fy * (...bottom...),
+// exact in integers. The horizontal step fits 16 bits (<= 32 * 255), so one unsigned-by-signed
+// byte multiply-add does it, and one 16-bit multiply-add the vertical step: two multiplies for
+// a pixel's 12 source bytes, one pixel per 128-bit lane.
+struct AxisWeights {
+  // Per fx: bytes 32 - fx, fx repeated (the horizontal pairs).
+  alignas(16) std::array<std::array<std::int8_t, 16>, kFractionOne> across;
+  // Per fy: 16-bit 32 - fy, fy repeated (the vertical pairs).
+  alignas(16) std::array<std::array<std::int16_t, 8>, kFractionOne> down;
+};
+
+const AxisWeights& axis_weights() {
+  static const AxisWeights weights = [] {
+    AxisWeights w{};
+    for (std::size_t f = 0; f < kFractionOne; ++f)
+      for (std::size_t i = 0; i < 16; i += 2) {
+        const auto near = static_cast<std::int8_t>(kFractionOne - static_cast<int>(f));
+        const auto far = static_cast<std::int8_t>(f);
+        w.across[f][i] = near;
+        w.across[f][i + 1] = far;
+        w.down[f][i / 2] = static_cast<std::int16_t>(i % 4 == 0 ? near : far);
+      }
+    return w;
+  }();
+  return weights;
+}
+
+// A pixel's rows as one lane: bytes 0-7 from the top row (B0 G0 R0 B1 G1 R1 ...), 8-15 from
+// the bottom row.
+__attribute__((target("avx2"))) inline __m128i lane_of(const Source& s, int sx, int sy) {
+  const std::uint8_t* p = s.at(sx, sy);
+  return _mm_castpd_si128(
+      _mm_loadh_pd(_mm_castsi128_pd(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))),
+                   reinterpret_cast<const double*>(p + s.step)));
+}
+
+// a in the low lane, b in the high one.
+__attribute__((target("avx2"))) inline __m256i lanes(__m128i a, __m128i b) {
+  return _mm256_inserti128_si256(_mm256_castsi128_si256(a), b, 1);
+}
+
+// Two rows of a weight table (by axis fraction) as the low and high lane.
+template <typename Table>
+__attribute__((target("avx2"))) inline __m256i lanes(const Table& table, int a, int b) {
+  const auto row = [&table](int f) {
+    return reinterpret_cast<const __m128i*>(table[static_cast<std::size_t>(f)].data());
+  };
+  return lanes(_mm_load_si128(row(a)), _mm_load_si128(row(b)));
+}
+
+// Two pixels (a, then b) from their rows and fraction indices; writes eight bytes: the six of
+// the two pixels and two of the next pixel's (the caller writes that one afterwards).
+__attribute__((target("avx2"))) inline void blend_two(__m128i rows_a, __m128i rows_b, int fa,
+                                                      int fb, const AxisWeights& w,
+                                                      std::uint8_t* out) {
+  // Per lane: each channel's top left, top right, bottom left, bottom right byte.
+  const __m256i order = _mm256_broadcastsi128_si256(
+      _mm_setr_epi8(0, 3, 8, 11, 1, 4, 9, 12, 2, 5, 10, 13, -1, -1, -1, -1));
+  const __m256i bytes = _mm256_shuffle_epi8(lanes(rows_a, rows_b), order);
+  const __m256i rows = _mm256_maddubs_epi16(
+      bytes, lanes(w.across, fa & (kFractionOne - 1), fb & (kFractionOne - 1)));
+  const __m256i sum =
+      _mm256_madd_epi16(rows, lanes(w.down, fa >> kFractionBits, fb >> kFractionBits));
+  const __m256i value =
+      _mm256_srai_epi32(_mm256_add_epi32(sum, _mm256_set1_epi32(kRounding)), kWeightShift);
+  // Each channel's value is the low byte of its 32-bit lane: a's to bytes 0-2, b's to 3-5.
+  const __m256i packed = _mm256_shuffle_epi8(
+      value, _mm256_setr_epi8(0, 4, 8, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1,  //
+                              -1, -1, -1, 0, 4, 8, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1));
+  _mm_storel_epi64(
+      reinterpret_cast<__m128i*>(out),
+      _mm_or_si128(_mm256_castsi256_si128(packed), _mm256_extracti128_si256(packed, 1)));
+}
+
+// remap_row two pixels at a time where both lie on the vector path and a third follows (the
+// eight-byte store reaches into it); the rest one at a time as remap_row_ssse3 does.
+__attribute__((target("avx2"))) void remap_row_avx2(const cv::Mat& src, const short* xy,
+                                                    const std::uint16_t* fraction,
+                                                    std::uint8_t* out, int n) {
+  const WeightRows& weights = weight_rows();
+  const AxisWeights& axis = axis_weights();
+  const Source s(src);
+  int x = 0;
+  while (x < n) {
+    const int sx = xy[2 * x], sy = xy[2 * x + 1];
+    const int f = fraction[x] & kFractionMask;
+    const bool fast = s.fast(sx, sy);
+    if (fast && x + 2 < n && s.fast(xy[2 * x + 2], xy[2 * x + 3])) {
+      blend_two(lane_of(s, sx, sy), lane_of(s, xy[2 * x + 2], xy[2 * x + 3]), f,
+                fraction[x + 1] & kFractionMask, axis, out + 3 * x);
+      x += 2;
+      continue;
+    }
+    if (fast && x + 1 < n)
+      blend_one(s, sx, sy, f, weights, out + 3 * x);
+    else
+      remap_pixel(src, sx, sy, f, out + 3 * x);
+    ++x;
+  }
+}
+
 #endif
 
 }  // namespace
 
 void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const cv::Mat& frac) {
-  remap_bilinear(src, dst, xy, frac, RemapPath::kSsse3);
+  remap_bilinear(src, dst, xy, frac, RemapPath::kAvx2);
 }
 
 void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const cv::Mat& frac,
@@ -195,6 +301,7 @@ void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const c
   auto row = remap_row;
 #if SB_REMAP_SSSE3
   if (vector_path) row = remap_row_ssse3;
+  if (vector_path && fastest >= RemapPath::kAvx2 && cpu_has_avx2()) row = remap_row_avx2;
 #endif
   for (int y = 0; y < xy.rows; ++y)
     row(src, xy.ptr<short>(y), frac.ptr<std::uint16_t>(y), dst.ptr<std::uint8_t>(y), xy.cols);

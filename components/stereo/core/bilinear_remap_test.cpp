@@ -17,7 +17,7 @@ cv::Mat opencv_remap(const cv::Mat& src, const cv::Mat& xy, const cv::Mat& frac)
   return out;
 }
 
-constexpr RemapPath kPaths[] = {RemapPath::kPlain, RemapPath::kSsse3};
+constexpr RemapPath kPaths[] = {RemapPath::kPlain, RemapPath::kSsse3, RemapPath::kAvx2};
 
 int differing(const cv::Mat& a, const cv::Mat& b) {
   if (a.size() != b.size() || a.type() != b.type()) return -1;
