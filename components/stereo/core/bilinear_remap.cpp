@@ -144,14 +144,15 @@ __attribute__((target("ssse3"))) inline void blend_one(const Source& s, int sx, 
   std::memcpy(out, &bgr, 4);
 }
 
-// remap_row with one pixel per few vector instructions on the vector path; the border pixels
-// and the row's last one (whose 4-byte store would reach past it) go through remap_pixel.
-__attribute__((target("ssse3"))) void remap_row_ssse3(const cv::Mat& src, const short* xy,
-                                                      const std::uint16_t* fraction,
-                                                      std::uint8_t* out, int n) {
+// Pixels [from, to) of a row of n, one pixel per few vector instructions on the vector path;
+// the border pixels and the row's last one (whose 4-byte store would reach past it) go through
+// remap_pixel.
+__attribute__((target("ssse3"))) void remap_span_ssse3(const cv::Mat& src, const short* xy,
+                                                       const std::uint16_t* fraction,
+                                                       std::uint8_t* out, int from, int to, int n) {
   const WeightRows& weights = weight_rows();
   const Source s(src);
-  for (int x = 0; x < n; ++x) {
+  for (int x = from; x < to; ++x) {
     const int sx = xy[2 * x], sy = xy[2 * x + 1];
     const int f = fraction[x] & kFractionMask;
     if (s.fast(sx, sy) && x + 1 < n)
@@ -161,113 +162,123 @@ __attribute__((target("ssse3"))) void remap_row_ssse3(const cv::Mat& src, const 
   }
 }
 
+// remap_row by remap_span_ssse3.
+void remap_row_ssse3(const cv::Mat& src, const short* xy, const std::uint16_t* fraction,
+                     std::uint8_t* out, int n) {
+  remap_span_ssse3(src, xy, fraction, out, 0, n, n);
+}
+
 #undef SB_TOP_ORDER
 #undef SB_BOTTOM_ORDER
+
+// The same sum factored by axis: (32 - fy) * ((32 - fx) * a + fx * b) + fy * (...bottom...),
+// exact in integers. The horizontal step fits 16 bits (<= 32 * 255), so one unsigned-by-signed
+// byte multiply-add does it and one 16-bit multiply-add the vertical step: one pixel per
+// 128-bit lane, eight pixels per block whose offsets and weights are worked out side by side.
+constexpr int kBlock = 8;
+
+// A block's per-pixel inputs, one 32-bit lane per pixel: its source offset, its horizontal
+// weights (bytes 32 - fx, fx, twice) and its vertical ones (16-bit 32 - fy, fy).
+struct BlockInputs {
+  alignas(32) std::array<std::int32_t, kBlock> offset;
+  __m256i across, down;
+};
+
+// Whether all eight pixels from xy lie on the vector path; if so their inputs.
+__attribute__((target("avx2"))) inline bool block_inputs(const short* xy,
+                                                         const std::uint16_t* fraction,
+                                                         __m256i bounds, __m256i scale,
+                                                         BlockInputs& in) {
+  const __m256i pos = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(xy));
+  const __m256i inside = _mm256_and_si256(_mm256_cmpgt_epi16(bounds, pos),
+                                          _mm256_cmpgt_epi16(pos, _mm256_set1_epi16(-1)));
+  if (_mm256_movemask_epi8(inside) != -1) return false;
+  _mm256_store_si256(reinterpret_cast<__m256i*>(in.offset.data()), _mm256_madd_epi16(pos, scale));
+  const __m128i f = _mm_loadu_si128(reinterpret_cast<const __m128i*>(fraction));
+  const __m128i one = _mm_set1_epi16(kFractionOne), low = _mm_set1_epi16(kFractionOne - 1);
+  const __m128i fx = _mm_and_si128(f, low);
+  const __m128i fy = _mm_and_si128(_mm_srli_epi16(f, kFractionBits), low);
+  const __m256i across =
+      _mm256_cvtepu16_epi32(_mm_or_si128(_mm_sub_epi16(one, fx), _mm_slli_epi16(fx, 8)));
+  in.across = _mm256_or_si256(across, _mm256_slli_epi32(across, 16));
+  in.down = _mm256_or_si256(_mm256_cvtepu16_epi32(_mm_sub_epi16(one, fy)),
+                            _mm256_slli_epi32(_mm256_cvtepu16_epi32(fy), 16));
+  return true;
+}
+
+// A pixel's rows as one lane: bytes 0-7 from the top row (B0 G0 R0 B1 G1 R1 ...), 8-15 from
+// the bottom row.
+__attribute__((target("avx2"))) inline __m128i lane_of(const std::uint8_t* p, std::ptrdiff_t step) {
+  return _mm_castpd_si128(
+      _mm_loadh_pd(_mm_castsi128_pd(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))),
+                   reinterpret_cast<const double*>(p + step)));
+}
+
+// Pixels 2 * pair and 2 * pair + 1 of a block (low and high lane): each channel's value in the
+// low byte of its 32-bit lane, B, G, R, 0.
+template <int pair>
+__attribute__((target("avx2"))) inline __m256i blend_pair(const Source& s, const BlockInputs& in) {
+  const auto at = [&s, &in](int k) { return s.data + in.offset[static_cast<std::size_t>(k)]; };
+  const __m256i rows = _mm256_inserti128_si256(
+      _mm256_castsi128_si256(lane_of(at(2 * pair), s.step)), lane_of(at(2 * pair + 1), s.step), 1);
+  // Per lane: each channel's top left, top right, bottom left, bottom right byte.
+  const __m256i bytes =
+      _mm256_shuffle_epi8(rows, _mm256_broadcastsi128_si256(_mm_setr_epi8(
+                                    0, 3, 8, 11, 1, 4, 9, 12, 2, 5, 10, 13, -1, -1, -1, -1)));
+  const __m256i which = _mm256_setr_epi32(2 * pair, 2 * pair, 2 * pair, 2 * pair, 2 * pair + 1,
+                                          2 * pair + 1, 2 * pair + 1, 2 * pair + 1);
+  const __m256i across = _mm256_maddubs_epi16(bytes, _mm256_permutevar8x32_epi32(in.across, which));
+  const __m256i sum = _mm256_madd_epi16(across, _mm256_permutevar8x32_epi32(in.down, which));
+  return _mm256_srai_epi32(_mm256_add_epi32(sum, _mm256_set1_epi32(kRounding)), kWeightShift);
+}
+
+// Eight pixels' 24 bytes; writes 28 (the last four belong to the next two pixels, which the
+// caller writes afterwards).
+__attribute__((target("avx2"))) inline void blend_block(const Source& s, const BlockInputs& in,
+                                                        std::uint8_t* out) {
+  // Lanes of pixels 0 2 4 6 | 1 3 5 7 as bytes B G R 0, then in order, then 3 bytes each.
+  const __m256i bytes =
+      _mm256_packus_epi16(_mm256_packs_epi32(blend_pair<0>(s, in), blend_pair<1>(s, in)),
+                          _mm256_packs_epi32(blend_pair<2>(s, in), blend_pair<3>(s, in)));
+  const __m256i ordered =
+      _mm256_permutevar8x32_epi32(bytes, _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7));
+  const __m256i packed =
+      _mm256_shuffle_epi8(ordered, _mm256_broadcastsi128_si256(_mm_setr_epi8(
+                                       0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1)));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm256_castsi256_si128(packed));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 12), _mm256_extracti128_si256(packed, 1));
+}
 
 bool cpu_has_avx2() {
   static const bool has = __builtin_cpu_supports("avx2");
   return has;
 }
 
-// The same sum factored by axis: (32 - fy) * ((32 - fx) * a + fx * b) + fy * (...bottom...),
-// exact in integers. The horizontal step fits 16 bits (<= 32 * 255), so one unsigned-by-signed
-// byte multiply-add does it, and one 16-bit multiply-add the vertical step: two multiplies for
-// a pixel's 12 source bytes, one pixel per 128-bit lane.
-struct AxisWeights {
-  // Per fx: bytes 32 - fx, fx repeated (the horizontal pairs).
-  alignas(16) std::array<std::array<std::int8_t, 16>, kFractionOne> across;
-  // Per fy: 16-bit 32 - fy, fy repeated (the vertical pairs).
-  alignas(16) std::array<std::array<std::int16_t, 8>, kFractionOne> down;
-};
-
-const AxisWeights& axis_weights() {
-  static const AxisWeights weights = [] {
-    AxisWeights w{};
-    for (std::size_t f = 0; f < kFractionOne; ++f)
-      for (std::size_t i = 0; i < 16; i += 2) {
-        const auto near = static_cast<std::int8_t>(kFractionOne - static_cast<int>(f));
-        const auto far = static_cast<std::int8_t>(f);
-        w.across[f][i] = near;
-        w.across[f][i + 1] = far;
-        w.down[f][i / 2] = static_cast<std::int16_t>(i % 4 == 0 ? near : far);
-      }
-    return w;
-  }();
-  return weights;
-}
-
-// A pixel's rows as one lane: bytes 0-7 from the top row (B0 G0 R0 B1 G1 R1 ...), 8-15 from
-// the bottom row.
-__attribute__((target("avx2"))) inline __m128i lane_of(const Source& s, int sx, int sy) {
-  const std::uint8_t* p = s.at(sx, sy);
-  return _mm_castpd_si128(
-      _mm_loadh_pd(_mm_castsi128_pd(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))),
-                   reinterpret_cast<const double*>(p + s.step)));
-}
-
-// a in the low lane, b in the high one.
-__attribute__((target("avx2"))) inline __m256i lanes(__m128i a, __m128i b) {
-  return _mm256_inserti128_si256(_mm256_castsi128_si256(a), b, 1);
-}
-
-// Two rows of a weight table (by axis fraction) as the low and high lane.
-template <typename Table>
-__attribute__((target("avx2"))) inline __m256i lanes(const Table& table, int a, int b) {
-  const auto row = [&table](int f) {
-    return reinterpret_cast<const __m128i*>(table[static_cast<std::size_t>(f)].data());
-  };
-  return lanes(_mm_load_si128(row(a)), _mm_load_si128(row(b)));
-}
-
-// Two pixels (a, then b) from their rows and fraction indices; writes eight bytes: the six of
-// the two pixels and two of the next pixel's (the caller writes that one afterwards).
-__attribute__((target("avx2"))) inline void blend_two(__m128i rows_a, __m128i rows_b, int fa,
-                                                      int fb, const AxisWeights& w,
-                                                      std::uint8_t* out) {
-  // Per lane: each channel's top left, top right, bottom left, bottom right byte.
-  const __m256i order = _mm256_broadcastsi128_si256(
-      _mm_setr_epi8(0, 3, 8, 11, 1, 4, 9, 12, 2, 5, 10, 13, -1, -1, -1, -1));
-  const __m256i bytes = _mm256_shuffle_epi8(lanes(rows_a, rows_b), order);
-  const __m256i rows = _mm256_maddubs_epi16(
-      bytes, lanes(w.across, fa & (kFractionOne - 1), fb & (kFractionOne - 1)));
-  const __m256i sum =
-      _mm256_madd_epi16(rows, lanes(w.down, fa >> kFractionBits, fb >> kFractionBits));
-  const __m256i value =
-      _mm256_srai_epi32(_mm256_add_epi32(sum, _mm256_set1_epi32(kRounding)), kWeightShift);
-  // Each channel's value is the low byte of its 32-bit lane: a's to bytes 0-2, b's to 3-5.
-  const __m256i packed = _mm256_shuffle_epi8(
-      value, _mm256_setr_epi8(0, 4, 8, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1,  //
-                              -1, -1, -1, 0, 4, 8, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1));
-  _mm_storel_epi64(
-      reinterpret_cast<__m128i*>(out),
-      _mm_or_si128(_mm256_castsi256_si128(packed), _mm256_extracti128_si256(packed, 1)));
-}
-
-// remap_row two pixels at a time where both lie on the vector path and a third follows (the
-// eight-byte store reaches into it); the rest one at a time as remap_row_ssse3 does.
+// remap_row eight pixels at a time where all eight lie on the vector path and two more follow
+// (the last store reaches into them); the rest as remap_span_ssse3 does. Sources whose offsets
+// do not fit the 16-bit multiply (rows over 32767 bytes) go to it whole.
 __attribute__((target("avx2"))) void remap_row_avx2(const cv::Mat& src, const short* xy,
                                                     const std::uint16_t* fraction,
                                                     std::uint8_t* out, int n) {
-  const WeightRows& weights = weight_rows();
-  const AxisWeights& axis = axis_weights();
   const Source s(src);
-  int x = 0;
-  while (x < n) {
-    const int sx = xy[2 * x], sy = xy[2 * x + 1];
-    const int f = fraction[x] & kFractionMask;
-    const bool fast = s.fast(sx, sy);
-    if (fast && x + 2 < n && s.fast(xy[2 * x + 2], xy[2 * x + 3])) {
-      blend_two(lane_of(s, sx, sy), lane_of(s, xy[2 * x + 2], xy[2 * x + 3]), f,
-                fraction[x + 1] & kFractionMask, axis, out + 3 * x);
-      x += 2;
-      continue;
-    }
-    if (fast && x + 1 < n)
-      blend_one(s, sx, sy, f, weights, out + 3 * x);
-    else
-      remap_pixel(src, sx, sy, f, out + 3 * x);
-    ++x;
+  constexpr std::ptrdiff_t kMaxStep = 32767;
+  if (s.step > kMaxStep || src.rows > kMaxStep) {
+    remap_span_ssse3(src, xy, fraction, out, 0, n, n);
+    return;
   }
+  const __m256i bounds = _mm256_set1_epi32(static_cast<int>(
+      (static_cast<unsigned>(s.fast_rows) << 16) | static_cast<std::uint16_t>(s.fast_cols)));
+  const __m256i scale =
+      _mm256_set1_epi32(static_cast<int>((static_cast<unsigned>(s.step) << 16) | 3u));
+  BlockInputs in;
+  int x = 0;
+  for (; x + kBlock + 2 <= n; x += kBlock) {
+    if (block_inputs(xy + 2 * x, fraction + x, bounds, scale, in))
+      blend_block(s, in, out + 3 * x);
+    else
+      remap_span_ssse3(src, xy, fraction, out, x, x + kBlock, n);
+  }
+  remap_span_ssse3(src, xy, fraction, out, x, n, n);
 }
 
 #endif
