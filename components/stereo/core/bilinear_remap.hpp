@@ -13,9 +13,9 @@ namespace stereoball::stereo {
 /// larger image): only its own pixels are written.
 void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const cv::Mat& frac);
 
-/// How remap_bilinear works: the plain loop, or its SSSE3 path where the CPU has it (else
-/// cv::remap).
-enum class RemapPath { kPlain, kSsse3 };
+/// How remap_bilinear works at most: the plain loop, its SSSE3 path, or its AVX2 path (two
+/// pixels at a time), each where the CPU has it (else the next slower, then cv::remap).
+enum class RemapPath { kPlain, kSsse3, kAvx2 };
 
 /// remap_bilinear by the given path: the same bits whichever runs (tests compare them).
 void remap_bilinear(const cv::Mat& src, cv::Mat& dst, const cv::Mat& xy, const cv::Mat& frac,

@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <random>
+#include <string>
 
 #include "stereo/core/bilinear_remap.hpp"
 
@@ -17,7 +18,7 @@ cv::Mat opencv_remap(const cv::Mat& src, const cv::Mat& xy, const cv::Mat& frac)
   return out;
 }
 
-constexpr RemapPath kPaths[] = {RemapPath::kPlain, RemapPath::kSsse3};
+constexpr RemapPath kPaths[] = {RemapPath::kPlain, RemapPath::kSsse3, RemapPath::kAvx2};
 
 int differing(const cv::Mat& a, const cv::Mat& b) {
   if (a.size() != b.size() || a.type() != b.type()) return -1;
@@ -25,7 +26,7 @@ int differing(const cv::Mat& a, const cv::Mat& b) {
 }
 
 // Fixed-point maps of random source positions from margin pixels outside src to margin
-// beyond it, every fraction index among them.
+// beyond it (a negative margin keeps them that far inside), every fraction index among them.
 void random_maps(cv::Size src, cv::Size dst, float margin, std::mt19937& rng, cv::Mat& xy,
                  cv::Mat& frac) {
   std::uniform_real_distribution<float> ux(-margin, src.width + margin);
@@ -119,6 +120,54 @@ TEST(RemapBilinear, GivenARegionOfALargerImageAsOutputThenOnlyItIsWrittenAsCvRem
   cv::Mat outside = out.clone();
   outside(roi).setTo(cv::Scalar(1, 2, 3));
   EXPECT_EQ(differing(outside, cv::Mat(size, CV_8UC3, cv::Scalar(1, 2, 3))), 0);
+}
+
+// Every path's output and cv::remap's differ nowhere (else the first path that differs fails).
+void expect_every_path_equals_cv_remap(const cv::Mat& src, const cv::Mat& xy, const cv::Mat& frac,
+                                       const std::string& what) {
+  const cv::Mat expected = opencv_remap(src, xy, frac);
+  cv::Mat plain;
+  remap_bilinear(src, plain, xy, frac, RemapPath::kPlain);
+  for (const RemapPath path : kPaths) {
+    cv::Mat ours;
+    remap_bilinear(src, ours, xy, frac, path);
+    EXPECT_EQ(differing(ours, expected), 0) << what << " path " << static_cast<int>(path);
+    EXPECT_EQ(differing(ours, plain), 0) << what << " path " << static_cast<int>(path);
+  }
+}
+
+TEST(RemapBilinear, GivenOddWidthsWithBorderAndLastColumnPixelsThenEveryPathEqualsCvRemap) {
+  std::mt19937 rng(11);
+  const cv::Size src_size(37, 23);
+  cv::Mat src(src_size, CV_8UC3);
+  cv::randu(src, 0, 256);
+  for (const int width : {1, 2, 3, 5, 9, 10, 11, 17, 33}) {
+    // Given maps of odd widths mostly inside the image (so the eight-pixel blocks run), with
+    // positions on the last column and row and outside it sprinkled in
+    cv::Mat xy, frac;
+    random_maps(src_size, cv::Size(width, 19), -2.0f, rng, xy, frac);
+    std::uniform_int_distribution<int> column(0, width - 1), row(0, 18), kind(0, 3);
+    for (int k = 0; k < width; ++k) {
+      const int sx[] = {src_size.width - 1, src_size.width - 2, -1, src_size.width + 1};
+      const int sy[] = {src_size.height - 1, 3, src_size.height - 2, -1};
+      const int c = column(rng), r = row(rng), which = kind(rng);
+      xy.at<cv::Vec2s>(r, c) =
+          cv::Vec2s(static_cast<short>(sx[which]), static_cast<short>(sy[which]));
+    }
+    // When every path remaps it, then each equals cv::remap and the plain loop
+    expect_every_path_equals_cv_remap(src, xy, frac, "width " + std::to_string(width));
+  }
+}
+
+TEST(RemapBilinear, GivenRowsTooWideForTheBlockOffsetsThenEveryPathEqualsCvRemap) {
+  // Given a source whose rows hold more than 32767 bytes (the AVX2 blocks' offset limit)
+  std::mt19937 rng(13);
+  cv::Mat src(3, 11000, CV_8UC3);
+  cv::randu(src, 0, 256);
+  cv::Mat xy, frac;
+  random_maps(src.size(), cv::Size(64, 3), 1.0f, rng, xy, frac);
+  // When every path remaps it, then each equals cv::remap and the plain loop
+  expect_every_path_equals_cv_remap(src, xy, frac, "wide rows");
 }
 
 TEST(RemapBilinear, GivenGreyImagesOrTheSourceAsOutputThenItStillEqualsCvRemap) {
