@@ -269,7 +269,7 @@ bool PixelToPixelDetector::isolate_along_orientation(int x, int y, int k,
   // The window's points within the slack of O's orientation: one AND per row with O's plane.
   const BitImage& near = near_orientation_[static_cast<std::size_t>(
       orientation_bin(edges_.dx.at<short>(y, x), edges_.dy.at<short>(y, x)))];
-  std::array<std::uint64_t, 2 * kMaxK + 1> aligned{};
+  std::array<std::uint64_t, 2 * kMaxK + 1> aligned;  // rows [0, n) written below, no others read
   int count = 0;
   std::uint64_t dropped = 0;
   for (int i = 0; i < n; ++i) {

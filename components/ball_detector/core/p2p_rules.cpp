@@ -93,20 +93,22 @@ template <int Steps>
 int connected_rows_steps(std::span<const std::uint64_t> window, int k,
                          std::span<std::uint64_t> rows, int stop_above) {
   const int n = 2 * k + 1;
-  for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = 0;
   const auto centre = static_cast<std::size_t>(k);
   rows[centre] = fill_runs<Steps>(std::uint64_t{1} << k, window[centre]);
   int count = std::popcount(rows[centre]);
   // One sweep down and one up from the centre row complete an arc that crosses each row once,
   // the case that matters; a component that turns back (a U) is finished by the worklist below.
   // The two sweeps run interleaved: each row's fill waits on the previous row's, and two
-  // independent chains keep the CPU busy while one waits.
+  // independent chains keep the CPU busy while one waits. Every row the sweeps pass is
+  // written (0 once a sweep has died out), the rows past them cleared after: no clearing first.
   std::uint64_t below = rows[centre], above = rows[centre];
-  for (std::size_t i = 1; i <= centre && (below | above) != 0 && count <= stop_above; ++i) {
-    if (below != 0) rows[centre + i] = below = touching<Steps>(below, window[centre + i]);
-    if (above != 0) rows[centre - i] = above = touching<Steps>(above, window[centre - i]);
+  std::size_t i = 1;
+  for (; i <= centre && (below | above) != 0 && count <= stop_above; ++i) {
+    rows[centre + i] = below = below != 0 ? touching<Steps>(below, window[centre + i]) : 0;
+    rows[centre - i] = above = above != 0 ? touching<Steps>(above, window[centre - i]) : 0;
     count += std::popcount(below) + std::popcount(above);
   }
+  for (; i <= centre; ++i) rows[centre + i] = rows[centre - i] = 0;
   if (count > stop_above || component_closed(window, rows, n)) return count;
   // Worklist of rows whose mask grew: each grows its two neighbours. Rows are run-closed, so
   // a neighbour's new bits are the runs touching the grown row.
