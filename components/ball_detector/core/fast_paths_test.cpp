@@ -564,6 +564,34 @@ TEST(ConnectedRows, GivenRandomWindowsThenTheComponentEqualsABreadthFirstFloodFi
   }
 }
 
+TEST(ConnectedRows, GivenAMaskBufferHoldingOldBitsThenEveryMaskIsWrittenAfresh) {
+  std::mt19937 rng(23);
+  for (int trial = 0; trial < 6000; ++trial) {
+    // Given a random window and a mask buffer full of set bits (a previous window's masks)
+    const int k = std::array{2, 5, 8, 31}[static_cast<size_t>(trial) % 4];
+    const int n = 2 * k + 1;
+    const unsigned density = 5 + static_cast<unsigned>(trial) % 40;
+    std::array<std::uint64_t, 64> window{};
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c)
+        if (rng() % 100 < density) window[static_cast<size_t>(r)] |= std::uint64_t{1} << c;
+    window[static_cast<size_t>(k)] |= std::uint64_t{1} << k;
+    const int stop = trial % 2 == 0 ? n : 64 * 64;
+    std::array<std::uint64_t, 64> reused;
+    reused.fill(~std::uint64_t{0});
+    std::array<std::uint64_t, 64> cleared{};
+    // When grown into both buffers (with and without the rule's early stop)
+    const auto span = std::span<const std::uint64_t>(window.data(), n);
+    const int from_reused = connected_rows(span, k, reused, stop);
+    const int from_cleared = connected_rows(span, k, cleared, stop);
+    // Then the counts and all 2k+1 masks agree: no old bit survives
+    ASSERT_EQ(from_reused, from_cleared) << "trial " << trial;
+    for (int r = 0; r < n; ++r)
+      ASSERT_EQ(reused[static_cast<size_t>(r)], cleared[static_cast<size_t>(r)])
+          << "trial " << trial << " row " << r;
+  }
+}
+
 TEST(ConnectedRows, GivenAUShapeThatReturnsOverItsRowsThenTheWorklistFindsAllOfIt) {
   // Given a U through the centre row whose right arm is reached only around its bottom
   const int k = 5, n = 11;

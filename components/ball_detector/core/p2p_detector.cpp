@@ -231,9 +231,10 @@ void PixelToPixelDetector::vote(int k) {
         line = vote_line_of_rows(window_bits, k);
       } else if (count > n && count <= isolate_max_points) {
         // Addition: judge the arc through O alone when other edges share the window.
-        if (connected_rows(window_bits, k, mask, n) != n &&
-            !(params_.isolate_by_orientation &&
-              isolate_along_orientation(x, y, k, window_bits, mask)))
+        const int connected = connected_rows(window_bits, k, mask, n);
+        // O's aligned component lies inside its component: fewer than n points leave it short too.
+        if (connected != n && (connected < n || !params_.isolate_by_orientation ||
+                               !isolate_along_orientation(x, y, k, window_bits, mask)))
           return;
         line = vote_line_of_rows(std::span<const std::uint64_t>(mask.data(), n), k);
       } else {
@@ -272,14 +273,18 @@ bool PixelToPixelDetector::isolate_along_orientation(int x, int y, int k,
   // The window's points within the slack of O's orientation: one AND per row with O's plane.
   const BitImage& near = near_orientation_[static_cast<std::size_t>(
       orientation_bin(edges_.dx.at<short>(y, x), edges_.dy.at<short>(y, x)))];
-  std::array<std::uint64_t, 2 * kMaxK + 1> aligned{};
+  std::array<std::uint64_t, 2 * kMaxK + 1> aligned;  // rows [0, n) written below, no others read
   int count = 0;
+  std::uint64_t dropped = 0;
   for (int i = 0; i < n; ++i) {
-    const std::uint64_t kept = window[static_cast<std::size_t>(i)] & near.bits(y - k + i, x - k, n);
+    const std::uint64_t all = window[static_cast<std::size_t>(i)];
+    const std::uint64_t kept = all & near.bits(y - k + i, x - k, n);
     aligned[static_cast<std::size_t>(i)] = kept;
+    dropped |= all ^ kept;
     count += std::popcount(kept);
   }
-  if (count < n) return false;
+  // Nothing dropped: the same window whose component the caller found not to be n points.
+  if (count < n || dropped == 0) return false;
   return connected_rows(std::span<const std::uint64_t>(aligned.data(), static_cast<std::size_t>(n)),
                         k, mask, n) == n;
 }

@@ -69,21 +69,19 @@ template <int Steps>
   return fill_runs<Steps>(neighbour | (neighbour << 1) | (neighbour >> 1), row);
 }
 
-// Whether no window pixel outside the component touches it (8-neighbourhood): a dilation test,
-// cheaper than growing again.
-bool component_closed(std::span<const std::uint64_t> window, std::span<const std::uint64_t> rows,
-                      int n) {
+// Whether no window pixel outside the sweeps' rows touches them (8-neighbourhood): a dilation
+// test, cheaper than growing again. Each row holds whole runs, among them every run touching its
+// neighbour toward the centre row, so only its outer neighbour can touch a bit it lacks (an arc
+// turning back): one test per pair of adjacent rows, from the outer row.
+bool sweeps_closed(std::span<const std::uint64_t> window, std::span<const std::uint64_t> rows,
+                   int k) {
   auto spread = [](std::uint64_t m) { return m | (m << 1) | (m >> 1); };
-  // Each row's spread once, carried on to the next rows' tests (a row's 8-neighbourhood
-  // reaches the rows above and below only).
-  std::uint64_t above = 0;
-  std::uint64_t here = spread(rows[0]);
-  for (int r = 0; r < n; ++r) {
-    const auto ri = static_cast<std::size_t>(r);
-    const std::uint64_t below = r + 1 < n ? spread(rows[ri + 1]) : 0;
-    if (((above | here | below) & window[ri] & ~rows[ri]) != 0) return false;
-    above = here;
-    here = below;
+  const auto centre = static_cast<std::size_t>(k);
+  for (std::size_t i = 1; i <= centre; ++i) {
+    const std::size_t down = centre + i, up = centre - i;
+    if (((spread(rows[down]) & window[down - 1] & ~rows[down - 1]) |
+         (spread(rows[up]) & window[up + 1] & ~rows[up + 1])) != 0)
+      return false;
   }
   return true;
 }
@@ -93,21 +91,23 @@ template <int Steps>
 int connected_rows_steps(std::span<const std::uint64_t> window, int k,
                          std::span<std::uint64_t> rows, int stop_above) {
   const int n = 2 * k + 1;
-  for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = 0;
   const auto centre = static_cast<std::size_t>(k);
   rows[centre] = fill_runs<Steps>(std::uint64_t{1} << k, window[centre]);
   int count = std::popcount(rows[centre]);
   // One sweep down and one up from the centre row complete an arc that crosses each row once,
   // the case that matters; a component that turns back (a U) is finished by the worklist below.
   // The two sweeps run interleaved: each row's fill waits on the previous row's, and two
-  // independent chains keep the CPU busy while one waits.
+  // independent chains keep the CPU busy while one waits. Every row the sweeps pass is
+  // written (0 once a sweep has died out), the rows past them cleared after: no clearing first.
   std::uint64_t below = rows[centre], above = rows[centre];
-  for (std::size_t i = 1; i <= centre && (below | above) != 0 && count <= stop_above; ++i) {
-    if (below != 0) rows[centre + i] = below = touching<Steps>(below, window[centre + i]);
-    if (above != 0) rows[centre - i] = above = touching<Steps>(above, window[centre - i]);
+  std::size_t i = 1;
+  for (; i <= centre && (below | above) != 0 && count <= stop_above; ++i) {
+    rows[centre + i] = below = below != 0 ? touching<Steps>(below, window[centre + i]) : 0;
+    rows[centre - i] = above = above != 0 ? touching<Steps>(above, window[centre - i]) : 0;
     count += std::popcount(below) + std::popcount(above);
   }
-  if (count > stop_above || component_closed(window, rows, n)) return count;
+  for (; i <= centre; ++i) rows[centre + i] = rows[centre - i] = 0;
+  if (count > stop_above || sweeps_closed(window, rows, k)) return count;
   // Worklist of rows whose mask grew: each grows its two neighbours. Rows are run-closed, so
   // a neighbour's new bits are the runs touching the grown row.
   std::uint64_t pending = (std::uint64_t{1} << n) - 1;
