@@ -19,6 +19,8 @@ struct Circle {
   double y_px = 0.0;       ///< centre row, pixels
   double radius_px = 0.0;  ///< radius, pixels
   double score = 0.0;      ///< confidence in [0, 1]; below the detector's threshold = "no circle"
+  /// The same circle to the bit: place, radius and score.
+  friend bool operator==(const Circle&, const Circle&) = default;
 };
 
 /// What a voting detector saw on its last image, for --debug-dir and the bench.

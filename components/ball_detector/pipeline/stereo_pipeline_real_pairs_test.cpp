@@ -326,8 +326,7 @@ TEST_F(RealBasketballPairs, GivenABallOnlyTheReducedBandsFind_ThenTheBandsAreSea
     // And they are the circles of the one-step search to the bit (refined in two steps, each
     // circle once)
     const std::vector<Circle> all = sb::ball_detector::coarse_left_circles(*one_step);
-    EXPECT_TRUE(std::equal(banded.begin(), banded.end(), all.begin(), all.end(),
-                           sb::ball_detector::same_scored_circle))
+    EXPECT_TRUE(std::equal(banded.begin(), banded.end(), all.begin(), all.end()))
         << "pair " << t.id;
   }
   // And through the pipeline (coarse to fine, the whole range first) each is found correct
@@ -363,12 +362,10 @@ TEST_F(RealBasketballPairs, GivenABallTheWholeRangePairs_ThenTheBandsAreNotSearc
     sb::ball_detector::CoarseLeftCircles circles(*tools);
     const std::vector<Circle> whole = circles.whole_range();
     const std::vector<Circle> banded = circles.with_bands();
-    ASSERT_FALSE(std::equal(banded.begin(), banded.end(), whole.begin(), whole.end(),
-                            sb::ball_detector::same_scored_circle))
+    ASSERT_FALSE(std::equal(banded.begin(), banded.end(), whole.begin(), whole.end()))
         << "premise: the bands add circles on pair " << t.id;
     const std::vector<Circle>& answered = pipeline.left_candidates();
-    EXPECT_TRUE(std::equal(answered.begin(), answered.end(), whole.begin(), whole.end(),
-                           sb::ball_detector::same_scored_circle))
+    EXPECT_TRUE(std::equal(answered.begin(), answered.end(), whole.begin(), whole.end()))
         << "pair " << t.id << ": " << answered.size() << " candidates, " << whole.size()
         << " of the whole range";
   }

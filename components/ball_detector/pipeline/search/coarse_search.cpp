@@ -104,7 +104,7 @@ std::vector<Circle> CoarseLeftCircles::refined_with_fine_path(const std::vector<
   std::vector<Circle> held;
   for (const Circle& c : reduced) {
     auto it = std::find_if(refined_.begin(), refined_.end(),
-                           [&](const auto& done) { return same_scored_circle(done.first, c); });
+                           [&](const auto& done) { return done.first == c; });
     if (it == refined_.end()) {
       refined_.emplace_back(
           c, refine_coarse_circles(tools_.left_detector, std::span<const Circle>(&c, 1),
@@ -127,10 +127,6 @@ std::vector<Circle> CoarseLeftCircles::refined_with_fine_path(const std::vector<
   const auto most = static_cast<std::size_t>(tools_.params.max_candidates_per_eye);
   if (found.size() > most) found.resize(most);
   return found;
-}
-
-bool same_scored_circle(const Circle& a, const Circle& b) {
-  return a.x_px == b.x_px && a.y_px == b.y_px && a.radius_px == b.radius_px && a.score == b.score;
 }
 
 std::vector<Circle> coarse_left_circles(SearchTools& tools) {

@@ -79,9 +79,6 @@ class CoarseLeftCircles {
   std::vector<std::pair<Circle, std::vector<Circle>>> refined_;
 };
 
-/// Whether a and b are the same circle to the bit (place, radius and score).
-bool same_scored_circle(const Circle& a, const Circle& b);
-
 /// CoarseLeftCircles(tools).with_bands(): the circles of the reduced eye's votes (the whole
 /// radius range's and each radius band's) refined at full width, with the fine path's.
 std::vector<Circle> coarse_left_circles(SearchTools& tools);

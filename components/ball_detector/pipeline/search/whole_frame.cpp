@@ -72,8 +72,7 @@ std::optional<SearchOutcome> WholeFrameSearch::coarse_try(const FrameState& fram
   // range paired.
   if (!strong(out)) {
     std::vector<Circle> banded = circles.with_bands();
-    const bool same =
-        std::equal(banded.begin(), banded.end(), whole.begin(), whole.end(), same_scored_circle);
+    const bool same = std::equal(banded.begin(), banded.end(), whole.begin(), whole.end());
     if (same) return std::nullopt;  // paired as above already
     out = pair_left_circles(frame, scratch, tools, std::move(banded), false);
   }
