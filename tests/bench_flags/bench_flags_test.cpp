@@ -90,6 +90,20 @@ TEST(BenchRealStereoFlags, GivenAnUnknownFrameEncodingWhenStartedThenRefusedNami
   EXPECT_TRUE(has(r.out, "--frame-encoding")) << r.out;
 }
 
+TEST(BenchRealStereoFlags, GivenAReferenceWithoutInProcessWhenStartedThenRefusedNamingBoth) {
+  const auto r = run_bench("stereoball-bench-real-stereo", {"--reference", "edcircles"});
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_TRUE(has(r.out, "--reference needs --in-process")) << r.out;
+}
+
+TEST(BenchRealStereoFlags, GivenAnUnknownReferenceMethodWhenStartedThenRefusedListingTheKnown) {
+  const auto r =
+      run_bench("stereoball-bench-real-stereo", {"--in-process", "--reference", "no-such"});
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_TRUE(has(r.out, "'no-such'")) << r.out;
+  EXPECT_TRUE(has(r.out, "edcircles")) << r.out;
+}
+
 TEST(BenchReportFlags, GivenAnOnlyThatNamesNoBenchWhenStartedThenRefusedBeforeAnyBenchRuns) {
   const std::string dir = st::temp_dir();
   const auto r = run_bench(

@@ -1,11 +1,15 @@
 // run_in_process and the ball/detection conversions both paths share.
 
+#include <algorithm>
 #include <chrono>
+#include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
 
+#include "ball_detector/core/circle.hpp"
 #include "ball_detector/node/detection_msg.hpp"
+#include "ball_detector/pipeline/detector_params.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
 #include "camera_server/core/frame_scaler.hpp"
 #include "common/util/bench_clock.hpp"
@@ -83,7 +87,61 @@ class SearchTimer {
   double since_ = 0.0;
 };
 
+// A circle detector beside the pipeline on the same decoded left eye: shrunk and rectified as
+// the pipeline searches it (not timed), then the method alone (timed): what one eye costs with
+// it.
+class ReferenceEye {
+ public:
+  static Result<ReferenceEye> create(const std::string& method, const DetectorConfig& config,
+                                     const ball_detector::StereoPipeline& pipeline) {
+    ReferenceEye eye;
+    // The node's radius range and separation, at the working width as its detector scales them.
+    const ball_detector::PixelToPixelParams p2p = ball_detector::scaled_to_width(
+        config.params.p2p, config.params.p2p_reference_width_px, pipeline.working_size().width);
+    ball_detector::DetectorOptions o;
+    o.min_radius_px = p2p.min_radius_px;
+    o.max_radius_px = p2p.max_radius_px;
+    o.min_separation_px = p2p.min_separation_px;
+    o.max_circles = config.params.max_candidates_per_eye;
+    std::string error;
+    eye.detector_ = ball_detector::make_detector(method, o, &error);
+    if (!eye.detector_) return Error{"reference: " + error};
+    return eye;
+  }
+
+  // Call after pipeline.step(left, right, ...) and before its finish_frame.
+  ReferenceFrame run(const ball_detector::StereoPipeline& pipeline, const cv::Mat& left,
+                     const cv::Mat& right, bool rectified, double decode_cpu_ms) {
+    ReferenceFrame f;
+    f.decode_cpu_ms = decode_cpu_ms;
+    const cv::Mat& searched = *pipeline.searched_frames(left, right).first;
+    if (!rectified && !pipeline.rectifier()->rectify_eye(stereo::Eye::kLeft, searched, rectified_))
+      return f;
+    const cv::Mat& eye = rectified ? searched : rectified_;
+    const double start = bench::thread_cpu_ms();
+    const std::vector<ball_detector::Circle> circles = detector_->detect(eye);
+    f.detect_cpu_ms = bench::thread_cpu_ms() - start;
+    // Working pixels to the played frame's (the pipeline's to_input_pixels).
+    const double s = double(pipeline.image_size().width) / double(pipeline.working_size().width);
+    for (const auto& c : circles)
+      f.circles.push_back({(c.x_px + 0.5) * s - 0.5, (c.y_px + 0.5) * s - 0.5, c.radius_px * s});
+    return f;
+  }
+
+ private:
+  std::unique_ptr<ball_detector::CircleDetector> detector_;
+  cv::Mat rectified_;
+};
+
 }  // namespace
+
+Status check_reference_method(const std::string& method) {
+  const auto names = ball_detector::detector_names();
+  if (std::find(names.begin(), names.end(), method) != names.end()) return {};
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  return Error{"unknown reference method '" + method + "' (one of: " + list + ")"};
+}
 
 std::string status_name(stereoball_msg_DetectionStatus status) {
   return msg::lower_or_number(msg::detection_status_name(status), status);
@@ -151,6 +209,13 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
   if (codec.compressed()) compressor.emplace(codec);
   stereo::FrameDecoder decoder;
   decoder.set_reduction(pipeline.working_reduction());  // as the node decodes
+  std::optional<ReferenceEye> reference;
+  if (!options.reference.empty()) {
+    auto made = ReferenceEye::create(options.reference, config, pipeline);
+    if (!made) return fail_all(made.error());
+    reference.emplace(std::move(*made));
+    out.reference.resize(set.truth.size());
+  }
   for (std::size_t i = 0; i < set.truth.size(); ++i) {
     if (options.stop && options.stop->load()) return fail_all("interrupted");
     const TruthRow& row = set.truth[i];
@@ -212,6 +277,8 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
     out.pairs[i].detection = detection_from_message(msg_out);
     out.pairs[i].detection->cpu_ms = cpu_ms;
     out.pairs[i].attempts = 1;
+    if (reference && decoded)
+      out.reference[i] = reference->run(pipeline, l, r, frame.rectified, decode_ms);
     if (!l.empty()) pipeline.finish_frame(l, frame.rectified);
   }
   out.cpu_by_search = timer.totals();

@@ -124,10 +124,20 @@ int main(int argc, char** argv) {
   app.add_flag("--in-process", in_process,
                "run the detector's pipeline library in this process (fast tuning; NOT the DDS "
                "path the figures of record use)");
+  app.add_option("--reference", options.reference,
+                 "with --in-process: this circle detector (edcircles, opencv-alt, ...) also runs "
+                 "on every decoded left eye, rectified, alone; its CPU time per frame (plus the "
+                 "decode) and how often the ball is among its circles are reported beside the "
+                 "pipeline's: what one eye costs with another method, measured side by side");
   app.add_flag("--verbose,-v", verbose, "one line per pair");
   app.add_flag("--json", json, "JSON instead of the table");
   CLI11_PARSE(app, argc, argv);
   options.retry = !no_retry;
+  if (!options.reference.empty()) {
+    if (!in_process) return bad_input("--reference needs --in-process");
+    if (auto st = check_reference_method(options.reference); !st)
+      return bad_input("--reference: " + st.error());
+  }
   if (diameter > 0) overrides.ball_diameter_m = diameter;
   if (snapshot_skew_ms >= 0)
     overrides.snapshot_skew_ns = static_cast<int64_t>(std::llround(snapshot_skew_ms * 1e6));

@@ -52,6 +52,32 @@ std::string json_counts(const Counts& c) {
          (c.total() ? json_number(double(c.correct) / c.total()) : std::string("null")) + "}";
 }
 
+// Another method on the left eye alone beside the pipeline (RunOptions::reference).
+std::string reference_text(const std::string& method, const std::vector<PairScore>& scores,
+                           const RunResult& run, const Summary& s) {
+  const ReferenceSummary r = summarize_reference(scores, run.reference);
+  return fmt(
+      "reference, %s on the rectified left eye alone (no stereo), same frames (%zu): CPU "
+      "median %.1f ms; with the frame's decode (%.1f ms) %.1f ms per frame, against the "
+      "pipeline's %.1f ms (median of the per-frame ratios pipeline / reference %.2f); the "
+      "ball's centre among its circles in %d of %d scored pairs\n",
+      method.c_str(), r.frames, r.median_detect_ms, r.median_decode_ms, r.median_frame_ms,
+      s.median_cpu_ms, r.median_pipeline_ratio, r.ball_among_circles, r.scored);
+}
+
+std::string reference_json(const ReportContext& ctx, const std::vector<PairScore>& scores,
+                           const RunResult& run) {
+  const ReferenceSummary r = summarize_reference(scores, run.reference);
+  return "  \"reference\": {\"method\": " + util::json_quoted(ctx.options.reference) +
+         ", \"frames\": " + std::to_string(r.frames) +
+         ", \"median_detect_cpu_ms\": " + json_number(r.median_detect_ms) +
+         ", \"median_decode_cpu_ms\": " + json_number(r.median_decode_ms) +
+         ", \"median_frame_cpu_ms\": " + json_number(r.median_frame_ms) +
+         ", \"median_pipeline_over_reference\": " + json_number(r.median_pipeline_ratio) +
+         ", \"scored_pairs\": " + std::to_string(r.scored) +
+         ", \"ball_among_circles\": " + std::to_string(r.ball_among_circles) + "},\n";
+}
+
 std::string mode_label(const RunResult& run, const RunOptions& o) {
   if (run.mode == "in-process")
     return "IN-PROCESS (the detector's pipeline library in this process, same frames and "
@@ -139,6 +165,7 @@ std::string format_table(const ReportContext& ctx, const RunResult& run,
                s.cpu_frames ? e.total_ms / double(s.cpu_frames) : 0.0, e.frames,
                e.frames ? e.total_ms / e.frames : 0.0);
   }
+  if (!run.reference.empty()) t << reference_text(o.reference, scores, run, s);
   if (verbose) {
     t << "\npairs:\n";
     for (const auto& p : scores) {
@@ -229,6 +256,7 @@ std::string format_json(const ReportContext& ctx, const RunResult& run,
       << ": {\"total_ms\": " << json_number(e.total_ms) << ", \"frames\": " << e.frames << "}";
   }
   j << "},\n";
+  if (!run.reference.empty()) j << reference_json(ctx, scores, run);
   j << "  \"run_errors\": [";
   for (std::size_t i = 0; i < run.errors.size(); ++i)
     j << (i ? ", " : "") << util::json_quoted(run.errors[i]);

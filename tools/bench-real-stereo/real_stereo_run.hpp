@@ -29,6 +29,9 @@ struct RunOptions {
   double pair_timeout_s = 20.0;         ///< longest wait for the answers after the last frame, s
   double warmup_s = 10.0;  ///< DDS: the first pair is played this long first (not scored), s
   bool retry = true;       ///< play the pairs without a detection once more
+  /// in-process: a circle detector of the factory ("edcircles", ...) also run on every decoded
+  /// left eye, rectified, alone, and timed beside the pipeline ("" = none)
+  std::string reference;
   const std::atomic<bool>* stop = nullptr;  ///< set by SIGINT/SIGTERM: tear down and fail
 };
 
@@ -55,6 +58,7 @@ struct RunResult {
   double scale = 1.0;               ///< published width / set width (truth scaled by it)
   cv::Size played_size;             ///< frame size the detector saw
   std::vector<SearchCpu> cpu_by_search;  ///< in-process: where the detector's CPU time went
+  std::vector<std::optional<ReferenceFrame>> reference;  ///< per truth row (RunOptions::reference)
 };
 
 /// The scorer's view of a ball/detection sample (the same for both paths).
@@ -72,6 +76,9 @@ bool is_refusal(stereoball_msg_DetectionStatus status);
 /// detector's image limit, one pipeline for the whole set in its order (as the node keeps one).
 RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
                          const RunOptions& options);
+
+/// Whether run_in_process knows the reference method (the circle detector factory's names).
+Status check_reference_method(const std::string& method);
 
 /// camera_server (file source) and ball_detector as processes on a private domain.
 RunResult run_dds(const RealStereoSet& set, const DetectorConfig& config,

@@ -253,6 +253,19 @@ Band band_of(double dy_px) {
   return Band::kOver10;
 }
 
+namespace {
+
+double centre_allowance_px(const TruthRow& truth, const ScoreRules& rules) {
+  return std::max(rules.min_centre_px, rules.centre_per_radius * truth.left_r);
+}
+
+}  // namespace
+
+bool centre_matches(const TruthRow& truth, double x_px, double y_px, const ScoreRules& rules) {
+  const double error = std::hypot(x_px - truth.left_cx, y_px - truth.left_cy);
+  return std::isfinite(error) && error <= centre_allowance_px(truth, rules);
+}
+
 PairScore score_pair(const TruthRow& truth, const Detection& detection, const ScoreRules& rules) {
   PairScore s;
   s.truth = truth;
@@ -268,12 +281,12 @@ PairScore score_pair(const TruthRow& truth, const Detection& detection, const Sc
     return s;
   }
   s.verdict = Verdict::kWrong;
-  const double allowed = std::max(rules.min_centre_px, rules.centre_per_radius * truth.left_r);
   s.centre_error_px =
       std::hypot(detection.left_x_px - truth.left_cx, detection.left_y_px - truth.left_cy);
   if (std::isfinite(truth.z_m)) s.depth_error = (detection.z_m - truth.z_m) / truth.z_m;
-  if (!std::isfinite(s.centre_error_px) || !(s.centre_error_px <= allowed)) {
-    s.why = fmt("left centre %.1f px from the truth (allowed %.1f px)", s.centre_error_px, allowed);
+  if (!centre_matches(truth, detection.left_x_px, detection.left_y_px, rules)) {
+    s.why = fmt("left centre %.1f px from the truth (allowed %.1f px)", s.centre_error_px,
+                centre_allowance_px(truth, rules));
     return s;
   }
   if (truth.depth_checked() &&
@@ -339,6 +352,34 @@ Summary summarize(const std::vector<PairScore>& pairs) {
   s.cpu_frames = cpu.size();
   s.median_cpu_ms = median_of(cpu);
   s.p90_cpu_ms = percentile_of(cpu, 0.9);
+  return s;
+}
+
+ReferenceSummary summarize_reference(const std::vector<PairScore>& pairs,
+                                     const std::vector<std::optional<ReferenceFrame>>& frames,
+                                     const ScoreRules& rules) {
+  ReferenceSummary s;
+  std::vector<double> detect, decode, frame, ratio;
+  for (std::size_t i = 0; i < pairs.size() && i < frames.size(); ++i) {
+    if (!frames[i]) continue;
+    const ReferenceFrame& f = *frames[i];
+    detect.push_back(f.detect_cpu_ms);
+    decode.push_back(f.decode_cpu_ms);
+    frame.push_back(f.detect_cpu_ms + f.decode_cpu_ms);
+    const double pipeline = pairs[i].detection.cpu_ms;
+    if (std::isfinite(pipeline) && frame.back() > 0) ratio.push_back(pipeline / frame.back());
+    if (pairs[i].verdict == Verdict::kExcluded) continue;
+    ++s.scored;
+    const bool hit = std::any_of(f.circles.begin(), f.circles.end(), [&](const ReferenceCircle& c) {
+      return centre_matches(pairs[i].truth, c.x_px, c.y_px, rules);
+    });
+    if (hit) ++s.ball_among_circles;
+  }
+  s.frames = detect.size();
+  s.median_detect_ms = median_of(detect);
+  s.median_decode_ms = median_of(decode);
+  s.median_frame_ms = median_of(frame);
+  s.median_pipeline_ratio = median_of(ratio);
   return s;
 }
 

@@ -121,6 +121,40 @@ struct Summary {
 /// Aggregates pair scores.
 Summary summarize(const std::vector<PairScore>& pairs);
 
+/// Whether a left-eye centre lies where the truth's ball is: within max(min_centre_px,
+/// centre_per_radius * r) of its centre (score_pair's position rule, without depth).
+bool centre_matches(const TruthRow& truth, double x_px, double y_px, const ScoreRules& rules = {});
+
+/// A circle a reference method found in a left eye, in the truth's (played) pixels.
+struct ReferenceCircle {
+  double x_px = 0;
+  double y_px = 0;
+  double r_px = 0;
+};
+
+/// One frame of a reference method run beside the pipeline on the same decoded left eye.
+struct ReferenceFrame {
+  double detect_cpu_ms = 0;  ///< the method on the rectified left eye alone, thread CPU ms
+  double decode_cpu_ms = 0;  ///< decoding the stereo frame (both eyes), thread CPU ms
+  std::vector<ReferenceCircle> circles;  ///< its circles, best first
+};
+
+/// What a reference method achieved over a run, beside the pipeline's own figures.
+struct ReferenceSummary {
+  std::size_t frames = 0;            ///< frames it ran on
+  double median_detect_ms = 0;       ///< its CPU time on one eye
+  double median_decode_ms = 0;       ///< the frames' decode
+  double median_frame_ms = 0;        ///< decode + its time, per frame (the least a frame costs)
+  double median_pipeline_ratio = 0;  ///< median over frames of pipeline CPU / (decode + its time)
+  int scored = 0;                    ///< pairs scored (not excluded) that it ran on
+  int ball_among_circles = 0;        ///< ... whose ball centre is one of its circles' (one eye)
+};
+
+/// Summarises a reference run: frames[i] belongs to pairs[i] (nullopt: it did not run there).
+ReferenceSummary summarize_reference(const std::vector<PairScore>& pairs,
+                                     const std::vector<std::optional<ReferenceFrame>>& frames,
+                                     const ScoreRules& rules = {});
+
 /// A reason with every number replaced by '#', so misses group by kind.
 std::string reason_kind(const std::string& status, const std::string& reason);
 

@@ -183,6 +183,46 @@ TEST(Summary, GivenScoresOfEveryKindWhenSummarizedThenBandsDenominatorReasonsAnd
   EXPECT_DOUBLE_EQ(s.p90_ms, 50.0);
 }
 
+TEST(Reference, GivenAnotherMethodsFramesWhenSummarizedThenTimesRatiosAndHitsOfScoredPairs) {
+  const auto rows = truth();
+  // Given the pipeline's scores (CPU 30, 40, 50, 60, 70 ms) and a reference that ran on pairs
+  // 1, 2, 3 and 4 (not 5): detect 5, 10, 15, 20 ms, decode 5 ms each; its circles hold pair 1's
+  // ball (second circle), not pair 2's (40 px off; a 92.5 px ball allows 32.4), pair 3's (24 px
+  // off; 70.5 px allows 24.7) and pair 4's (excluded: not counted)
+  std::vector<rs::PairScore> scores;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    rs::Detection d = missed("no_candidate", "no circle in the left eye");
+    d.cpu_ms = 30.0 + 10.0 * static_cast<double>(i);
+    scores.push_back(rs::score_pair(rows[i], d));
+  }
+  std::vector<std::optional<rs::ReferenceFrame>> frames(rows.size());
+  frames[0] = rs::ReferenceFrame{5, 5, {{10, 10, 8}, {1003, 604, 70}}};
+  frames[1] = rs::ReferenceFrame{10, 5, {{1246 + 40, 887.5, 92}}};
+  frames[2] = rs::ReferenceFrame{15, 5, {{993 + 24.0, 580, 70}}};
+  frames[3] = rs::ReferenceFrame{20, 5, {{1275.9, 573.1, 60}}};
+  // When summarized
+  const rs::ReferenceSummary r = rs::summarize_reference(scores, frames);
+  // Then the frames it ran on count, their medians and the per-frame ratio pipeline / (decode +
+  // method): 30/10, 40/15, 50/20, 60/25 -> median of 3, 2.67, 2.5, 2.4
+  EXPECT_EQ(r.frames, 4u);
+  EXPECT_DOUBLE_EQ(r.median_detect_ms, 12.5);
+  EXPECT_DOUBLE_EQ(r.median_decode_ms, 5.0);
+  EXPECT_DOUBLE_EQ(r.median_frame_ms, 17.5);
+  EXPECT_NEAR(r.median_pipeline_ratio, (40.0 / 15 + 50.0 / 20) / 2, 1e-12);
+  // And the ball is among its circles in 2 of the 3 scored pairs it ran on
+  EXPECT_EQ(r.scored, 3);
+  EXPECT_EQ(r.ball_among_circles, 2);
+}
+
+TEST(Reference, GivenACentreJustOutsideTheAllowanceWhenMatchedThenNotTheBall) {
+  const auto rows = truth();
+  // Given pair 1's ball (r 70: allowance 24.5 px)
+  // Then 24.5 px off matches, 24.6 px and NaN do not
+  EXPECT_TRUE(rs::centre_matches(rows[0], 1000 + 24.5, 600));
+  EXPECT_FALSE(rs::centre_matches(rows[0], 1000 + 24.6, 600));
+  EXPECT_FALSE(rs::centre_matches(rows[0], std::nan(""), 600));
+}
+
 TEST(Bands, GivenRowOffsetsWhenBandedThenTheEdgesBelongBelow) {
   EXPECT_EQ(rs::band_of(2.0), rs::Band::kWithin2);
   EXPECT_EQ(rs::band_of(-2.0), rs::Band::kWithin2);

@@ -28,6 +28,18 @@ const std::vector<BenchEntry>& bench_table() {
        "As real-stereo, at the sensor's full size.",
        "shared/data/real-stereo-basketball; settings chosen on its odd-numbered pairs.",
        true},
+      {"real-stereo-reference",
+       "Real stereo pairs in-process beside EDCircles on the left eye alone",
+       "stereoball-bench-real-stereo",
+       {"--ball-diameter-m", "0.24", "--no-floor-check", "--snapshot-skew-ms", "16.7", "--width-px",
+        "1152", "--in-process", "--reference", "edcircles"},
+       false,
+       "The detector's CPU time per 1152x648 stereo frame on one core, and in the same run "
+       "EDCircles (OpenCV's Edge Drawing) on each frame's rectified left eye alone plus the "
+       "frame's decode: how far a time target is from the best known method on these frames.",
+       "shared/data/real-stereo-basketball; the detector's settings chosen on its odd-numbered "
+       "pairs; EDCircles at the node's radius range, nothing tuned.",
+       true},
       {"closed-loop",
        "Closed loop on the built-in scenarios",
        "stereoball-bench-closed-loop",
