@@ -41,6 +41,24 @@ inline int code_at(const uchar* up, const uchar* mid, const uchar* down, int x) 
          (mid[x - 1] ? 16 : 0) | (up[x - 1] ? 32 : 0) | (up[x] ? 64 : 0) | (up[x + 1] ? 128 : 0);
 }
 
+// canny_thresholds measures a row in stretches of this many columns (a multiple of the sample
+// step, so every stretch starts on a sampled column).
+constexpr int kL1Chunk = 1024;
+static_assert(kL1Chunk % kThresholdSampleStep == 0);
+
+// min(|gx| + |gy|, kMaxL1Gradient) of n pixels, in 16-bit lanes: capping each term first keeps
+// the sum below 2^16 (and -32768 has no 16-bit opposite, but its magnitude is capped anyway).
+SB_AVX2_CLONE void capped_l1_row(const short* __restrict gx, const short* __restrict gy, int n,
+                                 std::uint16_t* __restrict out) {
+  constexpr std::uint16_t kCap = kMaxL1Gradient;
+  for (int x = 0; x < n; ++x) {
+    const auto ax = static_cast<std::uint16_t>(gx[x] < 0 ? -gx[x] : gx[x]);
+    const auto ay = static_cast<std::uint16_t>(gy[x] < 0 ? -gy[x] : gy[x]);
+    const auto sum = static_cast<std::uint16_t>(std::min(ax, kCap) + std::min(ay, kCap));
+    out[x] = std::min(sum, kCap);
+  }
+}
+
 // One BGR row with its brightness removed (remove_brightness). Three times a channel minus the
 // sum is three times its difference from the mean: integers throughout, one division.
 SB_AVX2_CLONE void brightness_free_row(const std::uint8_t* __restrict bgr,
@@ -111,36 +129,76 @@ cv::Mat to_grey(const cv::Mat& image) {
   return grey;
 }
 
-CannyThresholds canny_thresholds(const cv::Mat& dx, const cv::Mat& dy, const EdgeParams& params) {
-  std::array<int, kMaxL1Gradient + 1> hist{};
-  int samples = 0;
-  // Every second row and column: the quantiles barely move, the cost drops fourfold.
-  for (int y = 0; y < dx.rows; y += kThresholdSampleStep) {
-    const short* gx = dx.ptr<short>(y);
-    const short* gy = dy.ptr<short>(y);
-    for (int x = 0; x < dx.cols; x += kThresholdSampleStep) {
-      ++hist[std::min(kMaxL1Gradient, std::abs(gx[x]) + std::abs(gy[x]))];
-      ++samples;
+namespace {
+
+// The histogram canny_thresholds takes its quantiles from: min(|dx| + |dy|, kMaxL1Gradient) of
+// every kThresholdSampleStep-th column of the rows added.
+class SampledGradients {
+ public:
+  /// Counts the sampled columns of one row of cols derivatives.
+  void add_row(const short* gx, const short* gy, int cols) {
+    // The magnitudes of a stretch of row first (vector code, every column), then the samples.
+    std::array<std::uint16_t, kL1Chunk> l1;
+    for (int x0 = 0; x0 < cols; x0 += kL1Chunk) {
+      const int n = std::min(kL1Chunk, cols - x0);
+      capped_l1_row(gx + x0, gy + x0, n, l1.data());
+      for (int x = 0; x < n; x += kThresholdSampleStep) ++hist_[l1[static_cast<std::size_t>(x)]];
     }
+    samples_ += (cols + kThresholdSampleStep - 1) / kThresholdSampleStep;
   }
-  auto quantile = [&](double q) {
-    const int target = static_cast<int>(q * samples);
+  /// Smallest magnitude m with more than floor(q * samples) samples at or below it.
+  int quantile(double q) const {
+    const int target = static_cast<int>(q * samples_);
     int cumulative = 0;
     for (int m = 0; m <= kMaxL1Gradient; ++m) {
-      cumulative += hist[m];
+      cumulative += hist_[static_cast<std::size_t>(m)];
       if (cumulative > target) return m;
     }
     return kMaxL1Gradient;
-  };
-  CannyThresholds t;
-  t.median_gradient = quantile(0.5);
-  // Noise term: flat regions dominate the median. Contrast term: strong edges set the scale
-  // when they are plentiful, so a textured, well-lit scene is not flooded with weak edges.
-  const double high = std::max(params.noise_factor * t.median_gradient,
-                               params.contrast_fraction * quantile(params.high_percentile));
-  t.high = std::clamp(high, params.min_high_threshold, params.max_high_threshold);
-  t.low = t.high * params.low_ratio;
-  return t;
+  }
+  /// Whether the median of all samples (total of them, of which these are some) already
+  /// certainly exceeds level: too many of them lie above it for the rest to pull it down.
+  bool median_above(double level, int total) const {
+    if (!(level >= 0.0 && level < kMaxL1Gradient)) return false;
+    const int floor_level = static_cast<int>(level);  // an integer median > level iff > this
+    int at_most = 0;
+    for (int m = 0; m <= floor_level; ++m) at_most += hist_[static_cast<std::size_t>(m)];
+    // quantile(0.5) > floor_level iff the samples at most floor_level, of all, are <= target.
+    const int target = static_cast<int>(0.5 * total);
+    return samples_ - at_most >= total - target;
+  }
+  /// The thresholds of the samples counted.
+  CannyThresholds thresholds(const EdgeParams& params) const {
+    CannyThresholds t;
+    t.median_gradient = quantile(0.5);
+    // Noise term: flat regions dominate the median. Contrast term: strong edges set the scale
+    // when they are plentiful, so a textured, well-lit scene is not flooded with weak edges.
+    const double high = std::max(params.noise_factor * t.median_gradient,
+                                 params.contrast_fraction * quantile(params.high_percentile));
+    t.high = std::clamp(high, params.min_high_threshold, params.max_high_threshold);
+    t.low = t.high * params.low_ratio;
+    return t;
+  }
+
+ private:
+  std::array<int, kMaxL1Gradient + 1> hist_{};
+  int samples_ = 0;
+};
+
+// How many samples canny_thresholds takes of a rows x cols gradient.
+int sample_count(int rows, int cols) {
+  return ((rows + kThresholdSampleStep - 1) / kThresholdSampleStep) *
+         ((cols + kThresholdSampleStep - 1) / kThresholdSampleStep);
+}
+
+}  // namespace
+
+CannyThresholds canny_thresholds(const cv::Mat& dx, const cv::Mat& dy, const EdgeParams& params) {
+  // Every second row and column: the quantiles barely move, the cost drops fourfold.
+  SampledGradients samples;
+  for (int y = 0; y < dx.rows; y += kThresholdSampleStep)
+    samples.add_row(dx.ptr<short>(y), dy.ptr<short>(y), dx.cols);
+  return samples.thresholds(params);
 }
 
 const std::array<bool, 256>& staircase_table() {
@@ -337,12 +395,12 @@ struct ColourPlanes {
 ColourPlanes colour_planes(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
                            std::array<cv::Mat, 3>& planes);
 
-// Rows first, first + step, ... of strongest_channel_gradient's dx, dy from colour_planes'
-// planes (dx and dy made there).
+// Rows first, first + step, ... (below end) of strongest_channel_gradient's dx, dy from
+// colour_planes' planes (dx and dy made there).
 void colour_gradient_rows(const cv::Mat& bgr, const ColourPlanes& at,
-                          const std::array<cv::Mat, 3>& planes, int first, int step, cv::Mat& dx,
-                          cv::Mat& dy) {
-  for (int y = first; y < bgr.rows; y += step) {
+                          const std::array<cv::Mat, 3>& planes, int first, int end, int step,
+                          cv::Mat& dx, cv::Mat& dy) {
+  for (int y = first; y < end; y += step) {
     // Output row y is padded row y + top, plane row y + top + 1; its first pixel is column
     // left + 1 of the plane.
     const int py = y + at.top + 1;
@@ -360,7 +418,7 @@ void colour_gradient_rows(const cv::Mat& bgr, const ColourPlanes& at,
 void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
                                 std::array<cv::Mat, 3>& planes) {
   const ColourPlanes at = colour_planes(bgr, dx, dy, planes);
-  if (!at.grey) colour_gradient_rows(bgr, at, planes, 0, 1, dx, dy);
+  if (!at.grey) colour_gradient_rows(bgr, at, planes, 0, bgr.rows, 1, dx, dy);
 }
 
 namespace {
@@ -496,32 +554,55 @@ void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy
   out.row_start.back() = static_cast<int>(out.x.size());
 }
 
+namespace {
+
+// The unblurred colour gradient's thresholds and whether it calls for the pre-blur, made row by
+// row: the sampled rows first, counted as they come, and the decision taken as soon as they
+// settle it. Only a gradient kept (no pre-blur) gets its other rows. dx, dy made by
+// colour_planes.
+EdgeThresholds colour_thresholds(const ColourPlanes& planes, const EdgeParams& params,
+                                 EdgeMap& work) {
+  const cv::Mat& bgr = work.colour;
+  const int total = sample_count(bgr.rows, bgr.cols);
+  const bool may_blur = params.denoise_median > 0.0;
+  SampledGradients samples;
+  for (int y = 0; y < bgr.rows; y += kThresholdSampleStep) {
+    colour_gradient_rows(bgr, planes, work.colour_planes, y, y + 1, 1, work.dx, work.dy);
+    samples.add_row(work.dx.ptr<short>(y), work.dy.ptr<short>(y), bgr.cols);
+    // A noisy image's median is settled long before its last row.
+    if (may_blur && samples.median_above(params.denoise_median, total)) return {{}, true};
+  }
+  const CannyThresholds t = samples.thresholds(params);
+  if (may_blur && t.median_gradient > params.denoise_median) return {t, true};
+  for (int first = 1; first < kThresholdSampleStep; ++first)
+    colour_gradient_rows(bgr, planes, work.colour_planes, first, bgr.rows, kThresholdSampleStep,
+                         work.dx, work.dy);
+  return {t, false};
+}
+
+}  // namespace
+
 EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& params,
                                        EdgeMap& work) {
   set_source(image, params, work);
-  // Colour: the rows the thresholds sample first, the others only when the gradient is kept
-  // (no pre-blur): a noisy image's unblurred gradient is made for its median alone.
+  EdgeThresholds t;
   ColourPlanes planes;
-  if (work.colour.empty()) {
-    sobel(work);
-  } else {
+  if (!work.colour.empty())
     planes = colour_planes(work.colour, work.dx, work.dy, work.colour_planes);
-    if (!planes.grey)
-      colour_gradient_rows(work.colour, planes, work.colour_planes, 0, kThresholdSampleStep,
-                           work.dx, work.dy);
+  if (!work.colour.empty() && !planes.grey) {
+    t = colour_thresholds(planes, params, work);
+  } else {
+    if (work.colour.empty()) sobel(work);  // grey read as colour: made by colour_planes
+    t.canny = canny_thresholds(work.dx, work.dy, params);
+    t.denoise = params.denoise_median > 0.0 && t.canny.median_gradient > params.denoise_median;
   }
-  CannyThresholds t = canny_thresholds(work.dx, work.dy, params);
-  work.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
-  if (!work.denoised && !work.colour.empty() && !planes.grey)
-    for (int first = 1; first < kThresholdSampleStep; ++first)
-      colour_gradient_rows(work.colour, planes, work.colour_planes, first, kThresholdSampleStep,
-                           work.dx, work.dy);
+  work.denoised = t.denoise;
   if (work.denoised) {
     // Heavy noise: Canny alone would chain noise pixels into edges; blur once and redo.
     blur_and_sobel(work);
-    t = canny_thresholds(work.dx, work.dy, params);
+    t.canny = canny_thresholds(work.dx, work.dy, params);
   }
-  return {t, work.denoised};
+  return t;
 }
 
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
