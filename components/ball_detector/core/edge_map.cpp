@@ -8,6 +8,10 @@
 #include <bit>
 #include <cstring>
 
+#if SB_HAVE_AVX2_KERNELS
+#include <immintrin.h>
+#endif
+
 namespace stereoball::ball_detector {
 namespace {
 
@@ -97,25 +101,59 @@ void BitImage::reset(int width, int height) {
   words_.assign(static_cast<size_t>(stride_) * height_, 0);
 }
 
+namespace {
+
+// Packs n bytes of a row (non-zero = set) into words that start clear, bit x % 64 of word x / 64.
+void pack_row(const uchar* src, int n, std::uint64_t* dst) {
+  int x = 0;
+  for (; x + 8 <= n; x += 8) {
+    std::uint64_t v;
+    std::memcpy(&v, src + x, 8);
+    if (v == 0) continue;
+    // Normalise bytes to 0/1, then gather the 8 low bits into one byte.
+    v = ((v | (v >> 1) | (v >> 2) | (v >> 3) | (v >> 4) | (v >> 5) | (v >> 6) | (v >> 7)) &
+         0x0101010101010101ull);
+    const std::uint64_t packed = (v * 0x0102040810204080ull) >> 56;
+    dst[x >> 6] |= packed << (x & 63);
+  }
+  for (; x < n; ++x)
+    if (src[x]) dst[x >> 6] |= std::uint64_t{1} << (x & 63);
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// pack_row a word (64 bytes, two compares and two byte masks) at a time; the plain loop packs
+// the rest, which starts a word of its own.
+SB_TARGET_AVX2 void pack_row_avx2(const uchar* src, int n, std::uint64_t* dst) {
+  const __m256i zero = _mm256_setzero_si256();
+  int x = 0;
+  for (; x + 64 <= n; x += 64) {
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(src + x));
+    const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(src + x + 32));
+    const auto clear_a =
+        static_cast<std::uint32_t>(_mm256_movemask_epi8(_mm256_cmpeq_epi8(a, zero)));
+    const auto clear_b =
+        static_cast<std::uint32_t>(_mm256_movemask_epi8(_mm256_cmpeq_epi8(b, zero)));
+    dst[x >> 6] = ~(std::uint64_t{clear_b} << 32 | clear_a);
+  }
+  pack_row(src + x, n - x, dst + (x >> 6));
+}
+#endif
+
+}  // namespace
+
 void BitImage::assign(const cv::Mat& binary) {
   CV_Assert(binary.type() == CV_8UC1);
   reset(binary.cols, binary.rows);
   for (int y = 0; y < height_; ++y) {
     const uchar* src = binary.ptr<uchar>(y);
     std::uint64_t* dst = words_.data() + static_cast<size_t>(y) * stride_;
-    int x = 0;
-    for (; x + 8 <= width_; x += 8) {
-      std::uint64_t v;
-      std::memcpy(&v, src + x, 8);
-      if (v == 0) continue;
-      // Normalise bytes to 0/1, then gather the 8 low bits into one byte.
-      v = ((v | (v >> 1) | (v >> 2) | (v >> 3) | (v >> 4) | (v >> 5) | (v >> 6) | (v >> 7)) &
-           0x0101010101010101ull);
-      const std::uint64_t packed = (v * 0x0102040810204080ull) >> 56;
-      dst[x >> 6] |= packed << (x & 63);
+#if SB_HAVE_AVX2_KERNELS
+    if (cpu_has_avx2()) {
+      pack_row_avx2(src, width_, dst);
+      continue;
     }
-    for (; x < width_; ++x)
-      if (src[x]) dst[x >> 6] |= std::uint64_t{1} << (x & 63);
+#endif
+    pack_row(src, width_, dst);
   }
 }
 
@@ -535,23 +573,33 @@ void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
 }  // namespace
 
 void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy, EdgePoints& out) {
-  out.x.clear();
-  out.y.clear();
-  out.gx.clear();
-  out.gy.clear();
-  out.row_start.assign(static_cast<std::size_t>(bits.height()) + 1, 0);
-  for (int y = 0; y < bits.height(); ++y) {
-    out.row_start[static_cast<std::size_t>(y)] = static_cast<int>(out.x.size());
+  // Counted first, so the arrays are sized once and filled by index (no growth checks).
+  const int h = bits.height(), words = (bits.width() + 63) / 64;
+  out.row_start.resize(static_cast<std::size_t>(h) + 1);
+  int total = 0;
+  for (int y = 0; y < h; ++y) {
+    out.row_start[static_cast<std::size_t>(y)] = total;
+    const std::uint64_t* r = bits.row(y);
+    for (int wi = 0; wi < words; ++wi) total += std::popcount(r[wi]);
+  }
+  out.row_start.back() = total;
+  const auto n = static_cast<std::size_t>(total);
+  out.x.resize(n);
+  out.y.resize(n);
+  out.gx.resize(n);
+  out.gy.resize(n);
+  std::size_t i = 0;
+  for (int y = 0; y < h; ++y) {
     const short* gx = dx.ptr<short>(y);
     const short* gy = dy.ptr<short>(y);
     bits.for_each_set_in_row(y, [&](int x) {
-      out.x.push_back(x);
-      out.y.push_back(y);
-      out.gx.push_back(gx[x]);
-      out.gy.push_back(gy[x]);
+      out.x[i] = x;
+      out.y[i] = y;
+      out.gx[i] = gx[x];
+      out.gy[i] = gy[x];
+      ++i;
     });
   }
-  out.row_start.back() = static_cast<int>(out.x.size());
 }
 
 namespace {
