@@ -274,6 +274,39 @@ std::array<bool, 256> build_packed_staircase_table() {
 
 }  // namespace
 
+namespace {
+
+// staircase_table indexed by the three packed rows' bits x - 1, x, x + 1: bits 0-2 the row
+// above, 3-5 this row (bit 4, the pixel itself, ignored), 6-8 the row below.
+std::array<bool, 512> build_row_triples_staircase_table() {
+  std::array<bool, 512> table{};
+  static const std::array<bool, 256> packed = build_packed_staircase_table();
+  for (int i = 0; i < 512; ++i) {
+    const int west = (i >> 3) & 1, east = (i >> 5) & 1;
+    table[static_cast<std::size_t>(i)] =
+        packed[static_cast<std::size_t>((i & 7) | west << 3 | east << 4 | ((i >> 6) & 7) << 5)];
+  }
+  return table;
+}
+
+// A word of a packed row with one pixel of its neighbours on either side: shifted holds pixel
+// 64 * word + i - 1 in bit i (i = 0 is the word before's last pixel), last holds pixels
+// 64 * word + 63 and + 64 (the next word's first) in bits 0 and 1.
+struct WordWindow {
+  std::uint64_t shifted = 0, last = 0;
+  WordWindow(const std::uint64_t* row, int word) {
+    const std::uint64_t before = word > 0 ? row[word - 1] : 0;
+    shifted = row[word] << 1 | before >> 63;
+    last = row[word] >> 63 | row[word + 1] << 1;  // rows are padded by a word
+  }
+  /// Pixels 64 * word + b - 1, + b, + b + 1 in bits 0, 1, 2 (0 <= b < 64).
+  unsigned triple(int b) const {
+    return static_cast<unsigned>((shifted >> b | (last << 1) << (63 - b)) & 7u);
+  }
+};
+
+}  // namespace
+
 int thin_staircase(cv::Mat& binary, BitImage& bits) {
   CV_Assert(binary.type() == CV_8UC1 && bits.width() == binary.cols &&
             bits.height() == binary.rows);
@@ -288,26 +321,30 @@ int thin_staircase(cv::Mat& binary, BitImage& bits) {
     bits.clear(0, y);
     bits.clear(w - 1, y);
   }
-  static const std::array<bool, 256> table = build_packed_staircase_table();
+  static const std::array<bool, 512> table = build_row_triples_staircase_table();
   int removed = 0;
   for (int y = 1; y < h - 1; ++y) {
-    const std::uint64_t* mid = bits.row(y);
+    std::uint64_t* mid = bits.mutable_row(y);
+    uchar* pixels = binary.ptr<uchar>(y);
     for (int wi = 0; wi * 64 < w; ++wi) {
-      // Pixels are visited in raster order and removed at once, as in the byte pass: the
-      // word is re-read after each removal (west of the next pixel, row above of the next row).
-      std::uint64_t todo = mid[wi];
-      while (todo != 0) {
-        const int x = wi * 64 + std::countr_zero(todo);
-        todo &= todo - 1;
-        const int index = static_cast<int>(
-            bits.bits(y - 1, x - 1, 3) | static_cast<std::uint64_t>(bits.test(x - 1, y)) << 3 |
-            static_cast<std::uint64_t>(bits.test(x + 1, y)) << 4 | bits.bits(y + 1, x - 1, 3) << 5);
+      if (mid[wi] == 0) continue;
+      // Pixels are visited in raster order and removed at once, as in the byte pass: the row
+      // above is done, the word before too; a removal here clears the west neighbour of the
+      // next pixel in the window as well.
+      const WordWindow up(bits.row(y - 1), wi), down(bits.row(y + 1), wi);
+      WordWindow here(mid, wi);
+      std::uint64_t word = mid[wi];
+      for (std::uint64_t todo = word; todo != 0; todo &= todo - 1) {
+        const int b = std::countr_zero(todo);
+        const unsigned index = up.triple(b) | here.triple(b) << 3 | down.triple(b) << 6;
         if (table[index]) {
-          bits.clear(x, y);
-          binary.at<uchar>(y, x) = 0;
+          word &= ~(std::uint64_t{1} << b);
+          here.shifted &= ~(std::uint64_t{2} << b);  // b = 63: no later pixel of this word
+          pixels[wi * 64 + b] = 0;
           ++removed;
         }
       }
+      mid[wi] = word;
     }
   }
   return removed;
@@ -400,6 +437,67 @@ SB_AVX2_CLONE void strongest_sobel_row(
   }
 }
 
+#if SB_HAVE_AVX2_KERNELS
+// Sixteen bytes from p, each widened to 16 bits.
+SB_TARGET_AVX2 inline __m256i widen_16(const std::uint8_t* p) {
+  return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
+}
+
+// sobel_at for the sixteen pixels from column x, in 16-bit lanes (the same integer sums).
+SB_TARGET_AVX2 inline void sobel_16(const std::uint8_t* up, const std::uint8_t* mid,
+                                    const std::uint8_t* down, int x, __m256i& gx, __m256i& gy,
+                                    __m256i& l1) {
+  const __m256i u0 = widen_16(up + x - 1), u1 = widen_16(up + x), u2 = widen_16(up + x + 1);
+  const __m256i d0 = widen_16(down + x - 1), d1 = widen_16(down + x), d2 = widen_16(down + x + 1);
+  const __m256i across = _mm256_sub_epi16(widen_16(mid + x + 1), widen_16(mid + x - 1));
+  const __m256i along = _mm256_sub_epi16(d1, u1);
+  gx = _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(u2, u0), _mm256_sub_epi16(d2, d0)),
+                        _mm256_add_epi16(across, across));
+  gy = _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(d0, u0), _mm256_sub_epi16(d2, u2)),
+                        _mm256_add_epi16(along, along));
+  l1 = _mm256_add_epi16(_mm256_abs_epi16(gx), _mm256_abs_epi16(gy));
+}
+
+// strongest_sobel_row sixteen pixels per step, written by hand: the compiler's copy widens
+// 32-byte loads with extracts and spills. The plain loop does the rest of the row.
+SB_TARGET_AVX2 void strongest_sobel_row_avx2(const std::uint8_t* b0, const std::uint8_t* b1,
+                                             const std::uint8_t* b2, const std::uint8_t* g0,
+                                             const std::uint8_t* g1, const std::uint8_t* g2,
+                                             const std::uint8_t* r0, const std::uint8_t* r1,
+                                             const std::uint8_t* r2, short* dx, short* dy, int n) {
+  int x = 0;
+  for (; x + 16 <= n; x += 16) {
+    __m256i bx, by, bm, gx, gy, gm, rx, ry, rm;
+    sobel_16(b0, b1, b2, x, bx, by, bm);
+    sobel_16(g0, g1, g2, x, gx, gy, gm);
+    sobel_16(r0, r1, r2, x, rx, ry, rm);
+    // Ties keep the earlier channel: strictly greater replaces.
+    const __m256i take_g = _mm256_cmpgt_epi16(gm, bm);
+    const __m256i take_r = _mm256_cmpgt_epi16(rm, _mm256_max_epi16(gm, bm));
+    const __m256i sx = _mm256_blendv_epi8(_mm256_blendv_epi8(bx, gx, take_g), rx, take_r);
+    const __m256i sy = _mm256_blendv_epi8(_mm256_blendv_epi8(by, gy, take_g), ry, take_r);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dx + x), sx);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dy + x), sy);
+  }
+  strongest_sobel_row(b0 + x, b1 + x, b2 + x, g0 + x, g1 + x, g2 + x, r0 + x, r1 + x, r2 + x,
+                      dx + x, dy + x, n - x);
+}
+#endif
+
+// strongest_sobel_row, with the hand-written AVX2 loop where the CPU has it.
+void strongest_sobel(const std::uint8_t* b0, const std::uint8_t* b1, const std::uint8_t* b2,
+                     const std::uint8_t* g0, const std::uint8_t* g1, const std::uint8_t* g2,
+                     const std::uint8_t* r0, const std::uint8_t* r1, const std::uint8_t* r2,
+                     short* dx, short* dy, int n) {
+#if SB_HAVE_AVX2_KERNELS
+  if (cpu_has_avx2()) {
+    strongest_sobel_row_avx2(b0, b1, b2, g0, g1, g2, r0, r1, r2, dx, dy, n);
+    return;
+  }
+#endif
+  strongest_sobel_row(b0, b1, b2, g0, g1, g2, r0, r1, r2, dx, dy, n);
+}
+
 // One BGR row into three planes.
 SB_AVX2_CLONE void split_row(const std::uint8_t* __restrict bgr, std::uint8_t* __restrict b,
                              std::uint8_t* __restrict g, std::uint8_t* __restrict r, int n) {
@@ -445,9 +543,8 @@ void colour_gradient_rows(const cv::Mat& bgr, const ColourPlanes& at,
     const auto row = [&](int c, int r) {
       return planes[static_cast<std::size_t>(c)].ptr<std::uint8_t>(py + r) + at.left + 1;
     };
-    strongest_sobel_row(row(0, -1), row(0, 0), row(0, 1), row(1, -1), row(1, 0), row(1, 1),
-                        row(2, -1), row(2, 0), row(2, 1), dx.ptr<short>(y), dy.ptr<short>(y),
-                        bgr.cols);
+    strongest_sobel(row(0, -1), row(0, 0), row(0, 1), row(1, -1), row(1, 0), row(1, 1), row(2, -1),
+                    row(2, 0), row(2, 1), dx.ptr<short>(y), dy.ptr<short>(y), bgr.cols);
   }
 }
 
