@@ -258,50 +258,28 @@ void clear_frame(cv::Mat& binary) {
   binary.col(binary.cols - 1).setTo(0);
 }
 
-// staircase_table indexed by the neighbours as packed rows give them: bits 0-2 the row above
-// (x - 1, x, x + 1), bit 3 west, bit 4 east, bits 5-7 the row below (x - 1, x, x + 1).
-std::array<bool, 256> build_packed_staircase_table() {
-  std::array<bool, 256> packed{};
-  const auto& table = staircase_table();
-  for (int i = 0; i < 256; ++i) {
-    auto on = [i](int bit) { return (i >> bit) & 1; };
-    const int code = on(4) | on(7) << 1 | on(6) << 2 | on(5) << 3 | on(3) << 4 | on(0) << 5 |
-                     on(1) << 6 | on(2) << 7;  // E, SE, S, SW, W, NW, N, NE
-    packed[i] = table[code];
-  }
-  return packed;
-}
-
 }  // namespace
+
+std::uint64_t staircase_bits(std::uint64_t e, std::uint64_t se, std::uint64_t s, std::uint64_t sw,
+                             std::uint64_t w, std::uint64_t nw, std::uint64_t n, std::uint64_t ne) {
+  const std::uint64_t corner = (e & s) | (s & w) | (w & n) | (n & e);
+  // connectivity8, one term per 4-neighbour: background, and foreground among the next two
+  // clockwise. Simple point: exactly one term set.
+  const std::uint64_t t0 = ~e & (se | s), t2 = ~s & (sw | w), t4 = ~w & (nw | n),
+                      t6 = ~n & (ne | e);
+  const std::uint64_t two_or_more = (t0 & t2) | (t4 & t6) | ((t0 | t2) & (t4 | t6));
+  return corner & (t0 | t2 | t4 | t6) & ~two_or_more;
+}
 
 namespace {
 
-// staircase_table indexed by the three packed rows' bits x - 1, x, x + 1: bits 0-2 the row
-// above, 3-5 this row (bit 4, the pixel itself, ignored), 6-8 the row below.
-std::array<bool, 512> build_row_triples_staircase_table() {
-  std::array<bool, 512> table{};
-  static const std::array<bool, 256> packed = build_packed_staircase_table();
-  for (int i = 0; i < 512; ++i) {
-    const int west = (i >> 3) & 1, east = (i >> 5) & 1;
-    table[static_cast<std::size_t>(i)] =
-        packed[static_cast<std::size_t>((i & 7) | west << 3 | east << 4 | ((i >> 6) & 7) << 5)];
-  }
-  return table;
-}
-
-// A word of a packed row with one pixel of its neighbours on either side: shifted holds pixel
-// 64 * word + i - 1 in bit i (i = 0 is the word before's last pixel), last holds pixels
-// 64 * word + 63 and + 64 (the next word's first) in bits 0 and 1.
-struct WordWindow {
-  std::uint64_t shifted = 0, last = 0;
-  WordWindow(const std::uint64_t* row, int word) {
-    const std::uint64_t before = word > 0 ? row[word - 1] : 0;
-    shifted = row[word] << 1 | before >> 63;
-    last = row[word] >> 63 | row[word + 1] << 1;  // rows are padded by a word
-  }
-  /// Pixels 64 * word + b - 1, + b, + b + 1 in bits 0, 1, 2 (0 <= b < 64).
-  unsigned triple(int b) const {
-    return static_cast<unsigned>((shifted >> b | (last << 1) << (63 - b)) & 7u);
+// A word of a packed row and its pixels' west and east neighbours as words (bit i of west is
+// pixel i - 1, the word before's last pixel for i = 0; east likewise pixel i + 1).
+struct WordPlanes {
+  std::uint64_t west = 0, centre = 0, east = 0;
+  WordPlanes(const std::uint64_t* row, int word) : centre(row[word]) {
+    west = centre << 1 | (word > 0 ? row[word - 1] >> 63 : 0);
+    east = centre >> 1 | row[word + 1] << 63;  // rows are padded by a word
   }
 };
 
@@ -321,28 +299,29 @@ int thin_staircase(cv::Mat& binary, BitImage& bits) {
     bits.clear(0, y);
     bits.clear(w - 1, y);
   }
-  static const std::array<bool, 512> table = build_row_triples_staircase_table();
   int removed = 0;
   for (int y = 1; y < h - 1; ++y) {
     std::uint64_t* mid = bits.mutable_row(y);
     uchar* pixels = binary.ptr<uchar>(y);
     for (int wi = 0; wi * 64 < w; ++wi) {
       if (mid[wi] == 0) continue;
-      // Pixels are visited in raster order and removed at once, as in the byte pass: the row
-      // above is done, the word before too; a removal here clears the west neighbour of the
-      // next pixel in the window as well.
-      const WordWindow up(bits.row(y - 1), wi), down(bits.row(y + 1), wi);
-      WordWindow here(mid, wi);
-      std::uint64_t word = mid[wi];
-      for (std::uint64_t todo = word; todo != 0; todo &= todo - 1) {
-        const int b = std::countr_zero(todo);
-        const unsigned index = up.triple(b) | here.triple(b) << 3 | down.triple(b) << 6;
-        if (table[index]) {
-          word &= ~(std::uint64_t{1} << b);
-          here.shifted &= ~(std::uint64_t{2} << b);  // b = 63: no later pixel of this word
-          pixels[wi * 64 + b] = 0;
-          ++removed;
-        }
+      // Raster order with removals at once, as in the byte pass: the row above and the word
+      // before are done, the row below and the east neighbours not yet visited. Of the pixels
+      // still to visit, the first the table removes is removed; that changes only the west
+      // neighbour of the pixel after it, so the test is redone for the pixels after it.
+      const WordPlanes up(bits.row(y - 1), wi), down(bits.row(y + 1), wi), here(mid, wi);
+      const std::uint64_t before = wi > 0 ? mid[wi - 1] >> 63 : 0;
+      std::uint64_t word = here.centre, todo = word;
+      for (;;) {
+        const std::uint64_t removable =
+            todo & staircase_bits(here.east, down.east, down.centre, down.west, word << 1 | before,
+                                  up.west, up.centre, up.east);
+        if (removable == 0) break;
+        const std::uint64_t first = removable & (~removable + 1);
+        word &= ~first;
+        todo &= ~((first << 1) - 1);  // the pixels after it (none after bit 63)
+        pixels[wi * 64 + std::countr_zero(first)] = 0;
+        ++removed;
       }
       mid[wi] = word;
     }
