@@ -217,8 +217,12 @@ void canny_l1(const cv::Mat& dx, const cv::Mat& dy, double low, double high, cv:
   const int h = dx.rows, w = dx.cols;
   const int low_i = cvFloor(low), high_i = cvFloor(high);
   const std::ptrdiff_t stride = w + 2;
-  // Border of kNone (never an edge, never grown into); +8 so eight-byte reads stay inside.
-  work.codes.assign(static_cast<size_t>(stride) * (h + 2) + 8, kNone);
+  // Border of kNone (never an edge, never grown into): the rows above and below the image
+  // here, each row's two ends in the loop (classify writes the rest, so the buffer is not
+  // cleared whole); +8 so eight-byte reads stay inside.
+  work.codes.resize(static_cast<size_t>(stride) * (h + 2) + 8);
+  std::memset(work.codes.data(), kNone, static_cast<size_t>(stride));
+  std::memset(work.codes.data() + (h + 1) * stride, kNone, static_cast<size_t>(stride) + 8);
   work.magnitudes.assign(3 * static_cast<size_t>(stride), 0);
   work.stack.clear();
   std::int16_t* rows[3] = {work.magnitudes.data() + 1, work.magnitudes.data() + stride + 1,
@@ -231,6 +235,7 @@ void canny_l1(const cv::Mat& dx, const cv::Mat& dy, double low, double high, cv:
     else
       std::fill(rows[2] - 1, rows[2] + w + 1, 0);
     std::uint8_t* codes = work.codes.data() + (y + 1) * stride + 1;
+    codes[-1] = codes[w] = kNone;
     classify(dx.ptr<short>(y), dy.ptr<short>(y), rows[0], rows[1], rows[2], w, low_i, high_i,
              work.plain, codes);
     push_row_edges(codes, w, work.plain, work.stack);
