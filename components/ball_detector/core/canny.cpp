@@ -22,8 +22,8 @@ constexpr std::uint8_t kEdge = 2;
 constexpr int kTan22Q15 = 13573;
 
 // Codes of columns [x, w) of one row from its gradients and the magnitudes of it and its two
-// neighbour rows (each readable at [-1, w]). Written with masks only (no branches, no bool selects)
-// so that the compiler vectorises the loop; each mask is 0 or all ones.
+// neighbour rows (each readable at [-1, w]). Written with masks only (no branches, no bool
+// selects) so that the compiler vectorises the loop; each mask is 0 or all ones.
 SB_AVX2_CLONE void classify_row(const short* __restrict dx, const short* __restrict dy,
                                 const std::int16_t* __restrict up,
                                 const std::int16_t* __restrict mid,
@@ -54,16 +54,16 @@ SB_AVX2_CLONE void classify_row(const short* __restrict dx, const short* __restr
 }
 
 #if SB_HAVE_AVX2_KERNELS
-// classify_row sixteen pixels at a time in 16-bit lanes (|dx|, |dy| < 2^14, magnitudes < 2^15),
-// twice the pixels per instruction of the 32-bit loop. The sector tests without 32-bit
-// products: with hi:lo the 32-bit product ax * 2 * kTan22Q15 (hi = floor(ax * kTan22Q15 / 2^15),
-// lo = 2 * its remainder), ay * 2^15 < ax * kTan22Q15 is ay < hi or (ay == hi and lo != 0), and
-// ay * 2^15 > ax * kTan22Q15 + ax * 2^16 is ay - 2 * ax > hi. low, high: within [-1, 32767].
 // Sixteen 16-bit values from p.
 SB_TARGET_AVX2 inline __m256i load_16(const std::int16_t* p) {
   return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
 }
 
+// classify_row for the sixteen pixels from column x in 16-bit lanes (|dx|, |dy| < 2^14, so
+// magnitudes < 2^15), twice the pixels per instruction of the 32-bit loop. The sector tests
+// without 32-bit products: with hi:lo the 32-bit product ax * 2 * kTan22Q15 (hi = floor(ax *
+// kTan22Q15 / 2^15), lo = twice the remainder), ay * 2^15 < ax * kTan22Q15 is ay < hi or (ay ==
+// hi and lo != 0), and ay * 2^15 > ax * kTan22Q15 + ax * 2^16 is ay - 2 * ax > hi.
 SB_TARGET_AVX2 inline void classify_16(const short* dx, const short* dy, const std::int16_t* up,
                                        const std::int16_t* mid, const std::int16_t* down, int x,
                                        const __m256i& low, const __m256i& high, __m256i& codes) {
@@ -97,22 +97,27 @@ SB_TARGET_AVX2 inline void classify_16(const short* dx, const short* dy, const s
   codes = _mm256_or_si256(edge, _mm256_andnot_si256(candidate, _mm256_set1_epi16(kNone)));
 }
 
-// classify_row with AVX2, thirty-two pixels per step; the plain loop does the rest of the row.
+// classify_row with AVX2, thirty-two pixels per step (rows narrower than that: the plain loop).
+// The thresholds are clamped to 16 bits without changing a test: magnitudes lie in [0, 32766].
 SB_TARGET_AVX2 void classify_row_avx2(const short* dx, const short* dy, const std::int16_t* up,
                                       const std::int16_t* mid, const std::int16_t* down, int w,
                                       int low, int high, std::uint8_t* codes) {
   const __m256i low16 = _mm256_set1_epi16(static_cast<short>(std::clamp(low, -1, 32767)));
   const __m256i high16 = _mm256_set1_epi16(static_cast<short>(std::clamp(high, -1, 32767)));
-  int x = 0;
-  for (; x + 32 <= w; x += 32) {
+  if (w < 32) {
+    classify_row(dx, dy, up, mid, down, 0, w, low, high, codes);
+    return;
+  }
+  // The last step ends at the row's end, overlapping the one before (it writes the same codes).
+  for (int x = 0;; x = std::min(x + 32, w - 32)) {
     __m256i a, b;
     classify_16(dx, dy, up, mid, down, x, low16, high16, a);
     classify_16(dx, dy, up, mid, down, x + 16, low16, high16, b);
     // packus interleaves the 128-bit halves; the permute puts the 32 codes back in order.
     const __m256i bytes = _mm256_permute4x64_epi64(_mm256_packus_epi16(a, b), 0xD8);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(codes + x), bytes);
+    if (x == w - 32) break;
   }
-  classify_row(dx, dy, up, mid, down, x, w, low, high, codes);
 }
 #endif
 

@@ -438,14 +438,18 @@ SB_TARGET_AVX2 inline void sobel_16(const std::uint8_t* up, const std::uint8_t* 
 }
 
 // strongest_sobel_row sixteen pixels per step, written by hand: the compiler's copy widens
-// 32-byte loads with extracts and spills. The plain loop does the rest of the row.
+// 32-byte loads with extracts and spills. Rows narrower than a step: the plain loop.
 SB_TARGET_AVX2 void strongest_sobel_row_avx2(const std::uint8_t* b0, const std::uint8_t* b1,
                                              const std::uint8_t* b2, const std::uint8_t* g0,
                                              const std::uint8_t* g1, const std::uint8_t* g2,
                                              const std::uint8_t* r0, const std::uint8_t* r1,
                                              const std::uint8_t* r2, short* dx, short* dy, int n) {
-  int x = 0;
-  for (; x + 16 <= n; x += 16) {
+  if (n < 16) {
+    strongest_sobel_row(b0, b1, b2, g0, g1, g2, r0, r1, r2, dx, dy, n);
+    return;
+  }
+  // The last step ends at the row's end, overlapping the one before (it writes the same values).
+  for (int x = 0;; x = std::min(x + 16, n - 16)) {
     __m256i bx, by, bm, gx, gy, gm, rx, ry, rm;
     sobel_16(b0, b1, b2, x, bx, by, bm);
     sobel_16(g0, g1, g2, x, gx, gy, gm);
@@ -457,9 +461,8 @@ SB_TARGET_AVX2 void strongest_sobel_row_avx2(const std::uint8_t* b0, const std::
     const __m256i sy = _mm256_blendv_epi8(_mm256_blendv_epi8(by, gy, take_g), ry, take_r);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(dx + x), sx);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(dy + x), sy);
+    if (x == n - 16) break;
   }
-  strongest_sobel_row(b0 + x, b1 + x, b2 + x, g0 + x, g1 + x, g2 + x, r0 + x, r1 + x, r2 + x,
-                      dx + x, dy + x, n - x);
 }
 #endif
 
