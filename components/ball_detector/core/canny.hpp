@@ -13,9 +13,10 @@ namespace stereoball::ball_detector {
 
 /// Scratch buffers of canny_l1, kept between calls so a video stream allocates once.
 struct CannyWorkspace {
-  std::vector<std::uint8_t> codes;   ///< per pixel (1-pixel border): 0 weak, 1 none, 2 edge
-  std::vector<int> magnitudes;       ///< three rows of |dx| + |dy|, zero-padded
-  std::vector<std::uint8_t*> stack;  ///< edge pixels whose neighbours are still to be visited
+  std::vector<std::uint8_t> codes;       ///< per pixel (1-pixel border): 0 weak, 1 none, 2 edge
+  std::vector<std::int16_t> magnitudes;  ///< three rows of |dx| + |dy|, zero-padded
+  std::vector<std::uint8_t*> stack;      ///< edge pixels whose neighbours are still to be visited
+  bool plain = false;  ///< the plain loops even where AVX2 runs (tests hold both to one result)
 };
 
 /// Edge map (CV_8U, 255 = edge) of CV_16S derivatives dx, dy of equal size: a pixel is a

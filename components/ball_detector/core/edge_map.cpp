@@ -8,6 +8,10 @@
 #include <bit>
 #include <cstring>
 
+#if SB_HAVE_AVX2_KERNELS
+#include <immintrin.h>
+#endif
+
 namespace stereoball::ball_detector {
 namespace {
 
@@ -39,6 +43,24 @@ std::array<bool, 256> build_staircase_table() {
 inline int code_at(const uchar* up, const uchar* mid, const uchar* down, int x) {
   return (mid[x + 1] ? 1 : 0) | (down[x + 1] ? 2 : 0) | (down[x] ? 4 : 0) | (down[x - 1] ? 8 : 0) |
          (mid[x - 1] ? 16 : 0) | (up[x - 1] ? 32 : 0) | (up[x] ? 64 : 0) | (up[x + 1] ? 128 : 0);
+}
+
+// canny_thresholds measures a row in stretches of this many columns (a multiple of the sample
+// step, so every stretch starts on a sampled column).
+constexpr int kL1Chunk = 1024;
+static_assert(kL1Chunk % kThresholdSampleStep == 0);
+
+// min(|gx| + |gy|, kMaxL1Gradient) of n pixels, in 16-bit lanes: capping each term first keeps
+// the sum below 2^16 (and -32768 has no 16-bit opposite, but its magnitude is capped anyway).
+SB_AVX2_CLONE void capped_l1_row(const short* __restrict gx, const short* __restrict gy, int n,
+                                 std::uint16_t* __restrict out) {
+  constexpr std::uint16_t kCap = kMaxL1Gradient;
+  for (int x = 0; x < n; ++x) {
+    const auto ax = static_cast<std::uint16_t>(gx[x] < 0 ? -gx[x] : gx[x]);
+    const auto ay = static_cast<std::uint16_t>(gy[x] < 0 ? -gy[x] : gy[x]);
+    const auto sum = static_cast<std::uint16_t>(std::min(ax, kCap) + std::min(ay, kCap));
+    out[x] = std::min(sum, kCap);
+  }
 }
 
 // One BGR row with its brightness removed (remove_brightness). Three times a channel minus the
@@ -79,25 +101,59 @@ void BitImage::reset(int width, int height) {
   words_.assign(static_cast<size_t>(stride_) * height_, 0);
 }
 
+namespace {
+
+// Packs n bytes of a row (non-zero = set) into words that start clear, bit x % 64 of word x / 64.
+void pack_row(const uchar* src, int n, std::uint64_t* dst) {
+  int x = 0;
+  for (; x + 8 <= n; x += 8) {
+    std::uint64_t v;
+    std::memcpy(&v, src + x, 8);
+    if (v == 0) continue;
+    // Normalise bytes to 0/1, then gather the 8 low bits into one byte.
+    v = ((v | (v >> 1) | (v >> 2) | (v >> 3) | (v >> 4) | (v >> 5) | (v >> 6) | (v >> 7)) &
+         0x0101010101010101ull);
+    const std::uint64_t packed = (v * 0x0102040810204080ull) >> 56;
+    dst[x >> 6] |= packed << (x & 63);
+  }
+  for (; x < n; ++x)
+    if (src[x]) dst[x >> 6] |= std::uint64_t{1} << (x & 63);
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// pack_row a word (64 bytes, two compares and two byte masks) at a time; the plain loop packs
+// the rest, which starts a word of its own.
+SB_TARGET_AVX2 void pack_row_avx2(const uchar* src, int n, std::uint64_t* dst) {
+  const __m256i zero = _mm256_setzero_si256();
+  int x = 0;
+  for (; x + 64 <= n; x += 64) {
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(src + x));
+    const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(src + x + 32));
+    const auto clear_a =
+        static_cast<std::uint32_t>(_mm256_movemask_epi8(_mm256_cmpeq_epi8(a, zero)));
+    const auto clear_b =
+        static_cast<std::uint32_t>(_mm256_movemask_epi8(_mm256_cmpeq_epi8(b, zero)));
+    dst[x >> 6] = ~(std::uint64_t{clear_b} << 32 | clear_a);
+  }
+  pack_row(src + x, n - x, dst + (x >> 6));
+}
+#endif
+
+}  // namespace
+
 void BitImage::assign(const cv::Mat& binary) {
   CV_Assert(binary.type() == CV_8UC1);
   reset(binary.cols, binary.rows);
   for (int y = 0; y < height_; ++y) {
     const uchar* src = binary.ptr<uchar>(y);
     std::uint64_t* dst = words_.data() + static_cast<size_t>(y) * stride_;
-    int x = 0;
-    for (; x + 8 <= width_; x += 8) {
-      std::uint64_t v;
-      std::memcpy(&v, src + x, 8);
-      if (v == 0) continue;
-      // Normalise bytes to 0/1, then gather the 8 low bits into one byte.
-      v = ((v | (v >> 1) | (v >> 2) | (v >> 3) | (v >> 4) | (v >> 5) | (v >> 6) | (v >> 7)) &
-           0x0101010101010101ull);
-      const std::uint64_t packed = (v * 0x0102040810204080ull) >> 56;
-      dst[x >> 6] |= packed << (x & 63);
+#if SB_HAVE_AVX2_KERNELS
+    if (cpu_has_avx2()) {
+      pack_row_avx2(src, width_, dst);
+      continue;
     }
-    for (; x < width_; ++x)
-      if (src[x]) dst[x >> 6] |= std::uint64_t{1} << (x & 63);
+#endif
+    pack_row(src, width_, dst);
   }
 }
 
@@ -111,36 +167,76 @@ cv::Mat to_grey(const cv::Mat& image) {
   return grey;
 }
 
-CannyThresholds canny_thresholds(const cv::Mat& dx, const cv::Mat& dy, const EdgeParams& params) {
-  std::array<int, kMaxL1Gradient + 1> hist{};
-  int samples = 0;
-  // Every second row and column: the quantiles barely move, the cost drops fourfold.
-  for (int y = 0; y < dx.rows; y += kThresholdSampleStep) {
-    const short* gx = dx.ptr<short>(y);
-    const short* gy = dy.ptr<short>(y);
-    for (int x = 0; x < dx.cols; x += kThresholdSampleStep) {
-      ++hist[std::min(kMaxL1Gradient, std::abs(gx[x]) + std::abs(gy[x]))];
-      ++samples;
+namespace {
+
+// The histogram canny_thresholds takes its quantiles from: min(|dx| + |dy|, kMaxL1Gradient) of
+// every kThresholdSampleStep-th column of the rows added.
+class SampledGradients {
+ public:
+  /// Counts the sampled columns of one row of cols derivatives.
+  void add_row(const short* gx, const short* gy, int cols) {
+    // The magnitudes of a stretch of row first (vector code, every column), then the samples.
+    std::array<std::uint16_t, kL1Chunk> l1;
+    for (int x0 = 0; x0 < cols; x0 += kL1Chunk) {
+      const int n = std::min(kL1Chunk, cols - x0);
+      capped_l1_row(gx + x0, gy + x0, n, l1.data());
+      for (int x = 0; x < n; x += kThresholdSampleStep) ++hist_[l1[static_cast<std::size_t>(x)]];
     }
+    samples_ += (cols + kThresholdSampleStep - 1) / kThresholdSampleStep;
   }
-  auto quantile = [&](double q) {
-    const int target = static_cast<int>(q * samples);
+  /// Smallest magnitude m with more than floor(q * samples) samples at or below it.
+  int quantile(double q) const {
+    const int target = static_cast<int>(q * samples_);
     int cumulative = 0;
     for (int m = 0; m <= kMaxL1Gradient; ++m) {
-      cumulative += hist[m];
+      cumulative += hist_[static_cast<std::size_t>(m)];
       if (cumulative > target) return m;
     }
     return kMaxL1Gradient;
-  };
-  CannyThresholds t;
-  t.median_gradient = quantile(0.5);
-  // Noise term: flat regions dominate the median. Contrast term: strong edges set the scale
-  // when they are plentiful, so a textured, well-lit scene is not flooded with weak edges.
-  const double high = std::max(params.noise_factor * t.median_gradient,
-                               params.contrast_fraction * quantile(params.high_percentile));
-  t.high = std::clamp(high, params.min_high_threshold, params.max_high_threshold);
-  t.low = t.high * params.low_ratio;
-  return t;
+  }
+  /// Whether the median of all samples (total of them, of which these are some) already
+  /// certainly exceeds level: too many of them lie above it for the rest to pull it down.
+  bool median_above(double level, int total) const {
+    if (!(level >= 0.0 && level < kMaxL1Gradient)) return false;
+    const int floor_level = static_cast<int>(level);  // an integer median > level iff > this
+    int at_most = 0;
+    for (int m = 0; m <= floor_level; ++m) at_most += hist_[static_cast<std::size_t>(m)];
+    // quantile(0.5) > floor_level iff the samples at most floor_level, of all, are <= target.
+    const int target = static_cast<int>(0.5 * total);
+    return samples_ - at_most >= total - target;
+  }
+  /// The thresholds of the samples counted.
+  CannyThresholds thresholds(const EdgeParams& params) const {
+    CannyThresholds t;
+    t.median_gradient = quantile(0.5);
+    // Noise term: flat regions dominate the median. Contrast term: strong edges set the scale
+    // when they are plentiful, so a textured, well-lit scene is not flooded with weak edges.
+    const double high = std::max(params.noise_factor * t.median_gradient,
+                                 params.contrast_fraction * quantile(params.high_percentile));
+    t.high = std::clamp(high, params.min_high_threshold, params.max_high_threshold);
+    t.low = t.high * params.low_ratio;
+    return t;
+  }
+
+ private:
+  std::array<int, kMaxL1Gradient + 1> hist_{};
+  int samples_ = 0;
+};
+
+// How many samples canny_thresholds takes of a rows x cols gradient.
+int sample_count(int rows, int cols) {
+  return ((rows + kThresholdSampleStep - 1) / kThresholdSampleStep) *
+         ((cols + kThresholdSampleStep - 1) / kThresholdSampleStep);
+}
+
+}  // namespace
+
+CannyThresholds canny_thresholds(const cv::Mat& dx, const cv::Mat& dy, const EdgeParams& params) {
+  // Every second row and column: the quantiles barely move, the cost drops fourfold.
+  SampledGradients samples;
+  for (int y = 0; y < dx.rows; y += kThresholdSampleStep)
+    samples.add_row(dx.ptr<short>(y), dy.ptr<short>(y), dx.cols);
+  return samples.thresholds(params);
 }
 
 const std::array<bool, 256>& staircase_table() {
@@ -162,19 +258,30 @@ void clear_frame(cv::Mat& binary) {
   binary.col(binary.cols - 1).setTo(0);
 }
 
-// staircase_table indexed by the neighbours as packed rows give them: bits 0-2 the row above
-// (x - 1, x, x + 1), bit 3 west, bit 4 east, bits 5-7 the row below (x - 1, x, x + 1).
-std::array<bool, 256> build_packed_staircase_table() {
-  std::array<bool, 256> packed{};
-  const auto& table = staircase_table();
-  for (int i = 0; i < 256; ++i) {
-    auto on = [i](int bit) { return (i >> bit) & 1; };
-    const int code = on(4) | on(7) << 1 | on(6) << 2 | on(5) << 3 | on(3) << 4 | on(0) << 5 |
-                     on(1) << 6 | on(2) << 7;  // E, SE, S, SW, W, NW, N, NE
-    packed[i] = table[code];
-  }
-  return packed;
+}  // namespace
+
+std::uint64_t staircase_bits(std::uint64_t e, std::uint64_t se, std::uint64_t s, std::uint64_t sw,
+                             std::uint64_t w, std::uint64_t nw, std::uint64_t n, std::uint64_t ne) {
+  const std::uint64_t corner = (e & s) | (s & w) | (w & n) | (n & e);
+  // connectivity8, one term per 4-neighbour: background, and foreground among the next two
+  // clockwise. Simple point: exactly one term set.
+  const std::uint64_t t0 = ~e & (se | s), t2 = ~s & (sw | w), t4 = ~w & (nw | n),
+                      t6 = ~n & (ne | e);
+  const std::uint64_t two_or_more = (t0 & t2) | (t4 & t6) | ((t0 | t2) & (t4 | t6));
+  return corner & (t0 | t2 | t4 | t6) & ~two_or_more;
 }
+
+namespace {
+
+// A word of a packed row and its pixels' west and east neighbours as words (bit i of west is
+// pixel i - 1, the word before's last pixel for i = 0; east likewise pixel i + 1).
+struct WordPlanes {
+  std::uint64_t west = 0, centre = 0, east = 0;
+  WordPlanes(const std::uint64_t* row, int word) : centre(row[word]) {
+    west = centre << 1 | (word > 0 ? row[word - 1] >> 63 : 0);
+    east = centre >> 1 | row[word + 1] << 63;  // rows are padded by a word
+  }
+};
 
 }  // namespace
 
@@ -192,26 +299,31 @@ int thin_staircase(cv::Mat& binary, BitImage& bits) {
     bits.clear(0, y);
     bits.clear(w - 1, y);
   }
-  static const std::array<bool, 256> table = build_packed_staircase_table();
   int removed = 0;
   for (int y = 1; y < h - 1; ++y) {
-    const std::uint64_t* mid = bits.row(y);
+    std::uint64_t* mid = bits.mutable_row(y);
+    uchar* pixels = binary.ptr<uchar>(y);
     for (int wi = 0; wi * 64 < w; ++wi) {
-      // Pixels are visited in raster order and removed at once, as in the byte pass: the
-      // word is re-read after each removal (west of the next pixel, row above of the next row).
-      std::uint64_t todo = mid[wi];
-      while (todo != 0) {
-        const int x = wi * 64 + std::countr_zero(todo);
-        todo &= todo - 1;
-        const int index = static_cast<int>(
-            bits.bits(y - 1, x - 1, 3) | static_cast<std::uint64_t>(bits.test(x - 1, y)) << 3 |
-            static_cast<std::uint64_t>(bits.test(x + 1, y)) << 4 | bits.bits(y + 1, x - 1, 3) << 5);
-        if (table[index]) {
-          bits.clear(x, y);
-          binary.at<uchar>(y, x) = 0;
-          ++removed;
-        }
+      if (mid[wi] == 0) continue;
+      // Raster order with removals at once, as in the byte pass: the row above and the word
+      // before are done, the row below and the east neighbours not yet visited. Of the pixels
+      // still to visit, the first the table removes is removed; that changes only the west
+      // neighbour of the pixel after it, so the test is redone for the pixels after it.
+      const WordPlanes up(bits.row(y - 1), wi), down(bits.row(y + 1), wi), here(mid, wi);
+      const std::uint64_t before = wi > 0 ? mid[wi - 1] >> 63 : 0;
+      std::uint64_t word = here.centre, todo = word;
+      for (;;) {
+        const std::uint64_t removable =
+            todo & staircase_bits(here.east, down.east, down.centre, down.west, word << 1 | before,
+                                  up.west, up.centre, up.east);
+        if (removable == 0) break;
+        const std::uint64_t first = removable & (~removable + 1);
+        word &= ~first;
+        todo &= ~((first << 1) - 1);  // the pixels after it (none after bit 63)
+        pixels[wi * 64 + std::countr_zero(first)] = 0;
+        ++removed;
       }
+      mid[wi] = word;
     }
   }
   return removed;
@@ -304,6 +416,70 @@ SB_AVX2_CLONE void strongest_sobel_row(
   }
 }
 
+#if SB_HAVE_AVX2_KERNELS
+// Sixteen bytes from p, each widened to 16 bits.
+SB_TARGET_AVX2 inline __m256i widen_16(const std::uint8_t* p) {
+  return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
+}
+
+// sobel_at for the sixteen pixels from column x, in 16-bit lanes (the same integer sums).
+SB_TARGET_AVX2 inline void sobel_16(const std::uint8_t* up, const std::uint8_t* mid,
+                                    const std::uint8_t* down, int x, __m256i& gx, __m256i& gy,
+                                    __m256i& l1) {
+  const __m256i u0 = widen_16(up + x - 1), u1 = widen_16(up + x), u2 = widen_16(up + x + 1);
+  const __m256i d0 = widen_16(down + x - 1), d1 = widen_16(down + x), d2 = widen_16(down + x + 1);
+  const __m256i across = _mm256_sub_epi16(widen_16(mid + x + 1), widen_16(mid + x - 1));
+  const __m256i along = _mm256_sub_epi16(d1, u1);
+  gx = _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(u2, u0), _mm256_sub_epi16(d2, d0)),
+                        _mm256_add_epi16(across, across));
+  gy = _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(d0, u0), _mm256_sub_epi16(d2, u2)),
+                        _mm256_add_epi16(along, along));
+  l1 = _mm256_add_epi16(_mm256_abs_epi16(gx), _mm256_abs_epi16(gy));
+}
+
+// strongest_sobel_row sixteen pixels per step, written by hand: the compiler's copy widens
+// 32-byte loads with extracts and spills. Rows narrower than a step: the plain loop.
+SB_TARGET_AVX2 void strongest_sobel_row_avx2(const std::uint8_t* b0, const std::uint8_t* b1,
+                                             const std::uint8_t* b2, const std::uint8_t* g0,
+                                             const std::uint8_t* g1, const std::uint8_t* g2,
+                                             const std::uint8_t* r0, const std::uint8_t* r1,
+                                             const std::uint8_t* r2, short* dx, short* dy, int n) {
+  if (n < 16) {
+    strongest_sobel_row(b0, b1, b2, g0, g1, g2, r0, r1, r2, dx, dy, n);
+    return;
+  }
+  // The last step ends at the row's end, overlapping the one before (it writes the same values).
+  for (int x = 0;; x = std::min(x + 16, n - 16)) {
+    __m256i bx, by, bm, gx, gy, gm, rx, ry, rm;
+    sobel_16(b0, b1, b2, x, bx, by, bm);
+    sobel_16(g0, g1, g2, x, gx, gy, gm);
+    sobel_16(r0, r1, r2, x, rx, ry, rm);
+    // Ties keep the earlier channel: strictly greater replaces.
+    const __m256i take_g = _mm256_cmpgt_epi16(gm, bm);
+    const __m256i take_r = _mm256_cmpgt_epi16(rm, _mm256_max_epi16(gm, bm));
+    const __m256i sx = _mm256_blendv_epi8(_mm256_blendv_epi8(bx, gx, take_g), rx, take_r);
+    const __m256i sy = _mm256_blendv_epi8(_mm256_blendv_epi8(by, gy, take_g), ry, take_r);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dx + x), sx);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dy + x), sy);
+    if (x == n - 16) break;
+  }
+}
+#endif
+
+// strongest_sobel_row, with the hand-written AVX2 loop where the CPU has it.
+void strongest_sobel(const std::uint8_t* b0, const std::uint8_t* b1, const std::uint8_t* b2,
+                     const std::uint8_t* g0, const std::uint8_t* g1, const std::uint8_t* g2,
+                     const std::uint8_t* r0, const std::uint8_t* r1, const std::uint8_t* r2,
+                     short* dx, short* dy, int n) {
+#if SB_HAVE_AVX2_KERNELS
+  if (cpu_has_avx2()) {
+    strongest_sobel_row_avx2(b0, b1, b2, g0, g1, g2, r0, r1, r2, dx, dy, n);
+    return;
+  }
+#endif
+  strongest_sobel_row(b0, b1, b2, g0, g1, g2, r0, r1, r2, dx, dy, n);
+}
+
 // One BGR row into three planes.
 SB_AVX2_CLONE void split_row(const std::uint8_t* __restrict bgr, std::uint8_t* __restrict b,
                              std::uint8_t* __restrict g, std::uint8_t* __restrict r, int n) {
@@ -337,21 +513,20 @@ struct ColourPlanes {
 ColourPlanes colour_planes(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
                            std::array<cv::Mat, 3>& planes);
 
-// Rows first, first + step, ... of strongest_channel_gradient's dx, dy from colour_planes'
-// planes (dx and dy made there).
+// Rows first, first + step, ... (below end) of strongest_channel_gradient's dx, dy from
+// colour_planes' planes (dx and dy made there).
 void colour_gradient_rows(const cv::Mat& bgr, const ColourPlanes& at,
-                          const std::array<cv::Mat, 3>& planes, int first, int step, cv::Mat& dx,
-                          cv::Mat& dy) {
-  for (int y = first; y < bgr.rows; y += step) {
+                          const std::array<cv::Mat, 3>& planes, int first, int end, int step,
+                          cv::Mat& dx, cv::Mat& dy) {
+  for (int y = first; y < end; y += step) {
     // Output row y is padded row y + top, plane row y + top + 1; its first pixel is column
     // left + 1 of the plane.
     const int py = y + at.top + 1;
     const auto row = [&](int c, int r) {
       return planes[static_cast<std::size_t>(c)].ptr<std::uint8_t>(py + r) + at.left + 1;
     };
-    strongest_sobel_row(row(0, -1), row(0, 0), row(0, 1), row(1, -1), row(1, 0), row(1, 1),
-                        row(2, -1), row(2, 0), row(2, 1), dx.ptr<short>(y), dy.ptr<short>(y),
-                        bgr.cols);
+    strongest_sobel(row(0, -1), row(0, 0), row(0, 1), row(1, -1), row(1, 0), row(1, 1), row(2, -1),
+                    row(2, 0), row(2, 1), dx.ptr<short>(y), dy.ptr<short>(y), bgr.cols);
   }
 }
 
@@ -360,7 +535,7 @@ void colour_gradient_rows(const cv::Mat& bgr, const ColourPlanes& at,
 void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
                                 std::array<cv::Mat, 3>& planes) {
   const ColourPlanes at = colour_planes(bgr, dx, dy, planes);
-  if (!at.grey) colour_gradient_rows(bgr, at, planes, 0, 1, dx, dy);
+  if (!at.grey) colour_gradient_rows(bgr, at, planes, 0, bgr.rows, 1, dx, dy);
 }
 
 namespace {
@@ -477,51 +652,84 @@ void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
 }  // namespace
 
 void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy, EdgePoints& out) {
-  out.x.clear();
-  out.y.clear();
-  out.gx.clear();
-  out.gy.clear();
-  out.row_start.assign(static_cast<std::size_t>(bits.height()) + 1, 0);
-  for (int y = 0; y < bits.height(); ++y) {
-    out.row_start[static_cast<std::size_t>(y)] = static_cast<int>(out.x.size());
+  // Counted first, so the arrays are sized once and filled by index (no growth checks).
+  const int h = bits.height(), words = (bits.width() + 63) / 64;
+  out.row_start.resize(static_cast<std::size_t>(h) + 1);
+  int total = 0;
+  for (int y = 0; y < h; ++y) {
+    out.row_start[static_cast<std::size_t>(y)] = total;
+    const std::uint64_t* r = bits.row(y);
+    for (int wi = 0; wi < words; ++wi) total += std::popcount(r[wi]);
+  }
+  out.row_start.back() = total;
+  const auto n = static_cast<std::size_t>(total);
+  out.x.resize(n);
+  out.y.resize(n);
+  out.gx.resize(n);
+  out.gy.resize(n);
+  std::size_t i = 0;
+  for (int y = 0; y < h; ++y) {
     const short* gx = dx.ptr<short>(y);
     const short* gy = dy.ptr<short>(y);
     bits.for_each_set_in_row(y, [&](int x) {
-      out.x.push_back(x);
-      out.y.push_back(y);
-      out.gx.push_back(gx[x]);
-      out.gy.push_back(gy[x]);
+      out.x[i] = x;
+      out.y[i] = y;
+      out.gx[i] = gx[x];
+      out.gy[i] = gy[x];
+      ++i;
     });
   }
-  out.row_start.back() = static_cast<int>(out.x.size());
 }
+
+namespace {
+
+// The unblurred colour gradient's thresholds and whether it calls for the pre-blur, made row by
+// row: the sampled rows first, counted as they come, and the decision taken as soon as they
+// settle it. Only a gradient kept (no pre-blur) gets its other rows. dx, dy made by
+// colour_planes.
+EdgeThresholds colour_thresholds(const ColourPlanes& planes, const EdgeParams& params,
+                                 EdgeMap& work) {
+  const cv::Mat& bgr = work.colour;
+  const int total = sample_count(bgr.rows, bgr.cols);
+  const bool may_blur = params.denoise_median > 0.0;
+  SampledGradients samples;
+  for (int y = 0; y < bgr.rows; y += kThresholdSampleStep) {
+    colour_gradient_rows(bgr, planes, work.colour_planes, y, y + 1, 1, work.dx, work.dy);
+    samples.add_row(work.dx.ptr<short>(y), work.dy.ptr<short>(y), bgr.cols);
+    // A noisy image's median is settled long before its last row.
+    if (may_blur && samples.median_above(params.denoise_median, total)) return {{}, true};
+  }
+  const CannyThresholds t = samples.thresholds(params);
+  if (may_blur && t.median_gradient > params.denoise_median) return {t, true};
+  for (int first = 1; first < kThresholdSampleStep; ++first)
+    colour_gradient_rows(bgr, planes, work.colour_planes, first, bgr.rows, kThresholdSampleStep,
+                         work.dx, work.dy);
+  return {t, false};
+}
+
+}  // namespace
 
 EdgeThresholds measure_edge_thresholds(const cv::Mat& image, const EdgeParams& params,
                                        EdgeMap& work) {
   set_source(image, params, work);
-  // Colour: the rows the thresholds sample first, the others only when the gradient is kept
-  // (no pre-blur): a noisy image's unblurred gradient is made for its median alone.
+  EdgeThresholds t;
   ColourPlanes planes;
-  if (work.colour.empty()) {
-    sobel(work);
-  } else {
+  if (!work.colour.empty())
     planes = colour_planes(work.colour, work.dx, work.dy, work.colour_planes);
-    if (!planes.grey)
-      colour_gradient_rows(work.colour, planes, work.colour_planes, 0, kThresholdSampleStep,
-                           work.dx, work.dy);
+  if (!work.colour.empty() && !planes.grey) {
+    t = colour_thresholds(planes, params, work);
+  } else {
+    if (work.colour.empty()) sobel(work);  // grey read as colour: made by colour_planes
+    t.canny = canny_thresholds(work.dx, work.dy, params);
+    t.denoise = params.denoise_median > 0.0 && t.canny.median_gradient > params.denoise_median;
   }
-  CannyThresholds t = canny_thresholds(work.dx, work.dy, params);
-  work.denoised = params.denoise_median > 0.0 && t.median_gradient > params.denoise_median;
-  if (!work.denoised && !work.colour.empty() && !planes.grey)
-    for (int first = 1; first < kThresholdSampleStep; ++first)
-      colour_gradient_rows(work.colour, planes, work.colour_planes, first, kThresholdSampleStep,
-                           work.dx, work.dy);
+  work.denoised = t.denoise;
   if (work.denoised) {
     // Heavy noise: Canny alone would chain noise pixels into edges; blur once and redo.
     blur_and_sobel(work);
-    t = canny_thresholds(work.dx, work.dy, params);
+    t.canny = canny_thresholds(work.dx, work.dy, params);
   }
-  return {t, work.denoised};
+  return t;
 }
 
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {

@@ -143,6 +143,11 @@ CannyThresholds canny_thresholds(const cv::Mat& dx, const cv::Mat& dy, const Edg
 /// keeps its neighbours 8-connected.
 const std::array<bool, 256>& staircase_table();
 
+/// staircase_table for 64 pixels at once: bit i of the result is the entry of the pixel whose
+/// eight neighbours are bit i of the planes (e = east, se = south-east, ..., ne = north-east).
+std::uint64_t staircase_bits(std::uint64_t e, std::uint64_t se, std::uint64_t s, std::uint64_t sw,
+                             std::uint64_t w, std::uint64_t nw, std::uint64_t n, std::uint64_t ne);
+
 /// 8-neighbour code of pixel (x, y) of a CV_8U image (1 <= x < cols-1, 1 <= y < rows-1).
 int neighbour_code(const cv::Mat& binary, int x, int y);
 

@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <array>
+#include <cstdint>
+
 namespace stereoball::ball_detector {
 namespace {
 
@@ -30,6 +33,25 @@ TEST(StaircaseTable, GivenLinesEndsAndJunctionsThenThePixelIsKept) {
   EXPECT_FALSE(t[code_of({0, 2, 4, 6})]);  // cross: removing O leaves a hole in its arms
   EXPECT_FALSE(t[code_of({0, 2, 5})]);     // corner plus a neighbour only reachable through O
   EXPECT_FALSE(t[255]);                    // interior pixel
+}
+
+TEST(StaircaseBits, GivenEveryNeighbourCodeAtEveryBitThenEachBitIsTheTablesEntry) {
+  const auto& t = staircase_table();
+  // Given 64 neighbour codes side by side (bit i of plane k is bit k of code base + i), four
+  // times to cover all 256
+  for (int base = 0; base < 256; base += 64) {
+    std::array<std::uint64_t, 8> planes{};
+    for (int i = 0; i < 64; ++i)
+      for (int k = 0; k < 8; ++k)
+        planes[static_cast<std::size_t>(k)] |= static_cast<std::uint64_t>(((base + i) >> k) & 1)
+                                               << i;
+    // When the 64 pixels are tested at once
+    const std::uint64_t removable = staircase_bits(planes[0], planes[1], planes[2], planes[3],
+                                                   planes[4], planes[5], planes[6], planes[7]);
+    // Then each bit is the table's entry for its code
+    for (int i = 0; i < 64; ++i)
+      EXPECT_EQ(((removable >> i) & 1) != 0, t[static_cast<std::size_t>(base + i)]) << base + i;
+  }
 }
 
 TEST(ThinStaircase, GivenA4ConnectedStaircaseThenItBecomesOnePixelPerColumnAndStaysConnected) {

@@ -1,11 +1,13 @@
 // The speed-ups of the detector against plain references: the one-pass strongest-channel
 // gradient vs three cv::Sobel passes and a select, the thresholds' gradient measured in two row
-// passes vs one whole pass, redetect vs detect, canny_l1 vs cv::Canny, the
-// packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter, connected_rows vs a
-// breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
-// brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge
-// pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs points set one
-// by one, and circles_from_votes independent of the order its voters come in.
+// passes vs one whole pass (and the pre-blur decided on part of the rows), redetect vs detect,
+// canny_l1 vs cv::Canny and its vector loop vs its plain loop, canny_thresholds' quantiles vs
+// sorting the sampled pixels, the packed staircase thinning vs the byte pass, box_filter vs
+// cv::boxFilter, connected_rows vs a breadth-first flood fill, chord ends from row masks vs
+// find_chord_ends, find_peaks vs a brute-force scan, plot_ray vs a bounds test per cell,
+// estimate_radius vs a scan of every edge pixel, angular_coverage_in_frame vs every sector
+// tested, the orientation planes vs points set one by one, and circles_from_votes independent of
+// the order its voters come in.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -18,9 +20,11 @@
 #include <cstdint>
 #include <deque>
 #include <filesystem>
+#include <iterator>
 #include <numbers>
 #include <optional>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "ball_detector/core/canny.hpp"
@@ -105,6 +109,99 @@ TEST(CannyL1, GivenCropsTinyImagesAndSwappedThresholdsThenEdgesEqualOpenCvCanny)
     cv::Canny(dx, dy, reference, 120.0, 48.0, false);
     // Then the edge maps are equal
     ASSERT_EQ(cv::countNonZero(ours != reference), 0) << w << "x" << h;
+  }
+}
+
+// Random derivatives over the whole range canny_l1 takes (|dx|, |dy| < 16384): flat runs (ties
+// between neighbours), extremes, and dy on and next to the sector boundaries of dx (|dy| / |dx|
+// at tan(22.5 deg) and tan(67.5 deg) in 15-bit fixed point), so every branch of the sector and
+// maximum tests is met.
+void random_derivatives(cv::Size size, std::mt19937& rng, cv::Mat& dx, cv::Mat& dy) {
+  dx.create(size, CV_16S);
+  dy.create(size, CV_16S);
+  const short extremes[] = {0, 1, -1, 16383, -16383, 1020, -1020};
+  const auto value = [&](unsigned kind, const cv::Mat& m, int x, int y) {
+    if (kind == 1) return static_cast<int>(rng() % 121) - 60;
+    if (kind == 2) return static_cast<int>(extremes[rng() % std::size(extremes)]);
+    if (kind == 3 && x > 0) return static_cast<int>(m.at<short>(y, x - 1));
+    return static_cast<int>(rng() % 32767) - 16383;
+  };
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const int gx = value(rng() % 4, dx, x, y);
+      dx.at<short>(y, x) = static_cast<short>(gx);
+      const unsigned kind = rng() % 6;
+      int gy = value(kind, dy, x, y);
+      if (kind >= 4) {
+        const int ax = std::abs(gx), near = -1 + static_cast<int>(rng() % 3);
+        const int tan22 = (ax * 13573) >> 15;
+        gy = std::clamp((kind == 4 ? tan22 : 2 * ax + tan22) + near, 0, 16383);
+        if (rng() % 2) gy = -gy;
+      }
+      dy.at<short>(y, x) = static_cast<short>(gy);
+    }
+}
+
+TEST(CannyL1, GivenRandomDerivativesOfEveryWidthThenTheVectorAndPlainLoopsGiveTheSameEdges) {
+  std::mt19937 rng(29);
+  CannyWorkspace vector_work, plain_work;
+  plain_work.plain = true;
+  // Given random derivatives over their whole range, widths around the 32-pixel step of the
+  // vector loop, and thresholds inside, below and above the 16-bit range of its lanes
+  for (const cv::Size size : {cv::Size(1, 3), cv::Size(31, 5), cv::Size(32, 4), cv::Size(33, 6),
+                              cv::Size(95, 7), cv::Size(200, 9), cv::Size(517, 61)})
+    for (const auto& [low, high] : {std::pair{-5.0, 40000.0}, std::pair{40.0, 90.0},
+                                    std::pair{400.0, 9000.5}, std::pair{33000.0, 70000.0}}) {
+      cv::Mat dx, dy;
+      random_derivatives(size, rng, dx, dy);
+      // When canny_l1 runs on its vector loop (where the CPU has one) and on the plain loop
+      cv::Mat ours, plain;
+      canny_l1(dx, dy, low, high, ours, vector_work);
+      canny_l1(dx, dy, low, high, plain, plain_work);
+      // Then the edge maps are equal, and equal to OpenCV's inside the range it takes
+      ASSERT_EQ(cv::countNonZero(ours != plain), 0) << size << " " << low << " " << high;
+      if (low >= 0.0 && high < 32768.0) {
+        cv::Mat reference;
+        cv::Canny(dx, dy, reference, low, high, false);
+        ASSERT_EQ(cv::countNonZero(ours != reference), 0) << size << " " << low << " " << high;
+      }
+    }
+}
+
+// canny_thresholds' sampling by its definition: min(|dx| + |dy|, 2048) of every second row and
+// column, the q-quantile the smallest value with more than floor(q * n) samples at or below it.
+int reference_sampled_quantile(const cv::Mat& dx, const cv::Mat& dy, double q) {
+  std::vector<int> samples;
+  for (int y = 0; y < dx.rows; y += 2)
+    for (int x = 0; x < dx.cols; x += 2)
+      samples.push_back(std::min(2048, std::abs(static_cast<int>(dx.at<short>(y, x))) +
+                                           std::abs(static_cast<int>(dy.at<short>(y, x)))));
+  std::sort(samples.begin(), samples.end());
+  const auto target = static_cast<std::size_t>(q * static_cast<double>(samples.size()));
+  return target < samples.size() ? samples[target] : 2048;
+}
+
+TEST(CannyThresholds, GivenAnyDerivativesAndWidthsThenTheQuantilesAreThoseOfTheSampledPixels) {
+  std::mt19937 rng(31);
+  EdgeParams params;
+  params.contrast_fraction = 1.0;  // high = the quantile itself (noise_factor * median below)
+  params.noise_factor = 0.01;
+  params.min_high_threshold = 1.0;
+  params.max_high_threshold = 2040.0;
+  // Given random derivatives (-32768 included), widths across the stretches a row is measured
+  // in, odd and even sizes
+  for (const cv::Size size : {cv::Size(1, 1), cv::Size(7, 3), cv::Size(1023, 4), cv::Size(1025, 5),
+                              cv::Size(2050, 2), cv::Size(3001, 3)}) {
+    cv::Mat dx, dy;
+    random_derivatives(size, rng, dx, dy);
+    dx.at<short>(0, 0) = -32768;
+    dy.at<short>(0, 0) = -32768;
+    // When the thresholds are measured
+    const CannyThresholds t = canny_thresholds(dx, dy, params);
+    // Then median and high quantile are those of the sampled pixels, by sorting
+    EXPECT_EQ(t.median_gradient, reference_sampled_quantile(dx, dy, 0.5)) << size;
+    const int high = reference_sampled_quantile(dx, dy, params.high_percentile);
+    EXPECT_EQ(t.high, std::clamp(static_cast<double>(high), 1.0, 2040.0)) << size;
   }
 }
 
@@ -237,6 +334,42 @@ TEST(MeasureEdgeThresholds,
   EXPECT_GE(compared, 90);
   EXPECT_GT(denoised, 0);
   EXPECT_LT(denoised, compared);
+}
+
+TEST(MeasureEdgeThresholds, GivenAPreBlurLevelAtTheMedianThenTheDecisionIsTheFullPasses) {
+  // Given the real colour images with the pre-blur level at their unblurred median, just below
+  // it and a grey level below it (the decision is taken on part of the rows where they settle
+  // it)
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u) << "expected the OpenCV sample images in " << SB_SHARED_DATA_DIR;
+  std::array<cv::Mat, 3> planes;
+  int denoised = 0, kept = 0;
+  for (const auto& bgr : images) {
+    cv::Mat dx, dy;
+    strongest_channel_gradient(bgr, dx, dy, planes);
+    const double median = canny_thresholds(dx, dy, EdgeParams{}).median_gradient;
+    for (const double level : {median, median - 0.5, median - 4.0}) {
+      if (level <= 0.0) continue;
+      EdgeParams params;
+      params.denoise_median = level;
+      // When the thresholds are measured
+      EdgeMap work;
+      const EdgeThresholds t = measure_edge_thresholds(bgr, params, work);
+      // Then the image is blurred exactly when its median exceeds the level, and the thresholds
+      // are those of the gradient kept
+      ASSERT_EQ(t.denoise, median > level) << level;
+      const CannyThresholds full = canny_thresholds(work.dx, work.dy, params);
+      EXPECT_EQ(t.canny.high, full.high);
+      EXPECT_EQ(t.canny.median_gradient, full.median_gradient);
+      cv::Mat ref_dx, ref_dy;
+      strongest_channel_gradient(t.denoise ? work.colour : bgr, ref_dx, ref_dy, planes);
+      ASSERT_EQ(cv::countNonZero(work.dx != ref_dx), 0);
+      ASSERT_EQ(cv::countNonZero(work.dy != ref_dy), 0);
+      (t.denoise ? denoised : kept) += 1;
+    }
+  }
+  EXPECT_GT(denoised, 10);
+  EXPECT_GT(kept, 5);
 }
 
 // The same circles, bit for bit, in the same order.
