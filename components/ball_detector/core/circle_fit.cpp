@@ -128,68 +128,88 @@ double tukey_weight(double res, double cut) {
 }
 
 // 4.7 robust sigmas (1.4826 x the median absolute residual), at least floor_px: the cut that
-// keeps 95 % efficiency on clean Gaussian residuals.
+// keeps 95 % efficiency on clean Gaussian residuals. dist: each point's distance from the centre,
+// for the Gauss-Newton step that follows (the same expression there).
 double robust_cut_px(std::span<const cv::Point2d> points, const cv::Point2d& mean, double cx,
-                     double cy, double r, double floor_px, std::vector<double>& residuals) {
-  residuals.clear();
-  for (const auto& p : points)
-    residuals.push_back(std::abs(fast_hypot(p.x - mean.x - cx, p.y - mean.y - cy) - r));
+                     double cy, double r, double floor_px, std::vector<double>& residuals,
+                     std::vector<double>& dist) {
+  residuals.resize(points.size());
+  dist.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const cv::Point2d& p = points[i];
+    dist[i] = fast_hypot(p.x - mean.x - cx, p.y - mean.y - cy);
+    residuals[i] = std::abs(dist[i] - r);
+  }
   const auto mid = residuals.begin() + static_cast<std::ptrdiff_t>(residuals.size() / 2);
   std::nth_element(residuals.begin(), mid, residuals.end());
   return std::min(std::max(floor_px, 4.685 * 1.4826 * *mid), 2.0 * floor_px);
 }
 
 // fit_circle's start: the algebraic (Kasa) circle x^2 + y^2 + D x + E y + F = 0 of points in
-// coordinates centred on mean (better conditioned): its centre and squared radius there.
+// coordinates centred on mean (better conditioned): its centre and squared radius there. The
+// normal matrix of the rows (x, y, 1) is symmetric: each distinct sum once.
 std::optional<cv::Vec3d> kasa_circle(std::span<const cv::Point2d> points, const cv::Point2d& mean) {
-  cv::Matx33d ata = cv::Matx33d::zeros();
-  cv::Vec3d atb(0, 0, 0);
+  double sxx = 0, sxy = 0, sx = 0, syy = 0, sy = 0, n = 0, bx = 0, by = 0, b1 = 0;
   for (const auto& p : points) {
     const double x = p.x - mean.x, y = p.y - mean.y;
-    const cv::Vec3d row(x, y, 1.0);
     const double rhs = -(x * x + y * y);
-    for (int i = 0; i < 3; ++i) {
-      atb[i] += row[i] * rhs;
-      for (int j = 0; j < 3; ++j) ata(i, j) += row[i] * row[j];
-    }
+    bx += x * rhs;
+    by += y * rhs;
+    b1 += rhs;
+    sxx += x * x;
+    sxy += x * y;
+    sx += x;
+    syy += y * y;
+    sy += y;
+    n += 1.0;
   }
-  cv::Vec3d sol;
-  if (!cv::solve(ata, atb, sol, cv::DECOMP_CHOLESKY)) return std::nullopt;
-  const double cx = -sol[0] / 2.0, cy = -sol[1] / 2.0;
-  return cv::Vec3d(cx, cy, cx * cx + cy * cy - sol[2]);
+  const auto sol = solve_3x3(cv::Matx33d(sxx, sxy, sx, sxy, syy, sy, sx, sy, n), {bx, by, b1});
+  if (!sol) return std::nullopt;
+  const double cx = -(*sol)[0] / 2.0, cy = -(*sol)[1] / 2.0;
+  return cv::Vec3d(cx, cy, cx * cx + cy * cy - (*sol)[2]);
 }
 
 // One Gauss-Newton step of the geometric fit of circle (cx, cy, r) (centred on mean): the change
 // of (cx, cy, r); each point weighted by Tukey's biweight when cut > 0; the radius held when
-// hold_radius. nullopt when the normal equations cannot be solved.
+// hold_radius. nullopt when the normal equations cannot be solved. dist: the points' distances
+// from the centre when already measured (robust_cut_px), else empty.
+// With j = (-x / d, -y / d, -1) the sums of w j_a j_b and w j_a res are taken product by product
+// as (w j_a) j_b; the products with j_2 = -1 are exact negations, so the third row and column
+// are the third column's sums, each added once.
 std::optional<cv::Vec3d> gauss_newton_step(std::span<const cv::Point2d> points,
                                            const cv::Point2d& mean, double cx, double cy, double r,
-                                           double cut, bool hold_radius) {
-  cv::Matx33d jtj = cv::Matx33d::zeros();
-  cv::Vec3d jtr(0, 0, 0);
-  for (const auto& p : points) {
+                                           double cut, bool hold_radius,
+                                           std::span<const double> dist) {
+  double s00 = 0, s01 = 0, s10 = 0, s11 = 0, s02 = 0, s12 = 0, s22 = 0;
+  double t0 = 0, t1 = 0, t2 = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const cv::Point2d& p = points[i];
     const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
-    const double d = fast_hypot(x, y);
+    const double d = dist.empty() ? fast_hypot(x, y) : dist[i];
     if (d < 1e-9) continue;
-    const cv::Vec3d j(-x / d, -y / d, -1.0);
+    const double jx = -x / d, jy = -y / d;
     const double res = d - r;
     const double w = cut > 0.0 ? tukey_weight(res, cut) : 1.0;
     if (w <= 0.0) continue;
-    for (int a = 0; a < 3; ++a) {
-      jtr[a] += w * j[a] * res;
-      for (int b = 0; b < 3; ++b) jtj(a, b) += w * j[a] * j[b];
-    }
+    const double wx = w * jx, wy = w * jy;
+    t0 += wx * res;
+    t1 += wy * res;
+    t2 -= w * res;
+    s00 += wx * jx;
+    s01 += wx * jy;
+    s02 -= wx;
+    s10 += wy * jx;
+    s11 += wy * jy;
+    s12 -= wy;
+    s22 += w;
   }
-  cv::Vec3d delta(0, 0, 0);
   if (hold_radius) {  // the centre only: the upper-left 2 x 2 block
-    const cv::Matx22d jtj2(jtj(0, 0), jtj(0, 1), jtj(1, 0), jtj(1, 1));
-    cv::Vec2d d2;
-    if (!cv::solve(jtj2, cv::Vec2d(-jtr[0], -jtr[1]), d2, cv::DECOMP_CHOLESKY)) return std::nullopt;
-    delta = {d2[0], d2[1], 0.0};
-  } else if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) {
-    return std::nullopt;
+    const auto d2 = solve_2x2(cv::Matx22d(s00, s01, s10, s11), cv::Vec2d(-t0, -t1));
+    if (!d2) return std::nullopt;
+    return cv::Vec3d((*d2)[0], (*d2)[1], 0.0);
   }
-  return delta;
+  return solve_3x3(cv::Matx33d(s00, s01, s02, s10, s11, s12, s02, s12, s22),
+                   cv::Vec3d(-t0, -t1, -t2));
 }
 
 }  // namespace
@@ -210,12 +230,12 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double rob
   double r = hold_radius ? fixed_radius_px : std::sqrt(r2);
   // Geometric refinement: Kasa is biased on short arcs and noisy points.
   const int rounds = robust_floor_px > 0.0 ? 8 : 5;  // reweighting converges more slowly
-  std::vector<double> residuals;
+  std::vector<double> residuals, dist;
   for (int it = 0; it < rounds; ++it) {
-    const double cut = robust_floor_px > 0.0
-                           ? robust_cut_px(points, mean, cx, cy, r, robust_floor_px, residuals)
-                           : 0.0;
-    const auto delta = gauss_newton_step(points, mean, cx, cy, r, cut, hold_radius);
+    const double cut = robust_floor_px > 0.0 ? robust_cut_px(points, mean, cx, cy, r,
+                                                             robust_floor_px, residuals, dist)
+                                             : 0.0;
+    const auto delta = gauss_newton_step(points, mean, cx, cy, r, cut, hold_radius, dist);
     if (!delta) break;
     cx += (*delta)[0];
     cy += (*delta)[1];
@@ -258,10 +278,13 @@ void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
 
 namespace {
 
-// An edge point of the band with a radial gradient, waiting for its sub-pixel position.
-struct BandPoint {
-  int x, y;
-  short gx, gy;
+// The edge pixels of an annulus scan, in raster order, waiting for gather_outline_points' band
+// and gradient tests: one array per field, so that the tests run four pixels at a time.
+struct BandCandidates {
+  static constexpr int kCapacity = 256;
+  alignas(32) std::array<int, kCapacity> x, y;
+  alignas(32) std::array<short, kCapacity> gx, gy;
+  int count = 0;
 };
 
 // gather_outline_points' tests. Every value the per-point tests read is a member of this local
@@ -311,9 +334,9 @@ struct OutlineBand {
 
   // A passing pixel's sub-pixel position in round coordinates, if that lies in the band too (the
   // band applies to the sub-pixel position, which is what the fit uses).
-  [[gnu::always_inline]] std::optional<cv::Point2d> place(const GradientPlanes& planes,
-                                                          const BandPoint& b) const {
-    cv::Point2d p = subpixel_edge(planes, b.x, b.y, b.gx, b.gy);
+  [[gnu::always_inline]] std::optional<cv::Point2d> place(const GradientPlanes& planes, int x,
+                                                          int y, short gx, short gy) const {
+    cv::Point2d p = subpixel_edge(planes, x, y, gx, gy);
     if (!identity) {
       const double sx = p.x - cx, sy = p.y - cy;
       const double k = to_round * (sx * ax + sy * ay);
@@ -325,6 +348,89 @@ struct OutlineBand {
   }
 };
 
+// The candidates [begin, end) that pass band's tests, their indices in order into keep (no
+// branch on a pixel: whether one passes is a coin toss to the branch predictor); their count.
+int passing_candidates(const OutlineBand& band, const BandCandidates& c, int begin, int end,
+                       int* keep) {
+  int kept = 0;
+  for (int i = begin; i < end; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    keep[kept] = i;
+    kept += band.passes(c.x[u], c.y[u], c.gx[u], c.gy[u]);
+  }
+  return kept;
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// passing_candidates four pixels at a time: OutlineBand::passes' double operations in its order
+// (no fused multiply-add) and its comparisons (negated, so true where it is true with a NaN),
+// so the same pixels pass.
+SB_TARGET_AVX2 int passing_candidates_avx2(const OutlineBand& band, const BandCandidates& c,
+                                           int* keep) {
+  const __m256d cx = _mm256_set1_pd(band.cx), cy = _mm256_set1_pd(band.cy);
+  const __m256d outer2 = _mm256_set1_pd(band.outer2), inner2 = _mm256_set1_pd(band.inner2);
+  const __m256d cos2 = _mm256_set1_pd(band.cos2);
+  const __m256d ax = _mm256_set1_pd(band.ax), ay = _mm256_set1_pd(band.ay);
+  const __m256d to_round = _mm256_set1_pd(band.to_round);
+  const __m256d from_round = _mm256_set1_pd(band.from_round);
+  int kept = 0, i = 0;
+  for (; i + 4 <= c.count; i += 4) {
+    const auto u = static_cast<std::size_t>(i);
+    __m256d rx = _mm256_sub_pd(
+        _mm256_cvtepi32_pd(_mm_load_si128(reinterpret_cast<const __m128i*>(&c.x[u]))), cx);
+    __m256d ry = _mm256_sub_pd(
+        _mm256_cvtepi32_pd(_mm_load_si128(reinterpret_cast<const __m128i*>(&c.y[u]))), cy);
+    __m256d gx = _mm256_cvtepi32_pd(
+        _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.gx[u]))));
+    __m256d gy = _mm256_cvtepi32_pd(
+        _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.gy[u]))));
+    if (!band.identity) {
+      const __m256d k =
+          _mm256_mul_pd(to_round, _mm256_add_pd(_mm256_mul_pd(rx, ax), _mm256_mul_pd(ry, ay)));
+      rx = _mm256_add_pd(rx, _mm256_mul_pd(ax, k));
+      ry = _mm256_add_pd(ry, _mm256_mul_pd(ay, k));
+    }
+    const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry));
+    if (!band.identity) {
+      const __m256d k =
+          _mm256_mul_pd(from_round, _mm256_add_pd(_mm256_mul_pd(gx, ax), _mm256_mul_pd(gy, ay)));
+      gx = _mm256_add_pd(gx, _mm256_mul_pd(ax, k));
+      gy = _mm256_add_pd(gy, _mm256_mul_pd(ay, k));
+    }
+    const __m256d g_dot_r = _mm256_add_pd(_mm256_mul_pd(gx, rx), _mm256_mul_pd(gy, ry));
+    const __m256d g2 = _mm256_add_pd(_mm256_mul_pd(gx, gx), _mm256_mul_pd(gy, gy));
+    const __m256d in_band = _mm256_and_pd(_mm256_cmp_pd(d2, outer2, _CMP_NGT_UQ),
+                                          _mm256_cmp_pd(d2, inner2, _CMP_NLT_UQ));
+    const __m256d radial = _mm256_cmp_pd(_mm256_mul_pd(g_dot_r, g_dot_r),
+                                         _mm256_mul_pd(_mm256_mul_pd(cos2, g2), d2), _CMP_NLT_UQ);
+    const int mask = _mm256_movemask_pd(_mm256_and_pd(in_band, radial));
+    for (int j = 0; j < 4; ++j) {
+      keep[kept] = i + j;
+      kept += (mask >> j) & 1;
+    }
+  }
+  return kept + passing_candidates(band, c, i, c.count, keep + kept);
+}
+#endif
+
+// The candidates that pass band's tests, placed (OutlineBand::place) and appended to out in
+// order; empties c.
+void place_candidates(const OutlineBand& band, const GradientPlanes& planes, BandCandidates& c,
+                      std::vector<cv::Point2d>& out) {
+  std::array<int, BandCandidates::kCapacity> keep;
+#if SB_HAVE_AVX2_KERNELS
+  const int kept = cpu_has_avx2() ? passing_candidates_avx2(band, c, keep.data())
+                                  : passing_candidates(band, c, 0, c.count, keep.data());
+#else
+  const int kept = passing_candidates(band, c, 0, c.count, keep.data());
+#endif
+  for (int k = 0; k < kept; ++k) {
+    const auto i = static_cast<std::size_t>(keep[static_cast<std::size_t>(k)]);
+    if (const auto p = band.place(planes, c.x[i], c.y[i], c.gx[i], c.gy[i])) out.push_back(*p);
+  }
+  c.count = 0;
+}
+
 }  // namespace
 
 void gather_outline_points(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
@@ -332,24 +438,22 @@ void gather_outline_points(const EdgeMap& edges, const Circle& round, const Outl
   out.clear();
   const OutlineBand band(round, stretch, band_px, min_radial_cos);
   const GradientPlanes planes(edges);
-  // Two stages: the band and gradient tests keep about a quarter of the pixels visited, in no
-  // pattern a branch predictor can learn, so the pixels that pass are written down without a
-  // branch (kept counts them), and only those get their sub-pixel position. Raster order stays.
-  std::array<BandPoint, 256> passed;
-  int kept = 0;
-  const auto place = [&] {
-    for (int i = 0; i < kept; ++i)
-      if (const auto p = band.place(planes, passed[static_cast<std::size_t>(i)])) out.push_back(*p);
-    kept = 0;
-  };
+  // Three stages: the scan writes every edge pixel of the annulus down, the band and gradient
+  // tests pick those that pass (about half, in no pattern a branch predictor can learn), and only
+  // those get their sub-pixel position. Raster order stays.
+  BandCandidates candidates;
   // In the image the band reaches ratio times farther along the major axis.
   for_each_edge_in_annulus(edges, band.cx, band.cy, band.inner, stretch.ratio * band.outer,
                            [&](int x, int y, short gx, short gy) {
-                             passed[static_cast<std::size_t>(kept)] = {x, y, gx, gy};
-                             kept += band.passes(x, y, gx, gy);
-                             if (kept == static_cast<int>(passed.size())) place();
+                             const auto n = static_cast<std::size_t>(candidates.count);
+                             candidates.x[n] = x;
+                             candidates.y[n] = y;
+                             candidates.gx[n] = gx;
+                             candidates.gy[n] = gy;
+                             if (++candidates.count == BandCandidates::kCapacity)
+                               place_candidates(band, planes, candidates, out);
                            });
-  place();
+  place_candidates(band, planes, candidates, out);
 }
 
 namespace {

@@ -26,6 +26,7 @@
 #include "ball_detector/core/canny.hpp"
 #include "ball_detector/core/circle_fit.hpp"
 #include "ball_detector/core/edge_map.hpp"
+#include "ball_detector/core/fast_math.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
 #include "ball_detector/core/synthetic.hpp"
@@ -983,6 +984,54 @@ TEST(CoverageInFrame, GivenCirclesInsideAcrossAndNearTheBorderThenCoverageEquals
   }
   EXPECT_GE(whole, 300);
   EXPECT_GE(cut, 300);
+}
+
+// Whether two doubles have the same bits (NaN payloads and signed zeros included).
+bool same_bits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+
+TEST(SmallSolve, GivenRandomNormalAndGeneralSystemsThenTheSolutionHasCvSolvesBits) {
+  std::mt19937 rng(53);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int solved = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    // Given a 3 x 3 system: a normal matrix (sums of products, as the circle fit builds) or any
+    // matrix, with entries over many magnitudes, some singular (a repeated row)
+    const double scale = std::pow(10.0, 6.0 * unit(rng));
+    cv::Matx33d a;
+    if (trial % 2 == 0) {
+      a = cv::Matx33d::zeros();
+      for (int k = 0; k < 3 + trial % 40; ++k) {
+        const cv::Vec3d row(scale * unit(rng), scale * unit(rng), 1.0);
+        a += row * row.t();
+      }
+    } else {
+      for (int i = 0; i < 9; ++i) a.val[i] = scale * unit(rng);
+    }
+    if (trial % 97 == 0)
+      for (int j = 0; j < 3; ++j) a(2, j) = a(1, j);
+    const cv::Vec3d b(scale * unit(rng), unit(rng), scale * scale * unit(rng));
+    // When it is solved by solve_3x3 and by cv::solve
+    const auto ours = solve_3x3(a, b);
+    cv::Vec3d theirs;
+    const bool ok = cv::solve(a, b, theirs, cv::DECOMP_CHOLESKY);
+    // Then both fail, or both give the same bits
+    ASSERT_EQ(ours.has_value(), ok) << "trial " << trial;
+    if (ok) {
+      ++solved;
+      for (int i = 0; i < 3; ++i) ASSERT_TRUE(same_bits((*ours)[i], theirs[i])) << trial;
+    }
+    // And likewise the upper-left 2 x 2 block
+    const cv::Matx22d a2(a(0, 0), a(0, 1), a(1, 0), a(1, 1));
+    const auto ours2 = solve_2x2(a2, cv::Vec2d(b[0], b[1]));
+    cv::Vec2d theirs2;
+    ASSERT_EQ(ours2.has_value(),
+              cv::solve(a2, cv::Vec2d(b[0], b[1]), theirs2, cv::DECOMP_CHOLESKY));
+    for (int i = 0; ours2 && i < 2; ++i) ASSERT_TRUE(same_bits((*ours2)[i], theirs2[i])) << trial;
+  }
+  EXPECT_GE(solved, 19000);
+  EXPECT_FALSE(solve_3x3(cv::Matx33d::zeros(), cv::Vec3d(1, 2, 3)).has_value());
 }
 
 TEST(NearOrientationPlanes, GivenRealEdgeMapsThenEachPlaneHoldsThePointsWithinTheSlackOfItsBin) {
