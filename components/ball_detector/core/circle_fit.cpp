@@ -33,7 +33,7 @@ struct GradientPlanes {
 };
 
 // Sub-pixel edge position: parabola through the gradient magnitude at the pixel and its two
-// neighbours along the (8-direction quantised) gradient.
+// neighbours along the (8-direction quantised) gradient; gx, gy: the derivatives at the pixel.
 cv::Point2d subpixel_edge(const GradientPlanes& g, int x, int y, int gx, int gy) {
   if (x < 1 || y < 1 || x >= g.cols - 1 || y >= g.rows - 1) return {double(x), double(y)};
   const int ax = std::abs(gx), ay = std::abs(gy);
@@ -47,37 +47,13 @@ cv::Point2d subpixel_edge(const GradientPlanes& g, int x, int y, int gx, int gy)
     sx = 1;
     sy = (gx > 0) == (gy > 0) ? 1 : -1;
   }
-  const double m0 = g.l1_at(x, y);
+  const double m0 = ax + ay;  // g.l1_at(x, y)
   const double mm = g.l1_at(x - sx, y - sy);
   const double mp = g.l1_at(x + sx, y + sy);
   const double denom = mm - 2.0 * m0 + mp;
   if (denom >= 0.0) return {double(x), double(y)};
   const double t = std::clamp(0.5 * (mm - mp) / denom, -0.5, 0.5);
   return {x + t * sx, y + t * sy};
-}
-
-// Calls f(x, y, gx, gy) for the edge pixels of row y in columns [x0, x1] (clipped), in order.
-template <typename F>
-[[gnu::always_inline]] inline void for_each_edge_in_row(const EdgeMap& edges, int y, int x0, int x1,
-                                                        F&& f) {
-  const BitImage& bits = edges.bits;
-  x0 = std::max(0, x0);
-  x1 = std::min(bits.width() - 1, x1);
-  if (x1 < x0) return;
-  const std::uint64_t* row = bits.row(y);
-  const short* gx = edges.dx.ptr<short>(y);
-  const short* gy = edges.dy.ptr<short>(y);
-  for (int w = x0 >> 6; w <= (x1 >> 6); ++w) {
-    std::uint64_t word = row[w];
-    // Only the bits of [x0, x1] in this word.
-    if (w == (x0 >> 6)) word &= ~std::uint64_t{0} << (x0 & 63);
-    if (w == (x1 >> 6) && (x1 & 63) != 63) word &= (std::uint64_t{2} << (x1 & 63)) - 1;
-    while (word) {
-      const int x = (w << 6) + std::countr_zero(word);
-      word &= word - 1;
-      f(x, y, gx[x], gy[x]);
-    }
-  }
 }
 
 // static_cast<int>(std::floor(v)) and of std::ceil for |v| < 2^31, without the library call
@@ -92,15 +68,15 @@ inline int ceil_int(double v) {
   return t + (v > t);
 }
 
-// Calls f for the edge pixels that may lie in the annulus inner <= d <= outer around (cx, cy):
-// per row, only the one or two column ranges the annulus covers (plus a pixel of slack for
-// rounding), left to right, so callers see the pixels in raster order as with a box scan.
+// Calls range(y, x0, x1) for the column ranges [x0, x1] (not clipped to the image) that hold
+// the pixels that may lie in the annulus inner <= d <= outer around (cx, cy): per row, the one
+// or two ranges the annulus covers (plus a pixel of slack for rounding), rows top down and left
+// to right, so the pixels come in raster order as with a box scan.
 template <typename F>
-[[gnu::always_inline]] inline void for_each_edge_in_annulus(const EdgeMap& edges, double cx,
-                                                            double cy, double inner, double outer,
-                                                            F&& f) {
+[[gnu::always_inline]] inline void for_each_annulus_range(double cx, double cy, double inner,
+                                                          double outer, int height, F&& range) {
   const int y0 = std::max(0, static_cast<int>(std::floor(cy - outer)));
-  const int y1 = std::min(edges.bits.height() - 1, static_cast<int>(std::ceil(cy + outer)));
+  const int y1 = std::min(height - 1, static_cast<int>(std::ceil(cy + outer)));
   for (int y = y0; y <= y1; ++y) {
     const double dy2 = (y - cy) * (y - cy);
     if (dy2 > outer * outer) continue;
@@ -111,11 +87,11 @@ template <typename F>
     const int left_in = ceil_int(cx - half_in) + 1;
     const int right_in = floor_int(cx + half_in) - 1;
     if (left_in >= right_in) {  // no hole in this row (or too small to skip): one range
-      for_each_edge_in_row(edges, y, left_out, right_out, f);
+      range(y, left_out, right_out);
       continue;
     }
-    for_each_edge_in_row(edges, y, left_out, left_in, f);
-    for_each_edge_in_row(edges, y, right_in, right_out, f);
+    range(y, left_out, left_in);
+    range(y, right_in, right_out);
   }
 }
 
@@ -169,47 +145,149 @@ std::optional<cv::Vec3d> kasa_circle(std::span<const cv::Point2d> points, const 
   return cv::Vec3d(cx, cy, cx * cx + cy * cy - (*sol)[2]);
 }
 
-// One Gauss-Newton step of the geometric fit of circle (cx, cy, r) (centred on mean): the change
-// of (cx, cy, r); each point weighted by Tukey's biweight when cut > 0; the radius held when
-// hold_radius. nullopt when the normal equations cannot be solved. dist: the points' distances
-// from the centre when already measured (robust_cut_px), else empty.
-// With j = (-x / d, -y / d, -1) the sums of w j_a j_b and w j_a res are taken product by product
-// as (w j_a) j_b; the products with j_2 = -1 are exact negations, so the third row and column
-// are the third column's sums, each added once.
-std::optional<cv::Vec3d> gauss_newton_step(std::span<const cv::Point2d> points,
-                                           const cv::Point2d& mean, double cx, double cy, double r,
-                                           double cut, bool hold_radius,
-                                           std::span<const double> dist) {
+// The sums of a Gauss-Newton step's normal equations (gauss_newton_step): with j = (-x / d,
+// -y / d, -1) and weight w, s_ab sums (w j_a) j_b and t_a sums (w j_a) res. The products with
+// j_2 = -1 are exact negations, so the third row and column are the third column's sums.
+struct NormalSums {
   double s00 = 0, s01 = 0, s10 = 0, s11 = 0, s02 = 0, s12 = 0, s22 = 0;
   double t0 = 0, t1 = 0, t2 = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const cv::Point2d& p = points[i];
-    const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
-    const double d = dist.empty() ? fast_hypot(x, y) : dist[i];
+};
+
+// What a Gauss-Newton step reads: the points (centred on mean), the circle (cx, cy, r), the
+// Tukey cut (0 = least squares) and the points' distances from the centre when already
+// measured (robust_cut_px), else empty.
+struct StepInput {
+  std::span<const cv::Point2d> points;
+  cv::Point2d mean;
+  double cx, cy, r, cut;
+  std::span<const double> dist;
+};
+
+// Adds points [begin, end) of in to s, in order.
+void add_normal_sums(const StepInput& in, std::size_t begin, NormalSums& s) {
+  for (std::size_t i = begin; i < in.points.size(); ++i) {
+    const cv::Point2d& p = in.points[i];
+    const double x = p.x - in.mean.x - in.cx, y = p.y - in.mean.y - in.cy;
+    const double d = in.dist.empty() ? fast_hypot(x, y) : in.dist[i];
     if (d < 1e-9) continue;
     const double jx = -x / d, jy = -y / d;
-    const double res = d - r;
-    const double w = cut > 0.0 ? tukey_weight(res, cut) : 1.0;
+    const double res = d - in.r;
+    const double w = in.cut > 0.0 ? tukey_weight(res, in.cut) : 1.0;
     if (w <= 0.0) continue;
     const double wx = w * jx, wy = w * jy;
-    t0 += wx * res;
-    t1 += wy * res;
-    t2 -= w * res;
-    s00 += wx * jx;
-    s01 += wx * jy;
-    s02 -= wx;
-    s10 += wy * jx;
-    s11 += wy * jy;
-    s12 -= wy;
-    s22 += w;
+    s.t0 += wx * res;
+    s.t1 += wy * res;
+    s.t2 -= w * res;
+    s.s00 += wx * jx;
+    s.s01 += wx * jy;
+    s.s02 -= wx;
+    s.s10 += wy * jx;
+    s.s11 += wy * jy;
+    s.s12 -= wy;
+    s.s22 += w;
   }
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// Four vectors of four as four vectors of the lanes: r_k = (a_k, b_k, c_k, d_k).
+SB_TARGET_AVX2 inline void transpose4(__m256d& a, __m256d& b, __m256d& c, __m256d& d) {
+  const __m256d ab_even = _mm256_unpacklo_pd(a, b), ab_odd = _mm256_unpackhi_pd(a, b);
+  const __m256d cd_even = _mm256_unpacklo_pd(c, d), cd_odd = _mm256_unpackhi_pd(c, d);
+  a = _mm256_permute2f128_pd(ab_even, cd_even, 0x20);
+  b = _mm256_permute2f128_pd(ab_odd, cd_odd, 0x20);
+  c = _mm256_permute2f128_pd(ab_even, cd_even, 0x31);
+  d = _mm256_permute2f128_pd(ab_odd, cd_odd, 0x31);
+}
+
+// v in the lanes of kept, -0.0 in the others.
+SB_TARGET_AVX2 inline __m256d kept_or_neg_zero(__m256d kept, __m256d v) {
+  return _mm256_blendv_pd(_mm256_set1_pd(-0.0), v, kept);
+}
+
+// add_normal_sums from the first point, four points at a time: each point's terms as vectors
+// (add_normal_sums' double operations in its order, no fused multiply-add), then added to the
+// sums point by point in order, each sum a lane (a subtracted term is added negated, the same
+// bits). A point add_normal_sums skips adds -0.0, which leaves any sum unchanged (-0.0 too).
+SB_TARGET_AVX2 void add_normal_sums_avx2(const StepInput& in, NormalSums& s) {
+  const __m256d mx = _mm256_set1_pd(in.mean.x), my = _mm256_set1_pd(in.mean.y);
+  const __m256d cx = _mm256_set1_pd(in.cx), cy = _mm256_set1_pd(in.cy);
+  const __m256d r = _mm256_set1_pd(in.r), cut = _mm256_set1_pd(in.cut);
+  const __m256d sign = _mm256_set1_pd(-0.0), one = _mm256_set1_pd(1.0);
+  const __m256d zero = _mm256_setzero_pd(), tiny = _mm256_set1_pd(1e-9);
+  const bool robust = in.cut > 0.0;
+  // Lanes: (s00, s01, s10, s11), (s02, s12, s22, t0), (t1, t2, unused, unused).
+  __m256d acc_a = _mm256_setr_pd(s.s00, s.s01, s.s10, s.s11);
+  __m256d acc_b = _mm256_setr_pd(s.s02, s.s12, s.s22, s.t0);
+  __m256d acc_c = _mm256_setr_pd(s.t1, s.t2, 0.0, 0.0);
+  const double* xy = reinterpret_cast<const double*>(in.points.data());
+  std::size_t i = 0;
+  for (; i + 4 <= in.points.size(); i += 4) {
+    // (x0, y0, x1, y1), (x2, y2, x3, y3) as (x0..x3), (y0..y3).
+    const __m256d p01 = _mm256_loadu_pd(xy + 2 * i), p23 = _mm256_loadu_pd(xy + 2 * i + 4);
+    const __m256d px = _mm256_permute4x64_pd(_mm256_unpacklo_pd(p01, p23), 0xD8);
+    const __m256d py = _mm256_permute4x64_pd(_mm256_unpackhi_pd(p01, p23), 0xD8);
+    const __m256d x = _mm256_sub_pd(_mm256_sub_pd(px, mx), cx);
+    const __m256d y = _mm256_sub_pd(_mm256_sub_pd(py, my), cy);
+    const __m256d d = in.dist.empty()
+                          ? _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)))
+                          : _mm256_loadu_pd(in.dist.data() + i);
+    const __m256d jx = _mm256_div_pd(_mm256_xor_pd(x, sign), d);
+    const __m256d jy = _mm256_div_pd(_mm256_xor_pd(y, sign), d);
+    const __m256d res = _mm256_sub_pd(d, r);
+    __m256d w = one;
+    if (robust) {  // tukey_weight
+      const __m256d u = _mm256_div_pd(res, cut);
+      const __m256d u2 = _mm256_mul_pd(u, u);
+      const __m256d v = _mm256_sub_pd(one, u2);
+      w = _mm256_blendv_pd(_mm256_mul_pd(v, v), zero, _mm256_cmp_pd(u2, one, _CMP_GE_OQ));
+    }
+    const __m256d kept =
+        _mm256_and_pd(_mm256_cmp_pd(d, tiny, _CMP_NLT_UQ), _mm256_cmp_pd(w, zero, _CMP_NLE_UQ));
+    const __m256d wx = _mm256_mul_pd(w, jx), wy = _mm256_mul_pd(w, jy);
+    __m256d a0 = kept_or_neg_zero(kept, _mm256_mul_pd(wx, jx)),
+            a1 = kept_or_neg_zero(kept, _mm256_mul_pd(wx, jy));
+    __m256d a2 = kept_or_neg_zero(kept, _mm256_mul_pd(wy, jx)),
+            a3 = kept_or_neg_zero(kept, _mm256_mul_pd(wy, jy));
+    __m256d b0 = kept_or_neg_zero(kept, _mm256_xor_pd(wx, sign)),
+            b1 = kept_or_neg_zero(kept, _mm256_xor_pd(wy, sign));
+    __m256d b2 = kept_or_neg_zero(kept, w), b3 = kept_or_neg_zero(kept, _mm256_mul_pd(wx, res));
+    __m256d c0 = kept_or_neg_zero(kept, _mm256_mul_pd(wy, res)),
+            c1 = kept_or_neg_zero(kept, _mm256_xor_pd(_mm256_mul_pd(w, res), sign));
+    __m256d c2 = sign, c3 = sign;
+    transpose4(a0, a1, a2, a3);
+    transpose4(b0, b1, b2, b3);
+    transpose4(c0, c1, c2, c3);
+    acc_a = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_add_pd(acc_a, a0), a1), a2), a3);
+    acc_b = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_add_pd(acc_b, b0), b1), b2), b3);
+    acc_c = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_add_pd(acc_c, c0), c1), c2), c3);
+  }
+  alignas(32) double a[4], b[4], c[4];
+  _mm256_store_pd(a, acc_a);
+  _mm256_store_pd(b, acc_b);
+  _mm256_store_pd(c, acc_c);
+  s = NormalSums{a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3], c[0], c[1]};
+  add_normal_sums(in, i, s);
+}
+#endif
+
+// One Gauss-Newton step of the geometric fit of in's circle: the change of (cx, cy, r); each
+// point weighted by Tukey's biweight when in.cut > 0; the radius held when hold_radius. nullopt
+// when the normal equations cannot be solved.
+std::optional<cv::Vec3d> gauss_newton_step(const StepInput& in, bool hold_radius) {
+  NormalSums s;
+#if SB_HAVE_AVX2_KERNELS
+  if (cpu_has_avx2())
+    add_normal_sums_avx2(in, s);
+  else
+#endif
+    add_normal_sums(in, 0, s);
   if (hold_radius) {  // the centre only: the upper-left 2 x 2 block
-    const auto d2 = solve_2x2(cv::Matx22d(s00, s01, s10, s11), cv::Vec2d(-t0, -t1));
+    const auto d2 = solve_2x2(cv::Matx22d(s.s00, s.s01, s.s10, s.s11), cv::Vec2d(-s.t0, -s.t1));
     if (!d2) return std::nullopt;
     return cv::Vec3d((*d2)[0], (*d2)[1], 0.0);
   }
-  return solve_3x3(cv::Matx33d(s00, s01, s02, s10, s11, s12, s02, s12, s22),
-                   cv::Vec3d(-t0, -t1, -t2));
+  return solve_3x3(cv::Matx33d(s.s00, s.s01, s.s02, s.s10, s.s11, s.s12, s.s02, s.s12, s.s22),
+                   cv::Vec3d(-s.t0, -s.t1, -s.t2));
 }
 
 }  // namespace
@@ -235,7 +313,7 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double rob
     const double cut = robust_floor_px > 0.0 ? robust_cut_px(points, mean, cx, cy, r,
                                                              robust_floor_px, residuals, dist)
                                              : 0.0;
-    const auto delta = gauss_newton_step(points, mean, cx, cy, r, cut, hold_radius, dist);
+    const auto delta = gauss_newton_step({points, mean, cx, cy, r, cut, dist}, hold_radius);
     if (!delta) break;
     cx += (*delta)[0];
     cy += (*delta)[1];
@@ -415,8 +493,9 @@ SB_TARGET_AVX2 int passing_candidates_avx2(const OutlineBand& band, const BandCa
 
 // The candidates that pass band's tests, placed (OutlineBand::place) and appended to out in
 // order; empties c.
-void place_candidates(const OutlineBand& band, const GradientPlanes& planes, BandCandidates& c,
+void place_candidates(const OutlineBand& band, const GradientPlanes& planes_in, BandCandidates& c,
                       std::vector<cv::Point2d>& out) {
+  const GradientPlanes planes = planes_in;  // a local copy: its fields stay in registers
   std::array<int, BandCandidates::kCapacity> keep;
 #if SB_HAVE_AVX2_KERNELS
   const int kept = cpu_has_avx2() ? passing_candidates_avx2(band, c, keep.data())
@@ -438,21 +517,45 @@ void gather_outline_points(const EdgeMap& edges, const Circle& round, const Outl
   out.clear();
   const OutlineBand band(round, stretch, band_px, min_radial_cos);
   const GradientPlanes planes(edges);
-  // Three stages: the scan writes every edge pixel of the annulus down, the band and gradient
+  // Three stages: the scan writes the edge pixels of the annulus down, the band and gradient
   // tests pick those that pass (about half, in no pattern a branch predictor can learn), and only
   // those get their sub-pixel position. Raster order stays.
   BandCandidates candidates;
+  int n = 0;  // candidates written (candidates.count once they are placed)
+  const int last_col = edges.bits.width() - 1;
+  const auto collect = [&](int y, int x0, int x1) {
+    x0 = std::max(0, x0);
+    x1 = std::min(last_col, x1);
+    if (x1 < x0) return;
+    const std::uint64_t* row = edges.bits.row(y);
+    const short* gx = planes.dx + y * planes.step;
+    const short* gy = planes.dy + y * planes.step;
+    const int w0 = x0 >> 6, w1 = x1 >> 6;
+    for (int w = w0; w <= w1; ++w) {
+      std::uint64_t word = row[w];
+      // Only the bits of [x0, x1] in this word.
+      if (w == w0) word &= ~std::uint64_t{0} << (x0 & 63);
+      if (w == w1) word &= ~std::uint64_t{0} >> (63 - (x1 & 63));
+      if (word == 0) continue;
+      if (n > BandCandidates::kCapacity - 64) {  // a word's pixels might not fit
+        candidates.count = n;
+        place_candidates(band, planes, candidates, out);
+        n = 0;
+      }
+      for (; word != 0; word &= word - 1) {
+        const int x = (w << 6) + std::countr_zero(word);
+        const auto i = static_cast<std::size_t>(n++);
+        candidates.x[i] = x;
+        candidates.y[i] = y;
+        candidates.gx[i] = gx[x];
+        candidates.gy[i] = gy[x];
+      }
+    }
+  };
   // In the image the band reaches ratio times farther along the major axis.
-  for_each_edge_in_annulus(edges, band.cx, band.cy, band.inner, stretch.ratio * band.outer,
-                           [&](int x, int y, short gx, short gy) {
-                             const auto n = static_cast<std::size_t>(candidates.count);
-                             candidates.x[n] = x;
-                             candidates.y[n] = y;
-                             candidates.gx[n] = gx;
-                             candidates.gy[n] = gy;
-                             if (++candidates.count == BandCandidates::kCapacity)
-                               place_candidates(band, planes, candidates, out);
-                           });
+  for_each_annulus_range(band.cx, band.cy, band.inner, stretch.ratio * band.outer,
+                         edges.bits.height(), collect);
+  candidates.count = n;
   place_candidates(band, planes, candidates, out);
 }
 
