@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 namespace stereoball::ball_detector {
@@ -356,13 +357,44 @@ void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
 
 namespace {
 
-// The edge pixels of an annulus scan, in raster order, waiting for gather_outline_points' band
-// and gradient tests: one array per field, so that the tests run four pixels at a time.
+// The edge pixels of an annulus scan in raster order, waiting for gather_outline_points' band
+// and gradient tests: one array per field, so that the tests run four pixels at a time. A
+// refinement keeps them for its later, narrower bands: a band inside the annulus scanned finds
+// every pixel that can pass its tests among them, in the same order, without a scan.
 struct BandCandidates {
-  static constexpr int kCapacity = 256;
-  alignas(32) std::array<int, kCapacity> x, y;
-  alignas(32) std::array<short, kCapacity> gx, gy;
+  // Arrays of capacity entries, of which the first count are written (not zeroed first: a scan
+  // writes a few hundred of them).
+  std::unique_ptr<int[]> x, y, keep;  // keep: the tests' scratch
+  std::unique_ptr<short[]> gx, gy;
+  int capacity = 0;
   int count = 0;
+  // The annulus scanned, in the image: centre, inner and outer radius (outer < 0: none yet).
+  double cx = 0.0, cy = 0.0, inner = 0.0, outer = -1.0;
+
+  // Room for at least n candidates, keeping the first count.
+  void reserve(int n) {
+    if (capacity >= n) return;
+    const int size = std::max(n, 2 * capacity);
+    const auto grow = [&](auto& a) {
+      auto bigger = std::make_unique_for_overwrite<std::remove_reference_t<decltype(a[0])>[]>(
+          static_cast<std::size_t>(size));
+      std::copy(a.get(), a.get() + count, bigger.get());
+      a = std::move(bigger);
+    };
+    grow(x);
+    grow(y);
+    grow(gx);
+    grow(gy);
+    keep = std::make_unique_for_overwrite<int[]>(static_cast<std::size_t>(size));
+    capacity = size;
+  }
+  // Whether the annulus inner <= d <= outer around (acx, acy) lies within the one scanned, with
+  // a hundredth of a pixel to spare for the rounding of the tests against it.
+  bool covers(double acx, double acy, double ainner, double aouter) const {
+    const double shift = fast_hypot(acx - cx, acy - cy);
+    return outer >= 0.0 && aouter + shift <= outer - 0.01 &&
+           (inner <= 0.0 || ainner - shift >= inner + 0.01);
+  }
 };
 
 // gather_outline_points' tests. Every value the per-point tests read is a member of this local
@@ -455,9 +487,9 @@ SB_TARGET_AVX2 int passing_candidates_avx2(const OutlineBand& band, const BandCa
   for (; i + 4 <= c.count; i += 4) {
     const auto u = static_cast<std::size_t>(i);
     __m256d rx = _mm256_sub_pd(
-        _mm256_cvtepi32_pd(_mm_load_si128(reinterpret_cast<const __m128i*>(&c.x[u]))), cx);
+        _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(&c.x[u]))), cx);
     __m256d ry = _mm256_sub_pd(
-        _mm256_cvtepi32_pd(_mm_load_si128(reinterpret_cast<const __m128i*>(&c.y[u]))), cy);
+        _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(&c.y[u]))), cy);
     __m256d gx = _mm256_cvtepi32_pd(
         _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.gx[u]))));
     __m256d gy = _mm256_cvtepi32_pd(
@@ -492,36 +524,34 @@ SB_TARGET_AVX2 int passing_candidates_avx2(const OutlineBand& band, const BandCa
 #endif
 
 // The candidates that pass band's tests, placed (OutlineBand::place) and appended to out in
-// order; empties c.
+// order.
 void place_candidates(const OutlineBand& band, const GradientPlanes& planes_in, BandCandidates& c,
                       std::vector<cv::Point2d>& out) {
   const GradientPlanes planes = planes_in;  // a local copy: its fields stay in registers
-  std::array<int, BandCandidates::kCapacity> keep;
+  int* const keep = c.keep.get();
 #if SB_HAVE_AVX2_KERNELS
-  const int kept = cpu_has_avx2() ? passing_candidates_avx2(band, c, keep.data())
-                                  : passing_candidates(band, c, 0, c.count, keep.data());
+  const int kept = cpu_has_avx2() ? passing_candidates_avx2(band, c, keep)
+                                  : passing_candidates(band, c, 0, c.count, keep);
 #else
-  const int kept = passing_candidates(band, c, 0, c.count, keep.data());
+  const int kept = passing_candidates(band, c, 0, c.count, keep);
 #endif
   for (int k = 0; k < kept; ++k) {
-    const auto i = static_cast<std::size_t>(keep[static_cast<std::size_t>(k)]);
+    const auto i = static_cast<std::size_t>(keep[k]);
     if (const auto p = band.place(planes, c.x[i], c.y[i], c.gx[i], c.gy[i])) out.push_back(*p);
   }
-  c.count = 0;
 }
 
-}  // namespace
-
-void gather_outline_points(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
-                           double band_px, double min_radial_cos, std::vector<cv::Point2d>& out) {
-  out.clear();
-  const OutlineBand band(round, stretch, band_px, min_radial_cos);
+// Writes the edge pixels that may lie in the annulus inner <= d <= outer around (cx, cy) to c
+// (for_each_annulus_range's pixels, in raster order), and the annulus.
+void scan_annulus(const EdgeMap& edges, double cx, double cy, double inner, double outer,
+                  BandCandidates& c) {
   const GradientPlanes planes(edges);
-  // Three stages: the scan writes the edge pixels of the annulus down, the band and gradient
-  // tests pick those that pass (about half, in no pattern a branch predictor can learn), and only
-  // those get their sub-pixel position. Raster order stays.
-  BandCandidates candidates;
-  int n = 0;  // candidates written (candidates.count once they are placed)
+  c.count = 0;
+  int n = 0;  // candidates written
+  int* xs = c.x.get();
+  int* ys = c.y.get();
+  short* gxs = c.gx.get();
+  short* gys = c.gy.get();
   const int last_col = edges.bits.width() - 1;
   const auto collect = [&](int y, int x0, int x1) {
     x0 = std::max(0, x0);
@@ -537,26 +567,56 @@ void gather_outline_points(const EdgeMap& edges, const Circle& round, const Outl
       if (w == w0) word &= ~std::uint64_t{0} << (x0 & 63);
       if (w == w1) word &= ~std::uint64_t{0} >> (63 - (x1 & 63));
       if (word == 0) continue;
-      if (n > BandCandidates::kCapacity - 64) {  // a word's pixels might not fit
-        candidates.count = n;
-        place_candidates(band, planes, candidates, out);
-        n = 0;
+      if (n + 64 > c.capacity) {  // a word's pixels might not fit
+        c.count = n;
+        c.reserve(n + 1024);
+        xs = c.x.get();
+        ys = c.y.get();
+        gxs = c.gx.get();
+        gys = c.gy.get();
       }
       for (; word != 0; word &= word - 1) {
         const int x = (w << 6) + std::countr_zero(word);
-        const auto i = static_cast<std::size_t>(n++);
-        candidates.x[i] = x;
-        candidates.y[i] = y;
-        candidates.gx[i] = gx[x];
-        candidates.gy[i] = gy[x];
+        xs[n] = x;
+        ys[n] = y;
+        gxs[n] = gx[x];
+        gys[n] = gy[x];
+        ++n;
       }
     }
   };
+  for_each_annulus_range(cx, cy, inner, outer, edges.bits.height(), collect);
+  c.count = n;
+  c.cx = cx;
+  c.cy = cy;
+  c.inner = inner;
+  c.outer = outer;
+}
+
+// gather_outline_points, taking the pixels from c when its annulus covers the band's, else
+// scanning the band's into c, widened by margin_px on either side for the gathers to come.
+void gather_band(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
+                 double band_px, double min_radial_cos, double margin_px, BandCandidates& c,
+                 std::vector<cv::Point2d>& out) {
+  out.clear();
+  const OutlineBand band(round, stretch, band_px, min_radial_cos);
   // In the image the band reaches ratio times farther along the major axis.
-  for_each_annulus_range(band.cx, band.cy, band.inner, stretch.ratio * band.outer,
-                         edges.bits.height(), collect);
-  candidates.count = n;
-  place_candidates(band, planes, candidates, out);
+  const double reach = stretch.ratio * band.outer;
+  if (!c.covers(band.cx, band.cy, band.inner, reach))
+    scan_annulus(edges, band.cx, band.cy, std::max(0.0, band.inner - margin_px), reach + margin_px,
+                 c);
+  place_candidates(band, GradientPlanes(edges), c, out);
+}
+
+}  // namespace
+
+void gather_outline_points(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
+                           double band_px, double min_radial_cos, std::vector<cv::Point2d>& out) {
+  // Three stages: the scan writes the edge pixels of the annulus down, the band and gradient
+  // tests pick those that pass (about half, in no pattern a branch predictor can learn), and only
+  // those get their sub-pixel position. Raster order stays.
+  BandCandidates candidates;
+  gather_band(edges, round, stretch, band_px, min_radial_cos, 0.0, candidates, out);
 }
 
 namespace {
@@ -798,13 +858,18 @@ Circle unround_circle(const Circle& fit, const cv::Point2d& centre, const Outlin
   return Circle{c.x, c.y, 0.5 * (1.0 + stretch.ratio) * fit.radius_px, fit.score};
 }
 
-// Angular coverage of c's outline by the edge points in its scoring band.
+// How much wider than its band a refinement scans, px on either side: the fit moves the circle
+// by a pixel or so per round, and a later band within the annulus scanned needs no scan.
+constexpr double kRescanMarginPx = 2.0;
+
+// Angular coverage of c's outline by the edge points in its scoring band (candidates: the
+// pixels of a scan made before, see BandCandidates).
 double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& params,
-                     std::vector<cv::Point2d>& pts) {
+                     BandCandidates& candidates, std::vector<cv::Point2d>& pts) {
   const OutlineStretch stretch = outline_stretch(edges, c, params);
   const Circle round = round_circle(c, stretch);
   const double band = scoring_band_px(round, params);
-  gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
+  gather_band(edges, round, stretch, band, params.min_radial_cos, kRescanMarginPx, candidates, pts);
   const double coverage =
       angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch);
   // The rings weigh in gradually from clutter_min_radius_px to twice that: a wider band
@@ -827,7 +892,7 @@ double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& 
   for (double d : {-step, step}) {
     Circle ring = round;
     ring.radius_px += d;
-    gather_outline_points(edges, ring, stretch, band, params.min_radial_cos, ring_pts);
+    gather_band(edges, ring, stretch, band, params.min_radial_cos, 0.0, candidates, ring_pts);
     clutter = std::min(clutter, angular_coverage_in_frame(ring, ring_pts, edges.frame_px,
                                                           params.min_inside_fraction, stretch));
   }
@@ -841,6 +906,8 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
   Circle c = rough;
   std::vector<cv::Point2d> pts;
   pts.reserve(512);
+  // The first round's band is the widest: the later ones, near it, take its pixels.
+  BandCandidates candidates;
   for (int it = 0; it < params.iterations; ++it) {
     const OutlineStretch stretch = outline_stretch(edges, c, params);
     const Circle round = round_circle(c, stretch);
@@ -848,7 +915,8 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
     // wide band would let texture just inside the rim pull a least-squares fit (a robust fit
     // can start wider: it sees both and keeps to the majority).
     const double band = std::max(scoring_band_px(round, params), params.first_band_px / (1 << it));
-    gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
+    gather_band(edges, round, stretch, band, params.min_radial_cos, kRescanMarginPx, candidates,
+                pts);
     // The widest band's coverage bounds the score from above (give_up_below).
     if (it == 0 && params.give_up_below > 0.0 &&
         angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch) <
@@ -863,13 +931,14 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
       return std::nullopt;
     c = next;
   }
-  c.score = outline_score(edges, c, params, pts);
+  c.score = outline_score(edges, c, params, candidates, pts);
   return c;
 }
 
 double score_circle(const EdgeMap& edges, const Circle& c, const RefineParams& params) {
+  BandCandidates candidates;
   std::vector<cv::Point2d> pts;
-  return outline_score(edges, c, params, pts);
+  return outline_score(edges, c, params, candidates, pts);
 }
 
 }  // namespace stereoball::ball_detector

@@ -1249,6 +1249,43 @@ TEST(GatherOutlinePoints, GivenRealEdgeMapsAndBandsAnywhereThenPointsEqualAScanO
   EXPECT_GE(gathered, 10000u);
 }
 
+TEST(RefineCircle, GivenSeedsOnRealEdgeMapsThenItsScoreEqualsAFreshScoreOfTheCircleItReturns) {
+  // Given the real images' colour edge maps, and refinement settings with and without the
+  // clutter rings, the robust wide first band and a camera (stretched outlines)
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u);
+  std::mt19937 rng(71);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int refined = 0;
+  for (const auto& image : images) {
+    EdgeMap edges;
+    compute_edge_map(image, EdgeParams{}, edges);
+    for (int trial = 0; trial < 40; ++trial) {
+      RefineParams params;
+      if (trial % 2 == 1) {
+        params.clutter_ring_per_radius = 0.1;
+        params.clutter_min_radius_px = 10.0;
+      }
+      if (trial % 3 == 1) {
+        params.first_band_px = 4.0;
+        params.robust_fit_floor_px = 0.6;
+      }
+      if (trial % 4 >= 2)
+        params.camera =
+            stereo::PinholeCamera{0.6 * image.cols, {0.5 * image.cols, 0.5 * image.rows}};
+      const Circle seed{image.cols * unit(rng), image.rows * unit(rng), 6.0 + 80.0 * unit(rng),
+                        0.0};
+      // When a seed is refined (its later bands taking their pixels from its first band's scan)
+      const auto c = refine_circle(edges, seed, params);
+      if (!c) continue;
+      ++refined;
+      // Then its score is that of the circle scored on its own (a scan of its own band)
+      ASSERT_TRUE(same_bits(c->score, score_circle(edges, *c, params))) << "trial " << trial;
+    }
+  }
+  EXPECT_GE(refined, 100);
+}
+
 TEST(NearOrientationPlanes, GivenRealEdgeMapsThenEachPlaneHoldsThePointsWithinTheSlackOfItsBin) {
   // Given the real images' colour edge maps
   const auto images = real_colours();
