@@ -110,16 +110,28 @@ double tukey_weight(double res, double cut) {
 double robust_cut_px(std::span<const cv::Point2d> points, const cv::Point2d& mean, double cx,
                      double cy, double r, double floor_px, std::vector<double>& residuals,
                      std::vector<double>& dist) {
-  residuals.resize(points.size());
-  dist.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
+  constexpr double kSigmas = 4.685 * 1.4826;
+  const std::size_t n = points.size(), m = n / 2;
+  residuals.resize(n);
+  dist.resize(n);
+  // The cut is clamped to [floor_px, 2 floor_px]: counted on either side of the clamp, the
+  // median often needs no selection (kSigmas x residual grows with the residual, so the
+  // residuals on one side are the smallest or the largest ones).
+  std::size_t below = 0, above = 0, nan = 0;
+  for (std::size_t i = 0; i < n; ++i) {
     const cv::Point2d& p = points[i];
     dist[i] = fast_hypot(p.x - mean.x - cx, p.y - mean.y - cy);
-    residuals[i] = std::abs(dist[i] - r);
+    const double res = std::abs(dist[i] - r);
+    residuals[i] = res;
+    below += kSigmas * res <= floor_px;
+    above += kSigmas * res >= 2.0 * floor_px;
+    nan += res != res;
   }
-  const auto mid = residuals.begin() + static_cast<std::ptrdiff_t>(residuals.size() / 2);
+  if (nan == 0 && below > m) return floor_px;             // the median's cut is at most the floor
+  if (nan == 0 && above >= n - m) return 2.0 * floor_px;  // ... at least twice the floor
+  const auto mid = residuals.begin() + static_cast<std::ptrdiff_t>(m);
   std::nth_element(residuals.begin(), mid, residuals.end());
-  return std::min(std::max(floor_px, 4.685 * 1.4826 * *mid), 2.0 * floor_px);
+  return std::min(std::max(floor_px, kSigmas * *mid), 2.0 * floor_px);
 }
 
 // fit_circle's start: the algebraic (Kasa) circle x^2 + y^2 + D x + E y + F = 0 of points in
