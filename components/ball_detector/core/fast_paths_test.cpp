@@ -5,7 +5,9 @@
 // breadth-first flood fill, chord ends from row masks vs find_chord_ends, find_peaks vs a
 // brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge
 // pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs points set one
-// by one, and circles_from_votes independent of the order its voters come in.
+// by one, circles_from_votes independent of the order its voters come in, solve_3x3 vs cv::solve,
+// fit_circle and gather_outline_points vs their plain arithmetic, and refine_circle's reused scan
+// vs a fresh one.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -1034,8 +1036,52 @@ TEST(SmallSolve, GivenRandomNormalAndGeneralSystemsThenTheSolutionHasCvSolvesBit
   EXPECT_FALSE(solve_3x3(cv::Matx33d::zeros(), cv::Vec3d(1, 2, 3)).has_value());
 }
 
-// fit_circle written plainly (every sum of the 3 x 3 normal matrices point by point, cv::solve):
-// the reference its fast paths must equal bit for bit.
+// One Gauss-Newton round of fit_circle written plainly (the robust cut by nth_element, every sum
+// of the 3 x 3 normal matrix point by point, cv::solve): the change of (cx, cy, r), or nullopt.
+std::optional<cv::Vec3d> reference_round(const std::vector<cv::Point2d>& points,
+                                         const cv::Point2d& mean, double cx, double cy, double r,
+                                         double robust_floor_px, bool hold) {
+  const int n = static_cast<int>(points.size());
+  double cut = 0.0;
+  if (robust_floor_px > 0.0) {
+    std::vector<double> res;
+    for (const auto& p : points)
+      res.push_back(std::abs(std::sqrt((p.x - mean.x - cx) * (p.x - mean.x - cx) +
+                                       (p.y - mean.y - cy) * (p.y - mean.y - cy)) -
+                             r));
+    std::nth_element(res.begin(), res.begin() + n / 2, res.end());
+    cut = std::min(std::max(robust_floor_px, 4.685 * 1.4826 * res[n / 2]), 2.0 * robust_floor_px);
+  }
+  cv::Matx33d jtj = cv::Matx33d::zeros();
+  cv::Vec3d jtr(0, 0, 0);
+  for (const auto& p : points) {
+    const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
+    const double d = std::sqrt(x * x + y * y);
+    if (d < 1e-9) continue;
+    const cv::Vec3d j(-x / d, -y / d, -1.0);
+    const double res = d - r;
+    const double u = cut > 0.0 ? res / cut : 0.0;
+    const double w = cut <= 0.0 ? 1.0 : u * u >= 1.0 ? 0.0 : (1.0 - u * u) * (1.0 - u * u);
+    if (w <= 0.0) continue;
+    for (int a = 0; a < 3; ++a) {
+      jtr[a] += w * j[a] * res;
+      for (int b = 0; b < 3; ++b) jtj(a, b) += w * j[a] * j[b];
+    }
+  }
+  cv::Vec3d delta(0, 0, 0);
+  if (hold) {
+    cv::Vec2d d2;
+    if (!cv::solve(cv::Matx22d(jtj(0, 0), jtj(0, 1), jtj(1, 0), jtj(1, 1)),
+                   cv::Vec2d(-jtr[0], -jtr[1]), d2, cv::DECOMP_CHOLESKY))
+      return std::nullopt;
+    return cv::Vec3d(d2[0], d2[1], 0.0);
+  }
+  if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) return std::nullopt;
+  return delta;
+}
+
+// fit_circle written plainly (the Kasa start's 3 x 3 sums point by point, cv::solve, then
+// reference_round): the reference its fast paths must equal bit for bit.
 std::optional<Circle> fit_circle_reference(const std::vector<cv::Point2d>& points,
                                            double robust_floor_px, double fixed_radius_px) {
   const int n = static_cast<int>(points.size());
@@ -1062,49 +1108,12 @@ std::optional<Circle> fit_circle_reference(const std::vector<cv::Point2d>& point
   const bool hold = fixed_radius_px > 0.0;
   double r = hold ? fixed_radius_px : std::sqrt(r2);
   for (int it = 0; it < (robust_floor_px > 0.0 ? 8 : 5); ++it) {
-    double cut = 0.0;
-    if (robust_floor_px > 0.0) {
-      std::vector<double> res;
-      for (const auto& p : points)
-        res.push_back(std::abs(std::sqrt((p.x - mean.x - cx) * (p.x - mean.x - cx) +
-                                         (p.y - mean.y - cy) * (p.y - mean.y - cy)) -
-                               r));
-      std::nth_element(res.begin(), res.begin() + n / 2, res.end());
-      cut = std::min(std::max(robust_floor_px, 4.685 * 1.4826 * res[n / 2]), 2.0 * robust_floor_px);
-    }
-    cv::Matx33d jtj = cv::Matx33d::zeros();
-    cv::Vec3d jtr(0, 0, 0);
-    for (const auto& p : points) {
-      const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
-      const double d = std::sqrt(x * x + y * y);
-      if (d < 1e-9) continue;
-      const cv::Vec3d j(-x / d, -y / d, -1.0);
-      const double res = d - r;
-      double w = 1.0;
-      if (cut > 0.0) {
-        const double u = res / cut;
-        w = u * u >= 1.0 ? 0.0 : (1.0 - u * u) * (1.0 - u * u);
-      }
-      if (w <= 0.0) continue;
-      for (int a = 0; a < 3; ++a) {
-        jtr[a] += w * j[a] * res;
-        for (int b = 0; b < 3; ++b) jtj(a, b) += w * j[a] * j[b];
-      }
-    }
-    cv::Vec3d delta(0, 0, 0);
-    if (hold) {
-      cv::Vec2d d2;
-      if (!cv::solve(cv::Matx22d(jtj(0, 0), jtj(0, 1), jtj(1, 0), jtj(1, 1)),
-                     cv::Vec2d(-jtr[0], -jtr[1]), d2, cv::DECOMP_CHOLESKY))
-        break;
-      delta = {d2[0], d2[1], 0.0};
-    } else if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) {
-      break;
-    }
-    cx += delta[0];
-    cy += delta[1];
-    r += delta[2];
-    if (std::abs(delta[0]) + std::abs(delta[1]) + std::abs(delta[2]) < 1e-4) break;
+    const auto delta = reference_round(points, mean, cx, cy, r, robust_floor_px, hold);
+    if (!delta) break;
+    cx += (*delta)[0];
+    cy += (*delta)[1];
+    r += (*delta)[2];
+    if (std::abs((*delta)[0]) + std::abs((*delta)[1]) + std::abs((*delta)[2]) < 1e-4) break;
   }
   if (!(r > 0.0) || !std::isfinite(cx) || !std::isfinite(cy)) return std::nullopt;
   return Circle{cx + mean.x, cy + mean.y, r, 0.0};
@@ -1149,6 +1158,30 @@ TEST(FitCircle, GivenNoisyArcsWithOutliersOfEveryCountThenTheFitHasThePlainRefer
   EXPECT_GE(fitted, 2900);
 }
 
+// The sub-pixel position of edge pixel (x, y) written plainly: the parabola through |dx| + |dy|
+// at the pixel and its neighbours along the gradient's nearest of eight directions.
+cv::Point2d reference_subpixel(const EdgeMap& edges, int x, int y) {
+  if (x < 1 || y < 1 || x >= edges.dx.cols - 1 || y >= edges.dx.rows - 1)
+    return {double(x), double(y)};
+  const auto l1 = [&](int px, int py) {
+    return std::abs(edges.dx.at<short>(py, px)) + std::abs(edges.dy.at<short>(py, px));
+  };
+  const int gx = edges.dx.at<short>(y, x), gy = edges.dy.at<short>(y, x);
+  const int agx = std::abs(gx), agy = std::abs(gy);
+  int sx = 1, sy = 0;
+  if (agy * 128 > agx * 53) {
+    if (agx * 128 <= agy * 53)
+      sx = 0, sy = 1;
+    else
+      sy = (gx > 0) == (gy > 0) ? 1 : -1;
+  }
+  const double m0 = l1(x, y), mm = l1(x - sx, y - sy), mp = l1(x + sx, y + sy);
+  const double denom = mm - 2.0 * m0 + mp;
+  if (denom >= 0.0) return {double(x), double(y)};
+  const double t = std::clamp(0.5 * (mm - mp) / denom, -0.5, 0.5);
+  return {x + t * sx, y + t * sy};
+}
+
 // gather_outline_points written plainly: every edge pixel around the band in raster order through
 // the band and gradient tests, then placed (the same arithmetic, expression by expression).
 std::vector<cv::Point2d> gather_reference(const EdgeMap& edges, const Circle& round,
@@ -1159,9 +1192,6 @@ std::vector<cv::Point2d> gather_reference(const EdgeMap& edges, const Circle& ro
   const double inner = std::max(0.0, round.radius_px - band_px);
   const double ax = stretch.axis.x, ay = stretch.axis.y;
   const double to_round = 1.0 / stretch.ratio - 1.0, from_round = stretch.ratio - 1.0;
-  const auto l1 = [&](int x, int y) {
-    return std::abs(edges.dx.at<short>(y, x)) + std::abs(edges.dy.at<short>(y, x));
-  };
   // Every pixel of the box around the band (a pixel beyond it fails the band test).
   const double reach = stretch.ratio * outer + 2.0;
   const int x0 = std::max(0, static_cast<int>(cx - reach));
@@ -1187,23 +1217,7 @@ std::vector<cv::Point2d> gather_reference(const EdgeMap& edges, const Circle& ro
       if (d2 > outer * outer || d2 < inner * inner ||
           g_dot_r * g_dot_r < min_cos * min_cos * g2 * d2)
         continue;
-      cv::Point2d p(x, y);
-      if (x >= 1 && y >= 1 && x < edges.dx.cols - 1 && y < edges.dx.rows - 1) {
-        const int agx = std::abs(gx), agy = std::abs(gy);
-        int sx = 1, sy = 0;
-        if (agy * 128 > agx * 53) {
-          if (agx * 128 <= agy * 53)
-            sx = 0, sy = 1;
-          else
-            sy = (gx > 0) == (gy > 0) ? 1 : -1;
-        }
-        const double m0 = l1(x, y), mm = l1(x - sx, y - sy), mp = l1(x + sx, y + sy);
-        const double denom = mm - 2.0 * m0 + mp;
-        if (denom < 0.0) {
-          const double t = std::clamp(0.5 * (mm - mp) / denom, -0.5, 0.5);
-          p = {x + t * sx, y + t * sy};
-        }
-      }
+      cv::Point2d p = reference_subpixel(edges, x, y);
       if (!stretch.identity()) {
         const double sx = p.x - cx, sy = p.y - cy;
         const double k = to_round * (sx * ax + sy * ay);
