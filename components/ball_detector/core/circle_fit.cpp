@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 namespace stereoball::ball_detector {
@@ -33,7 +34,7 @@ struct GradientPlanes {
 };
 
 // Sub-pixel edge position: parabola through the gradient magnitude at the pixel and its two
-// neighbours along the (8-direction quantised) gradient.
+// neighbours along the (8-direction quantised) gradient; gx, gy: the derivatives at the pixel.
 cv::Point2d subpixel_edge(const GradientPlanes& g, int x, int y, int gx, int gy) {
   if (x < 1 || y < 1 || x >= g.cols - 1 || y >= g.rows - 1) return {double(x), double(y)};
   const int ax = std::abs(gx), ay = std::abs(gy);
@@ -47,37 +48,13 @@ cv::Point2d subpixel_edge(const GradientPlanes& g, int x, int y, int gx, int gy)
     sx = 1;
     sy = (gx > 0) == (gy > 0) ? 1 : -1;
   }
-  const double m0 = g.l1_at(x, y);
+  const double m0 = ax + ay;  // g.l1_at(x, y)
   const double mm = g.l1_at(x - sx, y - sy);
   const double mp = g.l1_at(x + sx, y + sy);
   const double denom = mm - 2.0 * m0 + mp;
   if (denom >= 0.0) return {double(x), double(y)};
   const double t = std::clamp(0.5 * (mm - mp) / denom, -0.5, 0.5);
   return {x + t * sx, y + t * sy};
-}
-
-// Calls f(x, y, gx, gy) for the edge pixels of row y in columns [x0, x1] (clipped), in order.
-template <typename F>
-[[gnu::always_inline]] inline void for_each_edge_in_row(const EdgeMap& edges, int y, int x0, int x1,
-                                                        F&& f) {
-  const BitImage& bits = edges.bits;
-  x0 = std::max(0, x0);
-  x1 = std::min(bits.width() - 1, x1);
-  if (x1 < x0) return;
-  const std::uint64_t* row = bits.row(y);
-  const short* gx = edges.dx.ptr<short>(y);
-  const short* gy = edges.dy.ptr<short>(y);
-  for (int w = x0 >> 6; w <= (x1 >> 6); ++w) {
-    std::uint64_t word = row[w];
-    // Only the bits of [x0, x1] in this word.
-    if (w == (x0 >> 6)) word &= ~std::uint64_t{0} << (x0 & 63);
-    if (w == (x1 >> 6) && (x1 & 63) != 63) word &= (std::uint64_t{2} << (x1 & 63)) - 1;
-    while (word) {
-      const int x = (w << 6) + std::countr_zero(word);
-      word &= word - 1;
-      f(x, y, gx[x], gy[x]);
-    }
-  }
 }
 
 // static_cast<int>(std::floor(v)) and of std::ceil for |v| < 2^31, without the library call
@@ -92,15 +69,15 @@ inline int ceil_int(double v) {
   return t + (v > t);
 }
 
-// Calls f for the edge pixels that may lie in the annulus inner <= d <= outer around (cx, cy):
-// per row, only the one or two column ranges the annulus covers (plus a pixel of slack for
-// rounding), left to right, so callers see the pixels in raster order as with a box scan.
+// Calls range(y, x0, x1) for the column ranges [x0, x1] (not clipped to the image) that hold
+// the pixels that may lie in the annulus inner <= d <= outer around (cx, cy): per row, the one
+// or two ranges the annulus covers (plus a pixel of slack for rounding), rows top down and left
+// to right, so the pixels come in raster order as with a box scan.
 template <typename F>
-[[gnu::always_inline]] inline void for_each_edge_in_annulus(const EdgeMap& edges, double cx,
-                                                            double cy, double inner, double outer,
-                                                            F&& f) {
+[[gnu::always_inline]] inline void for_each_annulus_range(double cx, double cy, double inner,
+                                                          double outer, int height, F&& range) {
   const int y0 = std::max(0, static_cast<int>(std::floor(cy - outer)));
-  const int y1 = std::min(edges.bits.height() - 1, static_cast<int>(std::ceil(cy + outer)));
+  const int y1 = std::min(height - 1, static_cast<int>(std::ceil(cy + outer)));
   for (int y = y0; y <= y1; ++y) {
     const double dy2 = (y - cy) * (y - cy);
     if (dy2 > outer * outer) continue;
@@ -111,11 +88,11 @@ template <typename F>
     const int left_in = ceil_int(cx - half_in) + 1;
     const int right_in = floor_int(cx + half_in) - 1;
     if (left_in >= right_in) {  // no hole in this row (or too small to skip): one range
-      for_each_edge_in_row(edges, y, left_out, right_out, f);
+      range(y, left_out, right_out);
       continue;
     }
-    for_each_edge_in_row(edges, y, left_out, left_in, f);
-    for_each_edge_in_row(edges, y, right_in, right_out, f);
+    range(y, left_out, left_in);
+    range(y, right_in, right_out);
   }
 }
 
@@ -128,68 +105,202 @@ double tukey_weight(double res, double cut) {
 }
 
 // 4.7 robust sigmas (1.4826 x the median absolute residual), at least floor_px: the cut that
-// keeps 95 % efficiency on clean Gaussian residuals.
+// keeps 95 % efficiency on clean Gaussian residuals. dist: each point's distance from the centre,
+// for the Gauss-Newton step that follows (the same expression there).
 double robust_cut_px(std::span<const cv::Point2d> points, const cv::Point2d& mean, double cx,
-                     double cy, double r, double floor_px, std::vector<double>& residuals) {
-  residuals.clear();
-  for (const auto& p : points)
-    residuals.push_back(std::abs(fast_hypot(p.x - mean.x - cx, p.y - mean.y - cy) - r));
-  const auto mid = residuals.begin() + static_cast<std::ptrdiff_t>(residuals.size() / 2);
+                     double cy, double r, double floor_px, std::vector<double>& residuals,
+                     std::vector<double>& dist) {
+  constexpr double kSigmas = 4.685 * 1.4826;
+  const std::size_t n = points.size(), m = n / 2;
+  residuals.resize(n);
+  dist.resize(n);
+  // The cut is clamped to [floor_px, 2 floor_px]: counted on either side of the clamp, the
+  // median often needs no selection (kSigmas x residual grows with the residual, so the
+  // residuals on one side are the smallest or the largest ones).
+  std::size_t below = 0, above = 0, nan = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const cv::Point2d& p = points[i];
+    dist[i] = fast_hypot(p.x - mean.x - cx, p.y - mean.y - cy);
+    const double res = std::abs(dist[i] - r);
+    residuals[i] = res;
+    below += kSigmas * res <= floor_px;
+    above += kSigmas * res >= 2.0 * floor_px;
+    nan += res != res;
+  }
+  if (nan == 0 && below > m) return floor_px;             // the median's cut is at most the floor
+  if (nan == 0 && above >= n - m) return 2.0 * floor_px;  // ... at least twice the floor
+  const auto mid = residuals.begin() + static_cast<std::ptrdiff_t>(m);
   std::nth_element(residuals.begin(), mid, residuals.end());
-  return std::min(std::max(floor_px, 4.685 * 1.4826 * *mid), 2.0 * floor_px);
+  return std::min(std::max(floor_px, kSigmas * *mid), 2.0 * floor_px);
 }
 
 // fit_circle's start: the algebraic (Kasa) circle x^2 + y^2 + D x + E y + F = 0 of points in
-// coordinates centred on mean (better conditioned): its centre and squared radius there.
+// coordinates centred on mean (better conditioned): its centre and squared radius there. The
+// normal matrix of the rows (x, y, 1) is symmetric: each distinct sum once.
 std::optional<cv::Vec3d> kasa_circle(std::span<const cv::Point2d> points, const cv::Point2d& mean) {
-  cv::Matx33d ata = cv::Matx33d::zeros();
-  cv::Vec3d atb(0, 0, 0);
+  double sxx = 0, sxy = 0, sx = 0, syy = 0, sy = 0, n = 0, bx = 0, by = 0, b1 = 0;
   for (const auto& p : points) {
     const double x = p.x - mean.x, y = p.y - mean.y;
-    const cv::Vec3d row(x, y, 1.0);
     const double rhs = -(x * x + y * y);
-    for (int i = 0; i < 3; ++i) {
-      atb[i] += row[i] * rhs;
-      for (int j = 0; j < 3; ++j) ata(i, j) += row[i] * row[j];
-    }
+    bx += x * rhs;
+    by += y * rhs;
+    b1 += rhs;
+    sxx += x * x;
+    sxy += x * y;
+    sx += x;
+    syy += y * y;
+    sy += y;
+    n += 1.0;
   }
-  cv::Vec3d sol;
-  if (!cv::solve(ata, atb, sol, cv::DECOMP_CHOLESKY)) return std::nullopt;
-  const double cx = -sol[0] / 2.0, cy = -sol[1] / 2.0;
-  return cv::Vec3d(cx, cy, cx * cx + cy * cy - sol[2]);
+  const auto sol = solve_3x3(cv::Matx33d(sxx, sxy, sx, sxy, syy, sy, sx, sy, n), {bx, by, b1});
+  if (!sol) return std::nullopt;
+  const double cx = -(*sol)[0] / 2.0, cy = -(*sol)[1] / 2.0;
+  return cv::Vec3d(cx, cy, cx * cx + cy * cy - (*sol)[2]);
 }
 
-// One Gauss-Newton step of the geometric fit of circle (cx, cy, r) (centred on mean): the change
-// of (cx, cy, r); each point weighted by Tukey's biweight when cut > 0; the radius held when
-// hold_radius. nullopt when the normal equations cannot be solved.
-std::optional<cv::Vec3d> gauss_newton_step(std::span<const cv::Point2d> points,
-                                           const cv::Point2d& mean, double cx, double cy, double r,
-                                           double cut, bool hold_radius) {
-  cv::Matx33d jtj = cv::Matx33d::zeros();
-  cv::Vec3d jtr(0, 0, 0);
-  for (const auto& p : points) {
-    const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
-    const double d = fast_hypot(x, y);
+// The sums of a Gauss-Newton step's normal equations (gauss_newton_step): with j = (-x / d,
+// -y / d, -1) and weight w, s_ab sums (w j_a) j_b and t_a sums (w j_a) res. The products with
+// j_2 = -1 are exact negations, so the third row and column are the third column's sums.
+struct NormalSums {
+  double s00 = 0, s01 = 0, s10 = 0, s11 = 0, s02 = 0, s12 = 0, s22 = 0;
+  double t0 = 0, t1 = 0, t2 = 0;
+};
+
+// What a Gauss-Newton step reads: the points (centred on mean), the circle (cx, cy, r), the
+// Tukey cut (0 = least squares) and the points' distances from the centre when already
+// measured (robust_cut_px), else empty.
+struct StepInput {
+  std::span<const cv::Point2d> points;
+  cv::Point2d mean;
+  double cx, cy, r, cut;
+  std::span<const double> dist;
+};
+
+// Adds points [begin, end) of in to s, in order.
+void add_normal_sums(const StepInput& in, std::size_t begin, NormalSums& s) {
+  for (std::size_t i = begin; i < in.points.size(); ++i) {
+    const cv::Point2d& p = in.points[i];
+    const double x = p.x - in.mean.x - in.cx, y = p.y - in.mean.y - in.cy;
+    const double d = in.dist.empty() ? fast_hypot(x, y) : in.dist[i];
     if (d < 1e-9) continue;
-    const cv::Vec3d j(-x / d, -y / d, -1.0);
-    const double res = d - r;
-    const double w = cut > 0.0 ? tukey_weight(res, cut) : 1.0;
+    const double jx = -x / d, jy = -y / d;
+    const double res = d - in.r;
+    const double w = in.cut > 0.0 ? tukey_weight(res, in.cut) : 1.0;
     if (w <= 0.0) continue;
-    for (int a = 0; a < 3; ++a) {
-      jtr[a] += w * j[a] * res;
-      for (int b = 0; b < 3; ++b) jtj(a, b) += w * j[a] * j[b];
+    const double wx = w * jx, wy = w * jy;
+    s.t0 += wx * res;
+    s.t1 += wy * res;
+    s.t2 -= w * res;
+    s.s00 += wx * jx;
+    s.s01 += wx * jy;
+    s.s02 -= wx;
+    s.s10 += wy * jx;
+    s.s11 += wy * jy;
+    s.s12 -= wy;
+    s.s22 += w;
+  }
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// Four vectors of four as four vectors of the lanes: r_k = (a_k, b_k, c_k, d_k).
+SB_TARGET_AVX2 inline void transpose4(__m256d& a, __m256d& b, __m256d& c, __m256d& d) {
+  const __m256d ab_even = _mm256_unpacklo_pd(a, b), ab_odd = _mm256_unpackhi_pd(a, b);
+  const __m256d cd_even = _mm256_unpacklo_pd(c, d), cd_odd = _mm256_unpackhi_pd(c, d);
+  a = _mm256_permute2f128_pd(ab_even, cd_even, 0x20);
+  b = _mm256_permute2f128_pd(ab_odd, cd_odd, 0x20);
+  c = _mm256_permute2f128_pd(ab_even, cd_even, 0x31);
+  d = _mm256_permute2f128_pd(ab_odd, cd_odd, 0x31);
+}
+
+// v in the lanes of kept, -0.0 in the others.
+SB_TARGET_AVX2 inline __m256d kept_or_neg_zero(__m256d kept, __m256d v) {
+  return _mm256_blendv_pd(_mm256_set1_pd(-0.0), v, kept);
+}
+
+// add_normal_sums from the first point, four points at a time: each point's terms as vectors
+// (add_normal_sums' double operations in its order, no fused multiply-add), then added to the
+// sums point by point in order, each sum a lane (a subtracted term is added negated, the same
+// bits). A point add_normal_sums skips adds -0.0, which leaves any sum unchanged (-0.0 too).
+SB_TARGET_AVX2 void add_normal_sums_avx2(const StepInput& in, NormalSums& s) {
+  const __m256d mx = _mm256_set1_pd(in.mean.x), my = _mm256_set1_pd(in.mean.y);
+  const __m256d cx = _mm256_set1_pd(in.cx), cy = _mm256_set1_pd(in.cy);
+  const __m256d r = _mm256_set1_pd(in.r), cut = _mm256_set1_pd(in.cut);
+  const __m256d sign = _mm256_set1_pd(-0.0), one = _mm256_set1_pd(1.0);
+  const __m256d zero = _mm256_setzero_pd(), tiny = _mm256_set1_pd(1e-9);
+  const bool robust = in.cut > 0.0;
+  // Lanes: (s00, s01, s10, s11), (s02, s12, s22, t0), (t1, t2, unused, unused).
+  __m256d acc_a = _mm256_setr_pd(s.s00, s.s01, s.s10, s.s11);
+  __m256d acc_b = _mm256_setr_pd(s.s02, s.s12, s.s22, s.t0);
+  __m256d acc_c = _mm256_setr_pd(s.t1, s.t2, 0.0, 0.0);
+  const double* xy = reinterpret_cast<const double*>(in.points.data());
+  std::size_t i = 0;
+  for (; i + 4 <= in.points.size(); i += 4) {
+    // (x0, y0, x1, y1), (x2, y2, x3, y3) as (x0..x3), (y0..y3).
+    const __m256d p01 = _mm256_loadu_pd(xy + 2 * i), p23 = _mm256_loadu_pd(xy + 2 * i + 4);
+    const __m256d px = _mm256_permute4x64_pd(_mm256_unpacklo_pd(p01, p23), 0xD8);
+    const __m256d py = _mm256_permute4x64_pd(_mm256_unpackhi_pd(p01, p23), 0xD8);
+    const __m256d x = _mm256_sub_pd(_mm256_sub_pd(px, mx), cx);
+    const __m256d y = _mm256_sub_pd(_mm256_sub_pd(py, my), cy);
+    const __m256d d = in.dist.empty()
+                          ? _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)))
+                          : _mm256_loadu_pd(in.dist.data() + i);
+    const __m256d jx = _mm256_div_pd(_mm256_xor_pd(x, sign), d);
+    const __m256d jy = _mm256_div_pd(_mm256_xor_pd(y, sign), d);
+    const __m256d res = _mm256_sub_pd(d, r);
+    __m256d w = one;
+    if (robust) {  // tukey_weight
+      const __m256d u = _mm256_div_pd(res, cut);
+      const __m256d u2 = _mm256_mul_pd(u, u);
+      const __m256d v = _mm256_sub_pd(one, u2);
+      w = _mm256_blendv_pd(_mm256_mul_pd(v, v), zero, _mm256_cmp_pd(u2, one, _CMP_GE_OQ));
     }
+    const __m256d kept =
+        _mm256_and_pd(_mm256_cmp_pd(d, tiny, _CMP_NLT_UQ), _mm256_cmp_pd(w, zero, _CMP_NLE_UQ));
+    const __m256d wx = _mm256_mul_pd(w, jx), wy = _mm256_mul_pd(w, jy);
+    __m256d a0 = kept_or_neg_zero(kept, _mm256_mul_pd(wx, jx)),
+            a1 = kept_or_neg_zero(kept, _mm256_mul_pd(wx, jy));
+    __m256d a2 = kept_or_neg_zero(kept, _mm256_mul_pd(wy, jx)),
+            a3 = kept_or_neg_zero(kept, _mm256_mul_pd(wy, jy));
+    __m256d b0 = kept_or_neg_zero(kept, _mm256_xor_pd(wx, sign)),
+            b1 = kept_or_neg_zero(kept, _mm256_xor_pd(wy, sign));
+    __m256d b2 = kept_or_neg_zero(kept, w), b3 = kept_or_neg_zero(kept, _mm256_mul_pd(wx, res));
+    __m256d c0 = kept_or_neg_zero(kept, _mm256_mul_pd(wy, res)),
+            c1 = kept_or_neg_zero(kept, _mm256_xor_pd(_mm256_mul_pd(w, res), sign));
+    __m256d c2 = sign, c3 = sign;
+    transpose4(a0, a1, a2, a3);
+    transpose4(b0, b1, b2, b3);
+    transpose4(c0, c1, c2, c3);
+    acc_a = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_add_pd(acc_a, a0), a1), a2), a3);
+    acc_b = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_add_pd(acc_b, b0), b1), b2), b3);
+    acc_c = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_add_pd(acc_c, c0), c1), c2), c3);
   }
-  cv::Vec3d delta(0, 0, 0);
+  alignas(32) double a[4], b[4], c[4];
+  _mm256_store_pd(a, acc_a);
+  _mm256_store_pd(b, acc_b);
+  _mm256_store_pd(c, acc_c);
+  s = NormalSums{a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3], c[0], c[1]};
+  add_normal_sums(in, i, s);
+}
+#endif
+
+// One Gauss-Newton step of the geometric fit of in's circle: the change of (cx, cy, r); each
+// point weighted by Tukey's biweight when in.cut > 0; the radius held when hold_radius. nullopt
+// when the normal equations cannot be solved.
+std::optional<cv::Vec3d> gauss_newton_step(const StepInput& in, bool hold_radius) {
+  NormalSums s;
+#if SB_HAVE_AVX2_KERNELS
+  if (cpu_has_avx2())
+    add_normal_sums_avx2(in, s);
+  else
+#endif
+    add_normal_sums(in, 0, s);
   if (hold_radius) {  // the centre only: the upper-left 2 x 2 block
-    const cv::Matx22d jtj2(jtj(0, 0), jtj(0, 1), jtj(1, 0), jtj(1, 1));
-    cv::Vec2d d2;
-    if (!cv::solve(jtj2, cv::Vec2d(-jtr[0], -jtr[1]), d2, cv::DECOMP_CHOLESKY)) return std::nullopt;
-    delta = {d2[0], d2[1], 0.0};
-  } else if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) {
-    return std::nullopt;
+    const auto d2 = solve_2x2(cv::Matx22d(s.s00, s.s01, s.s10, s.s11), cv::Vec2d(-s.t0, -s.t1));
+    if (!d2) return std::nullopt;
+    return cv::Vec3d((*d2)[0], (*d2)[1], 0.0);
   }
-  return delta;
+  return solve_3x3(cv::Matx33d(s.s00, s.s01, s.s02, s.s10, s.s11, s.s12, s.s02, s.s12, s.s22),
+                   cv::Vec3d(-s.t0, -s.t1, -s.t2));
 }
 
 }  // namespace
@@ -210,12 +321,12 @@ std::optional<Circle> fit_circle(std::span<const cv::Point2d> points, double rob
   double r = hold_radius ? fixed_radius_px : std::sqrt(r2);
   // Geometric refinement: Kasa is biased on short arcs and noisy points.
   const int rounds = robust_floor_px > 0.0 ? 8 : 5;  // reweighting converges more slowly
-  std::vector<double> residuals;
+  std::vector<double> residuals, dist;
   for (int it = 0; it < rounds; ++it) {
-    const double cut = robust_floor_px > 0.0
-                           ? robust_cut_px(points, mean, cx, cy, r, robust_floor_px, residuals)
-                           : 0.0;
-    const auto delta = gauss_newton_step(points, mean, cx, cy, r, cut, hold_radius);
+    const double cut = robust_floor_px > 0.0 ? robust_cut_px(points, mean, cx, cy, r,
+                                                             robust_floor_px, residuals, dist)
+                                             : 0.0;
+    const auto delta = gauss_newton_step({points, mean, cx, cy, r, cut, dist}, hold_radius);
     if (!delta) break;
     cx += (*delta)[0];
     cy += (*delta)[1];
@@ -258,10 +369,44 @@ void gather_circle_points(const EdgeMap& edges, const Circle& c, double band_px,
 
 namespace {
 
-// An edge point of the band with a radial gradient, waiting for its sub-pixel position.
-struct BandPoint {
-  int x, y;
-  short gx, gy;
+// The edge pixels of an annulus scan in raster order, waiting for gather_outline_points' band
+// and gradient tests: one array per field, so that the tests run four pixels at a time. A
+// refinement keeps them for its later, narrower bands: a band inside the annulus scanned finds
+// every pixel that can pass its tests among them, in the same order, without a scan.
+struct BandCandidates {
+  // Arrays of capacity entries, of which the first count are written (not zeroed first: a scan
+  // writes a few hundred of them).
+  std::unique_ptr<int[]> x, y, keep;  // keep: the tests' scratch
+  std::unique_ptr<short[]> gx, gy;
+  int capacity = 0;
+  int count = 0;
+  // The annulus scanned, in the image: centre, inner and outer radius (outer < 0: none yet).
+  double cx = 0.0, cy = 0.0, inner = 0.0, outer = -1.0;
+
+  // Room for at least n candidates, keeping the first count.
+  void reserve(int n) {
+    if (capacity >= n) return;
+    const int size = std::max(n, 2 * capacity);
+    const auto grow = [&](auto& a) {
+      auto bigger = std::make_unique_for_overwrite<std::remove_reference_t<decltype(a[0])>[]>(
+          static_cast<std::size_t>(size));
+      std::copy(a.get(), a.get() + count, bigger.get());
+      a = std::move(bigger);
+    };
+    grow(x);
+    grow(y);
+    grow(gx);
+    grow(gy);
+    keep = std::make_unique_for_overwrite<int[]>(static_cast<std::size_t>(size));
+    capacity = size;
+  }
+  // Whether the annulus inner <= d <= outer around (acx, acy) lies within the one scanned, with
+  // a hundredth of a pixel to spare for the rounding of the tests against it.
+  bool covers(double acx, double acy, double ainner, double aouter) const {
+    const double shift = fast_hypot(acx - cx, acy - cy);
+    return outer >= 0.0 && aouter + shift <= outer - 0.01 &&
+           (inner <= 0.0 || ainner - shift >= inner + 0.01);
+  }
 };
 
 // gather_outline_points' tests. Every value the per-point tests read is a member of this local
@@ -311,9 +456,9 @@ struct OutlineBand {
 
   // A passing pixel's sub-pixel position in round coordinates, if that lies in the band too (the
   // band applies to the sub-pixel position, which is what the fit uses).
-  [[gnu::always_inline]] std::optional<cv::Point2d> place(const GradientPlanes& planes,
-                                                          const BandPoint& b) const {
-    cv::Point2d p = subpixel_edge(planes, b.x, b.y, b.gx, b.gy);
+  [[gnu::always_inline]] std::optional<cv::Point2d> place(const GradientPlanes& planes, int x,
+                                                          int y, short gx, short gy) const {
+    cv::Point2d p = subpixel_edge(planes, x, y, gx, gy);
     if (!identity) {
       const double sx = p.x - cx, sy = p.y - cy;
       const double k = to_round * (sx * ax + sy * ay);
@@ -325,31 +470,165 @@ struct OutlineBand {
   }
 };
 
+// The candidates [begin, end) that pass band's tests, their indices in order into keep (no
+// branch on a pixel: whether one passes is a coin toss to the branch predictor); their count.
+int passing_candidates(const OutlineBand& band, const BandCandidates& c, int begin, int end,
+                       int* keep) {
+  int kept = 0;
+  for (int i = begin; i < end; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    keep[kept] = i;
+    kept += band.passes(c.x[u], c.y[u], c.gx[u], c.gy[u]);
+  }
+  return kept;
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// passing_candidates four pixels at a time: OutlineBand::passes' double operations in its order
+// (no fused multiply-add) and its comparisons (negated, so true where it is true with a NaN),
+// so the same pixels pass.
+SB_TARGET_AVX2 int passing_candidates_avx2(const OutlineBand& band, const BandCandidates& c,
+                                           int* keep) {
+  const __m256d cx = _mm256_set1_pd(band.cx), cy = _mm256_set1_pd(band.cy);
+  const __m256d outer2 = _mm256_set1_pd(band.outer2), inner2 = _mm256_set1_pd(band.inner2);
+  const __m256d cos2 = _mm256_set1_pd(band.cos2);
+  const __m256d ax = _mm256_set1_pd(band.ax), ay = _mm256_set1_pd(band.ay);
+  const __m256d to_round = _mm256_set1_pd(band.to_round);
+  const __m256d from_round = _mm256_set1_pd(band.from_round);
+  int kept = 0, i = 0;
+  for (; i + 4 <= c.count; i += 4) {
+    const auto u = static_cast<std::size_t>(i);
+    __m256d rx = _mm256_sub_pd(
+        _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(&c.x[u]))), cx);
+    __m256d ry = _mm256_sub_pd(
+        _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(&c.y[u]))), cy);
+    __m256d gx = _mm256_cvtepi32_pd(
+        _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.gx[u]))));
+    __m256d gy = _mm256_cvtepi32_pd(
+        _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.gy[u]))));
+    if (!band.identity) {
+      const __m256d k =
+          _mm256_mul_pd(to_round, _mm256_add_pd(_mm256_mul_pd(rx, ax), _mm256_mul_pd(ry, ay)));
+      rx = _mm256_add_pd(rx, _mm256_mul_pd(ax, k));
+      ry = _mm256_add_pd(ry, _mm256_mul_pd(ay, k));
+    }
+    const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry));
+    if (!band.identity) {
+      const __m256d k =
+          _mm256_mul_pd(from_round, _mm256_add_pd(_mm256_mul_pd(gx, ax), _mm256_mul_pd(gy, ay)));
+      gx = _mm256_add_pd(gx, _mm256_mul_pd(ax, k));
+      gy = _mm256_add_pd(gy, _mm256_mul_pd(ay, k));
+    }
+    const __m256d g_dot_r = _mm256_add_pd(_mm256_mul_pd(gx, rx), _mm256_mul_pd(gy, ry));
+    const __m256d g2 = _mm256_add_pd(_mm256_mul_pd(gx, gx), _mm256_mul_pd(gy, gy));
+    const __m256d in_band = _mm256_and_pd(_mm256_cmp_pd(d2, outer2, _CMP_NGT_UQ),
+                                          _mm256_cmp_pd(d2, inner2, _CMP_NLT_UQ));
+    const __m256d radial = _mm256_cmp_pd(_mm256_mul_pd(g_dot_r, g_dot_r),
+                                         _mm256_mul_pd(_mm256_mul_pd(cos2, g2), d2), _CMP_NLT_UQ);
+    const int mask = _mm256_movemask_pd(_mm256_and_pd(in_band, radial));
+    for (int j = 0; j < 4; ++j) {
+      keep[kept] = i + j;
+      kept += (mask >> j) & 1;
+    }
+  }
+  return kept + passing_candidates(band, c, i, c.count, keep + kept);
+}
+#endif
+
+// The candidates that pass band's tests, placed (OutlineBand::place) and appended to out in
+// order.
+void place_candidates(const OutlineBand& band, const GradientPlanes& planes_in, BandCandidates& c,
+                      std::vector<cv::Point2d>& out) {
+  const GradientPlanes planes = planes_in;  // a local copy: its fields stay in registers
+  int* const keep = c.keep.get();
+#if SB_HAVE_AVX2_KERNELS
+  const int kept = cpu_has_avx2() ? passing_candidates_avx2(band, c, keep)
+                                  : passing_candidates(band, c, 0, c.count, keep);
+#else
+  const int kept = passing_candidates(band, c, 0, c.count, keep);
+#endif
+  for (int k = 0; k < kept; ++k) {
+    const auto i = static_cast<std::size_t>(keep[k]);
+    if (const auto p = band.place(planes, c.x[i], c.y[i], c.gx[i], c.gy[i])) out.push_back(*p);
+  }
+}
+
+// Writes the edge pixels that may lie in the annulus inner <= d <= outer around (cx, cy) to c
+// (for_each_annulus_range's pixels, in raster order), and the annulus.
+void scan_annulus(const EdgeMap& edges, double cx, double cy, double inner, double outer,
+                  BandCandidates& c) {
+  const GradientPlanes planes(edges);
+  c.count = 0;
+  int n = 0;  // candidates written
+  int* xs = c.x.get();
+  int* ys = c.y.get();
+  short* gxs = c.gx.get();
+  short* gys = c.gy.get();
+  const int last_col = edges.bits.width() - 1;
+  const auto collect = [&](int y, int x0, int x1) {
+    x0 = std::max(0, x0);
+    x1 = std::min(last_col, x1);
+    if (x1 < x0) return;
+    const std::uint64_t* row = edges.bits.row(y);
+    const short* gx = planes.dx + y * planes.step;
+    const short* gy = planes.dy + y * planes.step;
+    const int w0 = x0 >> 6, w1 = x1 >> 6;
+    for (int w = w0; w <= w1; ++w) {
+      std::uint64_t word = row[w];
+      // Only the bits of [x0, x1] in this word.
+      if (w == w0) word &= ~std::uint64_t{0} << (x0 & 63);
+      if (w == w1) word &= ~std::uint64_t{0} >> (63 - (x1 & 63));
+      if (word == 0) continue;
+      if (n + 64 > c.capacity) {  // a word's pixels might not fit
+        c.count = n;
+        c.reserve(n + 1024);
+        xs = c.x.get();
+        ys = c.y.get();
+        gxs = c.gx.get();
+        gys = c.gy.get();
+      }
+      for (; word != 0; word &= word - 1) {
+        const int x = (w << 6) + std::countr_zero(word);
+        xs[n] = x;
+        ys[n] = y;
+        gxs[n] = gx[x];
+        gys[n] = gy[x];
+        ++n;
+      }
+    }
+  };
+  for_each_annulus_range(cx, cy, inner, outer, edges.bits.height(), collect);
+  c.count = n;
+  c.cx = cx;
+  c.cy = cy;
+  c.inner = inner;
+  c.outer = outer;
+}
+
+// gather_outline_points, taking the pixels from c when its annulus covers the band's, else
+// scanning the band's into c, widened by margin_px on either side for the gathers to come.
+void gather_band(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
+                 double band_px, double min_radial_cos, double margin_px, BandCandidates& c,
+                 std::vector<cv::Point2d>& out) {
+  out.clear();
+  const OutlineBand band(round, stretch, band_px, min_radial_cos);
+  // In the image the band reaches ratio times farther along the major axis.
+  const double reach = stretch.ratio * band.outer;
+  if (!c.covers(band.cx, band.cy, band.inner, reach))
+    scan_annulus(edges, band.cx, band.cy, std::max(0.0, band.inner - margin_px), reach + margin_px,
+                 c);
+  place_candidates(band, GradientPlanes(edges), c, out);
+}
+
 }  // namespace
 
 void gather_outline_points(const EdgeMap& edges, const Circle& round, const OutlineStretch& stretch,
                            double band_px, double min_radial_cos, std::vector<cv::Point2d>& out) {
-  out.clear();
-  const OutlineBand band(round, stretch, band_px, min_radial_cos);
-  const GradientPlanes planes(edges);
-  // Two stages: the band and gradient tests keep about a quarter of the pixels visited, in no
-  // pattern a branch predictor can learn, so the pixels that pass are written down without a
-  // branch (kept counts them), and only those get their sub-pixel position. Raster order stays.
-  std::array<BandPoint, 256> passed;
-  int kept = 0;
-  const auto place = [&] {
-    for (int i = 0; i < kept; ++i)
-      if (const auto p = band.place(planes, passed[static_cast<std::size_t>(i)])) out.push_back(*p);
-    kept = 0;
-  };
-  // In the image the band reaches ratio times farther along the major axis.
-  for_each_edge_in_annulus(edges, band.cx, band.cy, band.inner, stretch.ratio * band.outer,
-                           [&](int x, int y, short gx, short gy) {
-                             passed[static_cast<std::size_t>(kept)] = {x, y, gx, gy};
-                             kept += band.passes(x, y, gx, gy);
-                             if (kept == static_cast<int>(passed.size())) place();
-                           });
-  place();
+  // Three stages: the scan writes the edge pixels of the annulus down, the band and gradient
+  // tests pick those that pass (about half, in no pattern a branch predictor can learn), and only
+  // those get their sub-pixel position. Raster order stays.
+  BandCandidates candidates;
+  gather_band(edges, round, stretch, band_px, min_radial_cos, 0.0, candidates, out);
 }
 
 namespace {
@@ -591,13 +870,18 @@ Circle unround_circle(const Circle& fit, const cv::Point2d& centre, const Outlin
   return Circle{c.x, c.y, 0.5 * (1.0 + stretch.ratio) * fit.radius_px, fit.score};
 }
 
-// Angular coverage of c's outline by the edge points in its scoring band.
+// How much wider than its band a refinement scans, px on either side: the fit moves the circle
+// by a pixel or so per round, and a later band within the annulus scanned needs no scan.
+constexpr double kRescanMarginPx = 2.0;
+
+// Angular coverage of c's outline by the edge points in its scoring band (candidates: the
+// pixels of a scan made before, see BandCandidates).
 double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& params,
-                     std::vector<cv::Point2d>& pts) {
+                     BandCandidates& candidates, std::vector<cv::Point2d>& pts) {
   const OutlineStretch stretch = outline_stretch(edges, c, params);
   const Circle round = round_circle(c, stretch);
   const double band = scoring_band_px(round, params);
-  gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
+  gather_band(edges, round, stretch, band, params.min_radial_cos, kRescanMarginPx, candidates, pts);
   const double coverage =
       angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch);
   // The rings weigh in gradually from clutter_min_radius_px to twice that: a wider band
@@ -620,7 +904,7 @@ double outline_score(const EdgeMap& edges, const Circle& c, const RefineParams& 
   for (double d : {-step, step}) {
     Circle ring = round;
     ring.radius_px += d;
-    gather_outline_points(edges, ring, stretch, band, params.min_radial_cos, ring_pts);
+    gather_band(edges, ring, stretch, band, params.min_radial_cos, 0.0, candidates, ring_pts);
     clutter = std::min(clutter, angular_coverage_in_frame(ring, ring_pts, edges.frame_px,
                                                           params.min_inside_fraction, stretch));
   }
@@ -634,6 +918,8 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
   Circle c = rough;
   std::vector<cv::Point2d> pts;
   pts.reserve(512);
+  // The first round's band is the widest: the later ones, near it, take its pixels.
+  BandCandidates candidates;
   for (int it = 0; it < params.iterations; ++it) {
     const OutlineStretch stretch = outline_stretch(edges, c, params);
     const Circle round = round_circle(c, stretch);
@@ -641,7 +927,8 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
     // wide band would let texture just inside the rim pull a least-squares fit (a robust fit
     // can start wider: it sees both and keeps to the majority).
     const double band = std::max(scoring_band_px(round, params), params.first_band_px / (1 << it));
-    gather_outline_points(edges, round, stretch, band, params.min_radial_cos, pts);
+    gather_band(edges, round, stretch, band, params.min_radial_cos, kRescanMarginPx, candidates,
+                pts);
     // The widest band's coverage bounds the score from above (give_up_below).
     if (it == 0 && params.give_up_below > 0.0 &&
         angular_coverage_in_frame(round, pts, edges.frame_px, params.min_inside_fraction, stretch) <
@@ -656,13 +943,14 @@ std::optional<Circle> refine_circle(const EdgeMap& edges, const Circle& rough,
       return std::nullopt;
     c = next;
   }
-  c.score = outline_score(edges, c, params, pts);
+  c.score = outline_score(edges, c, params, candidates, pts);
   return c;
 }
 
 double score_circle(const EdgeMap& edges, const Circle& c, const RefineParams& params) {
+  BandCandidates candidates;
   std::vector<cv::Point2d> pts;
-  return outline_score(edges, c, params, pts);
+  return outline_score(edges, c, params, candidates, pts);
 }
 
 }  // namespace stereoball::ball_detector

@@ -6,8 +6,9 @@
 // cv::boxFilter, connected_rows vs a breadth-first flood fill, chord ends from row masks vs
 // find_chord_ends, find_peaks vs a brute-force scan, plot_ray vs a bounds test per cell,
 // estimate_radius vs a scan of every edge pixel, angular_coverage_in_frame vs every sector
-// tested, the orientation planes vs points set one by one, and circles_from_votes independent of
-// the order its voters come in.
+// tested, the orientation planes vs points set one by one, circles_from_votes independent of the
+// order its voters come in, solve_3x3 vs cv::solve, fit_circle and gather_outline_points vs
+// their plain arithmetic, and refine_circle's reused scan vs a fresh one.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -30,6 +31,7 @@
 #include "ball_detector/core/canny.hpp"
 #include "ball_detector/core/circle_fit.hpp"
 #include "ball_detector/core/edge_map.hpp"
+#include "ball_detector/core/fast_math.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
 #include "ball_detector/core/synthetic.hpp"
@@ -1116,6 +1118,321 @@ TEST(CoverageInFrame, GivenCirclesInsideAcrossAndNearTheBorderThenCoverageEquals
   }
   EXPECT_GE(whole, 300);
   EXPECT_GE(cut, 300);
+}
+
+// Whether two doubles have the same bits (NaN payloads and signed zeros included).
+bool same_bits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+
+TEST(SmallSolve, GivenRandomNormalAndGeneralSystemsThenTheSolutionHasCvSolvesBits) {
+  std::mt19937 rng(53);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int solved = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    // Given a 3 x 3 system: a normal matrix (sums of products, as the circle fit builds) or any
+    // matrix, with entries over many magnitudes, some singular (a repeated row)
+    const double scale = std::pow(10.0, 6.0 * unit(rng));
+    cv::Matx33d a;
+    if (trial % 2 == 0) {
+      a = cv::Matx33d::zeros();
+      for (int k = 0; k < 3 + trial % 40; ++k) {
+        const cv::Vec3d row(scale * unit(rng), scale * unit(rng), 1.0);
+        a += row * row.t();
+      }
+    } else {
+      for (int i = 0; i < 9; ++i) a.val[i] = scale * unit(rng);
+    }
+    if (trial % 97 == 0)
+      for (int j = 0; j < 3; ++j) a(2, j) = a(1, j);
+    const cv::Vec3d b(scale * unit(rng), unit(rng), scale * scale * unit(rng));
+    // When it is solved by solve_3x3 and by cv::solve
+    const auto ours = solve_3x3(a, b);
+    cv::Vec3d theirs;
+    const bool ok = cv::solve(a, b, theirs, cv::DECOMP_CHOLESKY);
+    // Then both fail, or both give the same bits
+    ASSERT_EQ(ours.has_value(), ok) << "trial " << trial;
+    if (ok) {
+      ++solved;
+      for (int i = 0; i < 3; ++i) ASSERT_TRUE(same_bits((*ours)[i], theirs[i])) << trial;
+    }
+    // And likewise the upper-left 2 x 2 block
+    const cv::Matx22d a2(a(0, 0), a(0, 1), a(1, 0), a(1, 1));
+    const auto ours2 = solve_2x2(a2, cv::Vec2d(b[0], b[1]));
+    cv::Vec2d theirs2;
+    ASSERT_EQ(ours2.has_value(),
+              cv::solve(a2, cv::Vec2d(b[0], b[1]), theirs2, cv::DECOMP_CHOLESKY));
+    for (int i = 0; ours2 && i < 2; ++i) ASSERT_TRUE(same_bits((*ours2)[i], theirs2[i])) << trial;
+  }
+  EXPECT_GE(solved, 19000);
+  EXPECT_FALSE(solve_3x3(cv::Matx33d::zeros(), cv::Vec3d(1, 2, 3)).has_value());
+}
+
+// One Gauss-Newton round of fit_circle written plainly (the robust cut by nth_element, every sum
+// of the 3 x 3 normal matrix point by point, cv::solve): the change of (cx, cy, r), or nullopt.
+std::optional<cv::Vec3d> reference_round(const std::vector<cv::Point2d>& points,
+                                         const cv::Point2d& mean, double cx, double cy, double r,
+                                         double robust_floor_px, bool hold) {
+  const int n = static_cast<int>(points.size());
+  double cut = 0.0;
+  if (robust_floor_px > 0.0) {
+    std::vector<double> res;
+    for (const auto& p : points)
+      res.push_back(std::abs(std::sqrt((p.x - mean.x - cx) * (p.x - mean.x - cx) +
+                                       (p.y - mean.y - cy) * (p.y - mean.y - cy)) -
+                             r));
+    std::nth_element(res.begin(), res.begin() + n / 2, res.end());
+    cut = std::min(std::max(robust_floor_px, 4.685 * 1.4826 * res[n / 2]), 2.0 * robust_floor_px);
+  }
+  cv::Matx33d jtj = cv::Matx33d::zeros();
+  cv::Vec3d jtr(0, 0, 0);
+  for (const auto& p : points) {
+    const double x = p.x - mean.x - cx, y = p.y - mean.y - cy;
+    const double d = std::sqrt(x * x + y * y);
+    if (d < 1e-9) continue;
+    const cv::Vec3d j(-x / d, -y / d, -1.0);
+    const double res = d - r;
+    const double u = cut > 0.0 ? res / cut : 0.0;
+    const double w = cut <= 0.0 ? 1.0 : u * u >= 1.0 ? 0.0 : (1.0 - u * u) * (1.0 - u * u);
+    if (w <= 0.0) continue;
+    for (int a = 0; a < 3; ++a) {
+      jtr[a] += w * j[a] * res;
+      for (int b = 0; b < 3; ++b) jtj(a, b) += w * j[a] * j[b];
+    }
+  }
+  cv::Vec3d delta(0, 0, 0);
+  if (hold) {
+    cv::Vec2d d2;
+    if (!cv::solve(cv::Matx22d(jtj(0, 0), jtj(0, 1), jtj(1, 0), jtj(1, 1)),
+                   cv::Vec2d(-jtr[0], -jtr[1]), d2, cv::DECOMP_CHOLESKY))
+      return std::nullopt;
+    return cv::Vec3d(d2[0], d2[1], 0.0);
+  }
+  if (!cv::solve(jtj, -jtr, delta, cv::DECOMP_CHOLESKY)) return std::nullopt;
+  return delta;
+}
+
+// fit_circle written plainly (the Kasa start's 3 x 3 sums point by point, cv::solve, then
+// reference_round): the reference its fast paths must equal bit for bit.
+std::optional<Circle> fit_circle_reference(const std::vector<cv::Point2d>& points,
+                                           double robust_floor_px, double fixed_radius_px) {
+  const int n = static_cast<int>(points.size());
+  if (n < 3) return std::nullopt;
+  cv::Point2d mean(0, 0);
+  for (const auto& p : points) mean += p;
+  mean *= 1.0 / n;
+  cv::Matx33d ata = cv::Matx33d::zeros();
+  cv::Vec3d atb(0, 0, 0);
+  for (const auto& p : points) {
+    const double x = p.x - mean.x, y = p.y - mean.y;
+    const cv::Vec3d row(x, y, 1.0);
+    const double rhs = -(x * x + y * y);
+    for (int i = 0; i < 3; ++i) {
+      atb[i] += row[i] * rhs;
+      for (int j = 0; j < 3; ++j) ata(i, j) += row[i] * row[j];
+    }
+  }
+  cv::Vec3d sol;
+  if (!cv::solve(ata, atb, sol, cv::DECOMP_CHOLESKY)) return std::nullopt;
+  double cx = -sol[0] / 2.0, cy = -sol[1] / 2.0;
+  const double r2 = cx * cx + cy * cy - sol[2];
+  if (!(r2 > 0.0)) return std::nullopt;
+  const bool hold = fixed_radius_px > 0.0;
+  double r = hold ? fixed_radius_px : std::sqrt(r2);
+  for (int it = 0; it < (robust_floor_px > 0.0 ? 8 : 5); ++it) {
+    const auto delta = reference_round(points, mean, cx, cy, r, robust_floor_px, hold);
+    if (!delta) break;
+    cx += (*delta)[0];
+    cy += (*delta)[1];
+    r += (*delta)[2];
+    if (std::abs((*delta)[0]) + std::abs((*delta)[1]) + std::abs((*delta)[2]) < 1e-4) break;
+  }
+  if (!(r > 0.0) || !std::isfinite(cx) || !std::isfinite(cy)) return std::nullopt;
+  return Circle{cx + mean.x, cy + mean.y, r, 0.0};
+}
+
+TEST(FitCircle, GivenNoisyArcsWithOutliersOfEveryCountThenTheFitHasThePlainReferencesBits) {
+  std::mt19937 rng(61);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  int fitted = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    // Given points on an arc of a circle (sub-pixel noise, from almost none, so that the robust
+    // cut is the floor, to half a pixel, twice the floor; some texture points off it), of any
+    // count (every remainder of four), some exactly on the centre
+    const double sigma = 0.01 + 0.5 * unit(rng);
+    const cv::Point2d centre(500.0 * unit(rng), 400.0 * unit(rng));
+    const double radius = 3.0 + 120.0 * unit(rng);
+    const double start = 2.0 * std::numbers::pi * unit(rng);
+    const double span = (0.3 + 1.7 * unit(rng)) * std::numbers::pi;
+    std::vector<cv::Point2d> points;
+    const int count = 3 + trial % 300;
+    for (int i = 0; i < count; ++i) {
+      const double a = start + span * unit(rng);
+      const double rr =
+          unit(rng) < 0.15 ? radius * (0.6 + 0.5 * unit(rng)) : radius + sigma * noise(rng);
+      points.emplace_back(centre.x + rr * std::cos(a), centre.y + rr * std::sin(a));
+    }
+    if (trial % 50 == 0) points.push_back(centre);
+    const double floor_px = trial % 3 == 0 ? 0.0 : 0.6;
+    const double fixed = trial % 5 == 0 ? radius * (0.9 + 0.2 * unit(rng)) : 0.0;
+    // When fitted by fit_circle and by the reference
+    const auto ours = fit_circle(points, floor_px, fixed);
+    const auto reference = fit_circle_reference(points, floor_px, fixed);
+    // Then both fail or both give the same bits
+    ASSERT_EQ(ours.has_value(), reference.has_value()) << "trial " << trial;
+    if (!ours) continue;
+    ++fitted;
+    ASSERT_TRUE(same_bits(ours->x_px, reference->x_px)) << "trial " << trial;
+    ASSERT_TRUE(same_bits(ours->y_px, reference->y_px)) << "trial " << trial;
+    ASSERT_TRUE(same_bits(ours->radius_px, reference->radius_px)) << "trial " << trial;
+  }
+  EXPECT_GE(fitted, 2900);
+}
+
+// The sub-pixel position of edge pixel (x, y) written plainly: the parabola through |dx| + |dy|
+// at the pixel and its neighbours along the gradient's nearest of eight directions.
+cv::Point2d reference_subpixel(const EdgeMap& edges, int x, int y) {
+  if (x < 1 || y < 1 || x >= edges.dx.cols - 1 || y >= edges.dx.rows - 1)
+    return {double(x), double(y)};
+  const auto l1 = [&](int px, int py) {
+    return std::abs(edges.dx.at<short>(py, px)) + std::abs(edges.dy.at<short>(py, px));
+  };
+  const int gx = edges.dx.at<short>(y, x), gy = edges.dy.at<short>(y, x);
+  const int agx = std::abs(gx), agy = std::abs(gy);
+  int sx = 1, sy = 0;
+  if (agy * 128 > agx * 53) {
+    if (agx * 128 <= agy * 53)
+      sx = 0, sy = 1;
+    else
+      sy = (gx > 0) == (gy > 0) ? 1 : -1;
+  }
+  const double m0 = l1(x, y), mm = l1(x - sx, y - sy), mp = l1(x + sx, y + sy);
+  const double denom = mm - 2.0 * m0 + mp;
+  if (denom >= 0.0) return {double(x), double(y)};
+  const double t = std::clamp(0.5 * (mm - mp) / denom, -0.5, 0.5);
+  return {x + t * sx, y + t * sy};
+}
+
+// gather_outline_points written plainly: every edge pixel around the band in raster order through
+// the band and gradient tests, then placed (the same arithmetic, expression by expression).
+std::vector<cv::Point2d> gather_reference(const EdgeMap& edges, const Circle& round,
+                                          const OutlineStretch& stretch, double band_px,
+                                          double min_cos) {
+  const double cx = round.x_px, cy = round.y_px;
+  const double outer = round.radius_px + band_px;
+  const double inner = std::max(0.0, round.radius_px - band_px);
+  const double ax = stretch.axis.x, ay = stretch.axis.y;
+  const double to_round = 1.0 / stretch.ratio - 1.0, from_round = stretch.ratio - 1.0;
+  // Every pixel of the box around the band (a pixel beyond it fails the band test).
+  const double reach = stretch.ratio * outer + 2.0;
+  const int x0 = std::max(0, static_cast<int>(cx - reach));
+  const int x1 = std::min(edges.bits.width() - 1, static_cast<int>(cx + reach));
+  const int y0 = std::max(0, static_cast<int>(cy - reach));
+  const int y1 = std::min(edges.bits.height() - 1, static_cast<int>(cy + reach));
+  std::vector<cv::Point2d> out;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      if (!edges.bits.test(x, y)) continue;
+      const int gx = edges.dx.at<short>(y, x), gy = edges.dy.at<short>(y, x);
+      double rx = x - cx, ry = y - cy, g_x = gx, g_y = gy;
+      if (!stretch.identity()) {
+        const double k = to_round * (rx * ax + ry * ay);
+        rx = rx + ax * k;
+        ry = ry + ay * k;
+        const double kg = from_round * (g_x * ax + g_y * ay);
+        g_x = g_x + ax * kg;
+        g_y = g_y + ay * kg;
+      }
+      const double d2 = rx * rx + ry * ry;
+      const double g_dot_r = g_x * rx + g_y * ry, g2 = g_x * g_x + g_y * g_y;
+      if (d2 > outer * outer || d2 < inner * inner ||
+          g_dot_r * g_dot_r < min_cos * min_cos * g2 * d2)
+        continue;
+      cv::Point2d p = reference_subpixel(edges, x, y);
+      if (!stretch.identity()) {
+        const double sx = p.x - cx, sy = p.y - cy;
+        const double k = to_round * (sx * ax + sy * ay);
+        p = {cx + (sx + ax * k), cy + (sy + ay * k)};
+      }
+      const double sd = std::sqrt((p.x - cx) * (p.x - cx) + (p.y - cy) * (p.y - cy));
+      if (sd > outer || sd < inner) continue;
+      out.push_back(p);
+    }
+  return out;
+}
+
+TEST(GatherOutlinePoints, GivenRealEdgeMapsAndBandsAnywhereThenPointsEqualAScanOfEveryEdgePixel) {
+  // Given the real images' colour edge maps
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u);
+  std::mt19937 rng(67);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::size_t gathered = 0;
+  for (const auto& image : images) {
+    EdgeMap edges;
+    compute_edge_map(image, EdgeParams{}, edges);
+    for (int trial = 0; trial < 60; ++trial) {
+      // And a band anywhere (across the border too), of any width, round or stretched
+      const Circle round{-20.0 + (image.cols + 40.0) * unit(rng),
+                         -20.0 + (image.rows + 40.0) * unit(rng), 2.0 + 150.0 * unit(rng), 0.0};
+      OutlineStretch stretch;
+      if (trial % 2 == 1) {
+        const double angle = unit(rng) * std::numbers::pi;
+        stretch = OutlineStretch{{std::cos(angle), std::sin(angle)}, 1.0 + 0.3 * unit(rng)};
+      }
+      const double band = 0.5 + 4.0 * unit(rng);
+      const double min_cos = trial % 3 == 0 ? 0.0 : 0.85;
+      // When its points are gathered and found by the plain scan
+      std::vector<cv::Point2d> ours;
+      gather_outline_points(edges, round, stretch, band, min_cos, ours);
+      const auto reference = gather_reference(edges, round, stretch, band, min_cos);
+      // Then they are the same points in the same order, bit for bit
+      ASSERT_EQ(ours.size(), reference.size()) << "trial " << trial;
+      for (std::size_t i = 0; i < ours.size(); ++i)
+        ASSERT_TRUE(same_bits(ours[i].x, reference[i].x) && same_bits(ours[i].y, reference[i].y))
+            << "trial " << trial << " point " << i;
+      gathered += ours.size();
+    }
+  }
+  EXPECT_GE(gathered, 10000u);
+}
+
+TEST(RefineCircle, GivenSeedsOnRealEdgeMapsThenItsScoreEqualsAFreshScoreOfTheCircleItReturns) {
+  // Given the real images' colour edge maps, and refinement settings with and without the
+  // clutter rings, the robust wide first band and a camera (stretched outlines)
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u);
+  std::mt19937 rng(71);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int refined = 0;
+  for (const auto& image : images) {
+    EdgeMap edges;
+    compute_edge_map(image, EdgeParams{}, edges);
+    for (int trial = 0; trial < 40; ++trial) {
+      RefineParams params;
+      if (trial % 2 == 1) {
+        params.clutter_ring_per_radius = 0.1;
+        params.clutter_min_radius_px = 10.0;
+      }
+      if (trial % 3 == 1) {
+        params.first_band_px = 4.0;
+        params.robust_fit_floor_px = 0.6;
+      }
+      if (trial % 4 >= 2)
+        params.camera =
+            stereo::PinholeCamera{0.6 * image.cols, {0.5 * image.cols, 0.5 * image.rows}};
+      const Circle seed{image.cols * unit(rng), image.rows * unit(rng), 6.0 + 80.0 * unit(rng),
+                        0.0};
+      // When a seed is refined (its later bands taking their pixels from its first band's scan)
+      const auto c = refine_circle(edges, seed, params);
+      if (!c) continue;
+      ++refined;
+      // Then its score is that of the circle scored on its own (a scan of its own band)
+      ASSERT_TRUE(same_bits(c->score, score_circle(edges, *c, params))) << "trial " << trial;
+    }
+  }
+  EXPECT_GE(refined, 100);
 }
 
 TEST(NearOrientationPlanes, GivenRealEdgeMapsThenEachPlaneHoldsThePointsWithinTheSlackOfItsBin) {
