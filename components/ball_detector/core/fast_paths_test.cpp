@@ -779,8 +779,9 @@ TEST(WindowRows, GivenRandomBitImagesThenEveryWindowEqualsItsRowsReadOneByOne) {
       const int x = k + static_cast<int>(rng() % static_cast<unsigned>(width - 2 * k));
       const int y = k + static_cast<int>(rng() % static_cast<unsigned>(height - 2 * k));
       std::array<std::uint64_t, 64> rows{};
-      window_rows(bits, x, y, k, rows);
-      // Then each row equals BitImage::bits of that row
+      const int count = window_rows(bits, x, y, k, rows);
+      // Then each row equals BitImage::bits of that row, and the count is the window's
+      ASSERT_EQ(count, count_window_points(bits, x, y, k));
       for (int r = 0; r < 2 * k + 1; ++r)
         ASSERT_EQ(rows[static_cast<size_t>(r)], bits.bits(y - k + r, x - k, 2 * k + 1))
             << "width " << width << " x " << x << " y " << y << " k " << k << " row " << r;
@@ -812,14 +813,17 @@ TEST(ChordEndsOfRows, GivenRandomWindowsThenAAndBEqualFindChordEndsOnTheCollecte
   std::mt19937 rng(13);
   int compared = 0, with_chord = 0;
   for (int trial = 0; trial < 50000; ++trial) {
-    // Given a random window (sparse, so every kind of configuration and tie occurs)
-    const int k = 1 + trial % 8, n = 2 * k + 1;
-    std::array<std::uint64_t, 64> rows{};
+    // Given a random window (sparse, so every kind of configuration and tie occurs), of every
+    // k up to the widest a row holds, and now and then one of more rows than a row has bits
+    // (k = 40: 81 rows of 64 columns)
+    const int k = trial % 100 == 99 ? 40 : trial % 4 == 3 ? 9 + trial / 4 % 23 : 1 + trial % 8;
+    const int n = 2 * k + 1;
+    std::array<std::uint64_t, 96> rows{};
     for (int r = 0; r < n; ++r)
-      for (int c = 0; c < n; ++c)
+      for (int c = 0; c < std::min(n, 64); ++c)
         if (rng() % 100 < 12) rows[static_cast<size_t>(r)] |= std::uint64_t{1} << c;
     const auto span = std::span<const std::uint64_t>(rows.data(), n);
-    std::array<WindowPoint, 64 * 64> points{};
+    std::array<WindowPoint, 96 * 64> points{};
     const int got = collect_masked_points(span, k, points);
     // When the chord ends are read off the masks and found on the point list
     const auto from_rows = chord_ends_of_rows(span, k);

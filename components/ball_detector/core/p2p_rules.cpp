@@ -15,9 +15,15 @@
 
 namespace stereoball::ball_detector {
 
-void window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows) {
+int window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows) {
   const int n = 2 * k + 1;
-  for (int r = 0; r < n; ++r) rows[static_cast<std::size_t>(r)] = edges.bits(y - k + r, x - k, n);
+  int count = 0;
+  for (int r = 0; r < n; ++r) {
+    const std::uint64_t bits = edges.bits(y - k + r, x - k, n);
+    rows[static_cast<std::size_t>(r)] = bits;
+    count += std::popcount(bits);
+  }
+  return count;
 }
 
 int count_window_points(const BitImage& edges, int x, int y, int k) {

@@ -35,8 +35,9 @@ struct VoteLine {
 };
 
 /// The 2k+1 rows of the window centred on (x, y) as bit masks (bit c of rows[r] = pixel
-/// (c - k, r - k)); the window must lie inside, rows must hold 2k+1 entries.
-void window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows);
+/// (c - k, r - k)); the window must lie inside, rows must hold 2k+1 entries. Returns the
+/// window's number of edge points (step 4's count, taken while the rows are read).
+int window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows);
 
 /// Number of edge points in the (2k+1)^2 window centred on (x, y); the window must lie inside.
 int count_window_points(const BitImage& edges, int x, int y, int k);
