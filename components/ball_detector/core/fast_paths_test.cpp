@@ -997,6 +997,29 @@ TEST(PlotRay, GivenRandomRaysInAndAroundTheMapThenCellsAndCountsEqualABoundsTest
   }
 }
 
+TEST(PlotRay, GivenADirectionSetUpOnceThenEveryRayAlongItEqualsAFreshPlot) {
+  std::mt19937 rng(37);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  cv::Mat once = cv::Mat::zeros(90, 120, CV_16UC1), fresh = once.clone();
+  // Given every integer direction a vote line can take (|nx|, |ny| <= 62), set up once
+  for (int nx = -62; nx <= 62; ++nx)
+    for (int ny = -62; ny <= 62; ++ny) {
+      const RayDirection dir = ray_direction(nx, ny);
+      for (int ray = 0; ray < 3; ++ray) {
+        // When rays from anywhere in and around the map are plotted along it
+        const double x = -10.0 + unit(rng) * 140.0, y = -10.0 + unit(rng) * 110.0;
+        const double t0 = unit(rng) * 10.0, t1 = t0 + unit(rng) * 80.0;
+        const bool saturate = ray == 0;
+        // Then each gets the cells and count of plot_ray set up afresh
+        ASSERT_EQ(plot_ray(once, x, y, dir, t0, t1, saturate),
+                  plot_ray(fresh, x, y, nx, ny, t0, t1, saturate))
+            << nx << " " << ny << " ray " << ray;
+      }
+    }
+  ASSERT_EQ(cv::countNonZero(once != fresh), 0);
+  EXPECT_GT(cv::countNonZero(once), 0);
+}
+
 // estimate_radius written plainly: every edge pixel of the image, the same tests and rings.
 std::optional<double> estimate_radius_reference(const EdgeMap& edges, double cx, double cy,
                                                 double min_radius_px, double max_radius_px) {

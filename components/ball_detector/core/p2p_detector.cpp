@@ -203,6 +203,12 @@ PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : p
   for (int& k : params_.fine_k_values) k = std::clamp(k, 1, kMaxK);
   if (params_.fine_k_values.empty()) params_.fine_k_values = {3};
   params_.box_size_px = std::clamp(params_.box_size_px | 1, 1, 31);
+  // Vote lines join two points of a window of half size k: |nx|, |ny| <= 2 k.
+  const int max_k =
+      std::max(std::ranges::max(params_.k_values), std::ranges::max(params_.fine_k_values));
+  direction_span_ = 2 * max_k;
+  directions_.resize(
+      static_cast<std::size_t>((2 * direction_span_ + 1) * (2 * direction_span_ + 1)));
   voters_.reserve(8192);
   lines_.reserve(8192);
 }
@@ -251,11 +257,28 @@ void PixelToPixelDetector::plot(const VoteLineAt& line) {
   // A ray meets a cell once: while fewer rays than a cell holds have gone into the zeroed map,
   // none is full and the increments need no saturation test.
   const bool may_be_full = rays_plotted_++ >= 0xFFFF;
+  const LineDirection& dir = line_direction(line.nx, line.ny);
   diag_.increments += plot_ray(accumulator_, static_cast<double>(line.cx) + margin_px_,
-                               static_cast<double>(line.cy) + margin_px_, line.nx, line.ny,
-                               radii_.min_px, radii_.max_px, may_be_full);
-  const float norm = fast_hypot(static_cast<float>(line.nx), static_cast<float>(line.ny));
-  voters_.push_back({line.cx, line.cy, line.nx / norm, line.ny / norm});
+                               static_cast<double>(line.cy) + margin_px_, dir.ray, radii_.min_px,
+                               radii_.max_px, may_be_full);
+  voters_.push_back({line.cx, line.cy, dir.unit_x, dir.unit_y});
+}
+
+const PixelToPixelDetector::LineDirection& PixelToPixelDetector::line_direction(int nx, int ny) {
+  // A few hundred directions recur over tens of thousands of lines: the square roots and
+  // divisions are done once per direction, with the same operations (the same bits).
+  const int span = direction_span_;
+  const bool in_table = nx >= -span && nx <= span && ny >= -span && ny <= span;
+  LineDirection& d =
+      in_table ? directions_[static_cast<std::size_t>((nx + span) * (2 * span + 1) + ny + span)]
+               : direction_scratch_;
+  if (d.ready) return d;
+  d.ray = ray_direction(nx, ny);
+  const float norm = fast_hypot(static_cast<float>(nx), static_cast<float>(ny));
+  d.unit_x = nx / norm;
+  d.unit_y = ny / norm;
+  d.ready = in_table;
+  return d;
 }
 
 void PixelToPixelDetector::build_orientation_planes() {

@@ -382,7 +382,18 @@ class PixelToPixelDetector final : public CircleDetector {
   bool orientation_ready_ = false;
   cv::Mat accumulator_;
   std::int64_t rays_plotted_ = 0;  // into accumulator_ since it was zeroed
-  cv::Mat smoothed_;               // box-filtered accumulator_, buffer kept across images
+  // plot(): per vote line direction (nx, ny), its ray set-up and the voter's unit vector, made
+  // on first use; a direction is a difference of window points, |nx|, |ny| <= direction_span_.
+  struct LineDirection {
+    RayDirection ray;
+    float unit_x = 0.0f, unit_y = 0.0f;
+    bool ready = false;
+  };
+  const LineDirection& line_direction(int nx, int ny);
+  std::vector<LineDirection> directions_;
+  int direction_span_ = 0;
+  LineDirection direction_scratch_;  // a direction outside the table
+  cv::Mat smoothed_;                 // box-filtered accumulator_, buffer kept across images
   // The memory accumulator_ and smoothed_ are views of, kept when their size changes (the
   // margin follows each search's radii): no fresh pages to fault in per search.
   cv::Mat accumulator_store_, smoothed_store_;

@@ -80,26 +80,43 @@ inline void add_votes(std::uint16_t* p, std::ptrdiff_t major_stride, std::ptrdif
 
 }  // namespace
 
-std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
-                      double dir_y, double t0_px, double t1_px, bool saturate) {
+RayDirection ray_direction(double dir_x, double dir_y) {
+  RayDirection d;
   // Not std::hypot: no overflow to guard against here, and it is several times slower.
   const double norm = std::sqrt(dir_x * dir_x + dir_y * dir_y);
-  if (norm <= 0.0 || t1_px < t0_px) return 0;
-  const double ux = dir_x / norm;
-  const double uy = dir_y / norm;
-  const double sx = start_x + ux * t0_px;
-  const double sy = start_y + uy * t0_px;
-  const double len = t1_px - t0_px;
-  const bool x_major = std::abs(ux) >= std::abs(uy);
-  const double major = x_major ? ux : uy;
-  const int steps = static_cast<int>(len * std::abs(major));
-  const int step = major > 0 ? 1 : -1;
+  if (norm <= 0.0) return d;
+  d.plottable = true;
+  d.ux = dir_x / norm;
+  d.uy = dir_y / norm;
+  d.x_major = std::abs(d.ux) >= std::abs(d.uy);
+  const double major = d.x_major ? d.ux : d.uy;
+  d.abs_major = std::abs(major);
+  d.step = major > 0 ? 1 : -1;
+  d.slope = (d.x_major ? d.uy : d.ux) / d.abs_major;
+  d.dminor = round_half_away(d.slope * 65536.0);
+  return d;
+}
+
+std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
+                      double dir_y, double t0_px, double t1_px, bool saturate) {
+  return plot_ray(accumulator, start_x, start_y, ray_direction(dir_x, dir_y), t0_px, t1_px,
+                  saturate);
+}
+
+std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, const RayDirection& dir,
+                      double t0_px, double t1_px, bool saturate) {
+  if (!dir.plottable || t1_px < t0_px) return 0;
+  const bool x_major = dir.x_major;
+  const int step = dir.step;
+  const double slope = dir.slope;
+  const std::int64_t dminor = dir.dminor;
+  const double sx = start_x + dir.ux * t0_px;
+  const double sy = start_y + dir.uy * t0_px;
+  const int steps = static_cast<int>((t1_px - t0_px) * dir.abs_major);
   // Minor coordinate in 16.16 fixed point: integer stepping, no per-cell rounding.
-  const double slope = (x_major ? uy : ux) / std::abs(major);
   const int m = static_cast<int>(round_half_away(x_major ? sx : sy));
   const double minor0 = (x_major ? sy : sx) + (m - (x_major ? sx : sy)) * slope * step;
   const std::int64_t minor_fp = round_half_away((minor0 + 0.5) * 65536.0);
-  const std::int64_t dminor = round_half_away(slope * 65536.0);
   const int w = accumulator.cols;
   const int h = accumulator.rows;
   // A ray leaves the image once and never comes back (both coordinates are monotonic): the

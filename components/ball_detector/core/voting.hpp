@@ -16,6 +16,26 @@ namespace stereoball::ball_detector {
 std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
                       double dir_y, double t0_px, double t1_px, bool saturate = true);
 
+/// What plot_ray derives from a ray's direction alone: a caller whose directions repeat (the
+/// detector's small integer ones) computes it once per direction instead of once per ray.
+struct RayDirection {
+  double ux = 0.0, uy = 0.0;  ///< the direction made unit
+  double abs_major = 0.0;     ///< |ux| or |uy|, whichever is larger (ux on ties)
+  double slope = 0.0;         ///< minor coordinate per unit step of the major one
+  std::int64_t dminor = 0;    ///< slope in 16.16 fixed point
+  int step = 0;               ///< +1 or -1: the major coordinate's direction
+  bool x_major = false;       ///< x is the major coordinate
+  bool plottable = false;     ///< false for a zero (or NaN-free non-positive) norm: no cell
+};
+
+/// The direction part of plot_ray(dir_x, dir_y), the same operations.
+RayDirection ray_direction(double dir_x, double dir_y);
+
+/// plot_ray with its direction part computed already: the same cells as plot_ray(dir_x,
+/// dir_y) for dir = ray_direction(dir_x, dir_y).
+std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, const RayDirection& dir,
+                      double t0_px, double t1_px, bool saturate = true);
+
 /// Largest of row[0, w), or 0 if all are below (vote maps hold no negative value).
 int row_maximum(const int* row, int w);
 
