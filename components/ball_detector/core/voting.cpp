@@ -126,7 +126,8 @@ std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, cons
       std::min({static_cast<std::int64_t>(steps) + 1, steps_inside(m, step, x_major ? w : h),
                 fixed_steps_inside(minor_fp, dminor, x_major ? h : w)});
   if (count <= 0) return 0;
-  const auto stride = static_cast<std::ptrdiff_t>(accumulator.step1());
+  // Cells per row: a CV_16U map's row step in bytes over 2 (step1() is a library call per ray).
+  const auto stride = static_cast<std::ptrdiff_t>(accumulator.step[0] / sizeof(std::uint16_t));
   auto* data = accumulator.ptr<std::uint16_t>(0);
   std::uint16_t* const first = x_major ? data + m : data + static_cast<std::ptrdiff_t>(m) * stride;
   const std::ptrdiff_t major_stride = x_major ? step : step * stride;
