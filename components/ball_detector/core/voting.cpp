@@ -51,14 +51,12 @@ inline std::int64_t fixed_steps_inside(std::int64_t f0, std::int64_t df, int siz
 
 // One vote in each of count cells from p on, moving by major_stride per step and by minor_stride
 // per unit of the fixed-point minor coordinate; with Saturate a full cell stays full, without a
-// branch. UnitMinor: minor_stride is 1 (a steep ray steps along a row), the cell's address
-// needs no multiply.
-template <bool Saturate, bool UnitMinor>
+// branch.
+template <bool Saturate>
 inline void add_votes(std::uint16_t* p, std::ptrdiff_t major_stride, std::ptrdiff_t minor_stride,
                       std::int64_t minor_fp, std::int64_t dminor, std::int64_t count) {
   auto vote = [&] {
-    const std::int64_t minor = minor_fp >> 16;
-    std::uint16_t& cell = p[UnitMinor ? minor : minor * minor_stride];
+    std::uint16_t& cell = p[(minor_fp >> 16) * minor_stride];
     if constexpr (Saturate)
       cell = static_cast<std::uint16_t>(cell + (cell != 0xFFFF));
     else
@@ -132,14 +130,10 @@ std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, cons
   std::uint16_t* const first = x_major ? data + m : data + static_cast<std::ptrdiff_t>(m) * stride;
   const std::ptrdiff_t major_stride = x_major ? step : step * stride;
   const std::ptrdiff_t minor_stride = x_major ? stride : 1;
-  if (saturate && x_major)
-    add_votes<true, false>(first, major_stride, minor_stride, minor_fp, dminor, count);
-  else if (saturate)
-    add_votes<true, true>(first, major_stride, minor_stride, minor_fp, dminor, count);
-  else if (x_major)
-    add_votes<false, false>(first, major_stride, minor_stride, minor_fp, dminor, count);
+  if (saturate)
+    add_votes<true>(first, major_stride, minor_stride, minor_fp, dminor, count);
   else
-    add_votes<false, true>(first, major_stride, minor_stride, minor_fp, dminor, count);
+    add_votes<false>(first, major_stride, minor_stride, minor_fp, dminor, count);
   return count;
 }
 
