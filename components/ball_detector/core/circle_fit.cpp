@@ -484,6 +484,16 @@ int passing_candidates(const OutlineBand& band, const BandCandidates& c, int beg
 }
 
 #if SB_HAVE_AVX2_KERNELS
+// OutlineBand's stretch of four vectors (x, y) along the axis (ax, ay) by factor, in its order:
+// k = factor (x ax + y ay), then x + ax k and y + ay k.
+[[gnu::always_inline]] SB_TARGET_AVX2 inline void stretch_pd(__m256d& x, __m256d& y, __m256d factor,
+                                                             __m256d ax, __m256d ay) {
+  const __m256d k =
+      _mm256_mul_pd(factor, _mm256_add_pd(_mm256_mul_pd(x, ax), _mm256_mul_pd(y, ay)));
+  x = _mm256_add_pd(x, _mm256_mul_pd(ax, k));
+  y = _mm256_add_pd(y, _mm256_mul_pd(ay, k));
+}
+
 // passing_candidates four pixels at a time: OutlineBand::passes' double operations in its order
 // (no fused multiply-add) and its comparisons (negated, so true where it is true with a NaN),
 // so the same pixels pass.
@@ -506,19 +516,9 @@ SB_TARGET_AVX2 int passing_candidates_avx2(const OutlineBand& band, const BandCa
         _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.gx[u]))));
     __m256d gy = _mm256_cvtepi32_pd(
         _mm_cvtepi16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.gy[u]))));
-    if (!band.identity) {
-      const __m256d k =
-          _mm256_mul_pd(to_round, _mm256_add_pd(_mm256_mul_pd(rx, ax), _mm256_mul_pd(ry, ay)));
-      rx = _mm256_add_pd(rx, _mm256_mul_pd(ax, k));
-      ry = _mm256_add_pd(ry, _mm256_mul_pd(ay, k));
-    }
+    if (!band.identity) stretch_pd(rx, ry, to_round, ax, ay);
     const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry));
-    if (!band.identity) {
-      const __m256d k =
-          _mm256_mul_pd(from_round, _mm256_add_pd(_mm256_mul_pd(gx, ax), _mm256_mul_pd(gy, ay)));
-      gx = _mm256_add_pd(gx, _mm256_mul_pd(ax, k));
-      gy = _mm256_add_pd(gy, _mm256_mul_pd(ay, k));
-    }
+    if (!band.identity) stretch_pd(gx, gy, from_round, ax, ay);
     const __m256d g_dot_r = _mm256_add_pd(_mm256_mul_pd(gx, rx), _mm256_mul_pd(gy, ry));
     const __m256d g2 = _mm256_add_pd(_mm256_mul_pd(gx, gx), _mm256_mul_pd(gy, gy));
     const __m256d in_band = _mm256_and_pd(_mm256_cmp_pd(d2, outer2, _CMP_NGT_UQ),
