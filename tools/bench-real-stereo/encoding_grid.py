@@ -21,6 +21,20 @@ STANDARD = ["--ball-diameter-m", "0.24", "--no-floor-check", "--snapshot-skew-ms
 VERDICTS = ("correct", "wrong", "missed")
 
 
+def load_report(path):
+    """A run's JSON report, or exit naming the file when it is not one (a run cut short)."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            report = json.load(f)
+        keys = ("overall", "bands", "pairs")
+        if not isinstance(report, dict) or any(k not in report for k in keys):
+            raise ValueError("no overall, bands or pairs")
+        return report
+    except (OSError, ValueError) as e:
+        sys.exit(f"{path}: not a stereoball-bench-real-stereo --json report ({e}); "
+                 "delete it to run that cell again")
+
+
 def run_name(size, quality, chroma):
     return f"{size}-q{quality}-{chroma}"
 
@@ -44,8 +58,7 @@ def run_grid(args):
                                  f"{done.stderr.strip()[-400:]}")
                     with open(path, "w", encoding="utf-8") as f:
                         f.write(done.stdout)
-                with open(path, encoding="utf-8") as f:
-                    runs[name] = json.load(f)
+                runs[name] = load_report(path)
     return runs
 
 
@@ -142,8 +155,7 @@ def main():
         for name in runs:
             path = os.path.join(args.compare, name + ".json")
             if os.path.exists(path):
-                with open(path, encoding="utf-8") as f:
-                    old[name] = json.load(f)
+                old[name] = load_report(path)
         print()
         print_compare(old, runs)
 
