@@ -4,11 +4,12 @@
 // canny_l1 vs cv::Canny and its vector loop vs its plain loop, canny_thresholds' quantiles vs
 // sorting the sampled pixels, the packed staircase thinning vs the byte pass, box_filter vs
 // cv::boxFilter, connected_rows vs a breadth-first flood fill, chord ends from row masks vs
-// find_chord_ends, find_peaks vs a brute-force scan, plot_ray vs a bounds test per cell,
-// estimate_radius vs a scan of every edge pixel, angular_coverage_in_frame vs every sector
-// tested, the orientation planes vs points set one by one, circles_from_votes independent of the
-// order its voters come in, solve_3x3 vs cv::solve, fit_circle and gather_outline_points vs
-// their plain arithmetic, and refine_circle's reused scan vs a fresh one.
+// find_chord_ends, the packed windows' component and chord ends vs those of the row masks,
+// find_peaks vs a brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan
+// of every edge pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs
+// points set one by one, circles_from_votes independent of the order its voters come in, solve_3x3
+// vs cv::solve, fit_circle and gather_outline_points vs their plain arithmetic, and refine_circle's
+// reused scan vs a fresh one.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -853,6 +854,116 @@ TEST(ChordEndsOfRows, GivenRandomWindowsThenAAndBEqualFindChordEndsOnTheCollecte
     }
   }
   EXPECT_GT(with_chord, compared / 4);
+}
+
+// A random window of half size k <= kPackedMaxK as row masks and packed (the same pixels),
+// about density percent of them set, O set when with_centre.
+struct RandomWindow {
+  std::array<std::uint64_t, 64> rows{};
+  std::uint64_t packed = 0;
+};
+RandomWindow random_window(std::mt19937& rng, int k, unsigned density, bool with_centre) {
+  RandomWindow w;
+  const int n = 2 * k + 1;
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c)
+      if (rng() % 100 < density || (with_centre && r == k && c == k)) {
+        w.rows[static_cast<size_t>(r)] |= std::uint64_t{1} << c;
+        w.packed |= std::uint64_t{1} << (8 * r + c);
+      }
+  return w;
+}
+
+TEST(PackedWindow, GivenRandomBitImagesThenEveryPackedWindowHoldsTheWindowsRows) {
+  std::mt19937 rng(41);
+  for (const int width : {20, 70, 130}) {
+    // Given a random bit image whose rows span one to three words
+    cv::Mat binary(40, width, CV_8UC1);
+    cv::randu(binary, 0, 2);
+    BitImage bits;
+    bits.assign(binary);
+    for (int trial = 0; trial < 3000; ++trial) {
+      // When a window of every packed k, at any x, is packed
+      const int k = 1 + trial % kPackedMaxK;
+      const int x = k + static_cast<int>(rng() % static_cast<unsigned>(width - 2 * k));
+      const int y = k + static_cast<int>(rng() % static_cast<unsigned>(40 - 2 * k));
+      const std::uint64_t packed = packed_window(bits, x, y, k);
+      // Then byte r holds row r of the window and nothing else is set
+      std::array<std::uint64_t, 64> rows{};
+      window_rows(bits, x, y, k, rows);
+      std::uint64_t expected = 0;
+      for (int r = 0; r < 2 * k + 1; ++r) expected |= rows[static_cast<size_t>(r)] << (8 * r);
+      ASSERT_EQ(packed, expected) << "width " << width << " x " << x << " y " << y << " k " << k;
+    }
+  }
+}
+
+TEST(ConnectedPacked, GivenRandomWindowsThenCountAndComponentEqualConnectedRows) {
+  std::mt19937 rng(43);
+  for (int trial = 0; trial < 30000; ++trial) {
+    // Given a random window of every packed k, sparse to dense, O set (now and then not)
+    const int k = 1 + trial % kPackedMaxK;
+    const int n = 2 * k + 1;
+    const RandomWindow w =
+        random_window(rng, k, 5 + static_cast<unsigned>(trial) % 60, trial % 50 != 0);
+    // When its component through O is grown whole, and stopped as the count rule stops it
+    const auto span = std::span<const std::uint64_t>(w.rows.data(), n);
+    std::array<std::uint64_t, 64> rows{};
+    const int full_rows = connected_rows(span, k, rows);
+    std::uint64_t component = ~std::uint64_t{0};
+    const int full = connected_packed(w.packed, k, component);
+    std::array<std::uint64_t, 64> stopped_rows{};
+    const int stopped_by_rows = connected_rows(span, k, stopped_rows, n);
+    std::uint64_t stopped_component = 0;
+    const int stopped = connected_packed(w.packed, k, stopped_component, n);
+    // Then the whole component is connected_rows' own, bit for bit
+    ASSERT_EQ(full, full_rows) << "trial " << trial;
+    std::uint64_t expected = 0;
+    for (int r = 0; r < n; ++r) expected |= rows[static_cast<size_t>(r)] << (8 * r);
+    ASSERT_EQ(component, expected) << "trial " << trial;
+    // and the stopped one is the same below, at or above the rule's 2k+1 points
+    if (stopped_by_rows > n) {
+      ASSERT_GT(stopped, n) << "trial " << trial;
+    } else {
+      ASSERT_EQ(stopped, stopped_by_rows) << "trial " << trial;
+      ASSERT_EQ(stopped_component, expected) << "trial " << trial;
+    }
+  }
+}
+
+TEST(ChordEndsPacked, GivenRandomWindowsThenEndsAndVoteLineEqualThoseOfTheRowMasks) {
+  std::mt19937 rng(47);
+  int with_chord = 0, with_line = 0;
+  for (int trial = 0; trial < 60000; ++trial) {
+    // Given a random window of every packed k (sparse: every configuration and tie occurs),
+    // now and then an empty one
+    const int k = 1 + trial % kPackedMaxK;
+    const int n = 2 * k + 1;
+    const RandomWindow w =
+        random_window(rng, k, trial % 100 == 0 ? 0 : 5 + static_cast<unsigned>(trial) % 30, false);
+    const auto span = std::span<const std::uint64_t>(w.rows.data(), n);
+    // When the chord ends and vote line are read off the packed word and off the row masks
+    const auto packed = chord_ends_packed(w.packed, k);
+    const auto from_rows = chord_ends_of_rows(span, k);
+    // Then they agree, including which point wins a tie
+    ASSERT_EQ(packed.has_value(), from_rows.has_value()) << "trial " << trial;
+    if (packed) {
+      ++with_chord;
+      ASSERT_EQ(packed->a, from_rows->a) << "trial " << trial;
+      ASSERT_EQ(packed->b, from_rows->b) << "trial " << trial;
+    }
+    const auto line = vote_line_packed(w.packed, k);
+    const auto line_of_rows = vote_line_of_rows(span, k);
+    ASSERT_EQ(line.has_value(), line_of_rows.has_value()) << "trial " << trial;
+    if (line) {
+      ++with_line;
+      ASSERT_TRUE(line->c2x == line_of_rows->c2x && line->c2y == line_of_rows->c2y &&
+                  line->nx == line_of_rows->nx && line->ny == line_of_rows->ny)
+          << "trial " << trial;
+    }
+  }
+  EXPECT_GT(with_chord, 20000);
+  EXPECT_GT(with_line, 5000);
 }
 
 std::vector<Peak> brute_force_peaks(const cv::Mat& m, int floor_value) {

@@ -7,6 +7,8 @@
 #include <opencv2/core.hpp>
 
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <optional>
 #include <span>
 
@@ -103,6 +105,92 @@ std::optional<VoteLine> analyse_window_rows(std::span<const std::uint64_t> rows,
 /// Steps 5-7 of analyse_window_rows, for a caller that has already counted the window's points
 /// (the count rule holds).
 std::optional<VoteLine> vote_line_of_rows(std::span<const std::uint64_t> rows, int k);
+
+/// Windows of k <= kPackedMaxK (at most 7 x 7 pixels) held in one word: window row r in byte
+/// r, bit c of it = pixel (c - k, r - k), so raster order is bit order. The eighth column and
+/// row stay clear, so a pixel shifted by one column or row never wraps into the window.
+constexpr int kPackedMaxK = 3;
+
+/// The window centred on (x, y) packed (k <= kPackedMaxK); the window must lie inside.
+inline std::uint64_t packed_window(const BitImage& edges, int x, int y, int k) {
+  const int n = 2 * k + 1;
+  std::uint64_t window = 0;
+  for (int r = 0; r < n; ++r) window |= edges.bits(y - k + r, x - k, n) << (8 * r);
+  return window;
+}
+
+/// connected_rows of a packed window: its points 8-connected to O (into component) and how
+/// many; once more than stop_above are found, a count above it (component partial).
+inline int connected_packed(std::uint64_t window, int k, std::uint64_t& component,
+                            int stop_above = 64) {
+  // Grown one ring of neighbours at a time: an arc through O is whole after k or so rounds,
+  // where the row-by-row fill took a few hundred instructions.
+  std::uint64_t grown = window & (std::uint64_t{1} << (9 * k));
+  for (;;) {
+    const std::uint64_t wide = grown | (grown << 1) | (grown >> 1);
+    const std::uint64_t next = (wide | (wide << 8) | (wide >> 8)) & window;
+    if (next == grown || std::popcount(next) > stop_above) {
+      grown = next;
+      break;
+    }
+    grown = next;
+  }
+  component = grown;
+  return std::popcount(grown);
+}
+
+namespace packed_detail {
+// Per k: the window bits at each L1 distance from O, and those left of, right of, above and
+// below it (strictly).
+struct PackedMasks {
+  std::array<std::uint64_t, 2 * kPackedMaxK + 1> ring{};
+  std::uint64_t left = 0, right = 0, up = 0, down = 0;
+};
+constexpr std::array<PackedMasks, kPackedMaxK + 1> make_packed_masks() {
+  std::array<PackedMasks, kPackedMaxK + 1> all{};
+  for (int k = 0; k <= kPackedMaxK; ++k)
+    for (int r = 0; r <= 2 * k; ++r)
+      for (int c = 0; c <= 2 * k; ++c) {
+        const std::uint64_t bit = std::uint64_t{1} << (8 * r + c);
+        const int x = c - k, y = r - k;
+        PackedMasks& m = all[static_cast<std::size_t>(k)];
+        m.ring[static_cast<std::size_t>((x < 0 ? -x : x) + (y < 0 ? -y : y))] |= bit;
+        if (x < 0) m.left |= bit;
+        if (x > 0) m.right |= bit;
+        if (y < 0) m.up |= bit;
+        if (y > 0) m.down |= bit;
+      }
+  return all;
+}
+inline constexpr std::array<PackedMasks, kPackedMaxK + 1> kPackedMasks = make_packed_masks();
+// The first point in raster order of the farthest nonempty ring (points must be nonempty).
+inline int farthest_first(std::uint64_t points, const PackedMasks& m, int k) {
+  int d = 2 * k;
+  while ((points & m.ring[static_cast<std::size_t>(d)]) == 0) --d;
+  return std::countr_zero(points & m.ring[static_cast<std::size_t>(d)]);
+}
+}  // namespace packed_detail
+
+/// chord_ends_of_rows of a packed window: the same A and B, ties included (the farthest ring
+/// holding a point, then its first point in raster order: its lowest bit).
+inline std::optional<ChordEnds> chord_ends_packed(std::uint64_t window, int k) {
+  if (window == 0) return std::nullopt;
+  const packed_detail::PackedMasks& m = packed_detail::kPackedMasks[static_cast<std::size_t>(k)];
+  const int ai = packed_detail::farthest_first(window, m, k);
+  const WindowPoint a{(ai & 7) - k, (ai >> 3) - k};
+  const std::uint64_t opposite = window & ((a.x > 0   ? m.left
+                                            : a.x < 0 ? m.right
+                                                      : 0) |
+                                           (a.y > 0   ? m.up
+                                            : a.y < 0 ? m.down
+                                                      : 0));
+  if (opposite == 0) return std::nullopt;
+  const int bi = packed_detail::farthest_first(opposite, m, k);
+  return ChordEnds{a, WindowPoint{(bi & 7) - k, (bi >> 3) - k}};
+}
+
+/// vote_line_of_rows of a packed window (the count rule already checked).
+std::optional<VoteLine> vote_line_packed(std::uint64_t window, int k);
 
 /// Orientation isolation (addition): orientation bins of 22.5 degrees (modulo 180), and how
 /// many bins either side count as aligned.
