@@ -11,6 +11,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,6 +57,17 @@ class BitImage {
     std::uint64_t v = r[w] >> o;
     if (o + n > 64) v |= r[w + 1] << (64 - o);
     return v & ((std::uint64_t{1} << n) - 1);
+  }
+  /// bits() for n <= 57 as one unaligned load: each row keeps a clear word past its width, so
+  /// the 8 bytes from pixel x0's byte stay inside the row.
+  std::uint64_t short_bits(int y, int x0, int n) const {
+    if constexpr (std::endian::native == std::endian::little) {
+      std::uint64_t v;
+      std::memcpy(&v, reinterpret_cast<const unsigned char*>(row(y)) + (x0 >> 3), sizeof v);
+      return (v >> (x0 & 7)) & ((std::uint64_t{1} << n) - 1);
+    } else {
+      return bits(y, x0, n);
+    }
   }
   /// Writable words of row y (bits past the width must stay clear).
   std::uint64_t* mutable_row(int y) { return words_.data() + static_cast<size_t>(y) * stride_; }

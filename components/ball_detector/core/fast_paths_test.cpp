@@ -1,15 +1,15 @@
-// The speed-ups of the detector against plain references: the one-pass strongest-channel
-// gradient vs three cv::Sobel passes and a select, the thresholds' gradient measured in two row
-// passes vs one whole pass (and the pre-blur decided on part of the rows), redetect vs detect,
-// canny_l1 vs cv::Canny and its vector loop vs its plain loop, canny_thresholds' quantiles vs
-// sorting the sampled pixels, the packed staircase thinning vs the byte pass, box_filter vs
-// cv::boxFilter, connected_rows vs a breadth-first flood fill, chord ends from row masks vs
-// find_chord_ends, the packed windows' component and chord ends vs those of the row masks,
-// find_peaks vs a brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan
-// of every edge pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs
-// points set one by one, circles_from_votes independent of the order its voters come in, solve_3x3
-// vs cv::solve, fit_circle and gather_outline_points vs their plain arithmetic, and refine_circle's
-// reused scan vs a fresh one.
+// The speed-ups of the detector against plain references: the one-pass strongest-channel gradient
+// vs three cv::Sobel passes and a select, the thresholds' gradient measured in two row passes vs
+// one whole pass (and the pre-blur decided on part of the rows), redetect vs detect, canny_l1 vs
+// cv::Canny and its vector loop vs its plain loop, canny_thresholds' quantiles vs sorting the
+// sampled pixels, the packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter,
+// connected_rows vs a breadth-first flood fill, chord ends from row masks vs find_chord_ends, the
+// packed windows' component and chord ends vs those of the row masks (and their one-load row reads
+// vs BitImage::bits), find_peaks vs a brute-force scan, plot_ray vs a bounds test per cell,
+// estimate_radius vs a scan of every edge pixel, angular_coverage_in_frame vs every sector tested,
+// the orientation planes vs points set one by one, circles_from_votes independent of the order its
+// voters come in, solve_3x3 vs cv::solve, fit_circle and gather_outline_points vs their plain
+// arithmetic, and refine_circle's reused scan vs a fresh one.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -895,6 +895,23 @@ TEST(PackedWindow, GivenRandomBitImagesThenEveryPackedWindowHoldsTheWindowsRows)
       for (int r = 0; r < 2 * k + 1; ++r) expected |= rows[static_cast<size_t>(r)] << (8 * r);
       ASSERT_EQ(packed, expected) << "width " << width << " x " << x << " y " << y << " k " << k;
     }
+  }
+}
+
+TEST(ShortBits, GivenRandomBitImagesThenEveryReadEqualsBits) {
+  for (const int width : {1, 9, 63, 64, 65, 130, 200}) {
+    // Given a random bit image (a row of one word to four, and widths ending anywhere in one)
+    cv::Mat binary(3, width, CV_8UC1);
+    cv::randu(binary, 0, 2);
+    BitImage bits;
+    bits.assign(binary);
+    // When every run of pixels inside a row is read with one load
+    for (int y = 0; y < 3; ++y)
+      for (int x0 = 0; x0 < width; ++x0)
+        for (int n = 1; n <= std::min(57, width - x0); ++n)
+          // Then it holds the same bits as the two-word read
+          ASSERT_EQ(bits.short_bits(y, x0, n), bits.bits(y, x0, n))
+              << "width " << width << " y " << y << " x0 " << x0 << " n " << n;
   }
 }
 

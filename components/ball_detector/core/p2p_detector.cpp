@@ -214,7 +214,11 @@ PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : p
 }
 
 void PixelToPixelDetector::vote(int k) {
-  if (k <= kPackedMaxK) return vote_packed(k);
+  // The packed windows' loops unrolled for each k (p2p_rules.hpp).
+  if (k == 1) return vote_packed<1>();
+  if (k == 2) return vote_packed<2>();
+  if (k == 3) return vote_packed<3>();
+  static_assert(kPackedMaxK == 3);
   const BitImage& bits = edges_.bits;
   const int w = bits.width();
   const int h = bits.height();
@@ -254,7 +258,8 @@ void PixelToPixelDetector::vote(int k) {
   }
 }
 
-void PixelToPixelDetector::vote_packed(int k) {
+template <int k>
+void PixelToPixelDetector::vote_packed() {
   // vote() for windows that fit one word (p2p_rules.hpp): the same rules on the same points,
   // each a few word operations instead of a loop over rows.
   const BitImage& bits = edges_.bits;
@@ -275,7 +280,7 @@ void PixelToPixelDetector::vote_packed(int k) {
         // Addition: judge the arc through O alone when other edges share the window.
         const int connected = connected_packed(window, k, arc, n);
         if (connected != n && (connected < n || !params_.isolate_by_orientation ||
-                               !isolate_packed(x, y, k, window, arc)))
+                               !isolate_packed<k>(x, y, window, arc)))
           return;
       } else {
         return;
@@ -289,8 +294,8 @@ void PixelToPixelDetector::vote_packed(int k) {
   }
 }
 
-bool PixelToPixelDetector::isolate_packed(int x, int y, int k, std::uint64_t window,
-                                          std::uint64_t& arc) {
+template <int k>
+bool PixelToPixelDetector::isolate_packed(int x, int y, std::uint64_t window, std::uint64_t& arc) {
   // isolate_along_orientation on a packed window: the points within the slack of O's
   // orientation, then their component through O.
   if (!orientation_ready_) build_orientation_planes();

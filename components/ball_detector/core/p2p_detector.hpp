@@ -345,8 +345,10 @@ class PixelToPixelDetector final : public CircleDetector {
     int nx = 0, ny = 0;
   };
   void vote(int k);
-  void vote_packed(int k);  // vote() for k <= kPackedMaxK
-  bool isolate_packed(int x, int y, int k, std::uint64_t window, std::uint64_t& arc);
+  template <int k>
+  void vote_packed();  // vote() for k <= kPackedMaxK
+  template <int k>
+  bool isolate_packed(int x, int y, std::uint64_t window, std::uint64_t& arc);
   void plot(const VoteLineAt& line);
   bool isolate_along_orientation(int x, int y, int k, std::span<const std::uint64_t> window,
                                  std::span<std::uint64_t> mask);

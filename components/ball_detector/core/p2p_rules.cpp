@@ -383,13 +383,6 @@ std::optional<VoteLine> vote_line_of_rows(std::span<const std::uint64_t> rows, i
   return orient_to_concave_side(perpendicular_bisector(ends->a, ends->b));
 }
 
-std::optional<VoteLine> vote_line_packed(std::uint64_t window, int k) {
-  const auto ends = chord_ends_packed(window, k);
-  if (!ends) return std::nullopt;
-  if (is_straight_segment(ends->a, ends->b)) return std::nullopt;
-  return orient_to_concave_side(perpendicular_bisector(ends->a, ends->b));
-}
-
 cv::Mat box_filter(const cv::Mat& accumulator, int size_px) {
   cv::Mat smoothed;
   box_filter(accumulator, size_px, smoothed);

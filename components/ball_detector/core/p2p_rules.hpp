@@ -115,7 +115,7 @@ constexpr int kPackedMaxK = 3;
 inline std::uint64_t packed_window(const BitImage& edges, int x, int y, int k) {
   const int n = 2 * k + 1;
   std::uint64_t window = 0;
-  for (int r = 0; r < n; ++r) window |= edges.bits(y - k + r, x - k, n) << (8 * r);
+  for (int r = 0; r < n; ++r) window |= edges.short_bits(y - k + r, x - k, n) << (8 * r);
   return window;
 }
 
@@ -190,7 +190,11 @@ inline std::optional<ChordEnds> chord_ends_packed(std::uint64_t window, int k) {
 }
 
 /// vote_line_of_rows of a packed window (the count rule already checked).
-std::optional<VoteLine> vote_line_packed(std::uint64_t window, int k);
+inline std::optional<VoteLine> vote_line_packed(std::uint64_t window, int k) {
+  const auto ends = chord_ends_packed(window, k);
+  if (!ends || is_straight_segment(ends->a, ends->b)) return std::nullopt;
+  return orient_to_concave_side(perpendicular_bisector(ends->a, ends->b));
+}
 
 /// Orientation isolation (addition): orientation bins of 22.5 degrees (modulo 180), and how
 /// many bins either side count as aligned.
