@@ -1590,6 +1590,25 @@ TEST(RefineCircle, GivenSeedsOnRealEdgeMapsThenItsScoreEqualsAFreshScoreOfTheCir
   EXPECT_GE(refined, 100);
 }
 
+// The comparison chain orientation_bin was written as first (branches), the reference.
+int orientation_bin_chain(int gx, int gy) {
+  if (gy < 0 || (gy == 0 && gx < 0)) {
+    gx = -gx;
+    gy = -gy;
+  }
+  const float ax = static_cast<float>(gx < 0 ? -gx : gx), fy = static_cast<float>(gy);
+  const int b = fy < 0.41421356f * ax ? 0 : fy < ax ? 1 : fy < 2.41421356f * ax ? 2 : 3;
+  return gx >= 0 ? b : 7 - b;
+}
+
+TEST(OrientationBin, GivenEveryGradientASobelGivesThenTheBinIsTheComparisonChains) {
+  // Given every (gx, gy) a colour or grey 3x3 Sobel of 8-bit pixels can give (|g| <= 1020)
+  for (int gx = -1024; gx <= 1024; ++gx)
+    for (int gy = -1024; gy <= 1024; ++gy)
+      // When binned without branches, then the bin is the chain's
+      ASSERT_EQ(orientation_bin(gx, gy), orientation_bin_chain(gx, gy)) << gx << ", " << gy;
+}
+
 TEST(NearOrientationPlanes, GivenRealEdgeMapsThenEachPlaneHoldsThePointsWithinTheSlackOfItsBin) {
   // Given the real images' colour edge maps
   const auto images = real_colours();

@@ -158,13 +158,18 @@ int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::
 }
 
 int orientation_bin(int gx, int gy) {
-  if (gy < 0 || (gy == 0 && gx < 0)) {
-    gx = -gx;
-    gy = -gy;
-  }
+  // Without branches (bitwise tests, a negation by mask): an edge's orientation is a coin toss
+  // to the branch predictor. The bin counts the tangent thresholds fy reaches, which grow with
+  // ax (0.41421356f * ax <= ax <= 2.41421356f * ax), so the count is the comparison chain's
+  // answer; 7 - b is 7 ^ b for b in [0, 3].
+  const int flip =
+      -(static_cast<int>(gy < 0) | (static_cast<int>(gy == 0) & static_cast<int>(gx < 0)));
+  gx = (gx ^ flip) - flip;
+  gy = (gy ^ flip) - flip;
   const float ax = static_cast<float>(gx < 0 ? -gx : gx), fy = static_cast<float>(gy);
-  const int b = fy < 0.41421356f * ax ? 0 : fy < ax ? 1 : fy < 2.41421356f * ax ? 2 : 3;
-  return gx >= 0 ? b : 7 - b;
+  const int b = static_cast<int>(fy >= 0.41421356f * ax) + static_cast<int>(fy >= ax) +
+                static_cast<int>(fy >= 2.41421356f * ax);
+  return b ^ (7 & -static_cast<int>(gx < 0));
 }
 
 void near_orientation_planes(const EdgeMap& edges, std::array<BitImage, kOrientationBins>& planes) {
