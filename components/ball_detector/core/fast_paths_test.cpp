@@ -1051,6 +1051,22 @@ TEST(FindPeaks, GivenAMapWhoseRowsAreMostlyBelowTheFloorThenPeaksEqualABruteForc
   }
 }
 
+TEST(FindPeaks, GivenMapsOfEveryWidthUpToFortyThenPeaksEqualABruteForceScan) {
+  // The vector path takes eight columns at a time and the rest one by one: every width from the
+  // narrowest map with an inner column up, so each remainder occurs, plateaus included.
+  for (int width = 3; width <= 40; ++width) {
+    // Given a smoothed map of random votes of that width
+    cv::Mat acc(24, width, CV_16UC1);
+    cv::randu(acc, 0, 3);
+    const cv::Mat smoothed = box_filter(acc, 3);
+    const int floor_value = 4 + width % 5;
+    // When peaks are found with no separation and no limit
+    const auto peaks = find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20);
+    // Then they are the brute-force local maxima, strongest first
+    expect_brute_force_peaks(smoothed, floor_value, peaks);
+  }
+}
+
 // The ray plotting as it was before its bounds were counted up front: a bounds test per cell.
 std::int64_t plot_ray_reference(cv::Mat& accumulator, double start_x, double start_y, double dir_x,
                                 double dir_y, double t0_px, double t1_px) {

@@ -8,7 +8,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 #include <utility>
+
+#if SB_HAVE_AVX2_KERNELS
+#include <immintrin.h>
+#endif
 
 namespace stereoball::ball_detector {
 
@@ -176,6 +181,48 @@ bool row_reaches(const float* row, int w, float min_value) {
   return w > 0 && *std::max_element(row, row + w) >= min_value;
 }
 
+// flag_maxima's test of one column (1 <= x < w - 1).
+inline bool is_row_maximum(const int* up, const int* row, const int* down, int x, int min_value) {
+  const int v = row[x];
+  return v >= min_value && v > up[x - 1] && v > up[x] && v > up[x + 1] && v > row[x - 1] &&
+         v >= row[x + 1] && v >= down[x - 1] && v >= down[x] && v >= down[x + 1];
+}
+
+#if SB_HAVE_AVX2_KERNELS
+SB_TARGET_AVX2 inline __m256i load8(const int* p) {
+  return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
+}
+
+// local_maxima's int rows eight columns at a time: v above the largest earlier neighbour and at
+// least the largest later one (the same integer tests as flag_maxima, fewer compares), the
+// passing columns a bit mask whose set bits are pushed in column order; no byte flags to scan.
+SB_TARGET_AVX2 void push_row_maxima_avx2(const int* up, const int* row, const int* down, int w,
+                                         int min_value, int y, std::vector<Peak>& out) {
+  const __m256i floor_v = _mm256_set1_epi32(min_value);
+  int x = 1;
+  for (; x + 8 <= w - 1; x += 8) {
+    const __m256i v = load8(row + x);
+    const __m256i earlier =
+        _mm256_max_epi32(_mm256_max_epi32(load8(up + x - 1), load8(up + x)),
+                         _mm256_max_epi32(load8(up + x + 1), load8(row + x - 1)));
+    const __m256i later =
+        _mm256_max_epi32(_mm256_max_epi32(load8(row + x + 1), load8(down + x - 1)),
+                         _mm256_max_epi32(load8(down + x), load8(down + x + 1)));
+    const __m256i fail =
+        _mm256_or_si256(_mm256_cmpgt_epi32(later, v), _mm256_cmpgt_epi32(floor_v, v));
+    const __m256i pass = _mm256_andnot_si256(fail, _mm256_cmpgt_epi32(v, earlier));
+    for (auto mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(pass)));
+         mask != 0; mask &= mask - 1) {
+      const int xi = x + std::countr_zero(mask);
+      out.push_back({xi, y, static_cast<float>(row[xi])});
+    }
+  }
+  for (; x < w - 1; ++x)
+    if (is_row_maximum(up, row, down, x, min_value))
+      out.push_back({x, y, static_cast<float>(row[x])});
+}
+#endif
+
 template <typename T>
 void local_maxima(const cv::Mat& m, T min_value, std::vector<Peak>& out) {
   std::vector<std::uint8_t> flag(static_cast<size_t>(m.cols) + 8, 0);
@@ -184,6 +231,14 @@ void local_maxima(const cv::Mat& m, T min_value, std::vector<Peak>& out) {
     const T* row = m.ptr<T>(y);
     const T* down = m.ptr<T>(y + 1);
     if (!row_reaches(row, m.cols, min_value)) continue;
+#if SB_HAVE_AVX2_KERNELS
+    if constexpr (std::is_same_v<T, int>) {
+      if (cpu_has_avx2()) {
+        push_row_maxima_avx2(up, row, down, m.cols, min_value, y, out);
+        continue;
+      }
+    }
+#endif
     flag_row_maxima(up, row, down, m.cols, min_value, flag.data());
     for (int x = 1; x < m.cols - 1; x += 8) {
       std::uint64_t eight;
