@@ -124,16 +124,20 @@ inline std::uint64_t packed_window(const BitImage& edges, int x, int y, int k) {
 inline int connected_packed(std::uint64_t window, int k, std::uint64_t& component,
                             int stop_above = 64) {
   // Grown one ring of neighbours at a time: an arc through O is whole after k or so rounds,
-  // where the row-by-row fill took a few hundred instructions.
+  // where the row-by-row fill took a few hundred instructions. The first k rounds run without
+  // a test (an arc through O needs about that many, and a test whose answer varies from window
+  // to window costs more in mispredictions than the rounds); then until nothing is added.
+  const auto grow = [window](std::uint64_t from) {
+    const std::uint64_t wide = from | (from << 1) | (from >> 1);
+    return (wide | (wide << 8) | (wide >> 8)) & window;
+  };
   std::uint64_t grown = window & (std::uint64_t{1} << (9 * k));
+  for (int i = 0; i < k; ++i) grown = grow(grown);
   for (;;) {
-    const std::uint64_t wide = grown | (grown << 1) | (grown >> 1);
-    const std::uint64_t next = (wide | (wide << 8) | (wide >> 8)) & window;
-    if (next == grown || std::popcount(next) > stop_above) {
-      grown = next;
-      break;
-    }
+    const std::uint64_t next = grow(grown);
+    const bool done = next == grown || std::popcount(next) > stop_above;
     grown = next;
+    if (done) break;
   }
   component = grown;
   return std::popcount(grown);
@@ -178,12 +182,10 @@ inline std::optional<ChordEnds> chord_ends_packed(std::uint64_t window, int k) {
   const packed_detail::PackedMasks& m = packed_detail::kPackedMasks[static_cast<std::size_t>(k)];
   const int ai = packed_detail::farthest_first(window, m, k);
   const WindowPoint a{(ai & 7) - k, (ai >> 3) - k};
-  const std::uint64_t opposite = window & ((a.x > 0   ? m.left
-                                            : a.x < 0 ? m.right
-                                                      : 0) |
-                                           (a.y > 0   ? m.up
-                                            : a.y < 0 ? m.down
-                                                      : 0));
+  // The side masks picked by sign without branches (masks of all ones or none).
+  const auto when = [](bool c) { return std::uint64_t{0} - static_cast<std::uint64_t>(c); };
+  const std::uint64_t opposite = window & ((m.left & when(a.x > 0)) | (m.right & when(a.x < 0)) |
+                                           (m.up & when(a.y > 0)) | (m.down & when(a.y < 0)));
   if (opposite == 0) return std::nullopt;
   const int bi = packed_detail::farthest_first(opposite, m, k);
   return ChordEnds{a, WindowPoint{(bi & 7) - k, (bi >> 3) - k}};
