@@ -64,6 +64,11 @@ PixelToPixelParams params_at_level(const PixelToPixelParams& full, int level);
 /// column is dropped); level 0 copies nothing: out is image.
 void reduce_image(const cv::Mat& image, int level, cv::Mat& out);
 
+/// even (CV_8U, even width and height) halved into half: each pixel the rounded mean of a 2 x 2
+/// block, (a + b + c + d + 2) >> 2, the same bits as cv::resize(even, half, even.size() / 2, 0,
+/// 0, cv::INTER_AREA), which it is where no faster path applies.
+void halve_image(const cv::Mat& even, cv::Mat& half);
+
 /// A reduced image's circle in full-resolution pixels (score kept).
 Circle to_full_resolution(const Circle& reduced, int level);
 

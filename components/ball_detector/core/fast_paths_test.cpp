@@ -5,11 +5,12 @@
 // sampled pixels, the packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter,
 // connected_rows vs a breadth-first flood fill, chord ends from row masks vs find_chord_ends, the
 // packed windows' component and chord ends vs those of the row masks (and their one-load row reads
-// vs BitImage::bits), find_peaks vs a brute-force scan, plot_ray vs a bounds test per cell,
-// estimate_radius vs a scan of every edge pixel, angular_coverage_in_frame vs every sector tested,
-// the orientation planes vs points set one by one, circles_from_votes independent of the order its
-// voters come in, solve_3x3 vs cv::solve, fit_circle and gather_outline_points vs their plain
-// arithmetic, and refine_circle's reused scan vs a fresh one.
+// vs BitImage::bits), halve_image vs cv::resize (INTER_AREA), find_peaks vs a brute-force scan,
+// plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge pixel,
+// angular_coverage_in_frame vs every sector tested, the orientation planes vs points set one by
+// one, circles_from_votes independent of the order its voters come in, solve_3x3 vs cv::solve,
+// fit_circle and gather_outline_points vs their plain arithmetic, and refine_circle's reused scan
+// vs a fresh one.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -26,11 +27,13 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "ball_detector/core/canny.hpp"
 #include "ball_detector/core/circle_fit.hpp"
+#include "ball_detector/core/coarse_to_fine.hpp"
 #include "ball_detector/core/edge_map.hpp"
 #include "ball_detector/core/fast_math.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
@@ -872,6 +875,44 @@ RandomWindow random_window(std::mt19937& rng, int k, unsigned density, bool with
         w.packed |= std::uint64_t{1} << (8 * r + c);
       }
   return w;
+}
+
+// halve_image against cv::resize(INTER_AREA) on one even-sized image; image may be a crop.
+void expect_halved_like_resize(const cv::Mat& image, const std::string& what) {
+  cv::Mat half, reference;
+  halve_image(image, half);
+  cv::resize(image, reference, cv::Size(image.cols / 2, image.rows / 2), 0, 0, cv::INTER_AREA);
+  ASSERT_EQ(half.size(), reference.size()) << what;
+  ASSERT_EQ(half.type(), reference.type()) << what;
+  ASSERT_EQ(cv::norm(half, reference, cv::NORM_INF), 0.0) << what;
+}
+
+TEST(HalveImage, GivenRealColourAndGreyImagesWholeAndCroppedThenItEqualsInterAreaResize) {
+  // Given the real sample images in colour and grey, whole (even part) and cropped
+  const auto colours = real_colours();
+  const auto greys = real_greys();
+  ASSERT_GE(colours.size(), 10u);
+  std::mt19937 rng(53);
+  for (const auto* set : {&colours, &greys})
+    for (const cv::Mat& image : *set) {
+      // When halved, then the bits are cv::resize's
+      expect_halved_like_resize(image(cv::Rect(0, 0, image.cols & ~1, image.rows & ~1)), "whole");
+      const int x = static_cast<int>(rng() % 40), y = static_cast<int>(rng() % 40);
+      const int w = std::min(image.cols - x, 2 + 2 * static_cast<int>(rng() % 150)) & ~1;
+      const int h = std::min(image.rows - y, 2 + 2 * static_cast<int>(rng() % 100)) & ~1;
+      if (w >= 2 && h >= 2) expect_halved_like_resize(image(cv::Rect(x, y, w, h)), "crop");
+    }
+}
+
+TEST(HalveImage, GivenRandomImagesOfEveryEvenWidthThenItEqualsInterAreaResize) {
+  // Every even width up to 130 (each remainder of the 24- and 32-byte steps), one to four
+  // channels (four: the resize path), values up to 255 (the rounding's carries)
+  for (const int type : {CV_8UC1, CV_8UC3, CV_8UC4})
+    for (int width = 2; width <= 130; width += 2) {
+      cv::Mat image(6, width, type);
+      cv::randu(image, 0, 256);
+      expect_halved_like_resize(image, "width " + std::to_string(width));
+    }
 }
 
 TEST(PackedWindow, GivenRandomBitImagesThenEveryPackedWindowHoldsTheWindowsRows) {

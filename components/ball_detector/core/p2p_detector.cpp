@@ -1,5 +1,6 @@
 #include "ball_detector/core/p2p_detector.hpp"
 
+#include "ball_detector/core/coarse_to_fine.hpp"
 #include "ball_detector/core/cpu_dispatch.hpp"
 #include "ball_detector/core/fast_math.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
@@ -984,7 +985,7 @@ std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& i
   }
   // An even size halves exactly (each pixel the mean of a 2x2 block: OpenCV's fast path).
   const cv::Mat even = image(cv::Rect(0, 0, image.cols & ~1, image.rows & ~1));
-  cv::resize(even, half_, cv::Size(even.cols / 2, even.rows / 2), 0.0, 0.0, cv::INTER_AREA);
+  halve_image(even, half_);
   const std::vector<Circle> candidates = coarse_->detect(half_);
   diag_ = coarse_->diag_;  // the halved image's edges and votes
   const CoarseWindows w = coarse_windows(candidates, image.size());
