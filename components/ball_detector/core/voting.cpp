@@ -45,10 +45,14 @@ inline std::int64_t steps_inside(int c0, int dir, int size) {
 }
 
 // The same for the 16.16 fixed-point coordinate (f0 + i * df) >> 16 in [0, size): exact
-// integer arithmetic, so the count is the loop's own first exit.
-inline std::int64_t fixed_steps_inside(std::int64_t f0, std::int64_t df, int size) {
+// integer arithmetic, so the count is the loop's own first exit. Only the first `needed` steps
+// matter: when the last of them is inside, so are all before it (the coordinate is monotonic),
+// and the answer is needed without the division (a fifth of a short ray's set-up).
+inline std::int64_t fixed_steps_inside(std::int64_t f0, std::int64_t df, int size,
+                                       std::int64_t needed) {
   const std::int64_t end = static_cast<std::int64_t>(size) << 16;
   if (f0 < 0 || f0 >= end) return 0;
+  if (const std::int64_t last = f0 + (needed - 1) * df; last >= 0 && last < end) return needed;
   if (df > 0) return (end - f0 + df - 1) / df;
   if (df < 0) return f0 / -df + 1;
   return std::numeric_limits<std::int64_t>::max();
@@ -125,9 +129,10 @@ std::int64_t plot_ray(cv::Mat& accumulator, double start_x, double start_y, cons
   // A ray leaves the image once and never comes back (both coordinates are monotonic): the
   // cells plotted are the steps before the first one outside, counted up front so that the
   // loop has no bounds test.
+  const std::int64_t needed = static_cast<std::int64_t>(steps) + 1;
   const std::int64_t count =
-      std::min({static_cast<std::int64_t>(steps) + 1, steps_inside(m, step, x_major ? w : h),
-                fixed_steps_inside(minor_fp, dminor, x_major ? h : w)});
+      std::min({needed, steps_inside(m, step, x_major ? w : h),
+                fixed_steps_inside(minor_fp, dminor, x_major ? h : w, needed)});
   if (count <= 0) return 0;
   // Cells per row: a CV_16U map's row step in bytes over 2 (step1() is a library call per ray).
   const auto stride = static_cast<std::ptrdiff_t>(accumulator.step[0] / sizeof(std::uint16_t));
