@@ -347,6 +347,12 @@ SB_AVX2_CLONE void add_signed_row(int* __restrict col, const std::uint16_t* __re
   for (int x = 0; x < w; ++x) col[x] += sign * row[x];
 }
 
+// col[x] += entering[x] - leaving[x]: the window moving down a row in one pass over col.
+SB_AVX2_CLONE void slide_rows(int* __restrict col, const std::uint16_t* __restrict entering,
+                              const std::uint16_t* __restrict leaving, int w) {
+  for (int x = 0; x < w; ++x) col[x] += entering[x] - leaving[x];
+}
+
 }  // namespace
 
 int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
@@ -363,12 +369,19 @@ int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
   int maximum = 0;
   for (int y = 0; y < std::min(r, h); ++y) add_row(y, 1);
   for (int y = 0; y < h; ++y) {
-    if (y + r < h) add_row(y + r, 1);
+    // Rows [y - r, y + r] summed: row y + r enters, row y - r - 1 leaves (one pass when both).
+    const bool enters = y + r < h, leaves = y - r - 1 >= 0;
+    if (enters && leaves)
+      slide_rows(col, accumulator.ptr<std::uint16_t>(y + r),
+                 accumulator.ptr<std::uint16_t>(y - r - 1), w);
+    else if (enters)
+      add_row(y + r, 1);
+    else if (leaves)
+      add_row(y - r - 1, -1);
     int* out = smoothed.ptr<int>(y);
     sum_columns(padded.data(), out, w, size_px);
     // The maximum while the row is in cache (a second pass, cv::minMaxLoc, took ~0.15 ms).
     maximum = std::max(maximum, row_maximum(out, w));
-    if (y - r >= 0) add_row(y - r, -1);
   }
   return maximum;
 }
