@@ -1063,12 +1063,18 @@ TEST(FindPeaks, GivenSmoothedRandomVotesThenPeaksEqualABruteForceScan) {
     // Given a smoothed accumulator of random votes with plateaus (small integer range)
     cv::Mat acc(97 + trial, 131 + 3 * trial, CV_16UC1);
     cv::randu(acc, 0, 4);
-    const cv::Mat smoothed = box_filter(acc, 3);
+    cv::Mat smoothed;
+    std::vector<int> row_maxima;
+    box_filter(acc, 3, smoothed, row_maxima);
     const int floor_value = 10 + trial % 7;
-    // When peaks are found with no separation and no limit
+    // When peaks are found with no separation and no limit (rows scanned for their maxima, and
+    // the box filter's row maxima taken)
     const auto peaks = find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20);
+    const auto given_maxima =
+        find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20, row_maxima);
     // Then they are the brute-force local maxima, strongest first
     expect_brute_force_peaks(smoothed, floor_value, peaks);
+    expect_brute_force_peaks(smoothed, floor_value, given_maxima);
   }
 }
 
@@ -1083,12 +1089,17 @@ TEST(FindPeaks, GivenAMapWhoseRowsAreMostlyBelowTheFloorThenPeaksEqualABruteForc
       cv::randu(acc.row(y), 0, 9);
     }
     cv::Mat smoothed;
-    box_filter(acc, 1 + 2 * (trial % 3), smoothed);
+    std::vector<int> row_maxima;
+    box_filter(acc, 1 + 2 * (trial % 3), smoothed, row_maxima);
     const int floor_value = 3 + trial % 5;
-    // When peaks are found with no separation and no limit
+    // When peaks are found with no separation and no limit, the skipped rows told by the box
+    // filter's row maxima too
     const auto peaks = find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20);
+    const auto given_maxima =
+        find_peaks(smoothed, static_cast<float>(floor_value), 0.0, 1 << 20, row_maxima);
     // Then they are the brute-force local maxima, strongest first
     expect_brute_force_peaks(smoothed, floor_value, peaks);
+    expect_brute_force_peaks(smoothed, floor_value, given_maxima);
   }
 }
 

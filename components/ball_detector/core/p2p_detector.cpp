@@ -525,7 +525,7 @@ int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
   peaks_.clear();
   peak_edges_ = &edges;
   map_in_store(smoothed_store_, smoothed_, accumulator_.rows, accumulator_.cols, CV_32SC1);
-  const double max_v = box_filter(accumulator_, params_.box_size_px, smoothed_);
+  const double max_v = box_filter(accumulator_, params_.box_size_px, smoothed_, row_maxima_);
   const cv::Mat& smoothed = smoothed_;
   diag_.edges = edges.edges;
   diag_.accumulator = smoothed;
@@ -534,7 +534,7 @@ int PixelToPixelDetector::peaks_on(const EdgeMap& edges) {
       std::max<double>(params_.min_peak_votes, params_.min_relative_peak * max_v));
   if (max_v < params_.min_peak_votes || max_v <= 0.0) return 0;
   peaks_ = find_peaks(smoothed, floor_v, params_.min_separation_px,
-                      std::max(params_.max_peaks_examined, params_.max_circles));
+                      std::max(params_.max_peaks_examined, params_.max_circles), row_maxima_);
   for (Peak& p : peaks_) {  // back to image coordinates (outside the image with a margin)
     p.x -= margin_px_;
     p.y -= margin_px_;

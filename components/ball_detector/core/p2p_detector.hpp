@@ -398,6 +398,7 @@ class PixelToPixelDetector final : public CircleDetector {
   int direction_span_ = 0;
   LineDirection direction_scratch_;  // a direction outside the table
   cv::Mat smoothed_;                 // box-filtered accumulator_, buffer kept across images
+  std::vector<int> row_maxima_;      // smoothed_'s rows' largest values (box_filter)
   // The memory accumulator_ and smoothed_ are views of, kept when their size changes (the
   // margin follows each search's radii): no fresh pages to fault in per search.
   cv::Mat accumulator_store_, smoothed_store_;

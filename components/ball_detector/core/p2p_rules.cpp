@@ -356,9 +356,16 @@ SB_AVX2_CLONE void slide_rows(int* __restrict col, const std::uint16_t* __restri
 }  // namespace
 
 int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
+  std::vector<int> row_maxima;
+  return box_filter(accumulator, size_px, smoothed, row_maxima);
+}
+
+int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed,
+               std::vector<int>& row_maxima) {
   CV_Assert(accumulator.type() == CV_16UC1 && size_px >= 1 && size_px % 2 == 1);
   const int h = accumulator.rows, w = accumulator.cols, r = size_px / 2;
   smoothed.create(h, w, CV_32SC1);
+  row_maxima.resize(static_cast<std::size_t>(h));
   // Separable: running column sums over rows [y - r, y + r], then a horizontal sum of size_px
   // columns. Twice as fast as cv::boxFilter here; the padding makes outside cells zero.
   std::vector<int> padded(static_cast<size_t>(w + 2 * r), 0);
@@ -381,7 +388,8 @@ int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed) {
     int* out = smoothed.ptr<int>(y);
     sum_columns(padded.data(), out, w, size_px);
     // The maximum while the row is in cache (a second pass, cv::minMaxLoc, took ~0.15 ms).
-    maximum = std::max(maximum, row_maximum(out, w));
+    row_maxima[static_cast<std::size_t>(y)] = row_maximum(out, w);
+    maximum = std::max(maximum, row_maxima[static_cast<std::size_t>(y)]);
   }
   return maximum;
 }

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <vector>
 
 namespace stereoball::ball_detector {
 
@@ -217,6 +218,10 @@ cv::Mat box_filter(const cv::Mat& accumulator, int size_px);
 /// Same into smoothed (its buffer reused when the size is unchanged); size_px odd. Returns the
 /// largest smoothed value (0 for an all-zero map).
 int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed);
+/// Same, also giving each smoothed row's largest value (0 if all are below) in row_maxima (one
+/// per row), which find_peaks can take instead of scanning the rows for it again.
+int box_filter(const cv::Mat& accumulator, int size_px, cv::Mat& smoothed,
+               std::vector<int>& row_maxima);
 
 /// Step 9: position of the global maximum of a CV_32S map (first in raster order on ties).
 cv::Point global_maximum(const cv::Mat& smoothed);

@@ -228,14 +228,18 @@ SB_TARGET_AVX2 void push_row_maxima_avx2(const int* up, const int* row, const in
 }
 #endif
 
+// row_maxima: the rows' largest values when known (one per row), else empty.
 template <typename T>
-void local_maxima(const cv::Mat& m, T min_value, std::vector<Peak>& out) {
+void local_maxima(const cv::Mat& m, T min_value, std::span<const int> row_maxima,
+                  std::vector<Peak>& out) {
   std::vector<std::uint8_t> flag(static_cast<size_t>(m.cols) + 8, 0);
   for (int y = 1; y < m.rows - 1; ++y) {
     const T* up = m.ptr<T>(y - 1);
     const T* row = m.ptr<T>(y);
     const T* down = m.ptr<T>(y + 1);
-    if (!row_reaches(row, m.cols, min_value)) continue;
+    if (row_maxima.empty() ? !row_reaches(row, m.cols, min_value)
+                           : row_maxima[static_cast<std::size_t>(y)] < min_value)
+      continue;
 #if SB_HAVE_AVX2_KERNELS
     if constexpr (std::is_same_v<T, int>) {
       if (cpu_has_avx2()) {
@@ -260,11 +264,19 @@ void local_maxima(const cv::Mat& m, T min_value, std::vector<Peak>& out) {
 
 std::vector<Peak> find_peaks(const cv::Mat& smoothed, float min_value, double min_separation_px,
                              int max_peaks) {
+  return find_peaks(smoothed, min_value, min_separation_px, max_peaks, {});
+}
+
+std::vector<Peak> find_peaks(const cv::Mat& smoothed, float min_value, double min_separation_px,
+                             int max_peaks, std::span<const int> row_maxima) {
   std::vector<Peak> candidates;
+  const bool known =
+      smoothed.type() == CV_32S && row_maxima.size() == static_cast<std::size_t>(smoothed.rows);
   if (smoothed.type() == CV_32S)
-    local_maxima<int>(smoothed, static_cast<int>(std::ceil(min_value)), candidates);
+    local_maxima<int>(smoothed, static_cast<int>(std::ceil(min_value)),
+                      known ? row_maxima : std::span<const int>{}, candidates);
   else
-    local_maxima<float>(smoothed, min_value, candidates);
+    local_maxima<float>(smoothed, min_value, {}, candidates);
   // Strongest first, raster order among equals (candidates are in raster order): a heap pops
   // them in that order, and only as many as it takes to keep max_peaks (a textured image has
   // thousands of candidates; sorting them all cost more than the rest of this function).

@@ -4,6 +4,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace stereoball::ball_detector {
@@ -50,6 +51,10 @@ struct Peak {
 /// two closer than min_separation_px, at most max_peaks.
 std::vector<Peak> find_peaks(const cv::Mat& smoothed, float min_value, double min_separation_px,
                              int max_peaks);
+/// Same for a CV_32S map whose rows' largest values are known (box_filter's row_maxima, one per
+/// row): rows below min_value are skipped without a scan.
+std::vector<Peak> find_peaks(const cv::Mat& smoothed, float min_value, double min_separation_px,
+                             int max_peaks, std::span<const int> row_maxima);
 
 /// Maximum / mean of a map (0 for an all-zero map): how sharp the strongest peak is.
 double peak_to_mean(const cv::Mat& smoothed);
