@@ -490,17 +490,59 @@ SB_AVX2_CLONE void split_row(const std::uint8_t* __restrict bgr, std::uint8_t* _
   }
 }
 
-// Whether every pixel of a CV_8UC3 image has B == G == R (a grey image read as colour). Row by
-// row, so a colour image is told apart within its first rows.
+// Whether pixels [from, n) of a BGR row all have B == G == R.
+bool row_channels_equal(const std::uint8_t* row, int from, int n) {
+  unsigned diff = 0;
+  for (const std::uint8_t* p = row + 3 * from; p < row + 3 * n; p += 3)
+    diff |= (p[0] ^ p[1]) | (p[0] ^ p[2]);
+  return diff == 0;
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// row_channels_equal 32 bytes at a time: each byte compared with the next, the comparisons
+// wanted those at a pixel's B and G (B == G, G == R), whose bits repeat every three vectors.
+SB_TARGET_AVX2 bool row_channels_equal_avx2(const std::uint8_t* row, int n) {
+  constexpr auto wanted_from = [](int offset) {
+    std::uint32_t bits = 0;
+    for (int i = 0; i < 32; ++i)
+      if ((offset + i) % 3 != 2) bits |= std::uint32_t{1} << i;
+    return bits;
+  };
+  constexpr std::array<std::uint32_t, 3> wanted = {wanted_from(0), wanted_from(32),
+                                                   wanted_from(64)};
+  const int bytes = 3 * n;
+  int i = 0;
+  for (int phase = 0; i + 33 <= bytes; i += 32, phase = phase == 2 ? 0 : phase + 1) {
+    const __m256i here = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + i));
+    const __m256i next = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + i + 1));
+    const auto same =
+        static_cast<std::uint32_t>(_mm256_movemask_epi8(_mm256_cmpeq_epi8(here, next)));
+    if ((same & wanted[static_cast<std::size_t>(phase)]) != wanted[static_cast<std::size_t>(phase)])
+      return false;
+  }
+  // Every pixel whose B and G bytes lie before byte i is tested; the rest one by one.
+  return row_channels_equal(row, i / 3, n);
+}
+#endif
+
+}  // namespace
+
 bool channels_equal(const cv::Mat& bgr) {
+  CV_Assert(bgr.type() == CV_8UC3);
   for (int y = 0; y < bgr.rows; ++y) {
     const std::uint8_t* p = bgr.ptr<std::uint8_t>(y);
-    unsigned diff = 0;
-    for (int x = 0; x < bgr.cols; ++x, p += 3) diff |= (p[0] ^ p[1]) | (p[0] ^ p[2]);
-    if (diff != 0) return false;
+#if SB_HAVE_AVX2_KERNELS
+    if (cpu_has_avx2()) {
+      if (!row_channels_equal_avx2(p, bgr.cols)) return false;
+      continue;
+    }
+#endif
+    if (!row_channels_equal(p, 0, bgr.cols)) return false;
   }
   return true;
 }
+
+namespace {
 
 // Where colour_gradient_rows reads a colour image's planes: the plane column and row of the
 // image's first pixel less one (the crop's parent pixels around it); grey: the image was grey

@@ -171,6 +171,10 @@ int thin_staircase(cv::Mat& binary);
 /// Both end as thin_staircase(binary) leaves binary.
 int thin_staircase(cv::Mat& binary, BitImage& bits);
 
+/// Whether every pixel of a CV_8UC3 image has B == G == R (a grey image read as colour, whose
+/// gradient is one channel's). Row by row, so a colour image is told apart within its first rows.
+bool channels_equal(const cv::Mat& bgr);
+
 /// Per pixel of a CV_8UC3 image, the 3x3 Sobel (dx, dy) (CV_16S) of the channel (B, G or R;
 /// the first on ties) with the largest |dx| + |dy|, in one pass; borders replicated, and a crop
 /// (a cv::Mat ROI) reads its parent's pixels around it. Equal to three cv::Sobel passes and a

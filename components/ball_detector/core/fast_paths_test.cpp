@@ -5,12 +5,12 @@
 // sampled pixels, the packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter,
 // connected_rows vs a breadth-first flood fill, chord ends from row masks vs find_chord_ends, the
 // packed windows' component and chord ends vs those of the row masks (and their one-load row reads
-// vs BitImage::bits), halve_image vs cv::resize (INTER_AREA), find_peaks vs a brute-force scan,
-// plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge pixel,
-// angular_coverage_in_frame vs every sector tested, the orientation planes vs points set one by
-// one, circles_from_votes independent of the order its voters come in, solve_3x3 vs cv::solve,
-// fit_circle and gather_outline_points vs their plain arithmetic, and refine_circle's reused scan
-// vs a fresh one.
+// vs BitImage::bits), halve_image vs cv::resize (INTER_AREA), channels_equal vs a test per pixel,
+// find_peaks vs a brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan
+// of every edge pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs
+// points set one by one, circles_from_votes independent of the order its voters come in, solve_3x3
+// vs cv::solve, fit_circle and gather_outline_points vs their plain arithmetic, and refine_circle's
+// reused scan vs a fresh one.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -913,6 +913,43 @@ TEST(HalveImage, GivenRandomImagesOfEveryEvenWidthThenItEqualsInterAreaResize) {
       cv::randu(image, 0, 256);
       expect_halved_like_resize(image, "width " + std::to_string(width));
     }
+}
+
+// The plain test channels_equal's vector path must agree with.
+bool channels_equal_reference(const cv::Mat& bgr) {
+  for (int y = 0; y < bgr.rows; ++y)
+    for (int x = 0; x < bgr.cols; ++x) {
+      const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
+      if (p[0] != p[1] || p[0] != p[2]) return false;
+    }
+  return true;
+}
+
+TEST(ChannelsEqual, GivenGreyRowsWithOneChannelChangedAnywhereThenItAgreesWithAPlainTest) {
+  std::mt19937 rng(59);
+  for (int width = 1; width <= 100; ++width) {
+    // Given a grey image read as colour (every row of a width, so each remainder of the 32-byte
+    // steps and each phase of the pixels in them occurs), whole and as a crop
+    cv::Mat grey(3, width + 2, CV_8UC1);
+    cv::randu(grey, 0, 256);
+    cv::Mat bgr;
+    cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+    const cv::Mat crop = bgr(cv::Rect(1, 0, width, 3));
+    ASSERT_TRUE(channels_equal(crop)) << "width " << width;
+    ASSERT_TRUE(channels_equal(bgr)) << "width " << width;
+    // When one channel of one pixel differs, at every pixel and channel of the crop's middle row
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        cv::Mat changed = bgr.clone();
+        cv::Vec3b& p = changed.at<cv::Vec3b>(1, x + 1);
+        p[c] = static_cast<std::uint8_t>(p[c] ^ (1u << (rng() % 8)));
+        const cv::Mat changed_crop = changed(cv::Rect(1, 0, width, 3));
+        // Then the images are told apart as the plain test tells them
+        ASSERT_EQ(channels_equal(changed_crop), channels_equal_reference(changed_crop))
+            << "width " << width << " x " << x << " c " << c;
+        ASSERT_FALSE(channels_equal(changed_crop));
+      }
+  }
 }
 
 TEST(PackedWindow, GivenRandomBitImagesThenEveryPackedWindowHoldsTheWindowsRows) {
