@@ -983,7 +983,7 @@ std::vector<Circle> PixelToPixelDetector::detect_coarse_to_fine(const cv::Mat& i
     coarse_->voted_coverage_gate_ = params_.coarse_min_voted_coverage;
     coarse_->voter_mode_radius_ = true;
   }
-  // An even size halves exactly (each pixel the mean of a 2x2 block: OpenCV's fast path).
+  // An even size halves exactly (each pixel the rounded mean of a 2x2 block, halve_image).
   const cv::Mat even = image(cv::Rect(0, 0, image.cols & ~1, image.rows & ~1));
   halve_image(even, half_);
   const std::vector<Circle> candidates = coarse_->detect(half_);
