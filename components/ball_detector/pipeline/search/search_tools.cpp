@@ -15,6 +15,21 @@ constexpr int kColourAngles = 12;
 
 }  // namespace
 
+void RightRows::make_for(const stereo::Rectifier& rectifier, bool rectified,
+                         const cv::Rect& box) const {
+  if (source == nullptr) return;
+  if (rectified) {
+    source->make_rows(box.y, box.y + box.height);
+    return;
+  }
+  const cv::Range rows = rectifier.raw_rows(stereo::Eye::kRight, box);
+  source->make_rows(rows.start, rows.end);
+}
+
+void RightRows::make_all() const {
+  if (source != nullptr) source->make_all();
+}
+
 void run_tasks_in_turn(int n, const std::function<void(int)>& task) {
   for (int i = 0; i < n; ++i) task(i);
 }
@@ -43,6 +58,7 @@ int SearchTools::window_margin_px() const {
 
 void SearchTools::rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                 cv::Mat& out) const {
+  if (eye == stereo::Eye::kRight) right_rows.make_all();
   if (rectified) {
     channel.copyTo(out);
   } else {
@@ -57,6 +73,7 @@ void SearchTools::clear_rectified(const cv::Mat& channel, cv::Mat& out) const {
 
 void SearchTools::rectify_box(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                               const cv::Rect& box, cv::Mat& out) const {
+  if (eye == stereo::Eye::kRight) right_rows.make_for(*rectifier, rectified, box);
   if (rectified) {
     channel(box).copyTo(out(box));
   } else {
