@@ -71,8 +71,8 @@ Status LazyJpegEye::start(const std::string& eye, std::span<const std::uint8_t> 
   header_ = header;
   reduction_ = reduction;
   error_.reset();
-  made_begin_ = made_end_ = 0;
   image_.create(header.height_px / reduction, header.width_px / reduction, CV_8UC3);
+  made_.assign(static_cast<std::size_t>(image_.rows), 0);
   if (!restart()) {
     fail();
     return status();
@@ -99,57 +99,57 @@ bool LazyJpegEye::restart() {
   return true;
 }
 
-bool LazyJpegEye::read_to(int end_row, const std::atomic<bool>* stop) {
-  return read_rows(decoder_->jpeg, image_, end_row, stop);
-}
-
-bool LazyJpegEye::skip_to(int row) {
-  const int rows = row - decoder_->scanline();
-  return rows <= 0 || skip_rows(decoder_->jpeg, rows);
+int LazyJpegEye::rows_made() const {
+  return static_cast<int>(std::count(made_.begin(), made_.end(), std::uint8_t{1}));
 }
 
 Status LazyJpegEye::decode_ahead(const std::atomic<bool>& stop) {
-  if (error_ || made_begin_ != 0) return status();
-  if (!read_to(image_.rows, &stop)) {
+  if (error_ || decoder_->scanline() != 0) return status();
+  if (!read_rows(decoder_->jpeg, image_, image_.rows, &stop)) {
     fail();
     return status();
   }
-  made_end_ = decoder_->scanline();
+  std::fill(made_.begin(), made_.begin() + decoder_->scanline(), std::uint8_t{1});
   return {};
+}
+
+bool LazyJpegEye::advance(int begin_row, int end_row) {
+  int row = decoder_->scanline();
+  while (row < end_row) {
+    // A run of rows to decode (asked for, not made), or of rows to pass over.
+    const bool decode = row >= begin_row && made_[row] == 0;
+    int run_end = row + 1;
+    while (run_end < end_row && (run_end >= begin_row && made_[run_end] == 0) == decode) ++run_end;
+    if (decode) {
+      if (!read_rows(decoder_->jpeg, image_, run_end, nullptr)) return false;
+      std::fill(made_.begin() + row, made_.begin() + run_end, std::uint8_t{1});
+    } else if (!skip_rows(decoder_->jpeg, run_end - row)) {
+      return false;
+    }
+    row = run_end;
+  }
+  return true;
 }
 
 void LazyJpegEye::make_rows(int begin_row, int end_row) {
   begin_row = std::max(begin_row, 0);
   end_row = std::min(end_row, image_.rows);
   if (error_ || begin_row >= end_row) return;
-  if (begin_row >= made_begin_ && end_row <= made_end_) return;
-  if (made_begin_ == made_end_) {
-    // Nothing made yet: the rows above the first ones read are passed over.
-    if (!skip_to(begin_row)) return fail();
-    made_begin_ = made_end_ = begin_row;
-  } else if (begin_row < made_begin_) {
-    // Rows above those made: decode again from the top down to them, then pass over the rows
-    // made already (the same bytes) back to where decoding stood.
-    const int lowest = made_end_;
-    if (!restart() || !skip_to(begin_row) || !read_to(made_begin_, nullptr)) return fail();
-    if (lowest < image_.rows && !skip_to(lowest)) return fail();
-    made_begin_ = begin_row;
-  }
-  // Rows between those made and those asked for are decoded too: the made rows stay one run.
-  if (end_row > made_end_) {
-    if (!read_to(end_row, nullptr)) return fail();
-    made_end_ = end_row;
-  }
+  const auto first = std::find(made_.begin() + begin_row, made_.begin() + end_row, 0);
+  if (first == made_.begin() + end_row) return;  // made already
+  // Rows above the decoder's place: decode again from the top (passing over the rows made).
+  const int first_row = static_cast<int>(first - made_.begin());
+  if (first_row < decoder_->scanline() && !restart()) return fail();
+  if (!advance(first_row, end_row)) fail();
 }
 
 void LazyJpegEye::fail() {
   if (!error_)
     error_ = eye_ + " jpeg data is corrupt: " + (decoder_ ? decoder_->message() : std::string("?"));
   // Rows never made are zero from now on: whatever reads them reads the same thing each time.
-  image_.rowRange(0, made_begin_).setTo(0);
-  image_.rowRange(made_end_, image_.rows).setTo(0);
-  made_begin_ = 0;
-  made_end_ = image_.rows;
+  for (int r = 0; r < image_.rows; ++r)
+    if (made_[static_cast<std::size_t>(r)] == 0) image_.row(r).setTo(0);
+  std::fill(made_.begin(), made_.end(), std::uint8_t{1});
   decoder_.reset();
 }
 

@@ -2,8 +2,9 @@
 // A JPEG eye decoded only as far as its reader needs (stereo::RowSource): libjpeg decodes top
 // to bottom and can stop after any row and go on later, so the rows a search reads are decoded
 // when it first reads them, the same bytes a whole decode gives, and rows below the lowest one
-// read are never decoded. Rows above the first one asked for are skipped (their data is still
-// read, not turned into pixels); a later read above them decodes again from the top.
+// read are never decoded. Rows between those asked for are passed over (their data is still
+// read, not turned into pixels); a later read above the decoder's place decodes again from the
+// top, passing over the rows made already.
 
 #include <opencv2/core.hpp>
 
@@ -13,6 +14,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "common/util/result.hpp"
 #include "stereo/core/row_source.hpp"
@@ -43,14 +45,17 @@ class LazyJpegEye final : public RowSource {
   void make_rows(int begin_row, int end_row) override;
   Status status() const override;
 
-  /// The rows made so far, [start, end): for tests and measurements.
-  cv::Range made_rows() const { return cv::Range(made_begin_, made_end_); }
+  /// Whether row holds decoded pixels (for tests and measurements).
+  bool row_made(int row) const { return row >= 0 && row < image_.rows && made_[row] != 0; }
+  /// How many rows hold decoded pixels.
+  int rows_made() const;
 
  private:
   struct Decoder;
   bool restart();
-  bool read_to(int end_row, const std::atomic<bool>* stop);
-  bool skip_to(int row);
+  /// Moves the decoder from its row to end_row, decoding the rows of [begin_row, end_row) not
+  /// made yet and passing over the others.
+  bool advance(int begin_row, int end_row);
   void fail();
 
   std::unique_ptr<Decoder> decoder_;
@@ -59,7 +64,7 @@ class LazyJpegEye final : public RowSource {
   int reduction_ = 1;
   std::string eye_;
   cv::Mat image_;
-  int made_begin_ = 0, made_end_ = 0;  // the rows holding decoded pixels
+  std::vector<std::uint8_t> made_;  // per row: holds decoded pixels
   std::optional<std::string> error_;
 };
 
