@@ -5,6 +5,9 @@
 
 #include <opencv2/core.hpp>
 
+#include <algorithm>
+#include <vector>
+
 #include "common/util/result.hpp"
 
 namespace stereoball::stereo {
@@ -21,6 +24,13 @@ class RowSource {
   virtual void make_rows(int begin_row, int end_row) = 0;
   /// Makes every row.
   void make_all() { make_rows(0, image().rows); }
+  /// Makes several row ranges, the topmost first: an image decoded top to bottom then never
+  /// has to go back up between them, whatever order they are read in.
+  void make_rows_top_first(std::vector<cv::Range> ranges) {
+    std::sort(ranges.begin(), ranges.end(),
+              [](const cv::Range& a, const cv::Range& b) { return a.start < b.start; });
+    for (const cv::Range& r : ranges) make_rows(r.start, r.end);
+  }
   /// Success, or the problem met while making rows (the eye named).
   virtual Status status() const = 0;
 };

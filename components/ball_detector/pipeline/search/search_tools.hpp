@@ -41,6 +41,9 @@ struct RightRows {
   /// Makes the raw rows box (rectified px) reads: through the rectification's look-up, or box's
   /// own rows when the eye is rectified already.
   void make_for(const stereo::Rectifier& rectifier, bool rectified, const cv::Rect& box) const;
+  /// make_for each of boxes, the topmost rows first (boxes read in any order after it).
+  void make_for(const stereo::Rectifier& rectifier, bool rectified,
+                const std::vector<cv::Rect>& boxes) const;
   /// Makes every row.
   void make_all() const;
   /// Whether making rows met corrupt data (the frame is then a bad one).
