@@ -6,6 +6,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <optional>
@@ -258,8 +259,9 @@ TEST_F(BallDetectorNodeTest, GivenMalformedFrames_ThenBadFrameAndNextGoodFrameAn
 }
 
 // Given a calibrated node, when compressed frames arrive whose headers claim 20000x20000 (the
-// sample's size fields say 640x480), or a JPEG cut short, then each is a BAD_FRAME naming the
-// problem, answered at once without decoding the claimed image, and the next frame is fine.
+// sample's size fields say 640x480), a JPEG cut short, or one whose right eye is damaged in the
+// rows above those the search reads, then each is a BAD_FRAME naming the problem, answered at
+// once without decoding the claimed image, and the next frame is fine.
 TEST_F(BallDetectorNodeTest, GivenHostileCompressedFrames_ThenBadFrameFastAndMemoryBounded) {
   calibrate_and_find_ball();
   const long rss_before_kb = peak_rss_kb();
@@ -282,6 +284,22 @@ TEST_F(BallDetectorNodeTest, GivenHostileCompressedFrames_ThenBadFrameFastAndMem
                    "right jpeg data is corrupt: Premature end of JPEG file"});
   cases.back().frame.msg.right.data._length =
       static_cast<uint32_t>(cases.back().frame.right.size() / 2);
+  // A right eye whose coded rows hold a stray marker a tenth of the way down (its end intact):
+  // the right eye is decoded only as far as the search reads it, and the search reads below it.
+  cases.push_back({"jpeg with a stray marker in its upper rows",
+                   Frame().encoded("jpg", scene().frame.left, scene().frame.right),
+                   "right jpeg data is corrupt: "});
+  {
+    std::vector<uint8_t>& bytes = cases.back().frame.right;
+    const uint8_t sos[] = {0xFF, 0xDA};
+    const auto at = std::search(bytes.begin(), bytes.end(), std::begin(sos), std::end(sos));
+    ASSERT_NE(at, bytes.end());
+    const std::size_t data = static_cast<std::size_t>(at - bytes.begin()) + 2 +
+                             static_cast<std::size_t>((at[2] << 8) | at[3]);
+    const std::size_t spoiled = data + (bytes.size() - data) / 10;
+    bytes[spoiled] = 0xFF;
+    bytes[spoiled + 1] = 0xD0;
+  }
   for (auto& c : cases) {
     const auto sent = std::chrono::steady_clock::now();
     const Detection d = send(std::move(c.frame));

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "fuzz_input.hpp"
@@ -49,6 +50,20 @@ void decode_frame(stereoball::fuzz::FuzzInput& in) {
     // Touch every pixel: a view past the sample's bytes would be caught here.
     volatile int sum = 0;
     sum = sum + static_cast<int>(cv::sum(l)[0] + cv::sum(r)[0]);
+  }
+  // The right eye decoded lazily: a middle band first, then the rows above it (decoded again
+  // from the top), then all of it.
+  stereoball::stereo::RowSource* lazy = nullptr;
+  const auto in_turn = [](int n, const std::function<void(int)>& task) {
+    for (int i = 0; i < n; ++i) task(i);
+  };
+  if (decoder.decode_right_lazily(msg, expected, l, lazy, in_turn).ok()) {
+    const int rows = lazy->image().rows;
+    lazy->make_rows(rows / 2, rows / 2 + 1);
+    lazy->make_rows(0, rows / 4 + 1);
+    lazy->make_all();
+    volatile int sum = 0;
+    sum = sum + static_cast<int>(cv::sum(lazy->image())[0]);
   }
 }
 

@@ -111,10 +111,10 @@ class ReferenceEye {
 
   // Call after pipeline.step(left, right, ...) and before its finish_frame.
   ReferenceFrame run(const ball_detector::StereoPipeline& pipeline, const cv::Mat& left,
-                     const cv::Mat& right, bool rectified, double decode_cpu_ms) {
+                     bool rectified, double decode_cpu_ms) {
     ReferenceFrame f;
     f.decode_cpu_ms = decode_cpu_ms;
-    const cv::Mat& searched = *pipeline.searched_frames(left, right).first;
+    const cv::Mat& searched = *pipeline.searched_frames(left, left).first;
     if (!rectified && !pipeline.rectifier()->rectify_eye(stereo::Eye::kLeft, searched, rectified_))
       return f;
     const cv::Mat& eye = rectified ? searched : rectified_;
@@ -208,6 +208,9 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
   std::optional<stereo::FrameCompressor> compressor;
   if (codec.compressed()) compressor.emplace(codec);
   stereo::FrameDecoder decoder;
+  const auto run_in_turn = [](int n, const std::function<void(int)>& task) {
+    for (int t = 0; t < n; ++t) task(t);
+  };
   decoder.set_reduction(pipeline.working_reduction());  // as the node decodes
   std::optional<ReferenceEye> reference;
   if (!options.reference.empty()) {
@@ -254,14 +257,18 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
     timer.start_frame();
     const double searches_before_ms = timer.searches_ms();
     ball_detector::StereoDetection det;
-    cv::Mat l, r;
-    const Status decoded = decoder.decode(frame, pipeline.image_size(), l, r);
+    cv::Mat l;
+    stereo::RowSource* r = nullptr;
+    // One core, as the node decodes on one: the left eye whole, the right one as far as the
+    // searches read it (its decoding is then part of theirs).
+    const Status decoded =
+        decoder.decode_right_lazily(frame, pipeline.image_size(), l, r, run_in_turn);
     const double decode_ms = bench::thread_cpu_ms() - cpu_start;
     if (!decoded) {
       det.status = ball_detector::DetectionStatus::kBadFrame;
       det.reason = decoded.error();
     } else {
-      det = pipeline.step(l, r, frame.rectified, std::nullopt, stamp_ns);
+      det = pipeline.step(l, *r, frame.rectified, std::nullopt, stamp_ns);
     }
     const float ms =
         std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -278,7 +285,7 @@ RunResult run_in_process(const RealStereoSet& set, const DetectorConfig& config,
     out.pairs[i].detection->cpu_ms = cpu_ms;
     out.pairs[i].attempts = 1;
     if (reference && decoded)
-      out.reference[i] = reference->run(pipeline, l, r, frame.rectified, decode_ms);
+      out.reference[i] = reference->run(pipeline, l, frame.rectified, decode_ms);
     if (!l.empty()) pipeline.finish_frame(l, frame.rectified);
   }
   out.cpu_by_search = timer.totals();

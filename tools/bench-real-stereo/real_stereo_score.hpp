@@ -135,7 +135,7 @@ struct ReferenceCircle {
 /// One frame of a reference method run beside the pipeline on the same decoded left eye.
 struct ReferenceFrame {
   double detect_cpu_ms = 0;  ///< the method on the rectified left eye alone, thread CPU ms
-  double decode_cpu_ms = 0;  ///< decoding the stereo frame (both eyes), thread CPU ms
+  double decode_cpu_ms = 0;  ///< decoding the left eye and starting the right, thread CPU ms
   std::vector<ReferenceCircle> circles;  ///< its circles, best first
 };
 

@@ -180,16 +180,20 @@ void BallDetectorNode::count_skipped(std::uint64_t seq, std::uint64_t batch_skip
 void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
   const std::int64_t start_ns = node::monotonic_ns();
   StereoDetection det;
-  cv::Mat left, right;
+  cv::Mat left;
+  stereo::RowSource* right = nullptr;
   if (!pipeline_.has_calibration()) {
     det = pipeline_.step(cv::Mat(), cv::Mat(), false);  // kNoCalibration with its reason
   } else {
     // The eyes decoded at the same time on the helper's core (a 2304x1296 JPEG pair is a third
-    // of the frame's CPU time).
+    // of the frame's CPU time); a JPEG right eye only as far as the helper gets meanwhile, the
+    // rest as far as the search reads it.
     const auto both_cores = [this](int n, const std::function<void(int)>& task) {
       helper_.run(n, task);
     };
-    if (auto st = decoder_.decode(frame, pipeline_.image_size(), left, right, both_cores); !st) {
+    if (auto st =
+            decoder_.decode_right_lazily(frame, pipeline_.image_size(), left, right, both_cores);
+        !st) {
       det.status = DetectionStatus::kBadFrame;
       det.reason = st.error();
     } else {
@@ -197,7 +201,7 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
       std::optional<std::int64_t> skew_ns;
       if (frame.left.capture_stamp_ns != 0 && frame.right.capture_stamp_ns != 0)
         skew_ns = frame.left.capture_stamp_ns - frame.right.capture_stamp_ns;
-      det = pipeline_.step(left, right, frame.rectified, prior_for(frame.stamp_ns), frame.stamp_ns,
+      det = pipeline_.step(left, *right, frame.rectified, prior_for(frame.stamp_ns), frame.stamp_ns,
                            skew_ns);
     }
   }
@@ -209,11 +213,18 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
   // the frames it is due on) reads the frames as searched (the pipeline's rectifier is for its
   // working size), which finish_frame may overwrite: it goes first.
   if (left.empty()) return;
-  if (det.status != DetectionStatus::kBadFrame) {
-    const auto [searched_left, searched_right] = pipeline_.searched_frames(left, right);
-    check_eye_order(*searched_left, *searched_right, frame.rectified);
-  }
+  if (det.status != DetectionStatus::kBadFrame) check_eye_order(left, *right, frame.rectified);
   pipeline_.finish_frame(left, frame.rectified);
+}
+
+void BallDetectorNode::check_eye_order(const cv::Mat& left, stereo::RowSource& right,
+                                       bool rectified) {
+  // The check reads the whole right eye: the rows the search left undecoded are decoded only
+  // on the frames it is due on.
+  if (eye_order_.due()) right.make_all();
+  if (!right.status().ok()) return eye_order_.skip();
+  const auto [searched_left, searched_right] = pipeline_.searched_frames(left, right.image());
+  check_eye_order(*searched_left, *searched_right, rectified);
 }
 
 void BallDetectorNode::check_eye_order(const cv::Mat& left, const cv::Mat& right, bool rectified) {

@@ -39,6 +39,9 @@ class BallDetectorNode {
   void check_input(std::int64_t now_ns);
   void on_frames();
   void process(const stereoball_msg_StereoFrame& frame);
+  /// The eye-order check on a frame whose right eye may be made only in part (made whole when
+  /// the check is due).
+  void check_eye_order(const cv::Mat& left, stereo::RowSource& right, bool rectified);
   void check_eye_order(const cv::Mat& left, const cv::Mat& right, bool rectified);
   std::optional<PositionPrior> prior_for(std::int64_t frame_stamp_ns);
   void count_skipped(std::uint64_t seq, std::uint64_t batch_skipped);

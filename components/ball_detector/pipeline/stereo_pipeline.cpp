@@ -304,6 +304,7 @@ const cv::Mat& StereoPipeline::detector_channel(const cv::Mat& raw, cv::Mat& gre
 
 const cv::Mat& StereoPipeline::rectified_region(const cv::Mat& channel, stereo::Eye eye,
                                                 bool rectified, const cv::Rect& region) {
+  if (eye == stereo::Eye::kRight) tools_.right_rows.make_for(*tools_.rectifier, rectified, region);
   if (rectified) return channel;
   // Only the region read, not the whole eye, into the eye's scratch image.
   cv::Mat& out = eye == stereo::Eye::kLeft ? region_left_ : region_right_;
@@ -327,6 +328,20 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
                                      const std::optional<PositionPrior>& prior,
                                      std::int64_t stamp_ns,
                                      std::optional<std::int64_t> eye_skew_ns) {
+  stereo::WholeImageRows whole(right);
+  return step(left, whole, rectified, prior, stamp_ns, eye_skew_ns);
+}
+
+bool StereoPipeline::reads_right_whole(const cv::Mat& left, const cv::Mat& right) const {
+  // Shrunk to the working size, or converted to another detector input: all of it, now.
+  const bool shrunk = work_scale_ < 1.0 && !at_working_size(left.size(), right.size());
+  return shrunk || (right.channels() == 3 && tools_.params.input != DetectorInput::kColour);
+}
+
+StereoDetection StereoPipeline::step(const cv::Mat& left, stereo::RowSource& right_rows,
+                                     bool rectified, const std::optional<PositionPrior>& prior,
+                                     std::int64_t stamp_ns,
+                                     std::optional<std::int64_t> eye_skew_ns) {
   StereoDetection out;
   left_candidates_.clear();
   right_candidates_.clear();
@@ -336,10 +351,18 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
     out.reason = "no stereo calibration received yet";
     return out;
   }
+  const cv::Mat& right = right_rows.image();
   if (auto e = check_input(left, right); !e) {
     out.status = DetectionStatus::kBadFrame;
     out.reason = e.error();
     return out;
+  }
+  // The right eye's rows are made as the searches read them, unless it is read whole here.
+  tools_.right_rows.source = &right_rows;
+  if (reads_right_whole(left, right)) {
+    right_rows.make_all();
+    tools_.right_rows.source = nullptr;
+    if (auto e = right_rows.status(); !e) return bad_right_eye(e.error());
   }
   const auto [work_left, work_right] = working_frames(left, right);
   const FrameState frame{
@@ -354,9 +377,20 @@ StereoDetection StereoPipeline::step(const cv::Mat& left, const cv::Mat& right, 
   if (refresh_due_) refresh_thresholds(frame.left_channel, rectified);  // finish_frame not called
   SearchOutcome answer = search(frame);
   report(frame, answer, out);
+  tools_.right_rows.source = nullptr;
+  // Corrupt data met in the rows read: what was searched on the zero rows is no answer.
+  if (auto e = right_rows.status(); !e) return bad_right_eye(e.error());
   to_input_pixels(out);
   left_candidates_ = std::move(answer.left);
   right_candidates_ = std::move(answer.right);
+  return out;
+}
+
+StereoDetection StereoPipeline::bad_right_eye(const std::string& problem) {
+  tools_.right_rows.source = nullptr;
+  StereoDetection out;
+  out.status = DetectionStatus::kBadFrame;
+  out.reason = problem;
   return out;
 }
 
@@ -475,7 +509,8 @@ void StereoPipeline::report(const FrameState& frame, const SearchOutcome& answer
         answer.rejected_by_colour > 0
             ? "every left circle differs in colour from the followed ball"
             : "no circle in the left eye (the right eye is searched only near left circles)";
-  if (out.status != DetectionStatus::kFound) return;
+  // A right eye found corrupt makes the frame a bad one: nothing is learnt from it.
+  if (out.status != DetectionStatus::kFound || tools_.right_rows.failed()) return;
   cut_patch(frame.left_raw, frame.rectified, out);
   // Where the following tracker expects the ball: this is the ball it follows.
   if (frame.prior && cv::norm(out.position_m - frame.prior->position_m) <= frame.prior->gate_m) {

@@ -32,6 +32,7 @@
 #include "stereo/core/calibration.hpp"
 #include "stereo/core/epipolar.hpp"
 #include "stereo/core/rectifier.hpp"
+#include "stereo/core/row_source.hpp"
 #include "stereo/core/triangulation.hpp"
 
 namespace stereoball::ball_detector {
@@ -161,6 +162,15 @@ class StereoPipeline {
                        std::int64_t stamp_ns = 0,
                        std::optional<std::int64_t> eye_skew_ns = std::nullopt);
 
+  /// As step(left, right, ...), the right eye's rows made only as the searches read them
+  /// (stereo::RowSource: a lazily decoded JPEG eye), all of them when the frame is shrunk or
+  /// converted first. Corrupt data met in the rows read makes the frame kBadFrame with the
+  /// source's reason (the searches' measurements on its left eye are kept).
+  StereoDetection step(const cv::Mat& left, stereo::RowSource& right, bool rectified,
+                       const std::optional<PositionPrior>& prior = std::nullopt,
+                       std::int64_t stamp_ns = 0,
+                       std::optional<std::int64_t> eye_skew_ns = std::nullopt);
+
   /// How far the ball can move between the two exposures for this skew and prior, radii.
   double motion_radii(std::optional<std::int64_t> eye_skew_ns,
                       const std::optional<PositionPrior>& prior) const;
@@ -186,6 +196,10 @@ class StereoPipeline {
 
  private:
   Status check_input(const cv::Mat& left, const cv::Mat& right) const;
+  /// Whether step() reads the whole right eye before searching (shrinking, converting it).
+  bool reads_right_whole(const cv::Mat& left, const cv::Mat& right) const;
+  /// The answer for a frame whose right eye turned out corrupt.
+  StereoDetection bad_right_eye(const std::string& problem);
   /// Whether frames of these sizes were shrunk to the working size already (by their source).
   bool at_working_size(cv::Size left, cv::Size right) const;
   /// The frames shrunk to the working size (the frames themselves at full size).

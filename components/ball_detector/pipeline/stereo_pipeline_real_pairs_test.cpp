@@ -21,6 +21,8 @@
 #include "stereo/core/rectifier.hpp"
 #include "stereo/core/triangulation.hpp"
 #include "stereo/frame/frame_codec.hpp"
+#include "stereo/image/image_decode.hpp"
+#include "stereo/image/lazy_jpeg_eye.hpp"
 #include "stereo/io/calibration_file.hpp"
 
 namespace sb = stereoball;
@@ -368,5 +370,121 @@ TEST_F(RealBasketballPairs, GivenABallTheWholeRangePairs_ThenTheBandsAreNotSearc
     EXPECT_TRUE(std::equal(answered.begin(), answered.end(), whole.begin(), whole.end()))
         << "pair " << t.id << ": " << answered.size() << " candidates, " << whole.size()
         << " of the whole range";
+  }
+}
+
+namespace {
+
+// An eye of a pair as camera_server sends it at its own size: JPEG 4:4:4, quality 90.
+std::vector<std::uint8_t> jpeg_eye(const std::string& path) {
+  sb::stereo::FrameCodecParams codec;
+  codec.frame_encoding = "jpeg";
+  codec.jpeg_quality = 90;
+  sb::stereo::EyeEncoder encoder(codec);
+  EXPECT_TRUE(encoder.encode(cv::imread(path, cv::IMREAD_UNCHANGED)).ok()) << path;
+  return encoder.bytes();
+}
+
+cv::Mat halved_decode(const std::vector<std::uint8_t>& bytes) {
+  cv::Mat out;
+  const auto header = sb::stereo::read_image_header(bytes);
+  EXPECT_TRUE(header.ok() && sb::stereo::decode_bgr_reduced(bytes, *header, 2, out).ok());
+  return out;
+}
+
+// The lazy eye as the pipeline reads it, each box's rows compared with a whole decode's as
+// they are made.
+class CheckedRows final : public sb::stereo::RowSource {
+ public:
+  CheckedRows(sb::stereo::LazyJpegEye& eye, cv::Mat whole) : eye_(eye), whole_(std::move(whole)) {}
+  const cv::Mat& image() const override { return eye_.image(); }
+  void make_rows(int begin_row, int end_row) override {
+    eye_.make_rows(begin_row, end_row);
+    ++boxes;
+    const cv::Range rows(std::max(begin_row, 0), std::min(end_row, whole_.rows));
+    if (eye_.status().ok() && !rows.empty() &&
+        cv::norm(eye_.image().rowRange(rows), whole_.rowRange(rows), cv::NORM_INF) != 0.0)
+      ++differing;
+  }
+  sb::Status status() const override { return eye_.status(); }
+  int boxes = 0, differing = 0;
+
+ private:
+  sb::stereo::LazyJpegEye& eye_;
+  cv::Mat whole_;
+};
+
+void expect_same_answer(const StereoDetection& a, const StereoDetection& b, const char* id) {
+  EXPECT_EQ(a.status, b.status) << "pair " << id;
+  EXPECT_EQ(a.reason, b.reason) << "pair " << id;
+  for (const auto& [x, y] : {std::pair{a.left, b.left}, std::pair{a.right, b.right}}) {
+    EXPECT_EQ(x.x_px, y.x_px) << "pair " << id;
+    EXPECT_EQ(x.y_px, y.y_px) << "pair " << id;
+    EXPECT_EQ(x.radius_px, y.radius_px) << "pair " << id;
+  }
+  EXPECT_EQ(a.position_m, b.position_m) << "pair " << id;
+}
+
+}  // namespace
+
+TEST_F(RealBasketballPairs, GivenARightEyeDecodedOnlyAsFarAsRead_ThenEveryAnswerIsTheWholeEyes) {
+  // Given full-size JPEG pairs (ball high, low, near, far, cut by clutter) decoded halved, the
+  // right eye either whole or row by row as the searches read it
+  int fewer_rows = 0;
+  for (const char* id : {"01", "02", "07", "08", "11", "38", "72", "83"}) {
+    const auto left_bytes = jpeg_eye(kSet + "/left/left_" + std::string(id) + ".jpg");
+    const auto right_bytes = jpeg_eye(kSet + "/right/right_" + std::string(id) + ".jpg");
+    const cv::Mat left = halved_decode(left_bytes), right = halved_decode(right_bytes);
+    ASSERT_FALSE(left.empty() || right.empty());
+    StereoPipeline whole(basketball_params()), lazy(basketball_params());
+    ASSERT_TRUE(whole.set_calibration(calib_).ok() && lazy.set_calibration(calib_).ok());
+    sb::stereo::LazyJpegEye eye;
+    const auto header = sb::stereo::read_image_header(right_bytes);
+    ASSERT_TRUE(header.ok() && eye.start("right", right_bytes, *header, 2).ok());
+    CheckedRows rows(eye, right);
+    // When each pair is searched both ways
+    const StereoDetection a = whole.step(left, right, false);
+    const StereoDetection b = lazy.step(left, rows, false);
+    // Then the answers are the same, every box read the whole decode's pixels, and the rows
+    // below the lowest one read were never decoded
+    expect_same_answer(a, b, id);
+    EXPECT_GT(rows.boxes, 0) << "pair " << id;
+    EXPECT_EQ(rows.differing, 0) << "pair " << id;
+    if (eye.rows_made() < right.rows) ++fewer_rows;
+    std::printf("pair %s: %s, right rows decoded %d of %d in %d reads\n", id,
+                sb::ball_detector::to_string(b.status), eye.rows_made(), right.rows, rows.boxes);
+  }
+  EXPECT_GE(fewer_rows, 6);
+}
+
+TEST_F(RealBasketballPairs, GivenCorruptDataInTheRightEyesLastRows_ThenOnlyAFrameReadingThemIsBad) {
+  // Given right eyes whose last rows' data holds a stray marker (the stream's end intact): pair
+  // 08's search reads down to them, pair 01's (ball high in the frame) stops far above
+  for (const auto& [id, reaches_bottom] : {std::pair{"08", true}, std::pair{"01", false}}) {
+    const auto left_bytes = jpeg_eye(kSet + "/left/left_" + std::string(id) + ".jpg");
+    const auto clean = jpeg_eye(kSet + "/right/right_" + std::string(id) + ".jpg");
+    auto damaged = clean;
+    damaged[damaged.size() - 4] = 0xFF;
+    damaged[damaged.size() - 3] = 0xD0;
+    const cv::Mat left = halved_decode(left_bytes), right = halved_decode(clean);
+    StereoPipeline whole(basketball_params()), lazy(basketball_params());
+    ASSERT_TRUE(whole.set_calibration(calib_).ok() && lazy.set_calibration(calib_).ok());
+    sb::stereo::LazyJpegEye eye;
+    const auto header = sb::stereo::read_image_header(damaged);
+    ASSERT_TRUE(header.ok() && eye.start("right", damaged, *header, 2).ok());
+    // When searched with the damaged right eye decoded as far as read
+    const StereoDetection b = lazy.step(left, eye, false);
+    if (reaches_bottom) {
+      // Then a frame whose search reached the damage is a bad frame naming the eye
+      EXPECT_EQ(b.status, DetectionStatus::kBadFrame) << "pair " << id;
+      EXPECT_EQ(b.reason.rfind("right jpeg data is corrupt: ", 0), 0u) << b.reason;
+    } else {
+      // and one whose search stayed above it is answered as with the undamaged eye
+      expect_same_answer(whole.step(left, right, false), b, id);
+    }
+    // and the next frame, whole, is answered as by a pipeline that never saw the damage
+    StereoPipeline fresh(basketball_params());
+    ASSERT_TRUE(fresh.set_calibration(calib_).ok());
+    expect_same_answer(fresh.step(left, right, false), lazy.step(left, right, false), id);
   }
 }

@@ -5,6 +5,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+
 namespace stereoball::stereo {
 namespace {
 
@@ -34,6 +36,47 @@ Rectifier::Rectifier(const StereoCalibration& calib) : calib_(calib) {
   cv::initUndistortRectifyMap(cv::Mat(calib.k2), distortion_mat(calib.d2), cv::Mat(calib.r2),
                               cv::Mat(calib.p2), calib.image_size, CV_16SC2, right_.xy,
                               right_.frac);
+  left_.row_blocks = make_row_blocks(left_.xy, calib.image_size.height);
+  right_.row_blocks = make_row_blocks(right_.xy, calib.image_size.height);
+}
+
+cv::Mat Rectifier::make_row_blocks(const cv::Mat& xy, int raw_rows) {
+  const int blocks = (xy.cols + kRowBlockCols - 1) / kRowBlockCols;
+  cv::Mat out(xy.rows, blocks, CV_32SC2);
+  for (int r = 0; r < xy.rows; ++r) {
+    const short* map = xy.ptr<short>(r);
+    cv::Vec2i* block = out.ptr<cv::Vec2i>(r);
+    for (int b = 0; b < blocks; ++b) {
+      int lo = raw_rows, hi = 0;
+      for (int c = b * kRowBlockCols; c < std::min(xy.cols, (b + 1) * kRowBlockCols); ++c) {
+        // The look-up reads source rows y and y + 1; those outside the image count as zero.
+        const int y = map[2 * c + 1];
+        const int from = std::clamp(y, 0, raw_rows), to = std::clamp(y + 2, 0, raw_rows);
+        if (to <= from) continue;
+        lo = std::min(lo, from);
+        hi = std::max(hi, to);
+      }
+      block[b] = hi > lo ? cv::Vec2i(lo, hi) : cv::Vec2i(0, 0);
+    }
+  }
+  return out;
+}
+
+cv::Range Rectifier::raw_rows(Eye eye, cv::Rect roi) const {
+  roi &= cv::Rect(cv::Point(0, 0), calib_.image_size);
+  if (roi.empty()) return cv::Range(0, 0);
+  const cv::Mat& blocks = maps(eye).row_blocks;
+  const int first = roi.x / kRowBlockCols, last = (roi.x + roi.width - 1) / kRowBlockCols;
+  int lo = calib_.image_size.height, hi = 0;
+  for (int r = roi.y; r < roi.y + roi.height; ++r) {
+    const cv::Vec2i* block = blocks.ptr<cv::Vec2i>(r);
+    for (int b = first; b <= last; ++b) {
+      if (block[b][0] >= block[b][1]) continue;  // reads only pixels outside the image
+      lo = std::min(lo, block[b][0]);
+      hi = std::max(hi, block[b][1]);
+    }
+  }
+  return hi > lo ? cv::Range(lo, hi) : cv::Range(0, 0);
 }
 
 Status Rectifier::check_size(Eye eye, const cv::Mat& raw) const {

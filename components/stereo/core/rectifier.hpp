@@ -36,6 +36,10 @@ class Rectifier {
   /// be of the calibration's size and the raw frame's type (pixels outside roi are untouched).
   /// Same checks as rectify_eye, plus out's size/type; roi is clipped to the image.
   Status rectify_eye_region(Eye eye, const cv::Mat& raw, cv::Rect roi, cv::Mat& out) const;
+  /// The raw rows [start, end) rectify_eye_region(eye, ..., roi, ...) reads (roi clipped to
+  /// the image; the bilinear look-up's lower neighbour included), at least those, never rows
+  /// outside the image; empty for an empty roi. A lazily made eye makes these before the call.
+  cv::Range raw_rows(Eye eye, cv::Rect roi) const;
   /// Raw (distorted) pixel -> rectified pixel, for callers that only need centres.
   cv::Point2d rectify_point(Eye eye, cv::Point2d raw_px) const;
 
@@ -55,7 +59,12 @@ class Rectifier {
   struct EyeMaps {
     cv::Mat xy;    // CV_16SC2 integer source coordinates
     cv::Mat frac;  // CV_16UC1 interpolation-table index (bilinear weights)
+    // Per rectified row and block of kRowBlockCols columns, the first and one past the last raw
+    // row its pixels read (CV_32SC2): raw_rows' answer without scanning a box's pixels.
+    cv::Mat row_blocks;
   };
+  static constexpr int kRowBlockCols = 16;
+  static cv::Mat make_row_blocks(const cv::Mat& xy, int raw_rows);
   explicit Rectifier(const StereoCalibration& calib);
   const EyeMaps& maps(Eye eye) const { return eye == Eye::kLeft ? left_ : right_; }
 

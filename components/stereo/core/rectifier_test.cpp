@@ -128,6 +128,41 @@ TEST_F(RectifierTest, GivenRegionWhenRectifiedThenEqualsThatPartOfTheFullRectifi
   EXPECT_NE(error.error().find("output"), std::string::npos) << error.error();
 }
 
+TEST_F(RectifierTest, GivenRegionsWhenRawRowsAskedThenRectifyingReadsNoOtherRow) {
+  // Given a noisy colour frame and boxes over the distorted corners, the middle, a thin strip,
+  // one hanging over the border and an empty one
+  cv::Mat raw(rig_.size, CV_8UC3);
+  cv::randu(raw, 0, 256);
+  const int w = rig_.size.width, h = rig_.size.height;
+  const cv::Rect boxes[] = {{0, 0, 90, 60},   {w - 90, h - 60, 90, 60},   {200, 150, 160, 120},
+                            {0, h / 2, w, 3}, {w - 30, h - 20, 100, 100}, {5, 5, 0, 0}};
+  for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
+    for (const cv::Rect& box : boxes) {
+      // When the raw rows the region reads are asked for, and every other row is scribbled over
+      const cv::Range rows = rect_.raw_rows(eye, box);
+      if ((box & cv::Rect(0, 0, w, h)).empty()) {
+        EXPECT_TRUE(rows.empty());
+        continue;
+      }
+      ASSERT_GE(rows.start, 0);
+      ASSERT_LE(rows.end, h);
+      ASSERT_LT(rows.start, rows.end);
+      cv::Mat scribbled(rig_.size, CV_8UC3, cv::Scalar(13, 200, 77));
+      raw.rowRange(rows).copyTo(scribbled.rowRange(rows));
+      // Then the region rectified from either frame is the same, bit for bit
+      cv::Mat clean_out(rig_.size, CV_8UC3, cv::Scalar(0)), scribbled_out = clean_out.clone();
+      ASSERT_TRUE(rect_.rectify_eye_region(eye, raw, box, clean_out).ok());
+      ASSERT_TRUE(rect_.rectify_eye_region(eye, scribbled, box, scribbled_out).ok());
+      EXPECT_EQ(cv::norm(clean_out, scribbled_out, cv::NORM_INF), 0.0)
+          << "box " << box << " rows " << rows.start << ".." << rows.end;
+      // and a region away from the bottom needs no row near it
+      if (box.y + box.height < h / 2) {
+        EXPECT_LT(rows.end, h - 40) << "box " << box;
+      }
+    }
+  }
+}
+
 TEST(RectifierCreate, GivenInvalidCalibrationWhenCreatedThenErrorNamesField) {
   StereoCalibration c = default_synthetic_rig().calibration();
   c.k2(1, 1) = -5;

@@ -1,5 +1,6 @@
 #include "stereo/frame/frame_decoder.hpp"
 
+#include <atomic>
 #include <cstring>
 #include <limits>
 #include <span>
@@ -91,25 +92,57 @@ Status FrameDecoder::decode(const stereoball_msg_StereoFrame& msg, cv::Size expe
   return refused_if_failed(status[0] ? status[1] : status[0], left, right);
 }
 
-Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& image,
-                                FrameEncoding encoding, cv::Size expected, cv::Mat& buffer,
-                                cv::Mat& out) {
-  if (encoding == FrameEncoding::kBgr8 || encoding == FrameEncoding::kMono8) {
-    const int channels = encoding == FrameEncoding::kBgr8 ? 3 : 1;
-    if (auto st = check_raw_eye(eye, image, channels, expected); !st) return st;
-    out = cv::Mat(static_cast<int>(image.height_px), static_cast<int>(image.width_px),
-                  CV_8UC(channels), image.data._buffer, image.step_bytes);
-    return {};
+Status FrameDecoder::decode_right_lazily(const stereoball_msg_StereoFrame& msg, cv::Size expected,
+                                         cv::Mat& left, RowSource*& right, const RunTasks& run) {
+  right = nullptr;
+  const auto encoding = parse_encoding(msg.encoding);
+  if (encoding != FrameEncoding::kJpeg) {
+    Status st = decode(msg, expected, left, right_view_, run);
+    if (st) right = &whole_right_.emplace(right_view_);
+    return st;
   }
-  if (encoding == FrameEncoding::kYuyv) return convert_yuyv_eye(eye, image, expected, buffer, out);
+  // The left eye whole; the right one started and decoded from the top on the second task
+  // until the left eye is done (run in turn, the left goes first: nothing ahead of the search).
+  std::atomic<bool> left_done{false};
+  Status status[2];
+  run(2, [&](int eye) {
+    if (eye == 0) {
+      status[0] = decode_eye("left", msg.left, *encoding, expected, decoded_left_, left);
+      left_done = true;
+      return;
+    }
+    const auto header = compressed_header("right", msg.right, *encoding, expected);
+    if (!header) {
+      status[1] = Error{header.error()};
+      return;
+    }
+    const int reduction = reduction_ > 1 && decodes_reduced(*header, reduction_) ? reduction_ : 1;
+    const std::span<const std::uint8_t> bytes(msg.right.data._buffer, msg.right.data._length);
+    status[1] = lazy_right_.start("right", bytes, *header, reduction);
+    if (status[1]) status[1] = lazy_right_.decode_ahead(left_done);
+  });
+  Status st = status[0] ? status[1] : status[0];
+  if (!st) {
+    left.release();
+    return st;
+  }
+  right = &lazy_right_;
+  return st;
+}
+
+Result<ImageHeader> FrameDecoder::compressed_header(const char* eye,
+                                                    const stereoball_msg_EyeImage& image,
+                                                    FrameEncoding encoding,
+                                                    cv::Size expected) const {
   const char* name = encoding == FrameEncoding::kJpeg ? "jpeg" : "png";
-  if (auto st = check_size(eye, image.width_px, image.height_px, expected); !st) return st;
+  if (auto st = check_size(eye, image.width_px, image.height_px, expected); !st)
+    return Error{st.error()};
   if (image.data._length == 0 || image.data._buffer == nullptr)
     return Error{std::string(eye) + " " + name + " data is empty"};
   const std::span<const std::uint8_t> bytes(image.data._buffer, image.data._length);
   // The header is read and checked before anything is decoded: the size fields of the
   // sample are only claims, the header decides how much memory decoding takes.
-  const auto header = stereo::read_image_header(bytes);
+  auto header = stereo::read_image_header(bytes);
   if (!header) return Error{std::string(eye) + " " + name + " data: " + header.error()};
   if (std::string_view(stereo::codec_name(header->codec)) != name)
     return Error{std::string(eye) + " image is " + stereo::codec_name(header->codec) +
@@ -121,6 +154,23 @@ Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& 
                  " but the calibration is for " +
                  dims(static_cast<std::uint64_t>(expected.width),
                       static_cast<std::uint64_t>(expected.height))};
+  return header;
+}
+
+Status FrameDecoder::decode_eye(const char* eye, const stereoball_msg_EyeImage& image,
+                                FrameEncoding encoding, cv::Size expected, cv::Mat& buffer,
+                                cv::Mat& out) {
+  if (encoding == FrameEncoding::kBgr8 || encoding == FrameEncoding::kMono8) {
+    const int channels = encoding == FrameEncoding::kBgr8 ? 3 : 1;
+    if (auto st = check_raw_eye(eye, image, channels, expected); !st) return st;
+    out = cv::Mat(static_cast<int>(image.height_px), static_cast<int>(image.width_px),
+                  CV_8UC(channels), image.data._buffer, image.step_bytes);
+    return {};
+  }
+  if (encoding == FrameEncoding::kYuyv) return convert_yuyv_eye(eye, image, expected, buffer, out);
+  const auto header = compressed_header(eye, image, encoding, expected);
+  if (!header) return Error{header.error()};
+  const std::span<const std::uint8_t> bytes(image.data._buffer, image.data._length);
   const Status decoded = reduction_ > 1 && stereo::decodes_reduced(*header, reduction_)
                              ? stereo::decode_bgr_reduced(bytes, *header, reduction_, buffer)
                              : stereo::decode_bgr(bytes, *header, buffer);

@@ -9,6 +9,8 @@
 #include <string>
 
 #include "common/util/result.hpp"
+#include "stereo/core/row_source.hpp"
+#include "stereo/image/lazy_jpeg_eye.hpp"
 #include "stereoball.h"
 
 namespace stereoball::stereo {
@@ -43,6 +45,14 @@ class FrameDecoder {
   Status decode(const stereoball_msg_StereoFrame& msg, cv::Size expected, cv::Mat& left,
                 cv::Mat& right, const RunTasks& run);
 
+  /// As decode(msg, expected, left, right, run), the right eye as rows made when first read
+  /// (valid until the next call; nullptr on an error): a JPEG right eye is decoded only as far
+  /// as its reader makes rows (stereo/image/lazy_jpeg_eye.hpp), beforehand only as far as the
+  /// second task gets while the left eye decodes; any other right eye is whole. A JPEG eye's
+  /// corrupt data below the rows decoded here shows in right->status() once reached.
+  Status decode_right_lazily(const stereoball_msg_StereoFrame& msg, cv::Size expected,
+                             cv::Mat& left, RowSource*& right, const RunTasks& run);
+
   /// From now on, JPEG eyes whose size reduction divides (decodes_reduced) are decoded at
   /// 1/reduction of expected (a consumer that shrinks them by that factor anyway); other eyes
   /// keep their size (bgr8, mono8 and yuyv eyes too: the consumer shrinks them). 1 (the
@@ -52,10 +62,16 @@ class FrameDecoder {
  private:
   Status decode_eye(const char* eye, const stereoball_msg_EyeImage& image, FrameEncoding encoding,
                     cv::Size expected, cv::Mat& buffer, cv::Mat& out);
+  /// The header of a compressed eye, checked against the frame's encoding and expected.
+  Result<ImageHeader> compressed_header(const char* eye, const stereoball_msg_EyeImage& image,
+                                        FrameEncoding encoding, cv::Size expected) const;
   Status convert_yuyv_eye(const char* eye, const stereoball_msg_EyeImage& image, cv::Size expected,
                           cv::Mat& buffer, cv::Mat& out);
 
   cv::Mat decoded_left_, decoded_right_;
+  cv::Mat right_view_;                         // decode_right_lazily's whole right eye
+  std::optional<WholeImageRows> whole_right_;  // ... as rows
+  LazyJpegEye lazy_right_;
   int reduction_ = 1;
 };
 

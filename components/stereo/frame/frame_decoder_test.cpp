@@ -375,6 +375,69 @@ TEST(FrameDecoder, GivenAnyChroma_WhenAJpegEyeIsTruncatedOrCorrupt_ThenTheFrameI
   }
 }
 
+// Given JPEG frames at each jpeg_chroma, full size and reduced by 2, when the right eye is
+// decoded lazily (the tasks in turn, or the right one on a thread of its own), then the left eye
+// and every row of the right one, once made, are decode()'s; a right eye spoiled below its first
+// rows is refused at once or reported by its status once its rows are made, naming the right
+// eye; a raw frame's right eye is whole.
+TEST(FrameDecoder, GivenJpegEyes_WhenTheRightIsDecodedLazily_ThenItsRowsAreDecodesOnceMade) {
+  const cv::Mat img = gradient(CV_8UC3);
+  for (const std::string chroma : {"444", "422", "420"}) {
+    FrameBuilder f = jpeg_frame(img, chroma);
+    for (const int reduction : {1, 2}) {
+      FrameDecoder whole, lazy;
+      whole.set_reduction(reduction);
+      lazy.set_reduction(reduction);
+      cv::Mat l1, r1;
+      ASSERT_TRUE(whole.decode(f.get(), kSize, l1, r1).ok());
+      for (const bool two_threads : {false, true}) {
+        const std::string what = chroma + ", reduction " + std::to_string(reduction) +
+                                 (two_threads ? ", two threads" : ", in turn");
+        cv::Mat l2;
+        sb::stereo::RowSource* r2 = nullptr;
+        const Status st = lazy.decode_right_lazily(
+            f.get(), kSize, l2, r2, two_threads ? run_eyes_on_two_threads : run_eyes_in_turn);
+        ASSERT_TRUE(st.ok()) << what << ": " << st.error();
+        ASSERT_NE(r2, nullptr);
+        EXPECT_EQ(cv::norm(l1, l2, cv::NORM_INF), 0.0) << what;
+        const int rows = r1.rows;
+        r2->make_rows(rows / 3, rows / 2);
+        EXPECT_EQ(cv::norm(r1.rowRange(rows / 3, rows / 2),
+                           r2->image().rowRange(rows / 3, rows / 2), cv::NORM_INF),
+                  0.0)
+            << what;
+        r2->make_all();
+        ASSERT_TRUE(r2->status().ok()) << what;
+        EXPECT_EQ(cv::norm(r1, r2->image(), cv::NORM_INF), 0.0) << what;
+      }
+      for (const auto& [how, bytes] : spoiled_jpegs(f.right)) {
+        FrameBuilder spoiled = f;
+        spoiled.right = bytes;
+        spoiled.msg.right.data._length = static_cast<uint32_t>(bytes.size());
+        cv::Mat l;
+        sb::stereo::RowSource* r = nullptr;
+        Status st = lazy.decode_right_lazily(spoiled.get(), kSize, l, r, run_eyes_in_turn);
+        if (st.ok()) {
+          r->make_all();
+          st = r->status();
+        } else {
+          EXPECT_EQ(r, nullptr) << how;
+          EXPECT_TRUE(l.empty()) << how;
+        }
+        ASSERT_FALSE(st.ok()) << chroma << ", " << how;
+        EXPECT_EQ(st.error().rfind("right jpeg data", 0), 0u) << how << ": " << st.error();
+      }
+    }
+  }
+  FrameBuilder raw;
+  raw.raw(img, img);
+  FrameDecoder d;
+  cv::Mat l;
+  sb::stereo::RowSource* r = nullptr;
+  ASSERT_TRUE(d.decode_right_lazily(raw.get(), kSize, l, r, run_eyes_in_turn).ok());
+  EXPECT_EQ(cv::norm(r->image(), img, cv::NORM_INF), 0.0);
+}
+
 // Given a decoder that decodes JPEG eyes reduced by 2, when an eye's JPEG header disagrees with
 // the calibration (twice its size, which reduced would come out at the calibration's size; or
 // half of it) while the sample's size fields agree, then the frame is refused by the header's

@@ -1,24 +1,22 @@
 #include "stereo/image/image_decode.hpp"
 
+#include "stereo/image/jpeg_decompressor.hpp"
+
 #include <jpeglib.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <array>
-#include <csetjmp>
-#include <cstdio>
 
 namespace stereoball::stereo {
 namespace {
+
+using jpeg_detail::JpegDecompressor;
 
 constexpr std::array<std::uint8_t, 8> kPngMagic = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
 // The IEND chunk every complete PNG ends with: length 0, type, CRC.
 constexpr std::array<std::uint8_t, 12> kPngEnd = {0,   0,   0,    0,    'I',  'E',
                                                   'N', 'D', 0xAE, 0x42, 0x60, 0x82};
-// A progressive JPEG may hold any number of scans, each costing a pass over the image; real
-// encoders write about ten. The cap keeps a crafted stream from costing seconds.
-constexpr int kMaxJpegScans = 64;
-
 std::string dims(int w, int h) {
   return std::to_string(w) + "x" + std::to_string(h);
 }
@@ -27,63 +25,6 @@ std::uint32_t load_be32(const std::uint8_t* p) {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
          std::uint32_t{p[3]};
 }
-
-// libjpeg reports errors through callbacks; this one jumps back with the message, and also
-// turns warnings (corrupt or truncated data that libjpeg would paper over) into errors.
-struct JpegErrors {
-  jpeg_error_mgr mgr{};
-  jpeg_progress_mgr progress{};
-  std::jmp_buf jump{};
-  std::array<char, JMSG_LENGTH_MAX> message{};
-};
-
-[[noreturn]] void jpeg_fail(j_common_ptr cinfo) {
-  auto* errors = reinterpret_cast<JpegErrors*>(cinfo->err);
-  (*cinfo->err->format_message)(cinfo, errors->message.data());
-  std::longjmp(errors->jump, 1);
-}
-
-void jpeg_message(j_common_ptr cinfo, int level) {
-  if (level < 0) jpeg_fail(cinfo);  // a warning: the data is corrupt or truncated
-}
-
-void jpeg_scan_limit(j_common_ptr cinfo) {
-  auto* d = reinterpret_cast<j_decompress_ptr>(cinfo);
-  if (d->is_decompressor && d->input_scan_number > kMaxJpegScans) {
-    auto* errors = reinterpret_cast<JpegErrors*>(cinfo->err);
-    std::snprintf(errors->message.data(), errors->message.size(), "more than %d scans",
-                  kMaxJpegScans);
-    std::longjmp(errors->jump, 1);
-  }
-}
-
-// Owns a decompressor reading from memory with the error handling above.
-class JpegDecompressor {
- public:
-  JpegDecompressor() {
-    info_.err = jpeg_std_error(&errors_.mgr);
-    errors_.mgr.error_exit = jpeg_fail;
-    errors_.mgr.emit_message = jpeg_message;
-    errors_.progress.progress_monitor = jpeg_scan_limit;
-    jpeg_create_decompress(&info_);
-    info_.progress = &errors_.progress;
-  }
-  /// Reads the header of bytes; may longjmp to errors().jump, so call it after setjmp.
-  void read_header(std::span<const std::uint8_t> bytes) {
-    jpeg_mem_src(&info_, bytes.data(), static_cast<unsigned long>(bytes.size()));
-    jpeg_read_header(&info_, TRUE);
-  }
-  ~JpegDecompressor() { jpeg_destroy_decompress(&info_); }
-  JpegDecompressor(const JpegDecompressor&) = delete;
-  JpegDecompressor& operator=(const JpegDecompressor&) = delete;
-
-  jpeg_decompress_struct& info() { return info_; }
-  JpegErrors& errors() { return errors_; }
-
- private:
-  jpeg_decompress_struct info_{};
-  JpegErrors errors_;
-};
 
 Result<ImageHeader> read_jpeg_header(std::span<const std::uint8_t> bytes) {
   JpegDecompressor jpeg;

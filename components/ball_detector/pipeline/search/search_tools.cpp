@@ -15,6 +15,31 @@ constexpr int kColourAngles = 12;
 
 }  // namespace
 
+void RightRows::make_for(const stereo::Rectifier& rectifier, bool rectified,
+                         const cv::Rect& box) const {
+  if (source == nullptr) return;
+  if (rectified) {
+    source->make_rows(box.y, box.y + box.height);
+    return;
+  }
+  const cv::Range rows = rectifier.raw_rows(stereo::Eye::kRight, box);
+  source->make_rows(rows.start, rows.end);
+}
+
+void RightRows::make_for(const stereo::Rectifier& rectifier, bool rectified,
+                         const std::vector<cv::Rect>& boxes) const {
+  if (source == nullptr) return;
+  std::vector<cv::Range> rows;
+  for (const cv::Rect& box : boxes)
+    rows.push_back(rectified ? cv::Range(box.y, box.y + box.height)
+                             : rectifier.raw_rows(stereo::Eye::kRight, box));
+  source->make_rows_top_first(std::move(rows));
+}
+
+void RightRows::make_all() const {
+  if (source != nullptr) source->make_all();
+}
+
 void run_tasks_in_turn(int n, const std::function<void(int)>& task) {
   for (int i = 0; i < n; ++i) task(i);
 }
@@ -43,6 +68,7 @@ int SearchTools::window_margin_px() const {
 
 void SearchTools::rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                                 cv::Mat& out) const {
+  if (eye == stereo::Eye::kRight) right_rows.make_all();
   if (rectified) {
     channel.copyTo(out);
   } else {
@@ -57,6 +83,7 @@ void SearchTools::clear_rectified(const cv::Mat& channel, cv::Mat& out) const {
 
 void SearchTools::rectify_box(const cv::Mat& channel, stereo::Eye eye, bool rectified,
                               const cv::Rect& box, cv::Mat& out) const {
+  if (eye == stereo::Eye::kRight) right_rows.make_for(*rectifier, rectified, box);
   if (rectified) {
     channel(box).copyTo(out(box));
   } else {
@@ -99,7 +126,11 @@ std::vector<Circle> SearchTools::detect_right_in_boxes(const FrameState& frame,
     hints.min_inside_fraction = params.prior_min_inside_fraction;
     hints.centre_margin_px = partner_centre_margin_px(frame.ctx, left, image_size());
   }
-  for (const cv::Rect& box : partner_boxes(frame.ctx, left)) {
+  const std::vector<cv::Rect> boxes = partner_boxes(frame.ctx, left);
+  // A lower box may come first (the boxes follow the left circles' scores): the rows of all of
+  // them are made top first, so a lazily decoded eye never decodes again from the top for them.
+  right_rows.make_for(*rectifier, frame.rectified, boxes);
+  for (const cv::Rect& box : boxes) {
     rectify_box(frame.right_channel, stereo::Eye::kRight, frame.rectified, box, rect_right);
     right_edges_box = box;
     // The left image's thresholds: the box's own statistics depend on what it holds.

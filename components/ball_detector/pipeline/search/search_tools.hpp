@@ -16,6 +16,7 @@
 #include "ball_detector/pipeline/search/coarse_search.hpp"
 #include "ball_detector/pipeline/search/search_strategy.hpp"
 #include "stereo/core/rectifier.hpp"
+#include "stereo/core/row_source.hpp"
 #include "stereo/core/triangulation.hpp"
 
 namespace stereoball::ball_detector {
@@ -32,6 +33,23 @@ void run_tasks_in_turn(int n, const std::function<void(int)>& task);
 /// times them (the pipeline has no clock). Nested calls mean the inner search's time is its own.
 using SearchObserver = std::function<void(SearchPath path, bool started)>;
 
+/// The frame's right eye made as far as the searches read it (a lazily decoded JPEG eye): every
+/// read of the right eye goes through rectify_box, rectify_whole or the pipeline's
+/// rectified_region, which make the raw rows they read first.
+struct RightRows {
+  stereo::RowSource* source = nullptr;  ///< nullptr: the right detector input is whole
+  /// Makes the raw rows box (rectified px) reads: through the rectification's look-up, or box's
+  /// own rows when the eye is rectified already.
+  void make_for(const stereo::Rectifier& rectifier, bool rectified, const cv::Rect& box) const;
+  /// make_for each of boxes, the topmost rows first (boxes read in any order after it).
+  void make_for(const stereo::Rectifier& rectifier, bool rectified,
+                const std::vector<cv::Rect>& boxes) const;
+  /// Makes every row.
+  void make_all() const;
+  /// Whether making rows met corrupt data (the frame is then a bad one).
+  bool failed() const { return source != nullptr && !source->status(); }
+};
+
 /// The pipeline's equipment; one per StereoPipeline, used by one frame at a time.
 struct SearchTools {
   /// params must pass validate().
@@ -47,6 +65,7 @@ struct SearchTools {
   RunTasks run_tasks = run_tasks_in_turn;
   SearchObserver observer;  ///< empty: nobody times the searches
   std::optional<stereo::Rectifier> rectifier;
+  RightRows right_rows;  ///< the frame's right eye, made as far as read (step() sets it)
   std::optional<stereo::Triangulator> triangulator;
   cv::Matx33d ray_from_pixel;     ///< rectified left pixel -> ray in the raw left camera
   cv::Mat rect_left, rect_right;  ///< rectified detector input (whole, or searched boxes only)
