@@ -214,6 +214,14 @@ PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : p
 }
 
 void PixelToPixelDetector::vote(int k) {
+  vote_rows(k, 0, edges_.bits.height(), [this](const VoteLineAt& line) {
+    lines_.push_back(line);
+    plot(lines_.back());
+  });
+}
+
+template <typename Emit>
+void PixelToPixelDetector::vote_rows(int k, int y_begin, int y_end, Emit&& emit) {
   const BitImage& bits = edges_.bits;
   const int w = bits.width();
   const int h = bits.height();
@@ -222,7 +230,7 @@ void PixelToPixelDetector::vote(int k) {
   const int n = 2 * k + 1;
   const int isolate_max_points =
       params_.isolate_arc ? static_cast<int>(params_.isolate_max_points_factor * n) : 0;
-  for (int y = k; y < h - k; ++y) {
+  for (int y = std::max(k, y_begin); y < std::min(h - k, y_end); ++y) {
     bits.for_each_set_in_row(y, [&](int x) {
       if (x < k || x >= w - k) return;
       // The window's rows are read once, step 4's count taken as they are (a popcount per
@@ -246,32 +254,42 @@ void PixelToPixelDetector::vote(int k) {
       }
       if (!line) return;
       // C lies on the half-pixel grid: exact in float for any image size we take.
-      lines_.push_back({static_cast<float>(x + 0.5 * line->c2x),
-                        static_cast<float>(y + 0.5 * line->c2y), line->nx, line->ny});
-      plot(lines_.back());
+      emit(VoteLineAt{static_cast<float>(x + 0.5 * line->c2x),
+                      static_cast<float>(y + 0.5 * line->c2y), line->nx, line->ny});
     });
   }
 }
 
 void PixelToPixelDetector::plot(const VoteLineAt& line) {
-  // A ray meets a cell once: while fewer rays than a cell holds have gone into the zeroed map,
-  // none is full and the increments need no saturation test.
-  const bool may_be_full = rays_plotted_++ >= 0xFFFF;
-  const LineDirection& dir = line_direction(line.nx, line.ny);
-  diag_.increments += plot_ray(accumulator_, static_cast<double>(line.cx) + margin_px_,
-                               static_cast<double>(line.cy) + margin_px_, dir.ray, radii_.min_px,
-                               radii_.max_px, may_be_full);
-  voters_.push_back({line.cx, line.cy, dir.unit_x, dir.unit_y});
+  plot(line, {accumulator_, rays_plotted_, diag_.increments, voters_, direction_scratch_});
 }
 
-const PixelToPixelDetector::LineDirection& PixelToPixelDetector::line_direction(int nx, int ny) {
+void PixelToPixelDetector::plot(const VoteLineAt& line, VoteSink sink) {
+  // A ray meets a cell once: while fewer rays than a cell holds have gone into the zeroed map,
+  // none is full and the increments need no saturation test.
+  const bool may_be_full = sink.rays_plotted++ >= 0xFFFF;
+  const LineDirection& dir = line_direction(line.nx, line.ny, sink.scratch);
+  sink.increments += plot_ray(sink.accumulator, static_cast<double>(line.cx) + margin_px_,
+                              static_cast<double>(line.cy) + margin_px_, dir.ray, radii_.min_px,
+                              radii_.max_px, may_be_full);
+  sink.voters.push_back({line.cx, line.cy, dir.unit_x, dir.unit_y});
+}
+
+void PixelToPixelDetector::fill_directions() {
+  const int span = direction_span_;
+  for (int nx = -span; nx <= span; ++nx)
+    for (int ny = -span; ny <= span; ++ny) (void)line_direction(nx, ny, direction_scratch_);
+}
+
+const PixelToPixelDetector::LineDirection& PixelToPixelDetector::line_direction(
+    int nx, int ny, LineDirection& scratch) {
   // A few hundred directions recur over tens of thousands of lines: the square roots and
   // divisions are done once per direction, with the same operations (the same bits).
   const int span = direction_span_;
   const bool in_table = nx >= -span && nx <= span && ny >= -span && ny <= span;
   LineDirection& d =
       in_table ? directions_[static_cast<std::size_t>((nx + span) * (2 * span + 1) + ny + span)]
-               : direction_scratch_;
+               : scratch;
   if (d.ready) return d;
   d.ray = ray_direction(nx, ny);
   const float norm = fast_hypot(static_cast<float>(nx), static_cast<float>(ny));
@@ -340,22 +358,22 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
   return circles_of_votes();
 }
 
-bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey) {
+bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey, const VoteTasks& tasks) {
   start(std::nullopt);
   edges_ready_ = false;
   orientation_ready_ = false;  // planes of the previous edge map
   if (!validate_image(bgr_or_grey).ok()) return false;
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
   edges_ready_ = true;
-  vote_on_edges();
+  vote_on_edges(tasks);
   return true;
 }
 
-bool PixelToPixelDetector::cast_votes_on_last_edges() {
+bool PixelToPixelDetector::cast_votes_on_last_edges(const VoteTasks& tasks) {
   if (!edges_ready_) return false;
   start(std::nullopt);
   // The orientation planes, if built, are this edge map's: still valid.
-  vote_on_edges();
+  vote_on_edges(tasks);
   return true;
 }
 
@@ -433,15 +451,112 @@ std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   return circles_on(edges_);
 }
 
-void PixelToPixelDetector::vote_on_edges() {
+void PixelToPixelDetector::vote_on_edges(const VoteTasks& tasks) {
   const cv::Size size = edges_.edges.size();
   map_in_store(accumulator_store_, accumulator_, size.height + 2 * margin_px_,
                size.width + 2 * margin_px_, CV_16UC1);
-  accumulator_.setTo(0);
   rays_plotted_ = 0;
   lines_.clear();
-  for (int k : params_.k_values) vote(k);
+  if (tasks.run && tasks.shares > 1) {
+    vote_in_shares(tasks);
+  } else {
+    accumulator_.setTo(0);
+    for (int k : params_.k_values) vote(k);
+  }
   votes_ready_ = true;
+}
+
+void PixelToPixelDetector::vote_in_shares(const VoteTasks& tasks) {
+  const int n = std::min(tasks.shares, VoteTasks::kMaxVoteShares);
+  // What the shares read and would otherwise make on first use is made first: they only read.
+  if (params_.isolate_arc && params_.isolate_by_orientation && !orientation_ready_)
+    build_orientation_planes();
+  fill_directions();
+  const std::vector<std::vector<int>> rows = share_rows(n);
+  if (shares_.size() < static_cast<std::size_t>(n)) shares_.resize(static_cast<std::size_t>(n));
+  for (int s = 1; s < n; ++s) {
+    VoteShare& share = shares_[static_cast<std::size_t>(s)];
+    map_in_store(share.store, share.accumulator, accumulator_.rows, accumulator_.cols, CV_16UC1);
+  }
+  tasks.run(n, [&](int s) { vote_share(s, rows); });
+  join_shares(n);
+}
+
+std::vector<std::vector<int>> PixelToPixelDetector::share_rows(int n) const {
+  // A share's time follows its edge points (each is a window to judge), not its rows.
+  const BitImage& bits = edges_.bits;
+  const int h = bits.height();
+  const int words = (bits.width() + 63) / 64;
+  std::vector<std::int64_t> before(static_cast<std::size_t>(h) + 1, 0);  // points in rows < y
+  for (int y = 0; y < h; ++y) {
+    std::int64_t count = 0;
+    for (int i = 0; i < words; ++i) count += std::popcount(bits.row(y)[i]);
+    before[static_cast<std::size_t>(y) + 1] = before[static_cast<std::size_t>(y)] + count;
+  }
+  std::vector<std::vector<int>> rows;
+  for (int k : params_.k_values) {
+    const int first = std::min(k, h), last = std::max(first, h - k);
+    const std::int64_t from = before[static_cast<std::size_t>(first)];
+    const std::int64_t total = before[static_cast<std::size_t>(last)] - from;
+    std::vector<int> bounds{first};
+    for (int s = 1; s < n; ++s) {
+      const std::int64_t target = from + total * s / n;
+      const auto at =
+          std::lower_bound(before.begin() + bounds.back(), before.begin() + last, target);
+      bounds.push_back(static_cast<int>(at - before.begin()));
+    }
+    bounds.push_back(last);
+    rows.push_back(std::move(bounds));
+  }
+  return rows;
+}
+
+void PixelToPixelDetector::vote_share(int s, const std::vector<std::vector<int>>& rows) {
+  VoteShare& share = shares_[static_cast<std::size_t>(s)];
+  cv::Mat& accumulator = s == 0 ? accumulator_ : share.accumulator;
+  accumulator.setTo(0);
+  share.lines.clear();
+  share.voters.clear();
+  share.k_ends.clear();
+  share.rays_plotted = 0;
+  share.increments = 0;
+  const VoteSink sink{accumulator, share.rays_plotted, share.increments, share.voters,
+                      share.scratch};
+  for (std::size_t j = 0; j < params_.k_values.size(); ++j) {
+    vote_rows(params_.k_values[j], rows[j][static_cast<std::size_t>(s)],
+              rows[j][static_cast<std::size_t>(s) + 1], [&](const VoteLineAt& line) {
+                share.lines.push_back(line);
+                plot(line, sink);
+              });
+    share.k_ends.push_back(share.lines.size());
+  }
+}
+
+void PixelToPixelDetector::join_shares(int n) {
+  // Lines and voters in the order one task would have made them: k by k, rows in order.
+  voters_.clear();
+  for (std::size_t j = 0; j < params_.k_values.size(); ++j) {
+    for (int s = 0; s < n; ++s) {
+      const VoteShare& share = shares_[static_cast<std::size_t>(s)];
+      const auto begin = static_cast<std::ptrdiff_t>(j == 0 ? 0 : share.k_ends[j - 1]);
+      const auto end = static_cast<std::ptrdiff_t>(share.k_ends[j]);
+      lines_.insert(lines_.end(), share.lines.begin() + begin, share.lines.begin() + end);
+      voters_.insert(voters_.end(), share.voters.begin() + begin, share.voters.begin() + end);
+    }
+  }
+  // Each cell holds min(votes, 0xFFFF), as one map plotted with saturation does.
+  for (int s = 0; s < n; ++s) {
+    const VoteShare& share = shares_[static_cast<std::size_t>(s)];
+    rays_plotted_ += share.rays_plotted;
+    diag_.increments += share.increments;
+    if (s == 0) continue;
+    for (int y = 0; y < accumulator_.rows; ++y) {
+      std::uint16_t* to = accumulator_.ptr<std::uint16_t>(y);
+      const std::uint16_t* from = share.accumulator.ptr<std::uint16_t>(y);
+      for (int x = 0; x < accumulator_.cols; ++x)
+        to[x] = static_cast<std::uint16_t>(std::min(to[x] + from[x], 0xFFFF));
+    }
+  }
 }
 
 std::vector<Circle> PixelToPixelDetector::circles_on(const EdgeMap& edges) {

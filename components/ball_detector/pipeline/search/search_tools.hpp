@@ -23,7 +23,7 @@ namespace stereoball::ball_detector {
 /// Runs task(0) .. task(n - 1), possibly at the same time, and returns once all are done. Each
 /// task touches only its own state. The pipeline owns no threads: its caller (the node) may
 /// give it a runner that spreads the tasks over cores.
-using RunTasks = std::function<void(int n, const std::function<void(int)>& task)>;
+using RunTasks = TaskRunner;
 /// Runs the tasks one after the other (the pipeline's default).
 void run_tasks_in_turn(int n, const std::function<void(int)>& task);
 
@@ -45,6 +45,7 @@ struct SearchTools {
   PixelToPixelDetector seed_detector;  ///< the brightness-free searches' left detector
   CoarseSearch coarse;  ///< the whole-frame and band searches' reduced left eye (wide frames)
   RunTasks run_tasks = run_tasks_in_turn;
+  int task_threads = 1;     ///< how many tasks run_tasks runs at once (1: in turn)
   SearchObserver observer;  ///< empty: nobody times the searches
   std::optional<stereo::Rectifier> rectifier;
   std::optional<stereo::Triangulator> triangulator;
@@ -62,6 +63,10 @@ struct SearchTools {
   /// observer(path, started) if there is one.
   void observe(SearchPath path, bool started) const {
     if (observer) observer(path, started);
+  }
+  /// How the whole left eye's votes are cast: split over run_tasks when it runs tasks at once.
+  VoteTasks left_vote_tasks() const {
+    return task_threads > 1 ? VoteTasks{run_tasks, task_threads} : VoteTasks{};
   }
   /// The calibration's image size, px (0x0 without one).
   cv::Size image_size() const;

@@ -23,9 +23,11 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
     }
   }
   // The coarse try's edges are this image's, made as cast_votes makes them: only the votes are
-  // new at full width.
-  const bool voted = edges_made ? tools.left_detector.cast_votes_on_last_edges()
-                                : tools.left_detector.cast_votes(tools.rect_left);
+  // new at full width. With a runner that runs tasks at once, the votes are split over it: they
+  // come before anything else can start, and are a third of a lost ball's frame.
+  const VoteTasks vote_tasks = tools.left_vote_tasks();
+  const bool voted = edges_made ? tools.left_detector.cast_votes_on_last_edges(vote_tasks)
+                                : tools.left_detector.cast_votes(tools.rect_left, vote_tasks);
   // Task 0 finishes the search (peaks, right eye, pairing). When a band search is due, the
   // other task searches the left eye's radius bands on the same votes meanwhile, in case it
   // pairs nothing: on another core this takes the bands out of the frame's time, and the work
