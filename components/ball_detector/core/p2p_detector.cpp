@@ -214,8 +214,8 @@ PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : p
 }
 
 void PixelToPixelDetector::vote(int k) {
-  vote_rows(k, 0, edges_.bits.height(), [this](const VoteLineAt& line) {
-    lines_.push_back(line);
+  vote_rows(k, 0, edges_.bits.height(), [this](float cx, float cy, int nx, int ny) {
+    lines_.push_back({cx, cy, nx, ny});
     plot(lines_.back());
   });
 }
@@ -230,7 +230,8 @@ void PixelToPixelDetector::vote_rows(int k, int y_begin, int y_end, Emit&& emit)
   const int n = 2 * k + 1;
   const int isolate_max_points =
       params_.isolate_arc ? static_cast<int>(params_.isolate_max_points_factor * n) : 0;
-  for (int y = std::max(k, y_begin); y < std::min(h - k, y_end); ++y) {
+  const int y_last = std::min(h - k, y_end);
+  for (int y = std::max(k, y_begin); y < y_last; ++y) {
     bits.for_each_set_in_row(y, [&](int x) {
       if (x < k || x >= w - k) return;
       // The window's rows are read once, step 4's count taken as they are (a popcount per
@@ -254,42 +255,50 @@ void PixelToPixelDetector::vote_rows(int k, int y_begin, int y_end, Emit&& emit)
       }
       if (!line) return;
       // C lies on the half-pixel grid: exact in float for any image size we take.
-      emit(VoteLineAt{static_cast<float>(x + 0.5 * line->c2x),
-                      static_cast<float>(y + 0.5 * line->c2y), line->nx, line->ny});
+      emit(static_cast<float>(x + 0.5 * line->c2x), static_cast<float>(y + 0.5 * line->c2y),
+           line->nx, line->ny);
     });
   }
 }
 
-void PixelToPixelDetector::plot(const VoteLineAt& line) {
-  plot(line, {accumulator_, rays_plotted_, diag_.increments, voters_, direction_scratch_});
-}
-
-void PixelToPixelDetector::plot(const VoteLineAt& line, VoteSink sink) {
+// Inlined into both callers: the one-run plot() costs what it did before shares existed.
+[[gnu::always_inline]] inline void PixelToPixelDetector::plot_into(const VoteLineAt& line,
+                                                                   cv::Mat& accumulator,
+                                                                   std::int64_t& rays_plotted,
+                                                                   std::int64_t& increments,
+                                                                   std::vector<Voter>& voters) {
   // A ray meets a cell once: while fewer rays than a cell holds have gone into the zeroed map,
   // none is full and the increments need no saturation test.
-  const bool may_be_full = sink.rays_plotted++ >= 0xFFFF;
-  const LineDirection& dir = line_direction(line.nx, line.ny, sink.scratch);
-  sink.increments += plot_ray(sink.accumulator, static_cast<double>(line.cx) + margin_px_,
-                              static_cast<double>(line.cy) + margin_px_, dir.ray, radii_.min_px,
-                              radii_.max_px, may_be_full);
-  sink.voters.push_back({line.cx, line.cy, dir.unit_x, dir.unit_y});
+  const bool may_be_full = rays_plotted++ >= 0xFFFF;
+  const LineDirection& dir = line_direction(line.nx, line.ny);
+  increments += plot_ray(accumulator, static_cast<double>(line.cx) + margin_px_,
+                         static_cast<double>(line.cy) + margin_px_, dir.ray, radii_.min_px,
+                         radii_.max_px, may_be_full);
+  voters.push_back({line.cx, line.cy, dir.unit_x, dir.unit_y});
+}
+
+void PixelToPixelDetector::plot(const VoteLineAt& line) {
+  plot_into(line, accumulator_, rays_plotted_, diag_.increments, voters_);
+}
+
+void PixelToPixelDetector::plot(const VoteLineAt& line, cv::Mat& accumulator, VoteShare& share) {
+  plot_into(line, accumulator, share.rays_plotted, share.increments, share.voters);
 }
 
 void PixelToPixelDetector::fill_directions() {
   const int span = direction_span_;
   for (int nx = -span; nx <= span; ++nx)
-    for (int ny = -span; ny <= span; ++ny) (void)line_direction(nx, ny, direction_scratch_);
+    for (int ny = -span; ny <= span; ++ny) (void)line_direction(nx, ny);
 }
 
-const PixelToPixelDetector::LineDirection& PixelToPixelDetector::line_direction(
-    int nx, int ny, LineDirection& scratch) {
+const PixelToPixelDetector::LineDirection& PixelToPixelDetector::line_direction(int nx, int ny) {
   // A few hundred directions recur over tens of thousands of lines: the square roots and
   // divisions are done once per direction, with the same operations (the same bits).
   const int span = direction_span_;
   const bool in_table = nx >= -span && nx <= span && ny >= -span && ny <= span;
   LineDirection& d =
       in_table ? directions_[static_cast<std::size_t>((nx + span) * (2 * span + 1) + ny + span)]
-               : scratch;
+               : direction_scratch_;
   if (d.ready) return d;
   d.ray = ray_direction(nx, ny);
   const float norm = fast_hypot(static_cast<float>(nx), static_cast<float>(ny));
@@ -469,6 +478,8 @@ void PixelToPixelDetector::vote_on_edges(const VoteTasks& tasks) {
 void PixelToPixelDetector::vote_in_shares(const VoteTasks& tasks) {
   const int n = std::min(tasks.shares, VoteTasks::kMaxVoteShares);
   // What the shares read and would otherwise make on first use is made first: they only read.
+  // Every line's direction lies in the table (|nx|, |ny| <= 2 k <= direction_span_), never in
+  // its shared scratch.
   if (params_.isolate_arc && params_.isolate_by_orientation && !orientation_ready_)
     build_orientation_planes();
   fill_directions();
@@ -520,13 +531,11 @@ void PixelToPixelDetector::vote_share(int s, const std::vector<std::vector<int>>
   share.k_ends.clear();
   share.rays_plotted = 0;
   share.increments = 0;
-  const VoteSink sink{accumulator, share.rays_plotted, share.increments, share.voters,
-                      share.scratch};
   for (std::size_t j = 0; j < params_.k_values.size(); ++j) {
     vote_rows(params_.k_values[j], rows[j][static_cast<std::size_t>(s)],
-              rows[j][static_cast<std::size_t>(s) + 1], [&](const VoteLineAt& line) {
-                share.lines.push_back(line);
-                plot(line, sink);
+              rows[j][static_cast<std::size_t>(s) + 1], [&](float cx, float cy, int nx, int ny) {
+                share.lines.push_back({cx, cy, nx, ny});
+                plot(share.lines.back(), accumulator, share);
               });
     share.k_ends.push_back(share.lines.size());
   }

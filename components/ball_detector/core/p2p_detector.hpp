@@ -366,15 +366,6 @@ class PixelToPixelDetector final : public CircleDetector {
     float unit_x = 0.0f, unit_y = 0.0f;
     bool ready = false;
   };
-  // Where one run of votes goes: the accumulator, its ray count (since zeroed), the increments,
-  // the voters, and the scratch for a direction outside the table.
-  struct VoteSink {
-    cv::Mat& accumulator;
-    std::int64_t& rays_plotted;
-    std::int64_t& increments;
-    std::vector<Voter>& voters;
-    LineDirection& scratch;
-  };
   // One task's share of split votes (VoteTasks): its rows of each k, its own accumulator (the
   // first share's is accumulator_), and its lines and voters, k_ends[j] after k_values[j]'s.
   struct VoteShare {
@@ -383,14 +374,18 @@ class PixelToPixelDetector final : public CircleDetector {
     std::vector<Voter> voters;
     std::vector<std::size_t> k_ends;
     std::int64_t rays_plotted = 0, increments = 0;
-    LineDirection scratch;
   };
   void vote(int k);
-  // The lines of k's windows centred on rows [y_begin, y_end), in raster order, to emit.
+  // The lines of k's windows centred on rows [y_begin, y_end), in raster order, to
+  // emit(cx, cy, nx, ny) (a VoteLineAt's fields).
   template <typename Emit>
   void vote_rows(int k, int y_begin, int y_end, Emit&& emit);
   void plot(const VoteLineAt& line);
-  void plot(const VoteLineAt& line, VoteSink sink);
+  void plot(const VoteLineAt& line, cv::Mat& accumulator, VoteShare& share);
+  // plot()'s work into the given accumulator, its ray count (since zeroed), the increments, the
+  // voters.
+  void plot_into(const VoteLineAt& line, cv::Mat& accumulator, std::int64_t& rays_plotted,
+                 std::int64_t& increments, std::vector<Voter>& voters);
   void vote_in_shares(const VoteTasks& tasks);
   // Per k, the rows bounding each of n shares (n + 1 each): about as many edge points each.
   std::vector<std::vector<int>> share_rows(int n) const;
@@ -432,7 +427,7 @@ class PixelToPixelDetector final : public CircleDetector {
   bool orientation_ready_ = false;
   cv::Mat accumulator_;
   std::int64_t rays_plotted_ = 0;  // into accumulator_ since it was zeroed
-  const LineDirection& line_direction(int nx, int ny, LineDirection& scratch);
+  const LineDirection& line_direction(int nx, int ny);
   // Every direction of the table made: line_direction then only reads it (tasks share it).
   void fill_directions();
   std::vector<LineDirection> directions_;
