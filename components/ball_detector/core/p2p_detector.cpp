@@ -558,13 +558,7 @@ void PixelToPixelDetector::join_shares(int n) {
     const VoteShare& share = shares_[static_cast<std::size_t>(s)];
     rays_plotted_ += share.rays_plotted;
     diag_.increments += share.increments;
-    if (s == 0) continue;
-    for (int y = 0; y < accumulator_.rows; ++y) {
-      std::uint16_t* to = accumulator_.ptr<std::uint16_t>(y);
-      const std::uint16_t* from = share.accumulator.ptr<std::uint16_t>(y);
-      for (int x = 0; x < accumulator_.cols; ++x)
-        to[x] = static_cast<std::uint16_t>(std::min(to[x] + from[x], 0xFFFF));
-    }
+    if (s > 0) cv::add(accumulator_, share.accumulator, accumulator_);  // saturating for CV_16U
   }
 }
 

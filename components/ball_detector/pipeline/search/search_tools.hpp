@@ -76,6 +76,10 @@ struct SearchTools {
   int window_margin_px() const;
   /// channel (raw, or rectified when rectified) rectified whole into out.
   void rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified, cv::Mat& out) const;
+  /// rectify_whole() in row bands, one per task of run_tasks when it runs tasks at once (each
+  /// pixel is its own: the same image).
+  void rectify_whole_in_tasks(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                              cv::Mat& out) const;
   /// out: a zero image of the calibration's size and channel's type.
   void clear_rectified(const cv::Mat& channel, cv::Mat& out) const;
   /// box (rectified px) of channel rectified into out.
