@@ -215,10 +215,18 @@ PixelToPixelDetector::PixelToPixelDetector(const PixelToPixelParams& params) : p
 }
 
 void PixelToPixelDetector::vote(int k) {
+  vote_rows(k, 0, edges_.bits.height(), [this](float cx, float cy, int nx, int ny) {
+    lines_.push_back({cx, cy, nx, ny});
+    plot(lines_.back());
+  });
+}
+
+template <typename Emit>
+void PixelToPixelDetector::vote_rows(int k, int y_begin, int y_end, Emit&& emit) {
   // The packed windows' loops unrolled for each k (p2p_rules.hpp).
-  if (k == 1) return vote_packed<1>();
-  if (k == 2) return vote_packed<2>();
-  if (k == 3) return vote_packed<3>();
+  if (k == 1) return vote_packed<1>(y_begin, y_end, emit);
+  if (k == 2) return vote_packed<2>(y_begin, y_end, emit);
+  if (k == 3) return vote_packed<3>(y_begin, y_end, emit);
   static_assert(kPackedMaxK == 3);
   const BitImage& bits = edges_.bits;
   const int w = bits.width();
@@ -228,7 +236,8 @@ void PixelToPixelDetector::vote(int k) {
   const int n = 2 * k + 1;
   const int isolate_max_points =
       params_.isolate_arc ? static_cast<int>(params_.isolate_max_points_factor * n) : 0;
-  for (int y = k; y < h - k; ++y) {
+  const int y_last = std::min(h - k, y_end);
+  for (int y = std::max(k, y_begin); y < y_last; ++y) {
     bits.for_each_set_in_row(y, [&](int x) {
       if (x < k || x >= w - k) return;
       // The window's rows are read once, step 4's count taken as they are (a popcount per
@@ -252,16 +261,15 @@ void PixelToPixelDetector::vote(int k) {
       }
       if (!line) return;
       // C lies on the half-pixel grid: exact in float for any image size we take.
-      lines_.push_back({static_cast<float>(x + 0.5 * line->c2x),
-                        static_cast<float>(y + 0.5 * line->c2y), line->nx, line->ny});
-      plot(lines_.back());
+      emit(static_cast<float>(x + 0.5 * line->c2x), static_cast<float>(y + 0.5 * line->c2y),
+           line->nx, line->ny);
     });
   }
 }
 
-template <int k>
-void PixelToPixelDetector::vote_packed() {
-  // vote() for windows that fit one word (p2p_rules.hpp): the same rules on the same points,
+template <int k, typename Emit>
+void PixelToPixelDetector::vote_packed(int y_begin, int y_end, Emit& emit) {
+  // vote_rows() for windows that fit one word (p2p_rules.hpp): the same rules on the same points,
   // each a few word operations instead of a loop over rows.
   const BitImage& bits = edges_.bits;
   const int w = bits.width();
@@ -269,7 +277,8 @@ void PixelToPixelDetector::vote_packed() {
   const int n = 2 * k + 1;
   const int isolate_max_points =
       params_.isolate_arc ? static_cast<int>(params_.isolate_max_points_factor * n) : 0;
-  for (int y = k; y < h - k; ++y) {
+  const int y_last = std::min(h - k, y_end);
+  for (int y = std::max(k, y_begin); y < y_last; ++y) {
     bits.for_each_set_in_row(y, [&](int x) {
       if (x < k || x >= w - k) return;
       const std::uint64_t window = packed_window(bits, x, y, k);
@@ -288,9 +297,8 @@ void PixelToPixelDetector::vote_packed() {
       }
       const std::optional<VoteLine> line = vote_line_packed(arc, k);
       if (!line) return;
-      lines_.push_back({static_cast<float>(x + 0.5 * line->c2x),
-                        static_cast<float>(y + 0.5 * line->c2y), line->nx, line->ny});
-      plot(lines_.back());
+      emit(static_cast<float>(x + 0.5 * line->c2x), static_cast<float>(y + 0.5 * line->c2y),
+           line->nx, line->ny);
     });
   }
 }
@@ -308,15 +316,34 @@ bool PixelToPixelDetector::isolate_packed(int x, int y, std::uint64_t window, st
   return connected_packed(aligned, k, arc, n) == n;
 }
 
-void PixelToPixelDetector::plot(const VoteLineAt& line) {
+// Inlined into both callers: the one-run plot() costs what it did before shares existed.
+[[gnu::always_inline]] inline void PixelToPixelDetector::plot_into(const VoteLineAt& line,
+                                                                   cv::Mat& accumulator,
+                                                                   std::int64_t& rays_plotted,
+                                                                   std::int64_t& increments,
+                                                                   std::vector<Voter>& voters) {
   // A ray meets a cell once: while fewer rays than a cell holds have gone into the zeroed map,
   // none is full and the increments need no saturation test.
-  const bool may_be_full = rays_plotted_++ >= 0xFFFF;
+  const bool may_be_full = rays_plotted++ >= 0xFFFF;
   const LineDirection& dir = line_direction(line.nx, line.ny);
-  diag_.increments += plot_ray(accumulator_, static_cast<double>(line.cx) + margin_px_,
-                               static_cast<double>(line.cy) + margin_px_, dir.ray, radii_.min_px,
-                               radii_.max_px, may_be_full);
-  voters_.push_back({line.cx, line.cy, dir.unit_x, dir.unit_y});
+  increments += plot_ray(accumulator, static_cast<double>(line.cx) + margin_px_,
+                         static_cast<double>(line.cy) + margin_px_, dir.ray, radii_.min_px,
+                         radii_.max_px, may_be_full);
+  voters.push_back({line.cx, line.cy, dir.unit_x, dir.unit_y});
+}
+
+void PixelToPixelDetector::plot(const VoteLineAt& line) {
+  plot_into(line, accumulator_, rays_plotted_, diag_.increments, voters_);
+}
+
+void PixelToPixelDetector::plot(const VoteLineAt& line, cv::Mat& accumulator, VoteShare& share) {
+  plot_into(line, accumulator, share.rays_plotted, share.increments, share.voters);
+}
+
+void PixelToPixelDetector::fill_directions() {
+  const int span = direction_span_;
+  for (int nx = -span; nx <= span; ++nx)
+    for (int ny = -span; ny <= span; ++ny) (void)line_direction(nx, ny);
 }
 
 const PixelToPixelDetector::LineDirection& PixelToPixelDetector::line_direction(int nx, int ny) {
@@ -395,22 +422,22 @@ std::vector<Circle> PixelToPixelDetector::detect(const cv::Mat& bgr_or_grey) {
   return circles_of_votes();
 }
 
-bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey) {
+bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey, const VoteTasks& tasks) {
   start(std::nullopt);
   edges_ready_ = false;
   orientation_ready_ = false;  // planes of the previous edge map
   if (!validate_image(bgr_or_grey).ok()) return false;
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
   edges_ready_ = true;
-  vote_on_edges();
+  vote_on_edges(tasks);
   return true;
 }
 
-bool PixelToPixelDetector::cast_votes_on_last_edges() {
+bool PixelToPixelDetector::cast_votes_on_last_edges(const VoteTasks& tasks) {
   if (!edges_ready_) return false;
   start(std::nullopt);
   // The orientation planes, if built, are this edge map's: still valid.
-  vote_on_edges();
+  vote_on_edges(tasks);
   return true;
 }
 
@@ -488,15 +515,106 @@ std::vector<Circle> PixelToPixelDetector::detect_on_edges() {
   return circles_on(edges_);
 }
 
-void PixelToPixelDetector::vote_on_edges() {
+void PixelToPixelDetector::vote_on_edges(const VoteTasks& tasks) {
   const cv::Size size = edges_.edges.size();
   map_in_store(accumulator_store_, accumulator_, size.height + 2 * margin_px_,
                size.width + 2 * margin_px_, CV_16UC1);
-  accumulator_.setTo(0);
   rays_plotted_ = 0;
   lines_.clear();
-  for (int k : params_.k_values) vote(k);
+  if (tasks.run && tasks.shares > 1) {
+    vote_in_shares(tasks);
+  } else {
+    accumulator_.setTo(0);
+    for (int k : params_.k_values) vote(k);
+  }
   votes_ready_ = true;
+}
+
+void PixelToPixelDetector::vote_in_shares(const VoteTasks& tasks) {
+  const int n = std::min(tasks.shares, VoteTasks::kMaxVoteShares);
+  // What the shares read and would otherwise make on first use is made first: they only read.
+  // Every line's direction lies in the table (|nx|, |ny| <= 2 k <= direction_span_), never in
+  // its shared scratch.
+  if (params_.isolate_arc && params_.isolate_by_orientation && !orientation_ready_)
+    build_orientation_planes();
+  fill_directions();
+  const std::vector<std::vector<int>> rows = share_rows(n);
+  if (shares_.size() < static_cast<std::size_t>(n)) shares_.resize(static_cast<std::size_t>(n));
+  for (int s = 1; s < n; ++s) {
+    VoteShare& share = shares_[static_cast<std::size_t>(s)];
+    map_in_store(share.store, share.accumulator, accumulator_.rows, accumulator_.cols, CV_16UC1);
+  }
+  tasks.run(n, [&](int s) { vote_share(s, rows); });
+  join_shares(n);
+}
+
+std::vector<std::vector<int>> PixelToPixelDetector::share_rows(int n) const {
+  // A share's time follows its edge points (each is a window to judge), not its rows.
+  const BitImage& bits = edges_.bits;
+  const int h = bits.height();
+  const int words = (bits.width() + 63) / 64;
+  std::vector<std::int64_t> before(static_cast<std::size_t>(h) + 1, 0);  // points in rows < y
+  for (int y = 0; y < h; ++y) {
+    std::int64_t count = 0;
+    for (int i = 0; i < words; ++i) count += std::popcount(bits.row(y)[i]);
+    before[static_cast<std::size_t>(y) + 1] = before[static_cast<std::size_t>(y)] + count;
+  }
+  std::vector<std::vector<int>> rows;
+  for (int k : params_.k_values) {
+    const int first = std::min(k, h), last = std::max(first, h - k);
+    const std::int64_t from = before[static_cast<std::size_t>(first)];
+    const std::int64_t total = before[static_cast<std::size_t>(last)] - from;
+    std::vector<int> bounds{first};
+    for (int s = 1; s < n; ++s) {
+      const std::int64_t target = from + total * s / n;
+      const auto at =
+          std::lower_bound(before.begin() + bounds.back(), before.begin() + last, target);
+      bounds.push_back(static_cast<int>(at - before.begin()));
+    }
+    bounds.push_back(last);
+    rows.push_back(std::move(bounds));
+  }
+  return rows;
+}
+
+void PixelToPixelDetector::vote_share(int s, const std::vector<std::vector<int>>& rows) {
+  VoteShare& share = shares_[static_cast<std::size_t>(s)];
+  cv::Mat& accumulator = s == 0 ? accumulator_ : share.accumulator;
+  accumulator.setTo(0);
+  share.lines.clear();
+  share.voters.clear();
+  share.k_ends.clear();
+  share.rays_plotted = 0;
+  share.increments = 0;
+  for (std::size_t j = 0; j < params_.k_values.size(); ++j) {
+    vote_rows(params_.k_values[j], rows[j][static_cast<std::size_t>(s)],
+              rows[j][static_cast<std::size_t>(s) + 1], [&](float cx, float cy, int nx, int ny) {
+                share.lines.push_back({cx, cy, nx, ny});
+                plot(share.lines.back(), accumulator, share);
+              });
+    share.k_ends.push_back(share.lines.size());
+  }
+}
+
+void PixelToPixelDetector::join_shares(int n) {
+  // Lines and voters in the order one task would have made them: k by k, rows in order.
+  voters_.clear();
+  for (std::size_t j = 0; j < params_.k_values.size(); ++j) {
+    for (int s = 0; s < n; ++s) {
+      const VoteShare& share = shares_[static_cast<std::size_t>(s)];
+      const auto begin = static_cast<std::ptrdiff_t>(j == 0 ? 0 : share.k_ends[j - 1]);
+      const auto end = static_cast<std::ptrdiff_t>(share.k_ends[j]);
+      lines_.insert(lines_.end(), share.lines.begin() + begin, share.lines.begin() + end);
+      voters_.insert(voters_.end(), share.voters.begin() + begin, share.voters.begin() + end);
+    }
+  }
+  // Each cell holds min(votes, 0xFFFF), as one map plotted with saturation does.
+  for (int s = 0; s < n; ++s) {
+    const VoteShare& share = shares_[static_cast<std::size_t>(s)];
+    rays_plotted_ += share.rays_plotted;
+    diag_.increments += share.increments;
+    if (s > 0) cv::add(accumulator_, share.accumulator, accumulator_);  // saturating for CV_16U
+  }
 }
 
 std::vector<Circle> PixelToPixelDetector::circles_on(const EdgeMap& edges) {

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -196,6 +197,19 @@ class VoterRows {
   std::vector<float> prefix_max_, suffix_min_;
 };
 
+/// Runs task(0) .. task(n - 1), possibly at the same time, and returns once all are done; each
+/// task touches only its own state. The caller's: the core starts no threads.
+using TaskRunner = std::function<void(int n, const std::function<void(int)>& task)>;
+
+/// How the voting of cast_votes() runs: in turn (shares <= 1 or no runner), or in shares tasks
+/// of run, each voting on its part of the rows of every k into its own accumulator, added after
+/// (saturating, as one map saturates): the same accumulator, voters and lines either way.
+struct VoteTasks {
+  TaskRunner run;  ///< empty = in turn
+  int shares = 1;  ///< tasks the votes are split into, [1, kMaxVoteShares]
+  static constexpr int kMaxVoteShares = 8;
+};
+
 /// The circles one accumulator peak gives, best first: none, one, or one and a circle of another
 /// size nested around it (CandidateOptions::nested_circles).
 using PeakCircles = std::vector<Circle>;
@@ -291,10 +305,11 @@ class PixelToPixelDetector final : public CircleDetector {
   /// detect(bgr_or_grey) in two halves, for a caller that runs other work beside the second:
   /// the edge step and the voting (false for an invalid image: nothing to find); after it,
   /// other detectors may redetect_from() this one while it runs circles_of_votes().
-  bool cast_votes(const cv::Mat& bgr_or_grey);
+  /// tasks: how the voting runs (VoteTasks; the same votes either way).
+  bool cast_votes(const cv::Mat& bgr_or_grey, const VoteTasks& tasks = {});
   /// cast_votes() of the last image (find_edges or cast_votes) on its edge map, without the
   /// edge step again: the same votes; false before any valid image.
-  bool cast_votes_on_last_edges();
+  bool cast_votes_on_last_edges(const VoteTasks& tasks = {});
   /// The second half: the peaks of the last votes refined and scored, as detect() returns them
   /// (empty if the last cast_votes() had an invalid image).
   std::vector<Circle> circles_of_votes();
@@ -344,12 +359,42 @@ class PixelToPixelDetector final : public CircleDetector {
     float cx = 0.0f, cy = 0.0f;
     int nx = 0, ny = 0;
   };
+  // plot(): per vote line direction (nx, ny), its ray set-up and the voter's unit vector, made
+  // on first use; a direction is a difference of window points, |nx|, |ny| <= direction_span_.
+  struct LineDirection {
+    RayDirection ray;
+    float unit_x = 0.0f, unit_y = 0.0f;
+    bool ready = false;
+  };
+  // One task's share of split votes (VoteTasks): its rows of each k, its own accumulator (the
+  // first share's is accumulator_), and its lines and voters, k_ends[j] after k_values[j]'s.
+  struct VoteShare {
+    cv::Mat store, accumulator;
+    std::vector<VoteLineAt> lines;
+    std::vector<Voter> voters;
+    std::vector<std::size_t> k_ends;
+    std::int64_t rays_plotted = 0, increments = 0;
+  };
   void vote(int k);
-  template <int k>
-  void vote_packed();  // vote() for k <= kPackedMaxK
+  // The lines of k's windows centred on rows [y_begin, y_end), in raster order, to
+  // emit(cx, cy, nx, ny) (a VoteLineAt's fields).
+  template <typename Emit>
+  void vote_rows(int k, int y_begin, int y_end, Emit&& emit);
+  template <int k, typename Emit>
+  void vote_packed(int y_begin, int y_end, Emit& emit);  // vote_rows() for k <= kPackedMaxK
   template <int k>
   bool isolate_packed(int x, int y, std::uint64_t window, std::uint64_t& arc);
   void plot(const VoteLineAt& line);
+  void plot(const VoteLineAt& line, cv::Mat& accumulator, VoteShare& share);
+  // plot()'s work into the given accumulator, its ray count (since zeroed), the increments, the
+  // voters.
+  void plot_into(const VoteLineAt& line, cv::Mat& accumulator, std::int64_t& rays_plotted,
+                 std::int64_t& increments, std::vector<Voter>& voters);
+  void vote_in_shares(const VoteTasks& tasks);
+  // Per k, the rows bounding each of n shares (n + 1 each): about as many edge points each.
+  std::vector<std::vector<int>> share_rows(int n) const;
+  void vote_share(int s, const std::vector<std::vector<int>>& rows);
+  void join_shares(int n);
   bool isolate_along_orientation(int x, int y, int k, std::span<const std::uint64_t> window,
                                  std::span<std::uint64_t> mask);
   void build_orientation_planes();
@@ -367,7 +412,7 @@ class PixelToPixelDetector final : public CircleDetector {
   std::vector<Circle> detect_multi_scale(const cv::Mat& image);  // p2p_multi_scale.cpp
   std::optional<Circle> refine_in_window(const EdgeMap& edges, const cv::Rect& window,
                                          Circle seed) const;
-  void vote_on_edges();
+  void vote_on_edges(const VoteTasks& tasks = {});
   std::vector<Circle> circles_on(const EdgeMap& edges);
   int peaks_on(const EdgeMap& edges);
   void start(const std::optional<SearchHints>& hints);
@@ -386,14 +431,9 @@ class PixelToPixelDetector final : public CircleDetector {
   bool orientation_ready_ = false;
   cv::Mat accumulator_;
   std::int64_t rays_plotted_ = 0;  // into accumulator_ since it was zeroed
-  // plot(): per vote line direction (nx, ny), its ray set-up and the voter's unit vector, made
-  // on first use; a direction is a difference of window points, |nx|, |ny| <= direction_span_.
-  struct LineDirection {
-    RayDirection ray;
-    float unit_x = 0.0f, unit_y = 0.0f;
-    bool ready = false;
-  };
   const LineDirection& line_direction(int nx, int ny);
+  // Every direction of the table made: line_direction then only reads it (tasks share it).
+  void fill_directions();
   std::vector<LineDirection> directions_;
   int direction_span_ = 0;
   LineDirection direction_scratch_;  // a direction outside the table
@@ -404,6 +444,7 @@ class PixelToPixelDetector final : public CircleDetector {
   cv::Mat accumulator_store_, smoothed_store_;
   std::vector<Voter> voters_;
   std::vector<VoteLineAt> lines_;  // every line of edges_, in voting order (redetect replays)
+  std::vector<VoteShare> shares_;  // split votes' shares (VoteTasks), buffers kept across images
   // The peaks being refined (find_peaks_of_votes), the edges and options they are refined with.
   std::vector<Peak> peaks_;
   const EdgeMap* peak_edges_ = nullptr;

@@ -29,7 +29,8 @@ BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParam
       params_(params),
       detections_(runner.participant(), topics::kBallDetection) {
   pipeline_.set_task_runner(
-      [this](int n, const std::function<void(int)>& task) { helper_.run(n, task); });
+      [this](int n, const std::function<void(int)>& task) { helper_.run(n, task); },
+      TaskHelper::kThreads);
   // Every callback ends by noting when the node became free: a frame taken right after that
   // had been waiting (FrameGaps).
   runner_.on_data(calibration_.handle(), [this] {

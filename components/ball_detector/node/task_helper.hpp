@@ -25,6 +25,8 @@ class TaskHelper {
   TaskHelper& operator=(const TaskHelper&) = delete;
 
   void run(int n, const std::function<void(int)>& task);
+  /// Threads that run a job's tasks: the caller's and the helper.
+  static constexpr int kThreads = 2;
 
  private:
   void helper_loop();

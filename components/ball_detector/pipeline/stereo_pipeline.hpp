@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstdint>
@@ -126,8 +127,12 @@ class StereoPipeline {
   /// params must pass validate() (invalid detector values are clamped by the detector).
   explicit StereoPipeline(const BallDetectorParams& params);
 
-  /// How independent parts of a frame's work are run (same detections with any runner).
-  void set_task_runner(RunTasks run) { tools_.run_tasks = std::move(run); }
+  /// How independent parts of a frame's work are run (same detections with any runner);
+  /// threads: how many tasks it runs at once (more than 1 lets work be split for it).
+  void set_task_runner(RunTasks run, int threads = 1) {
+    tools_.run_tasks = std::move(run);
+    tools_.task_threads = std::max(1, threads);
+  }
   /// Who is told when each search starts and ends (SearchObserver; empty = nobody).
   void set_search_observer(SearchObserver observer) { tools_.observer = std::move(observer); }
 

@@ -9,10 +9,23 @@ namespace stereoball::ball_detector {
 
 std::optional<SearchOutcome> ColourSeedCandidates::run(const FrameState&, FrameScratch& scratch,
                                                        SearchTools& tools) const {
+  std::optional<std::vector<Circle>> seeds = blob_seeds(tools);
+  if (!seeds) return std::nullopt;
+  return refine(std::move(*seeds), scratch, tools);
+}
+
+std::optional<std::vector<Circle>> ColourSeedCandidates::blob_seeds(const SearchTools& tools) {
   if (!tools.params.colour_seeds.enabled || tools.rect_left.type() != CV_8UC3) return std::nullopt;
-  const RadiusRange radii = tools.left_detector.radius_range();
-  scratch.colour_seeds =
-      colour_blob_seeds(tools.rect_left, radii.min_px, radii.max_px, tools.params.colour_seeds);
+  // The configured radii: the range the whole left eye's votes search (radius_range() once
+  // they are cast), read without touching what the edge step beside this may write.
+  const PixelToPixelParams& p2p = tools.left_detector.params();
+  return colour_blob_seeds(tools.rect_left, p2p.min_radius_px, p2p.max_radius_px,
+                           tools.params.colour_seeds);
+}
+
+SearchOutcome ColourSeedCandidates::refine(std::vector<Circle> seeds, FrameScratch& scratch,
+                                           SearchTools& tools) {
+  scratch.colour_seeds = std::move(seeds);
   SearchOutcome out;
   out.left = tools.left_detector.refine_seeds(scratch.colour_seeds);
   return out;

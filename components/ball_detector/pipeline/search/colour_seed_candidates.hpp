@@ -14,6 +14,11 @@ class ColourSeedCandidates : public SearchStrategy {
  public:
   std::optional<SearchOutcome> run(const FrameState& frame, FrameScratch& scratch,
                                    SearchTools& tools) const override;
+  /// The seeds run() refines: tools.rect_left's colour blobs over the left detector's configured
+  /// radii; reads only those (may run beside the left detector's edge step); nullopt as run().
+  static std::optional<std::vector<Circle>> blob_seeds(const SearchTools& tools);
+  /// run() with its seeds found already (blob_seeds() of this frame).
+  static SearchOutcome refine(std::vector<Circle> seeds, FrameScratch& scratch, SearchTools& tools);
 };
 
 /// known plus each of found that lies apart from every circle kept so far (centres closer than

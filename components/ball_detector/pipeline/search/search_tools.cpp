@@ -76,6 +76,18 @@ void SearchTools::rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool re
   }
 }
 
+void SearchTools::rectify_whole_in_tasks(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                                         cv::Mat& out) const {
+  if (task_threads <= 1 || rectified) return rectify_whole(channel, eye, rectified, out);
+  const cv::Size size = image_size();
+  out.create(size, channel.type());
+  const int n = task_threads;
+  run_tasks(n, [&](int i) {
+    const int top = size.height * i / n, bottom = size.height * (i + 1) / n;
+    rectifier->rectify_eye_region(eye, channel, cv::Rect(0, top, size.width, bottom - top), out);
+  });
+}
+
 void SearchTools::clear_rectified(const cv::Mat& channel, cv::Mat& out) const {
   out.create(image_size(), channel.type());
   out.setTo(0);

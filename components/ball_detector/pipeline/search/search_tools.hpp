@@ -24,7 +24,7 @@ namespace stereoball::ball_detector {
 /// Runs task(0) .. task(n - 1), possibly at the same time, and returns once all are done. Each
 /// task touches only its own state. The pipeline owns no threads: its caller (the node) may
 /// give it a runner that spreads the tasks over cores.
-using RunTasks = std::function<void(int n, const std::function<void(int)>& task)>;
+using RunTasks = TaskRunner;
 /// Runs the tasks one after the other (the pipeline's default).
 void run_tasks_in_turn(int n, const std::function<void(int)>& task);
 
@@ -63,6 +63,7 @@ struct SearchTools {
   PixelToPixelDetector seed_detector;  ///< the brightness-free searches' left detector
   CoarseSearch coarse;  ///< the whole-frame and band searches' reduced left eye (wide frames)
   RunTasks run_tasks = run_tasks_in_turn;
+  int task_threads = 1;     ///< how many tasks run_tasks runs at once (1: in turn)
   SearchObserver observer;  ///< empty: nobody times the searches
   std::optional<stereo::Rectifier> rectifier;
   RightRows right_rows;  ///< the frame's right eye, made as far as read (step() sets it)
@@ -82,6 +83,10 @@ struct SearchTools {
   void observe(SearchPath path, bool started) const {
     if (observer) observer(path, started);
   }
+  /// How the whole left eye's votes are cast: split over run_tasks when it runs tasks at once.
+  VoteTasks left_vote_tasks() const {
+    return task_threads > 1 ? VoteTasks{run_tasks, task_threads} : VoteTasks{};
+  }
   /// The calibration's image size, px (0x0 without one).
   cv::Size image_size() const;
   /// The rectified left camera (nullopt without calibration).
@@ -90,6 +95,10 @@ struct SearchTools {
   int window_margin_px() const;
   /// channel (raw, or rectified when rectified) rectified whole into out.
   void rectify_whole(const cv::Mat& channel, stereo::Eye eye, bool rectified, cv::Mat& out) const;
+  /// rectify_whole() in row bands, one per task of run_tasks when it runs tasks at once (each
+  /// pixel is its own: the same image).
+  void rectify_whole_in_tasks(const cv::Mat& channel, stereo::Eye eye, bool rectified,
+                              cv::Mat& out) const;
   /// out: a zero image of the calibration's size and channel's type.
   void clear_rectified(const cv::Mat& channel, cv::Mat& out) const;
   /// box (rectified px) of channel rectified into out.

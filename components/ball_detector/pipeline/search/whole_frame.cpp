@@ -10,7 +10,9 @@ namespace stereoball::ball_detector {
 
 std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, FrameScratch& scratch,
                                                    SearchTools& tools) const {
-  tools.rectify_whole(frame.left_channel, stereo::Eye::kLeft, frame.rectified, tools.rect_left);
+  // Nothing else can start before the left eye is rectified: its rows are shared out.
+  tools.rectify_whole_in_tasks(frame.left_channel, stereo::Eye::kLeft, frame.rectified,
+                               tools.rect_left);
   bool edges_made = false;  // the left detector holds rect_left's full-resolution edges
   if (tools.coarse.on()) {
     // The reduced eye's votes first: where they pair, the frame costs a fraction of the full
@@ -22,10 +24,8 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
       if (std::optional<SearchOutcome> coarse = coarse_try(frame, scratch, tools)) return coarse;
     }
   }
-  // The coarse try's edges are this image's, made as cast_votes makes them: only the votes are
-  // new at full width.
-  const bool voted = edges_made ? tools.left_detector.cast_votes_on_last_edges()
-                                : tools.left_detector.cast_votes(tools.rect_left);
+  std::optional<std::vector<Circle>> blobs;  // the colour seeds' blobs, when found early
+  const bool voted = cast_full_width_votes(tools, edges_made, &blobs);
   // Task 0 finishes the search (peaks, right eye, pairing). When a band search is due, the
   // other task searches the left eye's radius bands on the same votes meanwhile, in case it
   // pairs nothing: on another core this takes the bands out of the frame's time, and the work
@@ -46,12 +46,33 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
     }
     out = pair_left_circles(frame, scratch, tools,
                             voted ? circles_of_votes(tools, !bands_due) : std::vector<Circle>{},
-                            voted);
+                            voted, std::move(blobs));
     paired = out.found();
   });
   if (bands_due && !paired) scratch.band_left = std::move(bands);
   out.path = SearchPath::kWholeFrame;
   return out;
+}
+
+bool WholeFrameSearch::cast_full_width_votes(SearchTools& tools, bool edges_made,
+                                             std::optional<std::vector<Circle>>* blobs) {
+  // The coarse try's edges are this image's, made as cast_votes makes them: only the votes are
+  // new at full width. With a runner that runs tasks at once, the votes are split over it: they
+  // come before anything else can start, and are a third of a lost ball's frame.
+  const VoteTasks vote_tasks = tools.left_vote_tasks();
+  if (edges_made) return tools.left_detector.cast_votes_on_last_edges(vote_tasks);
+  if (tools.task_threads <= 1) return tools.left_detector.cast_votes(tools.rect_left, vote_tasks);
+  // The same edges and votes as cast_votes; the colour blobs (read from the rectified eye only)
+  // leave the work that follows the votes, where the other core has the bands or nothing.
+  bool edges = false;
+  tools.run_tasks(2, [&](int task) {
+    if (task == 0) {
+      edges = tools.left_detector.find_edges(tools.rect_left);
+    } else {
+      *blobs = ColourSeedCandidates::blob_seeds(tools);
+    }
+  });
+  return edges && tools.left_detector.cast_votes_on_last_edges(vote_tasks);
 }
 
 std::optional<SearchOutcome> WholeFrameSearch::coarse_try(const FrameState& frame,
@@ -83,10 +104,13 @@ std::optional<SearchOutcome> WholeFrameSearch::coarse_try(const FrameState& fram
 
 SearchOutcome WholeFrameSearch::pair_left_circles(const FrameState& frame, FrameScratch& scratch,
                                                   SearchTools& tools, std::vector<Circle> left,
-                                                  bool with_colour_seeds) const {
+                                                  bool with_colour_seeds,
+                                                  std::optional<std::vector<Circle>> blobs) const {
   if (with_colour_seeds) {
-    if (auto seeded = colour_seeds_.run(frame, scratch, tools))
-      add_unknown_circles(seeded->left, left);
+    std::optional<SearchOutcome> seeded =
+        blobs ? ColourSeedCandidates::refine(std::move(*blobs), scratch, tools)
+              : colour_seeds_.run(frame, scratch, tools);
+    if (seeded) add_unknown_circles(seeded->left, left);
   }
   tools.left_thresholds = thresholds_of(tools.left_detector.edge_map());
   std::vector<Circle> right;

@@ -27,11 +27,17 @@ class WholeFrameSearch : public SearchStrategy {
   /// nullopt when neither does (the full-width search then answers).
   std::optional<SearchOutcome> coarse_try(const FrameState& frame, FrameScratch& scratch,
                                           SearchTools& tools) const;
-  /// left (and with_colour_seeds, the colour seeds' circles) paired with the right eye searched
-  /// in their partner boxes (or whole), the left detector's edge thresholds measured again.
+  /// The full-width left eye's votes cast (false: an invalid image); with tasks at once and no
+  /// edges yet, its edge step runs beside the colour blob search, whose seeds go to *blobs.
+  static bool cast_full_width_votes(SearchTools& tools, bool edges_made,
+                                    std::optional<std::vector<Circle>>* blobs);
+  /// left (and with_colour_seeds, the colour seeds' circles: from blobs when found already)
+  /// paired with the right eye searched in their partner boxes (or whole), the left detector's
+  /// edge thresholds measured again.
   SearchOutcome pair_left_circles(const FrameState& frame, FrameScratch& scratch,
                                   SearchTools& tools, std::vector<Circle> left,
-                                  bool with_colour_seeds) const;
+                                  bool with_colour_seeds,
+                                  std::optional<std::vector<Circle>> blobs = std::nullopt) const;
 
   ColourSeedCandidates colour_seeds_;
   PredictedPartner pairing_;
