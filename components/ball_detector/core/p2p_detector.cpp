@@ -221,6 +221,21 @@ void PixelToPixelDetector::vote(int k) {
   });
 }
 
+int PixelToPixelDetector::isolate_max_points_of(int n) const {
+  return params_.isolate_arc ? static_cast<int>(params_.isolate_max_points_factor * n) : 0;
+}
+
+template <typename F>
+void PixelToPixelDetector::for_each_window_centre(int k, int y_begin, int y_end, F&& f) const {
+  const BitImage& bits = edges_.bits;
+  const int w = bits.width();
+  const int y_last = std::min(bits.height() - k, y_end);
+  for (int y = std::max(k, y_begin); y < y_last; ++y)
+    bits.for_each_set_in_row(y, [&](int x) {
+      if (x >= k && x < w - k) f(x, y);
+    });
+}
+
 template <typename Emit>
 void PixelToPixelDetector::vote_rows(int k, int y_begin, int y_end, Emit&& emit) {
   // The packed windows' loops unrolled for each k (p2p_rules.hpp).
@@ -229,42 +244,35 @@ void PixelToPixelDetector::vote_rows(int k, int y_begin, int y_end, Emit&& emit)
   if (k == 3) return vote_packed<3>(y_begin, y_end, emit);
   static_assert(kPackedMaxK == 3);
   const BitImage& bits = edges_.bits;
-  const int w = bits.width();
-  const int h = bits.height();
   std::array<std::uint64_t, 2 * kMaxK + 1> mask{};
   std::array<std::uint64_t, 2 * kMaxK + 1> rows{};
   const int n = 2 * k + 1;
-  const int isolate_max_points =
-      params_.isolate_arc ? static_cast<int>(params_.isolate_max_points_factor * n) : 0;
-  const int y_last = std::min(h - k, y_end);
-  for (int y = std::max(k, y_begin); y < y_last; ++y) {
-    bits.for_each_set_in_row(y, [&](int x) {
-      if (x < k || x >= w - k) return;
-      // The window's rows are read once, step 4's count taken as they are (a popcount per
-      // row): far cheaper than collecting points.
-      const auto window_bits = std::span(rows.data(), n);
-      const int count = window_rows(bits, x, y, k, window_bits);
-      // Steps 5-7 read the chord ends straight off the row masks (vote_line_of_rows).
-      std::optional<VoteLine> line;
-      if (window_count_ok(count, k)) {
-        line = vote_line_of_rows(window_bits, k);
-      } else if (count > n && count <= isolate_max_points) {
-        // Addition: judge the arc through O alone when other edges share the window.
-        const int connected = connected_rows(window_bits, k, mask, n);
-        // O's aligned component lies inside its component: fewer than n points leave it short too.
-        if (connected != n && (connected < n || !params_.isolate_by_orientation ||
-                               !isolate_along_orientation(x, y, k, window_bits, mask)))
-          return;
-        line = vote_line_of_rows(std::span<const std::uint64_t>(mask.data(), n), k);
-      } else {
+  const int isolate_max_points = isolate_max_points_of(n);
+  for_each_window_centre(k, y_begin, y_end, [&](int x, int y) {
+    // The window's rows are read once, step 4's count taken as they are (a popcount per
+    // row): far cheaper than collecting points.
+    const auto window_bits = std::span(rows.data(), n);
+    const int count = window_rows(bits, x, y, k, window_bits);
+    // Steps 5-7 read the chord ends straight off the row masks (vote_line_of_rows).
+    std::optional<VoteLine> line;
+    if (window_count_ok(count, k)) {
+      line = vote_line_of_rows(window_bits, k);
+    } else if (count > n && count <= isolate_max_points) {
+      // Addition: judge the arc through O alone when other edges share the window.
+      const int connected = connected_rows(window_bits, k, mask, n);
+      // O's aligned component lies inside its component: fewer than n points leave it short too.
+      if (connected != n && (connected < n || !params_.isolate_by_orientation ||
+                             !isolate_along_orientation(x, y, k, window_bits, mask)))
         return;
-      }
-      if (!line) return;
-      // C lies on the half-pixel grid: exact in float for any image size we take.
-      emit(static_cast<float>(x + 0.5 * line->c2x), static_cast<float>(y + 0.5 * line->c2y),
-           line->nx, line->ny);
-    });
-  }
+      line = vote_line_of_rows(std::span<const std::uint64_t>(mask.data(), n), k);
+    } else {
+      return;
+    }
+    if (!line) return;
+    // C lies on the half-pixel grid: exact in float for any image size we take.
+    emit(static_cast<float>(x + 0.5 * line->c2x), static_cast<float>(y + 0.5 * line->c2y), line->nx,
+         line->ny);
+  });
 }
 
 template <int k, typename Emit>
@@ -272,35 +280,28 @@ void PixelToPixelDetector::vote_packed(int y_begin, int y_end, Emit& emit) {
   // vote_rows() for windows that fit one word (p2p_rules.hpp): the same rules on the same points,
   // each a few word operations instead of a loop over rows.
   const BitImage& bits = edges_.bits;
-  const int w = bits.width();
-  const int h = bits.height();
   const int n = 2 * k + 1;
-  const int isolate_max_points =
-      params_.isolate_arc ? static_cast<int>(params_.isolate_max_points_factor * n) : 0;
-  const int y_last = std::min(h - k, y_end);
-  for (int y = std::max(k, y_begin); y < y_last; ++y) {
-    bits.for_each_set_in_row(y, [&](int x) {
-      if (x < k || x >= w - k) return;
-      const std::uint64_t window = packed_window(bits, x, y, k);
-      const int count = std::popcount(window);
-      std::uint64_t arc = window;
-      if (count == n) {
-        // The count rule holds: the whole window is the arc.
-      } else if (count > n && count <= isolate_max_points) {
-        // Addition: judge the arc through O alone when other edges share the window.
-        const int connected = connected_packed(window, k, arc, n);
-        if (connected != n && (connected < n || !params_.isolate_by_orientation ||
-                               !isolate_packed<k>(x, y, window, arc)))
-          return;
-      } else {
+  const int isolate_max_points = isolate_max_points_of(n);
+  for_each_window_centre(k, y_begin, y_end, [&](int x, int y) {
+    const std::uint64_t window = packed_window(bits, x, y, k);
+    const int count = std::popcount(window);
+    std::uint64_t arc = window;
+    if (count == n) {
+      // The count rule holds: the whole window is the arc.
+    } else if (count > n && count <= isolate_max_points) {
+      // Addition: judge the arc through O alone when other edges share the window.
+      const int connected = connected_packed(window, k, arc, n);
+      if (connected != n && (connected < n || !params_.isolate_by_orientation ||
+                             !isolate_packed<k>(x, y, window, arc)))
         return;
-      }
-      const std::optional<VoteLine> line = vote_line_packed(arc, k);
-      if (!line) return;
-      emit(static_cast<float>(x + 0.5 * line->c2x), static_cast<float>(y + 0.5 * line->c2y),
-           line->nx, line->ny);
-    });
-  }
+    } else {
+      return;
+    }
+    const std::optional<VoteLine> line = vote_line_packed(arc, k);
+    if (!line) return;
+    emit(static_cast<float>(x + 0.5 * line->c2x), static_cast<float>(y + 0.5 * line->c2y), line->nx,
+         line->ny);
+  });
 }
 
 template <int k>

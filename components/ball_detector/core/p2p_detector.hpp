@@ -380,6 +380,12 @@ class PixelToPixelDetector final : public CircleDetector {
   // emit(cx, cy, nx, ny) (a VoteLineAt's fields).
   template <typename Emit>
   void vote_rows(int k, int y_begin, int y_end, Emit&& emit);
+  // f(x, y) for every edge point of rows [y_begin, y_end) whose window of half size k lies in
+  // the image, in raster order: the points vote_rows and vote_packed judge.
+  template <typename F>
+  void for_each_window_centre(int k, int y_begin, int y_end, F&& f) const;
+  // The most points a window of n rows may hold for its arc to be isolated (0: isolation off).
+  int isolate_max_points_of(int n) const;
   template <int k, typename Emit>
   void vote_packed(int y_begin, int y_end, Emit& emit);  // vote_rows() for k <= kPackedMaxK
   template <int k>
