@@ -38,6 +38,7 @@
 #include "ball_detector/core/fast_math.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/p2p_rules.hpp"
+#include "ball_detector/core/same_circles_test_support.hpp"
 #include "ball_detector/core/synthetic.hpp"
 #include "ball_detector/core/voting.hpp"
 
@@ -378,16 +379,7 @@ TEST(MeasureEdgeThresholds, GivenAPreBlurLevelAtTheMedianThenTheDecisionIsTheFul
   EXPECT_GT(kept, 5);
 }
 
-// The same circles, bit for bit, in the same order.
-void expect_same_circles(const std::vector<Circle>& a, const std::vector<Circle>& b) {
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_EQ(a[i].x_px, b[i].x_px) << i;
-    EXPECT_EQ(a[i].y_px, b[i].y_px) << i;
-    EXPECT_EQ(a[i].radius_px, b[i].radius_px) << i;
-    EXPECT_EQ(a[i].score, b[i].score) << i;
-  }
-}
+using test::expect_same_circles;
 
 TEST(Redetect, GivenBandsOfRadiiThenRedetectFindsWhatDetectWithTheSameThresholdsFinds) {
   // Given real colour images, each detected once over the whole radius range

@@ -4,6 +4,7 @@
 #include "ball_detector/core/circle_labels.hpp"
 #include "ball_detector/core/evaluation.hpp"
 #include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/core/same_circles_test_support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -166,13 +167,7 @@ TEST(PixelToPixelMultiScale, GivenTheCoarsePeakCapAtItsImpliedCountThenTheSameCi
     const auto a = uncapped.detect(image);
     const auto b = capped.detect(image);
     // Then they return the same circles, bit for bit
-    ASSERT_EQ(a.size(), b.size());
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      EXPECT_EQ(a[i].x_px, b[i].x_px);
-      EXPECT_EQ(a[i].y_px, b[i].y_px);
-      EXPECT_EQ(a[i].radius_px, b[i].radius_px);
-      EXPECT_EQ(a[i].score, b[i].score);
-    }
+    test::expect_same_circles(a, b);
   }
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "ball_detector/core/p2p_detector.hpp"
+#include "ball_detector/core/same_circles_test_support.hpp"
 
 using namespace stereoball::ball_detector;
 
@@ -72,16 +73,6 @@ bool split_votes_same_voters(const std::vector<Voter>& a, const std::vector<Vote
          (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Voter)) == 0);
 }
 
-void split_votes_expect_same(const std::vector<Circle>& a, const std::vector<Circle>& b) {
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_EQ(a[i].x_px, b[i].x_px);
-    EXPECT_EQ(a[i].y_px, b[i].y_px);
-    EXPECT_EQ(a[i].radius_px, b[i].radius_px);
-    EXPECT_EQ(a[i].score, b[i].score);
-  }
-}
-
 struct SplitCase {
   std::vector<int> k_values;
   VoteTasks tasks;
@@ -118,11 +109,11 @@ TEST(SplitVotes, GivenRealImagesWhenVotesAreSplitIntoTasksThenVotesAndCirclesAre
       EXPECT_TRUE(split_votes_same_voters(split.voters(), whole.voters()));
       // And a radius band searched on each one's lines finds the same (the lines' order)
       const SearchHints band{RadiusRange{9, 40}};
-      split_votes_expect_same(band_of_split.redetect_from(split, band),
-                              band_of_whole.redetect_from(whole, band));
+      test::expect_same_circles(band_of_split.redetect_from(split, band),
+                                band_of_whole.redetect_from(whole, band));
       // And the circles are the same, bit for bit
       const auto found = split.circles_of_votes();
-      split_votes_expect_same(found, whole.circles_of_votes());
+      test::expect_same_circles(found, whole.circles_of_votes());
       voters += static_cast<std::int64_t>(whole.voters().size());
       circles += static_cast<int>(found.size());
     }
@@ -147,7 +138,7 @@ TEST(SplitVotes, GivenEdgesFoundFirstWhenTheirVotesAreSplitThenTheyEqualOneRun) 
   // Then the votes and circles are the same
   EXPECT_EQ(cv::norm(reused.raw_accumulator(), whole.raw_accumulator(), cv::NORM_INF), 0.0);
   EXPECT_TRUE(split_votes_same_voters(reused.voters(), whole.voters()));
-  split_votes_expect_same(reused.circles_of_votes(), whole.circles_of_votes());
+  test::expect_same_circles(reused.circles_of_votes(), whole.circles_of_votes());
   // And an invalid image casts no votes however they are split
   EXPECT_FALSE(reused.cast_votes(cv::Mat(), {split_votes_at_once, 2}));
   EXPECT_TRUE(reused.circles_of_votes().empty());
@@ -174,5 +165,5 @@ TEST(SplitVotes, GivenConcentricDiscsWhenVotesAreSplitThenTheirCrowdedCellsAreTh
   EXPECT_EQ(cv::norm(split.raw_accumulator(), whole.raw_accumulator(), cv::NORM_INF), 0.0);
   EXPECT_TRUE(split_votes_same_voters(split.voters(), whole.voters()));
   // And so are the circles
-  split_votes_expect_same(split.circles_of_votes(), whole.circles_of_votes());
+  test::expect_same_circles(split.circles_of_votes(), whole.circles_of_votes());
 }
