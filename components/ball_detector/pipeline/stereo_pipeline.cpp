@@ -304,12 +304,16 @@ const cv::Mat& StereoPipeline::detector_channel(const cv::Mat& raw, cv::Mat& gre
 
 const cv::Mat& StereoPipeline::rectified_region(const cv::Mat& channel, stereo::Eye eye,
                                                 bool rectified, const cv::Rect& region) {
-  if (eye == stereo::Eye::kRight) tools_.right_rows.make_for(*tools_.rectifier, rectified, region);
+  // The edge step on a crop reads one pixel of its parent around it (edge_map.cpp): that ring
+  // is rectified too, never left as unset or stale scratch.
+  const cv::Rect read =
+      (region - cv::Point(1, 1) + cv::Size(2, 2)) & cv::Rect(cv::Point(), tools_.image_size());
+  if (eye == stereo::Eye::kRight) tools_.right_rows.make_for(*tools_.rectifier, rectified, read);
   if (rectified) return channel;
   // Only the region read, not the whole eye, into the eye's scratch image.
   cv::Mat& out = eye == stereo::Eye::kLeft ? region_left_ : region_right_;
   out.create(tools_.image_size(), channel.type());
-  tools_.rectifier->rectify_eye_region(eye, channel, region, out);
+  tools_.rectifier->rectify_eye_region(eye, channel, read, out);
   return out;
 }
 
