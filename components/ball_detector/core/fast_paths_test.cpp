@@ -4,13 +4,14 @@
 // cv::Canny and its vector loop vs its plain loop, canny_thresholds' quantiles vs sorting the
 // sampled pixels, the packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter,
 // connected_rows vs a breadth-first flood fill, chord ends from row masks vs find_chord_ends, the
-// packed windows' component and chord ends vs those of the row masks (and their one-load row reads
-// vs BitImage::bits), halve_image vs cv::resize (INTER_AREA), channels_equal vs a test per pixel,
-// find_peaks vs a brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan
-// of every edge pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs
-// points set one by one, circles_from_votes independent of the order its voters come in, solve_3x3
-// vs cv::solve, fit_circle and gather_outline_points vs their plain arithmetic, and refine_circle's
-// reused scan vs a fresh one.
+// packed and wide windows' component and chord ends vs those of the row masks (and their one-load
+// row reads vs BitImage::bits), the detector's wide-window lines vs the row masks' on real images,
+// halve_image vs cv::resize (INTER_AREA), channels_equal vs a test per pixel, find_peaks vs a
+// brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge
+// pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs points set one
+// by one, circles_from_votes independent of the order its voters come in, solve_3x3 vs cv::solve,
+// fit_circle and gather_outline_points vs their plain arithmetic, and refine_circle's reused scan
+// vs a fresh one.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -1052,6 +1053,219 @@ TEST(ChordEndsPacked, GivenRandomWindowsThenEndsAndVoteLineEqualThoseOfTheRowMas
   EXPECT_GT(with_chord, 20000);
   EXPECT_GT(with_line, 5000);
 }
+
+#if SB_WIDE_WINDOWS
+// A random window of half size kPackedMaxK < k <= kWideMaxK as row masks and wide (the same
+// pixels), about density percent of them set, O set when with_centre.
+struct RandomWideWindow {
+  std::array<std::uint64_t, 64> rows{};
+  WideWindow wide = 0;
+};
+RandomWideWindow random_wide_window(std::mt19937& rng, int k, unsigned density, bool with_centre) {
+  RandomWideWindow w;
+  const int n = 2 * k + 1;
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c)
+      if (rng() % 100 < density || (with_centre && r == k && c == k)) {
+        w.rows[static_cast<size_t>(r)] |= std::uint64_t{1} << c;
+        w.wide |= WideWindow{1} << (n * r + c);
+      }
+  return w;
+}
+
+// The wide word of row masks (row r at bit n r).
+WideWindow wide_of_rows(std::span<const std::uint64_t> rows, int k) {
+  const int n = 2 * k + 1;
+  WideWindow w = 0;
+  for (int r = 0; r < n; ++r) w |= static_cast<WideWindow>(rows[static_cast<size_t>(r)]) << (n * r);
+  return w;
+}
+
+// connected_wide, chord_ends_wide and vote_line_wide for a k known only at run time.
+int connected_wide_of(int k, WideWindow window, WideWindow& component, int stop_above = 128) {
+  return k == 4 ? connected_wide<4>(window, component, stop_above)
+                : connected_wide<5>(window, component, stop_above);
+}
+std::optional<ChordEnds> chord_ends_wide_of(int k, WideWindow window) {
+  return k == 4 ? chord_ends_wide<4>(window) : chord_ends_wide<5>(window);
+}
+std::optional<VoteLine> vote_line_wide_of(int k, WideWindow window) {
+  return k == 4 ? vote_line_wide<4>(window) : vote_line_wide<5>(window);
+}
+
+TEST(WideWindow, GivenRandomBitImagesThenEveryWideWindowHoldsTheWindowsRows) {
+  std::mt19937 rng(61);
+  for (const int width : {20, 70, 130}) {
+    // Given a random bit image whose rows span one to three words
+    cv::Mat binary(40, width, CV_8UC1);
+    cv::randu(binary, 0, 2);
+    BitImage bits;
+    bits.assign(binary);
+    for (int trial = 0; trial < 3000; ++trial) {
+      // When a window of every wide k, at any x, is packed
+      const int k = kPackedMaxK + 1 + trial % (kWideMaxK - kPackedMaxK);
+      const int x = k + static_cast<int>(rng() % static_cast<unsigned>(width - 2 * k));
+      const int y = k + static_cast<int>(rng() % static_cast<unsigned>(40 - 2 * k));
+      const WideWindow wide = k == 4 ? wide_window<4>(bits, x, y) : wide_window<5>(bits, x, y);
+      // Then bits [n r, n r + n) hold row r of the window and nothing else is set
+      std::array<std::uint64_t, 64> rows{};
+      window_rows(bits, x, y, k, rows);
+      ASSERT_TRUE(wide == wide_of_rows(rows, k))
+          << "width " << width << " x " << x << " y " << y << " k " << k;
+    }
+  }
+}
+
+TEST(ConnectedWide, GivenRandomWindowsThenCountAndComponentEqualConnectedRows) {
+  std::mt19937 rng(67);
+  int whole = 0;
+  for (int trial = 0; trial < 30000; ++trial) {
+    // Given a random window of every wide k, sparse to dense, O set (now and then not), pixels
+    // in the first and last columns (where a shift by one would wrap) as often as elsewhere
+    const int k = kPackedMaxK + 1 + trial % (kWideMaxK - kPackedMaxK);
+    const int n = 2 * k + 1;
+    const RandomWideWindow w =
+        random_wide_window(rng, k, 5 + static_cast<unsigned>(trial) % 60, trial % 50 != 0);
+    // When its component through O is grown whole, and stopped as the count rule stops it
+    const auto span = std::span<const std::uint64_t>(w.rows.data(), n);
+    std::array<std::uint64_t, 64> rows{};
+    const int full_rows = connected_rows(span, k, rows);
+    WideWindow component = ~WideWindow{0};
+    const int full = connected_wide_of(k, w.wide, component);
+    std::array<std::uint64_t, 64> stopped_rows{};
+    const int stopped_by_rows = connected_rows(span, k, stopped_rows, n);
+    WideWindow stopped_component = 0;
+    const int stopped = connected_wide_of(k, w.wide, stopped_component, n);
+    // Then the whole component is connected_rows' own, bit for bit
+    ASSERT_EQ(full, full_rows) << "trial " << trial;
+    const WideWindow expected = wide_of_rows(rows, k);
+    ASSERT_TRUE(component == expected) << "trial " << trial;
+    // and the stopped one is the same below, at or above the rule's 2k+1 points
+    if (stopped_by_rows > n) {
+      ASSERT_GT(stopped, n) << "trial " << trial;
+    } else {
+      ++whole;
+      ASSERT_EQ(stopped, stopped_by_rows) << "trial " << trial;
+      ASSERT_TRUE(stopped_component == expected) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(whole, 5000);
+}
+
+TEST(ChordEndsWide, GivenRandomWindowsThenEndsAndVoteLineEqualThoseOfTheRowMasks) {
+  std::mt19937 rng(71);
+  int with_chord = 0, with_line = 0;
+  for (int trial = 0; trial < 60000; ++trial) {
+    // Given a random window of every wide k (sparse: every configuration and tie occurs),
+    // now and then an empty one
+    const int k = kPackedMaxK + 1 + trial % (kWideMaxK - kPackedMaxK);
+    const int n = 2 * k + 1;
+    const RandomWideWindow w = random_wide_window(
+        rng, k, trial % 100 == 0 ? 0 : 3 + static_cast<unsigned>(trial) % 20, false);
+    const auto span = std::span<const std::uint64_t>(w.rows.data(), n);
+    // When the chord ends and vote line are read off the wide word and off the row masks
+    const auto wide = chord_ends_wide_of(k, w.wide);
+    const auto from_rows = chord_ends_of_rows(span, k);
+    // Then they agree, including which point wins a tie
+    ASSERT_EQ(wide.has_value(), from_rows.has_value()) << "trial " << trial;
+    if (wide) {
+      ++with_chord;
+      ASSERT_EQ(wide->a, from_rows->a) << "trial " << trial;
+      ASSERT_EQ(wide->b, from_rows->b) << "trial " << trial;
+    }
+    const auto line = vote_line_wide_of(k, w.wide);
+    const auto line_of_rows = vote_line_of_rows(span, k);
+    ASSERT_EQ(line.has_value(), line_of_rows.has_value()) << "trial " << trial;
+    if (line) {
+      ++with_line;
+      ASSERT_TRUE(line->c2x == line_of_rows->c2x && line->c2y == line_of_rows->c2y &&
+                  line->nx == line_of_rows->nx && line->ny == line_of_rows->ny)
+          << "trial " << trial;
+    }
+  }
+  EXPECT_GT(with_chord, 20000);
+  EXPECT_GT(with_line, 5000);
+}
+
+// The vote lines of one k on an edge map as the row masks give them (the plain reference of the
+// detector's window loop): count rule, component through O, orientation isolation.
+std::vector<Voter> row_mask_voters(const EdgeMap& edges, int k, int isolate_max_points) {
+  std::array<BitImage, kOrientationBins> near;
+  near_orientation_planes(edges, near);
+  const int n = 2 * k + 1;
+  std::vector<Voter> out;
+  const BitImage& bits = edges.bits;
+  for (int y = k; y < bits.height() - k; ++y)
+    for (int x = k; x < bits.width() - k; ++x) {
+      if (!bits.test(x, y)) continue;
+      std::array<std::uint64_t, 64> rows{}, mask{}, aligned{};
+      const int count = window_rows(bits, x, y, k, rows);
+      const auto window = std::span<const std::uint64_t>(rows.data(), n);
+      std::optional<VoteLine> line;
+      if (count == n) {
+        line = vote_line_of_rows(window, k);
+      } else if (count > n && count <= isolate_max_points) {
+        int connected = connected_rows(window, k, mask, n);
+        if (connected > n) {
+          const BitImage& plane = near[static_cast<std::size_t>(
+              orientation_bin(edges.dx.at<short>(y, x), edges.dy.at<short>(y, x)))];
+          int kept = 0;
+          bool dropped = false;
+          for (int r = 0; r < n; ++r) {
+            aligned[static_cast<size_t>(r)] =
+                rows[static_cast<size_t>(r)] & plane.bits(y - k + r, x - k, n);
+            kept += std::popcount(aligned[static_cast<size_t>(r)]);
+            dropped = dropped || aligned[static_cast<size_t>(r)] != rows[static_cast<size_t>(r)];
+          }
+          if (kept >= n && dropped)
+            connected =
+                connected_rows(std::span<const std::uint64_t>(aligned.data(), n), k, mask, n);
+        }
+        if (connected == n)
+          line = vote_line_of_rows(std::span<const std::uint64_t>(mask.data(), n), k);
+      }
+      if (!line) continue;
+      const float norm = fast_hypot(static_cast<float>(line->nx), static_cast<float>(line->ny));
+      out.push_back({static_cast<float>(x + 0.5 * line->c2x),
+                     static_cast<float>(y + 0.5 * line->c2y), line->nx / norm, line->ny / norm});
+    }
+  return out;
+}
+
+TEST(WideWindowVotes, GivenRealImagesThenTheDetectorsLinesForKFourAndFiveAreThoseOfTheRowMasks) {
+  // Given the real colour images and a detector voting with windows of k = 4 and 5 (the wide
+  // words), isolation on
+  const auto images = real_colours();
+  ASSERT_GE(images.size(), 10u);
+  PixelToPixelParams params;
+  params.coarse_to_fine = false;
+  params.k_values = {4, 5};
+  params.isolate_arc = true;
+  params.isolate_by_orientation = true;
+  std::size_t compared = 0;
+  for (const auto& image : images) {
+    PixelToPixelDetector detector(params);
+    // When it casts its votes
+    ASSERT_TRUE(detector.cast_votes(image));
+    // Then its voters are, in order, those the row masks give for k = 4, then for k = 5
+    std::vector<Voter> expected;
+    for (const int k : {4, 5}) {
+      const int n = 2 * k + 1;
+      const auto of_k = row_mask_voters(detector.edge_map(), k,
+                                        static_cast<int>(params.isolate_max_points_factor * n));
+      expected.insert(expected.end(), of_k.begin(), of_k.end());
+    }
+    const std::vector<Voter>& voters = detector.voters();
+    ASSERT_EQ(voters.size(), expected.size());
+    for (std::size_t i = 0; i < voters.size(); ++i)
+      ASSERT_TRUE(voters[i].x == expected[i].x && voters[i].y == expected[i].y &&
+                  voters[i].ux == expected[i].ux && voters[i].uy == expected[i].uy)
+          << "voter " << i;
+    compared += voters.size();
+  }
+  EXPECT_GT(compared, 10000u);
+}
+#endif
 
 std::vector<Peak> brute_force_peaks(const cv::Mat& m, int floor_value) {
   std::vector<Peak> out;

@@ -243,6 +243,11 @@ void PixelToPixelDetector::vote_rows(int k, int y_begin, int y_end, Emit&& emit)
   if (k == 2) return vote_packed<2>(y_begin, y_end, emit);
   if (k == 3) return vote_packed<3>(y_begin, y_end, emit);
   static_assert(kPackedMaxK == 3);
+#if SB_WIDE_WINDOWS
+  if (k == 4) return vote_wide<4>(y_begin, y_end, emit);
+  if (k == 5) return vote_wide<5>(y_begin, y_end, emit);
+  static_assert(kWideMaxK == 5);
+#endif
   const BitImage& bits = edges_.bits;
   std::array<std::uint64_t, 2 * kMaxK + 1> mask{};
   std::array<std::uint64_t, 2 * kMaxK + 1> rows{};
@@ -316,6 +321,49 @@ bool PixelToPixelDetector::isolate_packed(int x, int y, std::uint64_t window, st
   if (std::popcount(aligned) < n || aligned == window) return false;
   return connected_packed(aligned, k, arc, n) == n;
 }
+
+#if SB_WIDE_WINDOWS
+template <int k, typename Emit>
+void PixelToPixelDetector::vote_wide(int y_begin, int y_end, Emit& emit) {
+  // vote_packed() for windows of up to 11 x 11 pixels (p2p_rules.hpp): a 128-bit word instead
+  // of a mask per row, the component grown a ring at a time instead of row by row.
+  const BitImage& bits = edges_.bits;
+  constexpr int n = 2 * k + 1;
+  const int isolate_max_points = isolate_max_points_of(n);
+  for_each_window_centre(k, y_begin, y_end, [&](int x, int y) {
+    const WideWindow window = wide_window<k>(bits, x, y);
+    const int count = wide_detail::popcount_wide(window);
+    WideWindow arc = window;
+    if (count == n) {
+      // The count rule holds: the whole window is the arc.
+    } else if (count > n && count <= isolate_max_points) {
+      // Addition: judge the arc through O alone when other edges share the window.
+      const int connected = connected_wide<k>(window, arc, n);
+      if (connected != n &&
+          (connected < n || !params_.isolate_by_orientation || !isolate_wide<k>(x, y, window, arc)))
+        return;
+    } else {
+      return;
+    }
+    const std::optional<VoteLine> line = vote_line_wide<k>(arc);
+    if (!line) return;
+    emit(static_cast<float>(x + 0.5 * line->c2x), static_cast<float>(y + 0.5 * line->c2y), line->nx,
+         line->ny);
+  });
+}
+
+template <int k>
+bool PixelToPixelDetector::isolate_wide(int x, int y, WideWindow window, WideWindow& arc) {
+  // isolate_packed on a wide window.
+  if (!orientation_ready_) build_orientation_planes();
+  const BitImage& near = near_orientation_[static_cast<std::size_t>(
+      orientation_bin(edges_.dx.at<short>(y, x), edges_.dy.at<short>(y, x)))];
+  const WideWindow aligned = window & wide_window<k>(near, x, y);
+  constexpr int n = 2 * k + 1;
+  if (wide_detail::popcount_wide(aligned) < n || aligned == window) return false;
+  return connected_wide<k>(aligned, arc, n) == n;
+}
+#endif
 
 // Inlined into both callers: the one-run plot() costs what it did before shares existed.
 [[gnu::always_inline]] inline void PixelToPixelDetector::plot_into(const VoteLineAt& line,

@@ -390,6 +390,12 @@ class PixelToPixelDetector final : public CircleDetector {
   void vote_packed(int y_begin, int y_end, Emit& emit);  // vote_rows() for k <= kPackedMaxK
   template <int k>
   bool isolate_packed(int x, int y, std::uint64_t window, std::uint64_t& arc);
+#if SB_WIDE_WINDOWS
+  template <int k, typename Emit>
+  void vote_wide(int y_begin, int y_end, Emit& emit);  // vote_rows() for k <= kWideMaxK
+  template <int k>
+  bool isolate_wide(int x, int y, WideWindow window, WideWindow& arc);
+#endif
   void plot(const VoteLineAt& line);
   void plot(const VoteLineAt& line, cv::Mat& accumulator, VoteShare& share);
   // plot()'s work into the given accumulator, its ray count (since zeroed), the increments, the
