@@ -9,6 +9,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <span>
 #include <vector>
@@ -261,11 +262,36 @@ inline int farthest_first_wide(WideWindow points) {
 /// inside.
 template <int k>
 inline WideWindow wide_window(const BitImage& edges, int x, int y) {
+  // Each row read with one load as short_bits() reads it, placed into the two 64-bit halves
+  // with constant shifts, the row pointer moved by the row step (no multiply per row).
   constexpr int n = 2 * k + 1;
-  WideWindow window = 0;
-  for (int r = 0; r < n; ++r)
-    window |= static_cast<WideWindow>(edges.short_bits(y - k + r, x - k, n)) << (n * r);
-  return window;
+  if constexpr (std::endian::native != std::endian::little) {
+    WideWindow window = 0;
+    for (int r = 0; r < n; ++r)
+      window |= static_cast<WideWindow>(edges.short_bits(y - k + r, x - k, n)) << (n * r);
+    return window;
+  }
+  const int x0 = x - k;
+  const auto* row = reinterpret_cast<const unsigned char*>(edges.row(y - k)) + (x0 >> 3);
+  const std::ptrdiff_t step = reinterpret_cast<const unsigned char*>(edges.row(y - k + 1)) -
+                              reinterpret_cast<const unsigned char*>(edges.row(y - k));
+  const int shift = x0 & 7;
+  std::uint64_t low = 0, high = 0;
+  for (int r = 0; r < n; ++r, row += step) {
+    std::uint64_t v;
+    std::memcpy(&v, row, sizeof v);
+    v = (v >> shift) & ((std::uint64_t{1} << n) - 1);
+    const int at = n * r;
+    if (at + n <= 64) {
+      low |= v << at;
+    } else if (at >= 64) {
+      high |= v << (at - 64);
+    } else {
+      low |= v << at;
+      high |= v >> (64 - at);
+    }
+  }
+  return (static_cast<WideWindow>(high) << 64) | low;
 }
 
 /// connected_rows of a wide window: its points 8-connected to O (into component) and how many;
@@ -273,23 +299,42 @@ inline WideWindow wide_window(const BitImage& edges, int x, int y) {
 template <int k>
 inline int connected_wide(WideWindow window, WideWindow& component, int stop_above = 128) {
   // As connected_packed: grown one ring of neighbours at a time, the first k rounds untested.
+  // On the two 64-bit halves by hand: GCC moves a 128-bit value through memory between rounds.
   constexpr int n = 2 * k + 1;
+  constexpr int seed = n * k + k;  // O's bit
+  static_assert(seed < 64 && n < 64);
   const wide_detail::WideMasks& m = wide_detail::kWideMasks<k>;
-  const auto grow = [window, &m](WideWindow from) {
-    const WideWindow wide =
-        from | ((from << 1) & m.not_first_column) | ((from >> 1) & m.not_last_column);
-    return (wide | (wide << n) | (wide >> n)) & window;
+  const auto low_of = [](WideWindow w) { return static_cast<std::uint64_t>(w); };
+  const auto high_of = [](WideWindow w) { return static_cast<std::uint64_t>(w >> 64); };
+  const std::uint64_t window_low = low_of(window), window_high = high_of(window);
+  const std::uint64_t first_low = low_of(m.not_first_column),
+                      first_high = high_of(m.not_first_column);
+  const std::uint64_t last_low = low_of(m.not_last_column), last_high = high_of(m.not_last_column);
+  const auto grow = [&](std::uint64_t& low, std::uint64_t& high) {
+    const std::uint64_t wide_low =
+        low | ((low << 1) & first_low) | (((low >> 1) | (high << 63)) & last_low);
+    const std::uint64_t wide_high =
+        high | (((high << 1) | (low >> 63)) & first_high) | ((high >> 1) & last_high);
+    const std::uint64_t down_low = wide_low << n;
+    const std::uint64_t down_high = (wide_high << n) | (wide_low >> (64 - n));
+    const std::uint64_t up_low = (wide_low >> n) | (wide_high << (64 - n));
+    const std::uint64_t up_high = wide_high >> n;
+    low = (wide_low | down_low | up_low) & window_low;
+    high = (wide_high | down_high | up_high) & window_high;
   };
-  WideWindow grown = window & (WideWindow{1} << (n * k + k));
-  for (int i = 0; i < k; ++i) grown = grow(grown);
+  std::uint64_t low = window_low & (std::uint64_t{1} << seed), high = 0;
+  for (int i = 0; i < k; ++i) grow(low, high);
   for (;;) {
-    const WideWindow next = grow(grown);
-    const bool done = next == grown || wide_detail::popcount_wide(next) > stop_above;
-    grown = next;
+    std::uint64_t next_low = low, next_high = high;
+    grow(next_low, next_high);
+    const bool done = (next_low == low && next_high == high) ||
+                      std::popcount(next_low) + std::popcount(next_high) > stop_above;
+    low = next_low;
+    high = next_high;
     if (done) break;
   }
-  component = grown;
-  return wide_detail::popcount_wide(grown);
+  component = (static_cast<WideWindow>(high) << 64) | low;
+  return std::popcount(low) + std::popcount(high);
 }
 
 /// chord_ends_of_rows of a wide window: the same A and B, ties included (as chord_ends_packed).
