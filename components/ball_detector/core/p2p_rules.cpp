@@ -57,8 +57,10 @@ template <int Steps>
   // pixel or two: most fills end after the first step.
   std::uint64_t fill = seed;
   std::uint64_t through = row;
-  [&]<int... I>(std::integer_sequence<int, I...>) {
-    (void)(... && [&] {
+  // Both lambdas inlined by force: left to GCC, the unrolled steps became a call per fill
+  // once the translation unit grew (their cost doubled).
+  [&]<int... I>(std::integer_sequence<int, I...>) __attribute__((always_inline)) {
+    (void)(...&& [&]() __attribute__((always_inline)) {
       const std::uint64_t before = fill;
       fill |= through & (fill >> (1 << I));
       through &= through >> (1 << I);
