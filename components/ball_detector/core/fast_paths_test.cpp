@@ -3,15 +3,15 @@
 // one whole pass (and the pre-blur decided on part of the rows), redetect vs detect, canny_l1 vs
 // cv::Canny and its vector loop vs its plain loop, canny_thresholds' quantiles vs sorting the
 // sampled pixels, the packed staircase thinning vs the byte pass, box_filter vs cv::boxFilter,
-// connected_rows vs a breadth-first flood fill, chord ends from row masks vs find_chord_ends, the
-// packed and wide windows' component and chord ends vs those of the row masks (and their one-load
-// row reads vs BitImage::bits), the detector's wide-window lines vs the row masks' on real images,
-// halve_image vs cv::resize (INTER_AREA), channels_equal vs a test per pixel, find_peaks vs a
-// brute-force scan, plot_ray vs a bounds test per cell, estimate_radius vs a scan of every edge
-// pixel, angular_coverage_in_frame vs every sector tested, the orientation planes vs points set one
-// by one, circles_from_votes independent of the order its voters come in, solve_3x3 vs cv::solve,
-// fit_circle and gather_outline_points vs their plain arithmetic, and refine_circle's reused scan
-// vs a fresh one.
+// connected_rows vs a breadth-first flood fill and its rows-at-once growth vs row by row, chord
+// ends from row masks vs find_chord_ends, the packed and wide windows' component and chord ends vs
+// those of the row masks (and their one-load row reads vs BitImage::bits), the detector's
+// wide-window lines vs the row masks' on real images, halve_image vs cv::resize (INTER_AREA),
+// channels_equal vs a test per pixel, find_peaks vs a brute-force scan, plot_ray vs a bounds test
+// per cell, estimate_radius vs a scan of every edge pixel, angular_coverage_in_frame vs every
+// sector tested, the orientation planes vs points set one by one, circles_from_votes independent of
+// the order its voters come in, solve_3x3 vs cv::solve, fit_circle and gather_outline_points vs
+// their plain arithmetic, and refine_circle's reused scan vs a fresh one.
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -758,6 +758,47 @@ TEST(ConnectedRows, GivenAStopThenTheCountExceedsItOnlyWhenTheComponentDoes) {
     else
       EXPECT_EQ(stopped, full);
   }
+}
+
+TEST(ConnectedRows, GivenWindowsOfThirteenToThirtyOnePixelsThenAllRowsAtOnceEqualRowByRow) {
+  std::mt19937 rng(73);
+  int whole = 0, above = 0;
+  for (int trial = 0; trial < 40000; ++trial) {
+    // Given a random window of every k the rows-at-once growth takes (6 to 15: two to four
+    // registers, the last one partly used), sparse to dense, O set (now and then not), in a
+    // mask buffer holding old bits
+    const int k = 6 + trial % 10;
+    const int n = 2 * k + 1;
+    const unsigned density = 3 + static_cast<unsigned>(trial) % 40;
+    std::array<std::uint64_t, 64> window{};
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c)
+        if (rng() % 100 < density) window[static_cast<size_t>(r)] |= std::uint64_t{1} << c;
+    if (trial % 50 != 0) window[static_cast<size_t>(k)] |= std::uint64_t{1} << k;
+    const auto span = std::span<const std::uint64_t>(window.data(), n);
+    // When grown all rows at once (where AVX2 runs) and row by row, whole and stopped by the
+    // count rule
+    for (const int stop : {64 * 64, n}) {
+      std::array<std::uint64_t, 64> fast;
+      fast.fill(~std::uint64_t{0});
+      std::array<std::uint64_t, 64> plain{};
+      const int count = connected_rows(span, k, fast, stop);
+      const int reference = connected_rows_plain(span, k, plain, stop);
+      // Then the count is the same below, at or above the stop, and so are the masks when whole
+      if (reference > stop) {
+        ++above;
+        ASSERT_GT(count, stop) << "trial " << trial;
+        continue;
+      }
+      ++whole;
+      ASSERT_EQ(count, reference) << "trial " << trial << " k " << k;
+      for (int r = 0; r < n; ++r)
+        ASSERT_EQ(fast[static_cast<size_t>(r)], plain[static_cast<size_t>(r)])
+            << "trial " << trial << " k " << k << " row " << r;
+    }
+  }
+  EXPECT_GT(whole, 20000);
+  EXPECT_GT(above, 5000);
 }
 
 TEST(WindowRows, GivenRandomBitImagesThenEveryWindowEqualsItsRowsReadOneByOne) {

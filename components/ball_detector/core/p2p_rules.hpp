@@ -62,9 +62,15 @@ int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<
 int connected_window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows,
                           int stop_above = 64 * 64);
 
-/// connected_window_rows on window rows already read (window_rows); k <= 31.
+/// connected_window_rows on window rows already read (window_rows); k <= 31. Windows of 13 to 31
+/// pixels grow all rows at once where AVX2 runs (the same masks and count as
+/// connected_rows_plain below stop_above, a count above it when it does).
 int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::uint64_t> rows,
                    int stop_above = 64 * 64);
+
+/// connected_rows row by row (a sweep down and up from O, then a worklist): every k, any CPU.
+int connected_rows_plain(std::span<const std::uint64_t> window, int k,
+                         std::span<std::uint64_t> rows, int stop_above = 64 * 64);
 
 /// Collects the points of connected_window_rows' masks (raster order); returns how many.
 int collect_masked_points(std::span<const std::uint64_t> rows, int k, std::span<WindowPoint> out);
