@@ -430,7 +430,8 @@ bool PixelToPixelDetector::isolate_along_orientation(int x, int y, int k,
   std::uint64_t dropped = 0;
   for (int i = 0; i < n; ++i) {
     const std::uint64_t all = window[static_cast<std::size_t>(i)];
-    const std::uint64_t kept = all & near.bits(y - k + i, x - k, n);
+    const std::uint64_t kept =
+        all & (n <= 57 ? near.short_bits(y - k + i, x - k, n) : near.bits(y - k + i, x - k, n));
     aligned[static_cast<std::size_t>(i)] = kept;
     dropped |= all ^ kept;
     count += std::popcount(kept);

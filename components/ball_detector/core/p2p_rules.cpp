@@ -22,8 +22,12 @@ namespace stereoball::ball_detector {
 int window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows) {
   const int n = 2 * k + 1;
   int count = 0;
+  // One load per row where it fits (short_bits): bits() takes a second word when the run
+  // crosses one, a branch taken at random for a wide window.
+  const bool short_rows = n <= 57;
   for (int r = 0; r < n; ++r) {
-    const std::uint64_t bits = edges.bits(y - k + r, x - k, n);
+    const std::uint64_t bits =
+        short_rows ? edges.short_bits(y - k + r, x - k, n) : edges.bits(y - k + r, x - k, n);
     rows[static_cast<std::size_t>(r)] = bits;
     count += std::popcount(bits);
   }
