@@ -45,6 +45,7 @@ struct Options {
   double file_seconds = 3;           // simulated seconds rendered to files (looped)
   std::string detector_override;     // --detector-config: YAML merged over the shipped file
   std::string detector_config;       // the file ball_detector reads (shipped, or composed)
+  std::string detector_times;        // --detector-frame-times: ball_detector's stage times
   std::string workstation_profile = "workstation";  // two hosts: the vision namespace's profile
 };
 
@@ -167,7 +168,12 @@ std::string write_profile(const std::string& dir, const Case& c, const Options& 
                                     "--frame-encoding", c.encoding});
   }
   if (with_vision) {
-    yaml += node_yaml("ball_detector", {"--config", o.detector_config});
+    std::vector<std::string> args{"--config", o.detector_config};
+    if (!o.detector_times.empty()) {
+      args.push_back("--frame-times");
+      args.push_back(o.detector_times + c.setup + "_" + c.key() + ".csv");
+    }
+    yaml += node_yaml("ball_detector", args);
     yaml += node_yaml("tracker", {"--config", sb::testing::source_path("config/tracker.yaml")});
   }
   yaml += node_yaml("motion_controller",
@@ -391,6 +397,9 @@ int main(int argc, char** argv) {
   app.add_option("--frames-csv", o.frames_csv,
                  "write every frame's stages (warm-up included, column measured) to "
                  "PREFIX<setup>_<encoding>_<rate>hz_run<N>.csv");
+  app.add_option("--detector-frame-times", o.detector_times,
+                 "one host: ball_detector writes each frame's stage times (its --frame-times) to "
+                 "PREFIX<setup>_<encoding>_<rate>hz.csv (the last run's)");
   app.add_option("--domain", o.domain, "DDS domain")->check(CLI::Range(0, 232));
   app.add_option("--detector-config", o.detector_override,
                  "YAML whose keys are merged over config/ball_detector.yaml for ball_detector "
