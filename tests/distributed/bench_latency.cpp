@@ -45,6 +45,7 @@ struct Options {
   double file_seconds = 3;           // simulated seconds rendered to files (looped)
   std::string detector_override;     // --detector-config: YAML merged over the shipped file
   std::string detector_config;       // the file ball_detector reads (shipped, or composed)
+  std::string detector_times;        // --detector-frame-times: ball_detector's stage times
   std::string workstation_profile = "workstation";  // two hosts: the vision namespace's profile
 };
 
@@ -62,7 +63,22 @@ struct Result {
   std::vector<sd::FrameStages> frames;  // every frame, for --frames-csv
   std::int64_t measured_from_ns = 0;
   std::map<std::string, sd::ProgramCpu> cpu;  // per program, per frame of the window
+  std::optional<double> render_lead_ms;       // the simulator's, from its start-up log line
 };
+
+// The simulator's render lead (its "frames rendered N us ahead" log line), ms. It is measured
+// at start-up under whatever load there is; a lead near the frame period puts the next frame's
+// render (two threads) beside this frame's detection, so runs differ by it.
+std::optional<double> render_lead_ms(const std::string& launch_log) {
+  const std::string key = "frames rendered ";
+  const auto at = launch_log.find(key);
+  if (at == std::string::npos) return std::nullopt;
+  try {
+    return std::stod(launch_log.substr(at + key.size(), 12)) * 1e-3;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
 
 // The figures of one run: the measured window's, and those of the frames before it apart.
 Result result_of(const sd::ObserverLog& detection_log, const sd::ObserverLog& control_log,
@@ -167,7 +183,12 @@ std::string write_profile(const std::string& dir, const Case& c, const Options& 
                                     "--frame-encoding", c.encoding});
   }
   if (with_vision) {
-    yaml += node_yaml("ball_detector", {"--config", o.detector_config});
+    std::vector<std::string> args{"--config", o.detector_config};
+    if (!o.detector_times.empty()) {
+      args.push_back("--frame-times");
+      args.push_back(o.detector_times + c.setup + "_" + c.key() + ".csv");
+    }
+    yaml += node_yaml("ball_detector", args);
     yaml += node_yaml("tracker", {"--config", sb::testing::source_path("config/tracker.yaml")});
   }
   yaml += node_yaml("motion_controller",
@@ -235,6 +256,7 @@ std::optional<Result> run_one_host(const Case& c, const Options& o, const std::s
   const auto log = sd::parse_observer_log(observer.get().output());
   Result r = result_of(log, log, w.from_ns, w.to_ns, c.rate_hz, sd::core_load(w.start, w.end));
   r.cpu = w.cpu(c.rate_hz);
+  r.render_lead_ms = render_lead_ms(read_text(dir + "/launch.log"));
   if (r.figures.end_to_end.n == 0) {
     std::fprintf(stderr, "bench latency: no command answered a track; launcher log:\n%s\n",
                  read_text(dir + "/launch.log").c_str());
@@ -391,6 +413,9 @@ int main(int argc, char** argv) {
   app.add_option("--frames-csv", o.frames_csv,
                  "write every frame's stages (warm-up included, column measured) to "
                  "PREFIX<setup>_<encoding>_<rate>hz_run<N>.csv");
+  app.add_option("--detector-frame-times", o.detector_times,
+                 "one host: ball_detector writes each frame's stage times (its --frame-times) to "
+                 "PREFIX<setup>_<encoding>_<rate>hz.csv (the last run's)");
   app.add_option("--domain", o.domain, "DDS domain")->check(CLI::Range(0, 232));
   app.add_option("--detector-config", o.detector_override,
                  "YAML whose keys are merged over config/ball_detector.yaml for ball_detector "
@@ -460,7 +485,14 @@ int main(int argc, char** argv) {
           "launch, not in the figures above): detection p99 %.2f max %.2f ms, end to end n=%zu "
           "p50 %.2f p99 %.2f max %.2f ms\n",
           o.warmup_s, r->startup.detection.p99, r->startup.detection.max, s.n, s.p50, s.p99, s.max);
+      if (r->render_lead_ms) {
+        std::printf(
+            "  simulator render lead %.1f ms (measured at its start; near the %.1f ms period, "
+            "the next frame's render runs beside this frame's detection)\n",
+            *r->render_lead_ms, 1e3 / c.rate_hz);
+      }
       nlohmann::json j = sd::to_json(r->figures, r->load);
+      if (r->render_lead_ms) j["simulator_render_lead_ms"] = *r->render_lead_ms;
       j["startup"] = sd::to_json(r->startup, r->load);
       j["startup"].erase("load");
       j["cpu_per_frame"] = sd::program_cpu_json(r->cpu);

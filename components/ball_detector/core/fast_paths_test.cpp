@@ -484,6 +484,38 @@ TEST(Redetect, GivenPeaksRefinedOneByOneInReverseThenTheSameCirclesAsCirclesOfVo
   EXPECT_TRUE(parts.refine_peak(1000).empty());
 }
 
+TEST(Redetect, GivenABandsPeaksRefinedOneByOneThenTheSameCirclesAsRedetectFrom) {
+  // Given real colour images detected by a source, and two band detectors reading its lines
+  const auto images = real_colours();
+  ASSERT_FALSE(images.empty());
+  PixelToPixelDetector source(PixelToPixelParams{}), parts(PixelToPixelParams{}),
+      whole(PixelToPixelParams{});
+  int circles = 0, peaks = 0;
+  for (std::size_t i = 0; i < std::min<std::size_t>(images.size(), 6); ++i) {
+    source.detect(images[i]);
+    for (const RadiusRange radii :
+         {RadiusRange{4, 11}, RadiusRange{25, 70}, RadiusRange{60, 160}}) {
+      // When one votes a band and refines its peaks one by one, last first, and selects
+      const std::optional<int> n = parts.peaks_from(source, SearchHints{radii});
+      ASSERT_TRUE(n.has_value());
+      std::vector<PeakCircles> per_peak(static_cast<std::size_t>(*n));
+      for (int p = *n - 1; p >= 0; --p)
+        per_peak[static_cast<std::size_t>(p)] = parts.refine_peak(p);
+      const auto found = parts.select_circles(per_peak);
+      // Then it keeps exactly what the other's redetect_from keeps
+      expect_same_circles(found, whole.redetect_from(source, SearchHints{radii}));
+      circles += static_cast<int>(found.size());
+      peaks += *n;
+    }
+  }
+  EXPECT_GT(circles, 0);
+  EXPECT_GT(peaks, circles);
+  // And a source without an image, or an empty radius range, gives no peaks to refine
+  PixelToPixelDetector fresh(PixelToPixelParams{});
+  EXPECT_FALSE(parts.peaks_from(fresh, SearchHints{}).has_value());
+  EXPECT_FALSE(parts.peaks_from(source, SearchHints{RadiusRange{20, 20}}).has_value());
+}
+
 TEST(Redetect, GivenEdgesFoundFirstThenVotingOnThemFindsWhatCastVotesFinds) {
   // Given real colour images: one detector finds their edges alone (as the coarse try does),
   // refines a seed on them, then votes on those edges; another casts its votes on the image

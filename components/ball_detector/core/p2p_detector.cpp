@@ -547,8 +547,20 @@ std::vector<Circle> PixelToPixelDetector::redetect(const SearchHints& hints) {
 
 std::vector<Circle> PixelToPixelDetector::redetect_from(const PixelToPixelDetector& source,
                                                         const SearchHints& hints) {
+  if (!revote_from(source, hints)) return {};
+  return circles_on(source.edges_);
+}
+
+std::optional<int> PixelToPixelDetector::peaks_from(const PixelToPixelDetector& source,
+                                                    const SearchHints& hints) {
+  if (!revote_from(source, hints)) return std::nullopt;
+  return peaks_on(source.edges_);
+}
+
+bool PixelToPixelDetector::revote_from(const PixelToPixelDetector& source,
+                                       const SearchHints& hints) {
   start(hints);
-  if (!source.edges_ready_ || !(radii_.max_px > radii_.min_px)) return {};
+  if (!source.edges_ready_ || !(radii_.max_px > radii_.min_px)) return false;
   // Which points vote and along which line does not depend on the radii (steps 2-6): only the
   // plotting (step 7) is redone, in the same order, so the accumulator is the same cell by cell.
   const cv::Size size = source.edges_.edges.size();
@@ -557,7 +569,7 @@ std::vector<Circle> PixelToPixelDetector::redetect_from(const PixelToPixelDetect
   accumulator_.setTo(0);
   rays_plotted_ = 0;
   for (const VoteLineAt& line : source.lines_) plot(line);
-  return circles_on(source.edges_);
+  return true;
 }
 
 std::vector<Circle> PixelToPixelDetector::detect_on_edges() {

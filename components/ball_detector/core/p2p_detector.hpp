@@ -328,6 +328,11 @@ class PixelToPixelDetector final : public CircleDetector {
   /// detectors can search bands of one image at once (source must not change meanwhile).
   /// Same circles as source.redetect(hints) given the same params and camera.
   std::vector<Circle> redetect_from(const PixelToPixelDetector& source, const SearchHints& hints);
+  /// redetect_from() in parts, for a caller that refines the peaks on several cores: the votes
+  /// over hints' radii and their peaks (their number), nullopt where redetect_from() returns no
+  /// circle before any peak; then refine_peak(i) for each and select_circles() in peak order
+  /// give exactly redetect_from()'s circles (source must not change until then).
+  std::optional<int> peaks_from(const PixelToPixelDetector& source, const SearchHints& hints);
   const DetectionDiagnostics* diagnostics() const override;
   std::string name() const override { return "p2p"; }
   /// The rectified camera of the whole image (RefineParams::camera); nullopt = circles only.
@@ -427,6 +432,8 @@ class PixelToPixelDetector final : public CircleDetector {
   void vote_on_edges(const VoteTasks& tasks = {});
   std::vector<Circle> circles_on(const EdgeMap& edges);
   int peaks_on(const EdgeMap& edges);
+  // redetect_from's votes: false where it finds nothing (no edges yet, an empty radius range).
+  bool revote_from(const PixelToPixelDetector& source, const SearchHints& hints);
   void start(const std::optional<SearchHints>& hints);
   std::vector<Circle> circles_from_peaks();
 
