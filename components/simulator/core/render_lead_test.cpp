@@ -28,16 +28,22 @@ TEST(RenderLead, GivenAStartUpLeadTooLongWhenFramesWorkFastThenTheLeadShrinksToT
   EXPECT_EQ(lead.max_lead_ns(), 30 * kMs);
 }
 
-TEST(RenderLead, GivenOneSlowFrameThenTheLeadHoldsItForTheWindowOnly) {
-  RenderLead lead(10 * kMs, kPeriod, 5);
-  for (int i = 0; i < 5; ++i) lead.add_work(4 * kMs);
+TEST(RenderLead, GivenOneSlowFrameInTenThenTheLeadFollowsTheOthers) {
+  // Given: a second of frames whose work takes 4 ms.
+  RenderLead lead(10 * kMs, kPeriod, 30);
+  for (int i = 0; i < 30; ++i) lead.add_work(4 * kMs);
   EXPECT_EQ(lead.lead_ns(), 7 * kMs);
-  lead.add_work(12 * kMs);  // one frame slowed by other work on the cores
+  // When: three frames of the second are slowed by other work on the cores.
+  for (int i = 0; i < 3; ++i) lead.add_work(12 * kMs);
+  // Then: the lead stays with the 90 % of frames (those three are late, not the next renders
+  // started beside the frames before them).
+  EXPECT_EQ(lead.lead_ns(), 7 * kMs);
+  // When: a fourth one is; then more than a tenth is slow and the lead covers them.
+  lead.add_work(12 * kMs);
   EXPECT_EQ(lead.lead_ns(), 17 * kMs);
-  for (int i = 0; i < 4; ++i) lead.add_work(4 * kMs);
-  EXPECT_EQ(lead.lead_ns(), 17 * kMs) << "still within the window of 5 frames";
-  lead.add_work(4 * kMs);
-  EXPECT_EQ(lead.lead_ns(), 7 * kMs) << "the slow frame has left the window";
+  // When: a second of fast frames follows; then the slow ones have left the window.
+  for (int i = 0; i < 30; ++i) lead.add_work(4 * kMs);
+  EXPECT_EQ(lead.lead_ns(), 7 * kMs);
 }
 
 TEST(RenderLead, GivenWorkLongerThanAPeriodThenTheLeadStopsBelowThePeriod) {
