@@ -1092,9 +1092,38 @@ TEST(ConnectedPacked, GivenRandomWindowsThenCountAndComponentEqualConnectedRows)
   }
 }
 
+// How many windows of a random test had chord ends and a vote line.
+struct ChordCounts {
+  int with_chord = 0;
+  int with_line = 0;
+};
+
+// chord and line (read off a packed or wide word) equal those read off the window's row masks,
+// ties included; counts the windows that had each.
+void expect_same_chord_and_line(const std::optional<ChordEnds>& chord,
+                                const std::optional<VoteLine>& line,
+                                std::span<const std::uint64_t> rows, int k, int trial,
+                                ChordCounts& counts) {
+  const auto chord_of_rows = chord_ends_of_rows(rows, k);
+  ASSERT_EQ(chord.has_value(), chord_of_rows.has_value()) << "trial " << trial;
+  if (chord) {
+    ++counts.with_chord;
+    ASSERT_EQ(chord->a, chord_of_rows->a) << "trial " << trial;
+    ASSERT_EQ(chord->b, chord_of_rows->b) << "trial " << trial;
+  }
+  const auto line_of_rows = vote_line_of_rows(rows, k);
+  ASSERT_EQ(line.has_value(), line_of_rows.has_value()) << "trial " << trial;
+  if (line) {
+    ++counts.with_line;
+    ASSERT_TRUE(line->c2x == line_of_rows->c2x && line->c2y == line_of_rows->c2y &&
+                line->nx == line_of_rows->nx && line->ny == line_of_rows->ny)
+        << "trial " << trial;
+  }
+}
+
 TEST(ChordEndsPacked, GivenRandomWindowsThenEndsAndVoteLineEqualThoseOfTheRowMasks) {
   std::mt19937 rng(47);
-  int with_chord = 0, with_line = 0;
+  ChordCounts counts;
   for (int trial = 0; trial < 60000; ++trial) {
     // Given a random window of every packed k (sparse: every configuration and tie occurs),
     // now and then an empty one
@@ -1104,27 +1133,12 @@ TEST(ChordEndsPacked, GivenRandomWindowsThenEndsAndVoteLineEqualThoseOfTheRowMas
         random_window(rng, k, trial % 100 == 0 ? 0 : 5 + static_cast<unsigned>(trial) % 30, false);
     const auto span = std::span<const std::uint64_t>(w.rows.data(), n);
     // When the chord ends and vote line are read off the packed word and off the row masks
-    const auto packed = chord_ends_packed(w.packed, k);
-    const auto from_rows = chord_ends_of_rows(span, k);
     // Then they agree, including which point wins a tie
-    ASSERT_EQ(packed.has_value(), from_rows.has_value()) << "trial " << trial;
-    if (packed) {
-      ++with_chord;
-      ASSERT_EQ(packed->a, from_rows->a) << "trial " << trial;
-      ASSERT_EQ(packed->b, from_rows->b) << "trial " << trial;
-    }
-    const auto line = vote_line_packed(w.packed, k);
-    const auto line_of_rows = vote_line_of_rows(span, k);
-    ASSERT_EQ(line.has_value(), line_of_rows.has_value()) << "trial " << trial;
-    if (line) {
-      ++with_line;
-      ASSERT_TRUE(line->c2x == line_of_rows->c2x && line->c2y == line_of_rows->c2y &&
-                  line->nx == line_of_rows->nx && line->ny == line_of_rows->ny)
-          << "trial " << trial;
-    }
+    ASSERT_NO_FATAL_FAILURE(expect_same_chord_and_line(
+        chord_ends_packed(w.packed, k), vote_line_packed(w.packed, k), span, k, trial, counts));
   }
-  EXPECT_GT(with_chord, 20000);
-  EXPECT_GT(with_line, 5000);
+  EXPECT_GT(counts.with_chord, 20000);
+  EXPECT_GT(counts.with_line, 5000);
 }
 
 #if SB_WIDE_WINDOWS
@@ -1227,7 +1241,7 @@ TEST(ConnectedWide, GivenRandomWindowsThenCountAndComponentEqualConnectedRows) {
 
 TEST(ChordEndsWide, GivenRandomWindowsThenEndsAndVoteLineEqualThoseOfTheRowMasks) {
   std::mt19937 rng(71);
-  int with_chord = 0, with_line = 0;
+  ChordCounts counts;
   for (int trial = 0; trial < 60000; ++trial) {
     // Given a random window of every wide k (sparse: every configuration and tie occurs),
     // now and then an empty one
@@ -1237,27 +1251,12 @@ TEST(ChordEndsWide, GivenRandomWindowsThenEndsAndVoteLineEqualThoseOfTheRowMasks
         rng, k, trial % 100 == 0 ? 0 : 3 + static_cast<unsigned>(trial) % 20, false);
     const auto span = std::span<const std::uint64_t>(w.rows.data(), n);
     // When the chord ends and vote line are read off the wide word and off the row masks
-    const auto wide = chord_ends_wide_of(k, w.wide);
-    const auto from_rows = chord_ends_of_rows(span, k);
     // Then they agree, including which point wins a tie
-    ASSERT_EQ(wide.has_value(), from_rows.has_value()) << "trial " << trial;
-    if (wide) {
-      ++with_chord;
-      ASSERT_EQ(wide->a, from_rows->a) << "trial " << trial;
-      ASSERT_EQ(wide->b, from_rows->b) << "trial " << trial;
-    }
-    const auto line = vote_line_wide_of(k, w.wide);
-    const auto line_of_rows = vote_line_of_rows(span, k);
-    ASSERT_EQ(line.has_value(), line_of_rows.has_value()) << "trial " << trial;
-    if (line) {
-      ++with_line;
-      ASSERT_TRUE(line->c2x == line_of_rows->c2x && line->c2y == line_of_rows->c2y &&
-                  line->nx == line_of_rows->nx && line->ny == line_of_rows->ny)
-          << "trial " << trial;
-    }
+    ASSERT_NO_FATAL_FAILURE(expect_same_chord_and_line(
+        chord_ends_wide_of(k, w.wide), vote_line_wide_of(k, w.wide), span, k, trial, counts));
   }
-  EXPECT_GT(with_chord, 20000);
-  EXPECT_GT(with_line, 5000);
+  EXPECT_GT(counts.with_chord, 20000);
+  EXPECT_GT(counts.with_line, 5000);
 }
 
 // The vote lines of one k on an edge map as the row masks give them (the plain reference of the
