@@ -40,11 +40,6 @@
 namespace stereoball::ball_detector {
 namespace {
 
-using test::real_colours;
-using test::real_greys;
-using test::real_images;
-using test::sobel;
-
 using test::expect_same_circles;
 
 TEST(Redetect, GivenBandsOfRadiiThenRedetectFindsWhatDetectWithTheSameThresholdsFinds) {

@@ -41,11 +41,6 @@
 namespace stereoball::ball_detector {
 namespace {
 
-using test::real_colours;
-using test::real_greys;
-using test::real_images;
-using test::sobel;
-
 TEST(CannyL1, GivenRealImagesAndSeveralThresholdsThenEdgesEqualOpenCvCanny) {
   // Given the real sample images (ships with the project's shared data)
   const auto images = real_greys();

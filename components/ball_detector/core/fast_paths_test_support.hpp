@@ -9,7 +9,7 @@
 #include <system_error>
 #include <vector>
 
-namespace stereoball::ball_detector::test {
+namespace stereoball::ball_detector {
 
 /// The real sample images (../shared/data/opencv-samples), read with imread flags.
 inline std::vector<cv::Mat> real_images(int flags) {
@@ -41,4 +41,4 @@ inline void sobel(const cv::Mat& grey, cv::Mat& dx, cv::Mat& dy) {
   cv::Sobel(grey, dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
 }
 
-}  // namespace stereoball::ball_detector::test
+}  // namespace stereoball::ball_detector

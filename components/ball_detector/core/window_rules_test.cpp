@@ -38,10 +38,14 @@
 namespace stereoball::ball_detector {
 namespace {
 
-using test::real_colours;
-using test::real_greys;
-using test::real_images;
-using test::sobel;
+// A height x width bit image, each pixel set or not at random (OpenCV's generator).
+BitImage random_bit_image(int height, int width) {
+  cv::Mat binary(height, width, CV_8UC1);
+  cv::randu(binary, 0, 2);
+  BitImage bits;
+  bits.assign(binary);
+  return bits;
+}
 
 // Reference: 8-connected component of the window centre by breadth-first search.
 int bfs_component(const std::array<std::uint64_t, 64>& window, int n, int k) {
@@ -203,10 +207,7 @@ TEST(WindowRows, GivenRandomBitImagesThenEveryWindowEqualsItsRowsReadOneByOne) {
   for (const int width : {70, 130, 200}) {
     // Given a random bit image whose rows span one to four words
     const int height = 70;
-    cv::Mat binary(height, width, CV_8UC1);
-    cv::randu(binary, 0, 2);
-    BitImage bits;
-    bits.assign(binary);
+    const BitImage bits = random_bit_image(height, width);
     for (int trial = 0; trial < 3000; ++trial) {
       // When a window of any k, at any x (every offset in a word), is read whole
       const int k = 1 + static_cast<int>(rng() % 31);
@@ -312,10 +313,7 @@ TEST(PackedWindow, GivenRandomBitImagesThenEveryPackedWindowHoldsTheWindowsRows)
   std::mt19937 rng(41);
   for (const int width : {20, 70, 130}) {
     // Given a random bit image whose rows span one to three words
-    cv::Mat binary(40, width, CV_8UC1);
-    cv::randu(binary, 0, 2);
-    BitImage bits;
-    bits.assign(binary);
+    const BitImage bits = random_bit_image(40, width);
     for (int trial = 0; trial < 3000; ++trial) {
       // When a window of every packed k, at any x, is packed
       const int k = 1 + trial % kPackedMaxK;
@@ -335,10 +333,7 @@ TEST(PackedWindow, GivenRandomBitImagesThenEveryPackedWindowHoldsTheWindowsRows)
 TEST(ShortBits, GivenRandomBitImagesThenEveryReadEqualsBits) {
   for (const int width : {1, 9, 63, 64, 65, 130, 200}) {
     // Given a random bit image (a row of one word to four, and widths ending anywhere in one)
-    cv::Mat binary(3, width, CV_8UC1);
-    cv::randu(binary, 0, 2);
-    BitImage bits;
-    bits.assign(binary);
+    const BitImage bits = random_bit_image(3, width);
     // When every run of pixels inside a row is read with one load
     for (int y = 0; y < 3; ++y)
       for (int x0 = 0; x0 < width; ++x0)
@@ -474,10 +469,7 @@ TEST(WideWindow, GivenRandomBitImagesThenEveryWideWindowHoldsTheWindowsRows) {
   std::mt19937 rng(61);
   for (const int width : {20, 70, 130}) {
     // Given a random bit image whose rows span one to three words
-    cv::Mat binary(40, width, CV_8UC1);
-    cv::randu(binary, 0, 2);
-    BitImage bits;
-    bits.assign(binary);
+    const BitImage bits = random_bit_image(40, width);
     for (int trial = 0; trial < 3000; ++trial) {
       // When a window of every wide k, at any x, is packed
       const int k = kPackedMaxK + 1 + trial % (kWideMaxK - kPackedMaxK);
