@@ -10,8 +10,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ball_detector/pipeline/search/coarse_search.hpp"
@@ -486,5 +488,47 @@ TEST_F(RealBasketballPairs, GivenCorruptDataInTheRightEyesLastRows_ThenOnlyAFram
     StereoPipeline fresh(basketball_params());
     ASSERT_TRUE(fresh.set_calibration(calib_).ok());
     expect_same_answer(fresh.step(left, right, false), lazy.step(left, right, false), id);
+  }
+}
+
+namespace {
+
+// Every task but the first on a thread of its own, all at once (as the node's two threads may
+// run them); counts the calls with more than one task.
+struct AtOnceRunner {
+  int calls = 0;
+  void operator()(int n, const std::function<void(int)>& task) {
+    if (n > 1) ++calls;
+    std::vector<std::thread> threads;
+    for (int i = 1; i < n; ++i) threads.emplace_back([&task, i] { task(i); });
+    if (n > 0) task(0);
+    for (auto& t : threads) t.join();
+  }
+};
+
+}  // namespace
+
+TEST_F(RealBasketballPairs, GivenTasksAtOnce_ThenHalfWidthPairsAreAnsweredAsInTurn) {
+  // Given pairs at half width, coarse to fine: balls the reduced eye's whole range pairs (07,
+  // 19), one only its radius bands find (83), ones the full-width search answers after it (09,
+  // 11, 14, 38), clutter (02, 72) and a ball at the border (08)
+  auto half = sb::stereo::scale_calibration(calib_, cv::Size(1152, 648));
+  ASSERT_TRUE(half.ok()) << half.error();
+  for (const char* id : {"02", "07", "08", "09", "11", "14", "19", "38", "72", "83"}) {
+    StereoPipeline in_turn(coarse_basketball_params()), at_once(coarse_basketball_params());
+    ASSERT_TRUE(in_turn.set_calibration(*half).ok() && at_once.set_calibration(*half).ok());
+    AtOnceRunner runner;
+    at_once.set_task_runner(std::ref(runner), 2);
+    const cv::Mat l = published(kSet + "/left/left_" + std::string(id) + ".jpg", half->image_size);
+    const cv::Mat r =
+        published(kSet + "/right/right_" + std::string(id) + ".jpg", half->image_size);
+    // When one pipeline runs its tasks in turn and the other at once on threads
+    const StereoDetection a = in_turn.step(l, r, false);
+    const StereoDetection b = at_once.step(l, r, false);
+    // Then the answers are the same, bit for bit, and the coarse try's work was split (the
+    // left eye's rows, its edges beside the reduced votes, the peaks, the refinements)
+    expect_same_answer(a, b, id);
+    EXPECT_EQ(in_turn.left_candidates().size(), at_once.left_candidates().size()) << id;
+    EXPECT_GE(runner.calls, 3) << "pair " << id;
   }
 }

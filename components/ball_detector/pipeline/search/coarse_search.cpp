@@ -44,10 +44,19 @@ void CoarseSearch::set_up(const BallDetectorParams& p, int image_width_px,
 bool cast_reduced_left_votes(SearchTools& tools) {
   CoarseSearch& coarse = tools.coarse;
   // The full-resolution edges (and so the thresholds the right eye's boxes and the searches near
-  // a prior use) as the full search makes them; only the voting runs on the reduced eye.
-  if (!tools.left_detector.find_edges(tools.rect_left)) return false;
-  reduce_image(tools.rect_left, coarse.level, coarse.reduced_left);
-  return coarse.detector->cast_votes(coarse.reduced_left);
+  // a prior use) as the full search makes them; only the voting runs on the reduced eye. The two
+  // read only the rectified eye and write each its own detector: with tasks at once the edge
+  // step runs beside the reduced eye's votes (before, a wide frame's first third on one core).
+  bool edges = false, votes = false;
+  tools.run_tasks(2, [&](int task) {
+    if (task == 0) {
+      edges = tools.left_detector.find_edges(tools.rect_left);
+      return;
+    }
+    reduce_image(tools.rect_left, coarse.level, coarse.reduced_left);
+    votes = coarse.detector->cast_votes(coarse.reduced_left);
+  });
+  return edges && votes;
 }
 
 namespace {
@@ -55,21 +64,27 @@ namespace {
 // The reduced eye's circles in radius bands (README: radius bands), each band on the lines the
 // whole range's votes were cast along (redetect_from: no window rules again), best first per
 // band, at most kCoarseBandCircles of each.
-void add_reduced_band_circles(CoarseSearch& coarse, double min_separation_px,
+void add_reduced_band_circles(SearchTools& tools, double min_separation_px,
                               double min_voted_coverage, std::vector<Circle>& out) {
+  CoarseSearch& coarse = tools.coarse;
   const std::vector<SearchHints> bands = radius_bands(
       coarse.params.min_radius_px, coarse.params.max_radius_px, coarse.reduced_left.rows);
-  for (std::size_t i = 0; i < bands.size(); ++i) {
-    if (coarse.band_detectors.size() <= i) {
-      PixelToPixelParams band_params = coarse.params;
-      band_params.max_peaks_examined = static_cast<int>(kCoarseBandCircles);
-      coarse.band_detectors.emplace_back(band_params);
-      coarse.band_detectors.back().set_reduced_image_options(min_voted_coverage, true);
-    }
-    std::vector<Circle> found = coarse.band_detectors[i].redetect_from(*coarse.detector, bands[i]);
-    if (found.size() > kCoarseBandCircles) found.resize(kCoarseBandCircles);
-    out.insert(out.end(), found.begin(), found.end());
+  while (coarse.band_detectors.size() < bands.size()) {
+    PixelToPixelParams band_params = coarse.params;
+    band_params.max_peaks_examined = static_cast<int>(kCoarseBandCircles);
+    coarse.band_detectors.emplace_back(band_params);
+    coarse.band_detectors.back().set_reduced_image_options(min_voted_coverage, true);
   }
+  // Each band replays the whole range's lines into its own detector: the bands are tasks, their
+  // circles joined in band order as one band after the other gives them.
+  std::vector<std::vector<Circle>> per_band(bands.size());
+  tools.run_tasks(static_cast<int>(bands.size()), [&](int i) {
+    const auto b = static_cast<std::size_t>(i);
+    per_band[b] = coarse.band_detectors[b].redetect_from(*coarse.detector, bands[b]);
+    if (per_band[b].size() > kCoarseBandCircles) per_band[b].resize(kCoarseBandCircles);
+  });
+  for (const std::vector<Circle>& found : per_band)
+    out.insert(out.end(), found.begin(), found.end());
   std::stable_sort(out.begin(), out.end(),
                    [](const Circle& a, const Circle& b) { return a.score > b.score; });
   // One place and size found by several bands (or the whole range) is refined once.
@@ -79,7 +94,13 @@ void add_reduced_band_circles(CoarseSearch& coarse, double min_separation_px,
 }  // namespace
 
 const std::vector<Circle>& CoarseLeftCircles::whole_reduced() {
-  if (!whole_) whole_ = tools_.coarse.detector->circles_of_votes();
+  if (whole_) return *whole_;
+  // Each peak refined as a task (circles_of_votes() in parts: the same circles).
+  PixelToPixelDetector& reduced = *tools_.coarse.detector;
+  std::vector<PeakCircles> per_peak(static_cast<std::size_t>(reduced.find_peaks_of_votes()));
+  tools_.run_tasks(static_cast<int>(per_peak.size()),
+                   [&](int i) { per_peak[static_cast<std::size_t>(i)] = reduced.refine_peak(i); });
+  whole_ = reduced.select_circles(per_peak);
   return *whole_;
 }
 
@@ -92,7 +113,7 @@ std::vector<Circle> CoarseLeftCircles::with_bands() {
   // In clutter the whole range's strongest peaks are the long lines of large radii crossing
   // there (the reason for the full-width radius bands); on the reduced eye the bands cost a
   // replay of its lines.
-  add_reduced_band_circles(tools_.coarse, tools_.coarse.params.min_separation_px,
+  add_reduced_band_circles(tools_, tools_.coarse.params.min_separation_px,
                            tools_.params.detector_params().coarse_min_voted_coverage, reduced);
   return refined_with_fine_path(reduced);
 }
@@ -101,25 +122,15 @@ std::vector<Circle> CoarseLeftCircles::refined_with_fine_path(const std::vector<
   CoarseSearch& coarse = tools_.coarse;
   // One at a time and ranked afterwards, as refine_coarse_circles ranks them all at once: the
   // same circles as one call over reduced, whichever of them were refined before.
+  refine_new(reduced);
   std::vector<Circle> held;
   for (const Circle& c : reduced) {
-    auto it = std::find_if(refined_.begin(), refined_.end(),
-                           [&](const auto& done) { return done.first == c; });
-    if (it == refined_.end()) {
-      refined_.emplace_back(
-          c, refine_coarse_circles(tools_.left_detector, std::span<const Circle>(&c, 1),
-                                   coarse.level, tools_.params.coarse_to_fine.max_refine_shift));
-      it = std::prev(refined_.end());
-    }
+    const auto it = std::find_if(refined_.begin(), refined_.end(),
+                                 [&](const auto& done) { return done.first == c; });
     held.insert(held.end(), it->second.begin(), it->second.end());
   }
   std::vector<Circle> found = tools_.left_detector.keep_best_separated(std::move(held));
   if (coarse.fine_path) {
-    if (!fine_) {
-      const EdgeThresholds thresholds = thresholds_of(tools_.left_detector.edge_map());
-      fine_ =
-          coarse.fine_path->detect(tools_.rect_left, thresholds, SearchHints{coarse.split.fine_px});
-    }
     found.insert(found.end(), fine_->begin(), fine_->end());
     std::stable_sort(found.begin(), found.end(),
                      [](const Circle& a, const Circle& b) { return a.score > b.score; });
@@ -127,6 +138,37 @@ std::vector<Circle> CoarseLeftCircles::refined_with_fine_path(const std::vector<
   const auto most = static_cast<std::size_t>(tools_.params.max_candidates_per_eye);
   if (found.size() > most) found.resize(most);
   return found;
+}
+
+void CoarseLeftCircles::refine_new(const std::vector<Circle>& reduced) {
+  // The circles not refined before (each once) and, the first time, the fine path's search: each
+  // reads the left detector's full-resolution edges and writes only its own result, so they are
+  // tasks, kept in reduced's order as one after the other keeps them.
+  std::vector<Circle> fresh;
+  for (const Circle& c : reduced) {
+    const auto same = [&](const Circle& done) { return done == c; };
+    const bool known = std::any_of(refined_.begin(), refined_.end(),
+                                   [&](const auto& done) { return same(done.first); });
+    if (!known && std::none_of(fresh.begin(), fresh.end(), same)) fresh.push_back(c);
+  }
+  CoarseSearch& coarse = tools_.coarse;
+  const bool fine_due = coarse.fine_path && !fine_;
+  std::vector<std::vector<Circle>> results(fresh.size());
+  std::vector<Circle> fine;
+  tools_.run_tasks(static_cast<int>(fresh.size()) + (fine_due ? 1 : 0), [&](int task) {
+    const auto i = static_cast<std::size_t>(task);
+    if (i == fresh.size()) {
+      const EdgeThresholds thresholds = thresholds_of(tools_.left_detector.edge_map());
+      fine =
+          coarse.fine_path->detect(tools_.rect_left, thresholds, SearchHints{coarse.split.fine_px});
+      return;
+    }
+    results[i] = refine_coarse_circles(tools_.left_detector, std::span<const Circle>(&fresh[i], 1),
+                                       coarse.level, tools_.params.coarse_to_fine.max_refine_shift);
+  });
+  for (std::size_t i = 0; i < fresh.size(); ++i)
+    refined_.emplace_back(fresh[i], std::move(results[i]));
+  if (fine_due) fine_ = std::move(fine);
 }
 
 std::vector<Circle> coarse_left_circles(SearchTools& tools) {

@@ -71,6 +71,9 @@ class CoarseLeftCircles {
   std::vector<Circle> refined_with_fine_path(const std::vector<Circle>& reduced);
   // The whole range's reduced circles (voted once).
   const std::vector<Circle>& whole_reduced();
+  // Each of reduced not refined yet refined into refined_, and the fine path's circles into
+  // fine_ if not searched yet: as tasks of tools_.run_tasks.
+  void refine_new(const std::vector<Circle>& reduced);
 
   SearchTools& tools_;
   std::optional<std::vector<Circle>> whole_;  // the whole range's reduced circles
