@@ -5,6 +5,7 @@
 #include "ball_detector/core/circle.hpp"
 #include "ball_detector/core/circle_fit.hpp"
 #include "ball_detector/core/edge_map.hpp"
+#include "ball_detector/core/p2p_rules.hpp"  // SB_WIDE_WINDOWS: whether the wide-window members exist
 #include "ball_detector/core/voting.hpp"
 #include "common/util/result.hpp"
 

@@ -2,12 +2,9 @@
 // count rule (or its arc isolated), its vote line found and plotted into the accumulator, in one
 // pass or in row shares run as tasks and joined in one pass's order. Apart from the driver
 // (p2p_detector.cpp) because this is the detector's inner loop, read on its own.
-// p2p_rules.hpp first: p2p_detector.hpp declares the wide-window members (vote_wide,
-// isolate_wide) only where it has defined SB_WIDE_WINDOWS.
-#include "ball_detector/core/p2p_rules.hpp"
+#include "ball_detector/core/p2p_detector.hpp"
 
 #include "ball_detector/core/fast_math.hpp"
-#include "ball_detector/core/p2p_detector.hpp"
 #include "ball_detector/core/p2p_detector_internal.hpp"
 #include "ball_detector/core/voting.hpp"
 
