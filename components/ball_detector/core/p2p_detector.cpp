@@ -442,6 +442,19 @@ bool PixelToPixelDetector::cast_votes_on_last_edges(const VoteTasks& tasks) {
   return true;
 }
 
+bool PixelToPixelDetector::cast_votes_on_last_edges(const SearchHints& hints,
+                                                    const VoteTasks& tasks) {
+  if (!edges_ready_) return false;
+  start(hints);
+  vote_on_edges(tasks);
+  return true;
+}
+
+void PixelToPixelDetector::forget_hints() {
+  radii_ = {params_.min_radius_px, params_.max_radius_px};
+  min_inside_fraction_ = params_.refine_params.min_inside_fraction;
+}
+
 bool PixelToPixelDetector::find_edges(const cv::Mat& bgr_or_grey) {
   start(std::nullopt);
   edges_ready_ = false;

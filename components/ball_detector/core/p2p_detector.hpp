@@ -310,6 +310,12 @@ class PixelToPixelDetector final : public CircleDetector {
   /// cast_votes() of the last image (find_edges or cast_votes) on its edge map, without the
   /// edge step again: the same votes; false before any valid image.
   bool cast_votes_on_last_edges(const VoteTasks& tasks = {});
+  /// cast_votes_on_last_edges() over hints' radii only: every line (the window rules do not
+  /// depend on the radii) is kept for redetect, only the plotted rays are shorter.
+  bool cast_votes_on_last_edges(const SearchHints& hints, const VoteTasks& tasks = {});
+  /// refine_seeds() over the params' radii and inside fraction again after a search with hints
+  /// (its votes, peaks, lines and edges kept).
+  void forget_hints();
   /// The second half: the peaks of the last votes refined and scored, as detect() returns them
   /// (empty if the last cast_votes() had an invalid image).
   std::vector<Circle> circles_of_votes();

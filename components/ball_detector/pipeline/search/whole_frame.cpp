@@ -13,6 +13,7 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
   // Nothing else can start before the left eye is rectified: its rows are shared out.
   tools.rectify_whole_in_tasks(frame.left_channel, stereo::Eye::kLeft, frame.rectified,
                                tools.rect_left);
+  if (tools.coarse.by_radius) return by_radius(frame, scratch, tools);
   bool edges_made = false;  // the left detector holds rect_left's full-resolution edges
   if (tools.coarse.on()) {
     // The reduced eye's votes first: where they pair, the frame costs a fraction of the full
@@ -47,6 +48,38 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
     out = pair_left_circles(frame, scratch, tools,
                             voted ? circles_of_votes(tools, !bands_due) : std::vector<Circle>{},
                             voted, std::move(blobs));
+    paired = out.found();
+  });
+  if (bands_due && !paired) scratch.band_left = std::move(bands);
+  out.path = SearchPath::kWholeFrame;
+  return out;
+}
+
+SearchOutcome WholeFrameSearch::by_radius(const FrameState& frame, FrameScratch& scratch,
+                                          SearchTools& tools) const {
+  SearchOutcome out;
+  out.path = SearchPath::kWholeFrame;
+  const bool bands_due = scratch.bands_due;
+  // The full-width lines only when the bands may replay them: their window rules are the
+  // largest part of the votes, and the reduced eye's whole range does without them.
+  if (!cast_reduced_left_votes(tools) || (bands_due && !cast_full_width_lines(tools))) {
+    if (bands_due) scratch.band_left.emplace();  // an invalid image: nothing to search
+    return out;
+  }
+  std::vector<Circle> whole = CoarseLeftCircles(tools).whole_range();
+  // As the full-width search: task 0 pairs (with the colour seeds), the other task searches the
+  // due radius bands on the full-width lines meanwhile, dropped once task 0 pairs.
+  std::atomic<bool> paired{false};
+  std::vector<Circle> bands;
+  tools.run_tasks(bands_due ? 2 : 1, [&](int task) {
+    if (task == 1) {
+      if (paired) return;
+      tools.observe(SearchPath::kRadiusBands, true);
+      bands = detect_left_in_bands(tools, &paired, scratch.band);
+      tools.observe(SearchPath::kRadiusBands, false);
+      return;
+    }
+    out = pair_left_circles(frame, scratch, tools, std::move(whole), true);
     paired = out.found();
   });
   if (bands_due && !paired) scratch.band_left = std::move(bands);

@@ -22,6 +22,9 @@ class WholeFrameSearch : public SearchStrategy {
  private:
   /// The left detector's last votes turned into circles, each peak a task or all in turn.
   static std::vector<Circle> circles_of_votes(SearchTools& tools, bool peaks_at_once);
+  /// Coarse to fine by radius (CoarseSearch::by_radius): the reduced eye's whole range paired,
+  /// the full-width radius bands beside it when due; no full-width whole-range search.
+  SearchOutcome by_radius(const FrameState& frame, FrameScratch& scratch, SearchTools& tools) const;
   /// Coarse to fine, the reduced eye's votes (cast already) paired: the whole radius range's
   /// circles first, the radius bands' too if those give no pair of coarse_min_pair_score;
   /// nullopt when neither does (the full-width search then answers).
