@@ -84,11 +84,11 @@ TEST(Composite, GivenWhiteBallOnChessboardWhenSearchedByRadiusThenTheFullWidthBa
   const Ball& ball = balls[3];
   ASSERT_EQ(ball.colour, "white");
   ASSERT_NEAR(ball.centre_m[2], 1.19, 0.01);
-  const ball_detector::BallDetectorParams params = composite_params({}, 0.11);
-  ASSERT_TRUE(params.coarse_by_radius) << "premise: the shipped setting";
+  ball_detector::BallDetectorParams params = composite_params({}, 0.11);
+  params.coarse_by_radius = true;
   ball_detector::StereoPipeline pipeline(params);
   ASSERT_TRUE(pipeline.set_calibration(rectified_rig_calibration(bg)).ok());
-  // When the pipeline runs on it (640x480: searched by radius)
+  // When the pipeline searches it coarse to fine by radius (640x480: halved once)
   const auto [left, right] = composite(bg, ball);
   const auto det = pipeline.step(left, right, true);
   // Then the full-width radius bands find it, its centre within 1 % of its depth

@@ -215,7 +215,7 @@ std::vector<params::Field<P>> coarse_to_fine_fields() {
       number("coarse_to_fine.min_pair_score", at(&P::coarse_min_pair_score), 0.65, {0.0, 1.0}, "",
              "a pair of the reduced eye's circles scoring less is left to the full-width "
              "search"),
-      flag("coarse_to_fine.by_radius", at(&P::coarse_by_radius), true,
+      flag("coarse_to_fine.by_radius", at(&P::coarse_by_radius), false,
            "frames not wider than target_width_px: the whole-frame search votes on the halved "
            "left eye for the radii of min_coarse_radius_px there and up (refined at full "
            "width) and leaves the smaller ones to the full-width radius bands; no full-width "

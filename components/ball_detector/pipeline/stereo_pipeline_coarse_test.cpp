@@ -267,7 +267,7 @@ TEST(StereoPipelineCoarse, GivenAWeakCoarsePairThenTheFullWidthSearchAnswers) {
   EXPECT_EQ(b.position_m, a.position_m);
 }
 
-// Coarse to fine by radius (the shipped setting for 640x480 frames): the whole-frame search
+// Coarse to fine by radius (coarse_to_fine.by_radius, off by default): the whole-frame search
 // votes on the halved eye for the radii it resolves (7 px and up at full width) and leaves the
 // smaller ones to the full-width radius bands.
 TEST(StereoPipelineCoarse, GivenA640FrameByRadiusThenItsLargeBallIsFoundThroughTheHalvedEye) {
@@ -275,8 +275,8 @@ TEST(StereoPipelineCoarse, GivenA640FrameByRadiusThenItsLargeBallIsFoundThroughT
     // Given a rendered 640x480 pair (a ball of 20-40 px radius), searched at full width and by
     // radius
     const WideRendered r = render_plain(x_m, y_m, 640, 480);
-    const BallDetectorParams by_radius = with_target(640);
-    ASSERT_TRUE(by_radius.coarse_by_radius) << "premise: the shipped setting";
+    BallDetectorParams by_radius = with_target(640);
+    by_radius.coarse_by_radius = true;
     StereoPipeline pipeline(by_radius);
     ASSERT_TRUE(pipeline.set_calibration(r.calib).ok());
     std::vector<SearchPath> started;
@@ -310,7 +310,7 @@ TEST(StereoPipelineCoarse, GivenA640FrameByRadiusThenASmallBallIsFoundAtFullWidt
   BallDetectorParams params = with_target(640);
   params.ball_diameter_m = 0.04;
   params.colour_seeds.enabled = false;
-  ASSERT_TRUE(params.coarse_by_radius) << "premise: the shipped setting";
+  params.coarse_by_radius = true;
   StereoPipeline pipeline(params);
   ASSERT_TRUE(pipeline.set_calibration(r.calib).ok());
   // When it processes the raw pair as a still (every radius band)
