@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <optional>
 #include <set>
@@ -66,10 +67,15 @@ class BallDetectorNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
     partition_ = sb::testing::unique_partition();
-    node_.emplace(
-        Process::start({sb::testing::bin("ball_detector"), "--config",
-                        sb::testing::source_path("config/ball_detector.yaml"), "--domain",
-                        std::to_string(sb::testing::test_domain()), "--partition", partition_}));
+    std::vector<std::string> args{sb::testing::bin("ball_detector"),
+                                  "--config",
+                                  sb::testing::source_path("config/ball_detector.yaml"),
+                                  "--domain",
+                                  std::to_string(sb::testing::test_domain()),
+                                  "--partition",
+                                  partition_};
+    args.insert(args.end(), extra_args_.begin(), extra_args_.end());
+    node_.emplace(Process::start(args));
     participant_.emplace(sb::dds::ParticipantOptions{sb::testing::test_domain(), partition_});
     frames_.emplace(*participant_, sb::topics::kStereoFrame);
     calibration_.emplace(*participant_, sb::topics::kStereoCalibration);
@@ -188,6 +194,7 @@ class BallDetectorNodeTest : public ::testing::Test {
     return dropped;
   }
 
+  std::vector<std::string> extra_args_;  // ball_detector's own flags (set before SetUp)
   std::string partition_;
   std::string calib_source_ = "simulator (test)";
   std::optional<Process> node_;
@@ -455,6 +462,73 @@ TEST_F(BallDetectorNodeTest, GivenRealFramesInTheWrongOrder_ThenSwapReported) {
   EXPECT_TRUE(node_->wait_for_output("look swapped", 10s)) << node_->output();
   EXPECT_NE(node_->output().find("left_device and right_device"), std::string::npos)
       << node_->output();
+}
+
+// The node started with --frame-times FILE.
+class BallDetectorNodeTimesTest : public BallDetectorNodeTest {
+ protected:
+  void SetUp() override {
+    times_path_ = sb::testing::temp_dir() + "/frame_times.csv";
+    extra_args_ = {"--frame-times", times_path_};
+    BallDetectorNodeTest::SetUp();
+  }
+  // The file's lines (header first).
+  std::vector<std::string> lines() const {
+    std::ifstream in(times_path_);
+    std::vector<std::string> out;
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+  }
+  std::string times_path_;
+};
+
+// Splits a CSV line at sep.
+std::vector<std::string> split_at(const std::string& line, char sep) {
+  std::vector<std::string> out(1);
+  for (char c : line) {
+    if (c == sep) {
+      out.emplace_back();
+    } else {
+      out.back().push_back(c);
+    }
+  }
+  return out;
+}
+
+// Given a node started with --frame-times FILE,
+// when it finds the ball in three frames,
+// then FILE holds the header and one line per frame: its seq and status, its stage times, the
+// jobs it shared with its helper thread and the whole-frame search on the processing thread.
+TEST_F(BallDetectorNodeTimesTest, GivenFrameTimes_ThenOneLinePerFrameWithItsStages) {
+  calibrate_and_find_ball();
+  for (int i = 0; i < 3; ++i) expect_ball(send(good_frame()));
+  ASSERT_TRUE(sb::testing::eventually([&] { return lines().size() >= 4; }, 5s));
+  const std::vector<std::string> all = lines();
+  const std::vector<std::string> header = split_at(all[0], ',');
+  ASSERT_EQ(header.size(), 15u) << all[0];
+  EXPECT_EQ(header[1], "seq");
+  const std::vector<std::string> last = split_at(all.back(), ',');
+  ASSERT_EQ(last.size(), header.size()) << all.back();
+  EXPECT_EQ(std::stoull(last[1]), seq_);
+  EXPECT_EQ(last[2], "0") << "found";
+  EXPECT_GT(std::stod(last[7]), 0.0) << "search_ms";
+  EXPECT_GT(std::stod(last[9]), 0.0) << "main_cpu_ms";
+  for (const std::string& job : split_at(last[13], ';')) {
+    const std::vector<std::string> fields = split_at(job, ':');
+    ASSERT_EQ(fields.size(), 11u) << job;
+    EXPECT_GE(std::stoi(fields[0]), 2) << "only shared jobs: " << job;
+  }
+  EXPECT_NE(last[14].find("whole_frame:m:"), std::string::npos) << last[14];
+}
+
+// Given --frame-times naming a file that cannot be written, then the node refuses to start.
+TEST(BallDetectorNodeFlags, GivenAnUnwritableFrameTimesFile_ThenExitsWithTheReason) {
+  Process node = Process::start({sb::testing::bin("ball_detector"), "--config",
+                                 sb::testing::source_path("config/ball_detector.yaml"),
+                                 "--frame-times", "/nonexistent-folder/times.csv"});
+  EXPECT_EQ(node.wait_for_exit(10s), 2) << node.output();
+  EXPECT_NE(node.output().find("--frame-times /nonexistent-folder/times.csv"), std::string::npos)
+      << node.output();
 }
 
 TEST_F(BallDetectorNodeTest, GivenSigterm_ThenExitsZero) {

@@ -45,6 +45,7 @@ struct Options {
   double file_seconds = 3;           // simulated seconds rendered to files (looped)
   std::string detector_override;     // --detector-config: YAML merged over the shipped file
   std::string detector_config;       // the file ball_detector reads (shipped, or composed)
+  std::string detector_times;        // --detector-frame-times: ball_detector's stage times
   std::string workstation_profile = "workstation";  // two hosts: the vision namespace's profile
 };
 
@@ -55,6 +56,12 @@ struct Case {
   std::string key() const { return encoding + "_" + std::to_string(rate_hz) + "hz"; }
 };
 
+// The simulator's render lead: at its start, and its range over the run (when logged).
+struct RenderLead {
+  double start_ms = 0.0;
+  std::optional<double> min_ms, max_ms;
+};
+
 struct Result {
   sd::LatencyFigures figures;  // frames exposed in the measured window
   sd::CoreLoad load;
@@ -62,7 +69,56 @@ struct Result {
   std::vector<sd::FrameStages> frames;  // every frame, for --frames-csv
   std::int64_t measured_from_ns = 0;
   std::map<std::string, sd::ProgramCpu> cpu;  // per program, per frame of the window
+  std::optional<RenderLead> render_lead;      // the simulator's, from its log lines
 };
+
+// The simulator's render lead, ms: its start-up measurement ("frames rendered N us ahead") and
+// the range the frames' own work gave it over the run ("render lead over the run: A to B us").
+// A lead near the frame period puts the next frame's render (two threads) beside this frame's
+// detection, so runs are compared with it.
+std::optional<double> number_after(const std::string& text, const std::string& key) {
+  const auto at = text.find(key);
+  if (at == std::string::npos) return std::nullopt;
+  try {
+    return std::stod(text.substr(at + key.size(), 12));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+std::optional<RenderLead> render_lead(const std::string& launch_log) {
+  const auto start_us = number_after(launch_log, "frames rendered ");
+  if (!start_us) return std::nullopt;
+  RenderLead lead{*start_us * 1e-3, std::nullopt, std::nullopt};
+  const std::string key = "render lead over the run: ";
+  const auto at = launch_log.find(key);
+  long long min_us = 0, max_us = 0;
+  if (at != std::string::npos &&
+      std::sscanf(launch_log.c_str() + at + key.size(), "%lld to %lld", &min_us, &max_us) == 2) {
+    lead.min_ms = static_cast<double>(min_us) * 1e-3;
+    lead.max_ms = static_cast<double>(max_us) * 1e-3;
+  }
+  return lead;
+}
+
+void print_render_lead(const RenderLead& lead, int rate_hz) {
+  std::printf("  simulator render lead %.1f ms at its start", lead.start_ms);
+  if (lead.min_ms && lead.max_ms)
+    std::printf(", %.1f-%.1f ms over the run (its frames' own render time)", *lead.min_ms,
+                *lead.max_ms);
+  std::printf(
+      "; near the %.1f ms period, the next frame's render runs beside this frame's "
+      "detection\n",
+      1e3 / rate_hz);
+}
+
+void add_render_lead(const RenderLead& lead, nlohmann::json& j) {
+  j["simulator_render_lead_ms"] = lead.start_ms;
+  if (lead.min_ms && lead.max_ms) {
+    j["simulator_render_lead_min_ms"] = *lead.min_ms;
+    j["simulator_render_lead_max_ms"] = *lead.max_ms;
+  }
+}
 
 // The figures of one run: the measured window's, and those of the frames before it apart.
 Result result_of(const sd::ObserverLog& detection_log, const sd::ObserverLog& control_log,
@@ -167,7 +223,12 @@ std::string write_profile(const std::string& dir, const Case& c, const Options& 
                                     "--frame-encoding", c.encoding});
   }
   if (with_vision) {
-    yaml += node_yaml("ball_detector", {"--config", o.detector_config});
+    std::vector<std::string> args{"--config", o.detector_config};
+    if (!o.detector_times.empty()) {
+      args.push_back("--frame-times");
+      args.push_back(o.detector_times + c.setup + "_" + c.key() + ".csv");
+    }
+    yaml += node_yaml("ball_detector", args);
     yaml += node_yaml("tracker", {"--config", sb::testing::source_path("config/tracker.yaml")});
   }
   yaml += node_yaml("motion_controller",
@@ -235,6 +296,7 @@ std::optional<Result> run_one_host(const Case& c, const Options& o, const std::s
   const auto log = sd::parse_observer_log(observer.get().output());
   Result r = result_of(log, log, w.from_ns, w.to_ns, c.rate_hz, sd::core_load(w.start, w.end));
   r.cpu = w.cpu(c.rate_hz);
+  r.render_lead = render_lead(read_text(dir + "/launch.log"));
   if (r.figures.end_to_end.n == 0) {
     std::fprintf(stderr, "bench latency: no command answered a track; launcher log:\n%s\n",
                  read_text(dir + "/launch.log").c_str());
@@ -391,6 +453,9 @@ int main(int argc, char** argv) {
   app.add_option("--frames-csv", o.frames_csv,
                  "write every frame's stages (warm-up included, column measured) to "
                  "PREFIX<setup>_<encoding>_<rate>hz_run<N>.csv");
+  app.add_option("--detector-frame-times", o.detector_times,
+                 "one host: ball_detector writes each frame's stage times (its --frame-times) to "
+                 "PREFIX<setup>_<encoding>_<rate>hz.csv (the last run's)");
   app.add_option("--domain", o.domain, "DDS domain")->check(CLI::Range(0, 232));
   app.add_option("--detector-config", o.detector_override,
                  "YAML whose keys are merged over config/ball_detector.yaml for ball_detector "
@@ -460,7 +525,9 @@ int main(int argc, char** argv) {
           "launch, not in the figures above): detection p99 %.2f max %.2f ms, end to end n=%zu "
           "p50 %.2f p99 %.2f max %.2f ms\n",
           o.warmup_s, r->startup.detection.p99, r->startup.detection.max, s.n, s.p50, s.p99, s.max);
+      if (r->render_lead) print_render_lead(*r->render_lead, c.rate_hz);
       nlohmann::json j = sd::to_json(r->figures, r->load);
+      if (r->render_lead) add_render_lead(*r->render_lead, j);
       j["startup"] = sd::to_json(r->startup, r->load);
       j["startup"].erase("load");
       j["cpu_per_frame"] = sd::program_cpu_json(r->cpu);

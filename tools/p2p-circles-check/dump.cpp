@@ -57,7 +57,8 @@ bd::PixelToPixelParams base(cv::Size s, std::vector<int> ks, double rmin) {
 void run_image(const Image& im) {
   const cv::Size s = im.bgr.size();
   std::vector<std::pair<std::string, bd::PixelToPixelParams>> settings;
-  {  // bench detect's chosen setting on the photographs
+  {  // multi-scale (small radii at full resolution), as bench detect once chose it; its current
+     // choice is chosen_setting.cpp's
     auto p = base(s, {3, 5}, im.rmin);
     p.coarse_to_fine = true;
     p.fine_below_radius_px = 2.0 * p.min_radius_px;

@@ -243,6 +243,11 @@ void PixelToPixelDetector::vote_rows(int k, int y_begin, int y_end, Emit&& emit)
   if (k == 2) return vote_packed<2>(y_begin, y_end, emit);
   if (k == 3) return vote_packed<3>(y_begin, y_end, emit);
   static_assert(kPackedMaxK == 3);
+#if SB_WIDE_WINDOWS
+  if (k == 4) return vote_wide<4>(y_begin, y_end, emit);
+  if (k == 5) return vote_wide<5>(y_begin, y_end, emit);
+  static_assert(kWideMaxK == 5);
+#endif
   const BitImage& bits = edges_.bits;
   std::array<std::uint64_t, 2 * kMaxK + 1> mask{};
   std::array<std::uint64_t, 2 * kMaxK + 1> rows{};
@@ -317,6 +322,49 @@ bool PixelToPixelDetector::isolate_packed(int x, int y, std::uint64_t window, st
   return connected_packed(aligned, k, arc, n) == n;
 }
 
+#if SB_WIDE_WINDOWS
+template <int k, typename Emit>
+void PixelToPixelDetector::vote_wide(int y_begin, int y_end, Emit& emit) {
+  // vote_packed() for windows of up to 11 x 11 pixels (p2p_rules.hpp): a 128-bit word instead
+  // of a mask per row, the component grown a ring at a time instead of row by row.
+  const BitImage& bits = edges_.bits;
+  constexpr int n = 2 * k + 1;
+  const int isolate_max_points = isolate_max_points_of(n);
+  for_each_window_centre(k, y_begin, y_end, [&](int x, int y) {
+    const WideWindow window = wide_window<k>(bits, x, y);
+    const int count = wide_detail::popcount_wide(window);
+    WideWindow arc = window;
+    if (count == n) {
+      // The count rule holds: the whole window is the arc.
+    } else if (count > n && count <= isolate_max_points) {
+      // Addition: judge the arc through O alone when other edges share the window.
+      const int connected = connected_wide<k>(window, arc, n);
+      if (connected != n &&
+          (connected < n || !params_.isolate_by_orientation || !isolate_wide<k>(x, y, window, arc)))
+        return;
+    } else {
+      return;
+    }
+    const std::optional<VoteLine> line = vote_line_wide<k>(arc);
+    if (!line) return;
+    emit(static_cast<float>(x + 0.5 * line->c2x), static_cast<float>(y + 0.5 * line->c2y), line->nx,
+         line->ny);
+  });
+}
+
+template <int k>
+bool PixelToPixelDetector::isolate_wide(int x, int y, WideWindow window, WideWindow& arc) {
+  // isolate_packed on a wide window.
+  if (!orientation_ready_) build_orientation_planes();
+  const BitImage& near = near_orientation_[static_cast<std::size_t>(
+      orientation_bin(edges_.dx.at<short>(y, x), edges_.dy.at<short>(y, x)))];
+  const WideWindow aligned = window & wide_window<k>(near, x, y);
+  constexpr int n = 2 * k + 1;
+  if (wide_detail::popcount_wide(aligned) < n || aligned == window) return false;
+  return connected_wide<k>(aligned, arc, n) == n;
+}
+#endif
+
 // Inlined into both callers: the one-run plot() costs what it did before shares existed.
 [[gnu::always_inline]] inline void PixelToPixelDetector::plot_into(const VoteLineAt& line,
                                                                    cv::Mat& accumulator,
@@ -382,7 +430,8 @@ bool PixelToPixelDetector::isolate_along_orientation(int x, int y, int k,
   std::uint64_t dropped = 0;
   for (int i = 0; i < n; ++i) {
     const std::uint64_t all = window[static_cast<std::size_t>(i)];
-    const std::uint64_t kept = all & near.bits(y - k + i, x - k, n);
+    const std::uint64_t kept =
+        all & (n <= 57 ? near.short_bits(y - k + i, x - k, n) : near.bits(y - k + i, x - k, n));
     aligned[static_cast<std::size_t>(i)] = kept;
     dropped |= all ^ kept;
     count += std::popcount(kept);
@@ -511,8 +560,20 @@ std::vector<Circle> PixelToPixelDetector::redetect(const SearchHints& hints) {
 
 std::vector<Circle> PixelToPixelDetector::redetect_from(const PixelToPixelDetector& source,
                                                         const SearchHints& hints) {
+  if (!revote_from(source, hints)) return {};
+  return circles_on(source.edges_);
+}
+
+std::optional<int> PixelToPixelDetector::peaks_from(const PixelToPixelDetector& source,
+                                                    const SearchHints& hints) {
+  if (!revote_from(source, hints)) return std::nullopt;
+  return peaks_on(source.edges_);
+}
+
+bool PixelToPixelDetector::revote_from(const PixelToPixelDetector& source,
+                                       const SearchHints& hints) {
   start(hints);
-  if (!source.edges_ready_ || !(radii_.max_px > radii_.min_px)) return {};
+  if (!source.edges_ready_ || !(radii_.max_px > radii_.min_px)) return false;
   // Which points vote and along which line does not depend on the radii (steps 2-6): only the
   // plotting (step 7) is redone, in the same order, so the accumulator is the same cell by cell.
   const cv::Size size = source.edges_.edges.size();
@@ -521,7 +582,7 @@ std::vector<Circle> PixelToPixelDetector::redetect_from(const PixelToPixelDetect
   accumulator_.setTo(0);
   rays_plotted_ = 0;
   for (const VoteLineAt& line : source.lines_) plot(line);
-  return circles_on(source.edges_);
+  return true;
 }
 
 std::vector<Circle> PixelToPixelDetector::detect_on_edges() {

@@ -334,6 +334,11 @@ class PixelToPixelDetector final : public CircleDetector {
   /// detectors can search bands of one image at once (source must not change meanwhile).
   /// Same circles as source.redetect(hints) given the same params and camera.
   std::vector<Circle> redetect_from(const PixelToPixelDetector& source, const SearchHints& hints);
+  /// redetect_from() in parts, for a caller that refines the peaks on several cores: the votes
+  /// over hints' radii and their peaks (their number), nullopt where redetect_from() returns no
+  /// circle before any peak; then refine_peak(i) for each and select_circles() in peak order
+  /// give exactly redetect_from()'s circles (source must not change until then).
+  std::optional<int> peaks_from(const PixelToPixelDetector& source, const SearchHints& hints);
   const DetectionDiagnostics* diagnostics() const override;
   std::string name() const override { return "p2p"; }
   /// The rectified camera of the whole image (RefineParams::camera); nullopt = circles only.
@@ -396,6 +401,12 @@ class PixelToPixelDetector final : public CircleDetector {
   void vote_packed(int y_begin, int y_end, Emit& emit);  // vote_rows() for k <= kPackedMaxK
   template <int k>
   bool isolate_packed(int x, int y, std::uint64_t window, std::uint64_t& arc);
+#if SB_WIDE_WINDOWS
+  template <int k, typename Emit>
+  void vote_wide(int y_begin, int y_end, Emit& emit);  // vote_rows() for k <= kWideMaxK
+  template <int k>
+  bool isolate_wide(int x, int y, WideWindow window, WideWindow& arc);
+#endif
   void plot(const VoteLineAt& line);
   void plot(const VoteLineAt& line, cv::Mat& accumulator, VoteShare& share);
   // plot()'s work into the given accumulator, its ray count (since zeroed), the increments, the
@@ -427,6 +438,8 @@ class PixelToPixelDetector final : public CircleDetector {
   void vote_on_edges(const VoteTasks& tasks = {});
   std::vector<Circle> circles_on(const EdgeMap& edges);
   int peaks_on(const EdgeMap& edges);
+  // redetect_from's votes: false where it finds nothing (no edges yet, an empty radius range).
+  bool revote_from(const PixelToPixelDetector& source, const SearchHints& hints);
   void start(const std::optional<SearchHints>& hints);
   std::vector<Circle> circles_from_peaks();
 

@@ -13,13 +13,21 @@
 #include <utility>
 #include <vector>
 
+#if SB_HAVE_AVX2_KERNELS
+#include <immintrin.h>
+#endif
+
 namespace stereoball::ball_detector {
 
 int window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows) {
   const int n = 2 * k + 1;
   int count = 0;
+  // One load per row where it fits (short_bits): bits() takes a second word when the run
+  // crosses one, a branch taken at random for a wide window.
+  const bool short_rows = n <= 57;
   for (int r = 0; r < n; ++r) {
-    const std::uint64_t bits = edges.bits(y - k + r, x - k, n);
+    const std::uint64_t bits =
+        short_rows ? edges.short_bits(y - k + r, x - k, n) : edges.bits(y - k + r, x - k, n);
     rows[static_cast<std::size_t>(r)] = bits;
     count += std::popcount(bits);
   }
@@ -57,8 +65,10 @@ template <int Steps>
   // pixel or two: most fills end after the first step.
   std::uint64_t fill = seed;
   std::uint64_t through = row;
-  [&]<int... I>(std::integer_sequence<int, I...>) {
-    (void)(... && [&] {
+  // Both lambdas inlined by force: left to GCC, the unrolled steps became a call per fill
+  // once the translation unit grew (their cost doubled).
+  [&]<int... I>(std::integer_sequence<int, I...>) __attribute__((always_inline)) {
+    (void)(...&& [&]() __attribute__((always_inline)) {
       const std::uint64_t before = fill;
       fill |= through & (fill >> (1 << I));
       through &= through >> (1 << I);
@@ -134,10 +144,98 @@ int connected_rows_steps(std::span<const std::uint64_t> window, int k,
   return count;
 }
 
+#if SB_HAVE_AVX2_KERNELS
+// connected_rows for windows of 2k + 1 <= 8 * Regs rows of at most 31 pixels, one row per 32-bit
+// lane (row 8 j + i in lane i of register j): the component through O grown one ring of
+// neighbours at a time, every row at once (the sweeps' fill waits on the row before, a chain
+// of a few dozen instructions per row of a wide window). The first k rounds are not tested (an
+// arc through O needs about that many); then each round is tested for no change and for a
+// count above stop_above. The masks written are the component (partial above stop_above).
+template <int Regs>
+SB_TARGET_AVX2 int connected_rows_avx2(std::span<const std::uint64_t> window, int k,
+                                       std::span<std::uint64_t> rows, int stop_above) {
+  const int n = 2 * k + 1;
+  alignas(32) std::array<std::uint32_t, 8 * Regs> lanes{};
+  for (int r = 0; r < n; ++r)
+    lanes[static_cast<std::size_t>(r)] = static_cast<std::uint32_t>(window[static_cast<size_t>(r)]);
+  __m256i w[Regs], g[Regs];
+  for (int j = 0; j < Regs; ++j)
+    w[j] = _mm256_load_si256(reinterpret_cast<const __m256i*>(lanes.data() + 8 * j));
+  lanes.fill(0);
+  lanes[static_cast<std::size_t>(k)] =
+      static_cast<std::uint32_t>(window[static_cast<size_t>(k)]) & (std::uint32_t{1} << k);
+  for (int j = 0; j < Regs; ++j)
+    g[j] = _mm256_load_si256(reinterpret_cast<const __m256i*>(lanes.data() + 8 * j));
+  // Lane i takes lane i - 1 (lane 0: lane 7, replaced by the register before's) and lane i + 1.
+  const __m256i from_above = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
+  const __m256i from_below = _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 0);
+  const auto grow = [&](__m256i* next) SB_TARGET_AVX2 {
+    __m256i wide[Regs], above[Regs], below[Regs];
+    for (int j = 0; j < Regs; ++j) {
+      wide[j] = _mm256_or_si256(
+          g[j], _mm256_or_si256(_mm256_slli_epi32(g[j], 1), _mm256_srli_epi32(g[j], 1)));
+      above[j] = _mm256_permutevar8x32_epi32(wide[j], from_above);
+      below[j] = _mm256_permutevar8x32_epi32(wide[j], from_below);
+    }
+    for (int j = 0; j < Regs; ++j) {
+      const __m256i up =
+          _mm256_blend_epi32(above[j], j > 0 ? above[j - 1] : _mm256_setzero_si256(), 0x01);
+      const __m256i down =
+          _mm256_blend_epi32(below[j], j + 1 < Regs ? below[j + 1] : _mm256_setzero_si256(), 0x80);
+      next[j] = _mm256_and_si256(_mm256_or_si256(wide[j], _mm256_or_si256(up, down)), w[j]);
+    }
+  };
+  const auto count_of = [&](const __m256i* v) SB_TARGET_AVX2 {
+    int count = 0;
+    for (int j = 0; j < Regs; ++j)
+      count += std::popcount(static_cast<std::uint64_t>(_mm256_extract_epi64(v[j], 0))) +
+               std::popcount(static_cast<std::uint64_t>(_mm256_extract_epi64(v[j], 1))) +
+               std::popcount(static_cast<std::uint64_t>(_mm256_extract_epi64(v[j], 2))) +
+               std::popcount(static_cast<std::uint64_t>(_mm256_extract_epi64(v[j], 3)));
+    return count;
+  };
+  for (int i = 0; i < k; ++i) {
+    __m256i next[Regs];
+    grow(next);
+    for (int j = 0; j < Regs; ++j) g[j] = next[j];
+  }
+  int count = 0;
+  for (;;) {
+    __m256i next[Regs];
+    grow(next);
+    __m256i changed = _mm256_setzero_si256();
+    for (int j = 0; j < Regs; ++j) {
+      changed = _mm256_or_si256(changed, _mm256_xor_si256(next[j], g[j]));
+      g[j] = next[j];
+    }
+    count = count_of(g);
+    if (_mm256_testz_si256(changed, changed) || count > stop_above) break;
+  }
+  for (int j = 0; j < Regs; ++j)
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes.data() + 8 * j), g[j]);
+  for (int r = 0; r < n; ++r) rows[static_cast<size_t>(r)] = lanes[static_cast<std::size_t>(r)];
+  return count;
+}
+#endif
+
 }  // namespace
 
 int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::uint64_t> rows,
                    int stop_above) {
+#if SB_HAVE_AVX2_KERNELS
+  const int n = 2 * k + 1;
+  if (n >= 13 && n <= 31 && static_cast<int>(rows.size()) >= n &&
+      static_cast<int>(window.size()) >= n && cpu_has_avx2()) {
+    if (n <= 16) return connected_rows_avx2<2>(window, k, rows, stop_above);
+    if (n <= 24) return connected_rows_avx2<3>(window, k, rows, stop_above);
+    return connected_rows_avx2<4>(window, k, rows, stop_above);
+  }
+#endif
+  return connected_rows_plain(window, k, rows, stop_above);
+}
+
+int connected_rows_plain(std::span<const std::uint64_t> window, int k,
+                         std::span<std::uint64_t> rows, int stop_above) {
   const int n = 2 * k + 1;
   if (static_cast<int>(rows.size()) < n || static_cast<int>(window.size()) < n || n > 63) return 0;
   // The fewest doubling steps that span a row of n bits (a run is at most n long).

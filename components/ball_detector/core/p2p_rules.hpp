@@ -9,6 +9,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <span>
 #include <vector>
@@ -61,9 +62,15 @@ int collect_window_points(const BitImage& edges, int x, int y, int k, std::span<
 int connected_window_rows(const BitImage& edges, int x, int y, int k, std::span<std::uint64_t> rows,
                           int stop_above = 64 * 64);
 
-/// connected_window_rows on window rows already read (window_rows); k <= 31.
+/// connected_window_rows on window rows already read (window_rows); k <= 31. Windows of 13 to 31
+/// pixels grow all rows at once where AVX2 runs (the same masks and count as
+/// connected_rows_plain below stop_above, a count above it when it does).
 int connected_rows(std::span<const std::uint64_t> window, int k, std::span<std::uint64_t> rows,
                    int stop_above = 64 * 64);
+
+/// connected_rows row by row (a sweep down and up from O, then a worklist): every k, any CPU.
+int connected_rows_plain(std::span<const std::uint64_t> window, int k,
+                         std::span<std::uint64_t> rows, int stop_above = 64 * 64);
 
 /// Collects the points of connected_window_rows' masks (raster order); returns how many.
 int collect_masked_points(std::span<const std::uint64_t> rows, int k, std::span<WindowPoint> out);
@@ -198,6 +205,171 @@ inline std::optional<VoteLine> vote_line_packed(std::uint64_t window, int k) {
   if (!ends || is_straight_segment(ends->a, ends->b)) return std::nullopt;
   return orient_to_concave_side(perpendicular_bisector(ends->a, ends->b));
 }
+
+#if defined(__SIZEOF_INT128__)
+#define SB_WIDE_WINDOWS 1
+/// Windows of kPackedMaxK < k <= kWideMaxK (at most 11 x 11 pixels) held in one 128-bit word:
+/// window row r in bits [n r, n r + n) (n = 2k + 1), bit n r + c = pixel (c - k, r - k), so
+/// raster order is bit order. Rows are packed without a spare column: a shift by one column is
+/// masked so that no pixel wraps into the next row.
+using WideWindow = unsigned __int128;
+constexpr int kWideMaxK = 5;
+
+namespace wide_detail {
+// Per k: the columns a shift by one may carry a pixel into from the next row (cleared after a
+// shift), the window bits at each L1 distance from O, and those left of, right of, above and
+// below it (strictly).
+struct WideMasks {
+  WideWindow not_first_column = 0, not_last_column = 0;
+  std::array<WideWindow, 2 * kWideMaxK + 1> ring{};
+  WideWindow left = 0, right = 0, up = 0, down = 0;
+};
+template <int k>
+constexpr WideMasks make_wide_masks() {
+  constexpr int n = 2 * k + 1;
+  WideMasks m;
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) {
+      const WideWindow bit = WideWindow{1} << (n * r + c);
+      const int x = c - k, y = r - k;
+      if (c != 0) m.not_first_column |= bit;
+      if (c != n - 1) m.not_last_column |= bit;
+      m.ring[static_cast<std::size_t>((x < 0 ? -x : x) + (y < 0 ? -y : y))] |= bit;
+      if (x < 0) m.left |= bit;
+      if (x > 0) m.right |= bit;
+      if (y < 0) m.up |= bit;
+      if (y > 0) m.down |= bit;
+    }
+  return m;
+}
+template <int k>
+inline constexpr WideMasks kWideMasks = make_wide_masks<k>();
+inline int popcount_wide(WideWindow w) {
+  return std::popcount(static_cast<std::uint64_t>(w)) +
+         std::popcount(static_cast<std::uint64_t>(w >> 64));
+}
+// The lowest set bit's index (w nonempty).
+inline int lowest_bit_wide(WideWindow w) {
+  const auto low = static_cast<std::uint64_t>(w);
+  return low != 0 ? std::countr_zero(low)
+                  : 64 + std::countr_zero(static_cast<std::uint64_t>(w >> 64));
+}
+// The first point in raster order of the farthest nonempty ring (points must be nonempty).
+template <int k>
+inline int farthest_first_wide(WideWindow points) {
+  const WideMasks& m = kWideMasks<k>;
+  int d = 2 * k;
+  while ((points & m.ring[static_cast<std::size_t>(d)]) == 0) --d;
+  return lowest_bit_wide(points & m.ring[static_cast<std::size_t>(d)]);
+}
+}  // namespace wide_detail
+
+/// The window centred on (x, y) packed wide (kPackedMaxK < k <= kWideMaxK); the window must lie
+/// inside.
+template <int k>
+inline WideWindow wide_window(const BitImage& edges, int x, int y) {
+  // Each row read with one load as short_bits() reads it, placed into the two 64-bit halves
+  // with constant shifts, the row pointer moved by the row step (no multiply per row).
+  constexpr int n = 2 * k + 1;
+  if constexpr (std::endian::native != std::endian::little) {
+    WideWindow window = 0;
+    for (int r = 0; r < n; ++r)
+      window |= static_cast<WideWindow>(edges.short_bits(y - k + r, x - k, n)) << (n * r);
+    return window;
+  }
+  const int x0 = x - k;
+  const auto* row = reinterpret_cast<const unsigned char*>(edges.row(y - k)) + (x0 >> 3);
+  const std::ptrdiff_t step = reinterpret_cast<const unsigned char*>(edges.row(y - k + 1)) -
+                              reinterpret_cast<const unsigned char*>(edges.row(y - k));
+  const int shift = x0 & 7;
+  std::uint64_t low = 0, high = 0;
+  for (int r = 0; r < n; ++r, row += step) {
+    std::uint64_t v;
+    std::memcpy(&v, row, sizeof v);
+    v = (v >> shift) & ((std::uint64_t{1} << n) - 1);
+    const int at = n * r;
+    if (at + n <= 64) {
+      low |= v << at;
+    } else if (at >= 64) {
+      high |= v << (at - 64);
+    } else {
+      low |= v << at;
+      high |= v >> (64 - at);
+    }
+  }
+  return (static_cast<WideWindow>(high) << 64) | low;
+}
+
+/// connected_rows of a wide window: its points 8-connected to O (into component) and how many;
+/// once more than stop_above are found, a count above it (component partial).
+template <int k>
+inline int connected_wide(WideWindow window, WideWindow& component, int stop_above = 128) {
+  // As connected_packed: grown one ring of neighbours at a time, the first k rounds untested.
+  // On the two 64-bit halves by hand: GCC moves a 128-bit value through memory between rounds.
+  constexpr int n = 2 * k + 1;
+  constexpr int seed = n * k + k;  // O's bit
+  static_assert(seed < 64 && n < 64);
+  const wide_detail::WideMasks& m = wide_detail::kWideMasks<k>;
+  const auto low_of = [](WideWindow w) { return static_cast<std::uint64_t>(w); };
+  const auto high_of = [](WideWindow w) { return static_cast<std::uint64_t>(w >> 64); };
+  const std::uint64_t window_low = low_of(window), window_high = high_of(window);
+  const std::uint64_t first_low = low_of(m.not_first_column),
+                      first_high = high_of(m.not_first_column);
+  const std::uint64_t last_low = low_of(m.not_last_column), last_high = high_of(m.not_last_column);
+  const auto grow = [&](std::uint64_t& low, std::uint64_t& high) {
+    const std::uint64_t wide_low =
+        low | ((low << 1) & first_low) | (((low >> 1) | (high << 63)) & last_low);
+    const std::uint64_t wide_high =
+        high | (((high << 1) | (low >> 63)) & first_high) | ((high >> 1) & last_high);
+    const std::uint64_t down_low = wide_low << n;
+    const std::uint64_t down_high = (wide_high << n) | (wide_low >> (64 - n));
+    const std::uint64_t up_low = (wide_low >> n) | (wide_high << (64 - n));
+    const std::uint64_t up_high = wide_high >> n;
+    low = (wide_low | down_low | up_low) & window_low;
+    high = (wide_high | down_high | up_high) & window_high;
+  };
+  std::uint64_t low = window_low & (std::uint64_t{1} << seed), high = 0;
+  for (int i = 0; i < k; ++i) grow(low, high);
+  for (;;) {
+    std::uint64_t next_low = low, next_high = high;
+    grow(next_low, next_high);
+    const bool done = (next_low == low && next_high == high) ||
+                      std::popcount(next_low) + std::popcount(next_high) > stop_above;
+    low = next_low;
+    high = next_high;
+    if (done) break;
+  }
+  component = (static_cast<WideWindow>(high) << 64) | low;
+  return std::popcount(low) + std::popcount(high);
+}
+
+/// chord_ends_of_rows of a wide window: the same A and B, ties included (as chord_ends_packed).
+template <int k>
+inline std::optional<ChordEnds> chord_ends_wide(WideWindow window) {
+  if (window == 0) return std::nullopt;
+  constexpr int n = 2 * k + 1;
+  const wide_detail::WideMasks& m = wide_detail::kWideMasks<k>;
+  const int ai = wide_detail::farthest_first_wide<k>(window);
+  const WindowPoint a{ai % n - k, ai / n - k};
+  // The side masks picked by sign without branches (masks of all ones or none).
+  const auto when = [](bool c) { return WideWindow{0} - static_cast<WideWindow>(c); };
+  const WideWindow opposite = window & ((m.left & when(a.x > 0)) | (m.right & when(a.x < 0)) |
+                                        (m.up & when(a.y > 0)) | (m.down & when(a.y < 0)));
+  if (opposite == 0) return std::nullopt;
+  const int bi = wide_detail::farthest_first_wide<k>(opposite);
+  return ChordEnds{a, WindowPoint{bi % n - k, bi / n - k}};
+}
+
+/// vote_line_of_rows of a wide window (the count rule already checked).
+template <int k>
+inline std::optional<VoteLine> vote_line_wide(WideWindow window) {
+  const auto ends = chord_ends_wide<k>(window);
+  if (!ends || is_straight_segment(ends->a, ends->b)) return std::nullopt;
+  return orient_to_concave_side(perpendicular_bisector(ends->a, ends->b));
+}
+#else
+#define SB_WIDE_WINDOWS 0
+#endif
 
 /// Orientation isolation (addition): orientation bins of 22.5 degrees (modulo 180), and how
 /// many bins either side count as aligned.

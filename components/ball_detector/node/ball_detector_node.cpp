@@ -20,7 +20,8 @@ constexpr std::int64_t kIdleNs = 2'000'000;
 
 }  // namespace
 
-BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParams& params)
+BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParams& params,
+                                   const std::string& frame_times_path)
     : runner_(runner),
       pipeline_(params),
       frames_(runner.participant(), topics::kStereoFrame),
@@ -31,6 +32,13 @@ BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParam
   pipeline_.set_task_runner(
       [this](int n, const std::function<void(int)>& task) { helper_.run(n, task); },
       TaskHelper::kThreads);
+  if (!frame_times_path.empty()) {
+    times_ = std::make_unique<FrameTimesLog>(frame_times_path);
+    if (!times_->ok()) log::warn("cannot write frame times to ", frame_times_path);
+    helper_.record_jobs(true);
+    pipeline_.set_search_observer(
+        [this](SearchPath path, bool started) { times_->search(path, started); });
+  }
   // Every callback ends by noting when the node became free: a frame taken right after that
   // had been waiting (FrameGaps).
   runner_.on_data(calibration_.handle(), [this] {
@@ -117,6 +125,11 @@ void BallDetectorNode::on_frames() {
   runner_.health().count(kFrameTopic, valid);
   last_frame_ns_ = node::now_ns();
   const stereoball_msg_StereoFrame& frame = loaned[*latest];
+  if (times_) {
+    helper_.take_jobs();  // jobs outside a frame's processing are not its own
+    times_->arrived(frame.seq, frame.stamp_ns, loaned.info(*latest).source_timestamp,
+                    helper_.helper_tid());
+  }
   const std::int64_t arrived_ns = node::monotonic_ns();
   gaps_.step(frame.seq, idle_since_ns_ == 0 || arrived_ns - idle_since_ns_ > kIdleNs);
   count_skipped(frame.seq, valid - 1);
@@ -198,6 +211,7 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
       det.status = DetectionStatus::kBadFrame;
       det.reason = st.error();
     } else {
+      if (times_) times_->decoded();
       // Both capture stamps known: their difference is the skew between the eyes' exposures.
       std::optional<std::int64_t> skew_ns;
       if (frame.left.capture_stamp_ns != 0 && frame.right.capture_stamp_ns != 0)
@@ -208,8 +222,10 @@ void BallDetectorNode::process(const stereoball_msg_StereoFrame& frame) {
   }
   ++processed_;
   if (det.status == DetectionStatus::kFound) ++found_;
+  if (times_) times_->stepped();
   report_problem(det, frame.seq, node::now_ns());
   publish(det, frame, start_ns);
+  if (times_) times_->published(static_cast<int>(det.status), det.search, helper_.take_jobs());
   // The answer is out: now the work that need not delay it. The eye-order check (tens of ms on
   // the frames it is due on) reads the frames as searched (the pipeline's rectifier is for its
   // working size), which finish_frame may overwrite: it goes first.

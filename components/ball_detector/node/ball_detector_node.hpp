@@ -3,10 +3,12 @@
 // processed frame out. Always works on the newest frame (keep-last-1) and counts the rest.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "ball_detector/node/frame_gaps.hpp"
+#include "ball_detector/node/frame_times.hpp"
 #include "ball_detector/node/task_helper.hpp"
 #include "ball_detector/pipeline/calibration_gate.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
@@ -23,8 +25,10 @@ namespace stereoball::ball_detector {
 /// Wires the stereo pipeline to its topics on a runner.
 class BallDetectorNode {
  public:
-  /// Creates readers/writers on runner's participant and registers callbacks.
-  BallDetectorNode(node::Runner& runner, const BallDetectorParams& params);
+  /// Creates readers/writers on runner's participant and registers callbacks; frame_times_path
+  /// not empty: each frame's stage times go there (FrameTimesLog).
+  BallDetectorNode(node::Runner& runner, const BallDetectorParams& params,
+                   const std::string& frame_times_path = "");
 
  private:
   // A validated calibration and who published it.
@@ -83,6 +87,7 @@ class BallDetectorNode {
   std::uint64_t largest_sample_bytes_ = 0;
   bool oversize_reported_ = false;
   log::Throttle gap_log_{60'000'000'000};
+  std::unique_ptr<FrameTimesLog> times_;  // each frame's stage times, when asked for
 };
 
 }  // namespace stereoball::ball_detector

@@ -1,5 +1,9 @@
 #include "ball_detector/node/task_helper.hpp"
 
+#include <sys/syscall.h>
+#include <time.h>
+#include <unistd.h>
+
 #include <exception>
 #include <utility>
 
@@ -13,9 +17,25 @@ void run_in_turn(int n, const std::function<void(int)>& task) {
   for (int i = 0; i < n; ++i) task(i);
 }
 
+std::int64_t read_clock_ns(clockid_t clock) {
+  timespec ts{};
+  clock_gettime(clock, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
 }  // namespace
 
 TaskHelper::TaskHelper() : helper_([this] { helper_loop(); }) {}
+
+void TaskHelper::record_jobs(bool on) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  recording_ = on;
+}
+
+std::vector<JobTimes> TaskHelper::take_jobs() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(jobs_, {});
+}
 
 TaskHelper::~TaskHelper() {
   {
@@ -33,18 +53,32 @@ void TaskHelper::run(int n, const std::function<void(int)>& task) {
   n_ = n;
   next_ = 0;
   ++job_;
+  if (recording_) job_times_ = JobTimes{n, 0, read_clock_ns(CLOCK_MONOTONIC)};
   wake_.notify_one();
-  work(lock);
+  work(lock, false);
   // Every task is claimed; wait only for those the helper took and is still running.
+  const std::int64_t waiting_ns = recording_ ? read_clock_ns(CLOCK_MONOTONIC) : 0;
   idle_.wait(lock, [&] { return running_ == 0; });
   task_ = nullptr;
+  if (recording_) {
+    job_times_.end_ns = read_clock_ns(CLOCK_MONOTONIC);
+    job_times_.caller_wait_ns = job_times_.end_ns - waiting_ns;
+    jobs_.push_back(job_times_);
+  }
   if (auto failed = std::exchange(failed_, nullptr)) std::rethrow_exception(failed);
 }
 
-void TaskHelper::work(std::unique_lock<std::mutex>& lock) {
+void TaskHelper::work(std::unique_lock<std::mutex>& lock, bool helper) {
   const std::function<void(int)>& task = *task_;
+  const bool timed = recording_;
+  const std::int64_t wall_ns = timed ? read_clock_ns(CLOCK_MONOTONIC) : 0;
+  const std::int64_t cpu_ns = timed ? read_clock_ns(CLOCK_THREAD_CPUTIME_ID) : 0;
+  if (timed && helper && next_ < n_) job_times_.helper_delay_ns = wall_ns - job_times_.start_ns;
+  if (timed && !helper) job_times_.caller_delay_ns = wall_ns - job_times_.start_ns;
+  int ran = 0;
   while (next_ < n_) {
     const int i = next_++;
+    ++ran;
     ++running_;
     lock.unlock();
     in_task = true;
@@ -59,16 +93,29 @@ void TaskHelper::work(std::unique_lock<std::mutex>& lock) {
     if (failed && !failed_) failed_ = failed;
     --running_;
   }
+  if (!timed) return;
+  // Written under the lock before the caller can see the job end (running_ == 0).
+  const std::int64_t busy_ns = read_clock_ns(CLOCK_MONOTONIC) - wall_ns;
+  const std::int64_t used_ns = read_clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu_ns;
+  if (helper) {
+    job_times_.helper_tasks += ran;
+    job_times_.helper_busy_ns += busy_ns;
+    job_times_.helper_cpu_ns += used_ns;
+  } else {
+    job_times_.caller_busy_ns += busy_ns;
+    job_times_.caller_cpu_ns += used_ns;
+  }
 }
 
 void TaskHelper::helper_loop() {
+  helper_tid_ = static_cast<int>(syscall(SYS_gettid));
   std::unique_lock<std::mutex> lock(mutex_);
   std::uint64_t done = 0;
   while (true) {
     wake_.wait(lock, [&] { return stopping_ || (task_ && job_ != done && next_ < n_); });
     if (stopping_) return;
     done = job_;
-    work(lock);
+    work(lock, true);
     idle_.notify_one();
   }
 }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cstdint>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -73,6 +74,51 @@ TEST(TaskHelper, GivenATaskThatThrowsThenRunRethrowsAndTheHelperStillWorks) {
   std::atomic<int> next{0};
   helper.run(5, [&](int) { ++next; });
   EXPECT_EQ(next.load(), 5);
+}
+
+// Some CPU work that the compiler cannot drop.
+std::uint64_t task_helper_spin(int rounds) {
+  volatile std::uint64_t x = 1;
+  for (int i = 0; i < rounds; ++i) x = x * 6364136223846793005ull + 1442695040888963407ull;
+  return x;
+}
+
+TEST(TaskHelper, GivenRecordingThenEachSharedJobIsTimedAndNestedOrSingleOnesAreNot) {
+  // Given a helper that records its jobs
+  TaskHelper helper;
+  helper.run(3, [](int) {});
+  EXPECT_TRUE(helper.take_jobs().empty()) << "not recording yet";
+  helper.record_jobs(true);
+  // When jobs of 1, 4 (each starting a nested job) and 2 tasks run
+  helper.run(1, [](int) { task_helper_spin(1000); });
+  helper.run(4, [&](int) {
+    task_helper_spin(200000);
+    helper.run(2, [](int) { task_helper_spin(1000); });
+  });
+  helper.run(2, [](int) { task_helper_spin(200000); });
+  const std::vector<JobTimes> jobs = helper.take_jobs();
+  // Then the two shared jobs are recorded, in order, each whole and consistent
+  ASSERT_EQ(jobs.size(), 2u);
+  EXPECT_EQ(jobs[0].tasks, 4);
+  EXPECT_EQ(jobs[1].tasks, 2);
+  for (const JobTimes& j : jobs) {
+    EXPECT_GE(j.helper_tasks, 0);
+    EXPECT_LE(j.helper_tasks, j.tasks);
+    EXPECT_EQ(j.helper_delay_ns < 0, j.helper_tasks == 0);
+    EXPECT_GE(j.end_ns, j.start_ns);
+    EXPECT_GE(j.caller_delay_ns, 0);
+    EXPECT_GE(j.caller_wait_ns, 0);
+    EXPECT_GT(j.caller_busy_ns + j.helper_busy_ns, 0);
+    EXPECT_GT(j.caller_cpu_ns + j.helper_cpu_ns, 0) << "the tasks' CPU work";
+    EXPECT_LE(j.caller_busy_ns + j.caller_delay_ns + j.caller_wait_ns, j.end_ns - j.start_ns);
+    EXPECT_LE(j.helper_busy_ns, j.end_ns - j.start_ns);
+  }
+  EXPECT_LE(jobs[0].start_ns + (jobs[0].end_ns - jobs[0].start_ns), jobs[1].start_ns);
+  // And taking them empties the record, and no job is kept once recording stops
+  EXPECT_TRUE(helper.take_jobs().empty());
+  helper.record_jobs(false);
+  helper.run(2, [](int) {});
+  EXPECT_TRUE(helper.take_jobs().empty());
 }
 
 }  // namespace

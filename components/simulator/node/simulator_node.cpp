@@ -36,7 +36,9 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
       published_(published),
       frame_source_("simulator:" + scenario.name),
       // Before the writers exist, so a subscriber's first frames are not delayed by it.
-      lead_ns_(measure_render_lead_ns(params, scenario, options)),
+      lead_(measure_render_lead_ns(params, scenario, options),
+            frame_period_wall_ns(params, options),
+            static_cast<int>(std::ceil(params.frame_rate_hz))),
       frames_(runner.participant(), topics::kStereoFrame),
       truth_(runner.participant(), topics::kGroundTruth),
       calibration_(runner.participant(), topics::kStereoCalibration),
@@ -54,9 +56,16 @@ SimulatorNode::SimulatorNode(node::Runner& runner, const SimParams& params,
   // Transient-local: written once, every late joiner still receives it.
   calibration_.write(
       stereo::calibration_to_message(published_, node::now_ns(), options_.calibration_source));
-  log::info("frames rendered ", lead_ns_ / 1000, " us ahead of their exposure (render time here)");
-  runner_.every(frame_period_wall_ns(params_, options_), [this](int64_t now) { tick(now); });
+  log::info("frames rendered ", lead_.lead_ns() / 1000,
+            " us ahead of their exposure (render time here; then each frame's own)");
+  frame_timer_ = runner_.one_shot([this](int64_t now) { tick(now); });
+  runner_.wake_at(frame_timer_, node::monotonic_ns() + frame_period_wall_ns(params_, options_));
   runner_.health().set_state(true, "running scenario " + scenario_.name);
+}
+
+SimulatorNode::~SimulatorNode() {
+  log::info("render lead over the run: ", lead_.min_lead_ns() / 1000, " to ",
+            lead_.max_lead_ns() / 1000, " us (last ", lead_.lead_ns() / 1000, " us)");
 }
 
 void SimulatorNode::on_command(const base::BaseCommand& command) {
@@ -120,19 +129,30 @@ int64_t SimulatorNode::measure_render_lead_ns(const SimParams& params, const Sce
 }
 
 void SimulatorNode::tick(int64_t /*now_ns*/) {
+  produce_frame();
+  schedule_next_frame();
+}
+
+void SimulatorNode::schedule_next_frame() {
+  const int64_t next_exposure = exposure_monotonic_ns(frame_index_ * sim_->frame_period_ns());
+  runner_.wake_at(frame_timer_, next_exposure - lead_.lead_ns());
+}
+
+void SimulatorNode::produce_frame() {
   // A camera's frame exists once its exposure ends; the simulator renders it ahead by the
-  // lead (on the timer's tick) and releases it at that instant, so its render time is not
-  // part of the robot's latency. Simulated time follows the wall clock (x rate) on the
+  // lead (on the timer) and releases it at that instant, so its render time is not part of
+  // the robot's latency, and no earlier than the lead needs, so the render does not run beside
+  // the previous frame's processing. Simulated time follows the wall clock (x rate) on the
   // frame grid; a frame whose exposure has passed before rendering starts is skipped.
   const int64_t mono = node::monotonic_ns();
-  if (run_start_mono_ns_ < 0) run_start_mono_ns_ = mono + lead_ns_;
+  if (run_start_mono_ns_ < 0) run_start_mono_ns_ = mono + lead_.lead_ns();
   const int64_t period = sim_->frame_period_ns();
   const auto sim_elapsed = static_cast<double>(mono - run_start_mono_ns_) * options_.rate;
   int64_t index = std::max<int64_t>(frame_index_, std::ceil(sim_elapsed / period));
   if (options_.loop && index * period > static_cast<int64_t>(scenario_.duration_s * 1e9)) {
     sim_ = std::make_unique<Simulator>(start_);
     // The new run's first frame is rendered now and released one lead later, as at start.
-    run_start_mono_ns_ = node::monotonic_ns() + lead_ns_;
+    run_start_mono_ns_ = node::monotonic_ns() + lead_.lead_ns();
     index = frame_index_ = 0;
     sim_now_ns_ = 0;
     runner_.health().count("scenario_restarts");
@@ -150,6 +170,8 @@ void SimulatorNode::tick(int64_t /*now_ns*/) {
   if (!view) return;
   stereoball_msg_StereoFrame frame{};
   stereo::fill_frame_message(*view, frame_source_, frame);
+  lead_.add_work(node::monotonic_ns() - mono);
+  runner_.health().set_counter("lead_us", static_cast<uint64_t>(lead_.lead_ns() / 1000));
   if (!wait_until(exposure)) return;
   if (node::monotonic_ns() > exposure + kLateNs) runner_.health().count("late_frames");
   frames_.write(frame, stamp_ns);

@@ -14,6 +14,7 @@
 #include "common/dds/reader.hpp"
 #include "common/dds/writer.hpp"
 #include "common/node/node_runner.hpp"
+#include "simulator/core/render_lead.hpp"
 #include "simulator/core/simulator.hpp"
 #include "stereo/frame/frame_compressor.hpp"
 #include "stereo/frame/preview_publisher.hpp"
@@ -36,14 +37,23 @@ class SimulatorNode {
   /// published is the calibration to announce (the true one, or a file to test a mismatch).
   SimulatorNode(node::Runner& runner, const SimParams& params, const Scenario& scenario,
                 const stereo::StereoCalibration& published, const SimulatorNodeOptions& options);
+  /// Logs the render lead's range over the run.
+  ~SimulatorNode();
+  SimulatorNode(const SimulatorNode&) = delete;
+  SimulatorNode& operator=(const SimulatorNode&) = delete;
 
  private:
   void on_command(const base::BaseCommand& command);
+  // The frame timer: one frame's work and release, then the timer set for the next frame.
   void tick(int64_t now_ns);
+  // Renders, encodes and releases the next frame on the grid at its exposure instant.
+  void produce_frame();
+  // Sets the frame timer one render lead before the next frame's exposure.
+  void schedule_next_frame();
   // Monotonic time of the simulated exposure at sim_time_ns of the current run.
   int64_t exposure_monotonic_ns(int64_t sim_time_ns) const;
-  // How far ahead of its exposure a frame is rendered: this machine's render (+ encode) time
-  // plus a margin.
+  // The first render lead (until frames' own work is timed): this machine's render (+ encode)
+  // time plus a margin.
   static int64_t measure_render_lead_ns(const SimParams& params, const Scenario& scenario,
                                         const SimulatorNodeOptions& options);
   static int64_t frame_period_wall_ns(const SimParams& params, const SimulatorNodeOptions& options);
@@ -68,7 +78,10 @@ class SimulatorNode {
   std::unique_ptr<Simulator> sim_;
   stereo::StereoCalibration published_;
   std::string frame_source_;
-  int64_t lead_ns_;  // frames are rendered this long before their exposure instant
+  // Frames are rendered this long before their exposure instant: the start-up measurement,
+  // then the slowest work of the last second of frames (simulator/core/render_lead.hpp).
+  RenderLead lead_;
+  size_t frame_timer_ = 0;
   std::optional<stereo::FrameCompressor> compressor_;  // jpeg/png only
   dds::DataWriter<stereoball_msg_StereoFrame> frames_;
   dds::DataWriter<stereoball_msg_GroundTruth> truth_;

@@ -4,6 +4,8 @@
 // radius bands).
 
 #include <atomic>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "ball_detector/pipeline/search/predicted_partner.hpp"
@@ -29,6 +31,33 @@ std::vector<Circle> best_of_each_place(const std::vector<Circle>& found, double 
 /// With only >= 0, band only (modulo their number) alone.
 std::vector<Circle> detect_left_in_bands(SearchTools& tools, const std::atomic<bool>* stop,
                                          int only = -1);
+
+/// detect_left_in_bands(tools, stop, only) in parts, for a caller that spreads a lost ball's
+/// frame evenly over several cores: each band's votes and peaks (vote(b), one task per band),
+/// then every band's peaks refined (refine(i), one task per peak), then circles(): the same
+/// circles, bit for bit. The left detector's edges and lines are only read meanwhile.
+class LeftBandParts {
+ public:
+  /// The bands to search, each with its detector.
+  LeftBandParts(SearchTools& tools, int only);
+  /// How many bands there are (vote() tasks).
+  int bands() const { return static_cast<int>(bands_.size()); }
+  /// Band b's votes over its radii and their peaks.
+  void vote(int b);
+  /// After every vote(): the peaks of all bands, refine() tasks (band by band, peak order).
+  int peaks();
+  /// The i-th of peaks() refined.
+  void refine(int i);
+  /// The bands' circles after every refine(): best first, one per place.
+  std::vector<Circle> circles() const;
+
+ private:
+  SearchTools& tools_;
+  std::vector<SearchHints> bands_;
+  std::vector<std::optional<int>> peaks_;          // per band: nullopt = no circle there
+  std::vector<std::vector<PeakCircles>> refined_;  // per band, per peak
+  std::vector<std::pair<int, int>> tasks_;         // refine() task -> (band, peak)
+};
 
 /// How many radius bands the calibration's left eye has.
 int radius_band_count(const SearchTools& tools);

@@ -34,6 +34,11 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
   // bands run only if it paired nothing. Task 0 does not touch what the band task reads (the
   // left detector's edges and lines), nor it anything task 0 touches.
   const bool bands_due = scratch.bands_due;
+  if (bands_due && tools.task_threads > 1) {
+    SearchOutcome out = pair_beside_bands(frame, scratch, tools, voted, std::move(blobs));
+    out.path = SearchPath::kWholeFrame;
+    return out;
+  }
   SearchOutcome out;
   std::atomic<bool> paired{false};
   std::vector<Circle> bands;
@@ -84,6 +89,47 @@ SearchOutcome WholeFrameSearch::by_radius(const FrameState& frame, FrameScratch&
   });
   if (bands_due && !paired) scratch.band_left = std::move(bands);
   out.path = SearchPath::kWholeFrame;
+  return out;
+}
+
+SearchOutcome WholeFrameSearch::pair_beside_bands(const FrameState& frame, FrameScratch& scratch,
+                                                  SearchTools& tools, bool voted,
+                                                  std::optional<std::vector<Circle>> blobs) const {
+  // As the two tasks in run() do, in parts small enough that both cores end together: in a
+  // lost ball's frame the left peaks (most of task 0) outlasted a small band and a large band
+  // outlasted them. First every band's votes beside the left peaks' refinement, then the
+  // pairing beside the bands' peaks. Each part reads or writes what it did in run()'s tasks.
+  LeftBandParts bands(tools, scratch.band);
+  const int band_count = bands.bands();
+  const int left_peaks = voted ? tools.left_detector.find_peaks_of_votes() : 0;
+  std::vector<PeakCircles> per_peak(static_cast<std::size_t>(left_peaks));
+  tools.run_tasks(band_count + left_peaks, [&](int task) {
+    if (task >= band_count) {
+      per_peak[static_cast<std::size_t>(task - band_count)] =
+          tools.left_detector.refine_peak(task - band_count);
+      return;
+    }
+    tools.observe(SearchPath::kRadiusBands, true);
+    bands.vote(task);
+    tools.observe(SearchPath::kRadiusBands, false);
+  });
+  SearchOutcome out;
+  std::atomic<bool> paired{false};
+  tools.run_tasks(1 + bands.peaks(), [&](int task) {
+    if (task > 0) {
+      if (paired) return;  // the bands' circles are not wanted any more
+      tools.observe(SearchPath::kRadiusBands, true);
+      bands.refine(task - 1);
+      tools.observe(SearchPath::kRadiusBands, false);
+      return;
+    }
+    out = pair_left_circles(
+        frame, scratch, tools,
+        voted ? tools.left_detector.select_circles(per_peak) : std::vector<Circle>{}, voted,
+        std::move(blobs));
+    paired = out.found();
+  });
+  if (!paired) scratch.band_left = bands.circles();
   return out;
 }
 
@@ -160,7 +206,7 @@ SearchOutcome WholeFrameSearch::pair_left_circles(const FrameState& frame, Frame
 
 std::vector<Circle> WholeFrameSearch::circles_of_votes(SearchTools& tools, bool peaks_at_once) {
   // Refining and scoring the peaks is most of a whole-frame search (~40 %), and each peak is
-  // independent. When the band search runs beside it, it has the other core to itself.
+  // independent. (With tasks at once and the bands due, pair_beside_bands refines them.)
   if (!peaks_at_once) return tools.left_detector.circles_of_votes();
   const int n = tools.left_detector.find_peaks_of_votes();
   std::vector<PeakCircles> per_peak(static_cast<std::size_t>(n));

@@ -30,6 +30,11 @@ class WholeFrameSearch : public SearchStrategy {
   /// nullopt when neither does (the full-width search then answers).
   std::optional<SearchOutcome> coarse_try(const FrameState& frame, FrameScratch& scratch,
                                           SearchTools& tools) const;
+  /// The whole frame's pairing with the radius bands due beside it, split for a runner that
+  /// runs tasks at once (run() in turn gives the same outcome and scratch.band_left).
+  SearchOutcome pair_beside_bands(const FrameState& frame, FrameScratch& scratch,
+                                  SearchTools& tools, bool voted,
+                                  std::optional<std::vector<Circle>> blobs) const;
   /// The full-width left eye's votes cast (false: an invalid image); with tasks at once and no
   /// edges yet, its edge step runs beside the colour blob search, whose seeds go to *blobs.
   static bool cast_full_width_votes(SearchTools& tools, bool edges_made,
