@@ -693,6 +693,91 @@ void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
 
 }  // namespace
 
+namespace {
+
+// The even bits of v (bits 0, 2, ..., 62) packed into its low 32 bits, in order.
+std::uint64_t even_bits(std::uint64_t v) {
+  v &= 0x5555555555555555ULL;
+  v = (v | v >> 1) & 0x3333333333333333ULL;
+  v = (v | v >> 2) & 0x0F0F0F0F0F0F0F0FULL;
+  v = (v | v >> 4) & 0x00FF00FF00FF00FFULL;
+  v = (v | v >> 8) & 0x0000FFFF0000FFFFULL;
+  return (v | v >> 16) & 0x00000000FFFFFFFFULL;
+}
+
+// bits halved into half (reset to w x h): each pixel the OR of its 2 x 2 block, a word of 64
+// pixels from two words of each of the block's rows.
+void halve_bits(const BitImage& bits, int w, int h, BitImage& half) {
+  half.reset(w, h);
+  const int in_words = (bits.width() + 63) / 64, out_words = (w + 63) / 64;
+  // The last word holds only pixels of [0, w): a dropped odd column would land past it.
+  const std::uint64_t last_mask = w % 64 == 0 ? ~std::uint64_t{0} : (std::uint64_t{1} << (w % 64)) - 1;
+  for (int y = 0; y < h; ++y) {
+    const std::uint64_t* a = bits.row(2 * y);
+    const std::uint64_t* b = bits.row(2 * y + 1);
+    std::uint64_t* out = half.mutable_row(y);
+    for (int wo = 0; wo < out_words; ++wo) {
+      std::uint64_t word = 0;
+      for (int part = 0; part < 2; ++part) {
+        const int wi = 2 * wo + part;
+        if (wi >= in_words) break;
+        const std::uint64_t both = a[wi] | b[wi];
+        word |= even_bits(both | both >> 1) << (32 * part);
+      }
+      out[wo] = wo == out_words - 1 ? word & last_mask : word;
+    }
+  }
+}
+
+// The 2 x 2 block sums of a CV_16S derivative into half (w x h, saturated).
+void halve_derivative(const cv::Mat& full, int w, int h, cv::Mat& half) {
+  half.create(h, w, CV_16S);
+  for (int y = 0; y < h; ++y) {
+    const short* a = full.ptr<short>(2 * y);
+    const short* b = full.ptr<short>(2 * y + 1);
+    short* out = half.ptr<short>(y);
+    for (int x = 0; x < w; ++x)
+      out[x] = cv::saturate_cast<short>(a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1]);
+  }
+}
+
+}  // namespace
+
+void halve_edge_map(const EdgeMap& full, const cv::Mat& half_image, bool thin, EdgeMap& half) {
+  const int w = full.edges.cols / 2, h = full.edges.rows / 2;
+  halve_bits(full.bits, w, h, half.bits);
+  half.edges.create(h, w, CV_8UC1);
+  half.edges.setTo(0);
+  for (int y = 0; y < h; ++y) {
+    uchar* row = half.edges.ptr<uchar>(y);
+    half.bits.for_each_set_in_row(y, [&](int x) { row[x] = 255; });
+  }
+  halve_derivative(full.dx, w, h, half.dx);
+  halve_derivative(full.dy, w, h, half.dy);
+  // As the edge step leaves its map: thinned, with a clear frame.
+  half.removed_staircase = 0;
+  if (thin) {
+    half.removed_staircase = thin_staircase(half.edges, half.bits);
+  } else if (w >= 1 && h >= 1) {
+    clear_frame(half.edges);
+    half.bits.assign(half.edges);
+  }
+  list_edge_points(half.bits, half.dx, half.dy, half.points);
+  half.low_threshold = full.low_threshold;
+  half.high_threshold = full.high_threshold;
+  half.median_gradient = full.median_gradient;
+  half.denoised = full.denoised;
+  half.frame_px = cv::Rect2d(0.5 * full.frame_px.x, 0.5 * full.frame_px.y,
+                             0.5 * full.frame_px.width, 0.5 * full.frame_px.height);
+  if (!full.colour.empty() && half_image.type() == CV_8UC3) {
+    half.colour = half_image;
+    half.grey.release();
+  } else {
+    half.colour.release();
+    half.grey = half_image.empty() ? cv::Mat() : to_grey(half_image);
+  }
+}
+
 void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy, EdgePoints& out) {
   // Counted first, so the arrays are sized once and filled by index (no growth checks).
   const int h = bits.height(), words = (bits.width() + 63) / 64;

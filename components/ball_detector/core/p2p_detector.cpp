@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <utility>
 
 namespace stereoball::ball_detector {
 namespace {
@@ -479,6 +480,16 @@ bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey, const VoteTask
   if (!validate_image(bgr_or_grey).ok()) return false;
   compute_edge_map(bgr_or_grey, params_.edge, edges_);
   edges_ready_ = true;
+  vote_on_edges(tasks);
+  return true;
+}
+
+bool PixelToPixelDetector::cast_votes_on_edges(EdgeMap& edges, const VoteTasks& tasks) {
+  start(std::nullopt);
+  orientation_ready_ = false;  // planes of the previous edge map
+  std::swap(edges_, edges);
+  edges_ready_ = !edges_.edges.empty();
+  if (!edges_ready_) return false;
   vote_on_edges(tasks);
   return true;
 }

@@ -307,6 +307,9 @@ class PixelToPixelDetector final : public CircleDetector {
   /// other detectors may redetect_from() this one while it runs circles_of_votes().
   /// tasks: how the voting runs (VoteTasks; the same votes either way).
   bool cast_votes(const cv::Mat& bgr_or_grey, const VoteTasks& tasks = {});
+  /// cast_votes() on an edge map made elsewhere (halve_edge_map), swapped in: edges gets the
+  /// previous map's buffers back; false (nothing voted) for an empty map.
+  bool cast_votes_on_edges(EdgeMap& edges, const VoteTasks& tasks = {});
   /// cast_votes() of the last image (find_edges or cast_votes) on its edge map, without the
   /// edge step again: the same votes; false before any valid image.
   bool cast_votes_on_last_edges(const VoteTasks& tasks = {});

@@ -41,6 +41,8 @@ struct CoarseSearch {
   /// target at level 1): the whole range's radii the reduced eye resolves are its, the smaller
   /// ones the full-width radius bands' only, and nothing is searched at full width after it.
   bool by_radius = false;
+  /// By radius: the full-width left edges halved for the reduced eye's votes (buffers reused).
+  EdgeMap halved_edges;
 
   /// Sets the level and detectors for frames image_width_px wide with the pipeline's (scaled)
   /// params; off when the frame is not wider than the target or no radius suits the reduced eye.
