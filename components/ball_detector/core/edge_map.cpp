@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 
 #if SB_HAVE_AVX2_KERNELS
@@ -711,7 +712,8 @@ void halve_bits(const BitImage& bits, int w, int h, BitImage& half) {
   half.reset(w, h);
   const int in_words = (bits.width() + 63) / 64, out_words = (w + 63) / 64;
   // The last word holds only pixels of [0, w): a dropped odd column would land past it.
-  const std::uint64_t last_mask = w % 64 == 0 ? ~std::uint64_t{0} : (std::uint64_t{1} << (w % 64)) - 1;
+  const std::uint64_t last_mask =
+      w % 64 == 0 ? ~std::uint64_t{0} : (std::uint64_t{1} << (w % 64)) - 1;
   for (int y = 0; y < h; ++y) {
     const std::uint64_t* a = bits.row(2 * y);
     const std::uint64_t* b = bits.row(2 * y + 1);
@@ -729,6 +731,35 @@ void halve_bits(const BitImage& bits, int w, int h, BitImage& half) {
   }
 }
 
+// Outputs [from, to) of halve_derivative's row (a, b: the block's two rows).
+void halve_derivative_row(const short* a, const short* b, short* out, int from, int to) {
+  for (int x = from; x < to; ++x)
+    out[x] = cv::saturate_cast<short>(a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1]);
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// The 8 block sums of a's and b's 16 derivatives at once, in 32 bits (madd with ones: exact).
+SB_TARGET_AVX2 inline __m256i block_sums(const short* a, const short* b) {
+  const __m256i ones = _mm256_set1_epi16(1);
+  const __m256i va = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(a));
+  const __m256i vb = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b));
+  return _mm256_add_epi32(_mm256_madd_epi16(va, ones), _mm256_madd_epi16(vb, ones));
+}
+
+// halve_derivative_row 16 outputs a step: the sums packed with the same saturation; packs
+// interleaves the lanes, the permute puts them back in order.
+SB_TARGET_AVX2 void halve_derivative_row_avx2(const short* a, const short* b, short* out, int w) {
+  int x = 0;
+  for (; x + 16 <= w; x += 16) {
+    const __m256i packed = _mm256_packs_epi32(block_sums(a + 2 * x, b + 2 * x),
+                                              block_sums(a + 2 * x + 16, b + 2 * x + 16));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x),
+                        _mm256_permute4x64_epi64(packed, 0xD8));
+  }
+  halve_derivative_row(a, b, out, x, w);
+}
+#endif
+
 // The 2 x 2 block sums of a CV_16S derivative into half (w x h, saturated).
 void halve_derivative(const cv::Mat& full, int w, int h, cv::Mat& half) {
   half.create(h, w, CV_16S);
@@ -736,8 +767,13 @@ void halve_derivative(const cv::Mat& full, int w, int h, cv::Mat& half) {
     const short* a = full.ptr<short>(2 * y);
     const short* b = full.ptr<short>(2 * y + 1);
     short* out = half.ptr<short>(y);
-    for (int x = 0; x < w; ++x)
-      out[x] = cv::saturate_cast<short>(a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1]);
+#if SB_HAVE_AVX2_KERNELS
+    if (cpu_has_avx2()) {
+      halve_derivative_row_avx2(a, b, out, w);
+      continue;
+    }
+#endif
+    halve_derivative_row(a, b, out, 0, w);
   }
 }
 
@@ -767,8 +803,10 @@ void halve_edge_map(const EdgeMap& full, const cv::Mat& half_image, bool thin, E
   half.high_threshold = full.high_threshold;
   half.median_gradient = full.median_gradient;
   half.denoised = full.denoised;
-  half.frame_px = cv::Rect2d(0.5 * full.frame_px.x, 0.5 * full.frame_px.y,
-                             0.5 * full.frame_px.width, 0.5 * full.frame_px.height);
+  // As the halved image's own frame (reduce_image drops an odd last row or column).
+  half.frame_px =
+      cv::Rect2d(0.5 * full.frame_px.x, 0.5 * full.frame_px.y,
+                 std::floor(0.5 * full.frame_px.width), std::floor(0.5 * full.frame_px.height));
   if (!full.colour.empty() && half_image.type() == CV_8UC3) {
     half.colour = half_image;
     half.grey.release();

@@ -55,8 +55,8 @@ bool cast_reduced_left_votes(SearchTools& tools) {
   if (coarse.by_radius) {
     // By radius the eye is halved once: its edges are the full-width ones halved (a faint
     // outline the full-width edge step keeps is lost to an edge step on the halved eye).
-    halve_edge_map(tools.left_detector.edge_map(), coarse.reduced_left,
-                   coarse.params.edge.thin, coarse.halved_edges);
+    halve_edge_map(tools.left_detector.edge_map(), coarse.reduced_left, coarse.params.edge.thin,
+                   coarse.halved_edges);
     return coarse.detector->cast_votes_on_edges(coarse.halved_edges);
   }
   return coarse.detector->cast_votes(coarse.reduced_left);
