@@ -52,14 +52,17 @@ bool cast_reduced_left_votes(SearchTools& tools) {
   // a prior use) as the full search makes them; only the voting runs on the reduced eye.
   if (!tools.left_detector.find_edges(tools.rect_left)) return false;
   reduce_image(tools.rect_left, coarse.level, coarse.reduced_left);
-  if (coarse.by_radius) {
-    // By radius the eye is halved once: its edges are the full-width ones halved (a faint
-    // outline the full-width edge step keeps is lost to an edge step on the halved eye).
-    halve_edge_map(tools.left_detector.edge_map(), coarse.reduced_left, coarse.params.edge.thin,
-                   coarse.halved_edges);
-    return coarse.detector->cast_votes_on_edges(coarse.halved_edges);
-  }
   return coarse.detector->cast_votes(coarse.reduced_left);
+}
+
+bool cast_halved_left_votes(SearchTools& tools) {
+  CoarseSearch& coarse = tools.coarse;
+  // The eye is halved once: its edges are the full-width ones halved (a faint outline the
+  // full-width edge step keeps is lost to an edge step on the halved eye, and it costs less).
+  reduce_image(tools.rect_left, coarse.level, coarse.reduced_left);
+  halve_edge_map(tools.left_detector.edge_map(), coarse.reduced_left, coarse.params.edge.thin,
+                 coarse.halved_edges);
+  return coarse.detector->cast_votes_on_edges(coarse.halved_edges, tools.left_vote_tasks());
 }
 
 bool cast_full_width_lines(SearchTools& tools) {

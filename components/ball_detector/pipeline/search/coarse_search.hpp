@@ -56,6 +56,10 @@ struct CoarseSearch {
 /// left detector then holds the full-resolution edges only; false for an invalid image.
 bool cast_reduced_left_votes(SearchTools& tools);
 
+/// By radius (coarse.by_radius), after the left detector's find_edges(rect_left): those edges
+/// halved (halve_edge_map) and voted on by the reduced eye; false for an invalid image.
+bool cast_halved_left_votes(SearchTools& tools);
+
 /// The circles of one coarse try's reduced votes refined at full width, in two steps (README:
 /// coarse to fine on wide frames): the whole radius range's first; the radius bands' only when
 /// asked for (when the whole range's circles give no strong pair). Each reduced circle is
