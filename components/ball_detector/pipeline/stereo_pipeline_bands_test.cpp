@@ -34,9 +34,9 @@ struct FrameResult {
 };
 
 // Frames of scenario_name with the robot still, detected as a stream (by_radius: coarse to fine
-// by radius, the shipped setting).
+// by radius, off as shipped).
 std::vector<FrameResult> run_still_robot(const std::string& scenario_name, int frames,
-                                         bool by_radius = true) {
+                                         bool by_radius = false) {
   auto scenario = sb::simulator::load_scenario_by_name(
       scenario_name, std::string(SB_SOURCE_DIR) + "/config/scenarios");
   EXPECT_TRUE(scenario.ok()) << scenario.error();
