@@ -73,6 +73,30 @@ TEST(Composite, GivenLargeBallAmongChessboardCornersWhenDetectedThenFoundAccurat
   EXPECT_LT(cv::norm(det.position_m - ball.centre_m), 0.005 * ball.centre_m[2]);
 }
 
+TEST(Composite, GivenWhiteBallOnChessboardWhenSearchedByRadiusThenTheFullWidthBandsFindIt) {
+  // Given the chessboard pair 06 with the bench's white ball of seed 99, 1.19 m ahead, 49 px in
+  // radius: the whole range misses it among the squares, and so does a radius band on the
+  // halved eye (the reason coarse to fine by radius keeps the bands at full width)
+  const Background& bg = backgrounds()[5];
+  ASSERT_EQ(bg.name, "chessboard06");
+  const auto balls = place_balls(bg, 5, 0.11, 0.8, 3.0, 99 + 5);
+  ASSERT_EQ(balls.size(), 5u);
+  const Ball& ball = balls[3];
+  ASSERT_EQ(ball.colour, "white");
+  ASSERT_NEAR(ball.centre_m[2], 1.19, 0.01);
+  ball_detector::BallDetectorParams params = composite_params({}, 0.11);
+  params.coarse_by_radius = true;
+  ball_detector::StereoPipeline pipeline(params);
+  ASSERT_TRUE(pipeline.set_calibration(rectified_rig_calibration(bg)).ok());
+  // When the pipeline searches it coarse to fine by radius (640x480: halved once)
+  const auto [left, right] = composite(bg, ball);
+  const auto det = pipeline.step(left, right, true);
+  // Then the full-width radius bands find it, its centre within 1 % of its depth
+  ASSERT_EQ(det.status, ball_detector::DetectionStatus::kFound) << det.reason;
+  EXPECT_EQ(det.search, ball_detector::SearchPath::kRadiusBands);
+  EXPECT_LT(cv::norm(det.position_m - ball.centre_m), 0.01 * ball.centre_m[2]);
+}
+
 TEST(Composite, GivenEveryRealBackgroundWhenBallsCompositedThenMostFoundAndNoFalseDetection) {
   // Given the 14 real backgrounds, two balls each (the bench runs five), and each without one
   SuiteOptions options;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 
 #if SB_HAVE_AVX2_KERNELS
@@ -692,6 +693,128 @@ void set_source(const cv::Mat& image, const EdgeParams& params, EdgeMap& out) {
 }
 
 }  // namespace
+
+namespace {
+
+// The even bits of v (bits 0, 2, ..., 62) packed into its low 32 bits, in order.
+std::uint64_t even_bits(std::uint64_t v) {
+  v &= 0x5555555555555555ULL;
+  v = (v | v >> 1) & 0x3333333333333333ULL;
+  v = (v | v >> 2) & 0x0F0F0F0F0F0F0F0FULL;
+  v = (v | v >> 4) & 0x00FF00FF00FF00FFULL;
+  v = (v | v >> 8) & 0x0000FFFF0000FFFFULL;
+  return (v | v >> 16) & 0x00000000FFFFFFFFULL;
+}
+
+// bits halved into half (reset to w x h): each pixel the OR of its 2 x 2 block, a word of 64
+// pixels from two words of each of the block's rows.
+void halve_bits(const BitImage& bits, int w, int h, BitImage& half) {
+  half.reset(w, h);
+  const int in_words = (bits.width() + 63) / 64, out_words = (w + 63) / 64;
+  // The last word holds only pixels of [0, w): a dropped odd column would land past it.
+  const std::uint64_t last_mask =
+      w % 64 == 0 ? ~std::uint64_t{0} : (std::uint64_t{1} << (w % 64)) - 1;
+  for (int y = 0; y < h; ++y) {
+    const std::uint64_t* a = bits.row(2 * y);
+    const std::uint64_t* b = bits.row(2 * y + 1);
+    std::uint64_t* out = half.mutable_row(y);
+    for (int wo = 0; wo < out_words; ++wo) {
+      std::uint64_t word = 0;
+      for (int part = 0; part < 2; ++part) {
+        const int wi = 2 * wo + part;
+        if (wi >= in_words) break;
+        const std::uint64_t both = a[wi] | b[wi];
+        word |= even_bits(both | both >> 1) << (32 * part);
+      }
+      out[wo] = wo == out_words - 1 ? word & last_mask : word;
+    }
+  }
+}
+
+// Outputs [from, to) of halve_derivative's row (a, b: the block's two rows).
+void halve_derivative_row(const short* a, const short* b, short* out, int from, int to) {
+  for (int x = from; x < to; ++x)
+    out[x] = cv::saturate_cast<short>(a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1]);
+}
+
+#if SB_HAVE_AVX2_KERNELS
+// The 8 block sums of a's and b's 16 derivatives at once, in 32 bits (madd with ones: exact).
+SB_TARGET_AVX2 inline __m256i block_sums(const short* a, const short* b) {
+  const __m256i ones = _mm256_set1_epi16(1);
+  const __m256i va = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(a));
+  const __m256i vb = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b));
+  return _mm256_add_epi32(_mm256_madd_epi16(va, ones), _mm256_madd_epi16(vb, ones));
+}
+
+// halve_derivative_row 16 outputs a step: the sums packed with the same saturation; packs
+// interleaves the lanes, the permute puts them back in order.
+SB_TARGET_AVX2 void halve_derivative_row_avx2(const short* a, const short* b, short* out, int w) {
+  int x = 0;
+  for (; x + 16 <= w; x += 16) {
+    const __m256i packed = _mm256_packs_epi32(block_sums(a + 2 * x, b + 2 * x),
+                                              block_sums(a + 2 * x + 16, b + 2 * x + 16));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x),
+                        _mm256_permute4x64_epi64(packed, 0xD8));
+  }
+  halve_derivative_row(a, b, out, x, w);
+}
+#endif
+
+// The 2 x 2 block sums of a CV_16S derivative into half (w x h, saturated).
+void halve_derivative(const cv::Mat& full, int w, int h, cv::Mat& half) {
+  half.create(h, w, CV_16S);
+  for (int y = 0; y < h; ++y) {
+    const short* a = full.ptr<short>(2 * y);
+    const short* b = full.ptr<short>(2 * y + 1);
+    short* out = half.ptr<short>(y);
+#if SB_HAVE_AVX2_KERNELS
+    if (cpu_has_avx2()) {
+      halve_derivative_row_avx2(a, b, out, w);
+      continue;
+    }
+#endif
+    halve_derivative_row(a, b, out, 0, w);
+  }
+}
+
+}  // namespace
+
+void halve_edge_map(const EdgeMap& full, const cv::Mat& half_image, bool thin, EdgeMap& half) {
+  const int w = full.edges.cols / 2, h = full.edges.rows / 2;
+  halve_bits(full.bits, w, h, half.bits);
+  half.edges.create(h, w, CV_8UC1);
+  half.edges.setTo(0);
+  for (int y = 0; y < h; ++y) {
+    uchar* row = half.edges.ptr<uchar>(y);
+    half.bits.for_each_set_in_row(y, [&](int x) { row[x] = 255; });
+  }
+  halve_derivative(full.dx, w, h, half.dx);
+  halve_derivative(full.dy, w, h, half.dy);
+  // As the edge step leaves its map: thinned, with a clear frame.
+  half.removed_staircase = 0;
+  if (thin) {
+    half.removed_staircase = thin_staircase(half.edges, half.bits);
+  } else if (w >= 1 && h >= 1) {
+    clear_frame(half.edges);
+    half.bits.assign(half.edges);
+  }
+  list_edge_points(half.bits, half.dx, half.dy, half.points);
+  half.low_threshold = full.low_threshold;
+  half.high_threshold = full.high_threshold;
+  half.median_gradient = full.median_gradient;
+  half.denoised = full.denoised;
+  // As the halved image's own frame (reduce_image drops an odd last row or column).
+  half.frame_px =
+      cv::Rect2d(0.5 * full.frame_px.x, 0.5 * full.frame_px.y,
+                 std::floor(0.5 * full.frame_px.width), std::floor(0.5 * full.frame_px.height));
+  if (!full.colour.empty() && half_image.type() == CV_8UC3) {
+    half.colour = half_image;
+    half.grey.release();
+  } else {
+    half.colour.release();
+    half.grey = half_image.empty() ? cv::Mat() : to_grey(half_image);
+  }
+}
 
 void list_edge_points(const BitImage& bits, const cv::Mat& dx, const cv::Mat& dy, EdgePoints& out) {
   // Counted first, so the arrays are sized once and filled by index (no growth checks).

@@ -185,6 +185,14 @@ void strongest_channel_gradient(const cv::Mat& bgr, cv::Mat& dx, cv::Mat& dy,
 /// Computes the whole edge step into out (buffers reused across calls of the same size).
 void compute_edge_map(const cv::Mat& image, const EdgeParams& params, EdgeMap& out);
 
+/// full's edge map halved, for voting on its image halved (half_image, e.g. halve_image's; its
+/// source image in half): a pixel is an edge where any pixel of its 2 x 2 block of full is (a faint
+/// outline the full-width thresholds keep survives, which an edge step on the halved image may
+/// lose), with the block's summed derivatives (its gradient's direction; subpixel placement and
+/// orientation read only ratios), thinned as the edge step thins when thin; an odd last row or
+/// column of full is dropped. Thresholds are full's; half's buffers are reused.
+void halve_edge_map(const EdgeMap& full, const cv::Mat& half_image, bool thin, EdgeMap& half);
+
 /// The edge step's decisions for one image, to reuse on crops of it (or of its twin).
 struct EdgeThresholds {
   CannyThresholds canny;

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace stereoball::ball_detector {
@@ -148,6 +149,117 @@ TEST(EdgeParams, GivenOutOfRangeFieldsThenValidateNamesThem) {
   p = EdgeParams{};
   p.low_ratio = 0.0;
   EXPECT_NE(p.validate().error().find("low_ratio"), std::string::npos);
+}
+
+// halve_edge_map in plain loops: each pixel the OR of its 2 x 2 block, the derivatives the
+// block's sums, then the byte thinning pass (or, not thinned, the frame cleared).
+EdgeMap reference_halved(const EdgeMap& full, bool thin) {
+  const int w = full.edges.cols / 2, h = full.edges.rows / 2;
+  EdgeMap r;
+  r.edges = cv::Mat::zeros(h, w, CV_8UC1);
+  r.dx.create(h, w, CV_16S);
+  r.dy.create(h, w, CV_16S);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      int any = 0, sx = 0, sy = 0;
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+          any |= full.edges.at<uchar>(2 * y + j, 2 * x + i);
+          sx += full.dx.at<short>(2 * y + j, 2 * x + i);
+          sy += full.dy.at<short>(2 * y + j, 2 * x + i);
+        }
+      r.edges.at<uchar>(y, x) = any != 0 ? 255 : 0;
+      r.dx.at<short>(y, x) = cv::saturate_cast<short>(sx);
+      r.dy.at<short>(y, x) = cv::saturate_cast<short>(sy);
+    }
+  if (thin) {
+    r.removed_staircase = thin_staircase(r.edges);
+  } else if (w > 0 && h > 0) {
+    r.edges.row(0).setTo(0);
+    r.edges.row(h - 1).setTo(0);
+    r.edges.col(0).setTo(0);
+    r.edges.col(w - 1).setTo(0);
+  }
+  r.bits.assign(r.edges);
+  list_edge_points(r.bits, r.dx, r.dy, r.points);
+  return r;
+}
+
+bool same_mat(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() &&
+         (a.empty() || cv::countNonZero(cv::abs(a != b)) == 0);
+}
+
+void expect_reference_halved(const EdgeMap& full, bool thin, const cv::Mat& half_image) {
+  EdgeMap half;
+  halve_edge_map(full, half_image, thin, half);
+  const EdgeMap ref = reference_halved(full, thin);
+  EXPECT_TRUE(same_mat(half.edges, ref.edges));
+  EXPECT_TRUE(same_mat(half.dx, ref.dx));
+  EXPECT_TRUE(same_mat(half.dy, ref.dy));
+  EXPECT_EQ(half.removed_staircase, ref.removed_staircase);
+  ASSERT_EQ(half.bits.width(), ref.bits.width());
+  ASSERT_EQ(half.bits.height(), ref.bits.height());
+  const int words = (ref.bits.width() + 63) / 64;
+  for (int y = 0; y < ref.bits.height(); ++y)
+    for (int i = 0; i < words; ++i) ASSERT_EQ(half.bits.row(y)[i], ref.bits.row(y)[i]) << y;
+  EXPECT_EQ(half.points.x, ref.points.x);
+  EXPECT_EQ(half.points.y, ref.points.y);
+  EXPECT_EQ(half.points.gx, ref.points.gx);
+  EXPECT_EQ(half.points.gy, ref.points.gy);
+  EXPECT_EQ(half.points.row_start, ref.points.row_start);
+  EXPECT_EQ(half.high_threshold, full.high_threshold);
+  EXPECT_EQ(half.frame_px, cv::Rect2d(0.5 * full.frame_px.x, 0.5 * full.frame_px.y,
+                                      std::floor(0.5 * full.frame_px.width),
+                                      std::floor(0.5 * full.frame_px.height)));
+}
+
+TEST(HalveEdgeMap, GivenEdgeMapsOfTexturedImagesThenEachIsThePlainLoopsResult) {
+  // Given colour images of blurred noise (many short edges in every direction) of even and odd
+  // sizes, some crossing a packed word of the halved row, and their edge maps
+  cv::RNG rng(31);
+  for (const cv::Size size : {cv::Size(640, 480), cv::Size(203, 97), cv::Size(130, 66),
+                              cv::Size(257, 9), cv::Size(5, 5)}) {
+    cv::Mat image(size, CV_8UC3);
+    rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+    cv::GaussianBlur(image, image, cv::Size(5, 5), 1.5);
+    EdgeMap full;
+    compute_edge_map(image, EdgeParams{}, full);
+    cv::Mat half_image;
+    cv::resize(image(cv::Rect(0, 0, size.width / 2 * 2, size.height / 2 * 2)), half_image,
+               cv::Size(size.width / 2, size.height / 2), 0, 0, cv::INTER_AREA);
+    for (const bool thin : {true, false}) {
+      SCOPED_TRACE(testing::Message() << size << " thin " << thin);
+      // When halved, Then every plane and list equals the plain loops' (and the halved colour
+      // image is the map's source)
+      expect_reference_halved(full, thin, half_image);
+    }
+    EdgeMap half;
+    halve_edge_map(full, half_image, true, half);
+    EXPECT_EQ(half.colour.data, half_image.data);
+    EXPECT_TRUE(half.grey.empty());
+  }
+}
+
+TEST(HalveEdgeMap, GivenDerivativesNearTheirLimitsThenTheBlockSumsSaturate) {
+  // Given a hand-made map: random edge pixels and derivatives over the whole 16-bit range
+  cv::RNG rng(5);
+  EdgeMap full;
+  cv::Mat noise(150, 301, CV_8UC1);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  full.edges = noise > 200;
+  full.bits.assign(full.edges);
+  full.dx.create(noise.size(), CV_16S);
+  full.dy.create(noise.size(), CV_16S);
+  rng.fill(full.dx, cv::RNG::UNIFORM, -32768, 32768);
+  rng.fill(full.dy, cv::RNG::UNIFORM, -32768, 32768);
+  full.frame_px = cv::Rect2d(-10, -4, 400, 200);
+  // When halved, Then it is the plain loops' result, saturated sums included
+  expect_reference_halved(full, true, cv::Mat());
+  EdgeMap half;
+  halve_edge_map(full, cv::Mat(), true, half);
+  EXPECT_EQ(half.frame_px, cv::Rect2d(-5, -2, 200, 100));
+  EXPECT_GT(cv::countNonZero(half.dx == 32767), 0) << "premise: some sums saturate";
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace stereoball::ball_detector {
 
@@ -163,12 +164,35 @@ bool PixelToPixelDetector::cast_votes(const cv::Mat& bgr_or_grey, const VoteTask
   return true;
 }
 
+bool PixelToPixelDetector::cast_votes_on_edges(EdgeMap& edges, const VoteTasks& tasks) {
+  start(std::nullopt);
+  orientation_ready_ = false;  // planes of the previous edge map
+  std::swap(edges_, edges);
+  edges_ready_ = !edges_.edges.empty();
+  if (!edges_ready_) return false;
+  vote_on_edges(tasks);
+  return true;
+}
+
 bool PixelToPixelDetector::cast_votes_on_last_edges(const VoteTasks& tasks) {
   if (!edges_ready_) return false;
   start(std::nullopt);
   // The orientation planes, if built, are this edge map's: still valid.
   vote_on_edges(tasks);
   return true;
+}
+
+bool PixelToPixelDetector::cast_votes_on_last_edges(const SearchHints& hints,
+                                                    const VoteTasks& tasks) {
+  if (!edges_ready_) return false;
+  start(hints);
+  vote_on_edges(tasks);
+  return true;
+}
+
+void PixelToPixelDetector::forget_hints() {
+  radii_ = {params_.min_radius_px, params_.max_radius_px};
+  min_inside_fraction_ = params_.refine_params.min_inside_fraction;
 }
 
 bool PixelToPixelDetector::find_edges(const cv::Mat& bgr_or_grey) {

@@ -308,9 +308,18 @@ class PixelToPixelDetector final : public CircleDetector {
   /// other detectors may redetect_from() this one while it runs circles_of_votes().
   /// tasks: how the voting runs (VoteTasks; the same votes either way).
   bool cast_votes(const cv::Mat& bgr_or_grey, const VoteTasks& tasks = {});
+  /// cast_votes() on an edge map made elsewhere (halve_edge_map), swapped in: edges gets the
+  /// previous map's buffers back; false (nothing voted) for an empty map.
+  bool cast_votes_on_edges(EdgeMap& edges, const VoteTasks& tasks = {});
   /// cast_votes() of the last image (find_edges or cast_votes) on its edge map, without the
   /// edge step again: the same votes; false before any valid image.
   bool cast_votes_on_last_edges(const VoteTasks& tasks = {});
+  /// cast_votes_on_last_edges() over hints' radii only: every line (the window rules do not
+  /// depend on the radii) is kept for redetect, only the plotted rays are shorter.
+  bool cast_votes_on_last_edges(const SearchHints& hints, const VoteTasks& tasks = {});
+  /// refine_seeds() over the params' radii and inside fraction again after a search with hints
+  /// (its votes, peaks, lines and edges kept).
+  void forget_hints();
   /// The second half: the peaks of the last votes refined and scored, as detect() returns them
   /// (empty if the last cast_votes() had an invalid image).
   std::vector<Circle> circles_of_votes();

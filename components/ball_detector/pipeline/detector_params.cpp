@@ -215,6 +215,11 @@ std::vector<params::Field<P>> coarse_to_fine_fields() {
       number("coarse_to_fine.min_pair_score", at(&P::coarse_min_pair_score), 0.65, {0.0, 1.0}, "",
              "a pair of the reduced eye's circles scoring less is left to the full-width "
              "search"),
+      flag("coarse_to_fine.by_radius", at(&P::coarse_by_radius), false,
+           "frames not wider than target_width_px: the whole-frame search votes on the halved "
+           "left eye's edges (the full-width ones halved) for the radii of "
+           "min_coarse_radius_px there and up (refined at full width) and leaves the smaller "
+           "ones to the full-width radius bands; no full-width whole-range search"),
       number("coarse_to_fine.min_coarse_radius_px", in(&C::min_coarse_radius_px),
              core.min_coarse_radius_px, {0.1, 1000.0}, "px",
              "smallest radius searched on the reduced image, its pixels; smaller radii of the "

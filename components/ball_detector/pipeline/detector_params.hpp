@@ -132,6 +132,11 @@ struct BallDetectorParams {
   /// Addition (speed): a pair the reduced eye's circles give answers the frame only when its
   /// score reaches this; a weaker one is left to the full-width search, [0, 1].
   double coarse_min_pair_score;
+  /// Addition (speed, off: a kicked ball of the randomised sets not tuned on was lost more
+  /// often): frames not wider than coarse_to_fine.target_width_px (640x480) search the whole
+  /// range's radii the halved eye resolves on its full-width edges halved, the rest only in
+  /// the full-width radius bands, and no full-width whole-range search (README: by radius).
+  bool coarse_by_radius;
   /// Addition: PairingContext::dominance_margin (0 = off).
   double dominance_margin;
   /// Largest image a calibration (and so every frame) may have: a larger stereo/calibration is

@@ -460,8 +460,9 @@ SearchOutcome StereoPipeline::search(const FrameState& frame) {
   // seeds' outlines without brightness. Each later search answers only if it pairs.
   // Coarse to fine, the whole frame's first try has searched every radius band on the reduced
   // eye already (coarse_left_circles), so the full-width fallback votes once over the whole
-  // range and leaves the bands out (README: coarse to fine on wide frames).
-  const bool full_width_bands = !tools_.coarse.on();
+  // range and leaves the bands out (README: coarse to fine on wide frames). By radius, the bands
+  // stay at full width: the reduced eye's lose white balls on a chessboard (README: by radius).
+  const bool full_width_bands = !tools_.coarse.on() || tools_.coarse.by_radius;
   scratch.bands_due = full_width_bands;
   // Every band on stills and on a stream's first frame; then one band a frame, in turn.
   const bool every_band = !stream;

@@ -33,7 +33,10 @@ struct FrameResult {
   SearchPath search = SearchPath::kWholeFrame;
 };
 
-std::vector<FrameResult> run_still_robot(const std::string& scenario_name, int frames) {
+// Frames of scenario_name with the robot still, detected as a stream (by_radius: coarse to fine
+// by radius, off as shipped).
+std::vector<FrameResult> run_still_robot(const std::string& scenario_name, int frames,
+                                         bool by_radius = false) {
   auto scenario = sb::simulator::load_scenario_by_name(
       scenario_name, std::string(SB_SOURCE_DIR) + "/config/scenarios");
   EXPECT_TRUE(scenario.ok()) << scenario.error();
@@ -42,6 +45,7 @@ std::vector<FrameResult> run_still_robot(const std::string& scenario_name, int f
   sb::simulator::Simulator sim(sb::simulator::default_sim_params(), *scenario);
   BallDetectorParams params;
   params.ball_diameter_m = 2.0 * scenario->ball->radius_m;
+  params.coarse_by_radius = by_radius;
   StereoPipeline pipeline(params);
   EXPECT_TRUE(pipeline.set_calibration(sim.calibration()).ok());
   const std::int64_t period = sim.frame_period_ns();
@@ -157,8 +161,9 @@ TEST(StereoPipelineRadiusBands, GivenAStreamWithoutABall_ThenOneBandAFrameAfterT
 // Once a band has found a ball the whole range misses, the next frame that pairs nothing over
 // the whole range searches that band again first (not the next band in turn): every visible
 // frame from the first band find on is answered on the ball.
+// Not by radius: the halved eye's whole range answers most of these frames itself.
 TEST(StereoPipelineRadiusBands, GivenTheBandsFoundTheBall_ThenTheNextFramesSearchThemAgain) {
-  const auto frames = run_still_robot("ball_rolling_across", 24);
+  const auto frames = run_still_robot("ball_rolling_across", 24, false);
   ASSERT_EQ(frames.size(), 24u);
   int first_band_find = -1;
   for (int i = 0; i < 24 && first_band_find < 0; ++i)

@@ -29,8 +29,10 @@ struct WideRendered {
   sb::stereo::StereoCalibration calib;
 };
 
-// A plain room (no clutter) with a one-colour ball at (x_m, y_m) on the floor, width x height.
-WideRendered render_plain(double x_m, double y_m, int width_px, int height_px) {
+// A plain room (no clutter) with a one-colour ball of radius_m at (x_m, y_m) on the floor,
+// width x height.
+WideRendered render_plain(double x_m, double y_m, int width_px, int height_px,
+                          double radius_m = 0.11) {
   sb::simulator::SimBallSetup s;
   s.ball_x_m = x_m;
   s.ball_y_m = y_m;
@@ -40,7 +42,8 @@ WideRendered render_plain(double x_m, double y_m, int width_px, int height_px) {
   auto params = sb::simulator::default_sim_params();
   params.width_px = width_px;
   params.height_px = height_px;
-  const auto scenario = sb::simulator::make_sim_scenario(s);
+  auto scenario = sb::simulator::make_sim_scenario(s);
+  if (scenario.ball) scenario.ball->radius_m = radius_m;
   EXPECT_TRUE(sb::simulator::Simulator::check(params, scenario).ok());
   sb::simulator::Simulator sim(params, scenario);
   return {sim.step(std::nullopt, 0), sim.calibration()};
@@ -149,11 +152,13 @@ TEST(StereoPipelineCoarse, GivenNoBallThenNothingFoundCoarseToFine) {
   EXPECT_EQ(det.search, SearchPath::kWholeFrame);
 }
 
-TEST(StereoPipelineCoarse, GivenAReferenceWidthFrameThenSearchedAsWithoutIt) {
-  // Given the simulator's 640x480 pair with coarse to fine on (target 640) and off
+TEST(StereoPipelineCoarse, GivenAReferenceWidthFrameNotByRadiusThenSearchedAsWithoutIt) {
+  // Given the simulator's 640x480 pair with coarse to fine on (target 640, not by radius) and off
   const WideRendered r = render_plain(1.5, 0.0, 640, 480);
   StereoPipeline off(with_target(0));
-  StereoPipeline on(with_target(640));
+  BallDetectorParams not_by_radius = with_target(640);
+  not_by_radius.coarse_by_radius = false;
+  StereoPipeline on(not_by_radius);
   ASSERT_TRUE(off.set_calibration(r.calib).ok());
   ASSERT_TRUE(on.set_calibration(r.calib).ok());
   // When each processes it
@@ -260,4 +265,61 @@ TEST(StereoPipelineCoarse, GivenAWeakCoarsePairThenTheFullWidthSearchAnswers) {
   EXPECT_EQ(b.left.radius_px, a.left.radius_px);
   EXPECT_EQ(b.right.x_px, a.right.x_px);
   EXPECT_EQ(b.position_m, a.position_m);
+}
+
+// Coarse to fine by radius (coarse_to_fine.by_radius, off by default): the whole-frame search
+// votes on the halved eye for the radii it resolves (7 px and up at full width) and leaves the
+// smaller ones to the full-width radius bands.
+TEST(StereoPipelineCoarse, GivenA640FrameByRadiusThenItsLargeBallIsFoundThroughTheHalvedEye) {
+  for (const auto& [x_m, y_m] : {std::pair{1.5, 0.0}, std::pair{2.5, 0.3}}) {
+    // Given a rendered 640x480 pair (a ball of 20-40 px radius), searched at full width and by
+    // radius
+    const WideRendered r = render_plain(x_m, y_m, 640, 480);
+    BallDetectorParams by_radius = with_target(640);
+    by_radius.coarse_by_radius = true;
+    StereoPipeline pipeline(by_radius);
+    ASSERT_TRUE(pipeline.set_calibration(r.calib).ok());
+    std::vector<SearchPath> started;
+    pipeline.set_search_observer([&](SearchPath path, bool start) {
+      if (start) started.push_back(path);
+    });
+    // When each processes the raw pair
+    StereoPipeline full(with_target(0));
+    ASSERT_TRUE(full.set_calibration(r.calib).ok());
+    const auto a = full.step(r.frame.left, r.frame.right, false);
+    const auto b = pipeline.step(r.frame.left, r.frame.right, false);
+    // Then the halved eye's whole-frame search finds the full-width search's ball, within a
+    // pixel, without the radius bands
+    ASSERT_EQ(a.status, DetectionStatus::kFound) << a.reason;
+    ASSERT_EQ(b.status, DetectionStatus::kFound) << b.reason;
+    ASSERT_GE(b.left.radius_px, 7.0) << "premise: a radius the halved eye resolves";
+    EXPECT_EQ(b.search, SearchPath::kWholeFrame);
+    EXPECT_EQ(std::count(started.begin(), started.end(), SearchPath::kRadiusBands), 0);
+    EXPECT_NEAR(b.left.x_px, a.left.x_px, 1.0);
+    EXPECT_NEAR(b.left.y_px, a.left.y_px, 1.0);
+    EXPECT_NEAR(b.left.radius_px, a.left.radius_px, 1.0);
+    EXPECT_LT(std::abs(b.position_m[2] - a.position_m[2]), 0.02 * a.position_m[2]);
+  }
+}
+
+TEST(StereoPipelineCoarse, GivenA640FrameByRadiusThenASmallBallIsFoundAtFullWidth) {
+  // Given a rendered 640x480 pair with a 4 cm ball 2 m ahead: about 5 px in radius, below what
+  // the halved eye resolves (min_coarse_radius_px 3.5 there: 7 px); no colour seeds (they would
+  // find this one-colour ball in the whole-frame search without voting)
+  const WideRendered r = render_plain(2.0, 0.0, 640, 480, 0.02);
+  BallDetectorParams params = with_target(640);
+  params.ball_diameter_m = 0.04;
+  params.colour_seeds.enabled = false;
+  params.coarse_by_radius = true;
+  StereoPipeline pipeline(params);
+  ASSERT_TRUE(pipeline.set_calibration(r.calib).ok());
+  // When it processes the raw pair as a still (every radius band)
+  const auto det = pipeline.step(r.frame.left, r.frame.right, false);
+  // Then the full-width radius bands find it, where it is
+  ASSERT_EQ(det.status, DetectionStatus::kFound) << det.reason;
+  EXPECT_EQ(det.search, SearchPath::kRadiusBands);
+  EXPECT_LT(det.left.radius_px, 7.0);
+  const cv::Vec3d truth(r.frame.truth.ball_camera_m.x, r.frame.truth.ball_camera_m.y,
+                        r.frame.truth.ball_camera_m.z);
+  EXPECT_LT(cv::norm(det.position_m - truth), r.frame.truth.ball_radius_m);
 }

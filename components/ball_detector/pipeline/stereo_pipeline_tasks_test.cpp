@@ -63,12 +63,12 @@ void expect_same_detection(const StereoDetection& a, const StereoDetection& b, i
 
 // Frames of a scenario with the robot still (ball_leaves_left: found, leaving, lost, i.e. the
 // whole-frame and band searches of a lost ball), every `every`-th one, detected by a pipeline in
-// turn and by one whose runner (declared to run 2 tasks at once) is runner; returns how many
-// were found and lost.
+// turn and by one whose runner (declared to run 2 tasks at once) is runner, both coarse to fine
+// by radius when by_radius; returns how many were found and lost.
 template <typename Runner>
 std::pair<int, int> expect_runner_detects_as_in_turn(Runner& runner, int frames,
                                                      const std::string& name = "ball_leaves_left",
-                                                     int every = 3) {
+                                                     int every = 3, bool by_radius = false) {
   auto scenario =
       sb::simulator::load_scenario_by_name(name, std::string(SB_SOURCE_DIR) + "/config/scenarios");
   EXPECT_TRUE(scenario.ok()) << scenario.error();
@@ -76,6 +76,7 @@ std::pair<int, int> expect_runner_detects_as_in_turn(Runner& runner, int frames,
   sb::simulator::Simulator sim(sb::simulator::default_sim_params(), *scenario);
   BallDetectorParams params;
   params.ball_diameter_m = 2.0 * scenario->ball->radius_m;
+  params.coarse_by_radius = by_radius;
   StereoPipeline in_turn(params), split(params);
   EXPECT_TRUE(in_turn.set_calibration(sim.calibration()).ok());
   EXPECT_TRUE(split.set_calibration(sim.calibration()).ok());
@@ -109,6 +110,22 @@ TEST(StereoPipelineTasks, GivenTasksAtOnceThenTheDetectionsAreThoseInTurn) {
   EXPECT_GT(runner.calls, 4 * lost)
       << "rectification, edges, votes, band votes beside the peaks, pairing beside the band "
          "peaks of each lost frame";
+}
+
+// Coarse to fine by radius (coarse_to_fine.by_radius): the lost frames' halved eye and bands
+// split for the runner (by_radius_beside_bands) give the detections in turn as well.
+TEST(StereoPipelineTasks, GivenTasksAtOnceByRadiusThenTheDetectionsAreThoseInTurn) {
+  // Given two pipelines by radius: one in turn, one whose runner runs the tasks at once
+  AtOnceRunner runner;
+  // When both detect the frames, Then they are the same
+  const auto [found, lost] =
+      expect_runner_detects_as_in_turn(runner, 150, "ball_leaves_left", 3, true);
+  // And the frames held both answers, and the work was split for the runner
+  EXPECT_GT(found, 5);
+  EXPECT_GT(lost, 5);
+  EXPECT_GT(runner.calls, 4 * lost)
+      << "rectification, edges beside the blobs, halved votes, full-width lines, band votes "
+         "beside the halved eye's circles, pairing beside the band peaks of each lost frame";
 }
 
 // The same split run in turn on one thread (the order a busy helper leaves: the caller runs

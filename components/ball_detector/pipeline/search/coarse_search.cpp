@@ -13,6 +13,10 @@ namespace stereoball::ball_detector {
 void CoarseSearch::set_up(const BallDetectorParams& p, int image_width_px,
                           const std::optional<stereo::PinholeCamera>& left_camera) {
   level = coarse_level(image_width_px, p.coarse_to_fine);
+  // A frame not wider than the target is halved once: the reduced eye takes the radii it
+  // resolves; the smaller ones, cheap at full width, are the full-width radius bands'.
+  by_radius = level == 0 && p.coarse_by_radius && p.coarse_to_fine.target_width_px > 0;
+  if (by_radius) level = 1;
   detector.reset();
   fine_path.reset();
   if (level == 0) return;
@@ -21,6 +25,7 @@ void CoarseSearch::set_up(const BallDetectorParams& p, int image_width_px,
                              p.coarse_to_fine.min_coarse_radius_px);
   if (!holds_radii(split.coarse_px) || split.coarse_px.max_px <= split.coarse_px.min_px) {
     level = 0;  // nothing is large enough for the reduced eye
+    by_radius = false;
     return;
   }
   params = params_at_level(full, level);
@@ -35,7 +40,7 @@ void CoarseSearch::set_up(const BallDetectorParams& p, int image_width_px,
   // As the single-image coarse search (PixelToPixelParams::coarse_to_fine): on the reduced eye
   // small round texture outvotes a ball's outline unless peaks need voters from around them.
   detector->set_reduced_image_options(full.coarse_min_voted_coverage, true);
-  if (holds_radii(split.fine_px) && split.fine_px.max_px > split.fine_px.min_px) {
+  if (!by_radius && holds_radii(split.fine_px) && split.fine_px.max_px > split.fine_px.min_px) {
     fine_path.emplace(full);
     fine_path->set_camera(p.perspective_outline ? left_camera : std::nullopt);
   }
@@ -57,6 +62,26 @@ bool cast_reduced_left_votes(SearchTools& tools) {
     votes = coarse.detector->cast_votes(coarse.reduced_left);
   });
   return edges && votes;
+}
+
+bool cast_halved_left_votes(SearchTools& tools) {
+  CoarseSearch& coarse = tools.coarse;
+  // The eye is halved once: its edges are the full-width ones halved (a faint outline the
+  // full-width edge step keeps is lost to an edge step on the halved eye, and it costs less).
+  reduce_image(tools.rect_left, coarse.level, coarse.reduced_left);
+  halve_edge_map(tools.left_detector.edge_map(), coarse.reduced_left, coarse.params.edge.thin,
+                 coarse.halved_edges);
+  return coarse.detector->cast_votes_on_edges(coarse.halved_edges, tools.left_vote_tasks());
+}
+
+bool cast_full_width_lines(SearchTools& tools) {
+  // Rays only over the fine path's radii (a few pixels each, nothing asks for their peaks): the
+  // lines are what the bands replay. An empty fine range plots the whole range, as before.
+  const RadiusSplit& split = tools.coarse.split;
+  const SearchHints hints{holds_radii(split.fine_px) ? split.fine_px : RadiusRange{0.0, 1e9}};
+  if (!tools.left_detector.cast_votes_on_last_edges(hints, tools.left_vote_tasks())) return false;
+  tools.left_detector.forget_hints();  // the reduced eye's circles are refined on it
+  return true;
 }
 
 namespace {

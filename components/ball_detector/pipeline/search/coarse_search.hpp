@@ -37,6 +37,12 @@ struct CoarseSearch {
   std::optional<PixelToPixelDetector> fine_path;     ///< radii below the reduced eye's, full width
   cv::Mat reduced_left;                              ///< the reduced rectified left eye
   std::vector<PixelToPixelDetector> band_detectors;  ///< the reduced eye's radius bands
+  /// Coarse to fine by radius (BallDetectorParams::coarse_by_radius, a frame not wider than the
+  /// target at level 1): the whole range's radii the reduced eye resolves are its, the smaller
+  /// ones the full-width radius bands' only, and nothing is searched at full width after it.
+  bool by_radius = false;
+  /// By radius: the full-width left edges halved for the reduced eye's votes (buffers reused).
+  EdgeMap halved_edges;
 
   /// Sets the level and detectors for frames image_width_px wide with the pipeline's (scaled)
   /// params; off when the frame is not wider than the target or no radius suits the reduced eye.
@@ -49,6 +55,10 @@ struct CoarseSearch {
 /// The whole rectified left eye (tools.rect_left) reduced and voted on (coarse.on() only): the
 /// left detector then holds the full-resolution edges only; false for an invalid image.
 bool cast_reduced_left_votes(SearchTools& tools);
+
+/// By radius (coarse.by_radius), after the left detector's find_edges(rect_left): those edges
+/// halved (halve_edge_map) and voted on by the reduced eye; false for an invalid image.
+bool cast_halved_left_votes(SearchTools& tools);
 
 /// The circles of one coarse try's reduced votes refined at full width, in two steps (README:
 /// coarse to fine on wide frames): the whole radius range's first; the radius bands' only when
@@ -81,6 +91,11 @@ class CoarseLeftCircles {
   // Each reduced circle refined so far and what it gave (empty: dropped).
   std::vector<std::pair<Circle, std::vector<Circle>>> refined_;
 };
+
+/// By radius: the left detector's lines (the window rules over its full-resolution edges, which
+/// do not depend on the radii) made for the full-width radius bands, only the fine path's short
+/// rays plotted; the detector then refines over its whole radius range again. False for no edges.
+bool cast_full_width_lines(SearchTools& tools);
 
 /// CoarseLeftCircles(tools).with_bands(): the circles of the reduced eye's votes (the whole
 /// radius range's and each radius band's) refined at full width, with the fine path's.

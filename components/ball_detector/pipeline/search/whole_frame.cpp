@@ -13,6 +13,7 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
   // Nothing else can start before the left eye is rectified: its rows are shared out.
   tools.rectify_whole_in_tasks(frame.left_channel, stereo::Eye::kLeft, frame.rectified,
                                tools.rect_left);
+  if (tools.coarse.by_radius) return by_radius(frame, scratch, tools);
   bool edges_made = false;  // the left detector holds rect_left's full-resolution edges
   if (tools.coarse.on()) {
     // The reduced eye's votes first: where they pair, the frame costs a fraction of the full
@@ -56,6 +57,96 @@ std::optional<SearchOutcome> WholeFrameSearch::run(const FrameState& frame, Fram
   });
   if (bands_due && !paired) scratch.band_left = std::move(bands);
   out.path = SearchPath::kWholeFrame;
+  return out;
+}
+
+SearchOutcome WholeFrameSearch::by_radius(const FrameState& frame, FrameScratch& scratch,
+                                          SearchTools& tools) const {
+  SearchOutcome out;
+  out.path = SearchPath::kWholeFrame;
+  const bool bands_due = scratch.bands_due;
+  std::optional<std::vector<Circle>> blobs;  // the colour seeds' blobs, when found early
+  // The full-width lines only when the bands may replay them: their window rules are the
+  // largest part of the votes, and the reduced eye's whole range does without them.
+  if (!full_width_edges(tools, &blobs) || !cast_halved_left_votes(tools) ||
+      (bands_due && !cast_full_width_lines(tools))) {
+    if (bands_due) scratch.band_left.emplace();  // an invalid image: nothing to search
+    return out;
+  }
+  if (bands_due && tools.task_threads > 1) {
+    out = by_radius_beside_bands(frame, scratch, tools, std::move(blobs));
+    out.path = SearchPath::kWholeFrame;
+    return out;
+  }
+  std::vector<Circle> whole = CoarseLeftCircles(tools).whole_range();
+  // As the full-width search: task 0 pairs (with the colour seeds), the other task searches the
+  // due radius bands on the full-width lines meanwhile, dropped once task 0 pairs.
+  std::atomic<bool> paired{false};
+  std::vector<Circle> bands;
+  tools.run_tasks(bands_due ? 2 : 1, [&](int task) {
+    if (task == 1) {
+      if (paired) return;
+      tools.observe(SearchPath::kRadiusBands, true);
+      bands = detect_left_in_bands(tools, &paired, scratch.band);
+      tools.observe(SearchPath::kRadiusBands, false);
+      return;
+    }
+    out = pair_left_circles(frame, scratch, tools, std::move(whole), true, std::move(blobs));
+    paired = out.found();
+  });
+  if (bands_due && !paired) scratch.band_left = std::move(bands);
+  out.path = SearchPath::kWholeFrame;
+  return out;
+}
+
+bool WholeFrameSearch::full_width_edges(SearchTools& tools,
+                                        std::optional<std::vector<Circle>>* blobs) {
+  if (tools.task_threads <= 1) return tools.left_detector.find_edges(tools.rect_left);
+  // As cast_full_width_votes: the colour blobs (read from the rectified eye only) beside the
+  // edge step, out of the work that follows.
+  bool edges = false;
+  tools.run_tasks(2, [&](int task) {
+    if (task == 0) {
+      edges = tools.left_detector.find_edges(tools.rect_left);
+    } else {
+      *blobs = ColourSeedCandidates::blob_seeds(tools);
+    }
+  });
+  return edges;
+}
+
+SearchOutcome WholeFrameSearch::by_radius_beside_bands(
+    const FrameState& frame, FrameScratch& scratch, SearchTools& tools,
+    std::optional<std::vector<Circle>> blobs) const {
+  // As pair_beside_bands: every band's votes beside the reduced eye's circles (its peaks and
+  // their full-width refinement), then the pairing beside the bands' peaks. The reduced eye's
+  // task reads the left detector's edges only, as the bands do.
+  LeftBandParts bands(tools, scratch.band);
+  const int band_count = bands.bands();
+  std::vector<Circle> whole;
+  tools.run_tasks(band_count + 1, [&](int task) {
+    if (task == band_count) {
+      whole = CoarseLeftCircles(tools).whole_range();
+      return;
+    }
+    tools.observe(SearchPath::kRadiusBands, true);
+    bands.vote(task);
+    tools.observe(SearchPath::kRadiusBands, false);
+  });
+  SearchOutcome out;
+  std::atomic<bool> paired{false};
+  tools.run_tasks(1 + bands.peaks(), [&](int task) {
+    if (task > 0) {
+      if (paired) return;  // the bands' circles are not wanted any more
+      tools.observe(SearchPath::kRadiusBands, true);
+      bands.refine(task - 1);
+      tools.observe(SearchPath::kRadiusBands, false);
+      return;
+    }
+    out = pair_left_circles(frame, scratch, tools, std::move(whole), true, std::move(blobs));
+    paired = out.found();
+  });
+  if (!paired) scratch.band_left = bands.circles();
   return out;
 }
 

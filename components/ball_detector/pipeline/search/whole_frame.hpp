@@ -22,6 +22,17 @@ class WholeFrameSearch : public SearchStrategy {
  private:
   /// The left detector's last votes turned into circles, each peak a task or all in turn.
   static std::vector<Circle> circles_of_votes(SearchTools& tools, bool peaks_at_once);
+  /// Coarse to fine by radius (CoarseSearch::by_radius): the reduced eye's whole range paired,
+  /// the full-width radius bands beside it when due; no full-width whole-range search.
+  SearchOutcome by_radius(const FrameState& frame, FrameScratch& scratch, SearchTools& tools) const;
+  /// The left detector's full-width edges (false: an invalid image); with tasks at once, the
+  /// colour blob search beside them, its seeds to *blobs.
+  static bool full_width_edges(SearchTools& tools, std::optional<std::vector<Circle>>* blobs);
+  /// by_radius() with the radius bands due, split for a runner that runs tasks at once (in
+  /// turn it gives the same outcome and scratch.band_left).
+  SearchOutcome by_radius_beside_bands(const FrameState& frame, FrameScratch& scratch,
+                                       SearchTools& tools,
+                                       std::optional<std::vector<Circle>> blobs) const;
   /// Coarse to fine, the reduced eye's votes (cast already) paired: the whole radius range's
   /// circles first, the radius bands' too if those give no pair of coarse_min_pair_score;
   /// nullopt when neither does (the full-width search then answers).
