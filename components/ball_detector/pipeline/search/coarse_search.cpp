@@ -89,7 +89,7 @@ namespace {
 // The reduced eye's circles in radius bands (README: radius bands), each band on the lines the
 // whole range's votes were cast along (redetect_from: no window rules again), best first per
 // band, at most kCoarseBandCircles of each.
-void add_reduced_band_circles(SearchTools& tools, double min_separation_px,
+void add_reduced_band_circles(SearchTools& tools, const TaskRunner& run, double min_separation_px,
                               double min_voted_coverage, std::vector<Circle>& out) {
   CoarseSearch& coarse = tools.coarse;
   const std::vector<SearchHints> bands = radius_bands(
@@ -103,7 +103,7 @@ void add_reduced_band_circles(SearchTools& tools, double min_separation_px,
   // Each band replays the whole range's lines into its own detector: the bands are tasks, their
   // circles joined in band order as one band after the other gives them.
   std::vector<std::vector<Circle>> per_band(bands.size());
-  tools.run_tasks(static_cast<int>(bands.size()), [&](int i) {
+  run(static_cast<int>(bands.size()), [&](int i) {
     const auto b = static_cast<std::size_t>(i);
     per_band[b] = coarse.band_detectors[b].redetect_from(*coarse.detector, bands[b]);
     if (per_band[b].size() > kCoarseBandCircles) per_band[b].resize(kCoarseBandCircles);
@@ -118,13 +118,16 @@ void add_reduced_band_circles(SearchTools& tools, double min_separation_px,
 
 }  // namespace
 
+CoarseLeftCircles::CoarseLeftCircles(SearchTools& tools)
+    : CoarseLeftCircles(tools, tools.run_tasks) {}
+
 const std::vector<Circle>& CoarseLeftCircles::whole_reduced() {
   if (whole_) return *whole_;
   // Each peak refined as a task (circles_of_votes() in parts: the same circles).
   PixelToPixelDetector& reduced = *tools_.coarse.detector;
   std::vector<PeakCircles> per_peak(static_cast<std::size_t>(reduced.find_peaks_of_votes()));
-  tools_.run_tasks(static_cast<int>(per_peak.size()),
-                   [&](int i) { per_peak[static_cast<std::size_t>(i)] = reduced.refine_peak(i); });
+  run_(static_cast<int>(per_peak.size()),
+       [&](int i) { per_peak[static_cast<std::size_t>(i)] = reduced.refine_peak(i); });
   whole_ = reduced.select_circles(per_peak);
   return *whole_;
 }
@@ -138,7 +141,7 @@ std::vector<Circle> CoarseLeftCircles::with_bands() {
   // In clutter the whole range's strongest peaks are the long lines of large radii crossing
   // there (the reason for the full-width radius bands); on the reduced eye the bands cost a
   // replay of its lines.
-  add_reduced_band_circles(tools_, tools_.coarse.params.min_separation_px,
+  add_reduced_band_circles(tools_, run_, tools_.coarse.params.min_separation_px,
                            tools_.params.detector_params().coarse_min_voted_coverage, reduced);
   return refined_with_fine_path(reduced);
 }
@@ -180,7 +183,7 @@ void CoarseLeftCircles::refine_new(const std::vector<Circle>& reduced) {
   const bool fine_due = coarse.fine_path && !fine_;
   std::vector<std::vector<Circle>> results(fresh.size());
   std::vector<Circle> fine;
-  tools_.run_tasks(static_cast<int>(fresh.size()) + (fine_due ? 1 : 0), [&](int task) {
+  run_(static_cast<int>(fresh.size()) + (fine_due ? 1 : 0), [&](int task) {
     const auto i = static_cast<std::size_t>(task);
     if (i == fresh.size()) {
       const EdgeThresholds thresholds = thresholds_of(tools_.left_detector.edge_map());

@@ -67,7 +67,10 @@ bool cast_halved_left_votes(SearchTools& tools);
 class CoarseLeftCircles {
  public:
   /// For the votes cast_reduced_left_votes(tools) has just cast; tools must outlive this.
-  explicit CoarseLeftCircles(SearchTools& tools) : tools_(tools) {}
+  explicit CoarseLeftCircles(SearchTools& tools);
+  /// The same, its parts run by run (run_tasks_in_turn inside a task of tools.run_tasks, beside
+  /// the radius bands' tasks: the node's runner would run them in turn there anyway).
+  CoarseLeftCircles(SearchTools& tools, TaskRunner run) : tools_(tools), run_(std::move(run)) {}
   /// The whole radius range's circles refined, with the fine path's: best first, at most
   /// max_candidates_per_eye.
   std::vector<Circle> whole_range();
@@ -82,10 +85,11 @@ class CoarseLeftCircles {
   // The whole range's reduced circles (voted once).
   const std::vector<Circle>& whole_reduced();
   // Each of reduced not refined yet refined into refined_, and the fine path's circles into
-  // fine_ if not searched yet: as tasks of tools_.run_tasks.
+  // fine_ if not searched yet: as tasks of run_.
   void refine_new(const std::vector<Circle>& reduced);
 
   SearchTools& tools_;
+  TaskRunner run_;                            // runs this frame's parts: peaks, bands, refinements
   std::optional<std::vector<Circle>> whole_;  // the whole range's reduced circles
   std::optional<std::vector<Circle>> fine_;   // the fine path's circles
   // Each reduced circle refined so far and what it gave (empty: dropped).

@@ -126,7 +126,7 @@ SearchOutcome WholeFrameSearch::by_radius_beside_bands(
   std::vector<Circle> whole;
   tools.run_tasks(band_count + 1, [&](int task) {
     if (task == band_count) {
-      whole = CoarseLeftCircles(tools).whole_range();
+      whole = CoarseLeftCircles(tools, run_tasks_in_turn).whole_range();
       return;
     }
     tools.observe(SearchPath::kRadiusBands, true);
