@@ -21,8 +21,9 @@ constexpr std::int64_t kIdleNs = 2'000'000;
 }  // namespace
 
 BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParams& params,
-                                   const std::string& frame_times_path)
+                                   const std::string& frame_times_path, bool pin_threads)
     : runner_(runner),
+      helper_(pin_threads),
       pipeline_(params),
       frames_(runner.participant(), topics::kStereoFrame),
       calibration_(runner.participant(), topics::kStereoCalibration),
@@ -50,11 +51,25 @@ BallDetectorNode::BallDetectorNode(node::Runner& runner, const BallDetectorParam
     idle_since_ns_ = node::monotonic_ns();
   });
   runner_.every(1'000'000'000, [this](std::int64_t now_ns) {
+    report_pinning();
     check_input(now_ns);
     report_gaps(now_ns);
     idle_since_ns_ = node::monotonic_ns();
   });
   runner_.health().set_state(false, "waiting for stereo/calibration");
+}
+
+void BallDetectorNode::report_pinning() {
+  // Once, after the first frame pinned the frame thread (the helper pinned itself at start).
+  if (pinning_reported_ || processed_ == 0) return;
+  pinning_reported_ = true;
+  const std::string problem = helper_.pin_problem();
+  if (!problem.empty()) {
+    log::warn("threads left to the scheduler: ", problem);
+  } else if (const auto cpus = helper_.pinned_cpus()) {
+    log::info("frame thread on CPU ", cpus->first, ", task helper on CPU ", cpus->second,
+              " (--no-pin-threads leaves them to the scheduler)");
+  }
 }
 
 void BallDetectorNode::on_calibration() {

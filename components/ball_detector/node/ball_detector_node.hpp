@@ -27,8 +27,10 @@ class BallDetectorNode {
  public:
   /// Creates readers/writers on runner's participant and registers callbacks; frame_times_path
   /// not empty: each frame's stage times go there (FrameTimesLog).
+  /// pin_threads: the frame thread and the task helper each on a CPU of its own (main's
+  /// default; off in tests, whose process must not be pinned).
   BallDetectorNode(node::Runner& runner, const BallDetectorParams& params,
-                   const std::string& frame_times_path = "");
+                   const std::string& frame_times_path = "", bool pin_threads = false);
 
  private:
   // A validated calibration and who published it.
@@ -51,12 +53,14 @@ class BallDetectorNode {
   void count_skipped(std::uint64_t seq, std::uint64_t batch_skipped);
   void check_transport(const stereoball_msg_StereoFrame& frame);
   void report_gaps(std::int64_t now_ns);
+  void report_pinning();
   void report_problem(const StereoDetection& det, std::uint64_t seq, std::int64_t now_ns);
   void publish(const StereoDetection& det, const stereoball_msg_StereoFrame& frame,
                std::int64_t start_mono_ns);
 
   node::Runner& runner_;
   TaskHelper helper_;  // the pipeline's tasks on the other core (declared first: outlives it)
+  bool pinning_reported_ = false;  // the pinning's outcome logged
   StereoPipeline pipeline_;
   CalibrationGate gate_;
   std::optional<CalibrationFrom> pending_calibration_;  // held back until frames fit it

@@ -1,5 +1,7 @@
 #include "ball_detector/node/task_helper.hpp"
 
+#include "ball_detector/node/thread_pinning.hpp"
+
 #include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
@@ -25,7 +27,36 @@ std::int64_t read_clock_ns(clockid_t clock) {
 
 }  // namespace
 
-TaskHelper::TaskHelper() : helper_([this] { helper_loop(); }) {}
+namespace {
+
+// The CPUs a TaskHelper asked to pin uses, or the reason there are none.
+std::optional<std::pair<int, int>> cpus_to_pin(bool pin, std::string& problem) {
+  if (!pin) return std::nullopt;
+  const std::vector<int> allowed = allowed_cpus();
+  auto two = first_two_cpus(allowed);
+  if (!two)
+    problem = "not pinned: " + std::to_string(allowed.size()) + " CPU(s) allowed, two needed";
+  return two;
+}
+
+}  // namespace
+
+TaskHelper::TaskHelper(bool pin)
+    : cpus_(cpus_to_pin(pin, pin_problem_)), helper_([this] { helper_loop(); }) {}
+
+std::string TaskHelper::pin_problem() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return pin_problem_;
+}
+
+void TaskHelper::pin_caller() {
+  caller_pinned_ = true;
+  if (!cpus_) return;
+  if (std::string problem = pin_thread(0, cpus_->first); !problem.empty()) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pin_problem_ += (pin_problem_.empty() ? "caller: " : "; caller: ") + problem;
+  }
+}
 
 void TaskHelper::record_jobs(bool on) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -47,7 +78,9 @@ TaskHelper::~TaskHelper() {
 }
 
 void TaskHelper::run(int n, const std::function<void(int)>& task) {
-  if (n <= 1 || in_task) return run_in_turn(n, task);
+  if (in_task) return run_in_turn(n, task);
+  if (!caller_pinned_) pin_caller();
+  if (n <= 1) return run_in_turn(n, task);
   std::unique_lock<std::mutex> lock(mutex_);
   task_ = &task;
   n_ = n;
@@ -110,6 +143,9 @@ void TaskHelper::work(std::unique_lock<std::mutex>& lock, bool helper) {
 void TaskHelper::helper_loop() {
   helper_tid_ = static_cast<int>(syscall(SYS_gettid));
   std::unique_lock<std::mutex> lock(mutex_);
+  if (cpus_)
+    if (std::string problem = pin_thread(0, cpus_->second); !problem.empty())
+      pin_problem_ += (pin_problem_.empty() ? "helper: " : "; helper: ") + problem;
   std::uint64_t done = 0;
   while (true) {
     wake_.wait(lock, [&] { return stopping_ || (task_ && job_ != done && next_ < n_); });

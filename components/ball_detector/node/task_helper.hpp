@@ -11,7 +11,10 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace stereoball::ball_detector {
@@ -36,7 +39,10 @@ struct JobTimes {
 /// runs its tasks in turn.
 class TaskHelper {
  public:
-  TaskHelper();
+  /// pin: the two threads each on one of the first two CPUs the constructing thread may run on
+  /// (thread_pinning.hpp; the helper's at once, the caller's at its first run()); not with fewer
+  /// than two such CPUs.
+  explicit TaskHelper(bool pin = false);
   ~TaskHelper();
   TaskHelper(const TaskHelper&) = delete;
   TaskHelper& operator=(const TaskHelper&) = delete;
@@ -50,14 +56,21 @@ class TaskHelper {
   std::vector<JobTimes> take_jobs();
   /// The helper thread's kernel id (its /proc/self/task entry).
   int helper_tid() const { return helper_tid_; }
+  /// The CPUs the caller's and the helper's threads are pinned to; nullopt when not pinned.
+  std::optional<std::pair<int, int>> pinned_cpus() const { return cpus_; }
+  /// Why pinning was asked for but not done (fewer than two CPUs, a refused call); empty if it
+  /// was done or not asked for. The helper's part is known once its thread has started.
+  std::string pin_problem() const;
 
  private:
   void helper_loop();
+  // Pins the calling thread to cpus_->first (once: the thread that calls run()).
+  void pin_caller();
   // Claims and runs the job's tasks until none is left; call with lock held, returns with it.
   // helper: the helper thread (else the caller), for the job's times.
   void work(std::unique_lock<std::mutex>& lock, bool helper);
 
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable wake_;                    // the helper: a job or the end
   std::condition_variable idle_;                    // the caller: the helper left the job
   const std::function<void(int)>* task_ = nullptr;  // the job in progress, or none
@@ -69,6 +82,9 @@ class TaskHelper {
   JobTimes job_times_;          // of the job in progress, when recording
   std::vector<JobTimes> jobs_;  // recorded jobs not yet taken
   std::atomic<int> helper_tid_{0};
+  std::string pin_problem_;                  // guarded by mutex_; before cpus_, which sets it
+  std::optional<std::pair<int, int>> cpus_;  // pinned to (caller, helper); set before helper_
+  bool caller_pinned_ = false;               // the caller's pin attempted (run()'s thread only)
   std::thread helper_;
 };
 
