@@ -19,6 +19,7 @@
 #include "ball_detector/pipeline/search/coarse_search.hpp"
 #include "ball_detector/pipeline/search/search_tools.hpp"
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/task_runners_test_support.hpp"
 #include "stereo/core/calibration_scaling.hpp"
 #include "stereo/core/rectifier.hpp"
 #include "stereo/core/triangulation.hpp"
@@ -491,22 +492,7 @@ TEST_F(RealBasketballPairs, GivenCorruptDataInTheRightEyesLastRows_ThenOnlyAFram
   }
 }
 
-namespace {
-
-// Every task but the first on a thread of its own, all at once (as the node's two threads may
-// run them); counts the calls with more than one task.
-struct AtOnceRunner {
-  int calls = 0;
-  void operator()(int n, const std::function<void(int)>& task) {
-    if (n > 1) ++calls;
-    std::vector<std::thread> threads;
-    for (int i = 1; i < n; ++i) threads.emplace_back([&task, i] { task(i); });
-    if (n > 0) task(0);
-    for (auto& t : threads) t.join();
-  }
-};
-
-}  // namespace
+using sb::ball_detector::testing::AtOnceRunner;
 
 TEST_F(RealBasketballPairs, GivenTasksAtOnce_ThenHalfWidthPairsAreAnsweredAsInTurn) {
   // Given pairs at half width, coarse to fine: balls the reduced eye's whole range pairs (07,

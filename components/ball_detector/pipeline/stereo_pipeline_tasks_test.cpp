@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "ball_detector/pipeline/stereo_pipeline.hpp"
+#include "ball_detector/pipeline/task_runners_test_support.hpp"
 #include "simulator/core/simulator.hpp"
 #include "simulator/io/scenario_file.hpp"
 
@@ -24,26 +25,8 @@ using sb::ball_detector::StereoPipeline;
 
 namespace {
 
-// Every task but the first on a thread of its own, all at once; counts the calls with n > 1.
-struct AtOnceRunner {
-  int calls = 0;
-  void operator()(int n, const std::function<void(int)>& task) {
-    if (n > 1) ++calls;
-    std::vector<std::thread> threads;
-    for (int i = 1; i < n; ++i) threads.emplace_back([&task, i] { task(i); });
-    if (n > 0) task(0);
-    for (auto& t : threads) t.join();
-  }
-};
-
-// Every task in turn on the calling thread; counts the calls with n > 1.
-struct InTurnRunner {
-  int calls = 0;
-  void operator()(int n, const std::function<void(int)>& task) {
-    if (n > 1) ++calls;
-    for (int i = 0; i < n; ++i) task(i);
-  }
-};
+using sb::ball_detector::testing::AtOnceRunner;
+using sb::ball_detector::testing::InTurnRunner;
 
 void expect_same_detection(const StereoDetection& a, const StereoDetection& b, int frame) {
   SCOPED_TRACE("frame " + std::to_string(frame));

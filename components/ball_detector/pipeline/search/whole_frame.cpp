@@ -133,21 +133,8 @@ SearchOutcome WholeFrameSearch::by_radius_beside_bands(
     bands.vote(task);
     tools.observe(SearchPath::kRadiusBands, false);
   });
-  SearchOutcome out;
-  std::atomic<bool> paired{false};
-  tools.run_tasks(1 + bands.peaks(), [&](int task) {
-    if (task > 0) {
-      if (paired) return;  // the bands' circles are not wanted any more
-      tools.observe(SearchPath::kRadiusBands, true);
-      bands.refine(task - 1);
-      tools.observe(SearchPath::kRadiusBands, false);
-      return;
-    }
-    out = pair_left_circles(frame, scratch, tools, std::move(whole), true, std::move(blobs));
-    paired = out.found();
-  });
-  if (!paired) scratch.band_left = bands.circles();
-  return out;
+  return pair_beside_band_peaks(frame, scratch, tools, bands, std::move(whole), true,
+                                std::move(blobs));
 }
 
 SearchOutcome WholeFrameSearch::pair_beside_bands(const FrameState& frame, FrameScratch& scratch,
@@ -171,6 +158,16 @@ SearchOutcome WholeFrameSearch::pair_beside_bands(const FrameState& frame, Frame
     bands.vote(task);
     tools.observe(SearchPath::kRadiusBands, false);
   });
+  return pair_beside_band_peaks(
+      frame, scratch, tools, bands,
+      voted ? tools.left_detector.select_circles(per_peak) : std::vector<Circle>{}, voted,
+      std::move(blobs));
+}
+
+SearchOutcome WholeFrameSearch::pair_beside_band_peaks(
+    const FrameState& frame, FrameScratch& scratch, SearchTools& tools, LeftBandParts& bands,
+    std::vector<Circle> left, bool with_colour_seeds,
+    std::optional<std::vector<Circle>> blobs) const {
   SearchOutcome out;
   std::atomic<bool> paired{false};
   tools.run_tasks(1 + bands.peaks(), [&](int task) {
@@ -181,10 +178,8 @@ SearchOutcome WholeFrameSearch::pair_beside_bands(const FrameState& frame, Frame
       tools.observe(SearchPath::kRadiusBands, false);
       return;
     }
-    out = pair_left_circles(
-        frame, scratch, tools,
-        voted ? tools.left_detector.select_circles(per_peak) : std::vector<Circle>{}, voted,
-        std::move(blobs));
+    out = pair_left_circles(frame, scratch, tools, std::move(left), with_colour_seeds,
+                            std::move(blobs));
     paired = out.found();
   });
   if (!paired) scratch.band_left = bands.circles();

@@ -11,6 +11,8 @@
 
 namespace stereoball::ball_detector {
 
+class LeftBandParts;
+
 /// The whole-frame search: its outcome whether or not it pairs (kWholeFrame); measures
 /// tools.left_thresholds again; leaves scratch.band_left (when bands_due and nothing paired)
 /// and scratch.colour_seeds. When nothing pairs, the left detector holds the full-width votes.
@@ -40,6 +42,13 @@ class WholeFrameSearch : public SearchStrategy {
                                           SearchTools& tools) const;
   /// The whole frame's pairing with the radius bands due beside it, split for a runner that
   /// runs tasks at once (run() in turn gives the same outcome and scratch.band_left).
+  /// The pairing of left (plus the colour seeds' circles, with_colour_seeds) beside the bands'
+  /// peaks' refinement, each dropped once it pairs; scratch.band_left gets the bands' circles
+  /// when nothing paired. The last step of both band splits.
+  SearchOutcome pair_beside_band_peaks(const FrameState& frame, FrameScratch& scratch,
+                                       SearchTools& tools, LeftBandParts& bands,
+                                       std::vector<Circle> left, bool with_colour_seeds,
+                                       std::optional<std::vector<Circle>> blobs) const;
   SearchOutcome pair_beside_bands(const FrameState& frame, FrameScratch& scratch,
                                   SearchTools& tools, bool voted,
                                   std::optional<std::vector<Circle>> blobs) const;
